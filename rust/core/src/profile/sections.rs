@@ -1,0 +1,624 @@
+//! The sections of a profile. Defaults are the reference design as published; values marked
+//! [unconfirmed] in the spec are parameters here, documented in `firmware_model/SCHEMA.md`.
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> Error {
+    Error::Profile(format!("key `{key}` = {value}: expected {expected}"))
+}
+
+fn check_reg(key: &str, value: u32, bits: u32) -> Result<()> {
+    if value >> bits != 0 {
+        return Err(bad(key, format!("0x{value:X}"), &format!("a {bits}-bit register value (0…{})", (1u64 << bits) - 1)));
+    }
+    Ok(())
+}
+
+fn check_pos(key: &str, value: f64) -> Result<()> {
+    if !(value.is_finite() && value > 0.0) {
+        return Err(bad(key, value, "a finite number > 0"));
+    }
+    Ok(())
+}
+
+fn check_nonneg(key: &str, value: f64) -> Result<()> {
+    if !(value.is_finite() && value >= 0.0) {
+        return Err(bad(key, value, "a finite number ≥ 0"));
+    }
+    Ok(())
+}
+
+/// Name and description of a profile.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Meta {
+    /// Short name.
+    pub name: String,
+    /// One line on what the profile models.
+    pub description: String,
+}
+
+impl Default for Meta {
+    fn default() -> Self {
+        Meta {
+            name: "reference".into(),
+            description: "TMS320F28335 + ADIS16407, RK4 every 8 ms, as published (2014 thesis)".into(),
+        }
+    }
+}
+
+/// The F28335 clock tree: SYSCLKOUT = crystal × PLLCR / DIVSEL, LSPCLK = SYSCLKOUT / (2·LOSPCP).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Clocks {
+    /// External crystal / oscillator, Hz.
+    pub crystal_hz: u64,
+    /// PLLCR.DIV (0…10; 0 bypasses the PLL).
+    pub pllcr: u32,
+    /// Divider selected by PLLSTS.DIVSEL: 1, 2 or 4.
+    pub divsel: u32,
+    /// LOSPCP (0…7): LSPCLK = SYSCLKOUT / (2·LOSPCP), SYSCLKOUT when 0.
+    pub lospcp: u32,
+}
+
+impl Default for Clocks {
+    fn default() -> Self {
+        Clocks { crystal_hz: 30_000_000, pllcr: 10, divsel: 2, lospcp: 2 }
+    }
+}
+
+impl Clocks {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if self.crystal_hz == 0 || self.crystal_hz > 35_000_000 {
+            return Err(bad("clocks.crystal_hz", self.crystal_hz, "1…35000000 Hz"));
+        }
+        if self.pllcr > 10 {
+            return Err(bad("clocks.pllcr", self.pllcr, "0…10"));
+        }
+        if ![1, 2, 4].contains(&self.divsel) {
+            return Err(bad("clocks.divsel", self.divsel, "1, 2 or 4"));
+        }
+        if self.lospcp > 7 {
+            return Err(bad("clocks.lospcp", self.lospcp, "0…7"));
+        }
+        Ok(())
+    }
+}
+
+/// Which level the SPI link is emulated at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BusLevel {
+    /// One computation per frame (fast path).
+    Transaction,
+    /// Every SCLK edge.
+    Bit,
+}
+
+/// SPI-A register values. The firmware's InitSpi writes them in the published order:
+/// SPICCR with SPISWRESET = 0, SPICTL, SPIBRR, SPICCR (released), SPIPRI; FIFO registers only when
+/// `spifftx` enables the FIFO.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Spi {
+    /// SPICCR final value (bit 7 SPISWRESET, 6 CLKPOLARITY, 4 SPILBK, 3:0 SPICHAR).
+    pub spiccr: u32,
+    /// SPICTL (4 OVERRUNINTENA, 3 CLK_PHASE, 2 MASTER_SLAVE, 1 TALK, 0 SPIINTENA).
+    pub spictl: u32,
+    /// SPIBRR (0…127): baud = LSPCLK/(SPIBRR+1), LSPCLK/4 for 0…2.
+    pub spibrr: u32,
+    /// SPIPRI (5 SOFT, 4 FREE).
+    pub spipri: u32,
+    /// SPIFFTX (bit 14 SPIFFENA enables the FIFO).
+    pub spifftx: u32,
+    /// SPIFFRX.
+    pub spiffrx: u32,
+    /// SPIFFCT (7:0 TXDLY).
+    pub spiffct: u32,
+    /// The GPIO driven as chip select.
+    pub chip_select: String,
+    /// Emulation level of the link.
+    pub level: BusLevel,
+    /// LSPCLK cycles from a SPITXBUF write (shifter idle) to the first SCLK edge [unconfirmed].
+    pub start_latency_lspclk: u32,
+}
+
+impl Default for Spi {
+    fn default() -> Self {
+        Spi {
+            spiccr: 0x00CF,
+            spictl: 0x0007,
+            spibrr: 49,
+            spipri: 0x0020,
+            spifftx: 0xA000,
+            spiffrx: 0x201F,
+            spiffct: 0,
+            chip_select: "GPIO57".into(),
+            level: BusLevel::Transaction,
+            start_latency_lspclk: 1,
+        }
+    }
+}
+
+impl Spi {
+    pub(crate) fn validate(&self) -> Result<()> {
+        check_reg("spi.spiccr", self.spiccr, 8)?;
+        check_reg("spi.spictl", self.spictl, 5)?;
+        check_reg("spi.spibrr", self.spibrr, 7)?;
+        check_reg("spi.spipri", self.spipri, 8)?;
+        check_reg("spi.spifftx", self.spifftx, 16)?;
+        check_reg("spi.spiffrx", self.spiffrx, 16)?;
+        check_reg("spi.spiffct", self.spiffct, 8)?;
+        if self.spictl & 0b100 == 0 {
+            return Err(bad("spi.spictl", format!("0x{:X}", self.spictl), "MASTER_SLAVE (bit 2) = 1: the firmware is the SPI master"));
+        }
+        if self.spiccr & 0xF != 15 {
+            return Err(bad(
+                "spi.spiccr",
+                format!("0x{:X} (SPICHAR = {})", self.spiccr, self.spiccr & 0xF),
+                "SPICHAR = 15 (16-bit characters): the ADIS16407 uses 16-bit frames",
+            ));
+        }
+        if self.chip_select != "GPIO57" {
+            return Err(bad("spi.chip_select", &self.chip_select, "\"GPIO57\" (the board's wiring)"));
+        }
+        if self.start_latency_lspclk > 64 {
+            return Err(bad("spi.start_latency_lspclk", self.start_latency_lspclk, "0…64 LSPCLK cycles"));
+        }
+        Ok(())
+    }
+}
+
+/// CPU timer 0. The firmware's ConfigCpuTimer turns `period_us` into PRD = SYSCLKOUT·µs/(TDDR+1) − 1.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Timer {
+    /// Interrupt period requested by the firmware, µs.
+    pub period_us: f64,
+    /// Prescaler TDDRH:TDDR (0…65535).
+    pub tddr: u32,
+}
+
+impl Default for Timer {
+    fn default() -> Self {
+        Timer { period_us: 4000.0, tddr: 0 }
+    }
+}
+
+impl Timer {
+    pub(crate) fn validate(&self) -> Result<()> {
+        check_pos("timer.period_us", self.period_us)?;
+        check_reg("timer.tddr", self.tddr, 16)?;
+        Ok(())
+    }
+}
+
+/// What a timing violation does to the data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TimingMode {
+    /// The frame reads as the documented corrupted word.
+    Strict,
+    /// Data correct; the event is only recorded.
+    Lenient,
+}
+
+/// The ADIS16407: register defaults at power-on and the timing rules of its SPI slave.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Device {
+    /// Part name.
+    pub part: String,
+    /// PROD_ID value.
+    pub prod_id: u32,
+    /// Burst-read command word (0x4200 for the 16407; 0x3E00 for ADIS16400/16405).
+    pub burst_command: u32,
+    /// SMPL_PRD at power-on (0x0001 → 819.2 SPS).
+    pub smpl_prd: u32,
+    /// SENS_AVG at power-on (0x0402 → ±300 °/s, M = 2).
+    pub sens_avg: u32,
+    /// MSC_CTRL at power-on (0x0006 → data ready on DIO1, active high).
+    pub msc_ctrl: u32,
+    /// Device sample-clock error, parts per billion (positive = fast).
+    pub clock_ppb: i64,
+    /// Time of the device's first internal sample after power-on, µs.
+    pub first_sample_us: f64,
+    /// Time the part is unavailable after a software reset, ms [unconfirmed; siblings 90–170].
+    pub reset_time_ms: f64,
+    /// Consequence of a timing violation.
+    pub timing_mode: TimingMode,
+    /// Maximum SCLK in normal mode, Hz.
+    pub sclk_max_hz: f64,
+    /// Maximum SCLK during a burst read, Hz.
+    pub sclk_burst_max_hz: f64,
+    /// Minimum stall between normal frames (CS high or low), µs [unconfirmed: sibling ADIS16405].
+    pub t_stall_us: f64,
+    /// Minimum CS↓ to first SCLK edge, ns [unconfirmed].
+    pub t_cs_ns: f64,
+    /// Minimum last SCLK edge to CS↑, ns [unconfirmed].
+    pub t_sfs_ns: f64,
+    /// DOUT in the frame after a write frame (undefined on the part; this model's fixed pattern).
+    pub dout_after_write: u32,
+    /// The word a frame reads as under `strict` when a timing rule is broken.
+    pub corrupt_word: u32,
+}
+
+impl Default for Device {
+    fn default() -> Self {
+        Device {
+            part: "ADIS16407".into(),
+            prod_id: 0x4017,
+            burst_command: 0x4200,
+            smpl_prd: 0x0001,
+            sens_avg: 0x0402,
+            msc_ctrl: 0x0006,
+            clock_ppb: 0,
+            first_sample_us: 0.0,
+            reset_time_ms: 130.0,
+            timing_mode: TimingMode::Strict,
+            sclk_max_hz: 2.0e6,
+            sclk_burst_max_hz: 1.0e6,
+            t_stall_us: 9.0,
+            t_cs_ns: 48.8,
+            t_sfs_ns: 48.8,
+            dout_after_write: 0x0000,
+            corrupt_word: 0xFFFF,
+        }
+    }
+}
+
+impl Device {
+    pub(crate) fn validate(&self) -> Result<()> {
+        check_reg("device.prod_id", self.prod_id, 16)?;
+        check_reg("device.burst_command", self.burst_command, 16)?;
+        check_reg("device.smpl_prd", self.smpl_prd, 16)?;
+        check_reg("device.sens_avg", self.sens_avg, 16)?;
+        check_reg("device.msc_ctrl", self.msc_ctrl, 16)?;
+        check_reg("device.dout_after_write", self.dout_after_write, 16)?;
+        check_reg("device.corrupt_word", self.corrupt_word, 16)?;
+        if self.burst_command & 0x8000 != 0 {
+            return Err(bad("device.burst_command", format!("0x{:04X}", self.burst_command), "a read command (bit 15 = 0)"));
+        }
+        let range = (self.sens_avg >> 8) & 0x7;
+        if ![1, 2, 4].contains(&range) {
+            return Err(bad("device.sens_avg", format!("0x{:04X}", self.sens_avg), "range bits 10:8 = 100 (±300), 010 (±150) or 001 (±75)"));
+        }
+        if self.clock_ppb.abs() > 100_000_000 {
+            return Err(bad("device.clock_ppb", self.clock_ppb, "−1e8…1e8 ppb"));
+        }
+        check_nonneg("device.first_sample_us", self.first_sample_us)?;
+        check_nonneg("device.reset_time_ms", self.reset_time_ms)?;
+        check_pos("device.sclk_max_hz", self.sclk_max_hz)?;
+        check_pos("device.sclk_burst_max_hz", self.sclk_burst_max_hz)?;
+        check_nonneg("device.t_stall_us", self.t_stall_us)?;
+        check_nonneg("device.t_cs_ns", self.t_cs_ns)?;
+        check_nonneg("device.t_sfs_ns", self.t_sfs_ns)?;
+        Ok(())
+    }
+}
+
+/// The sensor error model applied inside the device (presets in the traces work).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Errors {
+    /// Preset name: `ideal` or `adis16407`.
+    pub preset: String,
+    /// Seed of the random realisation.
+    pub seed: u64,
+}
+
+impl Default for Errors {
+    fn default() -> Self {
+        Errors { preset: "ideal".into(), seed: 1 }
+    }
+}
+
+impl Errors {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !["ideal", "adis16407"].contains(&self.preset.as_str()) {
+            return Err(bad("errors.preset", &self.preset, "one of `ideal`, `adis16407`"));
+        }
+        Ok(())
+    }
+}
+
+/// How the firmware schedules its burst reads for one attitude step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Schedule {
+    /// A burst every timer tick, a step every two ticks (rates at t, t+T/2, t+T; the last sample
+    /// of a step is the first of the next). T = 2 × timer period.
+    HalfStep,
+    /// One burst per step (every tick); the midpoint rate is interpolated. T = timer period.
+    Endpoint,
+    /// Three bursts in a row each tick, treated as t, t+T/2, t+T. T = timer period.
+    BackToBack,
+}
+
+/// Decode of the 14-bit output words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Decode {
+    /// The thesis code: valid bits, then its range tests (a stale value outside both ranges).
+    Published,
+    /// Mask and sign-extend with the configured range's LSB.
+    Correct,
+}
+
+/// Attitude update algorithm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Algorithm {
+    /// 4th-order Runge–Kutta on the quaternion equation (the reference design).
+    Rk4,
+    /// Rotation vector with 1-, 2- or 3-sample coning correction.
+    RotationVector,
+}
+
+/// The numeric backend the firmware arithmetic runs in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Numeric {
+    /// IEEE double: the golden reference.
+    F64,
+    /// C28x FPU single precision, round to nearest (after TI's start-up code).
+    C28xF32,
+    /// C28x FPU single precision, round toward zero (the RND32 reset value).
+    C28xF32Rz,
+    /// TI IQmath fixed point.
+    Iq,
+}
+
+/// Euler-angle extraction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Euler {
+    /// atan principal values resolved by the published quadrant tables, with their "→0" rows.
+    PublishedTables,
+    /// atan2 for roll, atan2 mod 360° for yaw.
+    Atan2,
+}
+
+/// Initial attitude.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InitialAttitude {
+    /// Q = [1, 0, 0, 0] (as published).
+    Zero,
+    /// Pitch and roll from the accelerometer averaged over `alignment_s`, yaw from `initial_yaw_deg`.
+    Level,
+}
+
+/// What the firmware does when a timer tick arrives while the previous work still runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OverrunPolicy {
+    /// The PIE latches the interrupt: it runs as soon as the previous ISR returns.
+    Queue,
+    /// Ticks arriving while busy are lost.
+    Drop,
+    /// Interrupts are re-enabled in the ISR: the new tick preempts the old one.
+    Nest,
+}
+
+/// Where the firmware's code runs from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CodeLocation {
+    /// Zero-wait-state RAM (ramfuncs).
+    Ram,
+    /// Flash with wait states.
+    Flash,
+}
+
+/// The rule turning rate samples into angle increments for the rotation-vector algorithm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IncrementRule {
+    /// Trapezoid between consecutive rate samples.
+    Trapezoid,
+    /// Rectangle: each sub-interval's increment is its end rate × h.
+    Rectangle,
+}
+
+/// Firmware choices.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Firmware {
+    /// Acquisition schedule.
+    pub schedule: Schedule,
+    /// Output-word decode.
+    pub decode: Decode,
+    /// Attitude update.
+    pub algorithm: Algorithm,
+    /// Coning samples for the rotation-vector algorithm (1, 2 or 3).
+    pub coning_samples: u32,
+    /// Rates → angle increments rule for the rotation-vector algorithm.
+    pub increment_rule: IncrementRule,
+    /// Numeric backend.
+    pub numeric: Numeric,
+    /// Euler extraction.
+    pub euler: Euler,
+    /// Below this magnitude T33 or T11 counts as "→0" in the published tables.
+    pub euler_zero_eps: f64,
+    /// Subtract earth rate and transport rate (ω_nb = ω_ib − C_n^b(ω_ie + ω_en)).
+    pub earth_rate: bool,
+    /// Initial attitude.
+    pub initial_attitude: InitialAttitude,
+    /// Initial yaw for `level`, degrees.
+    pub initial_yaw_deg: f64,
+    /// Still period averaged by `level`, s.
+    pub alignment_s: f64,
+    /// Overrun policy.
+    pub overrun: OverrunPolicy,
+    /// Where the code runs from.
+    pub code_location: CodeLocation,
+    /// Run the navigation (velocity, position) every step.
+    pub navigation: bool,
+}
+
+impl Default for Firmware {
+    fn default() -> Self {
+        Firmware {
+            schedule: Schedule::HalfStep,
+            decode: Decode::Published,
+            algorithm: Algorithm::Rk4,
+            coning_samples: 2,
+            increment_rule: IncrementRule::Trapezoid,
+            numeric: Numeric::F64,
+            euler: Euler::PublishedTables,
+            euler_zero_eps: 1e-6,
+            earth_rate: true,
+            initial_attitude: InitialAttitude::Zero,
+            initial_yaw_deg: 0.0,
+            alignment_s: 1.0,
+            overrun: OverrunPolicy::Queue,
+            code_location: CodeLocation::Ram,
+            navigation: true,
+        }
+    }
+}
+
+impl Firmware {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !(1..=3).contains(&self.coning_samples) {
+            return Err(bad("firmware.coning_samples", self.coning_samples, "1, 2 or 3"));
+        }
+        check_nonneg("firmware.euler_zero_eps", self.euler_zero_eps)?;
+        if !self.initial_yaw_deg.is_finite() {
+            return Err(bad("firmware.initial_yaw_deg", self.initial_yaw_deg, "a finite angle in degrees"));
+        }
+        check_nonneg("firmware.alignment_s", self.alignment_s)?;
+        Ok(())
+    }
+}
+
+/// Navigation initial state and the earth model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Navigation {
+    /// Initial latitude, degrees [unconfirmed: the thesis does not state it; Hohhot].
+    pub latitude_deg: f64,
+    /// Initial longitude, degrees [unconfirmed].
+    pub longitude_deg: f64,
+    /// Initial height, m [unconfirmed].
+    pub height_m: f64,
+    /// Initial velocity east, north, up, m/s.
+    pub velocity_enu: [f64; 3],
+    /// Equatorial radius R_e, m (WGS-84).
+    pub earth_radius_m: f64,
+    /// Flattening e.
+    pub flattening: f64,
+    /// Earth rate ω_ie, rad/s.
+    pub earth_rate_rad_s: f64,
+    /// Gravity at the equator, m/s² (normal gravity, Somigliana closed form).
+    pub gravity_equator: f64,
+}
+
+impl Default for Navigation {
+    fn default() -> Self {
+        Navigation {
+            latitude_deg: 40.84,
+            longitude_deg: 111.75,
+            height_m: 1050.0,
+            velocity_enu: [0.0; 3],
+            earth_radius_m: 6_378_137.0,
+            flattening: 1.0 / 298.257,
+            earth_rate_rad_s: 7.292115e-5,
+            gravity_equator: 9.780_325_3359,
+        }
+    }
+}
+
+impl Navigation {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !(self.latitude_deg.is_finite() && self.latitude_deg.abs() < 89.0) {
+            return Err(bad("navigation.latitude_deg", self.latitude_deg, "−89…89 degrees (the local-level frame is singular at the poles)"));
+        }
+        if !self.longitude_deg.is_finite() {
+            return Err(bad("navigation.longitude_deg", self.longitude_deg, "a finite angle"));
+        }
+        if !self.height_m.is_finite() {
+            return Err(bad("navigation.height_m", self.height_m, "a finite height"));
+        }
+        if self.velocity_enu.iter().any(|v| !v.is_finite()) {
+            return Err(bad("navigation.velocity_enu", format!("{:?}", self.velocity_enu), "three finite m/s values"));
+        }
+        check_pos("navigation.earth_radius_m", self.earth_radius_m)?;
+        check_nonneg("navigation.flattening", self.flattening)?;
+        check_nonneg("navigation.earth_rate_rad_s", self.earth_rate_rad_s)?;
+        check_pos("navigation.gravity_equator", self.gravity_equator)?;
+        Ok(())
+    }
+}
+
+/// IQmath Q formats per quantity class (fractional bits, 1…30).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IqFormats {
+    /// Quaternion and direction-cosine elements.
+    pub quat_q: u32,
+    /// Angular rates (rad/s) and increments.
+    pub rate_q: u32,
+    /// Angles.
+    pub angle_q: u32,
+    /// Specific force, accelerations, velocities.
+    pub accel_q: u32,
+    /// Navigation quantities (latitude, longitude in rad; height in m scaled).
+    pub nav_q: u32,
+    /// Everything else (GLOBAL_Q).
+    pub global_q: u32,
+}
+
+impl Default for IqFormats {
+    fn default() -> Self {
+        IqFormats { quat_q: 30, rate_q: 24, angle_q: 24, accel_q: 20, nav_q: 24, global_q: 24 }
+    }
+}
+
+impl IqFormats {
+    pub(crate) fn validate(&self) -> Result<()> {
+        for (k, v) in [
+            ("iq.quat_q", self.quat_q),
+            ("iq.rate_q", self.rate_q),
+            ("iq.angle_q", self.angle_q),
+            ("iq.accel_q", self.accel_q),
+            ("iq.nav_q", self.nav_q),
+            ("iq.global_q", self.global_q),
+        ] {
+            if !(1..=30).contains(&v) {
+                return Err(bad(k, v, "1…30 fractional bits"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Compute-time model settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Timing {
+    /// Cycle-cost table, relative to `firmware_model/`.
+    pub costs: String,
+    /// SYSCLKOUT cycles of one iteration of a status-polling loop (load, test, branch).
+    pub poll_loop_cycles: u32,
+}
+
+impl Default for Timing {
+    fn default() -> Self {
+        Timing { costs: "c28x-costs.toml".into(), poll_loop_cycles: 8 }
+    }
+}
+
+impl Timing {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if self.costs.trim().is_empty() {
+            return Err(bad("timing.costs", "\"\"", "a cost-table file name"));
+        }
+        if self.poll_loop_cycles == 0 || self.poll_loop_cycles > 1000 {
+            return Err(bad("timing.poll_loop_cycles", self.poll_loop_cycles, "1…1000 cycles"));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,130 @@
+//! Integer virtual time. Every instant is a whole number of picoseconds since power-on, and every
+//! clock converts its own cycle counts to picoseconds exactly (rational arithmetic, floor), so no
+//! float error accumulates over hours of emulated time and runs are bit-reproducible.
+
+/// Picoseconds since power-on. `u64` covers 213 days.
+pub type Ps = u64;
+
+/// Picoseconds in one second.
+pub const PS_PER_S: u64 = 1_000_000_000_000;
+
+/// Seconds as f64 from picoseconds (for reports only, never for scheduling).
+pub fn ps_to_s(t: Ps) -> f64 {
+    t as f64 / PS_PER_S as f64
+}
+
+/// Picoseconds from seconds, rounded to nearest (for configuration input only).
+pub fn s_to_ps(s: f64) -> Ps {
+    (s * PS_PER_S as f64).round().max(0.0) as Ps
+}
+
+/// A clock of rational frequency `num/den` hertz.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Clock {
+    num: u64,
+    den: u64,
+}
+
+impl Clock {
+    /// A clock of `num/den` Hz. Panics only on a zero numerator or denominator, which callers rule
+    /// out when they validate their configuration.
+    pub fn new(num: u64, den: u64) -> Self {
+        assert!(num > 0 && den > 0, "clock frequency must be positive");
+        let g = gcd(num, den);
+        Clock { num: num / g, den: den / g }
+    }
+
+    /// A clock of a whole number of hertz.
+    pub fn from_hz(hz: u64) -> Self {
+        Clock::new(hz, 1)
+    }
+
+    /// This clock divided by `div` (a prescaler).
+    pub fn divided(self, div: u64) -> Self {
+        Clock::new(self.num, self.den * div)
+    }
+
+    /// This clock multiplied by `mul` (a PLL).
+    pub fn multiplied(self, mul: u64) -> Self {
+        Clock::new(self.num * mul, self.den)
+    }
+
+    /// This clock off by `ppb` parts per billion (positive = fast).
+    pub fn skewed_ppb(self, ppb: i64) -> Self {
+        let scale = 1_000_000_000i64 + ppb;
+        assert!(scale > 0, "clock skew must leave a positive frequency");
+        Clock::new(self.num * scale as u64, self.den * 1_000_000_000)
+    }
+
+    /// Frequency in hertz (for reports).
+    pub fn hz(self) -> f64 {
+        self.num as f64 / self.den as f64
+    }
+
+    /// Period in seconds (for reports).
+    pub fn period_s(self) -> f64 {
+        self.den as f64 / self.num as f64
+    }
+
+    /// Time of `cycles` whole cycles, floored to the picosecond.
+    pub fn cycles_to_ps(self, cycles: u64) -> Ps {
+        ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps
+    }
+
+    /// Whole cycles completed by time `t` (floor).
+    pub fn ps_to_cycles(self, t: Ps) -> u64 {
+        ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64
+    }
+
+    /// The first cycle boundary at or after `t`, as a cycle count (ceil).
+    pub fn ps_to_cycles_ceil(self, t: Ps) -> u64 {
+        let n = t as u128 * self.num as u128;
+        let d = PS_PER_S as u128 * self.den as u128;
+        n.div_ceil(d) as u64
+    }
+}
+
+fn gcd(mut a: u64, mut b: u64) -> u64 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sysclk_cycles_are_exact_over_long_spans() {
+        let sys = Clock::from_hz(30_000_000).multiplied(10).divided(2);
+        assert_eq!(sys.hz(), 150e6);
+        // 150e6 cycles are exactly one second, even though one cycle is 6666.67 ps.
+        assert_eq!(sys.cycles_to_ps(150_000_000), PS_PER_S);
+        assert_eq!(sys.cycles_to_ps(1), 6_666);
+        assert_eq!(sys.ps_to_cycles(PS_PER_S), 150_000_000);
+    }
+
+    #[test]
+    fn adis_sample_clock_is_rational() {
+        // 819.2 SPS = 4096/5 Hz; 819.2 samples take exactly one second.
+        let fs = Clock::new(8192, 10);
+        assert_eq!(fs.cycles_to_ps(4096), 5 * PS_PER_S);
+        assert_eq!(fs.cycles_to_ps(1), 1_220_703_125);
+    }
+
+    #[test]
+    fn ceil_and_floor_agree_on_boundaries() {
+        let c = Clock::from_hz(37_500_000);
+        let t = c.cycles_to_ps(12345);
+        assert_eq!(c.ps_to_cycles(t), 12345);
+        assert_eq!(c.ps_to_cycles_ceil(t), 12345);
+        assert_eq!(c.ps_to_cycles_ceil(t + 1), 12346);
+    }
+
+    #[test]
+    fn skew_changes_frequency() {
+        let c = Clock::from_hz(1_000_000).skewed_ppb(1000);
+        assert!((c.hz() - 1_000_001.0).abs() < 1e-6);
+    }
+}
