@@ -204,3 +204,17 @@ mod tests {
         assert!(e.to_string().contains("timer.period_us"), "{e}");
     }
 }
+
+#[cfg(test)]
+mod reference_file {
+    use super::*;
+
+    /// The reference profile file and the code's defaults describe the same board.
+    #[test]
+    fn reference_toml_equals_defaults() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../firmware_model/reference.toml");
+        let text = std::fs::read_to_string(path).unwrap();
+        let p = Profile::from_toml(&text, "reference.toml", &[]).unwrap();
+        assert_eq!(p, Profile::default());
+    }
+}

@@ -466,7 +466,7 @@ impl Default for Firmware {
             algorithm: Algorithm::Rk4,
             coning_samples: 2,
             increment_rule: IncrementRule::Trapezoid,
-            numeric: Numeric::F64,
+            numeric: Numeric::C28xF32,
             euler: Euler::PublishedTables,
             euler_zero_eps: 1e-6,
             earth_rate: true,
