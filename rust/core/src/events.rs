@@ -58,14 +58,7 @@ impl Event {
         measured: f64,
         required: f64,
     ) -> Self {
-        Event {
-            t_ps,
-            kind,
-            severity,
-            message: message.into(),
-            measured: Some(measured),
-            required: Some(required),
-        }
+        Event { t_ps, kind, severity, message: message.into(), measured: Some(measured), required: Some(required) }
     }
 }
 

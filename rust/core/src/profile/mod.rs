@@ -40,9 +40,8 @@ impl Profile {
     /// Parse a profile from TOML text, apply `key=value` overrides, and validate.
     /// `source` names the file in error messages.
     pub fn from_toml(text: &str, source: &str, overrides: &[String]) -> Result<Profile> {
-        let mut table: toml::Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| Error::Profile(format!("{source}: {}", e.to_string().trim())))?;
+        let mut table: toml::Table =
+            text.parse().map_err(|e: toml::de::Error| Error::Profile(format!("{source}: {}", e.to_string().trim())))?;
         for ov in overrides {
             apply_override(&mut table, ov)?;
         }
@@ -127,9 +126,8 @@ fn check_keys(table: &toml::Table, source: &str) -> Result<()> {
 /// Apply one `a.b.c=value` override. The value is parsed as a TOML value (`49`, `0x31`, `true`,
 /// `"rk4"`, `[0, 0, 0]`); anything that does not parse is taken as a string (`numeric=iq`).
 pub fn apply_override(table: &mut toml::Table, ov: &str) -> Result<()> {
-    let (key, raw) = ov
-        .split_once('=')
-        .ok_or_else(|| Error::Profile(format!("override `{ov}`: expected key=value")))?;
+    let (key, raw) =
+        ov.split_once('=').ok_or_else(|| Error::Profile(format!("override `{ov}`: expected key=value")))?;
     let key = key.trim();
     let raw = raw.trim();
     if key.is_empty() {

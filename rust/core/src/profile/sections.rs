@@ -10,7 +10,11 @@ fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> Error {
 
 fn check_reg(key: &str, value: u32, bits: u32) -> Result<()> {
     if value >> bits != 0 {
-        return Err(bad(key, format!("0x{value:X}"), &format!("a {bits}-bit register value (0…{})", (1u64 << bits) - 1)));
+        return Err(bad(
+            key,
+            format!("0x{value:X}"),
+            &format!("a {bits}-bit register value (0…{})", (1u64 << bits) - 1),
+        ));
     }
     Ok(())
 }
@@ -151,7 +155,11 @@ impl Spi {
         check_reg("spi.spiffrx", self.spiffrx, 16)?;
         check_reg("spi.spiffct", self.spiffct, 8)?;
         if self.spictl & 0b100 == 0 {
-            return Err(bad("spi.spictl", format!("0x{:X}", self.spictl), "MASTER_SLAVE (bit 2) = 1: the firmware is the SPI master"));
+            return Err(bad(
+                "spi.spictl",
+                format!("0x{:X}", self.spictl),
+                "MASTER_SLAVE (bit 2) = 1: the firmware is the SPI master",
+            ));
         }
         if self.spiccr & 0xF != 15 {
             return Err(bad(
@@ -278,11 +286,19 @@ impl Device {
         check_reg("device.dout_after_write", self.dout_after_write, 16)?;
         check_reg("device.corrupt_word", self.corrupt_word, 16)?;
         if self.burst_command & 0x8000 != 0 {
-            return Err(bad("device.burst_command", format!("0x{:04X}", self.burst_command), "a read command (bit 15 = 0)"));
+            return Err(bad(
+                "device.burst_command",
+                format!("0x{:04X}", self.burst_command),
+                "a read command (bit 15 = 0)",
+            ));
         }
         let range = (self.sens_avg >> 8) & 0x7;
         if ![1, 2, 4].contains(&range) {
-            return Err(bad("device.sens_avg", format!("0x{:04X}", self.sens_avg), "range bits 10:8 = 100 (±300), 010 (±150) or 001 (±75)"));
+            return Err(bad(
+                "device.sens_avg",
+                format!("0x{:04X}", self.sens_avg),
+                "range bits 10:8 = 100 (±300), 010 (±150) or 001 (±75)",
+            ));
         }
         if self.clock_ppb.abs() > 100_000_000 {
             return Err(bad("device.clock_ppb", self.clock_ppb, "−1e8…1e8 ppb"));
@@ -534,7 +550,11 @@ impl Default for Navigation {
 impl Navigation {
     pub(crate) fn validate(&self) -> Result<()> {
         if !(self.latitude_deg.is_finite() && self.latitude_deg.abs() < 89.0) {
-            return Err(bad("navigation.latitude_deg", self.latitude_deg, "−89…89 degrees (the local-level frame is singular at the poles)"));
+            return Err(bad(
+                "navigation.latitude_deg",
+                self.latitude_deg,
+                "−89…89 degrees (the local-level frame is singular at the poles)",
+            ));
         }
         if !self.longitude_deg.is_finite() {
             return Err(bad("navigation.longitude_deg", self.longitude_deg, "a finite angle"));
