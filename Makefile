@@ -1,0 +1,54 @@
+# sins-fw: `make demo` and `make test` do all the set-up on a fresh machine (Python 3.11, Rust,
+# PyPI and crates.io reachable): a virtual environment, the pinned dependencies, the extension built
+# in release mode. A second run with nothing changed rebuilds nothing.
+
+PYTHON ?= python3
+VENV   ?= .venv
+BIN    := $(VENV)/bin
+DEPS   := $(VENV)/.deps-installed
+BUILT  := $(VENV)/.extension-built
+RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find rust -name '*.rs' -o -name Cargo.toml)
+# CI has two cores: keep pytest serial and cargo at its default.
+export CARGO_TERM_COLOR ?= never
+
+.PHONY: demo test test-rust test-python lint fmt bench clean golden
+
+demo: $(BUILT)
+	$(BIN)/sins-fw demo
+
+test: test-rust test-python
+
+test-rust:
+	cargo test --workspace --release
+
+test-python: $(BUILT)
+	$(BIN)/pytest -q
+
+lint: $(DEPS)
+	cargo fmt --all -- --check
+	cargo clippy --workspace --all-targets -- -D warnings
+	$(BIN)/ruff check python tests benchmarks
+	$(BIN)/ruff format --check python tests benchmarks
+
+fmt: $(DEPS)
+	cargo fmt --all
+	$(BIN)/ruff format python tests benchmarks
+	$(BIN)/ruff check --fix python tests benchmarks
+
+bench: $(BUILT)
+	$(BIN)/sins-fw bench
+
+clean:
+	cargo clean
+	rm -rf $(VENV) python/sins_fw/_core*.so .pytest_cache .ruff_cache .hypothesis
+
+$(VENV)/bin/python:
+	$(PYTHON) -m venv $(VENV)
+
+$(DEPS): requirements.txt | $(VENV)/bin/python
+	$(BIN)/pip install --disable-pip-version-check -q -r requirements.txt
+	touch $@
+
+$(BUILT): $(DEPS) $(RUST_SOURCES)
+	VIRTUAL_ENV=$(abspath $(VENV)) $(BIN)/maturin develop --release --quiet
+	touch $@

@@ -1,0 +1,5 @@
+"""`python -m sins_fw` runs the CLI."""
+
+from sins_fw.cli import run
+
+run()

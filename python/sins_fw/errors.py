@@ -1,0 +1,46 @@
+"""The exceptions sins-fw raises. Errors from the Rust core arrive as these classes with the core's
+message, which names the file, key, register or row and what was expected.
+
+    SinsError                 base of everything below
+    ├── InputError            the user's input is wrong (CLI exit code 2)
+    │   ├── ProfileError      a profile key, type or value
+    │   ├── TraceError        a trace file or array: missing column, NaN, non-increasing time, ...
+    │   ├── RegisterError     a register access or value the hardware model rejects
+    │   └── ConfigError       a configuration the hardware cannot realise
+    ├── CheckFailed           a check (parity threshold, deadline) failed (CLI exit code 1)
+    └── InternalError         a bug: a panic in the core, caught before it could abort Python
+"""
+
+from __future__ import annotations
+
+
+class SinsError(Exception):
+    """Base class of every sins-fw error."""
+
+
+class InputError(SinsError):
+    """The user's input (a file, a profile, an option) is wrong."""
+
+
+class ProfileError(InputError):
+    """A profile key, type or value is wrong."""
+
+
+class TraceError(InputError):
+    """A trace file or input array is malformed."""
+
+
+class RegisterError(InputError):
+    """A register access or value the hardware model rejects."""
+
+
+class ConfigError(InputError):
+    """A configuration the hardware cannot realise."""
+
+
+class CheckFailed(SinsError):  # noqa: N818 (a verdict, not an error of the tool)
+    """A check failed: a parity threshold or a deadline was exceeded."""
+
+
+class InternalError(SinsError):
+    """A bug in sins-fw (e.g. a Rust panic that was caught)."""

@@ -1,0 +1,82 @@
+"""Board and firmware profiles: TOML files in `firmware_model/`, validated by the Rust core.
+
+A profile is named (``reference`` → ``firmware_model/reference.toml``) or given as a path; ``key=value``
+overrides change one field for one run. The schema, with units and allowed values, is
+``firmware_model/SCHEMA.md``.
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from sins_fw import _core
+from sins_fw.errors import ProfileError
+
+#: Where named profiles live: $SINS_FW_MODEL_DIR, else the repository's firmware_model/.
+MODEL_DIR = Path(os.environ.get("SINS_FW_MODEL_DIR", Path(__file__).resolve().parents[2] / "firmware_model"))
+
+
+def resolve_profile_path(name_or_path: str | os.PathLike[str]) -> Path:
+    """The file of a named profile or the path itself; a clear error if neither exists."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        if not path.is_file():
+            raise ProfileError(f"{path}: profile file not found")
+        return path
+    candidate = MODEL_DIR / f"{name_or_path}.toml"
+    if candidate.is_file():
+        return candidate
+    known = sorted(p.stem for p in MODEL_DIR.glob("*.toml") if _is_profile(p))
+    raise ProfileError(f"unknown profile `{name_or_path}`; known profiles: {', '.join(known) or 'none'}")
+
+
+def _is_profile(path: Path) -> bool:
+    # Data tables (costs, parity thresholds) share the folder; profiles have a [meta] section.
+    try:
+        return "meta" in tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return False
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A validated profile: the source text, the overrides, and the resolved values."""
+
+    source: str
+    text: str
+    overrides: tuple[str, ...] = ()
+    values: dict[str, Any] = field(default_factory=dict)
+
+    def get(self, dotted: str) -> Any:
+        """One value by dotted key, e.g. ``profile.get("spi.spibrr")``."""
+        node: Any = self.values
+        for part in dotted.split("."):
+            if not isinstance(node, dict) or part not in node:
+                raise ProfileError(f"unknown key `{dotted}`")
+            node = node[part]
+        return node
+
+    def with_overrides(self, *overrides: str) -> Profile:
+        """The same profile with more ``key=value`` overrides (validated)."""
+        return _build(self.source, self.text, (*self.overrides, *overrides))
+
+
+def load_profile(
+    name_or_path: str | os.PathLike[str] = "reference", overrides: tuple[str, ...] | list[str] = ()
+) -> Profile:
+    """Load, override and validate a profile. Raises ProfileError naming the file and key."""
+    path = resolve_profile_path(name_or_path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as e:
+        raise ProfileError(f"{path}: not UTF-8 text (byte {e.start})") from None
+    return _build(str(path), text, tuple(overrides))
+
+
+def _build(source: str, text: str, overrides: tuple[str, ...]) -> Profile:
+    resolved = _core.resolve_profile(text, source, list(overrides))
+    return Profile(source=source, text=text, overrides=overrides, values=tomllib.loads(resolved))

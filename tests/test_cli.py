@@ -1,0 +1,42 @@
+"""The CLI frame: version, help, exit codes, JSON output, no tracebacks on user errors."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+
+import sins_fw
+from conftest import ROOT, run_cli
+
+
+def test_version_is_the_cargo_version():
+    cargo = tomllib.loads((ROOT / "Cargo.toml").read_text())["workspace"]["package"]["version"]
+    r = run_cli("--version")
+    assert r.code == 0
+    assert r.out.strip() == f"sins-fw {cargo}"
+    assert sins_fw.__version__ == cargo
+
+
+def test_help_lists_commands():
+    r = run_cli("--help")
+    assert r.code == 0
+    for name in ("demo",):
+        assert name in r.out
+
+
+def test_no_command_is_usage_error():
+    assert run_cli().code == 2
+
+
+def test_unknown_option_is_usage_error_without_traceback():
+    r = run_cli("demo", "--no-such-option")
+    assert r.code == 2
+    assert "Traceback" not in r.err
+    assert "--no-such-option" in r.err
+
+
+def test_demo_json_is_one_object():
+    r = run_cli("demo", "--json")
+    assert r.code == 0, r.err
+    report = json.loads(r.out)
+    assert report["version"] == sins_fw.__version__
