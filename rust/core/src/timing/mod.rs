@@ -1,1 +1,5 @@
-//! (filled in by the timing work)
+//! The compute-time model and the per-cycle budget.
+
+pub mod costs;
+
+pub use costs::CostTable;
