@@ -102,13 +102,8 @@ pub fn euler_to_quat<T: Scalar>(yaw: T, pitch: T, roll: T) -> Quat<T> {
     let (sy, cy) = ((yaw / two).sin(), (yaw / two).cos());
     let (sp, cp) = ((pitch / two).sin(), (pitch / two).cos());
     let (sr, cr) = ((roll / two).sin(), (roll / two).cos());
-    [
-        cy * cp * cr + sy * sp * sr,
-        cy * cp * sr - sy * sp * cr,
-        cy * sp * cr + sy * cp * sr,
-        sy * cp * cr - cy * sp * sr,
-    ]
-    .map(|x| x.to_class(QClass::Quat))
+    [cy * cp * cr + sy * sp * sr, cy * cp * sr - sy * sp * cr, cy * sp * cr + sy * cp * sr, sy * cp * cr - cy * sp * sr]
+        .map(|x| x.to_class(QClass::Quat))
 }
 
 #[cfg(test)]

@@ -9,6 +9,8 @@
 //! requantised (`to_class`) where the firmware assigns them, so fixed-point backends see the same Q
 //! per variable the target code would use.
 
+#[cfg(test)]
+mod acceptance;
 mod align;
 mod decode;
 mod euler;
@@ -16,8 +18,6 @@ mod nav;
 mod quat;
 mod rotvec;
 mod state;
-#[cfg(test)]
-mod acceptance;
 
 pub use align::{level_attitude, LevelAligner};
 pub use decode::{gyro_lsb_dps, DecodeReport, Decoded, Decoder, ACCEL_LSB_G, PUBLISHED_GYRO_LSB_DPS};

@@ -163,7 +163,8 @@ mod tests {
 
     #[test]
     fn radii_and_rates() {
-        let nav = Navigation { latitude_deg: 30.0, height_m: 0.0, velocity_enu: [10.0, 20.0, 0.0], ..Default::default() };
+        let nav =
+            Navigation { latitude_deg: 30.0, height_m: 0.0, velocity_enu: [10.0, 20.0, 0.0], ..Default::default() };
         let m = EarthModel::<f64>::new(&nav);
         let r = m.rates(&NavState::from_profile(&nav));
         let e = nav.flattening;

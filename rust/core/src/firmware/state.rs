@@ -230,3 +230,55 @@ impl<T: Scalar> Firmware<T> {
         &self.earth
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::Decode;
+
+    #[test]
+    fn update_period_follows_the_schedule() {
+        let mut p = Profile::default();
+        assert_eq!(update_period_s(&p), 0.008);
+        p.firmware.schedule = Schedule::Endpoint;
+        assert_eq!(update_period_s(&p), 0.004);
+    }
+
+    #[test]
+    fn wrong_sample_counts_are_errors() {
+        let mut p = Profile::default();
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        let e = fw.update_attitude(&[[0.0; 3]; 2]).unwrap_err();
+        assert!(e.to_string().contains("takes 3"), "{e}");
+        p.firmware.algorithm = Algorithm::RotationVector;
+        p.firmware.coning_samples = 3;
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        assert_eq!(fw.rates_per_update(), 4);
+        assert!(fw.update_attitude(&[[0.0; 3]; 4]).is_ok());
+        assert!(fw.update_attitude_increments(&[[0.0; 3]; 2]).is_err());
+    }
+
+    #[test]
+    fn level_alignment_then_decode_and_euler() {
+        let mut p = Profile::default();
+        p.firmware.initial_attitude = InitialAttitude::Level;
+        p.firmware.initial_yaw_deg = 200.0;
+        p.firmware.decode = Decode::Correct;
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        assert!(fw.finish_alignment().is_err(), "no sample yet");
+        // Board pitched by θ: f^b = γ·(T31, T32, T33) = γ·(−sin θ, 0, cos θ); as words of 3.333 mg.
+        let theta = 10f64.to_radians();
+        let code = |g: f64| ((g / 3.333e-3).round() as i32 as u16) & 0x3FFF;
+        let words = [0, 0, 0, code(-theta.sin()), 0, code(theta.cos())];
+        for _ in 0..125 {
+            let d = fw.decode(&words);
+            fw.add_alignment_sample(&d.accel);
+        }
+        fw.finish_alignment().unwrap();
+        let a = fw.euler();
+        // Quantisation: one LSB (3.333 mg) of f_x moves θ by ≤ 3.333e-3/cos θ rad.
+        assert!((a.pitch - theta).abs() < 3.333e-3 / theta.cos(), "{}", a.pitch.to_degrees());
+        assert!(a.roll.abs() < 1e-15);
+        assert!((a.yaw.to_degrees() - 200.0).abs() < 1e-12);
+    }
+}
