@@ -184,6 +184,18 @@ mod tests {
     }
 
     #[test]
+    fn zero_rows_reached_from_real_attitudes() {
+        // Roll ±90° makes T33 = cos θ cos φ ≈ 6e-17 and yaw 90°/270° makes T11 ≈ 6e-17: the "→0" rows
+        // return the exact table angles.
+        let e = tables();
+        for (roll, yaw) in [(90.0, 90.0), (-90.0, 270.0)] {
+            let a = e.extract(&dcm(&euler_to_quat(yaw * D, 0.2, roll * D)));
+            assert_eq!((a.roll / D, a.yaw / D), (roll, yaw));
+            assert!((a.pitch - 0.2).abs() < 1e-12);
+        }
+    }
+
+    #[test]
     fn convention_matches_the_published_matrix() {
         // Eq. 2-7 element by element.
         let (y, p, r) = (0.7, -0.4, 2.1);
