@@ -438,6 +438,18 @@ pub enum IncrementRule {
     Rectangle,
 }
 
+/// The quaternion-derivative matrix of the RK4 update.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum QuatDerivative {
+    /// Q̇ = ½ Q ⊗ [0, ω]: the kinematics that match the published T matrix (C_b^n). Equals the
+    /// published appendix-1 code in the rows of q̇0, q̇1, q̇3.
+    Correct,
+    /// The appendix-1 code as printed: its q̇2 row reads `ωy·q0 − ωz·q1 − ωx·q3` (the sign of the
+    /// last term is wrong, the matrix is not skew-symmetric) [unconfirmed: OCR, four lines agree].
+    Published,
+}
+
 /// Firmware choices.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -472,6 +484,11 @@ pub struct Firmware {
     pub code_location: CodeLocation,
     /// Run the navigation (velocity, position) every step.
     pub navigation: bool,
+    /// The quaternion-derivative rows of the RK4 update.
+    pub quat_derivative: QuatDerivative,
+    /// The firmware's g → m/s² factor for decoded accelerations [unconfirmed: the conversion is
+    /// not published; 9.80665 is the standard gravity the data sheet's g means].
+    pub accel_g_m_s2: f64,
 }
 
 impl Default for Firmware {
@@ -492,6 +509,8 @@ impl Default for Firmware {
             overrun: OverrunPolicy::Queue,
             code_location: CodeLocation::Ram,
             navigation: true,
+            quat_derivative: QuatDerivative::Correct,
+            accel_g_m_s2: 9.80665,
         }
     }
 }
@@ -506,6 +525,7 @@ impl Firmware {
             return Err(bad("firmware.initial_yaw_deg", self.initial_yaw_deg, "a finite angle in degrees"));
         }
         check_nonneg("firmware.alignment_s", self.alignment_s)?;
+        check_pos("firmware.accel_g_m_s2", self.accel_g_m_s2)?;
         Ok(())
     }
 }

@@ -1,0 +1,279 @@
+//! Decode of the six inertial output words (X/Y/Z GYRO_OUT, X/Y/Z ACCL_OUT) into rad/s and m/s².
+//!
+//! `published` is the thesis code (§4.4.3): keep the 14 valid bits, then two range tests per
+//! register; a word in neither range leaves the variable at its previous value (stale, silently on
+//! target; reported here). It multiplies gyro codes by 0.05 whatever range SENS_AVG selects, because
+//! it was written for ±300 °/s. `correct` masks, sign-extends and uses the configured range's LSB.
+//! Both flag saturation (a code at the 14-bit limit, 0x1FFF or 0x2000).
+//!
+//! Units, in the order the firmware converts: the decoded value in °/s (g) as published, then one
+//! multiplication by π/180 (by the firmware's g constant, `firmware.accel_g_m_s2`).
+
+use super::{lit, Vec3};
+use crate::events::{Event, EventLog, Severity};
+use crate::numerics::{QClass, Scalar};
+use crate::profile::{Decode, Device, Firmware as FirmwareProfile};
+use crate::time::Ps;
+use crate::{Error, Result};
+
+/// The gyro LSB the published code uses for every range, °/s.
+pub const PUBLISHED_GYRO_LSB_DPS: f64 = 0.05;
+/// The accelerometer LSB, g (data sheet: 3.333 mg; the published literal `3.333e-003`).
+pub const ACCEL_LSB_G: f64 = 3.333e-3;
+
+const VALID_BITS_MASK: u16 = 0x3FFF;
+const SATURATED_POSITIVE: u16 = 0x1FFF;
+const SATURATED_NEGATIVE: u16 = 0x2000;
+/// Published range tests: (positive upper bound, negative lower bound) of the 14-bit code.
+const GYRO_RANGE: (u16, u16) = (0x1770, 0x2890);
+const ACCEL_RANGE: (u16, u16) = (0x1519, 0x2AE7);
+const CHANNELS: [&str; 6] = ["XGYRO_OUT", "YGYRO_OUT", "ZGYRO_OUT", "XACCL_OUT", "YACCL_OUT", "ZACCL_OUT"];
+
+/// The gyro LSB, °/s, of the range selected by SENS_AVG bits 10:8 (100 → ±300, 010 → ±150,
+/// 001 → ±75).
+pub fn gyro_lsb_dps(sens_avg: u32) -> Result<f64> {
+    match (sens_avg >> 8) & 0x7 {
+        4 => Ok(0.05),
+        2 => Ok(0.025),
+        1 => Ok(0.0125),
+        other => Err(Error::Register(format!(
+            "SENS_AVG = 0x{sens_avg:04X}: range bits 10:8 = {other:03b}, expected 100 (±300), 010 (±150) or 001 (±75)"
+        ))),
+    }
+}
+
+/// What happened to each channel in one decode; bit i is channel i (X/Y/Z gyro, X/Y/Z accel).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct DecodeReport {
+    /// The published decode matched no range and kept the previous value.
+    pub stale: u8,
+    /// The 14-bit code is at its limit (0x1FFF or 0x2000): the reading is clipped.
+    pub saturated: u8,
+    /// The published and the correct decode give different values (stale or wrong LSB).
+    pub differs: u8,
+}
+
+impl DecodeReport {
+    /// True when nothing is to report.
+    pub fn is_clean(&self) -> bool {
+        self.stale | self.saturated | self.differs == 0
+    }
+
+    /// Record one event per flagged channel (`stale_decode`, `saturated_reading`,
+    /// `decode_mismatch`). Formats strings only when something fired.
+    pub fn push_events(&self, t_ps: Ps, words: &[u16; 6], log: &mut EventLog) {
+        if self.is_clean() {
+            return;
+        }
+        for (i, (name, word)) in CHANNELS.iter().zip(words).enumerate() {
+            let bit = 1u8 << i;
+            if self.stale & bit != 0 {
+                log.push(Event::new(
+                    t_ps,
+                    "stale_decode",
+                    Severity::Warning,
+                    format!("{name} = 0x{word:04X}: outside both published ranges, previous value kept"),
+                ));
+            } else if self.differs & bit != 0 {
+                log.push(Event::new(
+                    t_ps,
+                    "decode_mismatch",
+                    Severity::Warning,
+                    format!("{name} = 0x{word:04X}: published decode scales by 0.05 °/s, the configured range differs"),
+                ));
+            }
+            if self.saturated & bit != 0 {
+                log.push(Event::new(
+                    t_ps,
+                    "saturated_reading",
+                    Severity::Warning,
+                    format!("{name} = 0x{word:04X}: code at the 14-bit limit"),
+                ));
+            }
+        }
+    }
+}
+
+/// One decoded sample in the firmware's units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Decoded<T> {
+    /// ω_ib^b, rad/s.
+    pub rate: Vec3<T>,
+    /// f^b, m/s².
+    pub accel: Vec3<T>,
+    /// Flags of this decode.
+    pub report: DecodeReport,
+}
+
+/// The decode stage with its state: the previous values (°/s and g) the published code keeps.
+#[derive(Debug, Clone)]
+pub struct Decoder<T> {
+    mode: Decode,
+    gyro_lsb: T,
+    published_lsb: T,
+    accel_lsb: T,
+    deg_to_rad: T,
+    g: T,
+    zero: T,
+    published_matches_range: bool,
+    previous: [T; 6],
+}
+
+/// Sign-extended value of a 14-bit two's-complement code.
+fn sign_extend_14(code: u16) -> i32 {
+    ((code ^ 0x2000) as i32) - 0x2000
+}
+
+impl<T: Scalar> Decoder<T> {
+    /// A decoder for the device's SENS_AVG range and the firmware's decode choice.
+    pub fn new(device: &Device, firmware: &FirmwareProfile) -> Result<Self> {
+        let lsb = gyro_lsb_dps(device.sens_avg)?;
+        let zero = lit(0.0);
+        Ok(Decoder {
+            mode: firmware.decode,
+            gyro_lsb: lit(lsb),
+            published_lsb: lit(PUBLISHED_GYRO_LSB_DPS),
+            accel_lsb: lit(ACCEL_LSB_G),
+            deg_to_rad: lit(std::f64::consts::PI / 180.0),
+            g: lit(firmware.accel_g_m_s2),
+            zero,
+            published_matches_range: lsb == PUBLISHED_GYRO_LSB_DPS,
+            previous: [zero; 6],
+        })
+    }
+
+    /// The published range test on one 14-bit code: `Some(value)` or `None` (stale).
+    fn published(&self, code: u16, (hi, lo): (u16, u16), scale: T) -> Option<T> {
+        if code <= hi {
+            Some(T::from_i32(code as i32, QClass::Generic) * scale)
+        } else if code >= lo {
+            // `r ^= 0x3FFF; r = r + 1; a = 0 - (r * scale);`
+            let r = (code ^ VALID_BITS_MASK) + 1;
+            Some(self.zero - T::from_i32(r as i32, QClass::Generic) * scale)
+        } else {
+            None
+        }
+    }
+
+    /// Decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (burst words 2…7).
+    pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
+        let mut report = DecodeReport::default();
+        let mut out = [self.zero; 6];
+        for (i, word) in words.iter().enumerate() {
+            let code = word & VALID_BITS_MASK;
+            let bit = 1u8 << i;
+            let gyro = i < 3;
+            let (range, published_scale, correct_scale) = if gyro {
+                (GYRO_RANGE, self.published_lsb, self.gyro_lsb)
+            } else {
+                (ACCEL_RANGE, self.accel_lsb, self.accel_lsb)
+            };
+            if code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE {
+                report.saturated |= bit;
+            }
+            let published_stale = code > range.0 && code < range.1;
+            if published_stale {
+                report.stale |= bit;
+            }
+            if published_stale || (gyro && !self.published_matches_range && code != 0) {
+                report.differs |= bit;
+            }
+            let source_units = match self.mode {
+                Decode::Published => self.published(code, range, published_scale).unwrap_or(self.previous[i]),
+                Decode::Correct => T::from_i32(sign_extend_14(code), QClass::Generic) * correct_scale,
+            };
+            self.previous[i] = source_units;
+            out[i] = if gyro {
+                (source_units * self.deg_to_rad).to_class(QClass::Rate)
+            } else {
+                (source_units * self.g).to_class(QClass::Accel)
+            };
+        }
+        Decoded { rate: [out[0], out[1], out[2]], accel: [out[3], out[4], out[5]], report }
+    }
+
+    /// The previous decoded values in source units (°/s, g), as the published code holds them.
+    pub fn previous(&self) -> &[T; 6] {
+        &self.previous
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn decoder(mode: Decode, sens_avg: u32) -> Decoder<f64> {
+        let device = Device { sens_avg, ..Device::default() };
+        let firmware = FirmwareProfile { decode: mode, ..FirmwareProfile::default() };
+        Decoder::new(&device, &firmware).unwrap()
+    }
+
+    fn dps(d: &Decoded<f64>, i: usize) -> f64 {
+        d.rate[i].to_degrees()
+    }
+
+    #[test]
+    fn published_vectors() {
+        let mut d = decoder(Decode::Published, 0x0402);
+        let out = d.decode(&[0x1770, 0x0001, 0x3FFF, 0x1519, 0x2AE7, 0x3FFE]);
+        assert!((dps(&out, 0) - 300.0).abs() < 1e-12);
+        assert!((dps(&out, 1) - 0.05).abs() < 1e-12);
+        assert!((dps(&out, 2) + 0.05).abs() < 1e-12);
+        let g = 9.80665;
+        assert!((out.accel[0] / g - 18.001_533).abs() < 1e-9, "5401 × 3.333 mg");
+        assert!((out.accel[1] / g + 18.001_533).abs() < 1e-9);
+        assert!((out.accel[2] / g + 2.0 * 3.333e-3).abs() < 1e-12);
+        assert!(out.report.is_clean());
+        let out = d.decode(&[0x2890, 0x3FFE, 0xC000, 0, 0, 0]);
+        assert!((dps(&out, 0) + 300.0).abs() < 1e-12);
+        assert!((dps(&out, 1) + 0.10).abs() < 1e-12);
+        assert_eq!(dps(&out, 2), 0.0, "top two bits are flags, not data");
+    }
+
+    #[test]
+    fn published_keeps_previous_value_for_0x1800_and_reports_it() {
+        let mut d = decoder(Decode::Published, 0x0402);
+        d.decode(&[0x0014, 0, 0, 0, 0, 0]); // +1.00 °/s
+        let out = d.decode(&[0x1800, 0, 0, 0, 0, 0]);
+        assert!((dps(&out, 0) - 1.0).abs() < 1e-12, "stale value kept");
+        assert_eq!(out.report.stale, 0b1);
+        assert_eq!(out.report.differs, 0b1);
+        assert_eq!(out.report.saturated, 0);
+        let mut log = EventLog::default();
+        out.report.push_events(5, &[0x1800, 0, 0, 0, 0, 0], &mut log);
+        assert_eq!(log.count("stale_decode"), 1);
+        assert!(log.events()[0].message.contains("XGYRO_OUT = 0x1800"));
+    }
+
+    #[test]
+    fn correct_decodes_0x1800_and_flags_saturation() {
+        let mut d = decoder(Decode::Correct, 0x0402);
+        let out = d.decode(&[0x1800, 0x1FFF, 0x2000, 0x1FFF, 0x2000, 0x2001]);
+        assert!((dps(&out, 0) - 307.2).abs() < 1e-12);
+        assert!((dps(&out, 1) - 8191.0 * 0.05).abs() < 1e-9);
+        assert!((dps(&out, 2) + 8192.0 * 0.05).abs() < 1e-9);
+        assert_eq!(out.report.saturated, 0b01_1110);
+        assert_eq!(out.report.stale, 0b11_1111, "the published decode would be stale on all six");
+    }
+
+    #[test]
+    fn correct_uses_the_configured_range() {
+        // ±75 °/s, 0.0125 °/s per LSB: 0xF9DA → bits 13:0 = −1574 → −19.675 °/s.
+        let mut d = decoder(Decode::Correct, 0x0102);
+        let out = d.decode(&[0xF9DA, 0x0000, 0x0001, 0, 0, 0]);
+        assert!((dps(&out, 0) + 19.675).abs() < 1e-12);
+        assert!((dps(&out, 2) - 0.0125).abs() < 1e-12);
+        assert_eq!(out.report.differs, 0b100 | 0b1, "published would scale by 0.05");
+        // The published decode on the same board: four times too large.
+        let mut p = decoder(Decode::Published, 0x0102);
+        let out = p.decode(&[0xF9DA, 0, 0, 0, 0, 0]);
+        assert!((dps(&out, 0) + 78.7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_range_is_a_register_error() {
+        let device = Device { sens_avg: 0x0302, ..Device::default() };
+        let e = Decoder::<f64>::new(&device, &FirmwareProfile::default()).unwrap_err();
+        assert!(e.to_string().contains("SENS_AVG"), "{e}");
+    }
+}

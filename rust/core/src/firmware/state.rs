@@ -1,0 +1,284 @@
+//! The firmware's state and its stages. One method per stage (decode, attitude update, Euler
+//! extraction, navigation, alignment) so the acquisition model can drive them in the firmware's
+//! order and the timing model can run each with the counting type. Plain data in and out; nothing
+//! allocates.
+
+use super::align::{level_attitude, LevelAligner};
+use super::decode::{Decoded, Decoder};
+use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
+use super::nav::{EarthModel, EarthRates, NavState};
+use super::quat::{body_rate_nav, dcm, normalise, quat_mul, Rk4};
+use super::rotvec::{coning_vector, increments, quat_from_rotvec};
+use super::{lit, Mat3, Quat, Vec3};
+use crate::numerics::{QClass, Scalar};
+use crate::profile::{Algorithm, IncrementRule, InitialAttitude, Profile, Schedule};
+use crate::{Error, Result};
+
+/// The attitude update period T of a profile, s: two timer ticks for `half-step` (rates at t, t+T/2,
+/// t+T from a read every tick), one tick otherwise.
+pub fn update_period_s(profile: &Profile) -> f64 {
+    let tick = profile.timer.period_us * 1e-6;
+    match profile.firmware.schedule {
+        Schedule::HalfStep => 2.0 * tick,
+        Schedule::Endpoint | Schedule::BackToBack => tick,
+    }
+}
+
+/// The firmware's variables and constants in the numeric type `T`.
+#[derive(Debug, Clone)]
+pub struct Firmware<T> {
+    algorithm: Algorithm,
+    coning_samples: usize,
+    increment_rule: IncrementRule,
+    earth_rate: bool,
+    navigation: bool,
+    initial_attitude: InitialAttitude,
+    step_s: f64,
+    t1: T,
+    sub_interval: T,
+    rk4: Rk4<T>,
+    decoder: Decoder<T>,
+    euler: EulerExtractor<T>,
+    earth: EarthModel<T>,
+    initial_yaw: T,
+    q: Quat<T>,
+    c_bn: Mat3<T>,
+    nav: NavState<T>,
+    previous_increment: Option<Vec3<T>>,
+    aligner: LevelAligner<T>,
+}
+
+impl<T: Scalar> Firmware<T> {
+    /// The firmware of a (validated) profile, at its initial state: Q = [1, 0, 0, 0] (also for
+    /// `level`, until [`Firmware::finish_alignment`]), V and position from `navigation`.
+    pub fn new(profile: &Profile) -> Result<Self> {
+        let fw = &profile.firmware;
+        let step_s = update_period_s(profile);
+        if !(step_s.is_finite() && step_s > 0.0) {
+            return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
+        }
+        let coning_samples = fw.coning_samples as usize;
+        if !(1..=3).contains(&coning_samples) {
+            return Err(Error::Profile(format!(
+                "key `firmware.coning_samples` = {}: expected 1, 2 or 3",
+                fw.coning_samples
+            )));
+        }
+        let q: Quat<T> = [lit(1.0), lit(0.0), lit(0.0), lit(0.0)];
+        Ok(Firmware {
+            algorithm: fw.algorithm,
+            coning_samples,
+            increment_rule: fw.increment_rule,
+            earth_rate: fw.earth_rate,
+            navigation: fw.navigation,
+            initial_attitude: fw.initial_attitude,
+            step_s,
+            t1: lit(step_s),
+            sub_interval: lit(step_s / coning_samples as f64),
+            rk4: Rk4::new(step_s, fw.quat_derivative),
+            decoder: Decoder::new(&profile.device, fw)?,
+            euler: EulerExtractor::new(fw.euler, fw.euler_zero_eps),
+            earth: EarthModel::new(&profile.navigation),
+            initial_yaw: T::from_f64(fw.initial_yaw_deg.to_radians(), QClass::Angle),
+            q,
+            c_bn: dcm(&q),
+            nav: NavState::from_profile(&profile.navigation),
+            previous_increment: None,
+            aligner: LevelAligner::default(),
+        })
+    }
+
+    /// The update period T, s.
+    pub fn step_s(&self) -> f64 {
+        self.step_s
+    }
+
+    /// Rate samples one attitude update takes: 3 for RK4 (t, t+T/2, t+T), N+1 for the rotation
+    /// vector with N coning samples (the sub-interval boundaries t, t+T/N, …, t+T).
+    pub fn rates_per_update(&self) -> usize {
+        match self.algorithm {
+            Algorithm::Rk4 => 3,
+            Algorithm::RotationVector => self.coning_samples + 1,
+        }
+    }
+
+    /// Stage 1: decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT.
+    pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
+        self.decoder.decode(words)
+    }
+
+    /// Earth and transport rates at the current navigation state.
+    pub fn earth_rates(&self) -> EarthRates<T> {
+        self.earth.rates(&self.nav)
+    }
+
+    /// Stage 2: attitude update from `rates_per_update()` samples of ω_ib^b (rad/s).
+    pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
+        let expected = self.rates_per_update();
+        if rates.len() != expected {
+            return Err(Error::Config(format!(
+                "attitude update: {} rate samples, the {:?} update takes {expected}",
+                rates.len(),
+                self.algorithm
+            )));
+        }
+        match self.algorithm {
+            Algorithm::Rk4 => {
+                let mut w = [rates[0], rates[1], rates[2]];
+                if self.earth_rate {
+                    let w_in = self.earth_rates().w_in();
+                    for wi in w.iter_mut() {
+                        *wi = body_rate_nav(&self.c_bn, wi, &w_in);
+                    }
+                }
+                self.rk4.step_quat(&mut self.q, &w);
+            }
+            Algorithm::RotationVector => {
+                let mut d = [[lit::<T>(0.0); 3]; 3];
+                increments(self.increment_rule, rates, self.sub_interval, &mut d)?;
+                return self.update_attitude_increments(&d[..self.coning_samples]);
+            }
+        }
+        self.c_bn = dcm(&self.q);
+        Ok(())
+    }
+
+    /// Stage 2 of the rotation-vector update from angle increments (rad) over the N sub-intervals:
+    /// Q ← q(−ζ) ⊗ Q ⊗ q(Φ). The earth-rate correction is the navigation frame's own rotation over
+    /// the step, ζ = ω_in^n·T, applied on the navigation side (C_{n(k)}^{n(k+1)} ≈ I − [ζ×]).
+    pub fn update_attitude_increments(&mut self, dtheta: &[Vec3<T>]) -> Result<()> {
+        if dtheta.len() != self.coning_samples {
+            return Err(Error::Config(format!(
+                "rotation vector: {} angle increments, firmware.coning_samples = {}",
+                dtheta.len(),
+                self.coning_samples
+            )));
+        }
+        let previous = if self.coning_samples == 1 { self.previous_increment.as_ref() } else { None };
+        let phi = coning_vector(dtheta, previous)?;
+        self.previous_increment = Some(dtheta[dtheta.len() - 1]);
+        let mut q = quat_mul(&self.q, &quat_from_rotvec(&phi));
+        if self.earth_rate {
+            let w_in = self.earth_rates().w_in();
+            let zeta = w_in.map(|w| (-(w * self.t1)).to_class(QClass::Rate));
+            q = quat_mul(&quat_from_rotvec(&zeta), &q);
+        }
+        normalise(&mut q);
+        self.q = q;
+        self.c_bn = dcm(&self.q);
+        Ok(())
+    }
+
+    /// Stage 3: Euler angles of the current attitude (radians).
+    pub fn euler(&self) -> EulerAngles<T> {
+        self.euler.extract(&self.c_bn)
+    }
+
+    /// Stage 4: one navigation step with the specific force f^b (m/s²); nothing when the profile
+    /// turns navigation off.
+    pub fn navigate(&mut self, f_b: &Vec3<T>) {
+        if self.navigation {
+            self.earth.step(&mut self.nav, &self.c_bn, f_b, self.t1);
+        }
+    }
+
+    /// Alignment (`level`): add one still accelerometer sample.
+    pub fn add_alignment_sample(&mut self, f_b: &Vec3<T>) {
+        self.aligner.add(f_b);
+    }
+
+    /// End of the still period: for `level`, Q from the averaged accelerometer and the profile's
+    /// yaw; for `zero`, Q = [1, 0, 0, 0].
+    pub fn finish_alignment(&mut self) -> Result<()> {
+        let q = match self.initial_attitude {
+            InitialAttitude::Level => level_attitude(&self.aligner.mean()?, self.initial_yaw),
+            InitialAttitude::Zero => euler_to_quat(lit(0.0), lit(0.0), lit(0.0)),
+        };
+        self.set_attitude(q);
+        Ok(())
+    }
+
+    /// Overwrite the attitude (tests, restarts).
+    pub fn set_attitude(&mut self, q: Quat<T>) {
+        self.q = q;
+        self.c_bn = dcm(&q);
+        self.previous_increment = None;
+    }
+
+    /// The quaternion Q (body to navigation).
+    pub fn quat(&self) -> &Quat<T> {
+        &self.q
+    }
+
+    /// T = C_b^n as of the last update.
+    pub fn dcm(&self) -> &Mat3<T> {
+        &self.c_bn
+    }
+
+    /// Velocity and position.
+    pub fn nav_state(&self) -> &NavState<T> {
+        &self.nav
+    }
+
+    /// The decode stage (previous values of the published decode).
+    pub fn decoder(&self) -> &Decoder<T> {
+        &self.decoder
+    }
+
+    /// The earth model.
+    pub fn earth(&self) -> &EarthModel<T> {
+        &self.earth
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::Decode;
+
+    #[test]
+    fn update_period_follows_the_schedule() {
+        let mut p = Profile::default();
+        assert_eq!(update_period_s(&p), 0.008);
+        p.firmware.schedule = Schedule::Endpoint;
+        assert_eq!(update_period_s(&p), 0.004);
+    }
+
+    #[test]
+    fn wrong_sample_counts_are_errors() {
+        let mut p = Profile::default();
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        let e = fw.update_attitude(&[[0.0; 3]; 2]).unwrap_err();
+        assert!(e.to_string().contains("takes 3"), "{e}");
+        p.firmware.algorithm = Algorithm::RotationVector;
+        p.firmware.coning_samples = 3;
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        assert_eq!(fw.rates_per_update(), 4);
+        assert!(fw.update_attitude(&[[0.0; 3]; 4]).is_ok());
+        assert!(fw.update_attitude_increments(&[[0.0; 3]; 2]).is_err());
+    }
+
+    #[test]
+    fn level_alignment_then_decode_and_euler() {
+        let mut p = Profile::default();
+        p.firmware.initial_attitude = InitialAttitude::Level;
+        p.firmware.initial_yaw_deg = 200.0;
+        p.firmware.decode = Decode::Correct;
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        assert!(fw.finish_alignment().is_err(), "no sample yet");
+        // Board pitched by θ: f^b = γ·(T31, T32, T33) = γ·(−sin θ, 0, cos θ); as words of 3.333 mg.
+        let theta = 10f64.to_radians();
+        let code = |g: f64| ((g / 3.333e-3).round() as i32 as u16) & 0x3FFF;
+        let words = [0, 0, 0, code(-theta.sin()), 0, code(theta.cos())];
+        for _ in 0..125 {
+            let d = fw.decode(&words);
+            fw.add_alignment_sample(&d.accel);
+        }
+        fw.finish_alignment().unwrap();
+        let a = fw.euler();
+        // Quantisation: one LSB (3.333 mg) of f_x moves θ by ≤ 3.333e-3/cos θ rad.
+        assert!((a.pitch - theta).abs() < 3.333e-3 / theta.cos(), "{}", a.pitch.to_degrees());
+        assert!(a.roll.abs() < 1e-15);
+        assert!((a.yaw.to_degrees() - 200.0).abs() < 1e-12);
+    }
+}
