@@ -29,6 +29,7 @@ use super::{QClass, Scalar};
 use std::cell::Cell;
 use std::fmt;
 use std::ops::{Add, Div, Mul, Neg, Sub};
+use std::sync::OnceLock;
 
 /// How the unpublished `EINVF32` / `EISQRTF32` estimate tables are modelled. TI states "about 8 bits";
 /// two Newton–Raphson steps square the relative error twice (e ≤ 2⁻⁸ → ≈ 2⁻³²), far below an f32 ulp, so
@@ -265,11 +266,38 @@ fn round_fraction(v: f64, nearest: bool) -> f64 {
 /// Fraction bits of a modelled hardware estimate ("≈ 8-bit estimate").
 const ESTIMATE_FRACTION_BITS: u32 = 8;
 
-/// The top `ESTIMATE_FRACTION_BITS` fraction bits of an f32 as the midpoint of its table interval, in [1, 2).
+/// Entries of the modelled estimate ROM (`EstimateModel::Table8`).
+const TABLE_ENTRIES: usize = 1 << ESTIMATE_FRACTION_BITS;
+
+/// The `Table8` ROM: for each interval of the top 8 fraction bits of the input, the function at the
+/// interval's midpoint, scaled into [1, 2] and rounded to 8 fraction bits. Built once, on first use.
+struct EstimateRom {
+    /// 2/c for the mantissa midpoint c ∈ [1, 2).
+    recip: [f64; TABLE_ENTRIES],
+    /// 2/√c for c = the mantissa midpoint (even exponent) or twice it (odd exponent).
+    isqrt: [[f64; TABLE_ENTRIES]; 2],
+}
+
+impl EstimateRom {
+    fn build() -> EstimateRom {
+        let midpoint = |index: usize| 1.0 + (index as f64 + 0.5) / TABLE_ENTRIES as f64;
+        EstimateRom {
+            recip: std::array::from_fn(|i| round_fraction(2.0 / midpoint(i), true)),
+            isqrt: [1.0, 2.0]
+                .map(|scale| std::array::from_fn(|i| round_fraction(2.0 / (midpoint(i) * scale).sqrt(), true))),
+        }
+    }
+
+    fn get() -> &'static EstimateRom {
+        static ROM: OnceLock<EstimateRom> = OnceLock::new();
+        ROM.get_or_init(EstimateRom::build)
+    }
+}
+
+/// The ROM index of an f32: its top `ESTIMATE_FRACTION_BITS` fraction bits.
 #[inline(always)]
-fn table_midpoint(x: f32) -> f64 {
-    let index = (x.to_bits() & 0x007F_FFFF) >> (23 - ESTIMATE_FRACTION_BITS);
-    1.0 + (index as f64 + 0.5) * pow2(-(ESTIMATE_FRACTION_BITS as i32))
+fn table_index(x: f32) -> usize {
+    ((x.to_bits() & 0x007F_FFFF) >> (23 - ESTIMATE_FRACTION_BITS)) as usize
 }
 
 /// Unbiased exponent of a normal f32.
@@ -287,7 +315,7 @@ fn recip_estimate(b: f32, model: EstimateModel) -> f32 {
         return 0.0;
     }
     let magnitude = match model {
-        EstimateModel::Table8 => round_fraction(2.0 / table_midpoint(b), true) * 0.5 * pow2(-exponent(b)),
+        EstimateModel::Table8 => EstimateRom::get().recip[table_index(b)] * 0.5 * pow2(-exponent(b)),
         EstimateModel::Rounded8 => round_fraction(1.0 / (b.abs() as f64), true),
         EstimateModel::Truncated8 => round_fraction(1.0 / (b.abs() as f64), false),
     };
@@ -313,9 +341,7 @@ fn isqrt_estimate(x: f32, model: EstimateModel) -> f32 {
             // x = m·2^E; with an odd E the table covers 2m ∈ [2, 4) and E − 1 is even.
             let exp = exponent(x);
             let odd = exp.rem_euclid(2);
-            let c = table_midpoint(x) * (1 + odd) as f64;
-            // 1/√c lies in (0.5, 1]: scale by 2 to round at the right weight, then back.
-            round_fraction(2.0 / c.sqrt(), true) * 0.5 * pow2(-(exp - odd) / 2)
+            EstimateRom::get().isqrt[odd as usize][table_index(x)] * 0.5 * pow2(-(exp - odd) / 2)
         }
         EstimateModel::Rounded8 => round_fraction(1.0 / (x as f64).sqrt(), true),
         EstimateModel::Truncated8 => round_fraction(1.0 / (x as f64).sqrt(), false),
@@ -816,6 +842,49 @@ mod tests {
         is_copy::<Rz>();
     }
 
+    /// The report's numbers: 5·10⁶ random divisions and roots per model and mode, plus every f32 in [1, 4)
+    /// as a radicand (all mantissas, both exponent parities: exhaustive for sqrt up to scaling by 4^k).
+    /// Run with `--ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn measure_fastrts_large() {
+        fn exhaustive_sqrt<const RZ: bool>(model: EstimateModel) -> (f64, f64) {
+            let (mut worst, mut wrong, mut n) = (0f64, 0usize, 0usize);
+            let mut bits = 1f32.to_bits();
+            while bits < 4f32.to_bits() {
+                let x = f32::from_bits(bits);
+                let exact = (x as f64).sqrt();
+                let r = sqrt::<RZ>(x, model);
+                worst = worst.max(ulp_error(r, exact));
+                wrong += usize::from(r != round_f64::<RZ>(exact, 0.0));
+                n += 1;
+                bits += 1;
+            }
+            (worst, wrong as f64 / n as f64)
+        }
+        for model in EstimateModel::ALL {
+            let n = fastrts_accuracy::<false>(model, 5_000_000, 99);
+            let z = fastrts_accuracy::<true>(model, 5_000_000, 99);
+            let (sn, sn_wrong) = exhaustive_sqrt::<false>(model);
+            let (sz, sz_wrong) = exhaustive_sqrt::<true>(model);
+            println!(
+                "{:>10}: RN div {:.3} ulp ({:.1}% not CR) sqrt {:.3} ulp ({:.1}%) exhaustive sqrt {sn:.3} ulp ({:.1}%) | \
+                 RZ div {:.3} ulp ({:.1}%) sqrt {:.3} ulp ({:.1}%) exhaustive sqrt {sz:.3} ulp ({:.1}%)",
+                model.name(),
+                n.div_max_ulp,
+                100.0 * n.div_not_correctly_rounded,
+                n.sqrt_max_ulp,
+                100.0 * n.sqrt_not_correctly_rounded,
+                100.0 * sn_wrong,
+                z.div_max_ulp,
+                100.0 * z.div_not_correctly_rounded,
+                z.sqrt_max_ulp,
+                100.0 * z.sqrt_not_correctly_rounded,
+                100.0 * sz_wrong,
+            );
+        }
+    }
+
     /// Throughput of the model's operations (run with `--ignored --nocapture` in release for numbers).
     #[test]
     #[ignore]
@@ -823,6 +892,12 @@ mod tests {
         use std::hint::black_box;
         use std::time::Instant;
         let n = 20_000_000u32;
+        let mut native = 1.0f32;
+        let t = Instant::now();
+        for _ in 0..n {
+            native = black_box(native * 1.000_001 + 1.000_001);
+        }
+        println!("native f32 mul+add: {:.2} ns/iter ({native})", t.elapsed().as_nanos() as f64 / n as f64);
         let mut acc = rn(1.0);
         let step = rn(1.000_001);
         let t = Instant::now();

@@ -6,7 +6,7 @@
 //! - `iq::Iq`: TI IQmath fixed point, a Q per quantity class;
 //! - `counter::Counted`: f64 values that tally every operation, for the timing model.
 //!
-//! `profile::Numeric` selects one of the first four for a run; [`dispatch_numeric!`] turns that runtime
+//! `profile::Numeric` selects one of the first four for a run; [`dispatch_numeric!`](crate::dispatch_numeric) turns that runtime
 //! choice into a monomorphised call of a generic function. `Counted` is not a `Numeric`: the timing model
 //! runs the same generic code with it to count operations per stage.
 
