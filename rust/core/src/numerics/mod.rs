@@ -5,6 +5,75 @@
 //!   fastRTS division and square root);
 //! - `iq::Iq`: TI IQmath fixed point, a Q per quantity class;
 //! - `counter::Counted`: f64 values that tally every operation, for the timing model.
+//!
+//! `profile::Numeric` selects one of the first four for a run; [`dispatch_numeric!`](crate::dispatch_numeric) turns that runtime
+//! choice into a monomorphised call of a generic function. `Counted` is not a `Numeric`: the timing model
+//! runs the same generic code with it to count operations per stage.
+
+pub mod c28x;
+pub mod counter;
+pub mod iq;
+
+pub use c28x::{C28xF32, C28xF32Rn, C28xF32Rz, EstimateModel};
+pub use counter::{Counted, OpCounts};
+pub use iq::Iq;
+
+/// Instantiate generic firmware code for the backend a profile selects.
+///
+/// `dispatch_numeric!(numeric, T => expr)` evaluates `expr` with the type alias `T` bound to the backend of
+/// `numeric` (a [`crate::profile::Numeric`]): `f64`, [`C28xF32Rn`], [`C28xF32Rz`] or [`Iq`]; every arm must
+/// have the same type. With IQ, the Q formats are those in force on the thread; the form
+/// `dispatch_numeric!(numeric, iq_formats = &formats, T => expr)` sets them for the IQ arm (via
+/// [`iq::with_formats`]) and yields `Result<_>` in every arm (an error only for invalid formats).
+///
+/// ```
+/// use sins_core::dispatch_numeric;
+/// use sins_core::numerics::{QClass, Scalar};
+/// use sins_core::profile::{IqFormats, Numeric};
+///
+/// fn half_norm<T: Scalar>(x: f64, y: f64) -> f64 {
+///     let (x, y) = (T::from_f64(x, QClass::Generic), T::from_f64(y, QClass::Generic));
+///     ((x * x + y * y).sqrt() * T::from_f64(0.5, QClass::Generic)).to_f64()
+/// }
+/// let f = dispatch_numeric!(Numeric::C28xF32, T => half_norm::<T>(3.0, 4.0));
+/// assert_eq!(f, 2.499_999_761_581_421); // fastRTS sqrt(25) is 1 ulp below 5
+/// assert_eq!(dispatch_numeric!(Numeric::F64, T => half_norm::<T>(3.0, 4.0)), 2.5);
+/// let q = dispatch_numeric!(Numeric::Iq, iq_formats = &IqFormats::default(), T => half_norm::<T>(3.0, 4.0));
+/// assert_eq!(q, Ok(2.5));
+/// ```
+#[macro_export]
+macro_rules! dispatch_numeric {
+    ($numeric:expr, iq_formats = $formats:expr, $t:ident => $body:expr) => {
+        match $numeric {
+            $crate::profile::Numeric::Iq => {
+                #[allow(dead_code)]
+                type $t = $crate::numerics::Iq;
+                $crate::numerics::iq::with_formats($formats, || $body)
+            }
+            other => ::std::result::Result::<_, $crate::Error>::Ok($crate::dispatch_numeric!(other, $t => $body)),
+        }
+    };
+    ($numeric:expr, $t:ident => $body:expr) => {
+        match $numeric {
+            $crate::profile::Numeric::F64 => {
+                type $t = f64;
+                $body
+            }
+            $crate::profile::Numeric::C28xF32 => {
+                type $t = $crate::numerics::C28xF32Rn;
+                $body
+            }
+            $crate::profile::Numeric::C28xF32Rz => {
+                type $t = $crate::numerics::C28xF32Rz;
+                $body
+            }
+            $crate::profile::Numeric::Iq => {
+                type $t = $crate::numerics::Iq;
+                $body
+            }
+        }
+    };
+}
 
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -103,5 +172,33 @@ impl Scalar for f64 {
     }
     fn abs(self) -> Self {
         f64::abs(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::{IqFormats, Numeric};
+
+    fn one_third<T: Scalar>() -> (&'static str, f64) {
+        let x = T::from_f64(1.0, QClass::Rate) / T::from_i32(3, QClass::Rate);
+        (T::NAME, x.to_f64())
+    }
+
+    #[test]
+    fn dispatch_picks_each_backend() {
+        let third = |n: Numeric| dispatch_numeric!(n, T => one_third::<T>());
+        assert_eq!(third(Numeric::F64), ("f64", 1.0 / 3.0));
+        assert_eq!(third(Numeric::C28xF32).0, "c28x-f32");
+        assert_eq!(third(Numeric::C28xF32Rz).0, "c28x-f32-rz");
+        // IQ: rates are Q24 by default; the quotient is rounded (5592405.33 → 5592405).
+        assert_eq!(third(Numeric::Iq), ("iq", 5_592_405.0 / (1u64 << 24) as f64));
+        let formats = IqFormats { rate_q: 16, ..IqFormats::default() };
+        let scoped = dispatch_numeric!(Numeric::Iq, iq_formats = &formats, T => one_third::<T>());
+        assert_eq!(scoped, Ok(("iq", 21_845.0 / 65_536.0)));
+        let float = dispatch_numeric!(Numeric::F64, iq_formats = &formats, T => one_third::<T>());
+        assert_eq!(float, Ok(("f64", 1.0 / 3.0)));
+        let bad = IqFormats { rate_q: 0, ..IqFormats::default() };
+        assert!(dispatch_numeric!(Numeric::Iq, iq_formats = &bad, T => one_third::<T>()).is_err());
     }
 }

@@ -1,0 +1,469 @@
+//! TI IQmath fixed point: a 32-bit signed integer with Q fractional bits, one Q per quantity class.
+//!
+//! Each [`Iq`] carries its own Q, so values of different classes can meet in one expression as they do in
+//! firmware that uses `_IQ30mpy`, `_IQ24` and friends. The Q of a class comes from the profile's
+//! [`IqFormats`], held in a thread-local set by [`with_formats`]: `Scalar::from_f64(x, class)` and the
+//! operators have no context argument, and the formats are fixed for a whole run, so a scoped per-thread
+//! setting is the one place they can live without threading a context through every generic algorithm.
+//! Without a scope the defaults of [`IqFormats`] apply.
+//!
+//! Semantics (spec `f28335.md`, "IQmath"), where firmware mixes Qs the rules below define what it means:
+//! - `a ± b`: the operand with more fractional bits is shifted to the other's Q (arithmetic shift right =
+//!   floor), then a 32-bit wrapping add (the C28x `ADDL` does not saturate). Result Q = the lower Q.
+//! - `a * b` = `_IQNmpy`: the full 64-bit product shifted right (floor) by the larger Q, so the result is in
+//!   the lower Q; no rounding; the low 32 bits are kept (overflow wraps).
+//! - `a / b` = `_IQNdiv`: the quotient in the lower Q, rounded to nearest (ties away from zero, i.e. within
+//!   ½ LSB as TI documents the rounded result of its Newton–Raphson routine), saturated to
+//!   0x7FFFFFFF / 0x80000000; a zero divisor gives 0x7FFFFFFF whatever the numerator's sign.
+//! - `to_class` = `_IQNtoIQM`: a plain shift (left shifts wrap, right shifts floor), as IQmath's macros.
+//! - `from_f64` = `_IQN(x)`: `(long)(x·2^N)`, truncation toward zero; out-of-range values saturate to the
+//!   i32 limits (the C cast is undefined there; the C28x float→int conversion saturates) and NaN gives 0.
+//!   `from_i32` is `_IQN(i)` of an int, the same macro: exact in range, saturating outside.
+//! - `sqrt` = `_IQsqrt` (x ≤ 0 → 0), [`Iq::isqrt`] = `_IQisqrt` (x ≤ 0 → 0, saturating). Both are the exact
+//!   root truncated (floored) to the Q; TI's routines are within about 1 LSB of it.
+//! - sin, cos (result in the argument's Q), atan (= `_IQatan2(x, _IQ(1))`), atan2 (Q = the lower Q of the
+//!   two, at most 29 because π needs 2 integer bits; (0,0) → 0; range (−π, π]): the exact value (f64,
+//!   ~2⁻⁵³ relative) truncated toward zero to the Q. IQmath's table-based routines are ≈ 29-bit accurate,
+//!   so results can differ from the target by a few LSB at Q29–Q30.
+//! - asin(x) is written as firmware would: `_IQatan2(x, _IQsqrt(_IQ(1) − _IQmpy(x, x)))`; |x| > 1 gives
+//!   sqrt(≤ 0) = 0, hence ±π/2.
+//! - abs and negation wrap (`_IQabs` is `labs`: |0x80000000| stays 0x80000000).
+//! - comparisons compare real values across Qs.
+
+use super::{QClass, Scalar};
+use crate::error::Result;
+use crate::profile::IqFormats;
+use std::cell::Cell;
+use std::cmp::Ordering;
+use std::fmt;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// The largest Q of an angle result (π must fit in a signed 32-bit value).
+const ANGLE_MAX_Q: u8 = 29;
+
+/// Fractional bits per class, in [`QClass`] order.
+type QTable = [u8; 6];
+
+fn q_table(f: &IqFormats) -> QTable {
+    // Validated to 1…30 before use, so the narrowing is lossless.
+    [f.quat_q, f.rate_q, f.angle_q, f.accel_q, f.nav_q, f.global_q].map(|q| q as u8)
+}
+
+fn class_index(class: QClass) -> usize {
+    match class {
+        QClass::Quat => 0,
+        QClass::Rate => 1,
+        QClass::Angle => 2,
+        QClass::Accel => 3,
+        QClass::Nav => 4,
+        QClass::Generic => 5,
+    }
+}
+
+thread_local! {
+    static FORMATS: Cell<QTable> = const { Cell::new([30, 24, 24, 20, 24, 24]) };
+}
+
+/// Run `f` with `formats` as this thread's Q per class; the previous formats are restored afterwards (also
+/// if `f` unwinds). Errors if a Q is outside 1…30 (naming the `iq.*` key).
+pub fn with_formats<R>(formats: &IqFormats, f: impl FnOnce() -> R) -> Result<R> {
+    formats.validate()?;
+    struct Restore(QTable);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            FORMATS.with(|c| c.set(self.0));
+        }
+    }
+    let _restore = Restore(FORMATS.with(|c| c.replace(q_table(formats))));
+    Ok(f())
+}
+
+/// The Q of `class` on this thread.
+pub fn q_of(class: QClass) -> u8 {
+    FORMATS.with(|c| c.get()[class_index(class)])
+}
+
+/// An IQmath value: `raw / 2^q`.
+#[derive(Clone, Copy)]
+pub struct Iq {
+    raw: i32,
+    q: u8,
+}
+
+impl fmt::Debug for Iq {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}_iq{}(0x{:08X})", self.to_f64(), self.q, self.raw)
+    }
+}
+
+/// `raw` shifted from `from` to `to` fractional bits: left shifts wrap, right shifts floor.
+#[inline(always)]
+fn shift(raw: i32, from: u8, to: u8) -> i32 {
+    if to >= from {
+        ((raw as i64) << (to - from)) as i32
+    } else {
+        raw >> (from - to)
+    }
+}
+
+/// floor(√n).
+fn isqrt_u128(n: u128) -> u128 {
+    // f64 gives the root within a few units for n < 2⁹⁶; correct it exactly.
+    let mut r = (n as f64).sqrt() as u128;
+    while r * r > n {
+        r -= 1;
+    }
+    while (r + 1) * (r + 1) <= n {
+        r += 1;
+    }
+    r
+}
+
+/// Saturate to i32.
+#[inline(always)]
+fn saturate(x: i128) -> i32 {
+    x.clamp(i32::MIN as i128, i32::MAX as i128) as i32
+}
+
+impl Iq {
+    /// A value from its raw integer and Q (1…30); errors name what was wrong.
+    pub fn from_raw(raw: i32, q: u8) -> Result<Iq> {
+        if !(1..=30).contains(&q) {
+            return Err(crate::error::Error::Config(format!("IQ format Q{q}: expected 1…30 fractional bits")));
+        }
+        Ok(Iq { raw, q })
+    }
+
+    /// A raw integer in the Q of `class` on this thread.
+    pub fn from_raw_in(raw: i32, class: QClass) -> Iq {
+        Iq { raw, q: q_of(class) }
+    }
+
+    /// The raw 32-bit integer (what the target's memory holds).
+    #[inline]
+    pub fn raw(self) -> i32 {
+        self.raw
+    }
+
+    /// Fractional bits.
+    #[inline]
+    pub fn q(self) -> u8 {
+        self.q
+    }
+
+    /// `_IQtoIQN`: the same real value requantised to `q` fractional bits (left shifts wrap, right floor).
+    #[inline]
+    pub fn to_q(self, q: u8) -> Iq {
+        Iq { raw: shift(self.raw, self.q, q), q }
+    }
+
+    /// `_IQisqrt`: 1/√x in x's Q, floored, saturated to 0x7FFFFFFF; x ≤ 0 → 0.
+    pub fn isqrt(self) -> Iq {
+        if self.raw <= 0 {
+            return Iq { raw: 0, q: self.q };
+        }
+        // (1/√(raw·2^−q))·2^q = √(2^3q / raw); flooring the quotient first does not change the floored root.
+        let n = (1u128 << (3 * self.q as u32)) / self.raw as u128;
+        Iq { raw: saturate(isqrt_u128(n) as i128), q: self.q }
+    }
+
+    /// `_IQrmpy`: the product rounded (2^(Q−1) added before the shift), wrapping; Q as for `*`.
+    pub fn rmpy(self, rhs: Iq) -> Iq {
+        let (shift_by, q) = (self.q.max(rhs.q), self.q.min(rhs.q));
+        let p = self.raw as i64 * rhs.raw as i64 + (1i64 << (shift_by - 1));
+        Iq { raw: (p >> shift_by) as i32, q }
+    }
+
+    /// `_IQrsmpy`: the product rounded and saturated to 0x7FFFFFFF / 0x80000000.
+    pub fn rsmpy(self, rhs: Iq) -> Iq {
+        let (shift_by, q) = (self.q.max(rhs.q), self.q.min(rhs.q));
+        let p = self.raw as i64 * rhs.raw as i64 + (1i64 << (shift_by - 1));
+        Iq { raw: saturate((p >> shift_by) as i128), q }
+    }
+
+    /// `_IQsat(x, pos, neg)`: clamp to [neg, pos] (real values, result in x's Q).
+    pub fn sat(self, pos: Iq, neg: Iq) -> Iq {
+        if self > pos {
+            pos.to_q(self.q)
+        } else if self < neg {
+            neg.to_q(self.q)
+        } else {
+            self
+        }
+    }
+
+    /// `_IQtoF`: to f32 truncating the mantissa (toward zero).
+    pub fn to_f32(self) -> f32 {
+        let exact = self.to_f64();
+        let r = exact as f32;
+        if (r as f64).abs() > exact.abs() {
+            f32::from_bits(r.to_bits() - 1)
+        } else {
+            r
+        }
+    }
+
+    /// An exact real value (f64, ≤ 2⁻⁵³ relative error) truncated toward zero into Q `q`, saturating.
+    #[inline]
+    fn truncated(value: f64, q: u8) -> Iq {
+        // Scaling by 2^q is exact; `as i32` truncates toward zero, saturates and maps NaN to 0.
+        Iq { raw: (value * (1u64 << q) as f64) as i32, q }
+    }
+}
+
+impl PartialEq for Iq {
+    fn eq(&self, other: &Self) -> bool {
+        self.partial_cmp(other) == Some(Ordering::Equal)
+    }
+}
+
+impl PartialOrd for Iq {
+    /// Real values compared exactly: both raws scaled to the larger Q in 64 bits.
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        let q = self.q.max(other.q);
+        let a = (self.raw as i64) << (q - self.q);
+        let b = (other.raw as i64) << (q - other.q);
+        Some(a.cmp(&b))
+    }
+}
+
+impl Add for Iq {
+    type Output = Iq;
+    #[inline]
+    fn add(self, rhs: Iq) -> Iq {
+        let q = self.q.min(rhs.q);
+        Iq { raw: shift(self.raw, self.q, q).wrapping_add(shift(rhs.raw, rhs.q, q)), q }
+    }
+}
+
+impl Sub for Iq {
+    type Output = Iq;
+    #[inline]
+    fn sub(self, rhs: Iq) -> Iq {
+        let q = self.q.min(rhs.q);
+        Iq { raw: shift(self.raw, self.q, q).wrapping_sub(shift(rhs.raw, rhs.q, q)), q }
+    }
+}
+
+impl Mul for Iq {
+    type Output = Iq;
+    #[inline]
+    fn mul(self, rhs: Iq) -> Iq {
+        let p = self.raw as i64 * rhs.raw as i64;
+        Iq { raw: (p >> self.q.max(rhs.q)) as i32, q: self.q.min(rhs.q) }
+    }
+}
+
+impl Div for Iq {
+    type Output = Iq;
+    fn div(self, rhs: Iq) -> Iq {
+        let q = self.q.min(rhs.q);
+        if rhs.raw == 0 {
+            return Iq { raw: i32::MAX, q };
+        }
+        // result·2^q = (a/2^qa)/(b/2^qb)·2^q = a·2^(q − qa + qb) / b, exact in i128.
+        let s = q as i32 - self.q as i32 + rhs.q as i32;
+        let num = (self.raw as i128) << s.max(0);
+        let den = (rhs.raw as i128) << (-s).max(0);
+        let (quot, rem) = (num / den, num % den);
+        let away = if 2 * rem.abs() >= den.abs() { num.signum() * den.signum() } else { 0 };
+        Iq { raw: saturate(quot + away), q }
+    }
+}
+
+impl Neg for Iq {
+    type Output = Iq;
+    #[inline]
+    fn neg(self) -> Iq {
+        Iq { raw: self.raw.wrapping_neg(), q: self.q }
+    }
+}
+
+impl Scalar for Iq {
+    const NAME: &'static str = "iq";
+
+    fn from_f64(x: f64, class: QClass) -> Self {
+        Iq::truncated(x, q_of(class))
+    }
+    fn from_i32(x: i32, class: QClass) -> Self {
+        Iq::truncated(x as f64, q_of(class))
+    }
+    #[inline]
+    fn to_f64(self) -> f64 {
+        self.raw as f64 / (1u64 << self.q) as f64
+    }
+    #[inline]
+    fn to_class(self, class: QClass) -> Self {
+        self.to_q(q_of(class))
+    }
+    fn sqrt(self) -> Self {
+        if self.raw <= 0 {
+            return Iq { raw: 0, q: self.q };
+        }
+        // √(raw·2^−q)·2^q = √(raw·2^q) < 2^30.5: fits.
+        let root = isqrt_u128((self.raw as u128) << self.q);
+        Iq { raw: root as i32, q: self.q }
+    }
+    fn sin(self) -> Self {
+        Iq::truncated(self.to_f64().sin(), self.q)
+    }
+    fn cos(self) -> Self {
+        Iq::truncated(self.to_f64().cos(), self.q)
+    }
+    fn atan(self) -> Self {
+        Iq::truncated(self.to_f64().atan(), self.q.min(ANGLE_MAX_Q))
+    }
+    fn atan2(self, x: Self) -> Self {
+        let q = self.q.min(x.q).min(ANGLE_MAX_Q);
+        // Integer zeros are +0, so atan2(0, x<0) = π and (0, 0) = 0 as `_IQatan2`.
+        Iq::truncated(self.to_f64().atan2(x.to_f64()), q)
+    }
+    fn asin(self) -> Self {
+        let one = Iq { raw: 1 << self.q, q: self.q };
+        self.atan2((one - self * self).sqrt())
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        Iq { raw: self.raw.wrapping_abs(), q: self.q }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q24(x: f64) -> Iq {
+        Iq::truncated(x, 24)
+    }
+    fn raw(raw: i32, q: u8) -> Iq {
+        Iq { raw, q }
+    }
+
+    #[test]
+    fn formats_are_scoped_and_validated() {
+        assert_eq!(q_of(QClass::Quat), 30, "defaults without a scope");
+        let custom = IqFormats { quat_q: 29, rate_q: 20, angle_q: 22, accel_q: 16, nav_q: 27, global_q: 12 };
+        let inner = with_formats(&custom, || {
+            [QClass::Quat, QClass::Rate, QClass::Angle, QClass::Accel, QClass::Nav, QClass::Generic].map(q_of)
+        });
+        assert_eq!(inner, Ok([29, 20, 22, 16, 27, 12]));
+        assert_eq!(q_of(QClass::Rate), IqFormats::default().rate_q as u8, "restored");
+        let bad = IqFormats { accel_q: 31, ..IqFormats::default() };
+        let err = with_formats(&bad, || ()).unwrap_err().to_string();
+        assert!(err.contains("iq.accel_q") && err.contains("31"), "{err}");
+        assert!(Iq::from_raw(1, 0).is_err() && Iq::from_raw(1, 31).is_err());
+        let v = with_formats(&custom, || Iq::from_f64(1.0, QClass::Accel)).unwrap_or(raw(0, 1));
+        assert_eq!((v.raw(), v.q()), (1 << 16, 16));
+    }
+
+    #[test]
+    fn from_f64_truncates_toward_zero_and_saturates() {
+        assert_eq!(q24(0.1).raw, 1_677_721); // 0.1·2²⁴ = 1677721.6
+        assert_eq!(q24(-0.1).raw, -1_677_721);
+        assert_eq!(q24(200.0).raw, i32::MAX, "Q24 holds [−128, 128)");
+        assert_eq!(q24(-1e10).raw, i32::MIN);
+        assert_eq!(q24(f64::NAN).raw, 0);
+        assert_eq!(Iq::from_i32(-3, QClass::Rate).raw, -3 << 24);
+        assert_eq!(Iq::from_i32(1000, QClass::Rate).raw, i32::MAX);
+    }
+
+    #[test]
+    fn add_floors_the_finer_operand_and_wraps() {
+        // −2⁻³⁰ (Q30) + 0 (Q24): floor to Q24 gives −2⁻²⁴, truncation would give 0.
+        let s = raw(-1, 30) + raw(0, 24);
+        assert_eq!((s.raw, s.q), (-1, 24));
+        let s = raw(1, 24) - raw(1, 30);
+        assert_eq!((s.raw, s.q), (1, 24));
+        // 127.5 + 1 in Q24 wraps to −127.5.
+        assert_eq!((q24(127.5) + q24(1.0)).to_f64(), -127.5);
+        assert_eq!((q24(-128.0) - q24(0.5)).to_f64(), 127.5);
+    }
+
+    #[test]
+    fn mul_floors_and_wraps_in_the_lower_q() {
+        // (−2⁻²⁴)·(2⁻²⁴) = −2⁻⁴⁸: floor → −2⁻²⁴ (truncation would give 0).
+        assert_eq!((raw(-1, 24) * raw(1, 24)).raw, -1);
+        assert_eq!((raw(1, 24) * raw(1, 24)).raw, 0);
+        // 100·100 = 10000 ≡ 16 (mod 256, the Q24 range).
+        assert_eq!((q24(100.0) * q24(100.0)).to_f64(), 16.0);
+        // Mixed: 0.5 (Q30) · 3 (Q24) = 1.5 in Q24.
+        let p = Iq::truncated(0.5, 30) * q24(3.0);
+        assert_eq!((p.to_f64(), p.q), (1.5, 24));
+        // Rounded variants: 2⁻²⁴·0.5 rounds to 2⁻²⁴ (ties up), saturating variant clamps.
+        assert_eq!(raw(1, 24).rmpy(q24(0.5)).raw, 1);
+        assert_eq!(q24(100.0).rsmpy(q24(100.0)).raw, i32::MAX);
+        assert_eq!(q24(-100.0).rsmpy(q24(100.0)).raw, i32::MIN);
+    }
+
+    #[test]
+    fn div_rounds_saturates_and_handles_zero() {
+        assert_eq!((q24(1.0) / q24(3.0)).raw, 5_592_405); // 5592405.33
+        assert_eq!((q24(2.0) / q24(3.0)).raw, 11_184_811); // 11184810.67: rounded, not truncated
+        assert_eq!((q24(-2.0) / q24(3.0)).raw, -11_184_811);
+        assert_eq!((q24(100.0) / q24(0.001)).raw, i32::MAX);
+        assert_eq!((q24(-100.0) / q24(0.001)).raw, i32::MIN);
+        for n in [5.0, -5.0, 0.0] {
+            assert_eq!((q24(n) / q24(0.0)).raw, 0x7FFF_FFFF, "{n}/0");
+        }
+        // Mixed: 0.75 (Q30) / 0.5 (Q20) = 1.5 in Q20, and 1 (Q10) / 3 (Q30) in Q10.
+        let d = Iq::truncated(0.75, 30) / Iq::truncated(0.5, 20);
+        assert_eq!((d.to_f64(), d.q), (1.5, 20));
+        assert_eq!((Iq::truncated(1.0, 10) / Iq::truncated(3.0, 29)).raw, 341); // 341.33
+    }
+
+    #[test]
+    fn to_class_is_a_plain_shift() {
+        let three = q24(3.0);
+        assert_eq!(three.to_q(30).to_f64(), -1.0, "3·2³⁰ wraps to −2³⁰");
+        assert_eq!(raw(-1, 30).to_q(24).raw, -1, "right shift floors");
+        assert_eq!(Iq::truncated(0.5, 30).to_class(QClass::Rate).q, 24);
+    }
+
+    #[test]
+    fn sqrt_and_isqrt() {
+        assert_eq!(q24(-1.0).sqrt().raw, 0);
+        assert_eq!(q24(0.0).sqrt().raw, 0);
+        assert_eq!(q24(2.0).sqrt().raw, (2f64.sqrt() * 16_777_216.0).floor() as i32);
+        assert_eq!(Iq::truncated(0.25, 30).sqrt().to_f64(), 0.5);
+        assert_eq!(raw(i32::MAX, 30).sqrt().raw, ((i32::MAX as f64) * 2f64.powi(30)).sqrt().floor() as i32);
+        assert_eq!(q24(4.0).isqrt().to_f64(), 0.5);
+        assert_eq!(q24(0.0).isqrt().raw, 0);
+        assert_eq!(q24(-4.0).isqrt().raw, 0);
+        assert_eq!(raw(1, 24).isqrt().raw, i32::MAX, "1/√2⁻²⁴ = 4096 > Q24 range");
+        assert_eq!(q24(2.0).isqrt().raw, (16_777_216.0 / 2f64.sqrt()).floor() as i32);
+    }
+
+    #[test]
+    fn trig_truncates_and_atan2_range() {
+        assert_eq!(q24(0.0).atan2(q24(0.0)).raw, 0);
+        let pi = q24(0.0).atan2(q24(-1.0));
+        assert_eq!(pi.raw, (std::f64::consts::PI * 16_777_216.0) as i32, "atan2(0, −1) = +π");
+        let near_minus_pi = raw(-1, 24).atan2(q24(-1.0));
+        let exact_pi = std::f64::consts::PI;
+        let v = near_minus_pi.to_f64();
+        // −π + atan(2⁻²⁴) ≈ −π + 2⁻²⁴, then truncated toward zero by < 1 LSB (2⁻²⁴).
+        assert!(v > -exact_pi && v < -exact_pi + 2f64.powi(-23), "{v}");
+        let a = Iq::truncated(0.5, 30).atan2(Iq::truncated(0.5, 30));
+        assert_eq!((a.q, a.raw), (29, (std::f64::consts::FRAC_PI_4 * 2f64.powi(29)) as i32));
+        assert_eq!(q24(0.5).sin().raw, (0.5f64.sin() * 16_777_216.0) as i32);
+        assert_eq!(q24(-0.5).sin().raw, -q24(0.5).sin().raw, "toward zero: odd symmetry");
+        assert_eq!(q24(1.0).atan().raw, (std::f64::consts::FRAC_PI_4 * 16_777_216.0) as i32);
+        assert_eq!(Iq::truncated(1.0, 30).asin().raw, (std::f64::consts::FRAC_PI_2 * 2f64.powi(29)) as i32);
+        assert_eq!(q24(1.5).asin().to_f64(), q24(std::f64::consts::FRAC_PI_2).to_f64(), "|x| > 1 → π/2");
+        // asin through the IQ sequence stays within a few LSB of the exact value (x² floors, sqrt floors).
+        let s = Iq::truncated(0.5, 30).asin().to_f64();
+        assert!((s - 0.5f64.asin()).abs() < 4.0 * 2f64.powi(-29), "{s}");
+    }
+
+    #[test]
+    fn comparisons_use_real_values() {
+        assert_eq!(Iq::truncated(0.5, 30), q24(0.5));
+        assert!(raw((1 << 29) + 1, 30) > q24(0.5));
+        assert!(q24(-1.0) < Iq::truncated(-0.999, 30));
+        assert_eq!(raw(i32::MIN, 24).abs().raw, i32::MIN, "labs wraps");
+        assert_eq!((-raw(i32::MIN, 24)).raw, i32::MIN);
+        assert_eq!(raw(-1, 24).to_f32(), -2f32.powi(-24));
+        assert_eq!(raw(0x7FFF_FFFF, 24).to_f32(), 128.0 - 2f32.powi(-17), "_IQtoF truncates");
+        assert_eq!(q24(5.0).sat(q24(1.0), q24(-1.0)).to_f64(), 1.0);
+    }
+}
