@@ -3,3 +3,5 @@
 pub mod costs;
 
 pub use costs::CostTable;
+pub mod stages;
+pub use stages::{stage_costs, StageCost, StageCosts};
