@@ -4,6 +4,13 @@
 //! slave a [`FrameTiming`]; the slave answers with the word it shifts out. Two levels must agree:
 //! a transaction level (one computation per frame, the fast path) and a bit level (every SCLK edge).
 
+pub mod bitlevel;
+pub mod link;
+pub mod transaction;
+
+pub use crate::profile::BusLevel;
+pub use link::{FrameRecord, LinkRecord, SpiLink};
+
 use crate::time::Ps;
 
 /// What the wires show the slave about one frame, computed by the bus from the master's registers.
@@ -32,4 +39,26 @@ pub trait SpiSlave {
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16;
     /// The frame is over; `din` is the word the slave sampled on DIN.
     fn end_frame(&mut self, din: u16, timing: &FrameTiming);
+}
+
+/// The state of the lines around one frame that decides what each side samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Lines {
+    /// The slave's chip select is asserted when the frame starts (it sees the frame).
+    pub selected: bool,
+    /// SPISIMO level before the frame (the last bit the master drove, or the floating level).
+    pub simo_before: bool,
+    /// The level an undriven line reads as (SPISIMO with TALK = 0, DOUT with CS high).
+    pub floating: bool,
+}
+
+/// What one frame exchanged, as both sides sampled it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Exchange {
+    /// Bits the master sampled, right-justified (the frame's character length).
+    pub master_rx: u16,
+    /// Bits the slave sampled on DIN at its rising edges, right-justified (0 when not selected).
+    pub slave_din: u16,
+    /// SPISIMO level after the frame.
+    pub simo_after: bool,
 }
