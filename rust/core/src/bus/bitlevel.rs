@@ -2,7 +2,8 @@
 //!
 //! The waveform is built by toggling SCLK phase by phase from the master's registers (not from the
 //! closed forms of the transaction level), and the data are moved edge by edge:
-//! - master (TI schemes): without delay it drives a bit on each leading edge (idle → active) and
+//! - master (TI schemes), with its shifter output on SPISIMO only when TALK = 1 (loopback feeds the
+//!   receiver from the shifter output inside the chip): without delay it drives a bit on each leading edge (idle → active) and
 //!   samples on each trailing edge; with delay it puts bit 0 out at the start, samples on each
 //!   leading edge and drives the next bit on each trailing edge;
 //! - slave (ADIS16407, SPI mode 3): MSB valid on DOUT from CS↓; its n-th falling edge drives bit n;
@@ -70,13 +71,9 @@ pub fn exchange(frame: &Frame, waveform: &Waveform, dout: u16, lines: Lines) -> 
     let bits = frame.shape.bits as u32;
     let tx_bit = |k: u32| frame.tx_bit(k);
     let mut sclk = polarity;
-    let mut simo = if !frame.talk {
-        lines.floating
-    } else if delay {
-        tx_bit(0)
-    } else {
-        lines.simo_before
-    };
+    // The shifter's output bit; SPISIMO shows it only with TALK (loopback takes it internally).
+    let mut out = if delay { tx_bit(0) } else { lines.simo_before };
+    let pin = |out: bool| if frame.talk { out } else { lines.floating };
     let mut somi = if lines.selected { dout & 0x8000 != 0 } else { lines.floating };
     let (mut rx, mut din) = (0u16, 0u16);
     let mut falls = 0u32;
@@ -87,17 +84,17 @@ pub fn exchange(frame: &Frame, waveform: &Waveform, dout: u16, lines: Lines) -> 
         // Samples first.
         let master_samples = leading == delay;
         if master_samples {
-            let line = if frame.loopback { simo } else { somi };
+            let line = if frame.loopback { out } else { somi };
             rx = (rx << 1) | u16::from(line);
         }
         if lines.selected && rising {
-            din = (din << 1) | u16::from(simo);
+            din = (din << 1) | u16::from(pin(out));
         }
         // Then drives.
-        if frame.talk && !master_samples {
+        if !master_samples {
             let next = if delay { e / 2 + 1 } else { e / 2 };
             if next < bits {
-                simo = tx_bit(next);
+                out = tx_bit(next);
             }
         }
         if lines.selected && !rising {
@@ -108,5 +105,5 @@ pub fn exchange(frame: &Frame, waveform: &Waveform, dout: u16, lines: Lines) -> 
         }
     }
     let mask = frame.rx_mask();
-    Exchange { master_rx: rx & mask, slave_din: din & mask, simo_after: simo }
+    Exchange { master_rx: rx & mask, slave_din: din & mask, simo_after: pin(out) }
 }

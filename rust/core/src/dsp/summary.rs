@@ -196,3 +196,118 @@ fn burst_time(spi: &mut SpiA, sysclk: Clock, poll: u64) -> Result<(Ps, Ps)> {
     }
     Ok((last_end.unwrap_or(0), gap))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::PS_PER_S;
+
+    fn with(overrides: &[&str]) -> BoardSummary {
+        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        BoardSummary::of(&Profile::from_toml("", "test", &ov).unwrap()).unwrap()
+    }
+
+    fn kinds(s: &BoardSummary) -> Vec<&'static str> {
+        s.violations.iter().map(|e| e.kind).collect()
+    }
+
+    #[test]
+    fn reference_board() {
+        let s = with(&[]);
+        assert_eq!(s.clocks.sysclkout.hz(), 150e6);
+        assert_eq!(s.clocks.lspclk.hz(), 37.5e6);
+        assert_eq!((s.spi_divisor, s.spi_baud_hz, s.sclk_max_hz), (50, 750_000.0, 750_000.0));
+        assert_eq!((s.spi_mode, s.mode_matches_device, s.char_bits), (3, true, 16));
+        assert_eq!(s.frame_ps, 21_333_333);
+        assert_eq!(s.burst_clocking_ps, 320_000_000);
+        // Hand-computed with the module's model (LSPCLK = SYSCLKOUT/4, 8-cycle poll, latency 1):
+        // frame k starts at LSPCLK cycle 1 + 804k (the end at 800 cycles, seen at the next poll 4
+        // SYSCLKOUT cycles later, written 8 cycles after that = 3 LSPCLK, +1 latency), so the 15th
+        // ends at cycle 1 + 14·804 + 800 = 12057: 321.52 µs; the gap is 4 LSPCLK cycles.
+        assert_eq!(s.burst_ps, 321_520_000);
+        assert!(s.burst_ps >= 320_000_000);
+        assert_eq!(s.frame_gap_ps, s.clocks.lspclk.cycles_to_ps(805) - s.clocks.lspclk.cycles_to_ps(801));
+        assert_eq!(s.timer_period_ps, 4_000_000_000);
+        assert!(s.violations.is_empty(), "{:?}", s.violations);
+    }
+
+    #[test]
+    fn spibrr_below_3_is_lspclk_over_4() {
+        for brr in 0..=2 {
+            let s = with(&[&format!("spi.spibrr={brr}")]);
+            assert_eq!((s.spi_divisor, s.spi_baud_hz), (4, 9_375_000.0));
+            assert_eq!(kinds(&s), vec!["sclk_burst_too_fast", "sclk_too_fast"]);
+        }
+    }
+
+    #[test]
+    fn spibrr_9_breaks_the_burst_limit() {
+        let s = with(&["spi.spibrr=9"]);
+        assert_eq!(s.spi_baud_hz, 3_750_000.0);
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast", "sclk_too_fast"]);
+        let e = &s.violations[0];
+        assert_eq!((e.measured, e.required), (Some(3_750_000.0), Some(1_000_000.0)));
+        // 37 is the thesis' bound (37.5 MHz / 38 ≤ 1 MHz): still fine; 36 breaks it.
+        assert!(with(&["spi.spibrr=37"]).violations.is_empty());
+        assert_eq!(kinds(&with(&["spi.spibrr=36"])), vec!["sclk_burst_too_fast"]);
+    }
+
+    #[test]
+    fn odd_divisor_is_judged_by_its_short_phase() {
+        // SPIBRR = 38: 39 cycles per bit, phases 19 + 20: the average 961.5 kHz is within 1 MHz,
+        // but the short phase makes a 38-cycle period, 986.8 kHz: still fine; SPIBRR = 36 → 37
+        // cycles, 18 + 19: 1.0417 MHz instantaneous.
+        let s = with(&["spi.spibrr=38"]);
+        assert_eq!(s.sclk_max_hz, 37.5e6 / 38.0);
+        let s = with(&["spi.spibrr=36"]);
+        assert!((s.spi_baud_hz - 37.5e6 / 37.0).abs() < 1e-6);
+        assert_eq!(s.sclk_max_hz, 37.5e6 / 36.0);
+    }
+
+    #[test]
+    fn spibrr_127_is_slow_and_its_burst_about_820_us() {
+        let s = with(&["spi.spibrr=127"]);
+        assert_eq!(s.spi_baud_hz, 37.5e6 / 128.0); // 292 968.75 Hz
+        assert_eq!(s.burst_clocking_ps, 819_200_000);
+        // Bound from the model: the first start and each of the 14 frame boundaries cost at most
+        // (2 × poll + 1) SYSCLKOUT cycles plus (latency + 1) LSPCLK cycles.
+        let per_gap = 17 * PS_PER_S / 150_000_000 + 2 * PS_PER_S * 2 / 75_000_000 + 2;
+        assert!(s.burst_ps > s.burst_clocking_ps);
+        assert!(s.burst_ps <= s.burst_clocking_ps + 15 * per_gap, "{}", s.burst_ps);
+        assert!(s.violations.is_empty());
+    }
+
+    #[test]
+    fn wrong_schemes_are_reported() {
+        for (ccr, ctl, mode) in [(0x8F, 0x07, 1), (0x8F, 0x0F, 0), (0xCF, 0x0F, 2)] {
+            let s = with(&[&format!("spi.spiccr={ccr}"), &format!("spi.spictl={ctl}")]);
+            assert_eq!((s.spi_mode, s.mode_matches_device), (mode, false));
+            assert_eq!(kinds(&s), vec!["spi_mode_mismatch"]);
+        }
+    }
+
+    #[test]
+    fn lospcp_and_pll_change_everything() {
+        // 75 MHz / 75 = 1 MHz on average, but 75 is odd: phases of 37 and 38 cycles, so the
+        // short-phase period is 74 cycles (1.0135 MHz): over the burst limit.
+        let s = with(&["clocks.lospcp=1", "spi.spibrr=74"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz, s.sclk_max_hz), (75e6, 1e6, 75e6 / 74.0));
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast"]);
+        let s = with(&["clocks.crystal_hz=20000000", "clocks.lospcp=1", "spi.spibrr=49"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.sclk_max_hz), (50e6, 1e6));
+        assert!(s.violations.is_empty(), "exactly at the 1 MHz limit is allowed");
+        let s = with(&["clocks.lospcp=0", "spi.spibrr=127"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz), (150e6, 150e6 / 128.0));
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast"]);
+        let s = with(&["clocks.pllcr=0", "clocks.divsel=1"]);
+        assert_eq!(s.clocks.sysclkout.hz(), 30e6);
+        assert_eq!(s.spi_baud_hz, 150_000.0);
+        assert!(s.burst_ps > 1_600_000_000);
+    }
+
+    #[test]
+    fn a_profile_that_never_clocks_is_a_config_error() {
+        let e = BoardSummary::of(&Profile::from_toml("", "t", &["spi.spiccr=0x4F".into()]).unwrap()).unwrap_err();
+        assert!(matches!(e, crate::error::Error::Config(ref m) if m.contains("never start")), "{e}");
+    }
+}
