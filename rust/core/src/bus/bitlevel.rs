@@ -14,24 +14,24 @@ use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::Frame;
 
 /// SCLK edges of one frame, as LSPCLK cycle offsets from the frame start.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct Waveform {
-    offsets: [u64; 32],
+    offsets: [u32; 32],
     count: usize,
-    shortest_phase: u64,
+    shortest_phase: u32,
 }
 
 impl Waveform {
     /// Toggle SCLK through the frame: with delay an idle-level phase comes first; then each bit is
     /// an active phase (⌊d/2⌋ cycles) followed by an idle-level phase (⌈d/2⌉ cycles).
     pub fn of(frame: &Frame) -> Waveform {
-        let d = frame.shape.divisor as u64;
+        let d = frame.shape.divisor;
         let active = d / 2;
         let idle = d - active;
-        let mut offsets = [0u64; 32];
+        let mut offsets = [0u32; 32];
         let mut t = if frame.shape.scheme.phase { idle } else { 0 };
         let mut count = 0;
-        let mut shortest_phase = u64::MAX;
+        let mut shortest_phase = u32::MAX;
         for _ in 0..frame.shape.bits {
             offsets[count] = t;
             t += active;
@@ -46,17 +46,17 @@ impl Waveform {
     }
 
     /// Edge offsets from the frame start, LSPCLK cycles.
-    pub fn offsets(&self) -> &[u64] {
+    pub fn offsets(&self) -> &[u32] {
         &self.offsets[..self.count]
     }
 
     /// The frame's timing as the slave sees it.
     pub fn timing(&self, frame: &Frame) -> FrameTiming {
-        let at = |off: u64| frame.lspclk.cycles_to_ps(frame.start_cycle + off);
+        let at = |off: u32| frame.lspclk.cycles_to_ps(frame.start_cycle + off as u64);
         FrameTiming {
             first_edge: at(self.offsets[0]),
             last_edge: at(self.offsets[self.count - 1]),
-            sclk_period: frame.lspclk.cycles_to_ps(2 * self.shortest_phase),
+            sclk_period: frame.lspclk.cycles_to_ps(2 * self.shortest_phase as u64),
             bits: frame.shape.bits,
             cpol: frame.shape.scheme.polarity,
         }

@@ -8,7 +8,7 @@
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
 use crate::dsp::spi::{Frame, SpiA, SpiWire};
 use crate::dsp::DspClocks;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
 use crate::profile::{self, Profile};
 use crate::time::Ps;
@@ -53,7 +53,6 @@ pub enum LinkRecord {
 #[derive(Debug, Clone, Copy)]
 struct InFlight {
     timing: FrameTiming,
-    waveform: Option<bitlevel::Waveform>,
     dout: u16,
     selected: bool,
 }
@@ -67,6 +66,8 @@ struct Wires<S> {
     simo: bool,
     floating: bool,
     in_flight: Option<InFlight>,
+    /// The bit-level waveform of the frame in flight (kept here, not copied per frame).
+    waveform: bitlevel::Waveform,
     period_cache: Option<(u32, Ps)>,
     log: Option<Vec<LinkRecord>>,
     events: EventLog,
@@ -74,7 +75,7 @@ struct Wires<S> {
 
 impl<S: SpiSlave> SpiWire for Wires<S> {
     fn begin(&mut self, frame: &Frame) {
-        let (timing, waveform) = match self.level {
+        let timing = match self.level {
             BusLevel::Transaction => {
                 let divisor = frame.shape.divisor;
                 let period = match self.period_cache {
@@ -85,11 +86,11 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
                         p
                     }
                 };
-                (transaction::frame_timing(frame, period), None)
+                transaction::frame_timing(frame, period)
             }
             BusLevel::Bit => {
-                let w = bitlevel::Waveform::of(frame);
-                (w.timing(frame), Some(w))
+                self.waveform = bitlevel::Waveform::of(frame);
+                self.waveform.timing(frame)
             }
         };
         let selected = self.cs_low;
@@ -108,7 +109,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
                 0
             }
         };
-        self.in_flight = Some(InFlight { timing, waveform, dout, selected });
+        self.in_flight = Some(InFlight { timing, dout, selected });
     }
 
     fn finish(&mut self, frame: &Frame) -> u16 {
@@ -117,9 +118,9 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             return if self.floating { frame.rx_mask() } else { 0 };
         };
         let lines = Lines { selected: f.selected, simo_before: self.simo, floating: self.floating };
-        let ex: Exchange = match &f.waveform {
-            Some(w) => bitlevel::exchange(frame, w, f.dout, lines),
-            None => transaction::exchange(frame, f.dout, lines),
+        let ex: Exchange = match self.level {
+            BusLevel::Bit => bitlevel::exchange(frame, &self.waveform, f.dout, lines),
+            BusLevel::Transaction => transaction::exchange(frame, f.dout, lines),
         };
         self.simo = ex.simo_after;
         if f.selected {
@@ -163,6 +164,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 simo: false,
                 floating: true,
                 in_flight: None,
+                waveform: bitlevel::Waveform::default(),
                 period_cache: None,
                 log: None,
                 events: EventLog::default(),
@@ -205,7 +207,7 @@ impl<S: SpiSlave> SpiLink<S> {
         if low == self.wires.cs_low {
             return Ok(());
         }
-        if let Some(f) = self.wires.in_flight {
+        if let Some(f) = self.wires.in_flight.as_ref() {
             self.wires.events.push(Event::new(
                 t,
                 "cs_changed_mid_frame",
@@ -257,9 +259,14 @@ impl<S: SpiSlave> SpiLink<S> {
         self.wires.floating = high;
     }
 
-    /// Switch the emulation level (takes effect from the next frame).
-    pub fn set_level(&mut self, level: BusLevel) {
+    /// Switch the emulation level. Refused while a frame is in flight (it was begun at the other
+    /// level); switch between frames.
+    pub fn set_level(&mut self, level: BusLevel) -> Result<()> {
+        if self.wires.in_flight.is_some() && level != self.wires.level {
+            return Err(Error::Config("bus level switched while a frame is in flight: switch between frames".into()));
+        }
         self.wires.level = level;
+        Ok(())
     }
 
     /// The emulation level.

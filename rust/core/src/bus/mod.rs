@@ -111,11 +111,7 @@ mod tests {
         }
         fn scheme(polarity: bool, phase: bool) -> Setup {
             let s = Setup::reference();
-            Setup {
-                spiccr: if polarity { 0xCF } else { 0x8F },
-                spictl: if phase { 0x0F } else { 0x07 },
-                ..s
-            }
+            Setup { spiccr: if polarity { 0xCF } else { 0x8F }, spictl: if phase { 0x0F } else { 0x07 }, ..s }
         }
         fn profile(&self, level: BusLevel) -> Profile {
             Profile {
@@ -200,7 +196,7 @@ mod tests {
             assert_eq!(o.rx, dout.map(shifted).to_vec(), "scheme ({polarity}, {phase})");
             assert_ne!(o.rx, dout.to_vec());
             assert_eq!(o.rx[1], 0xE3D3); // the published 0xC7A7 frame: ND/EA and the voltage corrupted
-            // The slave sees the polarity on the wire.
+                                         // The slave sees the polarity on the wire.
             assert!(o.slave.timings.iter().all(|t| t.cpol == polarity));
             // Rising edge without delay (mode 1): the slave samples DIN as the master changes it: it
             // reads the previous SPISIMO level first (0 after reset, then each frame's last bit).
@@ -284,6 +280,66 @@ mod tests {
             let a = run(setup, BusLevel::Transaction, t0, &tx, &dout, 0);
             let b = run(setup, BusLevel::Bit, t0, &tx, &dout, 0);
             prop_assert_eq!(a, b);
+        }
+    }
+
+    /// Throughput of the published polling flow (write SPITXBUF, wait for INT_FLAG, read SPIRXBUF),
+    /// 30 frames per 8 ms cycle. Run with `cargo test --release -p sins-core --lib bus::tests::throughput
+    /// -- --ignored --nocapture`; the budget is 1 M cycles/s at transaction level, 200 k at bit level.
+    #[test]
+    #[ignore = "timing measurement: run in release"]
+    fn throughput() {
+        struct Echo(u16);
+        impl SpiSlave for Echo {
+            fn set_cs(&mut self, _low: bool, _t: Ps) {}
+            fn begin_frame(&mut self, _timing: &FrameTiming) -> u16 {
+                self.0 = self.0.wrapping_add(1);
+                self.0
+            }
+            fn end_frame(&mut self, din: u16, _timing: &FrameTiming) {
+                self.0 ^= din;
+            }
+        }
+        let mut measured = Vec::new();
+        for (level, budget_cycles_per_s) in [(BusLevel::Transaction, 1_000_000.0), (BusLevel::Bit, 200_000.0)] {
+            let p = Setup::reference().profile(level);
+            let mut link = SpiLink::from_profile(&p, Echo(0)).unwrap();
+            link.init_from_profile(&p.spi, 0).unwrap();
+            let cycles = 200_000u64;
+            // CPU time of this thread (the machine is shared), wall time where unavailable.
+            let cpu_ns = || {
+                std::fs::read_to_string("/proc/thread-self/schedstat")
+                    .ok()
+                    .and_then(|s| s.split_whitespace().next().and_then(|v| v.parse::<f64>().ok()))
+            };
+            let cpu0 = cpu_ns();
+            let start = std::time::Instant::now();
+            let mut sum = 0u64;
+            for c in 0..cycles {
+                let mut t = c * 8_000_000_000;
+                link.set_gpio57(false, t).unwrap();
+                for _ in 0..30 {
+                    link.write(SPITXBUF, 0x4200, t).unwrap();
+                    let f = link.int_flag_time().unwrap();
+                    sum += link.read(SPIRXBUF, f).unwrap() as u64;
+                    t = f + 100_000;
+                }
+                link.set_gpio57(true, t).unwrap();
+            }
+            let secs = match (cpu0, cpu_ns()) {
+                (Some(a), Some(b)) => (b - a) * 1e-9,
+                _ => start.elapsed().as_secs_f64(),
+            };
+            let per_s = cycles as f64 / secs;
+            println!(
+                "{level:?}: {:.0} cycles/s of 30 frames, {:.1} ns per frame (checksum {sum})",
+                per_s,
+                secs * 1e9 / (cycles * 30) as f64
+            );
+            measured.push((level, per_s, budget_cycles_per_s));
+        }
+        for (level, per_s, budget) in measured {
+            assert!(per_s > budget, "{level:?}: {per_s:.0} cycles/s, budget {budget:.0}");
         }
     }
 }

@@ -161,7 +161,7 @@ impl CharShape {
     pub fn edge_cycle(&self, e: u32) -> u64 {
         let k = (e / 2) as u64;
         let d = self.divisor as u64;
-        let leading = e % 2 == 0;
+        let leading = e.is_multiple_of(2);
         match (self.scheme.phase, leading) {
             (false, true) => k * d,
             (false, false) => k * d + self.active_cycles() as u64,
@@ -407,8 +407,7 @@ impl SpiA {
 
     /// Whether a queued word may start a character: out of reset, master, transmit FIFO enabled.
     fn can_run(&self) -> bool {
-        let fifo_ok = !self.fifo_mode()
-            || (self.spifftx & SPIFFTX_SPIRST != 0 && self.spifftx & SPIFFTX_TXFIFO != 0);
+        let fifo_ok = !self.fifo_mode() || (self.spifftx & SPIFFTX_SPIRST != 0 && self.spifftx & SPIFFTX_TXFIFO != 0);
         self.spiccr & SPICCR_SPISWRESET != 0 && self.spictl & SPICTL_MASTER != 0 && fifo_ok
     }
 
@@ -461,7 +460,10 @@ impl SpiA {
                     frame.end_ps,
                     "spi_rx_fifo_overflow",
                     Severity::Warning,
-                    format!("SPI-A receive FIFO full at the end of character {}: word 0x{:04X} lost", frame.index, self.spidat),
+                    format!(
+                        "SPI-A receive FIFO full at the end of character {}: word 0x{:04X} lost",
+                        frame.index, self.spidat
+                    ),
                 ));
             } else {
                 self.rx_fifo.push(self.spidat);
@@ -676,7 +678,12 @@ impl SpiA {
             } else {
                 ("spi_txbuf_overwrite", "SPITXBUF written while BUFFULL_FLAG = 1")
             };
-            self.events.push(Event::new(t, kind, Severity::Warning, format!("{what}: word 0x{value:04X} replaces a waiting word")));
+            self.events.push(Event::new(
+                t,
+                kind,
+                Severity::Warning,
+                format!("{what}: word 0x{value:04X} replaces a waiting word"),
+            ));
             if !fifo {
                 self.tx_queue.clear();
                 self.tx_queue.push(value);

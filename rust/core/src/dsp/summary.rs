@@ -88,8 +88,7 @@ impl BoardSummary {
         let sclk_max_hz = lsp.hz() / (2 * shape.active_cycles()) as f64;
         let frame_ps = lsp.cycles_to_ps(shape.length_cycles());
         let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * BURST_FRAMES as u64);
-        let (burst_ps, frame_gap_ps) =
-            burst_time(&mut spi, clocks.sysclkout, profile.timing.poll_loop_cycles as u64)?;
+        let (burst_ps, frame_gap_ps) = burst_time(&mut spi, clocks.sysclkout, profile.timing.poll_loop_cycles as u64)?;
 
         let mut violations = Vec::new();
         let dev = &profile.device;
@@ -100,7 +99,10 @@ impl BoardSummary {
                 Severity::Error,
                 format!(
                     "SPI clock {:.0} Hz (SPIBRR = {}, LSPCLK {:.0} Hz) exceeds the ADIS16407 burst-read limit {:.0} Hz",
-                    sclk_max_hz, profile.spi.spibrr, lsp.hz(), dev.sclk_burst_max_hz
+                    sclk_max_hz,
+                    profile.spi.spibrr,
+                    lsp.hz(),
+                    dev.sclk_burst_max_hz
                 ),
                 sclk_max_hz,
                 dev.sclk_burst_max_hz,

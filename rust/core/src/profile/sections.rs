@@ -542,7 +542,7 @@ impl Default for Navigation {
             earth_radius_m: 6_378_137.0,
             flattening: 1.0 / 298.257,
             earth_rate_rad_s: 7.292115e-5,
-            gravity_equator: 9.780_325_3359,
+            gravity_equator: 9.780_325_335_9,
         }
     }
 }
