@@ -23,6 +23,10 @@ pub fn s_to_ps(s: f64) -> Ps {
 pub struct Clock {
     num: u64,
     den: u64,
+    /// One cycle is `ps_num/ps_den` ps, reduced (a function of num/den, so equality is unchanged):
+    /// lets `cycles_to_ps` use one u64 multiply and divide when the product fits (the hot path).
+    ps_num: u64,
+    ps_den: u64,
 }
 
 impl Clock {
@@ -31,7 +35,12 @@ impl Clock {
     pub fn new(num: u64, den: u64) -> Self {
         assert!(num > 0 && den > 0, "clock frequency must be positive");
         let g = gcd(num, den);
-        Clock { num: num / g, den: den / g }
+        let (num, den) = (num / g, den / g);
+        let ps_total = PS_PER_S as u128 * den as u128;
+        let h = gcd128(ps_total, num as u128);
+        // When the reduced numerator does not fit u64 the fast path is disabled (u64::MAX overflows).
+        let ps_num = u64::try_from(ps_total / h).unwrap_or(u64::MAX);
+        Clock { num, den, ps_num, ps_den: (num as u128 / h) as u64 }
     }
 
     /// A clock of a whole number of hertz.
@@ -68,16 +77,25 @@ impl Clock {
 
     /// Time of `cycles` whole cycles, floored to the picosecond.
     pub fn cycles_to_ps(self, cycles: u64) -> Ps {
-        ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps
+        match cycles.checked_mul(self.ps_num) {
+            Some(p) if self.ps_num != u64::MAX => p / self.ps_den,
+            _ => ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps,
+        }
     }
 
     /// Whole cycles completed by time `t` (floor).
     pub fn ps_to_cycles(self, t: Ps) -> u64 {
-        ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64
+        match t.checked_mul(self.ps_den) {
+            Some(n) if self.ps_num != u64::MAX => n / self.ps_num,
+            _ => ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64,
+        }
     }
 
     /// The first cycle boundary at or after `t`, as a cycle count (ceil).
     pub fn ps_to_cycles_ceil(self, t: Ps) -> u64 {
+        if let Some(n) = t.checked_mul(self.ps_den).filter(|_| self.ps_num != u64::MAX) {
+            return n.div_ceil(self.ps_num);
+        }
         let n = t as u128 * self.num as u128;
         let d = PS_PER_S as u128 * self.den as u128;
         n.div_ceil(d) as u64
@@ -85,6 +103,13 @@ impl Clock {
 }
 
 fn gcd(mut a: u64, mut b: u64) -> u64 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+fn gcd128(mut a: u128, mut b: u128) -> u128 {
     while b != 0 {
         (a, b) = (b, a % b);
     }
@@ -120,6 +145,30 @@ mod tests {
         assert_eq!(c.ps_to_cycles(t), 12345);
         assert_eq!(c.ps_to_cycles_ceil(t), 12345);
         assert_eq!(c.ps_to_cycles_ceil(t + 1), 12346);
+    }
+
+    #[test]
+    fn fast_path_equals_the_exact_formula() {
+        let exact = |c: Clock, n: u64| ((n as u128 * PS_PER_S as u128 * c.den as u128) / c.num as u128) as Ps;
+        let clocks = [
+            Clock::new(75_000_000, 2),
+            Clock::from_hz(150_000_000),
+            Clock::new(8192, 10),
+            Clock::new(8192, 10).skewed_ppb(-12_345),
+            Clock::from_hz(1),
+            Clock::new(7, 3),
+        ];
+        for c in clocks {
+            for n in [0, 1, 2, 3, 799, 12_057, 1 << 20, 1 << 40, u64::MAX / 3, u64::MAX / 80_000 + 1] {
+                let n = n.min(u64::MAX / 1_000_000); // keep the exact result inside u64
+                assert_eq!(c.cycles_to_ps(n), exact(c, n), "{c:?} {n}");
+                let t = n.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 8;
+                let d = PS_PER_S as u128 * c.den as u128;
+                let num = t as u128 * c.num as u128;
+                assert_eq!(c.ps_to_cycles(t) as u128, num / d, "{c:?} {t}");
+                assert_eq!(c.ps_to_cycles_ceil(t) as u128, num.div_ceil(d), "{c:?} {t}");
+            }
+        }
     }
 
     #[test]

@@ -1,1 +1,12 @@
-//! (filled in by the dsp work)
+//! The F28335 peripherals the firmware touches: the clock tree, CPU timer 0 and SPI-A, plus a
+//! summary of what a profile's register values produce.
+
+pub mod clocks;
+pub mod spi;
+pub mod summary;
+pub mod timer;
+
+pub use clocks::DspClocks;
+pub use spi::SpiA;
+pub use summary::BoardSummary;
+pub use timer::CpuTimer;

@@ -1,0 +1,304 @@
+//! The SPI link: SPI-A (master) wired to a slave, with GPIO57 as chip select, at either level.
+//!
+//! The firmware model talks to the link as it would to the chip: register reads and writes at word
+//! offsets, GPIO57 writes, each at its virtual time. The link advances SPI-A to that time, so the
+//! slave is told about CS edges and frames in time order. Per frame it asks the slave for DOUT when
+//! the frame starts, and delivers DIN when it ends.
+
+use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
+use crate::dsp::spi::{Frame, SpiA, SpiWire};
+use crate::dsp::DspClocks;
+use crate::error::{Error, Result};
+use crate::events::{Event, EventLog, Severity};
+use crate::profile::{self, Profile};
+use crate::time::Ps;
+
+/// One frame on the wires, as logged.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameRecord {
+    /// Character index since power-on.
+    pub index: u64,
+    /// Character start (first SCLK edge without delay).
+    pub start_ps: Ps,
+    /// Character end (INT_FLAG).
+    pub end_ps: Ps,
+    /// What the slave was told about the frame.
+    pub timing: FrameTiming,
+    /// Whether CS was asserted at the start (the slave took part).
+    pub selected: bool,
+    /// SPIDAT at the start (the master's word, left-justified).
+    pub master_tx: u16,
+    /// Bits the master received, right-justified.
+    pub master_rx: u16,
+    /// Bits the slave sampled on DIN, right-justified.
+    pub din: u16,
+    /// The word the slave shifted out on DOUT (the floating word when not selected).
+    pub dout: u16,
+}
+
+/// One entry of the link's transaction log.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LinkRecord {
+    /// GPIO57 changed: `low` = CS asserted.
+    Cs {
+        /// Time of the edge.
+        t_ps: Ps,
+        /// New state: `true` = asserted (low).
+        low: bool,
+    },
+    /// A frame.
+    Frame(FrameRecord),
+}
+
+#[derive(Debug, Clone, Copy)]
+struct InFlight {
+    timing: FrameTiming,
+    dout: u16,
+    selected: bool,
+}
+
+/// The wires between SPI-A and the slave.
+#[derive(Debug)]
+struct Wires<S> {
+    slave: S,
+    level: BusLevel,
+    cs_low: bool,
+    simo: bool,
+    floating: bool,
+    in_flight: Option<InFlight>,
+    /// The bit-level waveform of the frame in flight (kept here, not copied per frame).
+    waveform: bitlevel::Waveform,
+    period_cache: Option<(u32, Ps)>,
+    log: Option<Vec<LinkRecord>>,
+    events: EventLog,
+}
+
+impl<S: SpiSlave> SpiWire for Wires<S> {
+    fn begin(&mut self, frame: &Frame) {
+        let timing = match self.level {
+            BusLevel::Transaction => {
+                let divisor = frame.shape.divisor;
+                let period = match self.period_cache {
+                    Some((d, p)) if d == divisor => p,
+                    _ => {
+                        let p = transaction::sclk_period(frame);
+                        self.period_cache = Some((divisor, p));
+                        p
+                    }
+                };
+                transaction::frame_timing(frame, period)
+            }
+            BusLevel::Bit => {
+                self.waveform = bitlevel::Waveform::of(frame);
+                self.waveform.timing(frame)
+            }
+        };
+        let selected = self.cs_low;
+        let dout = if selected {
+            self.slave.begin_frame(&timing)
+        } else {
+            self.events.push(Event::new(
+                frame.start_ps,
+                "spi_frame_without_cs",
+                Severity::Warning,
+                format!("SPI character {} clocked with GPIO57 (CS) high: the slave ignores it", frame.index),
+            ));
+            if self.floating {
+                0xFFFF
+            } else {
+                0
+            }
+        };
+        self.in_flight = Some(InFlight { timing, dout, selected });
+    }
+
+    fn finish(&mut self, frame: &Frame) -> u16 {
+        let Some(f) = self.in_flight.take() else {
+            // The peripheral pairs every finish with a begin; an unpaired one reads the floating level.
+            return if self.floating { frame.rx_mask() } else { 0 };
+        };
+        let lines = Lines { selected: f.selected, simo_before: self.simo, floating: self.floating };
+        let ex: Exchange = match self.level {
+            BusLevel::Bit => bitlevel::exchange(frame, &self.waveform, f.dout, lines),
+            BusLevel::Transaction => transaction::exchange(frame, f.dout, lines),
+        };
+        self.simo = ex.simo_after;
+        if f.selected {
+            self.slave.end_frame(ex.slave_din, &f.timing);
+        }
+        if let Some(log) = self.log.as_mut() {
+            log.push(LinkRecord::Frame(FrameRecord {
+                index: frame.index,
+                start_ps: frame.start_ps,
+                end_ps: frame.end_ps,
+                timing: f.timing,
+                selected: f.selected,
+                master_tx: frame.tx,
+                master_rx: ex.master_rx,
+                din: ex.slave_din,
+                dout: f.dout,
+            }));
+        }
+        ex.master_rx
+    }
+}
+
+/// SPI-A, GPIO57 and a slave, emulated at the chosen [`BusLevel`].
+#[derive(Debug)]
+pub struct SpiLink<S> {
+    spi: SpiA,
+    wires: Wires<S>,
+}
+
+impl<S: SpiSlave> SpiLink<S> {
+    /// A link with SPI-A in its reset state. CS (GPIO57) starts high (deasserted), SPISIMO low
+    /// (SPIDAT's reset MSB), and an undriven line reads 1 ([unconfirmed]: no pull resistor is
+    /// documented; see [`SpiLink::set_floating_level`]).
+    pub fn new(spi: SpiA, slave: S, level: BusLevel) -> SpiLink<S> {
+        SpiLink {
+            spi,
+            wires: Wires {
+                slave,
+                level,
+                cs_low: false,
+                simo: false,
+                floating: true,
+                in_flight: None,
+                waveform: bitlevel::Waveform::default(),
+                period_cache: None,
+                log: None,
+                events: EventLog::default(),
+            },
+        }
+    }
+
+    /// A link for the profile's board (LSPCLK, start latency, level). SPI-A is in its reset state:
+    /// run [`SpiLink::init_from_profile`] when the firmware initialises it.
+    pub fn from_profile(profile: &Profile, slave: S) -> Result<SpiLink<S>> {
+        let clocks = DspClocks::from_profile(&profile.clocks)?;
+        let spi = SpiA::new(clocks.lspclk, profile.spi.start_latency_lspclk);
+        Ok(SpiLink::new(spi, slave, profile.spi.level))
+    }
+
+    /// The published InitSpi register writes at time `t` (see [`SpiA::init_writes`]).
+    pub fn init_from_profile(&mut self, spi: &profile::Spi, t: Ps) -> Result<()> {
+        self.spi.init_from_profile(spi, t, &mut self.wires)
+    }
+
+    /// Read an SPI-A register at time `t`.
+    pub fn read(&mut self, offset: u16, t: Ps) -> Result<u16> {
+        self.spi.read(offset, t, &mut self.wires)
+    }
+
+    /// Write an SPI-A register at time `t`.
+    pub fn write(&mut self, offset: u16, value: u16, t: Ps) -> Result<()> {
+        self.spi.write(offset, value, t, &mut self.wires)
+    }
+
+    /// Process everything that happens on the link up to time `t`.
+    pub fn advance(&mut self, t: Ps) -> Result<()> {
+        self.spi.advance(t, &mut self.wires)
+    }
+
+    /// The firmware writes GPIO57 (the chip select) at time `t`: `high = false` asserts CS.
+    pub fn set_gpio57(&mut self, high: bool, t: Ps) -> Result<()> {
+        self.spi.advance(t, &mut self.wires)?;
+        let low = !high;
+        if low == self.wires.cs_low {
+            return Ok(());
+        }
+        if let Some(f) = self.wires.in_flight.as_ref() {
+            self.wires.events.push(Event::new(
+                t,
+                "cs_changed_mid_frame",
+                Severity::Warning,
+                format!(
+                    "GPIO57 (CS) went {} at {t} ps inside a frame (edges {}…{} ps)",
+                    if high { "high" } else { "low" },
+                    f.timing.first_edge,
+                    f.timing.last_edge
+                ),
+            ));
+        }
+        self.wires.cs_low = low;
+        self.wires.slave.set_cs(low, t);
+        if let Some(log) = self.wires.log.as_mut() {
+            log.push(LinkRecord::Cs { t_ps: t, low });
+        }
+        Ok(())
+    }
+
+    /// Whether CS is asserted (GPIO57 low).
+    pub fn cs_asserted(&self) -> bool {
+        self.wires.cs_low
+    }
+
+    /// When SPISTS.INT_FLAG is (or will be) set; see [`SpiA::int_flag_time`].
+    pub fn int_flag_time(&self) -> Option<Ps> {
+        self.spi.int_flag_time()
+    }
+
+    /// When SPISTS.BUFFULL_FLAG reads 0; see [`SpiA::buffull_clear_time`].
+    pub fn buffull_clear_time(&self) -> Option<Ps> {
+        self.spi.buffull_clear_time()
+    }
+
+    /// Start recording the transaction log (frames and CS edges). Off by default: the fast path
+    /// does not allocate.
+    pub fn enable_log(&mut self) {
+        self.wires.log.get_or_insert_with(Vec::new);
+    }
+
+    /// Take the log recorded so far (empty when logging is off); logging stays on if it was.
+    pub fn take_log(&mut self) -> Vec<LinkRecord> {
+        self.wires.log.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
+    /// The level an undriven line (SPISIMO with TALK = 0, DOUT with CS high) reads as.
+    pub fn set_floating_level(&mut self, high: bool) {
+        self.wires.floating = high;
+    }
+
+    /// Switch the emulation level. Refused while a frame is in flight (it was begun at the other
+    /// level); switch between frames.
+    pub fn set_level(&mut self, level: BusLevel) -> Result<()> {
+        if self.wires.in_flight.is_some() && level != self.wires.level {
+            return Err(Error::Config("bus level switched while a frame is in flight: switch between frames".into()));
+        }
+        self.wires.level = level;
+        Ok(())
+    }
+
+    /// The emulation level.
+    pub fn level(&self) -> BusLevel {
+        self.wires.level
+    }
+
+    /// The master peripheral.
+    pub fn spi(&self) -> &SpiA {
+        &self.spi
+    }
+
+    /// The slave.
+    pub fn slave(&self) -> &S {
+        &self.wires.slave
+    }
+
+    /// The slave, mutably (e.g. to feed a device model its physical inputs).
+    pub fn slave_mut(&mut self) -> &mut S {
+        &mut self.wires.slave
+    }
+
+    /// Events of the link itself (frames without CS, CS edges inside a frame); SPI-A's own events
+    /// are in `spi().events()`.
+    pub fn events(&self) -> &EventLog {
+        &self.wires.events
+    }
+
+    /// Take the link's and SPI-A's events out, in that order.
+    pub fn drain_events(&mut self) -> Vec<Event> {
+        let mut e = self.wires.events.drain();
+        e.extend(self.spi.drain_events());
+        e
+    }
+}

@@ -1,0 +1,1033 @@
+//! SPI-A of the F28335 as a register model in virtual time.
+//!
+//! The firmware model reads and writes 16-bit registers at word offsets, each access stamped with
+//! its virtual time. The peripheral is event-driven: a write of SPITXBUF with the shifter idle
+//! schedules a character `start_latency_lspclk` LSPCLK cycles later; the character occupies
+//! exactly `bits × divisor` LSPCLK cycles; at its end the received word lands in SPIRXBUF and
+//! INT_FLAG sets. Every access first *advances* the peripheral to its time, handing the wire each
+//! character start and end in time order, so a status read at `t` shows exactly what has happened
+//! by `t`. [`SpiA::int_flag_time`] and [`SpiA::buffull_clear_time`] tell a polling firmware model
+//! when a flag changes, so a polling loop costs one computation instead of one step per cycle.
+//!
+//! Modelling choices not fixed by TI's documentation (documented here, tested, and kept in one place):
+//! - LSPCLK edges are at whole multiples of the LSPCLK period since power-on; the baud generator
+//!   restarts with each character, so every SCLK edge is a whole LSPCLK cycle.
+//! - From idle, the character starts `start_latency_lspclk` cycles after the first LSPCLK edge at or
+//!   after the write (`profile::Spi::start_latency_lspclk`, [unconfirmed]). From idle, TXBUF is copied
+//!   to SPIDAT at once (BUFFULL_FLAG does not set); the shifter counts as busy from then on. A word
+//!   written while the shifter is busy waits in TXBUF (BUFFULL_FLAG = 1) and starts the moment the
+//!   running character ends (plus TXDLY SPI clocks in FIFO mode).
+//! - A character ends (INT_FLAG, RXBUF load) after `bits` full SPI clock periods from its start,
+//!   i.e. after the trailing idle-level phase of its last bit.
+//! - SPIRXBUF holds the whole shift register after the character: received bits right-justified,
+//!   the rest of the transmitted word above them when fewer than 16 bits are clocked.
+//! - FIFO mode drives TXFFST/RXFFST and the FIFO interrupt flags; SPISTS flags stay 0 in FIFO mode;
+//!   a word arriving at a full receive FIFO is lost and RXFFOVF sets.
+//! - Register and configuration changes apply to characters scheduled after them; a character
+//!   keeps the configuration it started with. SPIDAT reads return the value at the last character
+//!   boundary (mid-character shift states are not modelled).
+
+use crate::error::{Error, Result};
+use crate::events::{Event, EventLog, Severity};
+use crate::profile;
+use crate::time::{Clock, Ps};
+
+/// SPI configuration control register (word offset).
+pub const SPICCR: u16 = 0x0;
+/// SPI operation control register.
+pub const SPICTL: u16 = 0x1;
+/// SPI status register.
+pub const SPISTS: u16 = 0x2;
+/// SPI baud rate register.
+pub const SPIBRR: u16 = 0x4;
+/// SPI emulation buffer (reads the received word without clearing INT_FLAG).
+pub const SPIRXEMU: u16 = 0x6;
+/// SPI receive buffer.
+pub const SPIRXBUF: u16 = 0x7;
+/// SPI transmit buffer.
+pub const SPITXBUF: u16 = 0x8;
+/// SPI shift register.
+pub const SPIDAT: u16 = 0x9;
+/// SPI FIFO transmit register.
+pub const SPIFFTX: u16 = 0xA;
+/// SPI FIFO receive register.
+pub const SPIFFRX: u16 = 0xB;
+/// SPI FIFO control register.
+pub const SPIFFCT: u16 = 0xC;
+/// SPI priority control register.
+pub const SPIPRI: u16 = 0xF;
+
+/// SPICCR.SPISWRESET.
+pub const SPICCR_SPISWRESET: u16 = 1 << 7;
+/// SPICCR.CLKPOLARITY.
+pub const SPICCR_CLKPOLARITY: u16 = 1 << 6;
+/// SPICCR.SPILBK (loopback).
+pub const SPICCR_SPILBK: u16 = 1 << 4;
+/// SPICTL.CLK_PHASE.
+pub const SPICTL_CLK_PHASE: u16 = 1 << 3;
+/// SPICTL.MASTER_SLAVE (1 = master).
+pub const SPICTL_MASTER: u16 = 1 << 2;
+/// SPICTL.TALK.
+pub const SPICTL_TALK: u16 = 1 << 1;
+/// SPISTS.OVERRUN_FLAG.
+pub const SPISTS_OVERRUN: u16 = 1 << 7;
+/// SPISTS.INT_FLAG.
+pub const SPISTS_INT_FLAG: u16 = 1 << 6;
+/// SPISTS.BUFFULL_FLAG.
+pub const SPISTS_BUFFULL: u16 = 1 << 5;
+/// SPIFFTX.SPIRST.
+pub const SPIFFTX_SPIRST: u16 = 1 << 15;
+/// SPIFFTX.SPIFFENA.
+pub const SPIFFTX_SPIFFENA: u16 = 1 << 14;
+/// SPIFFTX.TXFIFO (0 = hold the transmit FIFO in reset).
+pub const SPIFFTX_TXFIFO: u16 = 1 << 13;
+/// SPIFFRX.RXFIFORESET (0 = hold the receive FIFO in reset).
+pub const SPIFFRX_RXFIFORESET: u16 = 1 << 13;
+/// Depth of each FIFO.
+pub const FIFO_DEPTH: usize = 16;
+
+/// One of TI's four SPI clock schemes (SPICCR.CLKPOLARITY × SPICTL.CLK_PHASE).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ClockScheme {
+    /// CLKPOLARITY: `true` = SPICLK idles high.
+    pub polarity: bool,
+    /// CLK_PHASE: `true` = "with delay" (data out half a cycle before the first edge).
+    pub phase: bool,
+}
+
+impl ClockScheme {
+    /// The standard SPI mode number of this scheme (TI's table: (1,0) → 3, (1,1) → 2, (0,0) → 1,
+    /// (0,1) → 0).
+    pub fn standard_mode(self) -> u8 {
+        match (self.polarity, self.phase) {
+            (false, false) => 1,
+            (false, true) => 0,
+            (true, false) => 3,
+            (true, true) => 2,
+        }
+    }
+
+    /// TI's name of the scheme.
+    pub fn ti_name(self) -> &'static str {
+        match (self.polarity, self.phase) {
+            (false, false) => "rising edge without delay",
+            (false, true) => "rising edge with delay",
+            (true, false) => "falling edge without delay",
+            (true, true) => "falling edge with delay",
+        }
+    }
+}
+
+/// LSPCLK cycles per SPI clock for an SPIBRR value: SPIBRR+1, or 4 for SPIBRR = 0…2.
+pub fn baud_divisor(spibrr: u16) -> u32 {
+    let brr = (spibrr & 0x7F) as u32;
+    if brr < 3 {
+        4
+    } else {
+        brr + 1
+    }
+}
+
+/// The shape of one character on SPICLK, in LSPCLK cycles from its start.
+///
+/// Each SPI clock cycle has an *active* phase (SPICLK away from its idle level) of ⌊d/2⌋ cycles and
+/// an *idle-level* phase of ⌈d/2⌉ cycles (d = divisor): with an odd SPIBRR+1 the idle-level phase is
+/// the longer one. Edge `2k` is the leading edge of bit `k` (idle → active), edge `2k+1` its trailing
+/// edge. Without delay (CLK_PHASE = 0) a bit cycle starts with its leading edge; with delay it starts
+/// with the idle-level phase, so every edge is half a cycle later and the last trailing edge is the
+/// character's end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CharShape {
+    /// Bits per character (SPICHAR+1).
+    pub bits: u8,
+    /// LSPCLK cycles per SPI clock.
+    pub divisor: u32,
+    /// Clock scheme.
+    pub scheme: ClockScheme,
+}
+
+impl CharShape {
+    /// LSPCLK cycles SPICLK spends away from its idle level in one bit.
+    pub fn active_cycles(&self) -> u32 {
+        self.divisor / 2
+    }
+
+    /// LSPCLK cycles SPICLK spends at its idle level in one bit.
+    pub fn idle_cycles(&self) -> u32 {
+        self.divisor - self.divisor / 2
+    }
+
+    /// Offset of edge `e` (0 ≤ e < 2·bits) from the character start, in LSPCLK cycles.
+    pub fn edge_cycle(&self, e: u32) -> u64 {
+        let k = (e / 2) as u64;
+        let d = self.divisor as u64;
+        let leading = e.is_multiple_of(2);
+        match (self.scheme.phase, leading) {
+            (false, true) => k * d,
+            (false, false) => k * d + self.active_cycles() as u64,
+            (true, true) => k * d + self.idle_cycles() as u64,
+            (true, false) => (k + 1) * d,
+        }
+    }
+
+    /// Number of SPICLK edges in the character.
+    pub fn edges(&self) -> u32 {
+        2 * self.bits as u32
+    }
+
+    /// LSPCLK cycles from the start of the character to its end.
+    pub fn length_cycles(&self) -> u64 {
+        self.bits as u64 * self.divisor as u64
+    }
+}
+
+/// One character as the master puts it on the wires.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Frame {
+    /// Index of the character since power-on (0-based).
+    pub index: u64,
+    /// LSPCLK clock the character is timed by.
+    pub lspclk: Clock,
+    /// LSPCLK cycle (since power-on) at which the character starts.
+    pub start_cycle: u64,
+    /// Start time (= `lspclk.cycles_to_ps(start_cycle)`).
+    pub start_ps: Ps,
+    /// End time: INT_FLAG sets and SPIRXBUF loads.
+    pub end_ps: Ps,
+    /// SPIDAT at the start: the character left-justified, shifted out from bit 15.
+    pub tx: u16,
+    /// Clock shape.
+    pub shape: CharShape,
+    /// SPICTL.TALK: the master drives SPISIMO.
+    pub talk: bool,
+    /// SPICCR.SPILBK: SPISIMO is looped back to the receiver inside the chip.
+    pub loopback: bool,
+}
+
+impl Frame {
+    /// Time of SPICLK edge `e`.
+    pub fn edge_ps(&self, e: u32) -> Ps {
+        self.lspclk.cycles_to_ps(self.start_cycle + self.shape.edge_cycle(e))
+    }
+
+    /// Transmitted bit `k` (0 = first, from bit 15 of SPIDAT).
+    pub fn tx_bit(&self, k: u32) -> bool {
+        (self.tx >> (15 - k)) & 1 == 1
+    }
+
+    /// Mask of the received bits (right-justified).
+    pub fn rx_mask(&self) -> u16 {
+        (((1u32 << self.shape.bits) - 1) & 0xFFFF) as u16
+    }
+}
+
+/// What the SPI pins are connected to: told about each character's start and end, in time order.
+pub trait SpiWire {
+    /// The character starts (called once the peripheral has advanced to `frame.start_ps`).
+    fn begin(&mut self, frame: &Frame);
+    /// The character ends: return the bits the master sampled on SPISOMI, right-justified
+    /// (`frame.shape.bits` of them).
+    fn finish(&mut self, frame: &Frame) -> u16;
+}
+
+/// A fixed-capacity FIFO of 16-bit words (no allocation).
+#[derive(Debug, Clone, Copy, Default)]
+struct Fifo {
+    words: [u16; FIFO_DEPTH],
+    head: usize,
+    len: usize,
+}
+
+impl Fifo {
+    fn push(&mut self, w: u16) {
+        self.words[(self.head + self.len) % FIFO_DEPTH] = w;
+        self.len += 1;
+    }
+    fn push_front(&mut self, w: u16) {
+        self.head = (self.head + FIFO_DEPTH - 1) % FIFO_DEPTH;
+        self.words[self.head] = w;
+        self.len += 1;
+    }
+    fn pop(&mut self) -> Option<u16> {
+        if self.len == 0 {
+            return None;
+        }
+        let w = self.words[self.head];
+        self.head = (self.head + 1) % FIFO_DEPTH;
+        self.len -= 1;
+        Some(w)
+    }
+    fn peek(&self) -> Option<u16> {
+        (self.len > 0).then(|| self.words[self.head])
+    }
+    fn clear(&mut self) {
+        self.len = 0;
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Active {
+    frame: Frame,
+    begun: bool,
+}
+
+/// The SPI-A peripheral.
+#[derive(Debug, Clone)]
+pub struct SpiA {
+    lspclk: Clock,
+    start_latency_lspclk: u64,
+    spiccr: u16,
+    spictl: u16,
+    spibrr: u16,
+    spipri: u16,
+    spifftx: u16,
+    spiffrx: u16,
+    spiffct: u16,
+    txbuf: u16,
+    rxbuf: u16,
+    spidat: u16,
+    int_flag: bool,
+    int_flag_at: Ps,
+    overrun: bool,
+    /// Words written but not yet copied to SPIDAT (TXBUF in normal mode: at most one).
+    tx_queue: Fifo,
+    rx_fifo: Fifo,
+    rxffovf: bool,
+    txffint: bool,
+    rxffint: bool,
+    active: Option<Active>,
+    now: Ps,
+    frames: u64,
+    warned_not_master: bool,
+    events: EventLog,
+}
+
+impl SpiA {
+    /// SPI-A after a system reset, clocked by `lspclk`; `start_latency_lspclk` is the
+    /// [unconfirmed] delay from a SPITXBUF write (shifter idle) to the character start.
+    pub fn new(lspclk: Clock, start_latency_lspclk: u32) -> SpiA {
+        SpiA {
+            lspclk,
+            start_latency_lspclk: start_latency_lspclk as u64,
+            spiccr: 0,
+            spictl: 0,
+            spibrr: 0,
+            spipri: 0,
+            spifftx: 0xA000,
+            spiffrx: 0x201F,
+            spiffct: 0,
+            txbuf: 0,
+            rxbuf: 0,
+            spidat: 0,
+            int_flag: false,
+            int_flag_at: 0,
+            overrun: false,
+            tx_queue: Fifo::default(),
+            rx_fifo: Fifo::default(),
+            rxffovf: false,
+            txffint: false,
+            rxffint: false,
+            active: None,
+            now: 0,
+            frames: 0,
+            warned_not_master: false,
+            events: EventLog::default(),
+        }
+    }
+
+    /// The register writes of the published InitSpi, in order, for the profile's final values:
+    /// SPICCR with SPISWRESET = 0, SPICTL, SPIBRR, the FIFO registers when SPIFFTX enables the FIFO,
+    /// SPICCR (released), SPIPRI.
+    pub fn init_writes(spi: &profile::Spi) -> Vec<(u16, u16)> {
+        let ccr = (spi.spiccr & 0xFF) as u16;
+        let mut writes = vec![
+            (SPICCR, ccr & !SPICCR_SPISWRESET),
+            (SPICTL, (spi.spictl & 0x1F) as u16),
+            (SPIBRR, (spi.spibrr & 0x7F) as u16),
+        ];
+        if spi.spifftx as u16 & SPIFFTX_SPIFFENA != 0 {
+            writes.push((SPIFFTX, spi.spifftx as u16));
+            writes.push((SPIFFRX, spi.spiffrx as u16));
+            writes.push((SPIFFCT, (spi.spiffct & 0xFF) as u16));
+        }
+        writes.push((SPICCR, ccr));
+        writes.push((SPIPRI, (spi.spipri & 0xFF) as u16));
+        writes
+    }
+
+    /// Perform [`SpiA::init_writes`] at time `t`.
+    pub fn init_from_profile<W: SpiWire>(&mut self, spi: &profile::Spi, t: Ps, wire: &mut W) -> Result<()> {
+        for (offset, value) in SpiA::init_writes(spi) {
+            self.write(offset, value, t, wire)?;
+        }
+        Ok(())
+    }
+
+    /// The LSPCLK this peripheral runs on.
+    pub fn lspclk(&self) -> Clock {
+        self.lspclk
+    }
+
+    /// Events recorded so far (overruns, lost writes, writes to read-only registers).
+    pub fn events(&self) -> &EventLog {
+        &self.events
+    }
+
+    /// Take the recorded events out.
+    pub fn drain_events(&mut self) -> Vec<Event> {
+        self.events.drain()
+    }
+
+    /// Characters started since power-on.
+    pub fn frames_started(&self) -> u64 {
+        self.frames
+    }
+
+    /// The clock scheme SPICCR/SPICTL select now.
+    pub fn scheme(&self) -> ClockScheme {
+        ClockScheme { polarity: self.spiccr & SPICCR_CLKPOLARITY != 0, phase: self.spictl & SPICTL_CLK_PHASE != 0 }
+    }
+
+    /// The character shape the registers select now.
+    pub fn shape(&self) -> CharShape {
+        CharShape { bits: (self.spiccr & 0xF) as u8 + 1, divisor: baud_divisor(self.spibrr), scheme: self.scheme() }
+    }
+
+    fn fifo_mode(&self) -> bool {
+        self.spifftx & SPIFFTX_SPIFFENA != 0
+    }
+
+    fn tx_capacity(&self) -> usize {
+        if self.fifo_mode() {
+            FIFO_DEPTH
+        } else {
+            1
+        }
+    }
+
+    /// Whether a queued word may start a character: out of reset, master, transmit FIFO enabled.
+    fn can_run(&self) -> bool {
+        let fifo_ok = !self.fifo_mode() || (self.spifftx & SPIFFTX_SPIRST != 0 && self.spifftx & SPIFFTX_TXFIFO != 0);
+        self.spiccr & SPICCR_SPISWRESET != 0 && self.spictl & SPICTL_MASTER != 0 && fifo_ok
+    }
+
+    fn check_time(&self, t: Ps) -> Result<()> {
+        if t < self.now {
+            return Err(Error::Register(format!(
+                "SPI-A access at t = {t} ps precedes the previous access at {} ps: virtual time must not go backwards",
+                self.now
+            )));
+        }
+        Ok(())
+    }
+
+    /// Process every character start and end up to and including `t`, in time order.
+    pub fn advance<W: SpiWire>(&mut self, t: Ps, wire: &mut W) -> Result<()> {
+        self.check_time(t)?;
+        self.now = t;
+        while let Some(a) = self.active.as_mut() {
+            if !a.begun {
+                if a.frame.start_ps > t {
+                    break;
+                }
+                a.begun = true;
+                wire.begin(&a.frame);
+                continue;
+            }
+            if a.frame.end_ps > t {
+                break;
+            }
+            let frame = a.frame;
+            self.active = None;
+            let rx = wire.finish(&frame) & frame.rx_mask();
+            self.complete(&frame, rx);
+            let gap = if self.fifo_mode() { (self.spiffct & 0xFF) as u64 * frame.shape.divisor as u64 } else { 0 };
+            self.schedule_from_queue(frame.start_cycle + frame.shape.length_cycles() + gap);
+        }
+        self.update_fifo_flags();
+        Ok(())
+    }
+
+    /// A character ended: load the receiver.
+    fn complete(&mut self, frame: &Frame, rx: u16) {
+        let bits = frame.shape.bits as u32;
+        let shifted = if bits >= 16 { 0 } else { frame.tx << bits };
+        self.spidat = shifted | rx;
+        if self.fifo_mode() {
+            if self.rx_fifo.len == FIFO_DEPTH {
+                self.rxffovf = true;
+                self.events.push(Event::new(
+                    frame.end_ps,
+                    "spi_rx_fifo_overflow",
+                    Severity::Warning,
+                    format!(
+                        "SPI-A receive FIFO full at the end of character {}: word 0x{:04X} lost",
+                        frame.index, self.spidat
+                    ),
+                ));
+            } else {
+                self.rx_fifo.push(self.spidat);
+            }
+            return;
+        }
+        if self.int_flag {
+            self.overrun = true;
+            self.events.push(Event::new(
+                frame.end_ps,
+                "spi_rx_overrun",
+                Severity::Warning,
+                format!(
+                    "SPI-A character {} ended before SPIRXBUF was read: word 0x{:04X} lost, OVERRUN_FLAG set",
+                    frame.index, self.rxbuf
+                ),
+            ));
+        }
+        self.rxbuf = self.spidat;
+        self.int_flag = true;
+        self.int_flag_at = frame.end_ps;
+    }
+
+    /// Start the next queued word at LSPCLK cycle `cycle`, if the peripheral may run.
+    fn schedule_from_queue(&mut self, cycle: u64) {
+        if self.active.is_some() || !self.can_run() {
+            return;
+        }
+        if let Some(w) = self.tx_queue.pop() {
+            self.schedule(w, cycle);
+        }
+    }
+
+    fn schedule(&mut self, tx: u16, start_cycle: u64) {
+        let shape = self.shape();
+        let frame = Frame {
+            index: self.frames,
+            lspclk: self.lspclk,
+            start_cycle,
+            start_ps: self.lspclk.cycles_to_ps(start_cycle),
+            end_ps: self.lspclk.cycles_to_ps(start_cycle + shape.length_cycles()),
+            tx,
+            shape,
+            talk: self.spictl & SPICTL_TALK != 0,
+            loopback: self.spiccr & SPICCR_SPILBK != 0,
+        };
+        self.frames += 1;
+        self.spidat = tx;
+        self.active = Some(Active { frame, begun: false });
+    }
+
+    /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.
+    fn start_cycle_after(&self, t: Ps) -> u64 {
+        self.lspclk.ps_to_cycles_ceil(t) + self.start_latency_lspclk
+    }
+
+    fn update_fifo_flags(&mut self) {
+        if !self.fifo_mode() {
+            return;
+        }
+        if self.txffst() <= (self.spifftx & 0x1F) as usize {
+            self.txffint = true;
+        }
+        if self.rx_fifo.len >= (self.spiffrx & 0x1F) as usize {
+            self.rxffint = true;
+        }
+    }
+
+    /// Words written and not yet copied to SPIDAT.
+    fn txffst(&self) -> usize {
+        self.tx_queue.len
+    }
+
+    fn buffull(&self) -> bool {
+        !self.fifo_mode() && self.txffst() > 0
+    }
+
+    fn read_only(&mut self, t: Ps, name: &str, value: u16) {
+        self.events.push(Event::new(
+            t,
+            "spi_write_read_only",
+            Severity::Info,
+            format!("write of 0x{value:04X} to read-only {name} ignored"),
+        ));
+    }
+
+    /// Read the register at word `offset` at time `t`.
+    pub fn read<W: SpiWire>(&mut self, offset: u16, t: Ps, wire: &mut W) -> Result<u16> {
+        self.advance(t, wire)?;
+        let v = match offset {
+            SPICCR => self.spiccr,
+            SPICTL => self.spictl,
+            SPISTS => self.spists(),
+            SPIBRR => self.spibrr,
+            SPIRXEMU => {
+                if self.fifo_mode() {
+                    self.rx_fifo.peek().unwrap_or(self.rxbuf)
+                } else {
+                    self.rxbuf
+                }
+            }
+            SPIRXBUF => {
+                if self.fifo_mode() {
+                    if let Some(w) = self.rx_fifo.pop() {
+                        self.rxbuf = w;
+                    }
+                } else {
+                    self.int_flag = false;
+                }
+                self.rxbuf
+            }
+            SPITXBUF => self.txbuf,
+            SPIDAT => self.spidat,
+            SPIFFTX => (self.spifftx & 0xE03F) | ((self.txffst() as u16) << 8) | (u16::from(self.txffint) << 7),
+            SPIFFRX => {
+                (self.spiffrx & 0x203F)
+                    | (u16::from(self.rxffovf) << 15)
+                    | ((self.rx_fifo.len as u16) << 8)
+                    | (u16::from(self.rxffint) << 7)
+            }
+            SPIFFCT => self.spiffct,
+            SPIPRI => self.spipri,
+            _ => return Err(no_register(offset)),
+        };
+        Ok(v)
+    }
+
+    fn spists(&self) -> u16 {
+        if self.fifo_mode() {
+            return 0;
+        }
+        (u16::from(self.overrun) << 7) | (u16::from(self.int_flag) << 6) | (u16::from(self.buffull()) << 5)
+    }
+
+    /// Write `value` to the register at word `offset` at time `t`.
+    pub fn write<W: SpiWire>(&mut self, offset: u16, value: u16, t: Ps, wire: &mut W) -> Result<()> {
+        self.advance(t, wire)?;
+        match offset {
+            SPICCR => {
+                let was_running = self.spiccr & SPICCR_SPISWRESET != 0;
+                self.spiccr = value & 0xDF;
+                let running = self.spiccr & SPICCR_SPISWRESET != 0;
+                if was_running && !running {
+                    self.enter_reset(t, wire);
+                } else if !was_running && running {
+                    self.schedule_from_queue(self.start_cycle_after(t));
+                }
+            }
+            SPICTL => self.spictl = value & 0x1F,
+            SPISTS => {
+                if value & SPISTS_OVERRUN != 0 {
+                    self.overrun = false;
+                }
+            }
+            SPIBRR => self.spibrr = value & 0x7F,
+            SPIRXEMU => self.read_only(t, "SPIRXEMU", value),
+            SPIRXBUF => self.read_only(t, "SPIRXBUF", value),
+            SPITXBUF => self.write_txbuf(value, t),
+            SPIDAT => self.write_spidat(value, t),
+            SPIFFTX => {
+                self.spifftx = value & 0xE03F;
+                if value & 0x40 != 0 {
+                    self.txffint = false;
+                }
+                if value & SPIFFTX_SPIRST == 0 || value & SPIFFTX_TXFIFO == 0 {
+                    self.tx_queue.clear();
+                }
+                if value & SPIFFTX_SPIRST == 0 {
+                    self.rx_fifo.clear();
+                }
+                self.schedule_from_queue(self.start_cycle_after(t));
+            }
+            SPIFFRX => {
+                self.spiffrx = value & 0x203F;
+                if value & (1 << 14) != 0 {
+                    self.rxffovf = false;
+                }
+                if value & 0x40 != 0 {
+                    self.rxffint = false;
+                }
+                if value & SPIFFRX_RXFIFORESET == 0 {
+                    self.rx_fifo.clear();
+                }
+            }
+            SPIFFCT => self.spiffct = value & 0xFF,
+            SPIPRI => self.spipri = value & 0x30,
+            _ => return Err(no_register(offset)),
+        }
+        self.update_fifo_flags();
+        Ok(())
+    }
+
+    fn write_txbuf(&mut self, value: u16, t: Ps) {
+        self.txbuf = value;
+        let fifo = self.fifo_mode();
+        if self.spiccr & SPICCR_SPISWRESET == 0 && !fifo {
+            // Held in reset: the buffer latches the value, nothing is queued (BUFFULL stays 0).
+            return;
+        }
+        if self.spictl & SPICTL_MASTER == 0 && !self.warned_not_master {
+            self.warned_not_master = true;
+            self.events.push(Event::new(
+                t,
+                "spi_not_master",
+                Severity::Warning,
+                "SPITXBUF written with SPICTL.MASTER_SLAVE = 0: no SPI clock is generated, the word waits",
+            ));
+        }
+        if self.tx_queue.len >= self.tx_capacity() {
+            let (kind, what) = if fifo {
+                ("spi_tx_fifo_overflow", "transmit FIFO full")
+            } else {
+                ("spi_txbuf_overwrite", "SPITXBUF written while BUFFULL_FLAG = 1")
+            };
+            self.events.push(Event::new(
+                t,
+                kind,
+                Severity::Warning,
+                format!("{what}: word 0x{value:04X} replaces a waiting word"),
+            ));
+            if !fifo {
+                self.tx_queue.clear();
+                self.tx_queue.push(value);
+            }
+            return;
+        }
+        self.tx_queue.push(value);
+        self.schedule_from_queue(self.start_cycle_after(t));
+    }
+
+    fn write_spidat(&mut self, value: u16, t: Ps) {
+        if self.active.is_some() {
+            self.events.push(Event::new(
+                t,
+                "spi_spidat_write_during_transfer",
+                Severity::Warning,
+                format!("SPIDAT written with 0x{value:04X} while a character is scheduled or shifting: ignored"),
+            ));
+            return;
+        }
+        self.spidat = value;
+        if self.can_run() {
+            let cycle = self.start_cycle_after(t);
+            self.schedule(value, cycle);
+        }
+    }
+
+    fn enter_reset<W: SpiWire>(&mut self, t: Ps, wire: &mut W) {
+        if let Some(a) = self.active.take() {
+            if a.begun {
+                // The slave already saw the start: close its frame; the master discards the word.
+                let _ = wire.finish(&a.frame);
+                self.events.push(Event::new(
+                    t,
+                    "spi_reset_during_transfer",
+                    Severity::Warning,
+                    format!("SPISWRESET cleared while character {} was shifting: it is abandoned", a.frame.index),
+                ));
+            } else if self.fifo_mode() {
+                self.tx_queue.push_front(a.frame.tx);
+            }
+        }
+        if !self.fifo_mode() {
+            self.tx_queue.clear();
+        }
+        self.int_flag = false;
+        self.overrun = false;
+    }
+
+    /// When INT_FLAG is (or will be) set, if nothing else is written: `Some(t)` with `t` ≤ now when it
+    /// is already set (the time it set), the end of the running or scheduled character otherwise;
+    /// `None` when no character is coming (or in FIFO mode, where INT_FLAG is not used).
+    pub fn int_flag_time(&self) -> Option<Ps> {
+        if self.fifo_mode() {
+            return None;
+        }
+        if self.int_flag {
+            return Some(self.int_flag_at);
+        }
+        self.active.map(|a| a.frame.end_ps)
+    }
+
+    /// When BUFFULL_FLAG reads 0, if nothing else is written: `Some(now)` when it already does, the
+    /// time the waiting word is copied to SPIDAT otherwise; `None` when it never clears (no clock).
+    pub fn buffull_clear_time(&self) -> Option<Ps> {
+        if !self.buffull() {
+            return Some(self.now);
+        }
+        self.active.map(|a| a.frame.end_ps)
+    }
+
+    /// The character scheduled or shifting, if any.
+    pub fn current_frame(&self) -> Option<&Frame> {
+        self.active.as_ref().map(|a| &a.frame)
+    }
+}
+
+fn no_register(offset: u16) -> Error {
+    Error::Register(format!(
+        "SPI-A word offset 0x{offset:X}: no register there (registers: SPICCR 0, SPICTL 1, SPISTS 2, SPIBRR 4, \
+         SPIRXEMU 6, SPIRXBUF 7, SPITXBUF 8, SPIDAT 9, SPIFFTX 0xA, SPIFFRX 0xB, SPIFFCT 0xC, SPIPRI 0xF)"
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::PS_PER_S;
+
+    /// A wire whose far end answers a fixed word and records what it was told.
+    #[derive(Default)]
+    struct Probe {
+        answer: u16,
+        begun: Vec<Frame>,
+        finished: Vec<Frame>,
+    }
+
+    impl SpiWire for Probe {
+        fn begin(&mut self, frame: &Frame) {
+            self.begun.push(*frame);
+        }
+        fn finish(&mut self, frame: &Frame) -> u16 {
+            self.finished.push(*frame);
+            self.answer >> (16 - frame.shape.bits as u32)
+        }
+    }
+
+    fn lspclk() -> Clock {
+        Clock::new(75_000_000, 2)
+    }
+
+    fn reference() -> (SpiA, Probe) {
+        let mut spi = SpiA::new(lspclk(), 1);
+        let mut probe = Probe { answer: 0xC7A7, ..Default::default() };
+        spi.init_from_profile(&profile::Spi::default(), 0, &mut probe).unwrap();
+        (spi, probe)
+    }
+
+    #[test]
+    fn reset_values() {
+        let mut spi = SpiA::new(lspclk(), 1);
+        let mut p = Probe::default();
+        let expect = [
+            (SPICCR, 0),
+            (SPICTL, 0),
+            (SPISTS, 0),
+            (SPIBRR, 0),
+            (SPIRXEMU, 0),
+            (SPIRXBUF, 0),
+            (SPITXBUF, 0),
+            (SPIDAT, 0),
+            (SPIFFTX, 0xA000),
+            (SPIFFRX, 0x201F),
+            (SPIFFCT, 0),
+            (SPIPRI, 0),
+        ];
+        for (off, v) in expect {
+            assert_eq!(spi.read(off, 0, &mut p).unwrap(), v, "offset {off:#X}");
+        }
+        for off in [3u16, 5, 0xD, 0xE, 0x10] {
+            let e = spi.read(off, 0, &mut p).unwrap_err();
+            assert!(matches!(e, Error::Register(ref m) if m.contains(&format!("0x{off:X}"))), "{e}");
+        }
+    }
+
+    #[test]
+    fn published_init_sequence_in_order() {
+        let w = SpiA::init_writes(&profile::Spi::default());
+        assert_eq!(w, vec![(SPICCR, 0x004F), (SPICTL, 0x0007), (SPIBRR, 49), (SPICCR, 0x00CF), (SPIPRI, 0x0020)]);
+        let (mut spi, mut p) = reference();
+        assert_eq!(spi.read(SPICCR, 0, &mut p).unwrap(), 0xCF);
+        assert_eq!(spi.read(SPICTL, 0, &mut p).unwrap(), 0x07);
+        assert_eq!(spi.read(SPIBRR, 0, &mut p).unwrap(), 49);
+        assert_eq!(spi.read(SPIPRI, 0, &mut p).unwrap(), 0x20);
+        // With the FIFO enabled its registers are written before the release from reset.
+        let fifo = profile::Spi { spifftx: 0xE040, spiffrx: 0x2044, spiffct: 3, ..Default::default() };
+        let w = SpiA::init_writes(&fifo);
+        assert_eq!(w[3..6], [(SPIFFTX, 0xE040), (SPIFFRX, 0x2044), (SPIFFCT, 3)]);
+        assert_eq!(w[6], (SPICCR, 0xCF));
+    }
+
+    #[test]
+    fn baud_divisor_and_modes() {
+        assert_eq!([0, 1, 2, 3, 49, 127].map(baud_divisor), [4, 4, 4, 4, 50, 128]);
+        let modes = [(true, false, 3), (true, true, 2), (false, false, 1), (false, true, 0)];
+        for (polarity, phase, mode) in modes {
+            assert_eq!(ClockScheme { polarity, phase }.standard_mode(), mode);
+        }
+    }
+
+    #[test]
+    fn odd_divisor_makes_the_idle_level_phase_longer() {
+        let s = |phase| CharShape { bits: 2, divisor: 5, scheme: ClockScheme { polarity: true, phase } };
+        let edges = |sh: CharShape| (0..sh.edges()).map(|e| sh.edge_cycle(e)).collect::<Vec<_>>();
+        // Without delay: active (low) 2 cycles, idle level (high) 3 cycles.
+        assert_eq!(edges(s(false)), vec![0, 2, 5, 7]);
+        // With delay: the idle-level phase first.
+        assert_eq!(edges(s(true)), vec![3, 5, 8, 10]);
+        assert_eq!(s(true).length_cycles(), 10);
+    }
+
+    #[test]
+    fn one_character_in_virtual_time() {
+        let (mut spi, mut p) = reference();
+        let lsp = lspclk();
+        let t0 = 1_000_000; // 1 µs: not on an LSPCLK edge (26 666.67 ps period)
+        spi.write(SPITXBUF, 0x4200, t0, &mut p).unwrap();
+        let start_cycle = lsp.ps_to_cycles_ceil(t0) + 1;
+        let start = lsp.cycles_to_ps(start_cycle);
+        let end = lsp.cycles_to_ps(start_cycle + 800);
+        // From idle the word goes straight to SPIDAT: BUFFULL never sets.
+        assert_eq!(spi.buffull_clear_time(), Some(t0));
+        assert_eq!(spi.int_flag_time(), Some(end));
+        assert_eq!(spi.read(SPISTS, start - 1, &mut p).unwrap(), 0);
+        assert!(p.begun.is_empty());
+        assert_eq!(spi.read(SPISTS, start, &mut p).unwrap(), 0);
+        assert_eq!(p.begun.len(), 1);
+        assert_eq!(p.begun[0].tx, 0x4200);
+        assert_eq!(spi.read(SPISTS, end - 1, &mut p).unwrap(), 0);
+        assert_eq!(spi.read(SPISTS, end, &mut p).unwrap(), SPISTS_INT_FLAG);
+        // 16 bits at 750 kHz: 21.333 µs.
+        assert_eq!(end - start, 21_333_333);
+        // SPIRXEMU does not clear INT_FLAG; SPIRXBUF does.
+        assert_eq!(spi.read(SPIRXEMU, end, &mut p).unwrap(), 0xC7A7);
+        assert_eq!(spi.read(SPISTS, end, &mut p).unwrap(), SPISTS_INT_FLAG);
+        assert_eq!(spi.int_flag_time(), Some(end));
+        assert_eq!(spi.read(SPIRXBUF, end + 5, &mut p).unwrap(), 0xC7A7);
+        assert_eq!(spi.read(SPISTS, end + 5, &mut p).unwrap(), 0);
+        assert_eq!(spi.int_flag_time(), None);
+        // Time must not run backwards.
+        let e = spi.read(SPISTS, end, &mut p).unwrap_err();
+        assert!(matches!(e, Error::Register(_)), "{e}");
+    }
+
+    #[test]
+    fn double_buffering_overrun_and_clear() {
+        let (mut spi, mut p) = reference();
+        spi.write(SPITXBUF, 0x1111, 0, &mut p).unwrap();
+        spi.write(SPITXBUF, 0x2222, 100, &mut p).unwrap();
+        let first_end = spi.int_flag_time().unwrap();
+        // BUFFULL stays set until the first character ends and the second is copied to SPIDAT.
+        assert_eq!(spi.buffull_clear_time(), Some(first_end));
+        assert_eq!(spi.read(SPISTS, first_end - 1, &mut p).unwrap(), SPISTS_BUFFULL);
+        assert_eq!(spi.read(SPISTS, first_end, &mut p).unwrap(), SPISTS_INT_FLAG);
+        // Back to back: the second starts exactly at the first's end.
+        assert_eq!(p.begun[1].start_ps, first_end);
+        assert_eq!(p.begun[1].start_cycle, p.begun[0].start_cycle + 800);
+        // Not reading SPIRXBUF before the second ends: overrun.
+        let second_end = p.begun[1].end_ps;
+        assert_eq!(spi.read(SPISTS, second_end, &mut p).unwrap(), SPISTS_INT_FLAG | SPISTS_OVERRUN);
+        assert_eq!(spi.events().count("spi_rx_overrun"), 1);
+        spi.write(SPISTS, SPISTS_OVERRUN, second_end, &mut p).unwrap();
+        assert_eq!(spi.read(SPISTS, second_end, &mut p).unwrap(), SPISTS_INT_FLAG);
+        // A third write while one waits overwrites it (and says so).
+        spi.write(SPITXBUF, 0x3333, second_end + 1, &mut p).unwrap();
+        spi.write(SPITXBUF, 0x4444, second_end + 2, &mut p).unwrap();
+        spi.write(SPITXBUF, 0x5555, second_end + 3, &mut p).unwrap();
+        assert_eq!(spi.events().count("spi_txbuf_overwrite"), 1);
+        spi.advance(PS_PER_S, &mut p).unwrap();
+        assert_eq!(p.begun.iter().map(|f| f.tx).collect::<Vec<_>>(), vec![0x1111, 0x2222, 0x3333, 0x5555]);
+    }
+
+    #[test]
+    fn short_characters_are_left_and_right_justified() {
+        let mut spi = SpiA::new(lspclk(), 1);
+        let mut p = Probe { answer: 0x5A00, ..Default::default() };
+        let spi_cfg = profile::Spi { spiccr: 0xC7, ..Default::default() }; // 8-bit
+        spi.init_from_profile(&spi_cfg, 0, &mut p).unwrap();
+        spi.write(SPITXBUF, 0x96C3, 0, &mut p).unwrap();
+        let end = spi.int_flag_time().unwrap();
+        // 8 received bits right-justified; the untransmitted low byte of the word shifted above them.
+        assert_eq!(spi.read(SPIRXBUF, end, &mut p).unwrap(), 0xC35A);
+        assert_eq!(p.begun[0].shape.bits, 8);
+        assert_eq!(end, spi.lspclk().cycles_to_ps(p.begun[0].start_cycle + 8 * 50));
+    }
+
+    #[test]
+    fn software_reset_clears_flags_keeps_configuration() {
+        let (mut spi, mut p) = reference();
+        spi.write(SPITXBUF, 0x1111, 0, &mut p).unwrap();
+        spi.write(SPITXBUF, 0x2222, 0, &mut p).unwrap();
+        let end2 = spi.lspclk().cycles_to_ps(1 + 2 * 800);
+        assert_eq!(spi.read(SPISTS, end2, &mut p).unwrap(), SPISTS_INT_FLAG | SPISTS_OVERRUN);
+        spi.write(SPITXBUF, 0x3333, end2, &mut p).unwrap();
+        spi.advance(end2 + 100_000, &mut p).unwrap();
+        spi.write(SPICCR, 0x4F, end2 + 100_000, &mut p).unwrap();
+        assert_eq!(spi.events().count("spi_reset_during_transfer"), 1);
+        let t = end2 + 100_000;
+        assert_eq!(spi.read(SPISTS, t, &mut p).unwrap(), 0);
+        assert_eq!(spi.read(SPIBRR, t, &mut p).unwrap(), 49);
+        assert_eq!(spi.read(SPICTL, t, &mut p).unwrap(), 7);
+        // Held in reset: a TXBUF write starts nothing.
+        spi.write(SPITXBUF, 0x4444, t + 2000, &mut p).unwrap();
+        assert_eq!(spi.read(SPISTS, t + 2000, &mut p).unwrap(), 0);
+        assert_eq!(spi.int_flag_time(), None);
+        spi.write(SPICCR, 0xCF, t + 3000, &mut p).unwrap();
+        spi.write(SPITXBUF, 0x5555, t + 4000, &mut p).unwrap();
+        spi.advance(PS_PER_S, &mut p).unwrap();
+        assert_eq!(p.begun.iter().map(|f| f.tx).collect::<Vec<_>>(), vec![0x1111, 0x2222, 0x3333, 0x5555]);
+        assert_eq!(p.finished.len(), 4);
+    }
+
+    #[test]
+    fn slave_mode_never_clocks() {
+        let mut spi = SpiA::new(lspclk(), 1);
+        let mut p = Probe::default();
+        spi.write(SPICCR, 0xCF, 0, &mut p).unwrap();
+        spi.write(SPICTL, 0x03, 0, &mut p).unwrap();
+        spi.write(SPITXBUF, 0x1234, 0, &mut p).unwrap();
+        assert_eq!(spi.read(SPISTS, PS_PER_S, &mut p).unwrap(), SPISTS_BUFFULL);
+        assert_eq!((spi.int_flag_time(), spi.buffull_clear_time()), (None, None));
+        assert_eq!(spi.events().count("spi_not_master"), 1);
+        assert!(p.begun.is_empty());
+    }
+
+    #[test]
+    fn spidat_write_starts_a_character() {
+        let (mut spi, mut p) = reference();
+        spi.write(SPIDAT, 0xABCD, 0, &mut p).unwrap();
+        spi.write(SPIDAT, 0x1111, 10, &mut p).unwrap();
+        assert_eq!(spi.events().count("spi_spidat_write_during_transfer"), 1);
+        spi.advance(PS_PER_S, &mut p).unwrap();
+        assert_eq!(p.begun.len(), 1);
+        assert_eq!(p.begun[0].tx, 0xABCD);
+        assert_eq!(spi.read(SPIDAT, PS_PER_S, &mut p).unwrap(), 0xC7A7);
+    }
+
+    #[test]
+    fn fifo_mode_with_txdly_gaps() {
+        let mut spi = SpiA::new(lspclk(), 1);
+        let mut p = Probe { answer: 0xBEEF, ..Default::default() };
+        let cfg = profile::Spi { spifftx: 0xE002, spiffrx: 0x2003, spiffct: 2, ..Default::default() };
+        spi.init_from_profile(&cfg, 0, &mut p).unwrap();
+        for w in 0..3u16 {
+            spi.write(SPITXBUF, 0x1000 + w, 0, &mut p).unwrap();
+        }
+        // The first went to SPIDAT; two wait: TXFFST = 2. SPISTS is unused in FIFO mode.
+        assert_eq!(spi.read(SPIFFTX, 0, &mut p).unwrap() >> 8 & 0x1F, 2);
+        assert_eq!(spi.read(SPISTS, 0, &mut p).unwrap(), 0);
+        spi.advance(PS_PER_S, &mut p).unwrap();
+        let starts: Vec<u64> = p.begun.iter().map(|f| f.start_cycle).collect();
+        // 16 bits × 50 cycles, then TXDLY = 2 SPI clocks of 50 cycles.
+        assert_eq!(starts, vec![1, 1 + 800 + 100, 1 + 2 * 900]);
+        let fftx = spi.read(SPIFFTX, PS_PER_S, &mut p).unwrap();
+        assert_eq!((fftx >> 8 & 0x1F, fftx & 0x80), (0, 0x80)); // TXFFST = 0 ≤ TXFFIL = 2: TXFFINT
+        let ffrx = spi.read(SPIFFRX, PS_PER_S, &mut p).unwrap();
+        assert_eq!((ffrx >> 8 & 0x1F, ffrx & 0x80), (3, 0x80)); // RXFFST = 3 ≥ RXFFIL = 3: RXFFINT
+        assert_eq!(spi.read(SPIRXEMU, PS_PER_S, &mut p).unwrap(), 0xBEEF);
+        assert_eq!(spi.read(SPIRXBUF, PS_PER_S, &mut p).unwrap(), 0xBEEF);
+        assert_eq!(spi.read(SPIFFRX, PS_PER_S, &mut p).unwrap() >> 8 & 0x1F, 2);
+        // Seventeen more words without reading: the receive FIFO overflows.
+        let t = PS_PER_S;
+        for _ in 0..15 {
+            spi.write(SPITXBUF, 0, t, &mut p).unwrap();
+        }
+        spi.advance(2 * PS_PER_S, &mut p).unwrap();
+        assert_eq!(spi.read(SPIFFRX, 2 * PS_PER_S, &mut p).unwrap() >> 15, 1);
+        assert_eq!(spi.events().count("spi_rx_fifo_overflow"), 1);
+        spi.write(SPIFFRX, 0x2003 | (1 << 14), 2 * PS_PER_S, &mut p).unwrap();
+        assert_eq!(spi.read(SPIFFRX, 2 * PS_PER_S, &mut p).unwrap() >> 15, 0);
+        // Eighteen writes at once overflow the transmit FIFO (one goes to SPIDAT, 16 wait).
+        for _ in 0..18 {
+            spi.write(SPITXBUF, 0, 2 * PS_PER_S, &mut p).unwrap();
+        }
+        assert_eq!(spi.events().count("spi_tx_fifo_overflow"), 1);
+    }
+}

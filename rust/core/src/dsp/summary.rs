@@ -1,0 +1,315 @@
+//! What a profile's register values produce on the board: clocks, SPI baud and mode, frame and
+//! burst times, and the ADIS16407 rules the configuration breaks.
+//!
+//! Burst model (the published polling firmware, run on the real SPI-A model, not a formula):
+//! CS is low; the firmware writes the first word to SPITXBUF at t = 0 (on a SYSCLKOUT edge). Then
+//! for each of the 15 frames it polls SPISTS.INT_FLAG in a loop that reads SPISTS once every
+//! `timing.poll_loop_cycles` SYSCLKOUT cycles, starting one iteration after the write; so it sees the
+//! flag at the first read at or after the character's end (up to one iteration late). It then reads
+//! SPIRXBUF, runs one Spi_TxReady iteration (BUFFULL_FLAG is already 0: the shifter is idle) and
+//! writes the next word, `poll_loop_cycles` cycles after seeing the flag. SPI-A starts that
+//! character `spi.start_latency_lspclk` LSPCLK cycles after the next LSPCLK edge. Because the
+//! firmware never preloads SPITXBUF while a character shifts, the double buffer is unused and each
+//! frame boundary costs this reaction time. The burst time runs from the first SPITXBUF write to the
+//! end (INT_FLAG) of the 15th character.
+
+use super::clocks::DspClocks;
+use super::spi::{self, ClockScheme, Frame, SpiA, SpiWire};
+use super::timer::CpuTimer;
+use crate::error::Result;
+use crate::events::{Event, Severity};
+use crate::profile::Profile;
+use crate::time::{Clock, Ps};
+
+/// Frames of one ADIS16407 burst read: the command and 14 data words.
+pub const BURST_FRAMES: u32 = 15;
+
+/// The SPI mode the ADIS16407 requires.
+pub const DEVICE_SPI_MODE: u8 = 3;
+
+/// The character length the ADIS16407 uses.
+pub const DEVICE_FRAME_BITS: u8 = 16;
+
+/// What the registers of a profile produce.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoardSummary {
+    /// The clock tree.
+    pub clocks: DspClocks,
+    /// LSPCLK cycles per SPI clock.
+    pub spi_divisor: u32,
+    /// SPI clock (LSPCLK / divisor), Hz.
+    pub spi_baud_hz: f64,
+    /// Fastest instantaneous SCLK (twice the shorter phase as a period), Hz: differs from
+    /// `spi_baud_hz` when SPIBRR+1 is odd.
+    pub sclk_max_hz: f64,
+    /// The clock scheme.
+    pub scheme: ClockScheme,
+    /// Standard SPI mode of the scheme.
+    pub spi_mode: u8,
+    /// The mode is the device's (mode 3).
+    pub mode_matches_device: bool,
+    /// Bits per character.
+    pub char_bits: u8,
+    /// One character: bits / baud, ps.
+    pub frame_ps: Ps,
+    /// 15 characters back to back with no gap (the clocking alone), ps.
+    pub burst_clocking_ps: Ps,
+    /// One 15-frame burst read as the published firmware polls it (see the module doc), ps.
+    pub burst_ps: Ps,
+    /// Longest idle time between the end of one character and the start of the next in the burst, ps.
+    pub frame_gap_ps: Ps,
+    /// CPU timer 0 interrupt period, ps.
+    pub timer_period_ps: Ps,
+    /// The device rules the configuration breaks (`t_ps` = 0: they hold for every frame).
+    pub violations: Vec<Event>,
+}
+
+/// SPI-A without anything on its pins: only the timing matters here.
+struct Unconnected;
+
+impl SpiWire for Unconnected {
+    fn begin(&mut self, _frame: &Frame) {}
+    fn finish(&mut self, _frame: &Frame) -> u16 {
+        0
+    }
+}
+
+impl BoardSummary {
+    /// Compute the summary of `profile`.
+    pub fn of(profile: &Profile) -> Result<BoardSummary> {
+        let clocks = DspClocks::from_profile(&profile.clocks)?;
+        let timer = CpuTimer::from_profile(&profile.timer, clocks.sysclkout)?;
+        let mut spi = SpiA::new(clocks.lspclk, profile.spi.start_latency_lspclk);
+        spi.init_from_profile(&profile.spi, 0, &mut Unconnected)?;
+        let shape = spi.shape();
+        let scheme = shape.scheme;
+        let lsp = clocks.lspclk;
+        let spi_baud_hz = lsp.hz() / shape.divisor as f64;
+        let sclk_max_hz = lsp.hz() / (2 * shape.active_cycles()) as f64;
+        let frame_ps = lsp.cycles_to_ps(shape.length_cycles());
+        let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * BURST_FRAMES as u64);
+        let (burst_ps, frame_gap_ps) = burst_time(&mut spi, clocks.sysclkout, profile.timing.poll_loop_cycles as u64)?;
+
+        let mut violations = Vec::new();
+        let dev = &profile.device;
+        if sclk_max_hz > dev.sclk_burst_max_hz {
+            violations.push(Event::rule(
+                0,
+                "sclk_burst_too_fast",
+                Severity::Error,
+                format!(
+                    "SPI clock {:.0} Hz (SPIBRR = {}, LSPCLK {:.0} Hz) exceeds the ADIS16407 burst-read limit {:.0} Hz",
+                    sclk_max_hz,
+                    profile.spi.spibrr,
+                    lsp.hz(),
+                    dev.sclk_burst_max_hz
+                ),
+                sclk_max_hz,
+                dev.sclk_burst_max_hz,
+            ));
+        }
+        if sclk_max_hz > dev.sclk_max_hz {
+            violations.push(Event::rule(
+                0,
+                "sclk_too_fast",
+                Severity::Error,
+                format!(
+                    "SPI clock {:.0} Hz exceeds the ADIS16407 normal-mode limit {:.0} Hz",
+                    sclk_max_hz, dev.sclk_max_hz
+                ),
+                sclk_max_hz,
+                dev.sclk_max_hz,
+            ));
+        }
+        let spi_mode = scheme.standard_mode();
+        if spi_mode != DEVICE_SPI_MODE {
+            violations.push(Event::rule(
+                0,
+                "spi_mode_mismatch",
+                Severity::Error,
+                format!(
+                    "CLKPOLARITY = {}, CLK_PHASE = {} is TI's \"{}\" = SPI mode {}; the ADIS16407 needs mode 3 \
+                     (CLKPOLARITY = 1, CLK_PHASE = 0)",
+                    u8::from(scheme.polarity),
+                    u8::from(scheme.phase),
+                    scheme.ti_name(),
+                    spi_mode
+                ),
+                spi_mode as f64,
+                DEVICE_SPI_MODE as f64,
+            ));
+        }
+        if shape.bits != DEVICE_FRAME_BITS {
+            violations.push(Event::rule(
+                0,
+                "spi_char_length",
+                Severity::Error,
+                format!("SPICHAR gives {}-bit characters; the ADIS16407 uses 16-bit frames", shape.bits),
+                shape.bits as f64,
+                DEVICE_FRAME_BITS as f64,
+            ));
+        }
+        Ok(BoardSummary {
+            clocks,
+            spi_divisor: shape.divisor,
+            spi_baud_hz,
+            sclk_max_hz,
+            scheme,
+            spi_mode,
+            mode_matches_device: spi_mode == DEVICE_SPI_MODE,
+            char_bits: shape.bits,
+            frame_ps,
+            burst_clocking_ps,
+            burst_ps,
+            frame_gap_ps,
+            timer_period_ps: timer.tick_ps(1),
+            violations,
+        })
+    }
+}
+
+/// Run one burst on `spi` (configured, idle, at t = 0) as the published firmware polls it; return
+/// (burst time, longest gap between characters).
+fn burst_time(spi: &mut SpiA, sysclk: Clock, poll: u64) -> Result<(Ps, Ps)> {
+    let mut wire = Unconnected;
+    let mut write_cycle = 0u64;
+    let mut gap = 0;
+    let mut last_end: Option<Ps> = None;
+    for frame in 0..BURST_FRAMES {
+        let write_ps = sysclk.cycles_to_ps(write_cycle);
+        spi.write(spi::SPITXBUF, 0x4200, write_ps, &mut wire)?;
+        let Some(current) = spi.current_frame().copied() else {
+            return Err(crate::error::Error::Config(
+                "spi: the registers never start a character (SPISWRESET = 0 or not master)".into(),
+            ));
+        };
+        if let Some(end) = last_end {
+            gap = gap.max(current.start_ps - end);
+        }
+        let flag_ps = spi.int_flag_time().unwrap_or(current.end_ps);
+        let flag_cycle = sysclk.ps_to_cycles_ceil(flag_ps);
+        let iterations = flag_cycle.saturating_sub(write_cycle).div_ceil(poll).max(1);
+        let seen_cycle = write_cycle + iterations * poll;
+        spi.read(spi::SPIRXBUF, sysclk.cycles_to_ps(seen_cycle), &mut wire)?;
+        last_end = Some(current.end_ps);
+        if frame + 1 < BURST_FRAMES {
+            write_cycle = seen_cycle + poll;
+        }
+    }
+    Ok((last_end.unwrap_or(0), gap))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::PS_PER_S;
+
+    fn with(overrides: &[&str]) -> BoardSummary {
+        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        BoardSummary::of(&Profile::from_toml("", "test", &ov).unwrap()).unwrap()
+    }
+
+    fn kinds(s: &BoardSummary) -> Vec<&'static str> {
+        s.violations.iter().map(|e| e.kind).collect()
+    }
+
+    #[test]
+    fn reference_board() {
+        let s = with(&[]);
+        assert_eq!(s.clocks.sysclkout.hz(), 150e6);
+        assert_eq!(s.clocks.lspclk.hz(), 37.5e6);
+        assert_eq!((s.spi_divisor, s.spi_baud_hz, s.sclk_max_hz), (50, 750_000.0, 750_000.0));
+        assert_eq!((s.spi_mode, s.mode_matches_device, s.char_bits), (3, true, 16));
+        assert_eq!(s.frame_ps, 21_333_333);
+        assert_eq!(s.burst_clocking_ps, 320_000_000);
+        // Hand-computed with the module's model (LSPCLK = SYSCLKOUT/4, 8-cycle poll, latency 1):
+        // frame k starts at LSPCLK cycle 1 + 804k (the end at 800 cycles, seen at the next poll 4
+        // SYSCLKOUT cycles later, written 8 cycles after that = 3 LSPCLK, +1 latency), so the 15th
+        // ends at cycle 1 + 14·804 + 800 = 12057: 321.52 µs; the gap is 4 LSPCLK cycles.
+        assert_eq!(s.burst_ps, 321_520_000);
+        assert!(s.burst_ps >= 320_000_000);
+        assert_eq!(s.frame_gap_ps, s.clocks.lspclk.cycles_to_ps(805) - s.clocks.lspclk.cycles_to_ps(801));
+        assert_eq!(s.timer_period_ps, 4_000_000_000);
+        assert!(s.violations.is_empty(), "{:?}", s.violations);
+    }
+
+    #[test]
+    fn spibrr_below_3_is_lspclk_over_4() {
+        for brr in 0..=2 {
+            let s = with(&[&format!("spi.spibrr={brr}")]);
+            assert_eq!((s.spi_divisor, s.spi_baud_hz), (4, 9_375_000.0));
+            assert_eq!(kinds(&s), vec!["sclk_burst_too_fast", "sclk_too_fast"]);
+        }
+    }
+
+    #[test]
+    fn spibrr_9_breaks_the_burst_limit() {
+        let s = with(&["spi.spibrr=9"]);
+        assert_eq!(s.spi_baud_hz, 3_750_000.0);
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast", "sclk_too_fast"]);
+        let e = &s.violations[0];
+        assert_eq!((e.measured, e.required), (Some(3_750_000.0), Some(1_000_000.0)));
+        // 37 is the thesis' bound (37.5 MHz / 38 ≤ 1 MHz): still fine; 36 breaks it.
+        assert!(with(&["spi.spibrr=37"]).violations.is_empty());
+        assert_eq!(kinds(&with(&["spi.spibrr=36"])), vec!["sclk_burst_too_fast"]);
+    }
+
+    #[test]
+    fn odd_divisor_is_judged_by_its_short_phase() {
+        // SPIBRR = 38: 39 cycles per bit, phases 19 + 20: the average 961.5 kHz is within 1 MHz,
+        // but the short phase makes a 38-cycle period, 986.8 kHz: still fine; SPIBRR = 36 → 37
+        // cycles, 18 + 19: 1.0417 MHz instantaneous.
+        let s = with(&["spi.spibrr=38"]);
+        assert_eq!(s.sclk_max_hz, 37.5e6 / 38.0);
+        let s = with(&["spi.spibrr=36"]);
+        assert!((s.spi_baud_hz - 37.5e6 / 37.0).abs() < 1e-6);
+        assert_eq!(s.sclk_max_hz, 37.5e6 / 36.0);
+    }
+
+    #[test]
+    fn spibrr_127_is_slow_and_its_burst_about_820_us() {
+        let s = with(&["spi.spibrr=127"]);
+        assert_eq!(s.spi_baud_hz, 37.5e6 / 128.0); // 292 968.75 Hz
+        assert_eq!(s.burst_clocking_ps, 819_200_000);
+        // Bound from the model: the first start and each of the 14 frame boundaries cost at most
+        // (2 × poll + 1) SYSCLKOUT cycles plus (latency + 1) LSPCLK cycles.
+        let per_gap = 17 * PS_PER_S / 150_000_000 + 2 * PS_PER_S * 2 / 75_000_000 + 2;
+        assert!(s.burst_ps > s.burst_clocking_ps);
+        assert!(s.burst_ps <= s.burst_clocking_ps + 15 * per_gap, "{}", s.burst_ps);
+        assert!(s.violations.is_empty());
+    }
+
+    #[test]
+    fn wrong_schemes_are_reported() {
+        for (ccr, ctl, mode) in [(0x8F, 0x07, 1), (0x8F, 0x0F, 0), (0xCF, 0x0F, 2)] {
+            let s = with(&[&format!("spi.spiccr={ccr}"), &format!("spi.spictl={ctl}")]);
+            assert_eq!((s.spi_mode, s.mode_matches_device), (mode, false));
+            assert_eq!(kinds(&s), vec!["spi_mode_mismatch"]);
+        }
+    }
+
+    #[test]
+    fn lospcp_and_pll_change_everything() {
+        // 75 MHz / 75 = 1 MHz on average, but 75 is odd: phases of 37 and 38 cycles, so the
+        // short-phase period is 74 cycles (1.0135 MHz): over the burst limit.
+        let s = with(&["clocks.lospcp=1", "spi.spibrr=74"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz, s.sclk_max_hz), (75e6, 1e6, 75e6 / 74.0));
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast"]);
+        let s = with(&["clocks.crystal_hz=20000000", "clocks.lospcp=1", "spi.spibrr=49"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.sclk_max_hz), (50e6, 1e6));
+        assert!(s.violations.is_empty(), "exactly at the 1 MHz limit is allowed");
+        let s = with(&["clocks.lospcp=0", "spi.spibrr=127"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz), (150e6, 150e6 / 128.0));
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast"]);
+        let s = with(&["clocks.pllcr=0", "clocks.divsel=1"]);
+        assert_eq!(s.clocks.sysclkout.hz(), 30e6);
+        assert_eq!(s.spi_baud_hz, 150_000.0);
+        assert!(s.burst_ps > 1_600_000_000);
+    }
+
+    #[test]
+    fn a_profile_that_never_clocks_is_a_config_error() {
+        let e = BoardSummary::of(&Profile::from_toml("", "t", &["spi.spiccr=0x4F".into()]).unwrap()).unwrap_err();
+        assert!(matches!(e, crate::error::Error::Config(ref m) if m.contains("never start")), "{e}");
+    }
+}
