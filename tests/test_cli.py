@@ -40,3 +40,28 @@ def test_demo_json_is_one_object():
     assert r.code == 0, r.err
     report = json.loads(r.out)
     assert report["version"] == sins_fw.__version__
+
+
+def test_board_reference_reports_750khz_mode3():
+    r = run_cli("board", "--json")
+    assert r.code == 0, r.err
+    s = json.loads(r.out)
+    assert s["spi_baud_hz"] == 750000
+    assert s["spi_mode"] == 3
+    assert s["mode_matches_device"] is True
+    assert s["burst_s"] >= 320e-6
+    assert s["violations"] == []
+
+
+def test_board_spibrr9_breaks_the_burst_sclk_rule():
+    r = run_cli("board", "--set", "spi.spibrr=9", "--json")
+    assert r.code == 0, r.err
+    s = json.loads(r.out)
+    assert s["spi_baud_hz"] == 3.75e6
+    assert any(v["kind"] == "sclk_burst_too_fast" for v in s["violations"])
+
+
+def test_board_bad_override_exit_2_names_key():
+    r = run_cli("board", "--set", "spi.spibrr=300")
+    assert r.code == 2
+    assert "spi.spibrr" in r.err and "Traceback" not in r.err

@@ -7,16 +7,17 @@ User errors print one message on stderr, never a traceback (``--debug`` shows on
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 from collections.abc import Sequence
 
 from sins_fw import __version__
-from sins_fw.cli import demo
+from sins_fw.cli import board, demo
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError
 
 #: The subcommands, in the order `--help` lists them.
-COMMANDS = (demo,)
+COMMANDS = (board, demo)
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 
@@ -55,6 +56,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(args, e, EXIT_CHECK_FAILED)
     except InputError as e:
         return _fail(args, e, EXIT_USAGE)
+    except BrokenPipeError:
+        # The reader went away (`sins-fw ... | head`): not an error of ours; silence the final flush.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
     except KeyboardInterrupt:
         print("sins-fw: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -2,7 +2,11 @@
 //! whole arrays in and out (never a Python call per sample).
 
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sins_core::dsp::summary::BoardSummary;
+use sins_core::events::Event;
 use sins_core::profile::Profile;
+use sins_core::time::ps_to_s;
 
 mod errors;
 
@@ -21,10 +25,48 @@ fn profile_keys() -> Vec<String> {
     Profile::known_keys()
 }
 
+/// An event as a dict: t_s, kind, severity, message, measured, required.
+fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("t_s", ps_to_s(e.t_ps))?;
+    d.set_item("kind", e.kind)?;
+    d.set_item("severity", e.severity.as_str())?;
+    d.set_item("message", &e.message)?;
+    d.set_item("measured", e.measured)?;
+    d.set_item("required", e.required)?;
+    Ok(d)
+}
+
+/// What the profile's registers produce (clocks, SPI baud and mode, frame and burst times, rules
+/// broken), as a dict.
+#[pyfunction]
+fn board_summary<'py>(py: Python<'py>, text: &str, source: &str, overrides: Vec<String>) -> PyResult<Bound<'py, PyDict>> {
+    let s = guard(|| Profile::from_toml(text, source, &overrides).and_then(|p| BoardSummary::of(&p)))?.map_err(to_py)?;
+    let d = PyDict::new(py);
+    d.set_item("sysclkout_hz", s.clocks.sysclkout.hz())?;
+    d.set_item("lspclk_hz", s.clocks.lspclk.hz())?;
+    d.set_item("spi_divisor", s.spi_divisor)?;
+    d.set_item("spi_baud_hz", s.spi_baud_hz)?;
+    d.set_item("sclk_max_hz", s.sclk_max_hz)?;
+    d.set_item("clock_scheme", s.scheme.ti_name())?;
+    d.set_item("spi_mode", s.spi_mode)?;
+    d.set_item("mode_matches_device", s.mode_matches_device)?;
+    d.set_item("char_bits", s.char_bits)?;
+    d.set_item("frame_s", ps_to_s(s.frame_ps))?;
+    d.set_item("burst_clocking_s", ps_to_s(s.burst_clocking_ps))?;
+    d.set_item("burst_s", ps_to_s(s.burst_ps))?;
+    d.set_item("frame_gap_s", ps_to_s(s.frame_gap_ps))?;
+    d.set_item("timer_period_s", ps_to_s(s.timer_period_ps))?;
+    let violations = s.violations.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+    d.set_item("violations", violations)?;
+    Ok(d)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", sins_core::VERSION)?;
     m.add_function(wrap_pyfunction!(resolve_profile, m)?)?;
     m.add_function(wrap_pyfunction!(profile_keys, m)?)?;
+    m.add_function(wrap_pyfunction!(board_summary, m)?)?;
     Ok(())
 }

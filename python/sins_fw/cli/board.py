@@ -1,0 +1,41 @@
+"""`sins-fw board`: what the profile's registers produce, without running anything."""
+
+from __future__ import annotations
+
+import argparse
+
+from sins_fw import _core
+from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "board", help="show the clocks, SPI baud and mode, frame and burst times the profile's registers give"
+    )
+    add_profile_options(p)
+    add_json_option(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    profile = profile_from_args(args)
+    s = _core.board_summary(profile.text, profile.source, list(profile.overrides))
+    report = {"profile": profile.source, "overrides": list(profile.overrides), **s}
+    lines = [
+        f"profile        {profile.source} {' '.join(profile.overrides)}".rstrip(),
+        f"SYSCLKOUT      {s['sysclkout_hz'] / 1e6:.3f} MHz",
+        f"LSPCLK         {s['lspclk_hz'] / 1e6:.3f} MHz",
+        f"SPI baud       {s['spi_baud_hz'] / 1e3:.3f} kHz (LSPCLK / {s['spi_divisor']})",
+        f"SPI mode       {s['spi_mode']} ({s['clock_scheme']}); device needs mode 3: "
+        f"{'matches' if s['mode_matches_device'] else 'DOES NOT MATCH'}",
+        f"frame          {s['char_bits']} bits, {s['frame_s'] * 1e6:.3f} µs",
+        f"burst (15)     {s['burst_s'] * 1e6:.3f} µs ({s['burst_clocking_s'] * 1e6:.3f} µs of clocking)",
+        f"timer period   {s['timer_period_s'] * 1e6:.3f} µs",
+    ]
+    if s["violations"]:
+        lines.append("rules broken:")
+        lines += [f"  {v['kind']}: {v['message']}" for v in s["violations"]]
+    else:
+        lines.append("rules broken:  none")
+    emit(args, report, "\n".join(lines))
+    return 0
