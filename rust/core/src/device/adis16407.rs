@@ -134,6 +134,10 @@ pub struct DataReady {
 pub(crate) struct Limits {
     pub sclk_max_hz: f64,
     pub sclk_burst_max_hz: f64,
+    /// Shortest SCLK period allowed, ps (1/sclk_max_hz).
+    pub sclk_min_period_ps: f64,
+    /// Shortest SCLK period allowed in a burst, ps.
+    pub sclk_burst_min_period_ps: f64,
     pub t_stall_ps: f64,
     pub t_cs_ps: f64,
     pub t_sfs_ps: f64,
@@ -144,7 +148,7 @@ pub(crate) struct Limits {
 }
 
 /// Bits of `nd` that belong to the output registers (slots 1…14).
-const OUTPUT_SLOTS: u32 = 0x7FFE;
+const OUTPUT_SLOTS: u64 = 0x7FFE;
 /// Filter channels: gyro x, y, z, accel x, y, z, mag x, y, z, baro.
 const FILTERS: usize = 10;
 
@@ -165,7 +169,7 @@ pub struct Adis16407 {
     /// The power-on register values (what a factory restore returns the calibration registers to).
     factory: [u16; SLOTS],
     /// ND flags, one bit per slot.
-    nd: u32,
+    nd: u64,
     range: GyroRange,
     filters: [Bartlett; FILTERS],
     stimulus: Box<dyn Stimulus + Send>,
@@ -210,6 +214,8 @@ impl Adis16407 {
         let limits = Limits {
             sclk_max_hz: cfg.sclk_max_hz,
             sclk_burst_max_hz: cfg.sclk_burst_max_hz,
+            sclk_min_period_ps: PS_PER_S as f64 / cfg.sclk_max_hz,
+            sclk_burst_min_period_ps: PS_PER_S as f64 / cfg.sclk_burst_max_hz,
             t_stall_ps: cfg.t_stall_us * 1e6,
             t_cs_ps: cfg.t_cs_ns * 1e3,
             t_sfs_ps: cfg.t_sfs_ns * 1e3,
@@ -334,9 +340,11 @@ impl Adis16407 {
     /// The register at even address `addr` as a read would return it (ND and EA included for the
     /// outputs), without a read's side effects.
     pub fn peek(&self, addr: u8) -> Result<u16> {
-        let def = registers::lookup(addr)
-            .filter(|d| d.addr == addr)
-            .ok_or_else(|| Error::Register(format!("no register at address 0x{addr:02X} (expected an even register address 0x00…0x56)")))?;
+        let def = registers::lookup(addr).filter(|d| d.addr == addr).ok_or_else(|| {
+            Error::Register(format!(
+                "no register at address 0x{addr:02X} (expected an even register address 0x00…0x56)"
+            ))
+        })?;
         if def.access == Access::W {
             return Err(Error::Register(format!("{} (0x{addr:02X}) is write-only", def.name)));
         }
@@ -680,7 +688,10 @@ impl Adis16407 {
             t,
             "software_reset",
             Severity::Info,
-            format!("GLOB_CMD software reset: the part is unavailable for {} s", self.reset_ps as f64 / PS_PER_S as f64),
+            format!(
+                "GLOB_CMD software reset: the part is unavailable for {} s",
+                self.reset_ps as f64 / PS_PER_S as f64
+            ),
         ));
     }
 }

@@ -1,6 +1,6 @@
 //! Output-word encoding and decoding of the ADIS16407 (pure functions, shared with the Python binding).
 //!
-//! Rounding rule: a physical value becomes the nearest code, `round(value / LSB)`, ties away from zero
+//! Rounding rule: a physical value becomes the nearest code, `round(value × (1/LSB))`, ties away from zero
 //! (the data sheet does not state the converter's tie rule; a tie needs the value to sit exactly on a
 //! half-LSB boundary, so the choice is invisible in practice). Codes beyond the field saturate at the
 //! field limits and report `overrange`. Decoding is the exact inverse for every in-range code:
@@ -165,6 +165,27 @@ impl Channel {
         }
     }
 
+    /// 1 / LSB, folded at compile time: the per-sample encoder multiplies instead of dividing. The
+    /// gyro reciprocals (20, 40, 80) are exact; for the others `code·lsb·(1/lsb)` stays within a few
+    /// ulps of `code`, so decoding still inverts exactly (tested for every code).
+    #[inline]
+    fn inv_lsb(self, range: GyroRange) -> f64 {
+        match self {
+            Channel::Gyro => match range {
+                GyroRange::Dps300 => 1.0 / GYRO_LSB_300_DPS,
+                GyroRange::Dps150 => 1.0 / GYRO_LSB_150_DPS,
+                GyroRange::Dps75 => 1.0 / GYRO_LSB_75_DPS,
+            },
+            Channel::Accel => 1.0 / ACCEL_LSB_G,
+            Channel::Mag => 1.0 / MAG_LSB_GAUSS,
+            Channel::Supply => 1.0 / SUPPLY_LSB_V,
+            Channel::Temp => 1.0 / TEMP_LSB_C,
+            Channel::Baro => 1.0 / BARO_LSB_MBAR,
+            Channel::BaroLow => 1.0 / BARO_FINE_LSB_MBAR,
+            Channel::Aux => 1.0 / AUX_LSB_V,
+        }
+    }
+
     /// Physical value of code 0 (25 °C for the temperature, 0 otherwise).
     pub fn zero(self) -> f64 {
         if self == Channel::Temp {
@@ -213,7 +234,9 @@ impl Channel {
     /// The channel called `name` (see [`Channel::name`]).
     pub fn from_name(name: &str) -> Result<Channel> {
         Channel::ALL.into_iter().find(|c| c.name() == name).ok_or_else(|| {
-            Error::Input(format!("channel `{name}`: expected one of gyro, accel, mag, supply, temp, baro, baro_low, aux"))
+            Error::Input(format!(
+                "channel `{name}`: expected one of gyro, accel, mag, supply, temp, baro, baro_low, aux"
+            ))
         })
     }
 }
@@ -251,16 +274,17 @@ pub fn encode(channel: Channel, value: f64, range: GyroRange) -> Result<Encoded>
 
 /// [`encode`] without the NaN check (NaN encodes as code 0), for the device's per-sample path whose
 /// input is already sanitised.
+#[inline]
 pub(crate) fn encode_field(channel: Channel, value: f64, range: GyroRange) -> Encoded {
     match channel {
         Channel::Baro | Channel::BaroLow => {
-            let (full, overrange) = quantize(value / BARO_FINE_LSB_MBAR, 0, (1 << BARO_FINE_BITS) - 1);
+            let (full, overrange) = quantize(value * Channel::BaroLow.inv_lsb(range), 0, (1 << BARO_FINE_BITS) - 1);
             let code = if channel == Channel::Baro { full >> 8 } else { full & 0xFF };
             Encoded { code: code as u16, overrange }
         }
         _ => {
             let (lo, hi) = channel.code_limits();
-            let (q, overrange) = quantize((value - channel.zero()) / channel.lsb(range), lo, hi);
+            let (q, overrange) = quantize((value - channel.zero()) * channel.inv_lsb(range), lo, hi);
             Encoded { code: to_field(q, channel.bits()), overrange }
         }
     }
@@ -285,15 +309,32 @@ pub fn decode_baro(baro_out: u16, baro_outl: u16) -> f64 {
 }
 
 /// Round `x` to the nearest integer, clipped to `lo..=hi`; the flag says a clip happened.
+#[inline]
 fn quantize(x: f64, lo: i32, hi: i32) -> (i32, bool) {
-    let r = x.round();
-    if r > f64::from(hi) {
+    // round(x) > hi ⟺ x ≥ hi + ½ and round(x) < lo ⟺ x ≤ lo − ½ (ties away from zero).
+    if x >= f64::from(hi) + 0.5 {
         (hi, true)
-    } else if r < f64::from(lo) {
+    } else if x <= f64::from(lo) - 0.5 {
         (lo, true)
     } else {
         // NaN falls through both comparisons and casts to 0.
-        (r as i32, false)
+        (round_half_away(x) as i32, false)
+    }
+}
+
+/// Round to nearest, ties away from zero (as `f64::round`), for |x| < 2⁶³, without a libm call
+/// (`f64::round` is one on baseline x86-64, and this sits on the per-sample path). `x − trunc(x)`
+/// is exact in binary floating point, so the tie test is exact.
+#[inline]
+pub(crate) fn round_half_away(x: f64) -> i64 {
+    let i = x as i64;
+    let frac = x - i as f64;
+    if frac >= 0.5 {
+        i + 1
+    } else if frac <= -0.5 {
+        i - 1
+    } else {
+        i
     }
 }
 
@@ -426,6 +467,20 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn fast_rounding_matches_f64_round() {
+        let mut x = 0.123_f64;
+        for _ in 0..100_000 {
+            x = (x * 3.99 * (1.0 - x)).clamp(1e-12, 1.0);
+            for v in [x * 1e4 - 5e3, (x * 64.0).floor() / 2.0 - 16.0, -x, x * 1e15] {
+                assert_eq!(round_half_away(v) as f64, v.round(), "{v}");
+            }
+        }
+        for v in [0.5, -0.5, 1.5, -1.5, 2.5, 0.499_999_999_999_999_94, -0.0, 4_503_599_627_370_495.5] {
+            assert_eq!(round_half_away(v) as f64, v.round(), "{v}");
         }
     }
 

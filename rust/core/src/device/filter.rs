@@ -1,34 +1,40 @@
 //! The ADIS16407's Bartlett-window FIR filter: two cascaded N-tap moving averages, N = 2^M,
 //! M = SENS_AVG[2:0]; |H(f)| = [sin(πNf/fs) / (N sin(πf/fs))]², group delay N − 1 samples.
 //!
-//! The arithmetic is exact: inputs are quantised to 2⁻⁶⁴ of their unit and summed in `i128`, and the
-//! division by N² is a power-of-two shift. So the DC gain is exactly 1 (a constant input comes out
-//! bit-identical for |x| ≥ 2⁻¹¹, and to within 2⁻⁶⁵ below), running sums never drift over hours of
-//! samples, and every step costs a few integer additions.
+//! The arithmetic is exact: inputs are quantised to 2⁻²⁸ of their unit (3.7e-9 °/s, g, gauss or mbar,
+//! at least 3·10⁵ times finer than any output LSB) and summed in `i64`, and the division by N² is a
+//! power-of-two scaling. So the DC gain is exactly 1 (a constant input comes out as its quantisation,
+//! bit for bit), running sums never drift over hours of samples, and a step costs a few integer
+//! additions and two native int↔float conversions.
 
+use super::encoding::round_half_away;
 use crate::error::{Error, Result};
 
 /// Largest M that SENS_AVG[2:0] can hold.
 pub const MAX_M: u8 = 7;
 
-/// Input quantum: 2⁻⁶⁴ of the channel's unit.
-const SCALE: f64 = 18_446_744_073_709_551_616.0;
-/// Inputs are clipped to ±2⁴⁸ units so that N²·2⁶⁴·|x| (≤ 2¹²⁶) fits in `i128`; anything that large
-/// saturates every output field anyway.
-const INPUT_LIMIT: f64 = 281_474_976_710_656.0;
+/// Fraction bits of the input quantum (2⁻²⁸ of the channel's unit).
+const FRACTION_BITS: i32 = 28;
+/// 2²⁸.
+const QUANTA_PER_UNIT: f64 = 268_435_456.0;
+/// Inputs are clipped to ±2²⁰ units so that N²·2²⁸·|x| (≤ 2⁶²) fits in `i64`; anything that large
+/// (10⁶ °/s, g, gauss or mbar) saturates every output field anyway.
+const INPUT_LIMIT: f64 = 1_048_576.0;
 
 /// One channel's Bartlett filter.
 #[derive(Debug, Clone)]
 pub struct Bartlett {
     m: u8,
     /// Last N inputs (quantised).
-    stage1: Vec<i128>,
+    stage1: Vec<i64>,
     /// Last N first-stage sums.
-    stage2: Vec<i128>,
+    stage2: Vec<i64>,
     pos: usize,
-    sum1: i128,
-    sum2: i128,
+    sum1: i64,
+    sum2: i64,
     primed: bool,
+    /// 1/(N²·2²⁸), exact.
+    out_scale: f64,
 }
 
 impl Bartlett {
@@ -36,7 +42,8 @@ impl Bartlett {
     pub fn new(m: u8) -> Result<Self> {
         check_m(m)?;
         let n = 1usize << m;
-        Ok(Bartlett { m, stage1: vec![0; n], stage2: vec![0; n], pos: 0, sum1: 0, sum2: 0, primed: false })
+        let out_scale = f64::powi(2.0, -FRACTION_BITS - 2 * i32::from(m));
+        Ok(Bartlett { m, stage1: vec![0; n], stage2: vec![0; n], pos: 0, sum1: 0, sum2: 0, primed: false, out_scale })
     }
 
     /// M (taps per stage = 2^M).
@@ -72,13 +79,13 @@ impl Bartlett {
     /// Feed one sample and return the filter output at that sample. A first sample fills the whole
     /// window with its value (the part has been sampling since power-on before anyone reads it).
     pub fn push(&mut self, x: f64) -> f64 {
-        let q = (x.clamp(-INPUT_LIMIT, INPUT_LIMIT) * SCALE).round() as i128;
+        let q = quantize(x);
         let n = self.stage1.len();
         if !self.primed {
             self.stage1.fill(q);
-            self.sum1 = q * n as i128;
+            self.sum1 = q * n as i64;
             self.stage2.fill(self.sum1);
-            self.sum2 = self.sum1 * n as i128;
+            self.sum2 = self.sum1 * n as i64;
             self.pos = 0;
             self.primed = true;
         } else {
@@ -89,8 +96,9 @@ impl Bartlett {
             self.stage2[pos] = self.sum1;
             self.pos = if pos + 1 == n { 0 } else { pos + 1 };
         }
-        // sum2 / (N² · 2⁶⁴): the i128 → f64 conversion is the only rounding; the scaling is exact.
-        self.sum2 as f64 * f64::powi(2.0, -64 - 2 * i32::from(self.m))
+        // sum2 / (N² · 2²⁸): the i64 → f64 conversion is the only rounding (none for sums below 2⁵³,
+        // which include every constant input); the scaling is exact.
+        self.sum2 as f64 * self.out_scale
     }
 
     /// Analytic magnitude response |H| at frequency `f_hz` for sample rate `fs_hz`.
@@ -110,6 +118,16 @@ impl Bartlett {
     }
 }
 
+/// The input quantised to 2⁻²⁸ of its unit (round to nearest), clipped to ±2²⁰ units.
+pub fn quantize(x: f64) -> i64 {
+    round_half_away(x.clamp(-INPUT_LIMIT, INPUT_LIMIT) * QUANTA_PER_UNIT)
+}
+
+/// The value of a quantised input.
+pub fn dequantize(q: i64) -> f64 {
+    q as f64 / QUANTA_PER_UNIT
+}
+
 fn check_m(m: u8) -> Result<()> {
     if m > MAX_M {
         return Err(Error::Register(format!("SENS_AVG[2:0] = {m}: expected M in 0…{MAX_M}")));
@@ -125,11 +143,13 @@ mod tests {
     #[test]
     fn dc_gain_is_exactly_one() {
         for m in 0..=MAX_M {
-            for x in [0.0, 1.0, -123.456_789, 299.987_654_321, 1e-3, -4.2e5, 18.000_000_000_000_004] {
+            for x in [0.0, 1.0, -123.456_789, 299.987_654_321, 1e-3, -4.2e5, 18.000_000_000_000_004, 0.75] {
                 let mut f = Bartlett::new(m).unwrap();
+                let xq = dequantize(quantize(x));
+                assert!((xq - x).abs() <= f64::powi(2.0, -29), "quantisation within half a quantum");
                 f.push(x);
                 for _ in 0..600 {
-                    assert_eq!(f.push(x), x, "M = {m}, x = {x}");
+                    assert_eq!(f.push(x), xq, "M = {m}, x = {x}");
                 }
             }
         }
@@ -166,10 +186,11 @@ mod tests {
         }
         // Gaussian elimination on the 3×3 normal equations (well conditioned over many periods).
         for p in 0..3 {
+            let pivot = ata[p];
             for r in p + 1..3 {
-                let f = ata[r][p] / ata[p][p];
-                for c in p..3 {
-                    ata[r][c] -= f * ata[p][c];
+                let f = ata[r][p] / pivot[p];
+                for (x, y) in ata[r].iter_mut().zip(pivot).skip(p) {
+                    *x -= f * y;
                 }
                 aty[r] -= f * aty[p];
             }
@@ -214,7 +235,8 @@ mod tests {
         for _ in 0..200_000 {
             x = (x * 3.9 * (1.0 - x)).clamp(1e-9, 1.0 - 1e-9); // chaotic, non-dyadic input
             let y = f.push(x * 100.0);
-            direct.push_back(x * 100.0);
+            // The reference sums the same quantised inputs in floating point.
+            direct.push_back(dequantize(quantize(x * 100.0)));
             if direct.len() > 15 {
                 direct.pop_front();
             }

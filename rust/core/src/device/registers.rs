@@ -152,7 +152,14 @@ const fn out(name: &'static str, addr: u8, ch: Channel, mask: u16) -> RegisterDe
     RegisterDef { name, addr, mask, format: Format::Output(ch), access: Access::R, power_on: PowerOn::Fixed(0) }
 }
 
-const fn ctl(name: &'static str, addr: u8, mask: u16, format: Format, access: Access, power_on: PowerOn) -> RegisterDef {
+const fn ctl(
+    name: &'static str,
+    addr: u8,
+    mask: u16,
+    format: Format,
+    access: Access,
+    power_on: PowerOn,
+) -> RegisterDef {
     RegisterDef { name, addr, mask, format, access, power_on }
 }
 
@@ -258,7 +265,8 @@ mod tests {
         for a in [0x50u8, 0x52, 0x54, 0x58, 0x7F] {
             assert!(lookup(a).is_none(), "0x{a:02X}");
         }
-        let outputs: Vec<u8> = REGISTERS.iter().filter(|r| matches!(r.format, Format::Output(_))).map(|r| r.addr).collect();
+        let outputs: Vec<u8> =
+            REGISTERS.iter().filter(|r| matches!(r.format, Format::Output(_))).map(|r| r.addr).collect();
         assert_eq!(outputs, BURST_ORDER);
     }
 

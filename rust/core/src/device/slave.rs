@@ -206,7 +206,15 @@ impl Adis16407 {
         self.spi.burst.is_some()
     }
 
-    fn violation(&mut self, rec: &mut FrameRecord, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
+    fn violation(
+        &mut self,
+        rec: &mut FrameRecord,
+        v: Violations,
+        t: Ps,
+        message: String,
+        measured: f64,
+        required: f64,
+    ) {
         rec.violations.insert(v);
         let kind = v.kinds().next().unwrap_or("spi_violation");
         self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
@@ -223,12 +231,12 @@ impl Adis16407 {
             let msg = format!("frame {n}: SCLK idles low; the ADIS16407 needs SPI mode 3 (CPOL = 1, CPHA = 1)");
             self.violation(rec, Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
         }
-        let (max_hz, which) = if in_burst {
-            (self.limits.sclk_burst_max_hz, "burst")
+        let (max_hz, min_period, which) = if in_burst {
+            (self.limits.sclk_burst_max_hz, self.limits.sclk_burst_min_period_ps, "burst")
         } else {
-            (self.limits.sclk_max_hz, "normal-mode")
+            (self.limits.sclk_max_hz, self.limits.sclk_min_period_ps, "normal-mode")
         };
-        if short(timing.sclk_period, PS_PER_S as f64 / max_hz) {
+        if short(timing.sclk_period, min_period) {
             let f = hz(timing.sclk_period);
             let msg = format!("frame {n}: SCLK {:.6} MHz exceeds the {which} limit {:.6} MHz", f / 1e6, max_hz / 1e6);
             self.violation(rec, Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
@@ -241,7 +249,11 @@ impl Adis16407 {
                 (self.limits.t_stall_ps, "the stall time between frames")
             };
             if short(gap, required) {
-                let msg = format!("frame {n}: {:.3} µs since the previous frame; {which} is {:.3} µs", gap as f64 / 1e6, required / 1e6);
+                let msg = format!(
+                    "frame {n}: {:.3} µs since the previous frame; {which} is {:.3} µs",
+                    gap as f64 / 1e6,
+                    required / 1e6
+                );
                 self.violation(rec, Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
             }
         }
@@ -283,7 +295,8 @@ impl Adis16407 {
         }
         if t < self.busy_until() {
             let left = self.busy_until() - t;
-            let msg = format!("frame {}: the ADIS16407 is resetting for another {:.3} ms", rec.index, left as f64 / 1e9);
+            let msg =
+                format!("frame {}: the ADIS16407 is resetting for another {:.3} ms", rec.index, left as f64 / 1e9);
             self.violation(&mut rec, Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
             self.spi.reset();
             return self.finish_start(rec, corrupt, Role::Ignore);
