@@ -17,7 +17,7 @@ mod slave;
 pub use adis16407::{Adis16407, DataReady, DataReadyLine, ModelOptions, SampleStamp};
 pub use encoding::{decode, decode_baro, encode, Channel, DecodedWord, Encoded, GyroRange};
 pub use sampler::{Constant, FnStimulus, Ideal, SensorErrors, SliceStimulus, Stimulus};
-pub use slave::{FrameRecord, Violations};
+pub use slave::{ReadRecord, Violations};
 
 /// The physical quantities the sensor sees at one internal sample instant, in the units of its
 /// data sheet. Sensor errors (bias, noise, …) are applied to these before filtering and encoding.

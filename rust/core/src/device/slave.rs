@@ -84,9 +84,11 @@ impl Violations {
     }
 }
 
-/// What one frame did, for the firmware/harness log. Plain `Copy` data.
+/// What one frame did at the slave (which register and which sample its DOUT carried, how old that
+/// sample was, which rules it broke), for the firmware/harness log. Plain `Copy` data; the link's own
+/// `bus::FrameRecord` holds the wire-level view of the same frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
-pub struct FrameRecord {
+pub struct ReadRecord {
     /// Frames clocked at this slave since power-on, starting at 0.
     pub index: u64,
     /// First SCLK edge.
@@ -143,11 +145,11 @@ pub(crate) struct SlaveState {
     /// A cs_hold violation under strict corrupts the next DOUT.
     corrupt_next: bool,
     burst: Option<Burst>,
-    current: FrameRecord,
+    current: ReadRecord,
     role: Role,
     frames: u64,
-    last: Option<FrameRecord>,
-    log: Option<Vec<FrameRecord>>,
+    last: Option<ReadRecord>,
+    log: Option<Vec<ReadRecord>>,
 }
 
 impl SlaveState {
@@ -178,7 +180,7 @@ fn short(measured: Ps, required_ps: f64) -> bool {
 
 impl Adis16407 {
     /// The latest frame clocked at this slave.
-    pub fn last_frame(&self) -> Option<FrameRecord> {
+    pub fn last_read(&self) -> Option<ReadRecord> {
         self.spi.last
     }
 
@@ -188,7 +190,7 @@ impl Adis16407 {
     }
 
     /// Keep a record of every frame (off by default; costs one push per frame when on).
-    pub fn set_frame_log(&mut self, enabled: bool) {
+    pub fn set_read_log(&mut self, enabled: bool) {
         match (enabled, self.spi.log.is_some()) {
             (true, false) => self.spi.log = Some(Vec::new()),
             (false, true) => self.spi.log = None,
@@ -197,7 +199,7 @@ impl Adis16407 {
     }
 
     /// Take the logged frame records out.
-    pub fn drain_frame_log(&mut self) -> Vec<FrameRecord> {
+    pub fn drain_read_log(&mut self) -> Vec<ReadRecord> {
         self.spi.log.as_mut().map(std::mem::take).unwrap_or_default()
     }
 
@@ -206,21 +208,13 @@ impl Adis16407 {
         self.spi.burst.is_some()
     }
 
-    fn violation(
-        &mut self,
-        rec: &mut FrameRecord,
-        v: Violations,
-        t: Ps,
-        message: String,
-        measured: f64,
-        required: f64,
-    ) {
+    fn violation(&mut self, rec: &mut ReadRecord, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
         rec.violations.insert(v);
         let kind = v.kinds().next().unwrap_or("spi_violation");
         self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
     }
 
-    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut FrameRecord) {
+    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord) {
         let t = timing.first_edge;
         let n = rec.index;
         if timing.bits != 16 {
@@ -286,7 +280,7 @@ impl Adis16407 {
             ));
         }
         self.advance_to(t);
-        let mut rec = FrameRecord { index: self.spi.frames, t_start: t, t_end: timing.last_edge, ..Default::default() };
+        let mut rec = ReadRecord { index: self.spi.frames, t_start: t, t_end: timing.last_edge, ..Default::default() };
         let corrupt = self.limits.corrupt_word;
         if !self.spi.cs_low {
             let msg = format!("frame {}: clocked with CS high; the ADIS16407 ignores it", rec.index);
@@ -338,7 +332,7 @@ impl Adis16407 {
         self.finish_start(rec, dout, role)
     }
 
-    fn finish_start(&mut self, mut rec: FrameRecord, dout: u16, role: Role) -> u16 {
+    fn finish_start(&mut self, mut rec: ReadRecord, dout: u16, role: Role) -> u16 {
         rec.dout = dout;
         self.spi.current = rec;
         self.spi.role = role;
