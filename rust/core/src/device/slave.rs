@@ -180,7 +180,7 @@ fn short(measured: Ps, required_ps: f64) -> bool {
 
 impl Adis16407 {
     /// The latest frame clocked at this slave.
-    pub fn last_read(&self) -> Option<ReadRecord> {
+    pub fn last_frame(&self) -> Option<ReadRecord> {
         self.spi.last
     }
 
@@ -190,7 +190,7 @@ impl Adis16407 {
     }
 
     /// Keep a record of every frame (off by default; costs one push per frame when on).
-    pub fn set_read_log(&mut self, enabled: bool) {
+    pub fn set_frame_log(&mut self, enabled: bool) {
         match (enabled, self.spi.log.is_some()) {
             (true, false) => self.spi.log = Some(Vec::new()),
             (false, true) => self.spi.log = None,
@@ -199,7 +199,7 @@ impl Adis16407 {
     }
 
     /// Take the logged frame records out.
-    pub fn drain_read_log(&mut self) -> Vec<ReadRecord> {
+    pub fn drain_frame_log(&mut self) -> Vec<ReadRecord> {
         self.spi.log.as_mut().map(std::mem::take).unwrap_or_default()
     }
 

@@ -140,7 +140,7 @@ fn prod_id_two_frame_read() {
     assert_eq!(second, 0x4017);
     assert_eq!(d.peek(addr::PROD_ID).unwrap(), 0x4017);
     assert_eq!(d.peek_name("prod_id").unwrap(), 0x4017);
-    let rec = d.last_read().unwrap();
+    let rec = d.last_frame().unwrap();
     assert_eq!((rec.index, rec.din, rec.dout, rec.register), (1, 0x0000, 0x4017, Some(addr::PROD_ID)));
     assert_eq!((rec.sample_index, rec.violations), (None, Violations::default()));
     assert_eq!(timing_events(&d), 0);
@@ -219,14 +219,14 @@ fn burst_at_750_khz_matches_the_published_frame() {
         p.accel_g = [18.0, -18.0, -0.1];
         p.temp_c = 25.0;
     }));
-    d.set_read_log(true);
+    d.set_frame_log(true);
     let mut h = Host::new(10 * MS, SCLK_750K);
     let w = h.burst(&mut d);
     assert_eq!(w[1], 0xC7A7);
     assert_eq!(&w[2..8], &[0xD770, 0xC001, 0xE890, 0xD519, 0xEAE7, 0xFFE2]);
     assert_eq!(decode(Channel::Temp, w[13], GyroRange::Dps300).value, 25.0);
     assert_eq!(timing_events(&d), 0);
-    let log = d.drain_read_log();
+    let log = d.drain_frame_log();
     assert_eq!(log.len(), 15);
     assert!(log.iter().all(|r| r.violations.is_empty()));
     let regs: Vec<u8> = log[1..].iter().map(|r| r.register.unwrap()).collect();
@@ -257,10 +257,10 @@ fn burst_at_750_khz_matches_the_published_frame() {
 fn burst_at_3_75_mhz_violates_every_frame() {
     for mode in [TimingMode::Strict, TimingMode::Lenient] {
         let mut d = device_with(|c| c.timing_mode = mode);
-        d.set_read_log(true);
+        d.set_frame_log(true);
         let mut h = Host::new(10 * MS, SCLK_3M75);
         let w = h.burst(&mut d);
-        let log = d.drain_read_log();
+        let log = d.drain_frame_log();
         assert!(log.iter().all(|r| r.violations == Violations::SCLK_TOO_FAST), "{mode:?}");
         assert_eq!(d.events().count("sclk_too_fast"), 15);
         assert_eq!(timing_events(&d), 15);
@@ -317,14 +317,14 @@ fn cs_setup_hold_and_polarity() {
     d.set_cs(true, h.t);
     h.t += 20 * NS;
     assert_eq!(h.frame(&mut d, 0x5600), 0xFFFF);
-    assert!(d.last_read().unwrap().violations.contains(Violations::CS_SETUP));
+    assert!(d.last_frame().unwrap().violations.contains(Violations::CS_SETUP));
     // CS↑ 10 ns after the last edge: tSFS broken; the next frame's DOUT is corrupt (strict).
     d.set_cs(false, h.last_edge + 10 * NS);
-    assert!(d.last_read().unwrap().violations.contains(Violations::CS_HOLD));
+    assert!(d.last_frame().unwrap().violations.contains(Violations::CS_HOLD));
     h.t += MS;
     h.cs_low(&mut d);
     assert_eq!(h.frame(&mut d, 0x5600), 0xFFFF);
-    assert!(d.last_read().unwrap().violations.is_empty(), "the frame itself broke no rule");
+    assert!(d.last_frame().unwrap().violations.is_empty(), "the frame itself broke no rule");
     assert_eq!(h.frame(&mut d, 0x0000), 0x4017, "and the one after is clean");
     h.cs_high(&mut d);
     assert_eq!((d.events().count("cs_setup"), d.events().count("cs_hold")), (1, 1));
@@ -360,14 +360,14 @@ fn frames_without_cs_or_of_wrong_length() {
 #[test]
 fn read_sees_latest_sample_with_its_age() {
     let mut d = device();
-    d.set_read_log(true);
+    d.set_frame_log(true);
     let mut h = Host::new(0, SCLK_750K);
     let mut ages = std::collections::BTreeSet::new();
     for i in 0..200u64 {
         h.t = 4 * MS * (i + 1) + 1234 * NS;
         h.read(&mut d, addr::ZGYRO_OUT);
     }
-    for r in d.drain_read_log().iter().filter(|r| r.register == Some(addr::ZGYRO_OUT)) {
+    for r in d.drain_frame_log().iter().filter(|r| r.register == Some(addr::ZGYRO_OUT)) {
         // Sample k is at k·1.220703125 ms; the read sees the latest one at or before its first edge.
         let k = (r.t_start as u128 * 4096 / 5_000_000_000_000) as u64;
         assert_eq!(r.sample_index, Some(k));
@@ -385,7 +385,7 @@ fn read_sees_latest_sample_with_its_age() {
     h.frame(&mut d, 0x0400);
     h.t = 5 * PERIOD;
     h.frame(&mut d, 0x0000);
-    assert_eq!((d.last_read().unwrap().sample_index, d.last_read().unwrap().sample_age_ps), (Some(5), Some(0)));
+    assert_eq!((d.last_frame().unwrap().sample_index, d.last_frame().unwrap().sample_age_ps), (Some(5), Some(0)));
 }
 
 #[test]
