@@ -1,5 +1,23 @@
 //! The ADIS16407 ten-degree-of-freedom IMU: register file, sampling engine on its own clock,
 //! Bartlett filter, output encoding, GLOB_CMD, and the SPI slave with its timing rules.
+//!
+//! - [`encoding`]: physical value ↔ output word, pure functions (also used by the Python binding).
+//! - [`registers`]: the register map as one table.
+//! - [`filter`]: the Bartlett filter (exact integer arithmetic).
+//! - [`sampler`]: the sample clock (SMPL_PRD), the [`Stimulus`] and the [`SensorErrors`] hook.
+//! - [`Adis16407`]: the device; it implements [`crate::bus::SpiSlave`].
+
+mod adis16407;
+pub mod encoding;
+pub mod filter;
+pub mod registers;
+pub mod sampler;
+mod slave;
+
+pub use adis16407::{Adis16407, DataReady, DataReadyLine, ModelOptions, SampleStamp};
+pub use encoding::{decode, decode_baro, encode, Channel, DecodedWord, Encoded, GyroRange};
+pub use sampler::{Constant, FnStimulus, Ideal, SensorErrors, SliceStimulus, Stimulus};
+pub use slave::{ReadRecord, Violations};
 
 /// The physical quantities the sensor sees at one internal sample instant, in the units of its
 /// data sheet. Sensor errors (bias, noise, …) are applied to these before filtering and encoding.
@@ -20,3 +38,30 @@ pub struct Physical {
     /// Voltage at the AUX_ADC input, V.
     pub aux_v: f64,
 }
+
+impl Physical {
+    /// A part powered at 5.0 V, at 25 °C and 1013.25 mbar, with no motion, no specific force and no
+    /// field: the default stimulus, chosen so that no DIAG_STAT flag sets.
+    pub fn powered_idle() -> Physical {
+        Physical { baro_mbar: 1013.25, temp_c: 25.0, supply_v: 5.0, ..Physical::default() }
+    }
+
+    /// Every value is finite.
+    pub fn is_finite(&self) -> bool {
+        self.gyro_dps.iter().chain(&self.accel_g).chain(&self.mag_gauss).all(|v| v.is_finite())
+            && [self.baro_mbar, self.temp_c, self.supply_v, self.aux_v].iter().all(|v| v.is_finite())
+    }
+
+    /// Every value, mutably (x, y, z of gyro, accel, mag, then baro, temp, supply, aux).
+    pub fn values_mut(&mut self) -> impl Iterator<Item = &mut f64> {
+        self.gyro_dps.iter_mut().chain(self.accel_g.iter_mut()).chain(self.mag_gauss.iter_mut()).chain([
+            &mut self.baro_mbar,
+            &mut self.temp_c,
+            &mut self.supply_v,
+            &mut self.aux_v,
+        ])
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,697 @@
+//! The ADIS16407 model: register file, sampling engine on its own clock, filter, calibration
+//! registers and GLOB_CMD. The SPI slave side is in `slave.rs`.
+//!
+//! The device is lazy: it computes samples only when time is moved on ([`Adis16407::advance_to`],
+//! or a frame or write at a later time). Every internal sample is still processed in order, since the
+//! filter is stateful, but nothing is allocated per sample.
+
+use super::encoding::{
+    encode_field, sign_extend, to_field, Channel, GyroRange, ACCEL_OFF_LSB_G, GYRO_OFF_LSB_DPS, MAG_HIC_LSB_GAUSS,
+    MAG_SIC_UNITY,
+};
+use super::filter::Bartlett;
+use super::registers::{self, addr, Access, Format, RegisterDef, BURST_ORDER, REGISTERS, SLOTS};
+use super::sampler::{sample_clock, Constant, Ideal, Schedule, SensorErrors, Stimulus};
+use super::slave::SlaveState;
+use super::Physical;
+use crate::error::{Error, Result};
+use crate::events::{Event, EventLog, Severity};
+use crate::profile::{Device, TimingMode};
+use crate::time::{s_to_ps, Clock, Ps, PS_PER_S};
+
+/// Model choices the data sheet leaves open, each with the documented default. (They are model
+/// parameters rather than profile keys for now; see the report on lifting them into the profile.)
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelOptions {
+    /// Run the Bartlett filter on the magnetometer and barometer too. Default `false`: the spec puts
+    /// SENS_AVG's filter on the inertial sensors, and the family's later parts (ADIS16448) filter only
+    /// gyro and accelerometer [unconfirmed for the 16407].
+    pub filter_mag_baro: bool,
+    /// DIAG_STAT bit set when an output clips at its field limit (sibling map: bit 4) [unconfirmed].
+    pub diag_overrange_bit: u8,
+    /// DIAG_STAT bit set while the supply is above `supply_high_v` (sibling map: bit 1) [unconfirmed].
+    pub diag_supply_high_bit: u8,
+    /// DIAG_STAT bit set while the supply is below `supply_low_v` (sibling map: bit 0) [unconfirmed].
+    pub diag_supply_low_bit: u8,
+    /// Supply above which the high-supply flag sets, V.
+    pub supply_high_v: f64,
+    /// Supply below which the low-supply flag sets, V.
+    pub supply_low_v: f64,
+    /// DIAG_STAT flags stay set until DIAG_STAT is read (sibling behaviour). When `false` the flags
+    /// show the latest sample's conditions only.
+    pub diag_clear_on_read: bool,
+    /// Smallest M allowed with the ±150 °/s range; a smaller SENS_AVG[2:0] is raised to it [unconfirmed].
+    pub min_m_150: u8,
+    /// Smallest M allowed with the ±75 °/s range [unconfirmed].
+    pub min_m_75: u8,
+}
+
+impl Default for ModelOptions {
+    fn default() -> Self {
+        ModelOptions {
+            filter_mag_baro: false,
+            diag_overrange_bit: 4,
+            diag_supply_high_bit: 1,
+            diag_supply_low_bit: 0,
+            supply_high_v: 5.25,
+            supply_low_v: 4.75,
+            diag_clear_on_read: true,
+            min_m_150: 2,
+            min_m_75: 4,
+        }
+    }
+}
+
+impl ModelOptions {
+    fn validate(&self) -> Result<()> {
+        for (key, bit) in [
+            ("diag_overrange_bit", self.diag_overrange_bit),
+            ("diag_supply_high_bit", self.diag_supply_high_bit),
+            ("diag_supply_low_bit", self.diag_supply_low_bit),
+        ] {
+            if bit > 15 {
+                return Err(Error::Config(format!("device option {key} = {bit}: expected a DIAG_STAT bit 0…15")));
+            }
+        }
+        for (key, m) in [("min_m_150", self.min_m_150), ("min_m_75", self.min_m_75)] {
+            if m > super::filter::MAX_M {
+                return Err(Error::Config(format!("device option {key} = {m}: expected M in 0…7")));
+            }
+        }
+        if !(self.supply_low_v.is_finite() && self.supply_high_v.is_finite() && self.supply_low_v < self.supply_high_v)
+        {
+            return Err(Error::Config(format!(
+                "device options supply_low_v = {}, supply_high_v = {}: expected finite values, low < high",
+                self.supply_low_v, self.supply_high_v
+            )));
+        }
+        Ok(())
+    }
+
+    /// Smallest M the range allows.
+    pub fn min_m(&self, range: GyroRange) -> u8 {
+        match range {
+            GyroRange::Dps300 => 0,
+            GyroRange::Dps150 => self.min_m_150,
+            GyroRange::Dps75 => self.min_m_75,
+        }
+    }
+}
+
+/// One internal sample: its index since power-on and its instant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SampleStamp {
+    /// Sample index (counts every sample since power-on, across SMPL_PRD changes and resets).
+    pub index: u64,
+    /// Time the sample was taken and the output registers updated.
+    pub t: Ps,
+}
+
+/// The pin data ready is driven on (MSC_CTRL[0]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DataReadyLine {
+    /// DIO1 (MSC_CTRL[0] = 0).
+    Dio1,
+    /// DIO2 (MSC_CTRL[0] = 1).
+    Dio2,
+}
+
+/// A data-ready assertion: the active edge at the instant the output registers updated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DataReady {
+    /// Time of the active edge.
+    pub t: Ps,
+    /// The sample that caused it.
+    pub sample_index: u64,
+    /// The pin.
+    pub line: DataReadyLine,
+    /// Polarity (MSC_CTRL[1]): `true` when the active edge is rising.
+    pub active_high: bool,
+}
+
+/// The SPI timing rules of the profile, in picoseconds, converted once.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Limits {
+    pub sclk_max_hz: f64,
+    pub sclk_burst_max_hz: f64,
+    /// Shortest SCLK period allowed, ps (1/sclk_max_hz).
+    pub sclk_min_period_ps: f64,
+    /// Shortest SCLK period allowed in a burst, ps.
+    pub sclk_burst_min_period_ps: f64,
+    pub t_stall_ps: f64,
+    pub t_cs_ps: f64,
+    pub t_sfs_ps: f64,
+    pub strict: bool,
+    pub corrupt_word: u16,
+    pub idle_word: u16,
+    pub burst_command: u16,
+}
+
+/// Bits of `nd` that belong to the output registers (slots 1…14).
+const OUTPUT_SLOTS: u64 = 0x7FFE;
+/// Filter channels: gyro x, y, z, accel x, y, z, mag x, y, z, baro.
+const FILTERS: usize = 10;
+
+/// Slot of a register address, as a constant.
+const fn s(a: u8) -> usize {
+    (a >> 1) as usize
+}
+
+/// The ADIS16407.
+pub struct Adis16407 {
+    pub(super) limits: Limits,
+    opts: ModelOptions,
+    clock_ppb: i64,
+    reset_ps: Ps,
+    regs: [u16; SLOTS],
+    /// The register image a software reset restores (power-on values until a flash update).
+    flash: [u16; SLOTS],
+    /// The power-on register values (what a factory restore returns the calibration registers to).
+    factory: [u16; SLOTS],
+    /// ND flags, one bit per slot.
+    nd: u64,
+    range: GyroRange,
+    filters: [Bartlett; FILTERS],
+    stimulus: Box<dyn Stimulus + Send>,
+    errors: Box<dyn SensorErrors + Send>,
+    schedule: Schedule,
+    latest: Option<SampleStamp>,
+    /// The latest sample after the sensor errors and the filter, before the calibration registers.
+    filtered: Physical,
+    now: Ps,
+    busy_until: Ps,
+    data_ready: Option<DataReady>,
+    pub(super) events: EventLog,
+    pub(super) spi: SlaveState,
+}
+
+impl std::fmt::Debug for Adis16407 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Adis16407")
+            .field("now", &self.now)
+            .field("latest", &self.latest)
+            .field("range", &self.range)
+            .field("regs", &self.regs)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Adis16407 {
+    /// A powered-on device configured by the profile, with the default [`ModelOptions`], a constant
+    /// [`Physical::powered_idle`] stimulus and an ideal sensor.
+    pub fn new(cfg: &Device) -> Result<Self> {
+        Adis16407::with_options(cfg, ModelOptions::default())
+    }
+
+    /// [`Adis16407::new`] with explicit model options.
+    pub fn with_options(cfg: &Device, opts: ModelOptions) -> Result<Self> {
+        cfg.validate()?;
+        opts.validate()?;
+        let mut regs = [0u16; SLOTS];
+        for r in &REGISTERS {
+            regs[r.slot()] = r.power_on_value(cfg);
+        }
+        let limits = Limits {
+            sclk_max_hz: cfg.sclk_max_hz,
+            sclk_burst_max_hz: cfg.sclk_burst_max_hz,
+            sclk_min_period_ps: PS_PER_S as f64 / cfg.sclk_max_hz,
+            sclk_burst_min_period_ps: PS_PER_S as f64 / cfg.sclk_burst_max_hz,
+            t_stall_ps: cfg.t_stall_us * 1e6,
+            t_cs_ps: cfg.t_cs_ns * 1e3,
+            t_sfs_ps: cfg.t_sfs_ns * 1e3,
+            strict: cfg.timing_mode == TimingMode::Strict,
+            corrupt_word: cfg.corrupt_word as u16,
+            idle_word: cfg.dout_after_write as u16,
+            burst_command: cfg.burst_command as u16,
+        };
+        let first_t = s_to_ps(cfg.first_sample_us * 1e-6);
+        let filters = std::array::from_fn(|_| Bartlett::new(0).unwrap_or_else(|_| unreachable!("M = 0 is valid")));
+        let mut dev = Adis16407 {
+            limits,
+            opts,
+            clock_ppb: cfg.clock_ppb,
+            reset_ps: s_to_ps(cfg.reset_time_ms * 1e-3),
+            regs,
+            flash: regs,
+            factory: regs,
+            nd: 0,
+            range: GyroRange::Dps300,
+            filters,
+            stimulus: Box::new(Constant(Physical::powered_idle())),
+            errors: Box::new(Ideal),
+            schedule: Schedule::new(sample_clock(regs[s(addr::SMPL_PRD)], cfg.clock_ppb), first_t, 0),
+            latest: None,
+            filtered: Physical::default(),
+            now: 0,
+            busy_until: 0,
+            data_ready: None,
+            events: EventLog::default(),
+            spi: SlaveState::default(),
+        };
+        let sens_avg = dev.checked_sens_avg(dev.regs[s(addr::SENS_AVG)], 0);
+        dev.regs[s(addr::SENS_AVG)] = sens_avg;
+        dev.flash = dev.regs;
+        dev.factory = dev.regs;
+        Ok(dev)
+    }
+
+    /// Replace what the sensor sees (takes effect from the next sample).
+    pub fn set_stimulus(&mut self, stimulus: Box<dyn Stimulus + Send>) {
+        self.stimulus = stimulus;
+    }
+
+    /// Replace the sensor error model (takes effect from the next sample).
+    pub fn set_sensor_errors(&mut self, errors: Box<dyn SensorErrors + Send>) {
+        self.errors = errors;
+    }
+
+    /// The model options in force.
+    pub fn options(&self) -> &ModelOptions {
+        &self.opts
+    }
+
+    /// Take every internal sample due at or before `t` (each updates the output registers).
+    /// Moving backwards is a no-op.
+    pub fn advance_to(&mut self, t: Ps) {
+        while self.schedule.next_t <= t {
+            let (k, tk) = (self.schedule.next_k, self.schedule.next_t);
+            self.take_sample(k, tk);
+            self.schedule.step();
+        }
+        self.now = self.now.max(t);
+    }
+
+    /// The time the device has been advanced to.
+    pub fn now(&self) -> Ps {
+        self.now
+    }
+
+    /// The latest sample taken, if any since power-on or the last reset.
+    pub fn latest_sample(&self) -> Option<SampleStamp> {
+        self.latest
+    }
+
+    /// When the next sample will be taken (lets a harness schedule data-ready interrupts).
+    pub fn next_sample(&self) -> SampleStamp {
+        SampleStamp { index: self.schedule.next_k, t: self.schedule.next_t }
+    }
+
+    /// The internal sample clock in force (SMPL_PRD and the clock error).
+    pub fn sample_clock(&self) -> Clock {
+        self.schedule.clock()
+    }
+
+    /// The latest data-ready assertion (none while MSC_CTRL[2] is clear).
+    pub fn last_data_ready(&self) -> Option<DataReady> {
+        self.data_ready
+    }
+
+    /// The gyro range in force.
+    pub fn gyro_range(&self) -> GyroRange {
+        self.range
+    }
+
+    /// M of the Bartlett filter in force (N = 2^M taps per stage).
+    pub fn filter_m(&self) -> u8 {
+        self.filters[0].m()
+    }
+
+    /// The latest sample's physical values after the sensor errors and the filter, before the
+    /// calibration registers and quantisation.
+    pub fn filtered(&self) -> &Physical {
+        &self.filtered
+    }
+
+    /// End of the current software reset (0 if none happened); the part ignores SPI until then.
+    pub fn busy_until(&self) -> Ps {
+        self.busy_until
+    }
+
+    /// Events recorded so far.
+    pub fn events(&self) -> &EventLog {
+        &self.events
+    }
+
+    /// Take the recorded events out.
+    pub fn drain_events(&mut self) -> Vec<crate::events::Event> {
+        self.events.drain()
+    }
+
+    /// The register at even address `addr` as a read would return it (ND and EA included for the
+    /// outputs), without a read's side effects.
+    pub fn peek(&self, addr: u8) -> Result<u16> {
+        let def = registers::lookup(addr).filter(|d| d.addr == addr).ok_or_else(|| {
+            Error::Register(format!(
+                "no register at address 0x{addr:02X} (expected an even register address 0x00…0x56)"
+            ))
+        })?;
+        if def.access == Access::W {
+            return Err(Error::Register(format!("{} (0x{addr:02X}) is write-only", def.name)));
+        }
+        Ok(self.word(def.slot()))
+    }
+
+    /// [`Adis16407::peek`] by register name.
+    pub fn peek_name(&self, name: &str) -> Result<u16> {
+        let def = registers::by_name(name).ok_or_else(|| Error::Register(format!("no register named `{name}`")))?;
+        self.peek(def.addr)
+    }
+
+    /// Write one byte at time `t`, as an SPI write frame ending at `t` does (0x8000 | addr<<8 | byte).
+    pub fn write_byte(&mut self, addr: u8, byte: u8, t: Ps) {
+        self.advance_to(t);
+        let Some(def) = registers::lookup(addr) else {
+            self.events.push(Event::new(
+                t,
+                "write_unmapped",
+                Severity::Warning,
+                format!("write of 0x{byte:02X} to address 0x{addr:02X}: no register there; ignored"),
+            ));
+            return;
+        };
+        let high = addr & 1 == 1;
+        match def.access {
+            Access::R => self.events.push(Event::new(
+                t,
+                "read_only_write",
+                Severity::Info,
+                format!(
+                    "write of 0x{byte:02X} to {} {} byte (0x{addr:02X}): the register is read-only; ignored",
+                    def.name,
+                    if high { "high" } else { "low" }
+                ),
+            )),
+            Access::W => {
+                if !high {
+                    self.glob_cmd(byte, t);
+                }
+            }
+            Access::RW => {
+                let shift = if high { 8 } else { 0 };
+                let old = self.regs[def.slot()];
+                let new = ((old & !(0xFF << shift)) | (u16::from(byte) << shift)) & def.mask;
+                self.set_control(def, new, t);
+            }
+        }
+    }
+
+    /// Write a whole register as two byte writes, low byte first (what a host does in two frames).
+    pub fn write_register(&mut self, addr: u8, value: u16, t: Ps) {
+        self.write_byte(addr & !1, value as u8, t);
+        self.write_byte(addr | 1, (value >> 8) as u8, t);
+    }
+
+    /// The word a read of `slot` returns now (no side effects).
+    pub(super) fn word(&self, slot: usize) -> u16 {
+        let value = self.regs[slot];
+        if OUTPUT_SLOTS >> slot & 1 == 0 {
+            return value;
+        }
+        let nd = if self.nd >> slot & 1 != 0 { 0x8000 } else { 0 };
+        let ea = if self.regs[s(addr::DIAG_STAT)] != 0 { 0x4000 } else { 0 };
+        value | nd | ea
+    }
+
+    /// A read of register `addr` shifted out now: the word, the sample it holds (outputs only), and
+    /// the read's side effects (ND clears; DIAG_STAT clears if so configured). `None` for an address
+    /// holding no readable register (recorded as an event).
+    pub(super) fn read_for_output(&mut self, addr: u8, t: Ps) -> (u16, Option<SampleStamp>) {
+        let def = match registers::lookup(addr) {
+            Some(d) if d.access != Access::W => d,
+            found => {
+                let what = found.map_or("no register".to_string(), |d| format!("{} is write-only", d.name));
+                self.events.push(Event::new(
+                    t,
+                    "read_unreadable",
+                    Severity::Warning,
+                    format!("read of address 0x{addr:02X}: {what}; DOUT reads 0x0000"),
+                ));
+                return (0, None);
+            }
+        };
+        let slot = def.slot();
+        let w = self.word(slot);
+        let sample = if matches!(def.format, Format::Output(_)) { self.latest } else { None };
+        self.nd &= !(1 << slot);
+        if slot == s(addr::DIAG_STAT) && self.opts.diag_clear_on_read {
+            self.regs[slot] = 0;
+        }
+        (w, sample)
+    }
+
+    /// The 14 output words of a burst, as of now, with the sample they hold.
+    pub(super) fn burst_snapshot(&self) -> ([u16; 14], Option<SampleStamp>) {
+        (BURST_ORDER.map(|a| self.word(s(a))), self.latest)
+    }
+
+    /// Clear the ND flag of output register `addr` after a burst shifted it out, unless a newer sample
+    /// than the one shifted out has set it since.
+    pub(super) fn clear_nd_after_burst(&mut self, addr: u8, shifted: Option<SampleStamp>) {
+        if shifted == self.latest {
+            self.nd &= !(1 << s(addr));
+        }
+    }
+
+    fn take_sample(&mut self, k: u64, t: Ps) {
+        let mut p = self.stimulus.at(k, t);
+        self.errors.apply(k, t, &mut p);
+        if !p.is_finite() {
+            self.sanitize(&mut p, k, t);
+        }
+        let mut f = p;
+        for i in 0..3 {
+            f.gyro_dps[i] = self.filters[i].push(p.gyro_dps[i]);
+            f.accel_g[i] = self.filters[3 + i].push(p.accel_g[i]);
+        }
+        if self.opts.filter_mag_baro {
+            for i in 0..3 {
+                f.mag_gauss[i] = self.filters[6 + i].push(p.mag_gauss[i]);
+            }
+            f.baro_mbar = self.filters[9].push(p.baro_mbar);
+        }
+        self.filtered = f;
+
+        let range = self.range;
+        let mut over = false;
+        let mut put = |regs: &mut [u16; SLOTS], a: u8, ch: Channel, v: f64| {
+            let e = encode_field(ch, v, range);
+            regs[s(a)] = e.code;
+            over |= e.overrange;
+        };
+        let r = &mut self.regs;
+        for i in 0..3 {
+            let off = f64::from(sign_extend(r[s(addr::XGYRO_OFF) + i], 13)) * GYRO_OFF_LSB_DPS;
+            put(r, addr::XGYRO_OUT + 2 * i as u8, Channel::Gyro, f.gyro_dps[i] + off);
+            let off = f64::from(sign_extend(r[s(addr::XACCL_OFF) + i], 12)) * ACCEL_OFF_LSB_G;
+            put(r, addr::XACCL_OUT + 2 * i as u8, Channel::Accel, f.accel_g[i] + off);
+            // Hard iron adds, then soft iron scales [unconfirmed order; sibling ADIS16405].
+            let hic = f64::from(sign_extend(r[s(addr::XMAGN_HIC) + i], 14)) * MAG_HIC_LSB_GAUSS;
+            let sic = f64::from(r[s(addr::XMAGN_SIC) + i]) / f64::from(MAG_SIC_UNITY);
+            put(r, addr::XMAGN_OUT + 2 * i as u8, Channel::Mag, (f.mag_gauss[i] + hic) * sic);
+        }
+        put(r, addr::SUPPLY_OUT, Channel::Supply, f.supply_v);
+        put(r, addr::BARO_OUT, Channel::Baro, f.baro_mbar);
+        put(r, addr::BARO_OUTL, Channel::BaroLow, f.baro_mbar);
+        put(r, addr::TEMP_OUT, Channel::Temp, f.temp_c);
+        put(r, addr::AUX_ADC, Channel::Aux, f.aux_v);
+
+        let o = &self.opts;
+        let mut flags = 0u16;
+        if over {
+            flags |= 1 << o.diag_overrange_bit;
+        }
+        if f.supply_v > o.supply_high_v {
+            flags |= 1 << o.diag_supply_high_bit;
+        }
+        if f.supply_v < o.supply_low_v {
+            flags |= 1 << o.diag_supply_low_bit;
+        }
+        let diag = &mut self.regs[s(addr::DIAG_STAT)];
+        *diag = if o.diag_clear_on_read { *diag | flags } else { flags };
+
+        self.nd |= OUTPUT_SLOTS;
+        self.latest = Some(SampleStamp { index: k, t });
+        let msc = self.regs[s(addr::MSC_CTRL)];
+        if msc & 0x0004 != 0 {
+            let line = if msc & 1 == 0 { DataReadyLine::Dio1 } else { DataReadyLine::Dio2 };
+            self.data_ready = Some(DataReady { t, sample_index: k, line, active_high: msc & 2 != 0 });
+        }
+    }
+
+    /// NaN inputs (from a closure or an error model) become 0 and are reported; infinities are kept,
+    /// they saturate the filter and the encoder.
+    #[cold]
+    fn sanitize(&mut self, p: &mut Physical, k: u64, t: Ps) {
+        self.events.push(Event::new(
+            t,
+            "non_finite_input",
+            Severity::Error,
+            format!("device sample {k}: the stimulus or error model gave a non-finite value ({p:?}); NaN taken as 0"),
+        ));
+        for v in p.values_mut() {
+            if v.is_nan() {
+                *v = 0.0;
+            }
+        }
+    }
+
+    /// SENS_AVG as the part accepts `requested`: an invalid range code keeps the previous range, and
+    /// M is raised to the range's minimum. Sets the range and the filters.
+    fn checked_sens_avg(&mut self, requested: u16, t: Ps) -> u16 {
+        let range = match GyroRange::from_bits(requested >> 8 & 7) {
+            Some(r) => r,
+            None => {
+                self.events.push(Event::new(
+                    t,
+                    "invalid_register_value",
+                    Severity::Warning,
+                    format!(
+                        "SENS_AVG = 0x{requested:04X}: range bits 10:8 = {:03b} select no range (100, 010 or 001); \
+                         the range stays ±{} °/s",
+                        requested >> 8 & 7,
+                        self.range.rated_dps()
+                    ),
+                ));
+                self.range
+            }
+        };
+        let min_m = self.opts.min_m(range);
+        let mut m = (requested & 7) as u8;
+        if m < min_m {
+            self.events.push(Event::new(
+                t,
+                "sens_avg_raised",
+                Severity::Info,
+                format!(
+                    "SENS_AVG: M = {m} is below the minimum {min_m} of the ±{} °/s range; raised to {min_m}",
+                    range.rated_dps()
+                ),
+            ));
+            m = min_m;
+        }
+        self.range = range;
+        for f in &mut self.filters {
+            // m ≤ 7 by construction (3 bits, or a validated minimum).
+            let _ = f.set_m(m);
+        }
+        range.bits() << 8 | u16::from(m)
+    }
+
+    fn set_control(&mut self, def: &RegisterDef, value: u16, t: Ps) {
+        let slot = def.slot();
+        let value = match def.addr {
+            addr::SENS_AVG => self.checked_sens_avg(value, t),
+            addr::SMPL_PRD => {
+                let clock = sample_clock(value, self.clock_ppb);
+                // Before the first sample the first sample keeps its time; afterwards the new period
+                // counts from the write (the part's behaviour at a rate change is not documented).
+                let first = if self.latest.is_some() { t + clock.cycles_to_ps(1) } else { self.schedule.next_t };
+                self.schedule.restart(clock, first);
+                value
+            }
+            addr::MSC_CTRL if value & 0x0400 != 0 => {
+                self.not_modelled(t, "MSC_CTRL[10] self-test: completes at once with every test passing");
+                value & !0x0400
+            }
+            addr::SLP_CNT if value != 0 => {
+                self.not_modelled(t, "SLP_CNT sleep: the part keeps sampling");
+                value
+            }
+            _ => value,
+        };
+        self.regs[slot] = value;
+    }
+
+    fn not_modelled(&mut self, t: Ps, what: &str) {
+        self.events.push(Event::new(t, "command_not_modelled", Severity::Warning, format!("{what} (not modelled)")));
+    }
+
+    /// GLOB_CMD: [0] autonull, [1] factory restore, [2] DAC latch, [3] flash update,
+    /// [4] precision autonull (not modelled), [7] software reset (last, so it wins).
+    fn glob_cmd(&mut self, cmd: u8, t: Ps) {
+        if cmd & 0x01 != 0 {
+            self.autonull(t);
+        }
+        if cmd & 0x02 != 0 {
+            // Factory restore: the user calibration registers return to their factory values.
+            for r in REGISTERS.iter().filter(|r| (addr::XGYRO_OFF..=addr::ZMAGN_SIC).contains(&r.addr)) {
+                self.regs[r.slot()] = self.factory[r.slot()];
+            }
+        }
+        // [2] DAC latch: AUX_DAC drives no pin this model observes, so latching changes nothing.
+        if cmd & 0x08 != 0 {
+            let fc = &mut self.regs[s(addr::FLASH_CNT)];
+            *fc = fc.wrapping_add(1);
+            self.flash = self.regs;
+        }
+        if cmd & 0x10 != 0 {
+            self.not_modelled(t, "GLOB_CMD[4] precision autonull");
+        }
+        if cmd & 0x80 != 0 {
+            self.software_reset(t);
+        }
+    }
+
+    /// Autonull: each gyro offset becomes minus the current filtered reading, rounded to the offset
+    /// LSB (0.0125 °/s). The averaging window is the Bartlett filter's: the 2N − 1 latest samples,
+    /// triangle-weighted (the sibling data sheets describe autonull as using the filtered output).
+    fn autonull(&mut self, t: Ps) {
+        if self.latest.is_none() {
+            self.events.push(Event::new(
+                t,
+                "autonull_without_data",
+                Severity::Warning,
+                "GLOB_CMD autonull before the first sample: offsets unchanged",
+            ));
+            return;
+        }
+        for i in 0..3 {
+            let want = -(self.filtered.gyro_dps[i] / GYRO_OFF_LSB_DPS).round();
+            let code = want.clamp(-4096.0, 4095.0);
+            if code != want {
+                self.events.push(Event::new(
+                    t,
+                    "autonull_saturated",
+                    Severity::Warning,
+                    format!("autonull: gyro axis {i} bias {} °/s exceeds the 13-bit offset", self.filtered.gyro_dps[i]),
+                ));
+            }
+            self.regs[s(addr::XGYRO_OFF) + i] = to_field(code as i32, 13);
+        }
+    }
+
+    /// Software reset: the flash image comes back, the outputs clear, and the part neither samples nor
+    /// answers SPI until `reset_time_ms` has passed; sampling restarts at that instant.
+    fn software_reset(&mut self, t: Ps) {
+        self.busy_until = t + self.reset_ps;
+        // Control registers come back from flash; outputs and DIAG_STAT clear; FLASH_CNT and PROD_ID
+        // keep their values.
+        for r in &REGISTERS {
+            match (r.access, r.format) {
+                (Access::RW, _) => self.regs[r.slot()] = self.flash[r.slot()],
+                (_, Format::Output(_)) => self.regs[r.slot()] = 0,
+                _ => {}
+            }
+        }
+        self.regs[s(addr::DIAG_STAT)] = 0;
+        self.nd = 0;
+        let sens_avg = self.checked_sens_avg(self.regs[s(addr::SENS_AVG)], t);
+        self.regs[s(addr::SENS_AVG)] = sens_avg;
+        for f in &mut self.filters {
+            f.reset();
+        }
+        self.schedule.restart(sample_clock(self.regs[s(addr::SMPL_PRD)], self.clock_ppb), self.busy_until);
+        self.latest = None;
+        self.data_ready = None;
+        self.spi.reset();
+        self.events.push(Event::new(
+            t,
+            "software_reset",
+            Severity::Info,
+            format!(
+                "GLOB_CMD software reset: the part is unavailable for {} s",
+                self.reset_ps as f64 / PS_PER_S as f64
+            ),
+        ));
+    }
+}

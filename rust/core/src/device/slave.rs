@@ -1,0 +1,434 @@
+//! The ADIS16407's SPI slave: SPI mode 3, 16-bit frames, MSB first.
+//!
+//! - A read frame's register comes out on DOUT in the *next* frame; the pipeline holds across
+//!   CS-high gaps. After a write frame, and in the very first frame, DOUT is the profile's
+//!   `dout_after_write` (the part's DOUT is undefined there).
+//! - A frame whose DIN equals `burst_command` starts a burst: the next 14 frames carry 0x02…0x1C,
+//!   all taken from the latest sample at the start of the command frame; DIN is ignored during them.
+//!   CS high ends a burst early.
+//! - The data a frame carries is taken at the frame's first SCLK edge (the slave loads its shift
+//!   register then); a write acts at the frame's last edge.
+//!
+//! Timing rules (profile `device.*`), checked on every frame; each violation is an event:
+//! `sclk_too_fast` (SCLK above `sclk_max_hz`, or `sclk_burst_max_hz` in a burst's data frames),
+//! `stall_too_short` (last edge of a frame to first edge of the next below `t_stall_us`, or below one
+//! SCLK period inside a burst), `cs_setup` (CS↓ to first edge below `t_cs_ns`), `cs_hold` (last edge
+//! to CS↑ below `t_sfs_ns`), `clock_polarity` (SCLK idles low: not mode 3). Measured and required
+//! figures are in seconds or hertz; a 1 ps allowance absorbs the bus's flooring to whole picoseconds.
+//!
+//! Consequences: under `strict` a violating frame's DOUT reads as `corrupt_word`; a `cs_hold`
+//! violation corrupts the next frame's DOUT (the command it would answer may have been mis-latched).
+//! Under `lenient` the data stay correct. In both modes the read still happens on the slave's side
+//! (ND clears) and DIN is taken as sent, since the data sheet gives no failure mode for either.
+//! Three conditions corrupt DOUT in both modes and ignore DIN: `frame_length` (not 16 SCLK cycles),
+//! `frame_without_cs` (CS high: DOUT floats, read as `corrupt_word`) and `device_busy` (during a
+//! software reset).
+
+use super::adis16407::{Adis16407, SampleStamp};
+use super::registers::BURST_ORDER;
+use crate::bus::{FrameTiming, SpiSlave};
+use crate::events::{Event, Severity};
+use crate::time::{Ps, PS_PER_S};
+
+/// The timing or protocol rules one frame broke, as bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct Violations(pub u16);
+
+impl Violations {
+    /// SCLK faster than allowed.
+    pub const SCLK_TOO_FAST: Violations = Violations(1 << 0);
+    /// Too little time since the previous frame.
+    pub const STALL_TOO_SHORT: Violations = Violations(1 << 1);
+    /// CS↓ too close to the first SCLK edge.
+    pub const CS_SETUP: Violations = Violations(1 << 2);
+    /// CS↑ too close to the last SCLK edge.
+    pub const CS_HOLD: Violations = Violations(1 << 3);
+    /// SCLK idles low (not SPI mode 3).
+    pub const CLOCK_POLARITY: Violations = Violations(1 << 4);
+    /// Not 16 SCLK cycles.
+    pub const FRAME_LENGTH: Violations = Violations(1 << 5);
+    /// Clocked with CS high.
+    pub const NO_CHIP_SELECT: Violations = Violations(1 << 6);
+    /// Clocked during a software reset.
+    pub const DEVICE_BUSY: Violations = Violations(1 << 7);
+
+    const NAMES: [(Violations, &'static str); 8] = [
+        (Violations::SCLK_TOO_FAST, "sclk_too_fast"),
+        (Violations::STALL_TOO_SHORT, "stall_too_short"),
+        (Violations::CS_SETUP, "cs_setup"),
+        (Violations::CS_HOLD, "cs_hold"),
+        (Violations::CLOCK_POLARITY, "clock_polarity"),
+        (Violations::FRAME_LENGTH, "frame_length"),
+        (Violations::NO_CHIP_SELECT, "frame_without_cs"),
+        (Violations::DEVICE_BUSY, "device_busy"),
+    ];
+
+    /// No rule broken.
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Every bit of `other` is set.
+    pub fn contains(self, other: Violations) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// Set the bits of `other`.
+    pub fn insert(&mut self, other: Violations) {
+        self.0 |= other.0;
+    }
+
+    /// The event kinds of the set bits.
+    pub fn kinds(self) -> impl Iterator<Item = &'static str> {
+        Violations::NAMES.into_iter().filter(move |(v, _)| self.contains(*v)).map(|(_, k)| k)
+    }
+}
+
+/// What one frame did at the slave (which register and which sample its DOUT carried, how old that
+/// sample was, which rules it broke), for the firmware/harness log. Plain `Copy` data; the link's own
+/// `bus::FrameRecord` holds the wire-level view of the same frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct ReadRecord {
+    /// Frames clocked at this slave since power-on, starting at 0.
+    pub index: u64,
+    /// First SCLK edge.
+    pub t_start: Ps,
+    /// Last SCLK edge.
+    pub t_end: Ps,
+    /// Word sampled on DIN.
+    pub din: u16,
+    /// Word shifted out on DOUT.
+    pub dout: u16,
+    /// The register whose contents DOUT carries (none after a write, in the first frame, …).
+    pub register: Option<u8>,
+    /// The internal sample the DOUT word holds (output registers only).
+    pub sample_index: Option<u64>,
+    /// Age of that sample at the frame's first edge, ps.
+    pub sample_age_ps: Option<Ps>,
+    /// Rules the frame broke.
+    pub violations: Violations,
+    /// A burst data frame.
+    pub in_burst: bool,
+}
+
+/// What the current frame does with DIN.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum Role {
+    /// Decode DIN as a command.
+    #[default]
+    Command,
+    /// A burst data frame: DIN is don't care.
+    BurstData,
+    /// The slave did not take part (or could not): DIN is ignored.
+    Ignore,
+}
+
+/// The output words of a burst in progress.
+#[derive(Debug, Clone, Copy)]
+struct Burst {
+    words: [u16; 14],
+    sample: Option<SampleStamp>,
+    next: usize,
+}
+
+/// The slave's protocol state.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SlaveState {
+    cs_low: bool,
+    cs_fall: Ps,
+    /// A frame has been clocked since CS fell.
+    framed_since_cs: bool,
+    /// Last SCLK edge of the previous frame.
+    last_edge: Option<Ps>,
+    /// Register asked for by the previous read frame.
+    pending_read: Option<u8>,
+    /// A cs_hold violation under strict corrupts the next DOUT.
+    corrupt_next: bool,
+    burst: Option<Burst>,
+    current: ReadRecord,
+    role: Role,
+    frames: u64,
+    last: Option<ReadRecord>,
+    log: Option<Vec<ReadRecord>>,
+}
+
+impl SlaveState {
+    /// Forget the protocol state (a software reset); counters and the log stay.
+    pub fn reset(&mut self) {
+        self.pending_read = None;
+        self.corrupt_next = false;
+        self.burst = None;
+    }
+}
+
+fn hz(period: Ps) -> f64 {
+    if period == 0 {
+        f64::INFINITY
+    } else {
+        PS_PER_S as f64 / period as f64
+    }
+}
+
+fn s(t: f64) -> f64 {
+    t / PS_PER_S as f64
+}
+
+/// `measured` (whole ps, floored by the bus) falls short of `required` ps, with a 1 ps allowance.
+fn short(measured: Ps, required_ps: f64) -> bool {
+    (measured as f64) + 1.0 < required_ps
+}
+
+impl Adis16407 {
+    /// The latest frame clocked at this slave.
+    pub fn last_frame(&self) -> Option<ReadRecord> {
+        self.spi.last
+    }
+
+    /// Frames clocked so far.
+    pub fn frames_clocked(&self) -> u64 {
+        self.spi.frames
+    }
+
+    /// Keep a record of every frame (off by default; costs one push per frame when on).
+    pub fn set_frame_log(&mut self, enabled: bool) {
+        match (enabled, self.spi.log.is_some()) {
+            (true, false) => self.spi.log = Some(Vec::new()),
+            (false, true) => self.spi.log = None,
+            _ => {}
+        }
+    }
+
+    /// Take the logged frame records out.
+    pub fn drain_frame_log(&mut self) -> Vec<ReadRecord> {
+        self.spi.log.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
+    /// Whether a burst is in progress.
+    pub fn in_burst(&self) -> bool {
+        self.spi.burst.is_some()
+    }
+
+    fn violation(&mut self, rec: &mut ReadRecord, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
+        rec.violations.insert(v);
+        let kind = v.kinds().next().unwrap_or("spi_violation");
+        self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
+    }
+
+    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord) {
+        let t = timing.first_edge;
+        let n = rec.index;
+        if timing.bits != 16 {
+            let msg = format!("frame {n}: {} SCLK cycles; the ADIS16407 needs 16-bit frames", timing.bits);
+            self.violation(rec, Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
+        }
+        if !timing.cpol {
+            let msg = format!("frame {n}: SCLK idles low; the ADIS16407 needs SPI mode 3 (CPOL = 1, CPHA = 1)");
+            self.violation(rec, Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
+        }
+        let (max_hz, min_period, which) = if in_burst {
+            (self.limits.sclk_burst_max_hz, self.limits.sclk_burst_min_period_ps, "burst")
+        } else {
+            (self.limits.sclk_max_hz, self.limits.sclk_min_period_ps, "normal-mode")
+        };
+        if short(timing.sclk_period, min_period) {
+            let f = hz(timing.sclk_period);
+            let msg = format!("frame {n}: SCLK {:.6} MHz exceeds the {which} limit {:.6} MHz", f / 1e6, max_hz / 1e6);
+            self.violation(rec, Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
+        }
+        if let Some(le) = self.spi.last_edge {
+            let gap = t.saturating_sub(le);
+            let (required, which) = if in_burst {
+                (timing.sclk_period as f64, "one SCLK period inside a burst")
+            } else {
+                (self.limits.t_stall_ps, "the stall time between frames")
+            };
+            if short(gap, required) {
+                let msg = format!(
+                    "frame {n}: {:.3} µs since the previous frame; {which} is {:.3} µs",
+                    gap as f64 / 1e6,
+                    required / 1e6
+                );
+                self.violation(rec, Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
+            }
+        }
+        if !self.spi.framed_since_cs {
+            let gap = t.saturating_sub(self.spi.cs_fall);
+            if short(gap, self.limits.t_cs_ps) {
+                let msg = format!(
+                    "frame {n}: CS↓ to first SCLK edge {:.1} ns; tCS ≥ {:.1} ns",
+                    gap as f64 / 1e3,
+                    self.limits.t_cs_ps / 1e3
+                );
+                self.violation(rec, Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
+            }
+        }
+    }
+
+    fn start_frame(&mut self, timing: &FrameTiming) -> u16 {
+        let t = timing.first_edge;
+        if t < self.now() {
+            self.events.push(Event::new(
+                t,
+                "time_reversal",
+                Severity::Warning,
+                format!(
+                    "frame {} starts at {} ps, before the device time {} ps: it sees samples from its future",
+                    self.spi.frames,
+                    t,
+                    self.now()
+                ),
+            ));
+        }
+        self.advance_to(t);
+        let mut rec = ReadRecord { index: self.spi.frames, t_start: t, t_end: timing.last_edge, ..Default::default() };
+        let corrupt = self.limits.corrupt_word;
+        if !self.spi.cs_low {
+            let msg = format!("frame {}: clocked with CS high; the ADIS16407 ignores it", rec.index);
+            self.violation(&mut rec, Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
+            return self.finish_start(rec, corrupt, Role::Ignore);
+        }
+        if t < self.busy_until() {
+            let left = self.busy_until() - t;
+            let msg =
+                format!("frame {}: the ADIS16407 is resetting for another {:.3} ms", rec.index, left as f64 / 1e9);
+            self.violation(&mut rec, Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
+            self.spi.reset();
+            return self.finish_start(rec, corrupt, Role::Ignore);
+        }
+        let in_burst = self.spi.burst.is_some();
+        self.check_timing(timing, in_burst, &mut rec);
+
+        let (word, sample) = if let Some(b) = self.spi.burst {
+            let reg = BURST_ORDER[b.next];
+            rec.register = Some(reg);
+            rec.in_burst = true;
+            self.clear_nd_after_burst(reg, b.sample);
+            (b.words[b.next], b.sample)
+        } else if let Some(reg) = self.spi.pending_read.take() {
+            rec.register = Some(reg & !1);
+            self.read_for_output(reg, t)
+        } else {
+            (self.limits.idle_word, None)
+        };
+        rec.sample_index = sample.map(|x| x.index);
+        rec.sample_age_ps = sample.map(|x| t.saturating_sub(x.t));
+
+        let corrupt_next = std::mem::take(&mut self.spi.corrupt_next);
+        let dout = if rec.violations.contains(Violations::FRAME_LENGTH)
+            || corrupt_next
+            || (self.limits.strict && !rec.violations.is_empty())
+        {
+            corrupt
+        } else {
+            word
+        };
+        let role = if rec.violations.contains(Violations::FRAME_LENGTH) {
+            Role::Ignore
+        } else if in_burst {
+            Role::BurstData
+        } else {
+            Role::Command
+        };
+        self.finish_start(rec, dout, role)
+    }
+
+    fn finish_start(&mut self, mut rec: ReadRecord, dout: u16, role: Role) -> u16 {
+        rec.dout = dout;
+        self.spi.current = rec;
+        self.spi.role = role;
+        dout
+    }
+
+    fn finish_frame(&mut self, din: u16, timing: &FrameTiming) {
+        let mut rec = self.spi.current;
+        rec.din = din;
+        let took_part = !rec.violations.contains(Violations::NO_CHIP_SELECT);
+        if took_part {
+            self.spi.last_edge = Some(timing.last_edge);
+            self.spi.framed_since_cs = true;
+        }
+        self.spi.frames += 1;
+        self.spi.last = Some(rec);
+        if let Some(log) = &mut self.spi.log {
+            log.push(rec);
+        }
+        match self.spi.role {
+            Role::Ignore => {}
+            Role::BurstData => {
+                if let Some(b) = &mut self.spi.burst {
+                    b.next += 1;
+                    if b.next == b.words.len() {
+                        self.spi.burst = None;
+                    }
+                }
+            }
+            Role::Command => {
+                let addr = ((din >> 8) & 0x7F) as u8;
+                if din & 0x8000 != 0 {
+                    self.write_byte(addr, din as u8, timing.last_edge);
+                } else if din == self.limits.burst_command {
+                    let (words, sample) = self.burst_snapshot();
+                    self.spi.burst = Some(Burst { words, sample, next: 0 });
+                } else {
+                    self.spi.pending_read = Some(addr);
+                }
+            }
+        }
+    }
+
+    fn chip_select(&mut self, low: bool, t: Ps) {
+        if low {
+            if !self.spi.cs_low {
+                self.spi.cs_low = true;
+                self.spi.cs_fall = t;
+                self.spi.framed_since_cs = false;
+            }
+            return;
+        }
+        if !self.spi.cs_low {
+            return;
+        }
+        self.spi.cs_low = false;
+        if let (true, Some(le), Some(mut last)) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last) {
+            let gap = t.saturating_sub(le);
+            if short(gap, self.limits.t_sfs_ps) {
+                let msg = format!(
+                    "frame {}: last SCLK edge to CS↑ {:.1} ns; tSFS ≥ {:.1} ns",
+                    last.index,
+                    gap as f64 / 1e3,
+                    self.limits.t_sfs_ps / 1e3
+                );
+                self.violation(&mut last, Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
+                self.spi.last = Some(last);
+                if let Some(entry) = self.spi.log.as_mut().and_then(|l| l.last_mut()) {
+                    *entry = last;
+                }
+                if self.limits.strict {
+                    self.spi.corrupt_next = true;
+                }
+            }
+        }
+        if let Some(b) = self.spi.burst.take() {
+            self.events.push(Event::new(
+                t,
+                "burst_truncated",
+                Severity::Info,
+                format!("CS↑ after {} of the 14 burst data frames", b.next),
+            ));
+        }
+    }
+}
+
+impl SpiSlave for Adis16407 {
+    fn set_cs(&mut self, low: bool, t: Ps) {
+        self.chip_select(low, t);
+    }
+
+    fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
+        self.start_frame(timing)
+    }
+
+    fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
+        self.finish_frame(din, timing);
+    }
+}

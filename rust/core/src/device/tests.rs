@@ -1,0 +1,668 @@
+//! Device-level tests: the slave is driven through `SpiSlave` with hand-built `FrameTiming`s.
+
+use super::encoding::{decode, sign_extend, Channel, GyroRange};
+use super::registers::{addr, BURST_ORDER};
+use super::*;
+use crate::bus::{FrameTiming, SpiSlave};
+use crate::profile::{Device, TimingMode};
+use crate::time::Ps;
+
+const NS: Ps = 1_000;
+const US: Ps = 1_000_000;
+const MS: Ps = 1_000_000_000;
+/// One period of the default 819.2 SPS clock, ps (exact).
+const PERIOD: Ps = 1_220_703_125;
+/// SCLK periods as the bus floors them: 0.75 MHz (reference design), 3.75 MHz, 1.5 MHz.
+const SCLK_750K: Ps = 1_333_333;
+const SCLK_3M75: Ps = 266_666;
+const SCLK_1M5: Ps = 666_666;
+
+/// A hand-driven SPI master: frames of 16 mode-3 cycles, fixed gaps, CS margins of 100 ns.
+struct Host {
+    t: Ps,
+    sclk: Ps,
+    gap: Ps,
+    burst_gap: Ps,
+    cpol: bool,
+    burst_cmd: u16,
+    last_edge: Ps,
+}
+
+impl Host {
+    fn new(t: Ps, sclk: Ps) -> Host {
+        Host { t, sclk, gap: 16 * US, burst_gap: 2 * US, cpol: true, burst_cmd: 0x4200, last_edge: 0 }
+    }
+
+    fn timing(&self) -> FrameTiming {
+        // First falling edge to 16th rising edge: 15.5 periods.
+        FrameTiming {
+            first_edge: self.t,
+            last_edge: self.t + self.sclk * 31 / 2,
+            sclk_period: self.sclk,
+            bits: 16,
+            cpol: self.cpol,
+        }
+    }
+
+    fn frame_with_gap(&mut self, d: &mut Adis16407, din: u16, gap: Ps) -> u16 {
+        let tm = self.timing();
+        let dout = d.begin_frame(&tm);
+        d.end_frame(din, &tm);
+        self.last_edge = tm.last_edge;
+        self.t = tm.last_edge + gap;
+        dout
+    }
+
+    fn frame(&mut self, d: &mut Adis16407, din: u16) -> u16 {
+        let gap = self.gap;
+        self.frame_with_gap(d, din, gap)
+    }
+
+    fn cs_low(&mut self, d: &mut Adis16407) {
+        d.set_cs(true, self.t);
+        self.t += 100 * NS;
+    }
+
+    fn cs_high(&mut self, d: &mut Adis16407) {
+        let t = self.last_edge + 100 * NS;
+        d.set_cs(false, t);
+        self.t = self.t.max(t + 100 * NS);
+    }
+
+    /// Read one register in its own CS window (two frames: command, then a dummy read).
+    fn read(&mut self, d: &mut Adis16407, a: u8) -> u16 {
+        self.cs_low(d);
+        self.frame(d, u16::from(a) << 8);
+        let w = self.frame(d, 0x0000);
+        self.cs_high(d);
+        w
+    }
+
+    /// Write a whole register (two byte frames, low first).
+    fn write(&mut self, d: &mut Adis16407, a: u8, value: u16) {
+        self.cs_low(d);
+        self.frame(d, 0x8000 | u16::from(a) << 8 | (value & 0xFF));
+        self.frame(d, 0x8000 | u16::from(a + 1) << 8 | (value >> 8));
+        self.cs_high(d);
+    }
+
+    /// A burst: the command and 14 data frames, CS held low. Returns the 15 DOUT words.
+    fn burst(&mut self, d: &mut Adis16407) -> [u16; 15] {
+        self.cs_low(d);
+        let mut out = [0u16; 15];
+        let gap = self.burst_gap;
+        out[0] = self.frame_with_gap(d, self.burst_cmd, gap);
+        for w in out.iter_mut().skip(1) {
+            *w = self.frame_with_gap(d, 0x0000, gap);
+        }
+        self.cs_high(d);
+        self.t += self.gap;
+        out
+    }
+}
+
+fn device() -> Adis16407 {
+    Adis16407::new(&Device::default()).unwrap()
+}
+
+fn device_with(f: impl FnOnce(&mut Device)) -> Adis16407 {
+    let mut cfg = Device::default();
+    f(&mut cfg);
+    Adis16407::new(&cfg).unwrap()
+}
+
+fn still(f: impl FnOnce(&mut Physical)) -> Box<Constant> {
+    let mut p = Physical::powered_idle();
+    f(&mut p);
+    Box::new(Constant(p))
+}
+
+fn timing_events(d: &Adis16407) -> usize {
+    ["sclk_too_fast", "stall_too_short", "cs_setup", "cs_hold", "clock_polarity", "frame_length"]
+        .iter()
+        .map(|k| d.events().count(k))
+        .sum()
+}
+
+fn field(word: u16, bits: u32) -> i32 {
+    sign_extend(word, bits)
+}
+
+#[test]
+fn prod_id_two_frame_read() {
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    h.cs_low(&mut d);
+    let first = h.frame(&mut d, 0x5600);
+    let second = h.frame(&mut d, 0x0000);
+    h.cs_high(&mut d);
+    assert_eq!(first, 0x0000, "first frame: nothing asked for yet (dout_after_write pattern)");
+    assert_eq!(second, 0x4017);
+    assert_eq!(d.peek(addr::PROD_ID).unwrap(), 0x4017);
+    assert_eq!(d.peek_name("prod_id").unwrap(), 0x4017);
+    let rec = d.last_frame().unwrap();
+    assert_eq!((rec.index, rec.din, rec.dout, rec.register), (1, 0x0000, 0x4017, Some(addr::PROD_ID)));
+    assert_eq!((rec.sample_index, rec.violations), (None, Violations::default()));
+    assert_eq!(timing_events(&d), 0);
+}
+
+#[test]
+fn pipeline_holds_across_cs_high_and_write_gives_fixed_dout() {
+    let mut d = device_with(|c| c.dout_after_write = 0xA5A5);
+    let mut h = Host::new(MS, SCLK_750K);
+    h.cs_low(&mut d);
+    h.frame(&mut d, 0x5600);
+    h.cs_high(&mut d);
+    h.t += 3 * MS;
+    h.cs_low(&mut d);
+    assert_eq!(h.frame(&mut d, 0x8000 | 0x4400 | 0x12), 0x4017, "the read answered across a 3 ms CS-high gap");
+    assert_eq!(h.frame(&mut d, 0x4400), 0xA5A5, "DOUT after a write frame");
+    assert_eq!(h.frame(&mut d, 0x0000), 0x0012, "ALM_MAG1 low byte written, read back");
+    h.cs_high(&mut d);
+    assert_eq!(timing_events(&d), 0);
+}
+
+#[test]
+fn smpl_prd_and_sens_avg_write_then_read_back() {
+    let mut d = device();
+    d.set_stimulus(still(|p| p.gyro_dps = [10.0, -10.0, 0.0]));
+    let mut h = Host::new(MS, SCLK_750K);
+    assert_eq!(h.read(&mut d, addr::SMPL_PRD), 0x0001);
+    assert_eq!(h.read(&mut d, addr::SENS_AVG), 0x0402);
+    h.write(&mut d, addr::SMPL_PRD, 0x0003);
+    assert_eq!(h.read(&mut d, addr::SMPL_PRD), 0x0003);
+    assert_eq!(d.sample_clock().hz(), 409.6);
+
+    h.t = 20 * MS;
+    assert_eq!(field(h.read(&mut d, addr::XGYRO_OUT), 14), 200, "10 °/s at 0.05 °/s");
+    // ±150 keeps M = 2; the next sample uses the 0.025 °/s LSB.
+    h.write(&mut d, addr::SENS_AVG, 0x0202);
+    assert_eq!(h.read(&mut d, addr::SENS_AVG), 0x0202);
+    assert_eq!(d.gyro_range(), GyroRange::Dps150);
+    h.t += 5 * MS;
+    assert_eq!(field(h.read(&mut d, addr::XGYRO_OUT), 14), 400);
+    assert_eq!(field(h.read(&mut d, addr::YGYRO_OUT), 14), -400);
+    // ±75 with M = 2 is raised to M = 4 [unconfirmed rule], with an event.
+    h.write(&mut d, addr::SENS_AVG, 0x0102);
+    assert_eq!(h.read(&mut d, addr::SENS_AVG), 0x0104);
+    assert_eq!((d.gyro_range(), d.filter_m()), (GyroRange::Dps75, 4));
+    assert_eq!(d.events().count("sens_avg_raised"), 1);
+    h.t += 50 * MS;
+    assert_eq!(field(h.read(&mut d, addr::XGYRO_OUT), 14), 800);
+    // An invalid range code keeps the range.
+    h.write(&mut d, addr::SENS_AVG, 0x0304);
+    assert_eq!(h.read(&mut d, addr::SENS_AVG), 0x0104);
+    assert_eq!(d.events().count("invalid_register_value"), 1);
+    assert_eq!(timing_events(&d), 0);
+}
+
+#[test]
+fn read_only_registers_ignore_writes() {
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    h.write(&mut d, addr::PROD_ID, 0x1234);
+    h.write(&mut d, addr::XGYRO_OUT, 0x0FFF);
+    assert_eq!(d.peek(addr::PROD_ID).unwrap(), 0x4017);
+    assert_eq!(d.events().count("read_only_write"), 4, "two bytes each");
+    assert!(d.peek(addr::GLOB_CMD).is_err());
+    assert!(d.peek(0x50).is_err());
+    assert!(d.peek(0x05).is_err());
+}
+
+/// The published oscilloscope frame: SUPPLY_OUT = 0xC7A7 at 4.737 V (ND = 1, EA = 1: VDD < 4.75 V).
+#[test]
+fn burst_at_750_khz_matches_the_published_frame() {
+    let mut d = device();
+    d.set_stimulus(still(|p| {
+        p.supply_v = 4.737;
+        p.gyro_dps = [300.0, 0.05, -300.0];
+        p.accel_g = [18.0, -18.0, -0.1];
+        p.temp_c = 25.0;
+    }));
+    d.set_frame_log(true);
+    let mut h = Host::new(10 * MS, SCLK_750K);
+    let w = h.burst(&mut d);
+    assert_eq!(w[1], 0xC7A7);
+    assert_eq!(&w[2..8], &[0xD770, 0xC001, 0xE890, 0xD519, 0xEAE7, 0xFFE2]);
+    assert_eq!(decode(Channel::Temp, w[13], GyroRange::Dps300).value, 25.0);
+    assert_eq!(timing_events(&d), 0);
+    let log = d.drain_frame_log();
+    assert_eq!(log.len(), 15);
+    assert!(log.iter().all(|r| r.violations.is_empty()));
+    let regs: Vec<u8> = log[1..].iter().map(|r| r.register.unwrap()).collect();
+    assert_eq!(regs, BURST_ORDER);
+    // Every data word holds sample 8 (at 9.765625 ms), aged from each frame's first edge.
+    for r in &log[1..] {
+        assert!(r.in_burst);
+        assert_eq!(r.sample_index, Some(8));
+        assert_eq!(r.sample_age_ps, Some(r.t_start - 8 * PERIOD));
+    }
+    // The whole burst: 15 frames of 15.5 SCLK periods plus 14 gaps of 2 µs.
+    assert_eq!(log[14].t_end - log[0].t_start, 14 * (SCLK_750K * 31 / 2 + 2 * US) + SCLK_750K * 31 / 2);
+
+    // A second burst before the next sample (10.986 ms): ND = 0 in every word, EA still set.
+    let again = h.burst(&mut d);
+    assert!(h.t < 9 * PERIOD);
+    assert!(again[1..].iter().all(|w| w & 0x8000 == 0), "{again:04X?}");
+    assert!(again[1..].iter().all(|w| w & 0x4000 != 0));
+    let data_bits = |w: &[u16]| w.iter().map(|x| x & 0x3FFF).collect::<Vec<_>>();
+    assert_eq!(data_bits(&again[1..]), data_bits(&w[1..]));
+    // After the next sample ND is back.
+    h.t = 11 * MS;
+    let third = h.burst(&mut d);
+    assert!(third[1..].iter().all(|w| w & 0x8000 != 0));
+}
+
+#[test]
+fn burst_at_3_75_mhz_violates_every_frame() {
+    for mode in [TimingMode::Strict, TimingMode::Lenient] {
+        let mut d = device_with(|c| c.timing_mode = mode);
+        d.set_frame_log(true);
+        let mut h = Host::new(10 * MS, SCLK_3M75);
+        let w = h.burst(&mut d);
+        let log = d.drain_frame_log();
+        assert!(log.iter().all(|r| r.violations == Violations::SCLK_TOO_FAST), "{mode:?}");
+        assert_eq!(d.events().count("sclk_too_fast"), 15);
+        assert_eq!(timing_events(&d), 15);
+        let e = &d.events().events()[0];
+        assert_eq!(e.required, Some(2.0e6), "the command frame is held to the normal-mode limit");
+        assert!((e.measured.unwrap() - 3.75e6).abs() < 20.0);
+        assert_eq!(d.events().events()[1].required, Some(1.0e6), "data frames: the burst limit");
+        match mode {
+            TimingMode::Strict => assert!(w[1..].iter().all(|&x| x == 0xFFFF), "{w:04X?}"),
+            TimingMode::Lenient => assert_eq!(w[1], 0x8814, "5.0 V, ND set, data correct"),
+        }
+    }
+}
+
+#[test]
+fn burst_at_1_5_mhz_breaks_only_the_burst_limit() {
+    let mut d = device();
+    let mut h = Host::new(10 * MS, SCLK_1M5);
+    let w = h.burst(&mut d);
+    assert_eq!(d.events().count("sclk_too_fast"), 14);
+    assert_eq!(w[0], 0x0000, "command frame within 2 MHz: its DOUT is not corrupted");
+    assert!(w[1..].iter().all(|&x| x == 0xFFFF));
+}
+
+#[test]
+fn stall_rules() {
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    h.cs_low(&mut d);
+    h.gap = 5 * US;
+    h.frame(&mut d, 0x5600);
+    let dout = h.frame(&mut d, 0x0000);
+    h.cs_high(&mut d);
+    assert_eq!(dout, 0xFFFF, "strict: the frame after a 5 µs stall reads corrupt");
+    let e = &d.events().events()[0];
+    assert_eq!(e.kind, "stall_too_short");
+    assert!((e.measured.unwrap() - 5e-6).abs() < 1e-12 && (e.required.unwrap() - 9e-6).abs() < 1e-12);
+
+    // Inside a burst one SCLK period is enough: 1.5 µs passes, 1.0 µs (< 1.333 µs) does not.
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    h.burst_gap = 1500 * NS;
+    h.burst(&mut d);
+    assert_eq!(timing_events(&d), 0);
+    h.burst_gap = 1000 * NS;
+    h.burst(&mut d);
+    assert_eq!(d.events().count("stall_too_short"), 14, "every data frame; the command frame had 16 µs");
+}
+
+#[test]
+fn cs_setup_hold_and_polarity() {
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    d.set_cs(true, h.t);
+    h.t += 20 * NS;
+    assert_eq!(h.frame(&mut d, 0x5600), 0xFFFF);
+    assert!(d.last_frame().unwrap().violations.contains(Violations::CS_SETUP));
+    // CS↑ 10 ns after the last edge: tSFS broken; the next frame's DOUT is corrupt (strict).
+    d.set_cs(false, h.last_edge + 10 * NS);
+    assert!(d.last_frame().unwrap().violations.contains(Violations::CS_HOLD));
+    h.t += MS;
+    h.cs_low(&mut d);
+    assert_eq!(h.frame(&mut d, 0x5600), 0xFFFF);
+    assert!(d.last_frame().unwrap().violations.is_empty(), "the frame itself broke no rule");
+    assert_eq!(h.frame(&mut d, 0x0000), 0x4017, "and the one after is clean");
+    h.cs_high(&mut d);
+    assert_eq!((d.events().count("cs_setup"), d.events().count("cs_hold")), (1, 1));
+
+    for mode in [TimingMode::Strict, TimingMode::Lenient] {
+        let mut d = device_with(|c| c.timing_mode = mode);
+        let mut h = Host::new(MS, SCLK_750K);
+        h.cpol = false;
+        h.cs_low(&mut d);
+        h.frame(&mut d, 0x5600);
+        let w = h.frame(&mut d, 0x0000);
+        h.cs_high(&mut d);
+        assert_eq!(d.events().count("clock_polarity"), 2);
+        assert_eq!(w, if mode == TimingMode::Strict { 0xFFFF } else { 0x4017 });
+    }
+}
+
+#[test]
+fn frames_without_cs_or_of_wrong_length() {
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    assert_eq!(h.frame(&mut d, 0x5600), 0xFFFF);
+    assert_eq!(d.events().count("frame_without_cs"), 1);
+    h.cs_low(&mut d);
+    assert_eq!(h.frame(&mut d, 0x0000), 0x0000, "the CS-high frame asked for nothing");
+    let mut tm = h.timing();
+    tm.bits = 8;
+    assert_eq!(d.begin_frame(&tm), 0xFFFF);
+    d.end_frame(0x5600, &tm);
+    assert_eq!(d.events().count("frame_length"), 1);
+}
+
+#[test]
+fn read_sees_latest_sample_with_its_age() {
+    let mut d = device();
+    d.set_frame_log(true);
+    let mut h = Host::new(0, SCLK_750K);
+    let mut ages = std::collections::BTreeSet::new();
+    for i in 0..200u64 {
+        h.t = 4 * MS * (i + 1) + 1234 * NS;
+        h.read(&mut d, addr::ZGYRO_OUT);
+    }
+    for r in d.drain_frame_log().iter().filter(|r| r.register == Some(addr::ZGYRO_OUT)) {
+        // Sample k is at k·1.220703125 ms; the read sees the latest one at or before its first edge.
+        let k = (r.t_start as u128 * 4096 / 5_000_000_000_000) as u64;
+        assert_eq!(r.sample_index, Some(k));
+        let age = r.sample_age_ps.unwrap();
+        assert_eq!(age, r.t_start - k * PERIOD);
+        assert!(age < PERIOD);
+        ages.insert(age);
+    }
+    // A 4 ms read period is 3.2768 sample periods: the age keeps changing from read to read.
+    assert!(ages.len() > 100, "{} distinct ages", ages.len());
+    // A read exactly at a sample instant sees that sample (age 0).
+    let mut d = device();
+    let mut h = Host::new(5 * PERIOD - 50 * US, SCLK_750K);
+    h.cs_low(&mut d);
+    h.frame(&mut d, 0x0400);
+    h.t = 5 * PERIOD;
+    h.frame(&mut d, 0x0000);
+    assert_eq!((d.last_frame().unwrap().sample_index, d.last_frame().unwrap().sample_age_ps), (Some(5), Some(0)));
+}
+
+#[test]
+fn sample_clock_timing() {
+    let mut d = device();
+    d.advance_to(10 * crate::time::PS_PER_S);
+    assert_eq!(d.latest_sample(), Some(SampleStamp { index: 8192, t: 10 * crate::time::PS_PER_S }));
+    assert_eq!(d.next_sample().t - d.latest_sample().unwrap().t, PERIOD);
+    // +1000 ppm: 8192 × 1.001 = 8200.19 samples in 10 s.
+    let mut d = device_with(|c| c.clock_ppb = 1_000_000);
+    d.advance_to(10 * crate::time::PS_PER_S);
+    assert_eq!(d.latest_sample().unwrap().index, 8200);
+    // First sample at 500 µs.
+    let mut d = device_with(|c| c.first_sample_us = 500.0);
+    d.advance_to(500 * US - 1);
+    assert_eq!(d.latest_sample(), None);
+    d.advance_to(500 * US);
+    assert_eq!(d.latest_sample(), Some(SampleStamp { index: 0, t: 500 * US }));
+    assert_eq!(d.next_sample().t, 500 * US + PERIOD);
+}
+
+#[test]
+fn data_ready_follows_msc_ctrl() {
+    let mut d = device();
+    d.advance_to(3 * PERIOD + 7);
+    let dr = d.last_data_ready().unwrap();
+    assert_eq!(dr, DataReady { t: 3 * PERIOD, sample_index: 3, line: DataReadyLine::Dio1, active_high: true });
+    d.write_byte(addr::MSC_CTRL, 0x03, 3 * PERIOD + 10);
+    d.advance_to(10 * PERIOD);
+    assert_eq!(d.last_data_ready(), Some(dr), "MSC_CTRL[2] = 0: no data ready");
+    d.write_byte(addr::MSC_CTRL, 0x05, 10 * PERIOD + 10);
+    d.advance_to(11 * PERIOD);
+    let dr = d.last_data_ready().unwrap();
+    assert_eq!((dr.sample_index, dr.line, dr.active_high), (11, DataReadyLine::Dio2, false));
+}
+
+#[test]
+fn smpl_prd_change_restarts_the_period_from_the_write() {
+    let mut d = device();
+    let t = 2 * PERIOD + 100 * US;
+    d.write_byte(addr::SMPL_PRD, 0x80, t);
+    assert_eq!(d.next_sample(), SampleStamp { index: 3, t: t + 18_921 * US });
+    assert_eq!(d.peek(addr::SMPL_PRD).unwrap(), 0x0080);
+}
+
+#[test]
+fn bartlett_step_at_device_level() {
+    let mut d = device();
+    d.set_stimulus(Box::new(FnStimulus(|k: u64, _t: Ps| {
+        let mut p = Physical::powered_idle();
+        p.gyro_dps[0] = if k >= 100 { 8.0 } else { 0.0 };
+        p
+    })));
+    // N = 4: the step response climbs the cumulative triangle 1, 3, 6, 10, 13, 15, 16 (/16).
+    let expect = [0, 10, 30, 60, 100, 130, 150, 160, 160];
+    for (j, e) in expect.iter().enumerate() {
+        d.advance_to((99 + j as u64) * PERIOD);
+        assert_eq!(field(d.peek(addr::XGYRO_OUT).unwrap(), 14), *e, "sample {}", 99 + j);
+    }
+}
+
+#[test]
+fn nd_clears_per_register_on_normal_reads() {
+    let mut d = device();
+    let mut h = Host::new(2 * MS, SCLK_750K);
+    assert!(h.read(&mut d, addr::XGYRO_OUT) & 0x8000 != 0);
+    assert!(h.read(&mut d, addr::XGYRO_OUT) & 0x8000 == 0);
+    assert!(h.read(&mut d, addr::YGYRO_OUT) & 0x8000 != 0);
+}
+
+#[test]
+fn autonull_removes_a_constant_bias() {
+    for (range_bits, lsb) in [(0x0402u16, 0.05), (0x0104, 0.0125)] {
+        let bias = [1.234, -0.777, 0.3333];
+        let mut d = device();
+        d.set_stimulus(still(|p| p.gyro_dps = bias));
+        let mut h = Host::new(MS, SCLK_750K);
+        h.write(&mut d, addr::SENS_AVG, range_bits);
+        h.t = 100 * MS;
+        let before = field(h.read(&mut d, addr::XGYRO_OUT), 14);
+        assert_eq!(before, (1.234f64 / lsb).round() as i32);
+        h.cs_low(&mut d);
+        h.frame(&mut d, 0xC201);
+        h.cs_high(&mut d);
+        for (i, b) in bias.iter().enumerate() {
+            let off = sign_extend(d.peek(addr::XGYRO_OFF + 2 * i as u8).unwrap(), 13);
+            assert_eq!(off, -(b / 0.0125f64).round() as i32);
+        }
+        h.t += 10 * MS;
+        for a in [addr::XGYRO_OUT, addr::YGYRO_OUT, addr::ZGYRO_OUT] {
+            // Residual bias ≤ half the 0.0125 °/s offset LSB: within one output LSB in every range.
+            let code = field(h.read(&mut d, a), 14);
+            assert!(code.abs() <= 1, "range 0x{range_bits:04X}: 0x{a:02X} reads {code}");
+            assert!(
+                (d.filtered().gyro_dps[0] + f64::from(sign_extend(d.peek(addr::XGYRO_OFF).unwrap(), 13)) * 0.0125)
+                    .abs()
+                    <= 0.00625
+            );
+        }
+    }
+}
+
+#[test]
+fn calibration_registers_act_on_outputs() {
+    let mut d = device();
+    d.set_stimulus(still(|p| p.mag_gauss = [0.25, 0.0, 0.0]));
+    let mut h = Host::new(MS, SCLK_750K);
+    h.write(&mut d, addr::XGYRO_OFF, 80); // +1.0 °/s
+    h.write(&mut d, addr::YGYRO_OFF, 0x1FB0); // −80 → −1.0 °/s
+    h.write(&mut d, addr::XACCL_OFF, 300); // +0.9999 g
+    h.write(&mut d, addr::XMAGN_HIC, super::encoding::to_field(-100, 14)); // −0.05 gauss
+    h.write(&mut d, addr::XMAGN_SIC, 0x0C00); // 150 %
+    h.t += 10 * MS;
+    assert_eq!(field(h.read(&mut d, addr::XGYRO_OUT), 14), 20);
+    assert_eq!(field(h.read(&mut d, addr::YGYRO_OUT), 14), -20);
+    assert_eq!(field(h.read(&mut d, addr::XACCL_OUT), 14), 300);
+    assert_eq!(field(h.read(&mut d, addr::XMAGN_OUT), 14), 600, "(0.25 − 0.05) × 1.5 = 0.3 gauss");
+    // Factory restore clears them (SIC back to 0x800).
+    h.write(&mut d, addr::GLOB_CMD, 0x0002);
+    assert_eq!(d.peek(addr::XGYRO_OFF).unwrap(), 0);
+    assert_eq!(d.peek(addr::XMAGN_SIC).unwrap(), 0x0800);
+    h.t += 10 * MS;
+    assert_eq!(field(h.read(&mut d, addr::XMAGN_OUT), 14), 500);
+}
+
+#[test]
+fn flash_update_and_software_reset() {
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    h.write(&mut d, addr::SMPL_PRD, 0x0005);
+    h.write(&mut d, addr::GLOB_CMD, 0x0008);
+    assert_eq!(h.read(&mut d, addr::FLASH_CNT), 1);
+    h.write(&mut d, addr::SMPL_PRD, 0x0007);
+    h.write(&mut d, addr::XGYRO_OFF, 0x0011);
+    h.cs_low(&mut d);
+    h.frame(&mut d, 0xC280);
+    h.cs_high(&mut d);
+    let reset_at = h.last_edge;
+    assert_eq!(d.busy_until(), reset_at + 130 * MS);
+    // During the reset every frame reads the corrupt word and is reported.
+    assert_eq!(h.read(&mut d, addr::PROD_ID), 0xFFFF);
+    assert_eq!(d.events().count("device_busy"), 2);
+    h.t = d.busy_until();
+    assert_eq!(h.read(&mut d, addr::SMPL_PRD), 0x0005, "the flashed value comes back");
+    assert_eq!(h.read(&mut d, addr::XGYRO_OFF), 0x0000, "unflashed change lost");
+    assert_eq!(h.read(&mut d, addr::FLASH_CNT), 1);
+    assert_eq!(d.latest_sample().unwrap().t, reset_at + 130 * MS, "sampling restarts when the reset ends");
+    // Without a flash update, a reset restores the power-on defaults.
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    h.write(&mut d, addr::SENS_AVG, 0x0206);
+    h.write(&mut d, addr::GLOB_CMD, 0x0080);
+    h.t = d.busy_until() + MS;
+    assert_eq!(h.read(&mut d, addr::SENS_AVG), 0x0402);
+    assert_eq!(d.filter_m(), 2);
+}
+
+#[test]
+fn overrange_and_supply_flags() {
+    let mut d = device();
+    d.set_stimulus(still(|p| p.gyro_dps = [500.0, 0.0, 0.0]));
+    // Reads from 1.5 ms: no sample (1.22, 2.44 ms) falls between them.
+    let mut h = Host::new(1500 * US, SCLK_750K);
+    let w = h.read(&mut d, addr::XGYRO_OUT);
+    assert_eq!(w, 0xDFFF, "ND, EA, clipped at +8191");
+    assert_eq!(h.read(&mut d, addr::YGYRO_OUT) & 0x4000, 0x4000, "EA on every output");
+    assert_eq!(h.read(&mut d, addr::DIAG_STAT), 0x0010, "overrange: bit 4");
+    assert_eq!(d.peek(addr::DIAG_STAT).unwrap(), 0, "cleared by the read");
+    d.set_stimulus(still(|p| p.supply_v = 5.3));
+    h.t = 21 * PERIOD + 50 * US;
+    // The filter's history still held 500 °/s for the first samples after the change: sticky bit 4.
+    assert_eq!(h.read(&mut d, addr::DIAG_STAT), 0x0012);
+    // Both reads between samples 25 and 26.
+    h.t = 25 * PERIOD + 50 * US;
+    assert_eq!(h.read(&mut d, addr::DIAG_STAT), 0x0002, "VDD > 5.25 V: bit 1");
+    assert_eq!(h.read(&mut d, addr::SUPPLY_OUT) & 0x4000, 0x0000, "DIAG_STAT read: EA clear until the next sample");
+}
+
+#[test]
+fn burst_details() {
+    // CS↑ ends a burst early; DIN during a burst is ignored.
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_750K);
+    h.cs_low(&mut d);
+    h.frame_with_gap(&mut d, 0x4200, 2 * US);
+    h.frame_with_gap(&mut d, 0xBA05, 2 * US);
+    h.frame_with_gap(&mut d, 0x5600, 2 * US);
+    h.cs_high(&mut d);
+    assert!(!d.in_burst());
+    assert_eq!(d.events().count("burst_truncated"), 1);
+    assert_eq!(d.peek(addr::SMPL_PRD).unwrap(), 0x0001, "the write inside the burst was ignored");
+    h.t += 20 * US;
+    h.cs_low(&mut d);
+    assert_eq!(h.frame(&mut d, 0x5600), 0x0000, "no pending read after a burst");
+    assert_eq!(h.frame(&mut d, 0x0000), 0x4017);
+    // A configurable burst command (sibling parts use 0x3E00).
+    let mut d = device_with(|c| c.burst_command = 0x3E00);
+    let mut h = Host::new(MS, SCLK_750K);
+    h.burst_cmd = 0x3E00;
+    let w = h.burst(&mut d);
+    assert_eq!(w[1], 0x8814);
+}
+
+#[test]
+fn nan_stimulus_is_reported_and_zeroed() {
+    let mut d = device();
+    d.set_stimulus(still(|p| p.gyro_dps[1] = f64::NAN));
+    d.advance_to(0);
+    assert_eq!(d.events().count("non_finite_input"), 1);
+    assert_eq!(d.peek(addr::YGYRO_OUT).unwrap() & 0x3FFF, 0);
+}
+
+#[test]
+fn profile_errors_are_reported() {
+    assert!(Adis16407::new(&Device { sens_avg: 0x0302, ..Device::default() }).is_err());
+    let opts = ModelOptions { diag_overrange_bit: 16, ..ModelOptions::default() };
+    assert!(Adis16407::with_options(&Device::default(), opts).is_err());
+    // ±75 with M = 2 at power-on is raised like a write.
+    let d = device_with(|c| c.sens_avg = 0x0102);
+    assert_eq!((d.peek(addr::SENS_AVG).unwrap(), d.filter_m()), (0x0104, 4));
+}
+
+#[test]
+fn slice_stimulus_drives_the_samples_in_order() {
+    // Gyro x = k LSB at sample k; with M = 0 (no filtering) the output code is the sample index.
+    let rows: Vec<Physical> =
+        (0..50).map(|k| Physical { gyro_dps: [k as f64 * 0.05, 0.0, 0.0], ..Physical::powered_idle() }).collect();
+    let mut d = device();
+    d.write_register(addr::SENS_AVG, 0x0400, 0);
+    d.set_stimulus(Box::new(SliceStimulus::new(rows, 0).unwrap()));
+    for k in [1u64, 2, 17, 49] {
+        d.advance_to(k * PERIOD + 1);
+        assert_eq!(field(d.peek(addr::XGYRO_OUT).unwrap(), 14), k as i32);
+    }
+    d.advance_to(60 * PERIOD);
+    assert_eq!(field(d.peek(addr::XGYRO_OUT).unwrap(), 14), 49, "the last row is held");
+}
+
+#[test]
+fn a_frame_before_the_device_time_is_reported() {
+    let mut d = device();
+    d.advance_to(10 * MS);
+    let mut h = Host::new(5 * MS, SCLK_750K);
+    h.read(&mut d, addr::PROD_ID);
+    assert_eq!(d.events().count("time_reversal"), 2, "both frames start before 10 ms");
+}
+
+/// Throughput of the device alone: an 8 ms cycle holds 6.55 samples and two 15-frame bursts.
+#[test]
+#[ignore = "benchmark: cargo test -p sins-core --release --lib device::tests::bench -- --ignored --nocapture"]
+fn bench_device_throughput() {
+    let mut d = device();
+    d.set_stimulus(Box::new(FnStimulus(|k: u64, _t: Ps| {
+        let mut p = Physical::powered_idle();
+        p.gyro_dps = [k as f64 * 1e-3, 1.0, -2.0];
+        p
+    })));
+    let samples = 10_000_000u64;
+    let start = std::time::Instant::now();
+    d.advance_to(samples * PERIOD);
+    let per_sample = start.elapsed().as_secs_f64() / samples as f64;
+
+    let mut d = device();
+    let mut h = Host::new(0, SCLK_750K);
+    let cycles = 1_000_000u64;
+    let start = std::time::Instant::now();
+    for c in 0..cycles {
+        h.t = c * 8 * MS + MS;
+        std::hint::black_box(h.burst(&mut d));
+        h.t = c * 8 * MS + 5 * MS;
+        std::hint::black_box(h.burst(&mut d));
+    }
+    let per_cycle = start.elapsed().as_secs_f64() / cycles as f64;
+    println!(
+        "device: {:.1} ns per sample, {:.1} ns per 8 ms cycle (6.55 samples + 30 frames)",
+        per_sample * 1e9,
+        per_cycle * 1e9
+    );
+    assert_eq!(timing_events(&d), 0);
+}
