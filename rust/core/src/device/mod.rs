@@ -1,6 +1,8 @@
 //! The ADIS16407 ten-degree-of-freedom IMU: register file, sampling engine on its own clock,
 //! Bartlett filter, output encoding, GLOB_CMD, and the SPI slave with its timing rules.
 
+pub mod error_model;
+
 /// The physical quantities the sensor sees at one internal sample instant, in the units of its
 /// data sheet. Sensor errors (bias, noise, …) are applied to these before filtering and encoding.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
