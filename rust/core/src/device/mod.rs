@@ -19,6 +19,8 @@ pub use encoding::{decode, decode_baro, encode, Channel, DecodedWord, Encoded, G
 pub use sampler::{Constant, FnStimulus, Ideal, SensorErrors, SliceStimulus, Stimulus};
 pub use slave::{ReadRecord, Violations};
 
+pub mod error_model;
+
 /// The physical quantities the sensor sees at one internal sample instant, in the units of its
 /// data sheet. Sensor errors (bias, noise, …) are applied to these before filtering and encoding.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
