@@ -886,6 +886,36 @@ class RawRegisterTrace:
             yield cls.from_columns(block, src.metadata)
 
 
+def check_output_path(path: PathLike) -> Path:
+    """Fail early (before any work) on an output path that cannot take a trace."""
+    p = Path(path)
+    _extension(p)
+    if p.is_dir():
+        raise TraceError(f"{p}: is a directory; expected a trace file name ending in .csv or .h5")
+    return p
+
+
+def read_metadata(path: PathLike) -> dict[str, str]:
+    """The metadata of a trace file without validating it (empty when unreadable: ``load`` explains)."""
+    p = Path(path)
+    try:
+        if _extension(p) == ".h5":
+            with h5py.File(p, "r") as f:
+                return {str(k): _attr_text(v) for k, v in f.attrs.items()}
+        metadata: dict[str, str] = {}
+        with p.open("rb") as fh:
+            for raw in fh:
+                text = raw.decode("utf-8").lstrip("\ufeff").rstrip("\r\n")
+                if not text.startswith("#"):
+                    break
+                key, sep, value = text[1:].partition(":")
+                if sep and _KEY_RE.match(key.strip()):
+                    metadata[key.strip()] = value.strip()
+        return metadata
+    except (OSError, UnicodeDecodeError, TraceError):
+        return {}
+
+
 def iter_chunks(
     path: PathLike, rows: int, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
 ) -> Iterator[PhysicalTrace]:

@@ -12,11 +12,11 @@ import traceback
 from collections.abc import Sequence
 
 from sins_fw import __version__
-from sins_fw.cli import demo
+from sins_fw.cli import demo, importer, synth
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError
 
 #: The subcommands, in the order `--help` lists them.
-COMMANDS = (demo,)
+COMMANDS = (demo, synth, importer)
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 
