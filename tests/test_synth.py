@@ -10,14 +10,17 @@ step (a handful of roundings per quaternion product, accumulated linearly over t
 from __future__ import annotations
 
 import math
+import shlex
 from fractions import Fraction
 
 import numpy as np
 import pytest
 
+from conftest import run_cli
 from reference_integrators import EPS, integrate_attitude, quat_distance
 from sins_fw import earth, synth
 from sins_fw import quaternion as quat
+from sins_fw.traces import PhysicalTrace
 
 FINE = 20  # fine samples per coarse sample: RK4 step = 2 fine samples = coarse period / 10
 
@@ -149,3 +152,33 @@ def test_sample_times_are_exact_multiples_of_the_period():
     assert len(t) == 8192
     assert t[4096] == 5.0 and t[1] == 5 / 4096
     np.testing.assert_array_equal(np.diff(t), 5 / 4096)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["indexing-table", "--rate-hz", "abc"], "`sample_rate_hz` is `abc`"),
+        (["turntable", "--axis", "q"], "expected x, y or z"),
+        (["static", "--attitude-deg", "1,2"], "expected three comma-separated numbers"),
+        (["static", "--duration-s", "nan"], "expected a finite number"),
+        (["coning", "--duration-s", "0.001"], "gives 0 samples"),
+        (["indexing-table", "--max-rate-dps", "-1"], "must be positive"),
+    ],
+)
+def test_cli_parameter_errors_exit_2_without_traceback(tmp_path, args, fragment):
+    r = run_cli("synth", *args, "--out", str(tmp_path / "x.h5"))
+    assert r.code == 2 and fragment in r.err and "Traceback" not in r.err, r.err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_cli_writes_what_the_api_generates(tmp_path):
+    out = str(tmp_path / "a.h5")
+    r = run_cli("synth", "indexing-table", "--preset", "pm30", "--dwell-s", "1", "--out", out)
+    assert r.code == 0, r.err
+    synth.generate("indexing-table", "pm30", dwell_s=1.0).save(tmp_path / "b.h5")
+    assert (tmp_path / "a.h5").read_bytes() == (tmp_path / "b.h5").read_bytes()
+    generator = PhysicalTrace.load(tmp_path / "a.h5").metadata["generator"]
+    assert generator.startswith("sins-fw synth indexing-table --axis y --angles-deg 0,30,0,-30,0 ")
+    # The recorded command regenerates the same file.
+    again = run_cli(*shlex.split(generator)[1:], "--out", str(tmp_path / "c.h5"))
+    assert again.code == 0 and (tmp_path / "c.h5").read_bytes() == (tmp_path / "a.h5").read_bytes()

@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from sins_fw import earth
 from sins_fw import quaternion as quat
-from sins_fw.errors import ConfigError
+from sins_fw.errors import ConfigError, TraceError
 from sins_fw.traces import PhysicalTrace, parse_rate
 
 Array = NDArray[np.float64]
@@ -551,7 +551,10 @@ class Param:
             if text not in _AXES:
                 raise ValueError(f"expected x, y or z, got `{text}`")
             return text
-        parse_rate(text, "--rate-hz")
+        try:
+            parse_rate(text, "--rate-hz")
+        except TraceError as e:
+            raise ValueError(str(e).removeprefix("--rate-hz: ")) from None
         return text
 
     def render(self, value: Any) -> str:
@@ -697,7 +700,7 @@ def generate(name: str, preset: str | None = None, **params: Any) -> PhysicalTra
     motion = scenario.motion(**values)
     metadata = {
         "sample_rate_hz": str(values["rate_hz"]),
-        "source": f"sins-fw synth {name}" + (f" (preset {preset})" if preset else ""),
+        "source": f"sins-fw synth {name}",  # no preset: the generator command alone reproduces the file
         "generator": command_line(name, values),
         "created_by": "sins-fw synth (no version or time recorded: regeneration is byte-identical)",
         "frame": "sensor axes = body axes; truth C_b^n, navigation frame ENU (x east, y north, z up)",

@@ -193,29 +193,31 @@ def parse_rate(text: str, where: str = "metadata") -> Fraction:
     try:
         rate = Fraction(text.strip())
     except (ValueError, ZeroDivisionError):
-        raise TraceError(f"{where}: `sample_rate_hz` is `{text}`; expected a positive number (Hz)") from None
+        rate = Fraction(0)
     if rate <= 0:
-        raise TraceError(f"{where}: `sample_rate_hz` is `{text}`; expected a positive number (Hz)")
+        raise TraceError(
+            f"{where}: `sample_rate_hz` is `{text}`; expected a positive number of Hz (e.g. 819.2 or 2000/7)"
+        )
     return rate
 
 
 def _check_metadata(metadata: Mapping[str, str], schema: _Schema, where: str) -> Fraction:
     for key, value in metadata.items():
         if not _KEY_RE.match(key):
-            raise TraceError(f"{where}: metadata key `{key}` must be letters, digits, `_`, `.` or `-`")
+            raise TraceError(f"{where}: key `{key}` must be letters, digits, `_`, `.` or `-`")
         if not isinstance(value, str) or "\n" in value or "\r" in value:
-            raise TraceError(f"{where}: metadata `{key}` must be a one-line string")
+            raise TraceError(f"{where}: `{key}` must be a one-line string")
     fmt = metadata.get("format")
     if fmt is not None and fmt != schema.format:
         other = (
             "raw-register trace" if fmt == RAW_FORMAT else "physical trace" if fmt == PHYSICAL_FORMAT else fmt
         )
         raise TraceError(
-            f"{where}: metadata `format` is `{fmt}` ({other}); expected `{schema.format}` ({schema.title})"
+            f"{where}: `format` is `{fmt}` ({other}); expected `{schema.format}` ({schema.title})"
         )
     if "sample_rate_hz" not in metadata:
-        raise TraceError(f"{where}: metadata `sample_rate_hz` is missing (the nominal sample rate, Hz)")
-    return parse_rate(metadata["sample_rate_hz"], f"{where}: metadata")
+        raise TraceError(f"{where}: `sample_rate_hz` is missing (the nominal sample rate, Hz)")
+    return parse_rate(metadata["sample_rate_hz"], where)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -290,18 +292,18 @@ class _Checker:
         bad = dt <= 0
         if bad.any():
             k = int(np.argmax(bad))
+            later, earlier = float(joined[k + 1]), float(joined[k])
             raise TraceError(
-                f"{self.src}: {self.where(offset + k)}, column `t_s`: time {joined[k + 1]!r} s follows "
-                f"{joined[k]!r} s; expected strictly increasing time"
+                f"{self.src}: {self.where(offset + k)}, column `t_s`: time {later!r} s follows {earlier!r} "
+                "s; expected strictly increasing time"
             )
-        limit = self.max_gap_periods * self.period_s
-        gap = dt > limit
+        gap = dt > self.max_gap_periods * self.period_s
         if gap.any() and not self.allow_gaps:
             k = int(np.argmax(gap))
             raise TraceError(
                 f"{self.src}: {self.where(offset + k)}, column `t_s`: gap of {dt[k]:.6g} s "
-                f"({dt[k] / self.period_s:.3g} sample periods) after time {joined[k]!r} s; expected at most "
-                f"{self.max_gap_periods:g} periods of 1/sample_rate_hz = {self.period_s:.6g} s "
+                f"({dt[k] / self.period_s:.3g} sample periods) after time {float(joined[k])!r} s; expected "
+                f"at most {self.max_gap_periods:g} periods of 1/sample_rate_hz = {self.period_s:.6g} s "
                 "(allow gaps with allow_gaps=True / --allow-gaps)"
             )
         if len(t):
@@ -388,7 +390,8 @@ def _open_csv(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_per
         header_line = line_no
         names = [n.strip() for n in header.split(",")]
         schema.check_header(names, f"{p}: line {header_line} (header)")
-        rate = _check_metadata(metadata, schema, f"{p}: line 1–{header_line - 1} (metadata)")
+        lines = "line 1" if header_line == 2 else f"lines 1–{header_line - 1}"
+        rate = _check_metadata(metadata, schema, f"{p}: metadata ({lines})")
     except BaseException:
         fh.close()
         raise
@@ -439,6 +442,12 @@ def _parse_csv_block(
     p: Path, text: str, names: list[str], schema: _Schema, checker: _Checker, row0: int, at_end: bool
 ) -> dict[str, np.ndarray]:
     kinds = [schema.column(n).kind for n in names]
+    blank = _BLANK_LINE.search(text.removesuffix("\n"))
+    if blank:  # loadtxt would skip it silently
+        row = row0 + text.count("\n", 0, blank.start())
+        raise TraceError(
+            f"{p}: {checker.where(row)}: empty line; expected {len(names)} comma-separated fields"
+        )
     try:
         if "word" not in kinds:
             table = np.loadtxt(io.StringIO(text), delimiter=",", dtype=np.float64, ndmin=2, comments=None)
@@ -503,6 +512,7 @@ def _diagnose_csv_block(
     raise TraceError(f"{p}: rows {row0}…{row0 + len(lines) - 1}: could not be parsed as numbers")
 
 
+_BLANK_LINE = re.compile(r"(?m)^[ \t\r]*$")
 _HEX_LOOKUP = np.full(128, -1, dtype=np.int64)
 for _i, _ch in enumerate("0123456789abcdef"):
     _HEX_LOOKUP[ord(_ch)] = _i
@@ -566,7 +576,7 @@ def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_peri
                 )
         if not length:
             raise TraceError(f"{p}: header only, no data rows (every dataset is empty)")
-        rate = _check_metadata(metadata, schema, f"{p}: metadata")
+        rate = _check_metadata(metadata, schema, f"{p}: metadata (file attributes)")
     except BaseException:
         f.close()
         raise
@@ -675,8 +685,9 @@ def _write_csv(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: d
 def _write_h5(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
     n = len(cols["t_s"])
     dtypes = {"float": np.float64, "flag": np.uint8, "word": np.uint16}
-    # track_order/track_times off: the same content gives the same bytes (no timestamps).
-    with _atomic_path(path) as tmp, h5py.File(tmp, "w", libver=("earliest", "v110"), track_order=False) as f:
+    # track_times off: the same content gives the same bytes (no timestamps); track_order keeps the
+    # metadata in the order it was written (as in CSV).
+    with _atomic_path(path) as tmp, h5py.File(tmp, "w", libver=("earliest", "v110"), track_order=True) as f:
         for k, v in metadata.items():
             f.attrs[k] = v
         for name, arr in cols.items():

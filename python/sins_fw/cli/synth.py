@@ -13,9 +13,9 @@ from sins_fw.traces import check_output_path
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "synth",
-        help="generate a synthetic trace with exact truth (static, indexing-table, turntable, coning, flight)",
-        description="Generate a synthetic physical trace (CSV or .h5 by extension). Units, frames and models: "
-        "docs/traces.md. The canonical command line (all parameters resolved) is recorded in the trace.",
+        help="generate a synthetic trace with exact truth",
+        description="Generate a synthetic physical trace (CSV or .h5 by extension). Units, frames, models: "
+        "docs/traces.md. The canonical command (all parameters resolved) is recorded in the trace.",
     )
     scenarios = p.add_subparsers(dest="scenario", metavar="NAME", required=True)
     for scenario in synth.SCENARIOS.values():
