@@ -1,0 +1,66 @@
+"""`sins-fw import broad FILE.hdf5 --out TRACE` and `sins-fw import trace FILE --out TRACE`.
+
+``broad`` converts a BROAD trial into a physical trace; ``trace`` reads a physical or raw-register
+trace, validates it and writes it in the form the output extension asks for (CSV ↔ .h5).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from sins_fw.broad import import_broad
+from sins_fw.cli.common import add_json_option, emit
+from sins_fw.traces import (
+    DEFAULT_MAX_GAP_PERIODS,
+    RAW_FORMAT,
+    PhysicalTrace,
+    RawRegisterTrace,
+    check_output_path,
+    read_metadata,
+)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("import", help="convert a BROAD trial or a trace file into a sins-fw trace (.csv/.h5)")
+    kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
+    b = kinds.add_parser("broad", help="a BROAD trial (.hdf5) → physical trace with truth and movement mask")
+    b.add_argument("file", type=Path, help="BROAD trial, e.g. 01_undisturbed_slow_rotation_A.hdf5")
+    b.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
+    add_json_option(b)
+    b.set_defaults(func=run)
+    t = kinds.add_parser(
+        "trace", help="validate a physical or raw-register trace and write it as .csv or .h5"
+    )
+    t.add_argument("file", type=Path, help="input trace, .csv or .h5")
+    t.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
+    t.add_argument("--allow-gaps", action="store_true", help="accept time steps longer than the gap limit")
+    t.add_argument(
+        "--max-gap-periods",
+        type=float,
+        default=DEFAULT_MAX_GAP_PERIODS,
+        help=f"gap limit in nominal sample periods (default {DEFAULT_MAX_GAP_PERIODS})",
+    )
+    add_json_option(t)
+    t.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    check_output_path(args.out)
+    trace: PhysicalTrace | RawRegisterTrace
+    if args.kind == "broad":
+        trace = import_broad(args.file)
+    else:
+        kind = RawRegisterTrace if read_metadata(args.file).get("format") == RAW_FORMAT else PhysicalTrace
+        trace = kind.load(args.file, allow_gaps=args.allow_gaps, max_gap_periods=args.max_gap_periods)
+    trace.save(args.out, allow_gaps=getattr(args, "allow_gaps", False))
+    report = {
+        "in": str(args.file),
+        "out": str(args.out),
+        "kind": type(trace).__name__,
+        "rows": len(trace),
+        "sample_rate_hz": trace.metadata["sample_rate_hz"],
+        "source": trace.metadata.get("source", ""),
+    }
+    emit(args, report, f"wrote {args.out}: {report['kind']}, {len(trace)} rows from {args.file}")
+    return 0

@@ -1,0 +1,181 @@
+"""Attitude accuracy against a truth quaternion (docs/traces.md, "Metrics").
+
+Two families, both from quaternions ``[w, x, y, z]`` that are C_b^n (navigation frame ENU):
+
+* Euler errors: roll, pitch and yaw by the firmware's formulas (sins_fw.quaternion.to_euler), each
+  estimate minus truth wrapped to (−180°, 180°]. Near pitch ±90° roll and yaw are ill-defined and so
+  are their errors: prefer the BROAD errors there.
+* BROAD's errors (its example code): q_err = q_est ⊗ q_truth⁻¹ (an earth-frame error), total =
+  2·acos(|w|), heading = 2·atan(|z/w|), inclination = 2·acos(√(w² + z²)). RMSE over the movement
+  mask, skipping rows whose truth is NaN (lost markers).
+
+Heading alignment (optional): a method without a magnetometer has no heading reference, so its
+estimate is rotated about the navigation z axis once, by the heading error at the first valid
+movement sample; reports say so.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from sins_fw import quaternion as quat
+from sins_fw.errors import InputError
+
+Array = NDArray[np.float64]
+
+
+def wrap_deg(angle: ArrayLike) -> Array:
+    """Wrap degrees to (−180, 180]."""
+    a = np.asarray(angle, dtype=np.float64)
+    wrapped = np.mod(a + 180.0, 360.0) - 180.0
+    return np.where(wrapped == -180.0, 180.0, wrapped)
+
+
+@dataclass(frozen=True)
+class AttitudeErrors:
+    """Per-sample errors in degrees (NaN where the truth is NaN)."""
+
+    total: Array
+    heading: Array
+    inclination: Array
+    roll: Array
+    pitch: Array
+    yaw: Array
+
+
+def attitude_errors(q_est: ArrayLike, q_truth: ArrayLike) -> AttitudeErrors:
+    """Per-sample BROAD and Euler errors of ``q_est`` against ``q_truth`` (both ``(N, 4)``)."""
+    est = np.asarray(q_est, dtype=np.float64)
+    truth = np.asarray(q_truth, dtype=np.float64)
+    if est.shape != truth.shape or est.ndim != 2 or est.shape[1] != 4:
+        raise InputError(
+            f"estimate {est.shape} and truth {truth.shape}: expected two (N, 4) quaternion arrays"
+        )
+    err = quat.multiply(est, quat.conjugate(truth))
+    w, z = np.abs(err[:, 0]), np.abs(err[:, 3])
+    total = 2.0 * np.arccos(np.clip(w, 0.0, 1.0))
+    heading = 2.0 * np.arctan2(z, w)  # = 2·atan(|z/w|), defined at w = 0 too
+    inclination = 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
+    est_euler = quat.to_euler(est)
+    truth_euler = quat.to_euler(truth)
+    roll, pitch, yaw = (wrap_deg(np.degrees(e - t)) for e, t in zip(est_euler, truth_euler, strict=True))
+    return AttitudeErrors(
+        total=np.degrees(total),
+        heading=np.degrees(heading),
+        inclination=np.degrees(inclination),
+        roll=roll,
+        pitch=pitch,
+        yaw=yaw,
+    )
+
+
+def valid_mask(q_truth: ArrayLike, mask: ArrayLike | None = None) -> NDArray[np.bool_]:
+    """Rows that count: inside ``mask`` (all rows when None) and with a finite truth."""
+    truth = np.asarray(q_truth, dtype=np.float64)
+    valid = np.isfinite(truth).all(axis=1)
+    if mask is not None:
+        m = np.asarray(mask, dtype=bool)
+        if m.shape != valid.shape:
+            raise InputError(f"movement mask shape {m.shape}; expected {valid.shape}")
+        valid &= m
+    return valid
+
+
+def align_heading(
+    q_est: ArrayLike, q_truth: ArrayLike, mask: ArrayLike | None = None
+) -> tuple[Array, float, int]:
+    """Rotate the estimate about navigation z so its heading error is zero at the first valid sample.
+
+    With q_err = q_h ⊗ q_i (q_h about z by δ = 2·atan2(z, w), q_i about a horizontal axis), the
+    aligned estimate is R_z(−δ) ⊗ q_est. Returns (aligned estimate, δ in degrees, row used).
+    """
+    est = np.asarray(q_est, dtype=np.float64)
+    valid = valid_mask(q_truth, mask)
+    if not valid.any():
+        raise InputError("heading alignment: no sample with valid truth inside the movement mask")
+    k = int(np.argmax(valid))
+    err = quat.multiply(est[k], quat.conjugate(np.asarray(q_truth, dtype=np.float64)[k]))
+    delta = 2.0 * math.atan2(err[3], err[0])
+    turn = quat.from_axis_angle(np.array([0.0, 0.0, 1.0]), -delta)
+    return quat.multiply(turn, est), float(wrap_deg(math.degrees(delta))), k
+
+
+@dataclass(frozen=True)
+class AccuracyReport:
+    """RMSE and maximum of each error over the counted rows (degrees)."""
+
+    rmse_total_deg: float
+    rmse_heading_deg: float
+    rmse_inclination_deg: float
+    rmse_roll_deg: float
+    rmse_pitch_deg: float
+    rmse_yaw_deg: float
+    max_total_deg: float
+    max_heading_deg: float
+    max_inclination_deg: float
+    samples: int
+    skipped_nan_truth: int
+    heading_aligned: bool
+    heading_alignment_deg: float | None
+    alignment_row: int | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dictionary (for JSON)."""
+        return asdict(self)
+
+    def summary(self) -> str:
+        """One human-readable paragraph, stating the alignment if any."""
+        text = (
+            f"attitude error over {self.samples} samples ({self.skipped_nan_truth} skipped: no truth): "
+            f"RMSE total {self.rmse_total_deg:.3f}°, heading {self.rmse_heading_deg:.3f}°, "
+            f"inclination {self.rmse_inclination_deg:.3f}°; roll {self.rmse_roll_deg:.3f}°, "
+            f"pitch {self.rmse_pitch_deg:.3f}°, yaw {self.rmse_yaw_deg:.3f}°"
+        )
+        if self.heading_aligned:
+            text += (
+                f"; heading aligned to the truth once, by {self.heading_alignment_deg:.3f}° at row "
+                f"{self.alignment_row} (first valid movement sample)"
+            )
+        return text
+
+
+def _rmse(x: Array) -> float:
+    return float(np.sqrt(np.mean(x * x)))
+
+
+def accuracy(
+    q_est: ArrayLike, q_truth: ArrayLike, mask: ArrayLike | None = None, *, align: bool = False
+) -> AccuracyReport:
+    """RMSE of the errors over ``mask`` (e.g. BROAD's ``movement``), skipping NaN truth rows."""
+    est = np.asarray(q_est, dtype=np.float64)
+    truth = np.asarray(q_truth, dtype=np.float64)
+    in_mask = np.ones(len(truth), dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
+    valid = valid_mask(truth, in_mask)
+    if not valid.any():
+        raise InputError("accuracy: no sample with valid truth inside the movement mask")
+    delta: float | None = None
+    row: int | None = None
+    if align:
+        est, delta, row = align_heading(est, truth, in_mask)
+    e = attitude_errors(est[valid], truth[valid])
+    return AccuracyReport(
+        rmse_total_deg=_rmse(e.total),
+        rmse_heading_deg=_rmse(e.heading),
+        rmse_inclination_deg=_rmse(e.inclination),
+        rmse_roll_deg=_rmse(e.roll),
+        rmse_pitch_deg=_rmse(e.pitch),
+        rmse_yaw_deg=_rmse(e.yaw),
+        max_total_deg=float(e.total.max()),
+        max_heading_deg=float(e.heading.max()),
+        max_inclination_deg=float(e.inclination.max()),
+        samples=int(valid.sum()),
+        skipped_nan_truth=int((in_mask & ~np.isfinite(truth).all(axis=1)).sum()),
+        heading_aligned=align,
+        heading_alignment_deg=delta,
+        alignment_row=row,
+    )

@@ -1,0 +1,726 @@
+"""Synthetic scenarios with exact truth (docs/traces.md, "Synthetic scenarios").
+
+Every scenario is an analytic trajectory: attitude C_b^n(t), body rate ω_nb^b(t), navigation-frame
+velocity and acceleration, all in closed form (no numerical differentiation). The sensor quantities
+follow from them:
+
+    ω_ib^b = ω_nb^b + C_n^b (ω_ie^n + ω_en^n)
+    f^b    = C_n^b (v̇^n + (2 ω_ie^n + ω_en^n) × v^n − g^n),   g^n = [0, 0, −γ(φ, h)]
+
+with γ the WGS-84 normal gravity (sins_fw.earth). The transport rate ω_en^n is zero for the ground
+scenarios (the board does not move over the earth) and included for ``flight``.
+
+Smooth motion uses one transition shape: the septic smoothstep s(u) = 35u⁴ − 84u⁵ + 70u⁶ − 20u⁷,
+whose first three derivatives vanish at both ends, so rates, angular accelerations and specific
+force are continuous. A rate r ramped by Δ over T has peak derivative 2.1875 Δ/T.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import shlex
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from sins_fw import earth
+from sins_fw import quaternion as quat
+from sins_fw.errors import ConfigError, TraceError
+from sins_fw.traces import PhysicalTrace, parse_rate
+
+Array = NDArray[np.float64]
+
+DEFAULT_RATE_HZ = "819.2"
+#: Default site: Hohhot, where the reference design was tested (approximate; a parameter).
+DEFAULT_LATITUDE_DEG = 40.8
+DEFAULT_HEIGHT_M = 1050.0
+#: Peak of s'(u) = 140 u³ (1 − u)³ (at u = ½): a ramp of Δ over T peaks at 2.1875 Δ/T.
+SMOOTHSTEP_PEAK_SLOPE = 140.0 / 64.0
+_X, _Y, _Z = np.eye(3)
+_AXES = {"x": _X, "y": _Y, "z": _Z}
+
+
+# ---------------------------------------------------------------------------------------------------
+# Time grid and smooth profiles
+# ---------------------------------------------------------------------------------------------------
+
+
+def sample_times(duration_s: float, rate_hz: str | Fraction) -> Array:
+    """t_i = i / rate for i = 0 … floor(duration·rate) − 1, each correctly rounded from the exact ratio
+    (exact binary fractions for 819.2 Hz: the period 5/4096 s is a dyadic rational)."""
+    rate = parse_rate(str(rate_hz), "synth") if not isinstance(rate_hz, Fraction) else rate_hz
+    n = math.floor(Fraction(str(duration_s)) * rate)
+    if n < 2:
+        raise ConfigError(f"duration {duration_s} s at {rate_hz} Hz gives {n} samples; expected at least 2")
+    if n * rate.denominator >= 2**53:
+        raise ConfigError(f"{n} samples at {rate_hz} Hz: too many for exact float64 times")
+    i = np.arange(n, dtype=np.int64)
+    return (i * rate.denominator).astype(np.float64) / float(rate.numerator)
+
+
+def _smoothstep(u: Array) -> tuple[Array, Array, Array, Array]:
+    """S(u) = ∫₀ᵘ s, s(u), s'(u), s''(u) of the septic smoothstep."""
+    u2 = u * u
+    v = 1.0 - u
+    big_s = u2 * u2 * u * (7.0 - 14.0 * u + 10.0 * u2 - 2.5 * u2 * u)
+    s = u2 * u2 * (35.0 - 84.0 * u + 70.0 * u2 - 20.0 * u2 * u)
+    ds = 140.0 * u2 * u * v * v * v
+    dds = 420.0 * u2 * v * v * (1.0 - 2.0 * u)
+    return big_s, s, ds, dds
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A smooth piecewise rate r(t) and its integral x(t): holds and septic ramps.
+
+    Segment k starts at ``t0[k]``, lasts ``length[k]`` (the last one forever), ramps r from ``r0[k]``
+    to ``r1[k]`` (a hold when equal) and starts at x = ``x0[k]``.
+    """
+
+    t0: Array
+    length: Array
+    r0: Array
+    r1: Array
+    x0: Array
+
+    @staticmethod
+    def build(x_start: float, r_start: float, ramps: Sequence[tuple[float, float, float]]) -> Profile:
+        """From ``(start time, duration, target rate)`` ramps in time order; holds fill the gaps."""
+        t0: list[float] = [0.0]
+        length: list[float] = []
+        r0: list[float] = [r_start]
+        r1: list[float] = []
+        x0: list[float] = [x_start]
+        t, r, x = 0.0, r_start, x_start
+        for start, duration, target in ramps:
+            if start < t - 1e-12 or duration <= 0:
+                raise ConfigError(f"profile ramp at {start} s overlaps the previous one or has no duration")
+            if start > t:  # a hold until the ramp
+                length.append(start - t)
+                r1.append(r)
+                x += r * (start - t)
+                t0.append(start)
+                r0.append(r)
+                x0.append(x)
+            length.append(duration)
+            r1.append(target)
+            x += r * duration + 0.5 * (target - r) * duration
+            t, r = start + duration, target
+            t0.append(t)
+            r0.append(r)
+            x0.append(x)
+        length.append(math.inf)
+        r1.append(r)
+        return Profile(*(np.array(a, dtype=np.float64) for a in (t0, length, r0, r1, x0)))
+
+    def pinned(self, values: dict[int, float]) -> Profile:
+        """The same profile with x at the start of some segments set exactly (table stops)."""
+        x0 = self.x0.copy()
+        for k, v in values.items():
+            x0[k] = v
+        return Profile(self.t0, self.length, self.r0, self.r1, x0)
+
+    @property
+    def end(self) -> float:
+        """Start of the final (endless) hold."""
+        return float(self.t0[-1])
+
+    def __call__(self, t: Array) -> tuple[Array, Array, Array, Array]:
+        """x, r, ṙ, r̈ at times ``t``."""
+        k = np.clip(np.searchsorted(self.t0, t, side="right") - 1, 0, len(self.t0) - 1)
+        tau = t - self.t0[k]
+        length = self.length[k]
+        finite = np.isfinite(length)
+        safe = np.where(finite, length, 1.0)
+        u = np.where(finite, np.clip(tau / safe, 0.0, 1.0), 0.0)
+        big_s, s, ds, dds = _smoothstep(u)
+        d = self.r1[k] - self.r0[k]
+        x = self.x0[k] + self.r0[k] * tau + d * safe * big_s
+        return x, self.r0[k] + d * s, d * ds / safe, d * dds / (safe * safe)
+
+
+def ramp_time(delta: float, max_slope: float) -> float:
+    """Duration of a septic ramp of ``delta`` whose derivative peaks at ``max_slope``."""
+    return SMOOTHSTEP_PEAK_SLOPE * abs(delta) / max_slope
+
+
+# ---------------------------------------------------------------------------------------------------
+# Motion → sensor quantities
+# ---------------------------------------------------------------------------------------------------
+
+
+@dataclass
+class Motion:
+    """Kinematics on the sample grid (SI units, navigation frame ENU, quaternion C_b^n)."""
+
+    t_s: Array
+    q_nb: Array
+    w_nb_b: Array
+    v_n: Array
+    a_n: Array
+    lat_rad: Array
+    height_m: Array
+    w_en_n: Array
+
+    @property
+    def w_ie_n(self) -> Array:
+        """Earth rate in the navigation frame (rad/s)."""
+        return earth.earth_rate_n(self.lat_rad)
+
+    @property
+    def w_in_n(self) -> Array:
+        """Rotation rate of the navigation frame w.r.t. inertial space: ω_ie^n + ω_en^n (rad/s)."""
+        return self.w_ie_n + self.w_en_n
+
+    @property
+    def gravity_n(self) -> Array:
+        """g^n = [0, 0, −γ(φ, h)] (m/s²)."""
+        g = earth.normal_gravity(self.lat_rad, self.height_m)
+        return np.stack([np.zeros_like(g), np.zeros_like(g), -g], axis=-1)
+
+    def gyro_rad_s(self) -> Array:
+        """ω_ib^b = ω_nb^b + C_n^b ω_in^n."""
+        return self.w_nb_b + quat.rotate(quat.conjugate(self.q_nb), self.w_in_n)
+
+    def specific_force(self) -> Array:
+        """f^b = C_n^b (v̇^n + (2ω_ie^n + ω_en^n) × v^n − g^n) (m/s²)."""
+        f_n = self.a_n + np.cross(2.0 * self.w_ie_n + self.w_en_n, self.v_n) - self.gravity_n
+        return quat.rotate(quat.conjugate(self.q_nb), f_n)
+
+    def moving(self) -> NDArray[np.bool_]:
+        """True where the body rotates or moves relative to the navigation frame."""
+        return (np.abs(self.w_nb_b).max(axis=1) > 0) | (np.abs(self.v_n).max(axis=1) > 0)
+
+
+def _ground(t: Array, q: Array, w_nb: Array, latitude_deg: float, height_m: float) -> Motion:
+    zeros = np.zeros((len(t), 3))
+    return Motion(
+        t_s=t,
+        q_nb=q,
+        w_nb_b=w_nb,
+        v_n=zeros,
+        a_n=zeros,
+        lat_rad=np.full(len(t), math.radians(latitude_deg)),
+        height_m=np.full(len(t), height_m),
+        w_en_n=zeros,
+    )
+
+
+def _attitude(attitude_deg: Sequence[float]) -> Array:
+    roll, pitch, yaw = (math.radians(a) for a in attitude_deg)
+    return quat.from_euler(roll, pitch, yaw)
+
+
+def _axis(axis: str) -> Array:
+    if axis not in _AXES:
+        raise ConfigError(f"axis `{axis}`; expected x, y or z")
+    return _AXES[axis]
+
+
+# ---------------------------------------------------------------------------------------------------
+# Scenarios
+# ---------------------------------------------------------------------------------------------------
+
+
+def static_motion(
+    *,
+    duration_s: float = 60.0,
+    attitude_deg: Sequence[float] = (0.0, 0.0, 0.0),
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+) -> Motion:
+    """A board at rest on the earth at a fixed attitude (roll, pitch, yaw in degrees)."""
+    t = sample_times(duration_s, rate_hz)
+    q = np.tile(_attitude(attitude_deg), (len(t), 1))
+    return _ground(t, q, np.zeros((len(t), 3)), latitude_deg, height_m)
+
+
+def _axis_motion(
+    t: Array, profile: Profile, axis: str, attitude_deg: Sequence[float], latitude_deg: float, height_m: float
+) -> Motion:
+    """A rotation of a table (mounted at ``attitude_deg``) about a body axis by the angle profile."""
+    angle, rate, _, _ = profile(t)
+    a = _axis(axis)
+    q = quat.multiply(_attitude(attitude_deg), quat.from_axis_angle(a, angle))
+    return _ground(t, q, rate[:, None] * a, latitude_deg, height_m)
+
+
+INDEXING_PRESETS: dict[str, dict[str, Any]] = {
+    # The reference design's 10° step sweeps over the published ranges (pitch −90…90, roll −180…180,
+    # yaw 0…360); pass the axis: y = pitch, x = roll, z = yaw.
+    "sweep": {"max_rate_dps": 20.0, "max_accel_dps2": 40.0, "dwell_s": 5.0},
+    # The ±30° table: 0, +30, 0, −30, 0.
+    "pm30": {
+        "angles_deg": (0.0, 30.0, 0.0, -30.0, 0.0),
+        "max_rate_dps": 20.0,
+        "max_accel_dps2": 40.0,
+        "dwell_s": 10.0,
+    },
+    # Fast rotation to yaw 25.8°, then hold 30 s (the published drift experiment).
+    "yaw25.8": {
+        "axis": "z",
+        "angles_deg": (0.0, 25.8),
+        "max_rate_dps": 200.0,
+        "max_accel_dps2": 1000.0,
+        "dwell_s": 30.0,
+    },
+}
+_SWEEP_ANGLES = {
+    "y": [*range(0, 91, 10), *range(80, -91, -10), *range(-80, 1, 10)],
+    "x": [*range(0, 181, 10), *range(170, -181, -10), *range(-170, 1, 10)],
+    "z": list(range(0, 361, 10)),
+}
+
+
+def sweep_angles(axis: str) -> tuple[float, ...]:
+    """The 10° step sweep for an axis: from 0 to the top of the published range, to the bottom, back."""
+    return tuple(float(a) for a in _SWEEP_ANGLES[axis])
+
+
+def indexing_profile(
+    angles_deg: Sequence[float], max_rate_dps: float, max_accel_dps2: float, dwell_s: float
+) -> tuple[Profile, float]:
+    """Dwell at each table angle, moving between them with rate and acceleration limits: the angle
+    profile (radians) and its total duration (the last dwell included)."""
+    if len(angles_deg) < 1:
+        raise ConfigError("indexing table: expected at least one angle")
+    if max_rate_dps <= 0 or max_accel_dps2 <= 0 or dwell_s <= 0:
+        raise ConfigError("indexing table: rate, acceleration limits and dwell must be positive")
+    w_max, a_max = math.radians(max_rate_dps), math.radians(max_accel_dps2)
+    angles = [math.radians(a) for a in angles_deg]
+    ramps: list[tuple[float, float, float]] = []
+    stops: list[tuple[float, float]] = []  # (time the table stops, its angle)
+    t = dwell_s
+    for prev, nxt in itertools.pairwise(angles):
+        delta = nxt - prev
+        if delta == 0:
+            t += dwell_s
+            continue
+        # Without cruise a move of Δ reaches peak rate w with ramps of T = 2.1875 w/a each: Δ = w T.
+        peak = min(w_max, math.sqrt(abs(delta) * a_max / SMOOTHSTEP_PEAK_SLOPE))
+        t_ramp = ramp_time(peak, a_max)
+        cruise = max(abs(delta) / peak - t_ramp, 0.0)
+        decel = t + t_ramp + cruise
+        ramps += [(t, t_ramp, math.copysign(peak, delta)), (decel, t_ramp, 0.0)]
+        t = decel + t_ramp
+        stops.append((t, nxt))
+        t += dwell_s
+    profile = Profile.build(angles[0], 0.0, ramps)
+    # Pin each stop to its exact table angle (the integral's rounding would leave ~1e-16 rad).
+    index = {float(t0): k for k, t0 in enumerate(profile.t0)}
+    return profile.pinned({index[stop]: angle for stop, angle in stops}), t
+
+
+def indexing_table_motion(
+    *,
+    axis: str = "y",
+    angles_deg: Sequence[float] = (0.0, 10.0),
+    max_rate_dps: float = 20.0,
+    max_accel_dps2: float = 40.0,
+    dwell_s: float = 10.0,
+    attitude_deg: Sequence[float] = (0.0, 0.0, 0.0),
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+) -> Motion:
+    """A single-axis indexing table: dwell ``dwell_s`` at each angle (the first included), smooth moves."""
+    profile, end = indexing_profile(angles_deg, max_rate_dps, max_accel_dps2, dwell_s)
+    return _axis_motion(sample_times(end, rate_hz), profile, axis, attitude_deg, latitude_deg, height_m)
+
+
+def turntable_motion(
+    *,
+    axis: str = "x",
+    rates_dps: Sequence[float] = (50.0, 100.0, 200.0, 300.0),
+    hold_s: float = 10.0,
+    max_accel_dps2: float = 100.0,
+    lead_s: float = 5.0,
+    attitude_deg: Sequence[float] = (0.0, 0.0, 0.0),
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+) -> Motion:
+    """A rate table: at rest for ``lead_s``, then each rate held ``hold_s``, smooth changes, back to rest
+    and at rest for ``lead_s`` again."""
+    if max_accel_dps2 <= 0 or hold_s <= 0 or lead_s < 0:
+        raise ConfigError("turntable: acceleration limit and hold must be positive, lead not negative")
+    a_max = math.radians(max_accel_dps2)
+    ramps: list[tuple[float, float, float]] = []
+    t, r = lead_s, 0.0
+    targets = [math.radians(x) for x in rates_dps]
+    for k, target in enumerate([*targets, 0.0]):
+        if target != r:
+            dt = ramp_time(target - r, a_max)
+            ramps.append((t, dt, target))
+            t += dt
+            r = target
+        t += hold_s if k < len(targets) else lead_s
+    profile = Profile.build(0.0, 0.0, ramps)
+    return _axis_motion(sample_times(t, rate_hz), profile, axis, attitude_deg, latitude_deg, height_m)
+
+
+def coning_motion(
+    *,
+    half_angle_deg: float = 1.0,
+    frequency_hz: float = 10.0,
+    duration_s: float = 120.0,
+    attitude_deg: Sequence[float] = (0.0, 0.0, 0.0),
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+) -> Motion:
+    """Classical coning about the mount's x axis (validation.md): relative to the mount frame R
+    (at ``attitude_deg``), q_Rb(t) = [cos α/2, 0, sin α/2 cos Ωt, sin α/2 sin Ωt] and
+    ω_nb^b = [−Ω(1 − cos α), −Ω sin α sin Ωt, Ω sin α cos Ωt], with q̇ = ½ q ⊗ ω (derived in
+    docs/traces.md). The phase Ωt is reduced as 2π·frac(f·t) so equal phases give equal samples."""
+    t = sample_times(duration_s, rate_hz)
+    alpha = math.radians(half_angle_deg)
+    omega = 2.0 * math.pi * frequency_hz
+    phase = 2.0 * math.pi * np.mod(frequency_hz * t, 1.0)
+    c, s = np.cos(phase), np.sin(phase)
+    q_cone = np.stack(
+        [
+            np.full_like(t, math.cos(alpha / 2)),
+            np.zeros_like(t),
+            math.sin(alpha / 2) * c,
+            math.sin(alpha / 2) * s,
+        ],
+        axis=1,
+    )
+    w = np.stack(
+        [
+            np.full_like(t, -omega * (1.0 - math.cos(alpha))),
+            -omega * math.sin(alpha) * s,
+            omega * math.sin(alpha) * c,
+        ],
+        axis=1,
+    )
+    q = quat.multiply(_attitude(attitude_deg), q_cone)
+    return _ground(t, q, w, latitude_deg, height_m)
+
+
+# Gauss–Legendre nodes on [0, 1] for the position quadrature of ``flight`` (degree-7 exact).
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(4)
+_GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
+
+
+@dataclass(frozen=True)
+class _FlightPlan:
+    speed: Profile  # r = V (m/s)
+    gamma: Profile  # r = flight-path angle γ (rad)
+    heading: Profile  # x = heading ψ from north, clockwise; r = ψ̇ (rad, rad/s)
+    end: float
+
+    def velocity(self, t: Array) -> tuple[Array, Array]:
+        """v^n = V [cos γ sin ψ, cos γ cos ψ, sin γ] and its exact derivative v̇^n at ``t``."""
+        _, v, dv, _ = self.speed(t)
+        _, gam, dgam, _ = self.gamma(t)
+        psi, dpsi, _, _ = self.heading(t)
+        cg, sg, cp, sp = np.cos(gam), np.sin(gam), np.cos(psi), np.sin(psi)
+        u = np.stack([cg * sp, cg * cp, sg], axis=-1)
+        du_dpsi = np.stack([cg * cp, -cg * sp, np.zeros_like(cg)], axis=-1)
+        du_dgam = np.stack([-sg * sp, -sg * cp, cg], axis=-1)
+        du = dpsi[..., None] * du_dpsi + dgam[..., None] * du_dgam
+        return v[..., None] * u, dv[..., None] * u + v[..., None] * du
+
+
+def flight_plan(
+    *, heading_deg: float, speed_mps: float, turn_rate_dps: float, climb_deg: float
+) -> _FlightPlan:
+    """The fixed-wing profile: 10 s at rest, take-off roll to 0.7 V, climb at γ while accelerating to V,
+    level, a 90° right turn, level, a 180° left turn, level, a descent at −γ/2, level."""
+    if speed_mps <= 0 or turn_rate_dps <= 0:
+        raise ConfigError("flight: speed and turn rate must be positive")
+    v_lof = 0.7 * speed_mps
+    speed = Profile.build(0.0, 0.0, [(10.0, 20.0, v_lof), (34.0, 20.0, speed_mps)])
+    climb = math.radians(climb_deg)
+    gamma = Profile.build(
+        0.0, 0.0, [(30.0, 4.0, climb), (90.0, 4.0, 0.0), (250.0, 4.0, -climb / 2), (294.0, 4.0, 0.0)]
+    )
+    rate = math.radians(turn_rate_dps)
+    ramp = 3.0
+
+    def turn(start: float, angle_deg: float) -> list[tuple[float, float, float]]:
+        r = math.copysign(rate, angle_deg)
+        hold = math.radians(abs(angle_deg)) / rate - ramp
+        return [(start, ramp, r), (start + ramp + hold, ramp, 0.0)]
+
+    heading = Profile.build(math.radians(heading_deg), 0.0, [*turn(114.0, 90.0), *turn(167.0, -180.0)])
+    return _FlightPlan(speed, gamma, heading, end=318.0)
+
+
+def flight_motion(
+    *,
+    heading_deg: float = 60.0,
+    speed_mps: float = 40.0,
+    turn_rate_dps: float = 3.0,
+    climb_deg: float = 6.0,
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+) -> Motion:
+    """A fixed-wing flight (body axes x forward, y left, z up; zero angle of attack and sideslip).
+
+    Attitude C_b^n = Rz(90° − ψ) · Ry(−γ) · Rx(μ) with bank μ = atan(V ψ̇ / g0) (a coordinated turn to
+    first order). Position comes from a 4-point Gauss–Legendre quadrature of the analytic velocity per
+    sample interval; latitude and transport rate use the radii of curvature of the start point
+    (R_N(φ0) + h0, R_E(φ0) + h0), which keeps ω_en^n exactly the rotation rate of the local-level
+    frame along the trajectory (docs/traces.md).
+    """
+    plan = flight_plan(
+        heading_deg=heading_deg, speed_mps=speed_mps, turn_rate_dps=turn_rate_dps, climb_deg=climb_deg
+    )
+    t = sample_times(plan.end, rate_hz)
+    v_n, a_n = plan.velocity(t)
+    _, v, dv, _ = plan.speed(t)
+    _, gam, dgam, _ = plan.gamma(t)
+    psi, dpsi, ddpsi, _ = plan.heading(t)
+    g0 = earth.G0
+    ratio = v * dpsi / g0
+    bank = np.arctan(ratio)
+    dbank = (dv * dpsi + v * ddpsi) / g0 / (1.0 + ratio * ratio)
+    yaw, dyaw = 0.5 * math.pi - psi, -dpsi
+    pitch, dpitch = -gam, -dgam
+    qz = quat.from_axis_angle(_Z, yaw)
+    qy = quat.from_axis_angle(_Y, pitch)
+    qx = quat.from_axis_angle(_X, bank)
+    q = quat.multiply(quat.multiply(qz, qy), qx)
+    zeros = np.zeros_like(t)
+    w_inner = quat.rotate(quat.conjugate(qy), np.stack([zeros, zeros, dyaw], axis=1)) + np.stack(
+        [zeros, dpitch, zeros], axis=1
+    )
+    w_nb = quat.rotate(quat.conjugate(qx), w_inner) + np.stack([dbank, zeros, zeros], axis=1)
+
+    # Position: exact-to-rounding quadrature of the analytic velocity over each sample interval.
+    dt = np.diff(t)
+    nodes = t[:-1, None] + dt[:, None] * _GL_X[None, :]
+    v_nodes = plan.velocity(nodes)[0]
+    step = np.einsum("k,nkc->nc", _GL_W, v_nodes) * dt[:, None]
+    disp = np.vstack([np.zeros((1, 3)), np.cumsum(step, axis=0)])
+    lat0 = math.radians(latitude_deg)
+    r_n, r_e = (float(r) for r in earth.radii(lat0))
+    lat = lat0 + disp[:, 1] / (r_n + height_m)
+    height = height_m + disp[:, 2]
+    w_en = np.stack(
+        [
+            -v_n[:, 1] / (r_n + height_m),
+            v_n[:, 0] / (r_e + height_m),
+            v_n[:, 0] * np.tan(lat) / (r_e + height_m),
+        ],
+        axis=1,
+    )
+    return Motion(t_s=t, q_nb=q, w_nb_b=w_nb, v_n=v_n, a_n=a_n, lat_rad=lat, height_m=height, w_en_n=w_en)
+
+
+# ---------------------------------------------------------------------------------------------------
+# Scenario registry: parameters (for the API, the CLI and the recorded generator command)
+# ---------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Param:
+    """One scenario parameter: Python name (the CLI option is ``--name-with-dashes``)."""
+
+    name: str
+    kind: str  # "float", "floats", "triple", "axis", "rate"
+    default: Any
+    help: str
+
+    @property
+    def option(self) -> str:
+        return "--" + self.name.replace("_", "-")
+
+    def parse(self, text: str) -> Any:
+        """Parse a CLI value; raises ValueError with a message for argparse."""
+        if self.kind == "float":
+            return _finite(text)
+        if self.kind in ("floats", "triple"):
+            values = tuple(_finite(x) for x in text.split(",") if x.strip())
+            if self.kind == "triple" and len(values) != 3:
+                raise ValueError(f"expected three comma-separated numbers (roll,pitch,yaw), got `{text}`")
+            if not values:
+                raise ValueError("expected comma-separated numbers")
+            return values
+        if self.kind == "axis":
+            if text not in _AXES:
+                raise ValueError(f"expected x, y or z, got `{text}`")
+            return text
+        try:
+            parse_rate(text, "--rate-hz")
+        except TraceError as e:
+            raise ValueError(str(e).removeprefix("--rate-hz: ")) from None
+        return text
+
+    def render(self, value: Any) -> str:
+        """The canonical text of a value (for the generator command line)."""
+        if self.kind in ("floats", "triple"):
+            return ",".join(_num(v) for v in value)
+        if self.kind == "float":
+            return _num(value)
+        return str(value)
+
+
+def _finite(text: str) -> float:
+    x = float(text)
+    if not math.isfinite(x):
+        raise ValueError(f"expected a finite number, got `{text}`")
+    return x
+
+
+def _num(x: float) -> str:
+    return repr(float(x)).removesuffix(".0") if float(x).is_integer() else repr(float(x))
+
+
+_COMMON = (
+    Param("latitude_deg", "float", DEFAULT_LATITUDE_DEG, "geodetic latitude, degrees"),
+    Param("height_m", "float", DEFAULT_HEIGHT_M, "height above the ellipsoid, m"),
+    Param("rate_hz", "rate", DEFAULT_RATE_HZ, "sample rate, Hz (exact decimal, e.g. 819.2)"),
+)
+_ATTITUDE = Param(
+    "attitude_deg", "triple", (0.0, 0.0, 0.0), "mount attitude roll,pitch,yaw, degrees (C_b^n ZYX)"
+)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A named scenario: its motion function, parameters, and description."""
+
+    name: str
+    motion: Callable[..., Motion]
+    params: tuple[Param, ...]
+    summary: str
+    transport_rate: bool = False
+
+
+SCENARIOS: dict[str, Scenario] = {
+    s.name: s
+    for s in (
+        Scenario(
+            "static",
+            static_motion,
+            (Param("duration_s", "float", 60.0, "duration, s"), _ATTITUDE, *_COMMON),
+            "a board at rest at a fixed attitude",
+        ),
+        Scenario(
+            "indexing-table",
+            indexing_table_motion,
+            (
+                Param("axis", "axis", "y", "body axis of the table: x (roll), y (pitch) or z (yaw)"),
+                Param("angles_deg", "floats", (0.0, 10.0), "table angles in order, degrees (first = start)"),
+                Param("max_rate_dps", "float", 20.0, "table rate limit, °/s"),
+                Param("max_accel_dps2", "float", 40.0, "table acceleration limit, °/s²"),
+                Param("dwell_s", "float", 10.0, "dwell at each angle, s"),
+                _ATTITUDE,
+                *_COMMON,
+            ),
+            "single-axis indexing table: dwell, smooth moves with rate/acceleration limits",
+        ),
+        Scenario(
+            "turntable",
+            turntable_motion,
+            (
+                Param("axis", "axis", "x", "body axis of rotation"),
+                Param("rates_dps", "floats", (50.0, 100.0, 200.0, 300.0), "table rates in order, °/s"),
+                Param("hold_s", "float", 10.0, "time at each rate, s"),
+                Param("max_accel_dps2", "float", 100.0, "acceleration limit, °/s²"),
+                Param("lead_s", "float", 5.0, "time at rest before and after, s"),
+                _ATTITUDE,
+                *_COMMON,
+            ),
+            "rate table: constant rates about a body axis with smooth changes",
+        ),
+        Scenario(
+            "coning",
+            coning_motion,
+            (
+                Param("half_angle_deg", "float", 1.0, "cone half-angle α, degrees"),
+                Param("frequency_hz", "float", 10.0, "coning frequency Ω/2π, Hz"),
+                Param("duration_s", "float", 120.0, "duration, s"),
+                _ATTITUDE,
+                *_COMMON,
+            ),
+            "classical coning about the mount's x axis",
+        ),
+        Scenario(
+            "flight",
+            flight_motion,
+            (
+                Param("heading_deg", "float", 60.0, "runway heading, degrees from north clockwise"),
+                Param("speed_mps", "float", 40.0, "cruise speed, m/s"),
+                Param("turn_rate_dps", "float", 3.0, "turn rate, °/s"),
+                Param("climb_deg", "float", 6.0, "climb flight-path angle, degrees"),
+                *_COMMON,
+            ),
+            "fixed-wing flight: take-off roll, climb, turns, level, descent (with transport rate)",
+            transport_rate=True,
+        ),
+    )
+}
+
+
+def resolve(name: str, preset: str | None = None, **params: Any) -> dict[str, Any]:
+    """All parameters of a scenario with defaults, preset and overrides applied (the canonical set)."""
+    if name not in SCENARIOS:
+        raise ConfigError(f"unknown scenario `{name}`; known: {', '.join(SCENARIOS)}")
+    scenario = SCENARIOS[name]
+    values = {p.name: p.default for p in scenario.params}
+    if preset is not None:
+        if name != "indexing-table" or preset not in INDEXING_PRESETS:
+            known = ", ".join(INDEXING_PRESETS) if name == "indexing-table" else "none"
+            raise ConfigError(f"unknown preset `{preset}` for `{name}`; known: {known}")
+        values.update(INDEXING_PRESETS[preset])
+        if preset == "sweep":
+            values["angles_deg"] = sweep_angles(params.get("axis", values["axis"]))
+    for key, value in params.items():
+        if key not in values:
+            raise ConfigError(f"scenario `{name}` has no parameter `{key}`; known: {', '.join(values)}")
+        values[key] = value
+    return values
+
+
+def command_line(name: str, values: dict[str, Any]) -> str:
+    """The canonical ``sins-fw synth`` command that generates this trace (output option omitted)."""
+    scenario = SCENARIOS[name]
+    args = ["sins-fw", "synth", name]
+    for p in scenario.params:
+        args += [p.option, p.render(values[p.name])]
+    return shlex.join(args)
+
+
+def generate(name: str, preset: str | None = None, **params: Any) -> PhysicalTrace:
+    """A scenario as a physical trace (truth quaternion and movement mask included)."""
+    values = resolve(name, preset, **params)
+    scenario = SCENARIOS[name]
+    motion = scenario.motion(**values)
+    metadata = {
+        "sample_rate_hz": str(values["rate_hz"]),
+        "source": f"sins-fw synth {name}",  # no preset: the generator command alone reproduces the file
+        "generator": command_line(name, values),
+        "created_by": "sins-fw synth (no version or time recorded: regeneration is byte-identical)",
+        "frame": "sensor axes = body axes; truth C_b^n, navigation frame ENU (x east, y north, z up)",
+        "g0_m_s2": repr(earth.G0),
+        "gravity": "WGS-84 normal gravity with free-air correction",
+        "earth_rate_rad_s": repr(earth.OMEGA_IE),
+        "transport_rate": "included" if scenario.transport_rate else "zero (the board stays at one place)",
+        "latitude_deg": _num(values["latitude_deg"]),
+        "height_m": _num(values["height_m"]),
+    }
+    return to_trace(motion, metadata)
+
+
+def to_trace(motion: Motion, metadata: dict[str, str]) -> PhysicalTrace:
+    """Sensor quantities of a motion in trace units (°/s, g)."""
+    return PhysicalTrace(
+        t_s=motion.t_s,
+        gyro_dps=np.degrees(motion.gyro_rad_s()),
+        accel_g=motion.specific_force() / earth.G0,
+        truth_q=motion.q_nb,
+        moving=motion.moving(),
+        metadata=metadata,
+    )

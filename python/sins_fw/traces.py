@@ -1,0 +1,961 @@
+"""Trace files: the physical trace (what the sensor sees) and the raw-register trace (what the bus
+carries). Both come as CSV with a metadata header (``.csv``) or as columnar HDF5 (``.h5``); the
+format, with every column, unit and rule, is documented in docs/traces.md.
+
+Loading validates everything and raises :class:`~sins_fw.errors.TraceError` with a message naming
+the file, the line (CSV) or row, the column, and what was expected versus found. Rows are counted
+from 0 (the first data row is row 0); CSV line numbers from 1.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import itertools
+import os
+import re
+import tempfile
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import IO, Any, ClassVar, Self, TypeVar
+
+import h5py
+import numpy as np
+from numpy.typing import NDArray
+
+from sins_fw.errors import TraceError
+
+Array = NDArray[np.float64]
+PathLike = str | os.PathLike[str]
+
+PHYSICAL_FORMAT = "sins-fw-physical-trace/1"
+RAW_FORMAT = "sins-fw-raw-register-trace/1"
+#: Default gap limit: a time step longer than this many nominal sample periods is an error
+#: (one dropped sample already makes a step of 2 periods; jitter up to 50 % is accepted).
+DEFAULT_MAX_GAP_PERIODS = 1.5
+#: Allowed deviation of a truth quaternion's norm from 1 (float64 data, written with full precision).
+TRUTH_NORM_TOLERANCE = 1e-6
+#: Rows per HDF5 chunk and per block when writing CSV.
+_BLOCK_ROWS = 65536
+_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+_KEY_RE = re.compile(r"^[A-Za-z0-9_.\-]+$")
+_EXTENSIONS = (".csv", ".h5")
+
+
+@dataclass(frozen=True)
+class Column:
+    """One column of a trace format."""
+
+    name: str
+    unit: str
+    description: str
+    kind: str = "float"  # "float", "flag" (0/1) or "word" (16-bit register word)
+    group: str = ""  # columns of one group are all present or all absent
+    required: bool = True
+    nan_allowed: bool = False
+
+    @property
+    def stem(self) -> str:
+        """The quantity without its unit suffix (``gyro_x_dps`` → ``gyro_x``): to spot wrong units."""
+        if self.kind != "float" or self.unit in ("1", ""):
+            return self.name
+        return self.name.rsplit("_", 1)[0]
+
+
+def _axes(prefix: str, suffix: str, unit: str, what: str, required: bool) -> list[Column]:
+    return [
+        Column(f"{prefix}_{a}_{suffix}", unit, f"{what}, sensor {a} axis", group=prefix, required=required)
+        for a in "xyz"
+    ]
+
+
+PHYSICAL_COLUMNS: tuple[Column, ...] = (
+    Column("t_s", "s", "sample time"),
+    *_axes("gyro", "dps", "°/s", "angular rate ω_ib", True),
+    *_axes("accel", "g", "g (9.80665 m/s²)", "specific force", True),
+    *_axes("mag", "gauss", "gauss", "magnetic field", False),
+    Column("baro_mbar", "mbar", "barometric pressure", group="baro", required=False),
+    Column("temp_c", "°C", "sensor temperature", group="temp", required=False),
+    *(
+        Column(
+            f"truth_q{c}",
+            "1",
+            f"truth quaternion component {c} (C_b^n, ENU)",
+            group="truth",
+            required=False,
+            nan_allowed=True,
+        )
+        for c in "wxyz"
+    ),
+    Column(
+        "moving", "0/1", "1 where the body moves relative to the navigation frame", "flag", "moving", False
+    ),
+)
+
+#: The 15 DOUT words of one burst read, in bus order: the don't-care answer to the 0x4200 command
+#: frame, then the 14 output registers 0x02…0x1C.
+RAW_WORD_COLUMNS: tuple[str, ...] = (
+    "frame0",
+    "supply_out",
+    "xgyro_out",
+    "ygyro_out",
+    "zgyro_out",
+    "xaccl_out",
+    "yaccl_out",
+    "zaccl_out",
+    "xmagn_out",
+    "ymagn_out",
+    "zmagn_out",
+    "baro_out",
+    "baro_outl",
+    "temp_out",
+    "aux_adc",
+)
+RAW_COLUMNS: tuple[Column, ...] = (
+    Column("t_s", "s", "time of the burst's chip-select falling edge"),
+    *(
+        Column(n, "16-bit word", f"DOUT word {i} of the burst", kind="word")
+        for i, n in enumerate(RAW_WORD_COLUMNS)
+    ),
+)
+
+_ALIASES = {"time": "t_s", "timestamp": "t_s", "time_s": "t_s"}
+
+
+@dataclass(frozen=True)
+class _Schema:
+    title: str
+    format: str
+    columns: tuple[Column, ...]
+
+    def column(self, name: str) -> Column:
+        return next(c for c in self.columns if c.name == name)
+
+    def names(self) -> list[str]:
+        return [c.name for c in self.columns]
+
+    def diagnose_unknown(self, name: str) -> str:
+        """Why ``name`` is not a column: a wrong or missing unit, or simply unknown."""
+        lowered = name.strip().lower()
+        if lowered in _ALIASES:
+            c = self.column(_ALIASES[lowered])
+            return f"column `{name}` has no recognised unit: expected `{c.name}` ({c.unit})"
+        matches = [
+            c
+            for c in self.columns
+            if c.stem != c.name and (lowered == c.stem or lowered.startswith(c.stem + "_"))
+        ]
+        if matches:
+            c = max(matches, key=lambda m: len(m.stem))
+            return f"column `{name}` has the wrong unit: expected `{c.name}` ({c.unit})"
+        return f"unknown column `{name}`; the columns of a {self.title} are: {', '.join(self.names())}"
+
+    def check_header(self, names: list[str], where: str) -> None:
+        """Unknown, duplicated, wrong-unit and missing columns, each explained."""
+        seen: set[str] = set()
+        known = set(self.names())
+        for n in names:
+            if n in seen:
+                raise TraceError(f"{where}: column `{n}` appears twice")
+            seen.add(n)
+            if n not in known:
+                raise TraceError(f"{where}: {self.diagnose_unknown(n)}")
+        for c in self.columns:
+            if c.required and c.name not in seen:
+                raise TraceError(f"{where}: missing column `{c.name}` ({c.description}, {c.unit})")
+        groups = {c.group for c in self.columns if c.group and c.name in seen}
+        for g in sorted(groups):
+            missing = [c.name for c in self.columns if c.group == g and c.name not in seen]
+            if missing:
+                raise TraceError(
+                    f"{where}: missing column `{missing[0]}`: the `{g}` columns come together "
+                    f"({', '.join(c.name for c in self.columns if c.group == g)})"
+                )
+
+    def order(self, names: list[str] | set[str]) -> list[str]:
+        """The present columns in canonical order."""
+        return [n for n in self.names() if n in names]
+
+
+PHYSICAL_SCHEMA = _Schema("physical trace", PHYSICAL_FORMAT, PHYSICAL_COLUMNS)
+RAW_SCHEMA = _Schema("raw-register trace", RAW_FORMAT, RAW_COLUMNS)
+
+
+# ---------------------------------------------------------------------------------------------------
+# Metadata
+# ---------------------------------------------------------------------------------------------------
+
+
+def parse_rate(text: str, where: str = "metadata") -> Fraction:
+    """A sample rate written as a decimal (``819.2``) as an exact fraction; must be positive."""
+    try:
+        rate = Fraction(text.strip())
+    except (ValueError, ZeroDivisionError):
+        rate = Fraction(0)
+    if rate <= 0:
+        raise TraceError(
+            f"{where}: `sample_rate_hz` is `{text}`; expected a positive number of Hz (e.g. 819.2 or 2000/7)"
+        )
+    return rate
+
+
+def _check_metadata(metadata: Mapping[str, str], schema: _Schema, where: str) -> Fraction:
+    for key, value in metadata.items():
+        if not _KEY_RE.match(key):
+            raise TraceError(f"{where}: key `{key}` must be letters, digits, `_`, `.` or `-`")
+        if not isinstance(value, str) or "\n" in value or "\r" in value:
+            raise TraceError(f"{where}: `{key}` must be a one-line string")
+    fmt = metadata.get("format")
+    if fmt is not None and fmt != schema.format:
+        other = (
+            "raw-register trace" if fmt == RAW_FORMAT else "physical trace" if fmt == PHYSICAL_FORMAT else fmt
+        )
+        raise TraceError(
+            f"{where}: `format` is `{fmt}` ({other}); expected `{schema.format}` ({schema.title})"
+        )
+    if "sample_rate_hz" not in metadata:
+        raise TraceError(f"{where}: `sample_rate_hz` is missing (the nominal sample rate, Hz)")
+    return parse_rate(metadata["sample_rate_hz"], where)
+
+
+# ---------------------------------------------------------------------------------------------------
+# Value checks (vectorised; the same for every source)
+# ---------------------------------------------------------------------------------------------------
+
+
+@dataclass
+class _Checker:
+    """Checks blocks of rows as they stream in; carries the previous time across blocks."""
+
+    schema: _Schema
+    src: str
+    period_s: float
+    allow_gaps: bool
+    max_gap_periods: float
+    where: Callable[[int], str]
+    prev_t: float | None = None
+    rows_seen: int = 0
+
+    def check(self, cols: dict[str, np.ndarray]) -> None:
+        row0 = self.rows_seen
+        for name, arr in cols.items():
+            c = self.schema.column(name)
+            if c.kind == "float":
+                bad = ~np.isfinite(arr)
+                if c.nan_allowed:
+                    bad &= ~np.isnan(arr)
+                if bad.any():
+                    i = int(np.argmax(bad))
+                    allowed = " (NaN is allowed here, infinity is not)" if c.nan_allowed else ""
+                    raise TraceError(
+                        f"{self.src}: {self.where(row0 + i)}, column `{name}`: found {arr[i]}; "
+                        f"expected a finite number{allowed}"
+                    )
+            elif c.kind == "flag":
+                bad = (arr != 0) & (arr != 1)
+                if bad.any():
+                    i = int(np.argmax(bad))
+                    raise TraceError(
+                        f"{self.src}: {self.where(row0 + i)}, column `{name}`: found {arr[i]}; "
+                        "expected 0 or 1"
+                    )
+        if "truth_qw" in cols:
+            self._check_truth(np.stack([cols[f"truth_q{c}"] for c in "wxyz"], axis=1), row0)
+        self._check_time(cols["t_s"], row0)
+        self.rows_seen += len(cols["t_s"])
+
+    def _check_truth(self, q: Array, row0: int) -> None:
+        nan = np.isnan(q)
+        partial = nan.any(axis=1) & ~nan.all(axis=1)
+        if partial.any():
+            i = int(np.argmax(partial))
+            raise TraceError(
+                f"{self.src}: {self.where(row0 + i)}, column `truth_q{'wxyz'[int(np.argmax(nan[i]))]}`: "
+                "NaN in only some truth components; expected all four NaN (missing truth) or none"
+            )
+        norm = np.linalg.norm(q, axis=1)
+        bad = np.abs(norm - 1.0) > TRUTH_NORM_TOLERANCE  # NaN rows compare False
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise TraceError(
+                f"{self.src}: {self.where(row0 + i)}, column `truth_qw`: the truth quaternion has norm "
+                f"{norm[i]:.9g}; expected a unit quaternion (|norm − 1| ≤ {TRUTH_NORM_TOLERANCE:g})"
+            )
+
+    def _check_time(self, t: Array, row0: int) -> None:
+        prev = np.array([] if self.prev_t is None else [self.prev_t])
+        joined = np.concatenate([prev, t])
+        dt = np.diff(joined)
+        offset = row0 - len(prev) + 1  # row of dt[k]'s later sample
+        bad = dt <= 0
+        if bad.any():
+            k = int(np.argmax(bad))
+            later, earlier = float(joined[k + 1]), float(joined[k])
+            raise TraceError(
+                f"{self.src}: {self.where(offset + k)}, column `t_s`: time {later!r} s follows {earlier!r} "
+                "s; expected strictly increasing time"
+            )
+        gap = dt > self.max_gap_periods * self.period_s
+        if gap.any() and not self.allow_gaps:
+            k = int(np.argmax(gap))
+            raise TraceError(
+                f"{self.src}: {self.where(offset + k)}, column `t_s`: gap of {dt[k]:.6g} s "
+                f"({dt[k] / self.period_s:.3g} sample periods) after time {float(joined[k])!r} s; expected "
+                f"at most {self.max_gap_periods:g} periods of 1/sample_rate_hz = {self.period_s:.6g} s "
+                "(allow gaps with allow_gaps=True / --allow-gaps)"
+            )
+        if len(t):
+            self.prev_t = float(t[-1])
+
+
+# ---------------------------------------------------------------------------------------------------
+# Reading
+# ---------------------------------------------------------------------------------------------------
+
+
+def _extension(path: Path) -> str:
+    ext = path.suffix.lower()
+    if ext in (".hdf5", ".hdf"):
+        ext = ".h5"
+    if ext not in _EXTENSIONS:
+        raise TraceError(f"{path}: unknown trace extension `{path.suffix}`; expected .csv or .h5")
+    return ext
+
+
+@dataclass
+class _Source:
+    """An opened trace: metadata, present columns, and a generator of checked column blocks."""
+
+    metadata: dict[str, str]
+    names: list[str]
+    blocks: Iterator[dict[str, np.ndarray]]
+
+
+def _open(path: PathLike, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float) -> _Source:
+    p = Path(path)
+    if rows < 1:
+        raise TraceError(f"{p}: chunk size must be at least 1 row, got {rows}")
+    ext = _extension(p)
+    if not p.is_file():
+        raise TraceError(f"{p}: no such trace file")
+    reader = _open_csv if ext == ".csv" else _open_h5
+    return reader(p, schema, rows, allow_gaps, max_gap_periods)
+
+
+def _sniff(p: Path, fh: IO[bytes]) -> None:
+    head = fh.read(8192)
+    fh.seek(0)
+    if not head:
+        raise TraceError(f"{p}: empty file; expected a CSV trace (metadata lines, a header row, data rows)")
+    if head.startswith(_HDF5_SIGNATURE):
+        raise TraceError(f"{p}: this is an HDF5 file, not CSV text; give it the .h5 extension")
+    nul = head.find(b"\x00")
+    if nul >= 0:
+        raise TraceError(f"{p}: binary data (NUL byte at offset {nul}); expected a CSV text trace")
+
+
+def _decode(raw: bytes, p: Path, first_line: int) -> str:
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = first_line + raw.count(b"\n", 0, e.start)
+        raise TraceError(
+            f"{p}: line {line}: byte 0x{raw[e.start]:02x} is not UTF-8 text; expected a UTF-8 CSV trace"
+        ) from None
+
+
+def _open_csv(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float) -> _Source:
+    fh = p.open("rb")
+    try:
+        _sniff(p, fh)
+        metadata: dict[str, str] = {}
+        line_no = 0
+        header: str | None = None
+        for raw in fh:
+            line_no += 1
+            text = _decode(raw, p, line_no).lstrip("\ufeff").rstrip("\r\n")
+            if text.startswith("#"):
+                key, sep, value = text[1:].partition(":")
+                if sep and _KEY_RE.match(key.strip()):
+                    metadata[key.strip()] = value.strip()
+                continue
+            if not text.strip():
+                raise TraceError(f"{p}: line {line_no}: empty line before the header row")
+            header = text
+            break
+        if header is None:
+            raise TraceError(f"{p}: no header row; expected `# key: value` metadata lines then a header row")
+        header_line = line_no
+        names = [n.strip() for n in header.split(",")]
+        schema.check_header(names, f"{p}: line {header_line} (header)")
+        lines = "line 1" if header_line == 2 else f"lines 1–{header_line - 1}"
+        rate = _check_metadata(metadata, schema, f"{p}: metadata ({lines})")
+    except BaseException:
+        fh.close()
+        raise
+
+    def where(row: int) -> str:
+        return f"line {header_line + 1 + row} (row {row})"
+
+    checker = _Checker(schema, str(p), float(1 / rate), allow_gaps, max_gap_periods, where)
+    first = _first_data_line(fh)
+    if first is None:
+        fh.close()
+        raise TraceError(f"{p}: header only, no data rows (line {header_line} is the header)")
+    return _Source(metadata, names, _csv_blocks(p, fh, first, header_line, names, schema, rows, checker))
+
+
+def _first_data_line(fh: IO[bytes]) -> bytes | None:
+    for raw in fh:
+        return raw
+    return None
+
+
+def _csv_blocks(
+    p: Path,
+    fh: IO[bytes],
+    first: bytes,
+    header_line: int,
+    names: list[str],
+    schema: _Schema,
+    rows: int,
+    checker: _Checker,
+) -> Iterator[dict[str, np.ndarray]]:
+    with fh:
+        lines_iter = itertools.chain([first], fh)
+        while True:
+            block = list(itertools.islice(lines_iter, rows))
+            if not block:
+                return
+            row0 = checker.rows_seen
+            raw = b"".join(block)
+            text = _decode(raw, p, header_line + 1 + row0)
+            at_end = not raw.endswith(b"\n")
+            cols = _parse_csv_block(p, text, names, schema, checker, row0, at_end)
+            checker.check(cols)
+            yield cols
+
+
+def _parse_csv_block(
+    p: Path, text: str, names: list[str], schema: _Schema, checker: _Checker, row0: int, at_end: bool
+) -> dict[str, np.ndarray]:
+    kinds = [schema.column(n).kind for n in names]
+    blank = _BLANK_LINE.search(text.removesuffix("\n"))
+    if blank:  # loadtxt would skip it silently
+        row = row0 + text.count("\n", 0, blank.start())
+        raise TraceError(
+            f"{p}: {checker.where(row)}: empty line; expected {len(names)} comma-separated fields"
+        )
+    try:
+        if "word" not in kinds:
+            table = np.loadtxt(io.StringIO(text), delimiter=",", dtype=np.float64, ndmin=2, comments=None)
+            if table.shape[1] != len(names):
+                raise ValueError("field count")
+            return {n: table[:, i] for i, n in enumerate(names)}
+        strings = np.loadtxt(io.StringIO(text), delimiter=",", dtype=str, ndmin=2, comments=None)
+        if strings.shape[1] != len(names):
+            raise ValueError("field count")
+        out = {n: strings[:, i].astype(np.float64) for i, n in enumerate(names) if kinds[i] != "word"}
+    except ValueError:
+        _diagnose_csv_block(p, text, names, kinds, checker, row0, at_end)
+        raise  # not reached: the diagnosis raises
+    for i, n in enumerate(names):
+        if kinds[i] != "word":
+            continue
+        values, bad = _parse_hex(strings[:, i])
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise TraceError(
+                f"{p}: {checker.where(row0 + k)}, column `{n}`: `{strings[k, i].strip()}` is not a "
+                "16-bit hexadecimal word; expected 0x0000…0xFFFF (e.g. 0xC7A7)"
+            )
+        out[n] = values.astype(np.uint16)
+    return {n: out[n] for n in names}
+
+
+def _diagnose_csv_block(
+    p: Path, text: str, names: list[str], kinds: list[str], checker: _Checker, row0: int, at_end: bool
+) -> None:
+    """Find the first bad line of a block that did not parse (error path only: a loop is fine)."""
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()
+    for k, line in enumerate(lines):
+        where = checker.where(row0 + k)
+        stripped = line.rstrip("\r")
+        if not stripped.strip():
+            raise TraceError(f"{p}: {where}: empty line; expected {len(names)} comma-separated fields")
+        if stripped.lstrip().startswith("#"):
+            raise TraceError(f"{p}: {where}: comment line after the header; metadata lines go before it")
+        fields = stripped.split(",")
+        last = k == len(lines) - 1
+        if len(fields) != len(names):
+            if last and at_end and len(fields) < len(names):
+                raise TraceError(
+                    f"{p}: {where}: truncated last row ({len(fields)} of {len(names)} fields and no newline "
+                    "at the end of the file); expected a complete row (was the file cut short?)"
+                )
+            raise TraceError(
+                f"{p}: {where}: {len(fields)} fields; expected {len(names)} ({', '.join(names)})"
+            )
+        for name, kind, token in zip(names, kinds, fields, strict=True):
+            if kind == "word":
+                continue  # word columns are checked after parsing, with their own message
+            try:
+                float(token)
+            except ValueError:
+                raise TraceError(
+                    f"{p}: {where}, column `{name}`: `{token.strip()}` is not a number"
+                ) from None
+    raise TraceError(f"{p}: rows {row0}…{row0 + len(lines) - 1}: could not be parsed as numbers")
+
+
+_BLANK_LINE = re.compile(r"(?m)^[ \t\r]*$")
+_HEX_LOOKUP = np.full(128, -1, dtype=np.int64)
+for _i, _ch in enumerate("0123456789abcdef"):
+    _HEX_LOOKUP[ord(_ch)] = _i
+    _HEX_LOOKUP[ord(_ch.upper())] = _i
+
+
+def _parse_hex(tokens: NDArray[np.str_]) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """Vectorised parse of ``0xABCD`` / ``abcd`` tokens (1–4 hex digits); returns values and a bad mask."""
+    s = np.strings.strip(tokens)
+    has_prefix = np.strings.startswith(np.strings.lower(s), "0x")
+    body = np.where(has_prefix, np.strings.slice(s, 2, None), s)
+    length = np.strings.str_len(body)
+    bad = (length < 1) | (length > 4)
+    fixed = np.where(bad, "0", body).astype("<U4")
+    codes = fixed.view(np.uint32).reshape(len(fixed), 4).astype(np.int64)
+    valid_code = codes < 128
+    digits = np.where(valid_code, _HEX_LOOKUP[np.minimum(codes, 127)], -1)
+    present = np.arange(4)[None, :] < np.where(bad, 1, length)[:, None]
+    bad |= (present & (digits < 0)).any(axis=1)
+    weights = 16 ** (np.where(bad, 1, length)[:, None] - 1 - np.arange(4)[None, :]).clip(min=0)
+    values = np.where(present, np.maximum(digits, 0) * weights, 0).sum(axis=1)
+    return values, bad
+
+
+def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float) -> _Source:
+    with p.open("rb") as fh:
+        head = fh.read(512)
+    if not head:
+        raise TraceError(f"{p}: empty file; expected an HDF5 trace")
+    if not head.startswith(_HDF5_SIGNATURE):
+        looks_text = b"\x00" not in head and head[:1] in (b"#", b"t")
+        hint = "; it looks like CSV text: give it the .csv extension" if looks_text else ""
+        raise TraceError(f"{p}: not an HDF5 file (no HDF5 signature){hint}")
+    try:
+        f = h5py.File(p, "r")
+    except OSError as e:
+        raise TraceError(f"{p}: damaged or truncated HDF5 file ({e})") from None
+    try:
+        metadata = {str(k): _attr_text(v) for k, v in f.attrs.items()}
+        names = list(f.keys())
+        if not names:
+            raise TraceError(
+                f"{p}: no datasets; expected one dataset per column ({', '.join(schema.names())})"
+            )
+        schema.check_header(names, f"{p}")
+        names = schema.order(names)
+        length: int | None = None
+        for n in names:
+            ds = f[n]
+            if not isinstance(ds, h5py.Dataset) or ds.ndim != 1:
+                raise TraceError(f"{p}: column `{n}`: expected a one-dimensional dataset")
+            c = schema.column(n)
+            kind = ds.dtype.kind
+            if (c.kind == "float" and kind not in "fiu") or (c.kind != "float" and kind not in "iub"):
+                raise TraceError(f"{p}: column `{n}`: dataset type {ds.dtype}; expected {_dtype_of(c)}")
+            if length is None:
+                length = ds.shape[0]
+            elif ds.shape[0] != length:
+                raise TraceError(
+                    f"{p}: column `{n}` has {ds.shape[0]} rows; expected {length} like column `{names[0]}`"
+                )
+        if not length:
+            raise TraceError(f"{p}: header only, no data rows (every dataset is empty)")
+        rate = _check_metadata(metadata, schema, f"{p}: metadata (file attributes)")
+    except BaseException:
+        f.close()
+        raise
+
+    def where(row: int) -> str:
+        return f"row {row}"
+
+    checker = _Checker(schema, str(p), float(1 / rate), allow_gaps, max_gap_periods, where)
+    return _Source(metadata, names, _h5_blocks(p, f, names, schema, int(length), rows, checker))
+
+
+def _h5_blocks(
+    p: Path, f: h5py.File, names: list[str], schema: _Schema, length: int, rows: int, checker: _Checker
+) -> Iterator[dict[str, np.ndarray]]:
+    with f:
+        for start in range(0, length, rows):
+            stop = min(start + rows, length)
+            cols: dict[str, np.ndarray] = {}
+            for n in names:
+                try:
+                    block = f[n][start:stop]
+                except (OSError, ValueError) as e:
+                    raise TraceError(
+                        f"{p}: column `{n}`, rows {start}…{stop - 1}: cannot be read ({e})"
+                    ) from None
+                c = schema.column(n)
+                if c.kind == "word":
+                    bad = (block < 0) | (block > 0xFFFF)
+                    if bad.any():
+                        i = int(np.argmax(bad))
+                        raise TraceError(
+                            f"{p}: row {start + i}, column `{n}`: {block[i]} is not a 16-bit word"
+                        )
+                    block = block.astype(np.uint16)
+                elif c.kind == "float":
+                    block = block.astype(np.float64)
+                cols[n] = block
+            checker.check(cols)
+            yield cols
+
+
+def _attr_text(v: Any) -> str:
+    if isinstance(v, bytes):
+        return v.decode("utf-8", errors="replace")
+    if isinstance(v, np.ndarray):
+        return " ".join(str(x) for x in v.tolist())
+    return str(v.item() if isinstance(v, np.generic) else v)
+
+
+def _dtype_of(c: Column) -> str:
+    return {"float": "float64", "flag": "uint8 (0/1)", "word": "uint16"}[c.kind]
+
+
+# ---------------------------------------------------------------------------------------------------
+# Writing (atomic: a temporary file in the same folder, then os.replace)
+# ---------------------------------------------------------------------------------------------------
+
+
+@contextlib.contextmanager
+def _atomic_path(path: Path) -> Iterator[Path]:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        # mkstemp creates the file private (0600); give it the permissions a plain open() would.
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+
+
+def _format_column(c: Column, arr: np.ndarray) -> NDArray[np.str_]:
+    if c.kind == "float":
+        return arr.astype(np.float64).astype(str)  # shortest repr that round-trips exactly
+    if c.kind == "flag":
+        return arr.astype(np.uint8).astype(str)
+    digits = np.array([ord(ch) for ch in "0123456789ABCDEF"], dtype=np.uint32)
+    nibbles = (arr.astype(np.int64)[:, None] >> np.array([12, 8, 4, 0])) & 0xF
+    return np.strings.add("0x", np.ascontiguousarray(digits[nibbles]).view("<U4").reshape(len(arr)))
+
+
+def _write_csv(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
+    names = list(cols)
+    n = len(cols["t_s"])
+    with _atomic_path(path) as tmp, tmp.open("w", encoding="utf-8", newline="\n") as out:
+        out.write(f"# sins-fw {schema.title} (format described in docs/traces.md)\n")
+        for k, v in metadata.items():
+            out.write(f"# {k}: {v}\n")
+        out.write(",".join(names) + "\n")
+        for start in range(0, n, _BLOCK_ROWS):
+            stop = min(start + _BLOCK_ROWS, n)
+            line = _format_column(schema.column(names[0]), cols[names[0]][start:stop])
+            for name in names[1:]:
+                line = np.strings.add(
+                    np.strings.add(line, ","), _format_column(schema.column(name), cols[name][start:stop])
+                )
+            out.write("\n".join(line.tolist()))
+            out.write("\n")
+
+
+def _write_h5(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
+    n = len(cols["t_s"])
+    dtypes = {"float": np.float64, "flag": np.uint8, "word": np.uint16}
+    # track_times off: the same content gives the same bytes (no timestamps); track_order keeps the
+    # metadata in the order it was written (as in CSV).
+    with _atomic_path(path) as tmp, h5py.File(tmp, "w", libver=("earliest", "v110"), track_order=True) as f:
+        for k, v in metadata.items():
+            f.attrs[k] = v
+        for name, arr in cols.items():
+            c = schema.column(name)
+            ds = f.create_dataset(
+                name,
+                data=arr.astype(dtypes[c.kind]),
+                chunks=(min(n, _BLOCK_ROWS),),
+                compression="gzip",
+                compression_opts=9,
+                shuffle=True,
+                track_times=False,
+            )
+            ds.attrs["unit"] = c.unit
+
+
+def _write(path: PathLike, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
+    p = Path(path)
+    ext = _extension(p)
+    meta = {"format": schema.format, **{k: v for k, v in metadata.items() if k != "format"}}
+    _check_metadata(meta, schema, f"{p}: metadata")
+    (_write_csv if ext == ".csv" else _write_h5)(p, schema, meta, cols)
+
+
+# ---------------------------------------------------------------------------------------------------
+# The trace types
+# ---------------------------------------------------------------------------------------------------
+
+
+@dataclass
+class PhysicalTrace:
+    """What the sensor sees, sample by sample (units and frames: docs/traces.md).
+
+    ``gyro_dps`` is ω_ib in the sensor frame (°/s), ``accel_g`` the specific force (g = 9.80665 m/s²),
+    ``truth_q`` the attitude C_b^n as a unit quaternion ``[w, x, y, z]`` (navigation frame ENU), NaN
+    rows where the truth is missing. Optional fields are ``None`` when absent.
+    """
+
+    t_s: Array
+    gyro_dps: Array
+    accel_g: Array
+    mag_gauss: Array | None = None
+    baro_mbar: Array | None = None
+    temp_c: Array | None = None
+    truth_q: Array | None = None
+    moving: NDArray[np.bool_] | None = None
+    metadata: dict[str, str] = field(default_factory=dict)
+
+    schema: ClassVar[_Schema] = PHYSICAL_SCHEMA
+    _GROUPS: ClassVar[dict[str, tuple[str, ...]]] = {
+        "gyro_dps": tuple(f"gyro_{a}_dps" for a in "xyz"),
+        "accel_g": tuple(f"accel_{a}_g" for a in "xyz"),
+        "mag_gauss": tuple(f"mag_{a}_gauss" for a in "xyz"),
+        "baro_mbar": ("baro_mbar",),
+        "temp_c": ("temp_c",),
+        "truth_q": tuple(f"truth_q{c}" for c in "wxyz"),
+        "moving": ("moving",),
+    }
+
+    def __len__(self) -> int:
+        return len(self.t_s)
+
+    @property
+    def sample_rate_hz(self) -> Fraction:
+        """The nominal sample rate from the metadata, as an exact fraction."""
+        return parse_rate(self.metadata.get("sample_rate_hz", "0"), "trace metadata")
+
+    @property
+    def duration_s(self) -> float:
+        """Time span covered: last minus first sample time plus one nominal period."""
+        return float(self.t_s[-1] - self.t_s[0] + 1 / self.sample_rate_hz) if len(self) else 0.0
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The trace as named one-dimensional columns, in canonical order."""
+        n = len(self.t_s)
+        cols: dict[str, np.ndarray] = {"t_s": np.asarray(self.t_s, dtype=np.float64)}
+        for attr, names in self._GROUPS.items():
+            value = getattr(self, attr)
+            if value is None:
+                continue
+            arr = np.asarray(value)
+            shape = (n, len(names)) if len(names) > 1 else (n,)
+            if arr.shape != shape:
+                raise TraceError(
+                    f"PhysicalTrace.{attr}: shape {arr.shape}; expected {shape} ({', '.join(names)})"
+                )
+            for i, name in enumerate(names):
+                cols[name] = arr[:, i] if len(names) > 1 else arr
+        if "moving" in cols:
+            cols["moving"] = cols["moving"].astype(np.uint8)
+        return cols
+
+    @classmethod
+    def from_columns(cls, cols: Mapping[str, np.ndarray], metadata: Mapping[str, str]) -> Self:
+        """Build from named columns (as read from a file)."""
+        fields: dict[str, Any] = {}
+        for attr, names in cls._GROUPS.items():
+            if names[0] in cols:
+                arrays = [np.asarray(cols[n]) for n in names]
+                fields[attr] = np.stack(arrays, axis=1) if len(names) > 1 else arrays[0]
+        if "moving" in fields:
+            fields["moving"] = fields["moving"].astype(bool)
+        for attr in ("gyro_dps", "accel_g", "mag_gauss", "baro_mbar", "temp_c", "truth_q"):
+            if attr in fields:
+                fields[attr] = fields[attr].astype(np.float64)
+        return cls(t_s=np.asarray(cols["t_s"], dtype=np.float64), metadata=dict(metadata), **fields)
+
+    def validate(self, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS) -> None:
+        """The checks a file gets on load, for a trace built in memory."""
+        _validate_memory(self.schema, self.columns(), self.metadata, allow_gaps, max_gap_periods)
+
+    def save(self, path: PathLike, *, allow_gaps: bool = False) -> None:
+        """Write as CSV (``.csv``) or HDF5 (``.h5``), atomically, after validating."""
+        self.validate(allow_gaps=allow_gaps)
+        _write(path, self.schema, self.metadata, self.columns())
+
+    @classmethod
+    def load(
+        cls, path: PathLike, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+    ) -> Self:
+        """Read and validate a whole trace."""
+        return _concat(
+            cls, cls.iter_chunks(path, _BLOCK_ROWS, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
+        )
+
+    @classmethod
+    def iter_chunks(
+        cls,
+        path: PathLike,
+        rows: int,
+        *,
+        allow_gaps: bool = False,
+        max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+    ) -> Iterator[Self]:
+        """Stream a trace in validated chunks of at most ``rows`` rows (memory does not grow with length)."""
+        src = _open(path, cls.schema, rows, allow_gaps, max_gap_periods)
+        for block in src.blocks:
+            yield cls.from_columns(block, src.metadata)
+
+
+@dataclass
+class RawRegisterTrace:
+    """Per burst read: the time of the chip-select falling edge (s) and the 15 DOUT words
+    (``words[:, 0]`` answers the 0x4200 command frame and is don't care; ``words[:, 1:]`` are
+    SUPPLY_OUT … AUX_ADC, see :data:`RAW_WORD_COLUMNS`)."""
+
+    t_s: Array
+    words: NDArray[np.uint16]
+    metadata: dict[str, str] = field(default_factory=dict)
+
+    schema: ClassVar[_Schema] = RAW_SCHEMA
+
+    def __len__(self) -> int:
+        return len(self.t_s)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The trace as named columns."""
+        words = np.asarray(self.words)
+        if words.shape != (len(self.t_s), len(RAW_WORD_COLUMNS)):
+            raise TraceError(
+                f"RawRegisterTrace.words: shape {words.shape}; "
+                f"expected ({len(self.t_s)}, {len(RAW_WORD_COLUMNS)})"
+            )
+        if words.dtype.kind not in "iu" or (words.size and (words.min() < 0 or words.max() > 0xFFFF)):
+            raise TraceError("RawRegisterTrace.words: expected 16-bit words (0…0xFFFF)")
+        cols: dict[str, np.ndarray] = {"t_s": np.asarray(self.t_s, dtype=np.float64)}
+        for i, n in enumerate(RAW_WORD_COLUMNS):
+            cols[n] = words[:, i].astype(np.uint16)
+        return cols
+
+    @classmethod
+    def from_columns(cls, cols: Mapping[str, np.ndarray], metadata: Mapping[str, str]) -> Self:
+        """Build from named columns."""
+        words = np.stack([np.asarray(cols[n], dtype=np.uint16) for n in RAW_WORD_COLUMNS], axis=1)
+        return cls(t_s=np.asarray(cols["t_s"], dtype=np.float64), words=words, metadata=dict(metadata))
+
+    def validate(self, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS) -> None:
+        """The checks a file gets on load, for a trace built in memory."""
+        _validate_memory(self.schema, self.columns(), self.metadata, allow_gaps, max_gap_periods)
+
+    def save(self, path: PathLike, *, allow_gaps: bool = False) -> None:
+        """Write as CSV (``.csv``, words as ``0xABCD``) or HDF5 (``.h5``, uint16), atomically."""
+        self.validate(allow_gaps=allow_gaps)
+        _write(path, self.schema, self.metadata, self.columns())
+
+    @classmethod
+    def load(
+        cls, path: PathLike, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+    ) -> Self:
+        """Read and validate a whole raw-register trace."""
+        return _concat(
+            cls, cls.iter_chunks(path, _BLOCK_ROWS, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
+        )
+
+    @classmethod
+    def iter_chunks(
+        cls,
+        path: PathLike,
+        rows: int,
+        *,
+        allow_gaps: bool = False,
+        max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+    ) -> Iterator[Self]:
+        """Stream a raw-register trace in validated chunks of at most ``rows`` rows."""
+        src = _open(path, cls.schema, rows, allow_gaps, max_gap_periods)
+        for block in src.blocks:
+            yield cls.from_columns(block, src.metadata)
+
+
+def check_output_path(path: PathLike) -> Path:
+    """Fail early (before any work) on an output path that cannot take a trace."""
+    p = Path(path)
+    _extension(p)
+    if p.is_dir():
+        raise TraceError(f"{p}: is a directory; expected a trace file name ending in .csv or .h5")
+    return p
+
+
+def read_metadata(path: PathLike) -> dict[str, str]:
+    """The metadata of a trace file without validating it (empty when unreadable: ``load`` explains)."""
+    p = Path(path)
+    try:
+        if _extension(p) == ".h5":
+            with h5py.File(p, "r") as f:
+                return {str(k): _attr_text(v) for k, v in f.attrs.items()}
+        metadata: dict[str, str] = {}
+        with p.open("rb") as fh:
+            for raw in fh:
+                text = raw.decode("utf-8").lstrip("\ufeff").rstrip("\r\n")
+                if not text.startswith("#"):
+                    break
+                key, sep, value = text[1:].partition(":")
+                if sep and _KEY_RE.match(key.strip()):
+                    metadata[key.strip()] = value.strip()
+        return metadata
+    except (OSError, UnicodeDecodeError, TraceError):
+        return {}
+
+
+def iter_chunks(
+    path: PathLike, rows: int, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+) -> Iterator[PhysicalTrace]:
+    """Stream a physical trace in validated chunks of at most ``rows`` rows."""
+    return PhysicalTrace.iter_chunks(path, rows, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
+
+
+def _validate_memory(
+    schema: _Schema,
+    cols: dict[str, np.ndarray],
+    metadata: Mapping[str, str],
+    allow_gaps: bool,
+    max_gap_periods: float,
+) -> None:
+    src = f"<{schema.title} in memory>"
+    rate = _check_metadata(metadata, schema, f"{src}: metadata")
+    lengths = {n: len(a) for n, a in cols.items()}
+    if len(set(lengths.values())) > 1:
+        raise TraceError(f"{src}: columns have different lengths: {lengths}")
+    if not lengths["t_s"]:
+        raise TraceError(f"{src}: no data rows")
+    _Checker(schema, src, float(1 / rate), allow_gaps, max_gap_periods, lambda r: f"row {r}").check(cols)
+
+
+_T = TypeVar("_T", PhysicalTrace, RawRegisterTrace)
+
+
+def _concat(cls: type[_T], chunks: Iterator[_T]) -> _T:
+    traces = list(chunks)
+    parts = [t.columns() for t in traces]
+    cols = {n: np.concatenate([p[n] for p in parts]) for n in parts[0]}
+    return cls.from_columns(cols, traces[0].metadata)
