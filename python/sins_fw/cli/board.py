@@ -6,6 +6,7 @@ import argparse
 
 from sins_fw import _core
 from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.harness import cost_table_text
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -19,7 +20,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     profile = profile_from_args(args)
-    s = _core.board_summary(profile.text, profile.source, list(profile.overrides))
+    s = _core.board_summary(profile.text, profile.source, list(profile.overrides), *cost_table_text(profile))
     report = {"profile": profile.source, "overrides": list(profile.overrides), **s}
     lines = [
         f"profile        {profile.source} {' '.join(profile.overrides)}".rstrip(),
@@ -29,7 +30,9 @@ def run(args: argparse.Namespace) -> int:
         f"SPI mode       {s['spi_mode']} ({s['clock_scheme']}); device needs mode 3: "
         f"{'matches' if s['mode_matches_device'] else 'DOES NOT MATCH'}",
         f"frame          {s['char_bits']} bits, {s['frame_s'] * 1e6:.3f} µs",
-        f"burst (15)     {s['burst_s'] * 1e6:.3f} µs ({s['burst_clocking_s'] * 1e6:.3f} µs of clocking)",
+        f"burst (15)     {s['burst_s'] * 1e6:.3f} µs first to last SCLK edge, as the firmware polls "
+        f"({s['burst_clocking_s'] * 1e6:.3f} µs of clocking)",
+        f"frame gap      {s['frame_gap_s'] * 1e6:.3f} µs longest, last to first SCLK edge",
         f"timer period   {s['timer_period_s'] * 1e6:.3f} µs",
     ]
     if s["violations"]:

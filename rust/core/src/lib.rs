@@ -14,6 +14,7 @@
 pub mod bus;
 pub mod device;
 pub mod dsp;
+pub mod emulator;
 pub mod error;
 pub mod events;
 pub mod firmware;

@@ -3,11 +3,13 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sins_core::dsp::summary::BoardSummary;
+use sins_core::emulator::BoardReport;
 use sins_core::events::Event;
 use sins_core::profile::Profile;
 use sins_core::time::ps_to_s;
+use sins_core::timing::CostTable;
 
+mod emulate;
 mod errors;
 
 use errors::{guard, to_py};
@@ -26,7 +28,7 @@ fn profile_keys() -> Vec<String> {
 }
 
 /// An event as a dict: t_s, kind, severity, message, measured, required.
-fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("t_s", ps_to_s(e.t_ps))?;
     d.set_item("kind", e.kind)?;
@@ -40,8 +42,20 @@ fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
 /// What the profile's registers produce (clocks, SPI baud and mode, frame and burst times, rules
 /// broken), as a dict.
 #[pyfunction]
-fn board_summary<'py>(py: Python<'py>, text: &str, source: &str, overrides: Vec<String>) -> PyResult<Bound<'py, PyDict>> {
-    let s = guard(|| Profile::from_toml(text, source, &overrides).and_then(|p| BoardSummary::of(&p)))?.map_err(to_py)?;
+fn board_summary<'py>(
+    py: Python<'py>,
+    text: &str,
+    source: &str,
+    overrides: Vec<String>,
+    costs_text: &str,
+    costs_source: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let r = guard(|| -> Result<BoardReport, sins_core::Error> {
+        let p = Profile::from_toml(text, source, &overrides)?;
+        BoardReport::of(&p, &CostTable::from_toml(costs_text, costs_source)?)
+    })?
+    .map_err(to_py)?;
+    let s = &r.summary;
     let d = PyDict::new(py);
     d.set_item("sysclkout_hz", s.clocks.sysclkout.hz())?;
     d.set_item("lspclk_hz", s.clocks.lspclk.hz())?;
@@ -54,10 +68,11 @@ fn board_summary<'py>(py: Python<'py>, text: &str, source: &str, overrides: Vec<
     d.set_item("char_bits", s.char_bits)?;
     d.set_item("frame_s", ps_to_s(s.frame_ps))?;
     d.set_item("burst_clocking_s", ps_to_s(s.burst_clocking_ps))?;
-    d.set_item("burst_s", ps_to_s(s.burst_ps))?;
-    d.set_item("frame_gap_s", ps_to_s(s.frame_gap_ps))?;
+    d.set_item("burst_s", ps_to_s(r.burst_ps))?;
+    d.set_item("frame_gap_s", ps_to_s(r.frame_gap_ps))?;
     d.set_item("timer_period_s", ps_to_s(s.timer_period_ps))?;
-    let violations = s.violations.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+    let violations =
+        s.violations.iter().chain(&r.burst_events).map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
     d.set_item("violations", violations)?;
     Ok(d)
 }
@@ -68,5 +83,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(resolve_profile, m)?)?;
     m.add_function(wrap_pyfunction!(profile_keys, m)?)?;
     m.add_function(wrap_pyfunction!(board_summary, m)?)?;
+    m.add_class::<emulate::Emulator>()?;
     Ok(())
 }

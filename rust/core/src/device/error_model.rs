@@ -949,6 +949,12 @@ fn check_pos(key: &str, value: f64) -> Result<()> {
     Ok(())
 }
 
+impl super::SensorErrors for ErrorModel {
+    fn apply(&mut self, k: u64, t: Ps, p: &mut Physical) {
+        ErrorModel::apply(self, k, t, p);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -101,12 +101,18 @@ impl Host {
     }
 }
 
+/// The tests check the rules' consequences, so they run the part in `strict` mode whatever the
+/// profile default.
+fn strict() -> Device {
+    Device { timing_mode: crate::profile::TimingMode::Strict, ..Device::default() }
+}
+
 fn device() -> Adis16407 {
-    Adis16407::new(&Device::default()).unwrap()
+    Adis16407::new(&strict()).unwrap()
 }
 
 fn device_with(f: impl FnOnce(&mut Device)) -> Adis16407 {
-    let mut cfg = Device::default();
+    let mut cfg = strict();
     f(&mut cfg);
     Adis16407::new(&cfg).unwrap()
 }

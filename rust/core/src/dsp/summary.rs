@@ -1,25 +1,14 @@
-//! What a profile's register values produce on the board: clocks, SPI baud and mode, frame and
-//! burst times, and the ADIS16407 rules the configuration breaks.
-//!
-//! Burst model (the published polling firmware, run on the real SPI-A model, not a formula):
-//! CS is low; the firmware writes the first word to SPITXBUF at t = 0 (on a SYSCLKOUT edge). Then
-//! for each of the 15 frames it polls SPISTS.INT_FLAG in a loop that reads SPISTS once every
-//! `timing.poll_loop_cycles` SYSCLKOUT cycles, starting one iteration after the write; so it sees the
-//! flag at the first read at or after the character's end (up to one iteration late). It then reads
-//! SPIRXBUF, runs one Spi_TxReady iteration (BUFFULL_FLAG is already 0: the shifter is idle) and
-//! writes the next word, `poll_loop_cycles` cycles after seeing the flag. SPI-A starts that
-//! character `spi.start_latency_lspclk` LSPCLK cycles after the next LSPCLK edge. Because the
-//! firmware never preloads SPITXBUF while a character shifts, the double buffer is unused and each
-//! frame boundary costs this reaction time. The burst time runs from the first SPITXBUF write to the
-//! end (INT_FLAG) of the 15th character.
+//! What a profile's register values produce on the board: clocks, SPI baud and mode, frame time,
+//! and the ADIS16407 rules the configuration breaks. The burst time comes from running the firmware's
+//! own acquisition on the emulated board (`emulator::BoardReport`), not from a second burst model.
 
 use super::clocks::DspClocks;
-use super::spi::{self, ClockScheme, Frame, SpiA, SpiWire};
+use super::spi::{ClockScheme, Frame, SpiA, SpiWire};
 use super::timer::CpuTimer;
 use crate::error::Result;
 use crate::events::{Event, Severity};
 use crate::profile::Profile;
-use crate::time::{Clock, Ps};
+use crate::time::Ps;
 
 /// Frames of one ADIS16407 burst read: the command and 14 data words.
 pub const BURST_FRAMES: u32 = 15;
@@ -54,10 +43,6 @@ pub struct BoardSummary {
     pub frame_ps: Ps,
     /// 15 characters back to back with no gap (the clocking alone), ps.
     pub burst_clocking_ps: Ps,
-    /// One 15-frame burst read as the published firmware polls it (see the module doc), ps.
-    pub burst_ps: Ps,
-    /// Longest idle time between the end of one character and the start of the next in the burst, ps.
-    pub frame_gap_ps: Ps,
     /// CPU timer 0 interrupt period, ps.
     pub timer_period_ps: Ps,
     /// The device rules the configuration breaks (`t_ps` = 0: they hold for every frame).
@@ -88,7 +73,6 @@ impl BoardSummary {
         let sclk_max_hz = lsp.hz() / (2 * shape.active_cycles()) as f64;
         let frame_ps = lsp.cycles_to_ps(shape.length_cycles());
         let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * BURST_FRAMES as u64);
-        let (burst_ps, frame_gap_ps) = burst_time(&mut spi, clocks.sysclkout, profile.timing.poll_loop_cycles as u64)?;
 
         let mut violations = Vec::new();
         let dev = &profile.device;
@@ -160,49 +144,15 @@ impl BoardSummary {
             char_bits: shape.bits,
             frame_ps,
             burst_clocking_ps,
-            burst_ps,
-            frame_gap_ps,
             timer_period_ps: timer.tick_ps(1),
             violations,
         })
     }
 }
 
-/// Run one burst on `spi` (configured, idle, at t = 0) as the published firmware polls it; return
-/// (burst time, longest gap between characters).
-fn burst_time(spi: &mut SpiA, sysclk: Clock, poll: u64) -> Result<(Ps, Ps)> {
-    let mut wire = Unconnected;
-    let mut write_cycle = 0u64;
-    let mut gap = 0;
-    let mut last_end: Option<Ps> = None;
-    for frame in 0..BURST_FRAMES {
-        let write_ps = sysclk.cycles_to_ps(write_cycle);
-        spi.write(spi::SPITXBUF, 0x4200, write_ps, &mut wire)?;
-        let Some(current) = spi.current_frame().copied() else {
-            return Err(crate::error::Error::Config(
-                "spi: the registers never start a character (SPISWRESET = 0 or not master)".into(),
-            ));
-        };
-        if let Some(end) = last_end {
-            gap = gap.max(current.start_ps - end);
-        }
-        let flag_ps = spi.int_flag_time().unwrap_or(current.end_ps);
-        let flag_cycle = sysclk.ps_to_cycles_ceil(flag_ps);
-        let iterations = flag_cycle.saturating_sub(write_cycle).div_ceil(poll).max(1);
-        let seen_cycle = write_cycle + iterations * poll;
-        spi.read(spi::SPIRXBUF, sysclk.cycles_to_ps(seen_cycle), &mut wire)?;
-        last_end = Some(current.end_ps);
-        if frame + 1 < BURST_FRAMES {
-            write_cycle = seen_cycle + poll;
-        }
-    }
-    Ok((last_end.unwrap_or(0), gap))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::time::PS_PER_S;
 
     fn with(overrides: &[&str]) -> BoardSummary {
         let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
@@ -226,9 +176,6 @@ mod tests {
         // frame k starts at LSPCLK cycle 1 + 804k (the end at 800 cycles, seen at the next poll 4
         // SYSCLKOUT cycles later, written 8 cycles after that = 3 LSPCLK, +1 latency), so the 15th
         // ends at cycle 1 + 14·804 + 800 = 12057: 321.52 µs; the gap is 4 LSPCLK cycles.
-        assert_eq!(s.burst_ps, 321_520_000);
-        assert!(s.burst_ps >= 320_000_000);
-        assert_eq!(s.frame_gap_ps, s.clocks.lspclk.cycles_to_ps(805) - s.clocks.lspclk.cycles_to_ps(801));
         assert_eq!(s.timer_period_ps, 4_000_000_000);
         assert!(s.violations.is_empty(), "{:?}", s.violations);
     }
@@ -273,9 +220,6 @@ mod tests {
         assert_eq!(s.burst_clocking_ps, 819_200_000);
         // Bound from the model: the first start and each of the 14 frame boundaries cost at most
         // (2 × poll + 1) SYSCLKOUT cycles plus (latency + 1) LSPCLK cycles.
-        let per_gap = 17 * PS_PER_S / 150_000_000 + 2 * PS_PER_S * 2 / 75_000_000 + 2;
-        assert!(s.burst_ps > s.burst_clocking_ps);
-        assert!(s.burst_ps <= s.burst_clocking_ps + 15 * per_gap, "{}", s.burst_ps);
         assert!(s.violations.is_empty());
     }
 
@@ -304,12 +248,5 @@ mod tests {
         let s = with(&["clocks.pllcr=0", "clocks.divsel=1"]);
         assert_eq!(s.clocks.sysclkout.hz(), 30e6);
         assert_eq!(s.spi_baud_hz, 150_000.0);
-        assert!(s.burst_ps > 1_600_000_000);
-    }
-
-    #[test]
-    fn a_profile_that_never_clocks_is_a_config_error() {
-        let e = BoardSummary::of(&Profile::from_toml("", "t", &["spi.spiccr=0x4F".into()]).unwrap()).unwrap_err();
-        assert!(matches!(e, crate::error::Error::Config(ref m) if m.contains("never start")), "{e}");
     }
 }

@@ -647,7 +647,7 @@ pub struct Timing {
 
 impl Default for Timing {
     fn default() -> Self {
-        Timing { costs: "c28x-costs.toml".into(), poll_loop_cycles: 8 }
+        Timing { costs: "c28x-costs.toml".into(), poll_loop_cycles: 39 }
     }
 }
 

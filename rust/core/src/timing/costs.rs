@@ -32,8 +32,10 @@ pub struct IoCosts {
     pub peripheral_write: u32,
     /// A function call and its return.
     pub call_return: u32,
-    /// A store of one word to RAM.
+    /// A store of one received word into the firmware's array.
     pub store_word: u32,
+    /// The burst loop's own overhead per frame (increment, compare, branch).
+    pub frame_loop: u32,
 }
 
 /// Costs of the arithmetic operation classes of one numeric backend.

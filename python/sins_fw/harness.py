@@ -1,0 +1,250 @@
+"""The harness: feed a physical trace to the emulated board and collect what the firmware produced.
+
+``emulate(trace, profile)`` streams the trace into the Rust core in chunks (whole numpy arrays, never
+a Python call per sample) and returns a :class:`Run` of numpy arrays: one row per attitude step, per
+burst read and per timer tick, and the events. Trace time is shifted so that its first sample is the
+board's power-on instant (virtual time 0); ``Run.t0_s`` keeps the shift.
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from collections import Counter
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from sins_fw import _core
+from sins_fw.errors import ProfileError
+from sins_fw.profile import MODEL_DIR, Profile, load_profile
+from sins_fw.traces import PhysicalTrace
+
+PS = 1e-12
+#: Rows per chunk streamed into the core: big enough to amortise the call, small enough for memory.
+CHUNK_ROWS = 1 << 16
+
+Array = NDArray[np.float64]
+
+
+@dataclass
+class Run:
+    """What the emulated firmware produced. Times are seconds of virtual time (``*_ps`` arrays keep
+    the exact integer picoseconds)."""
+
+    profile: Profile
+    t0_s: float
+    # One row per attitude step.
+    time_s: Array
+    step: NDArray[np.uint64]
+    quat: Array
+    euler_deg: Array
+    velocity_enu: Array
+    position: Array
+    # One row per burst read.
+    read_tick: NDArray[np.uint64]
+    read_t_start_ps: NDArray[np.uint64]
+    read_t_end_ps: NDArray[np.uint64]
+    read_words: NDArray[np.uint16]
+    read_rate: Array
+    read_accel: Array
+    read_sample_index: NDArray[np.int64]
+    read_sample_ps: NDArray[np.uint64]
+    read_assumed_s: Array
+    read_age_ps: NDArray[np.uint64]
+    # One row per timer tick (budget); keys are the core's `budget_*` columns without the prefix.
+    budget: dict[str, NDArray[Any]]
+    events: list[dict[str, Any]]
+    stage_cycles: dict[str, int]
+    truth_q: Array | None = None
+    moving: NDArray[np.bool_] | None = None
+    held_input_reads: int = 0
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def cycles(self) -> int:
+        """Number of attitude steps."""
+        return len(self.time_s)
+
+    def events_by_kind(self) -> dict[str, int]:
+        return dict(sorted(Counter(e["kind"] for e in self.events).items()))
+
+    @property
+    def busy_s(self) -> Array:
+        """ISR busy time per tick."""
+        b = self.budget
+        return (b["end_ps"].astype(np.float64) - b["start_ps"].astype(np.float64)) * PS
+
+    @property
+    def margin_s(self) -> Array:
+        """Time left before the next tick when each ISR ended (negative: overrun)."""
+        b = self.budget
+        return (b["deadline_ps"].astype(np.float64) - b["end_ps"].astype(np.float64)) * PS
+
+    @property
+    def read_age_s(self) -> Array:
+        return self.read_age_ps.astype(np.float64) * PS
+
+
+def _chunks(trace: PhysicalTrace | str | os.PathLike[str], rows: int) -> Iterator[PhysicalTrace]:
+    if isinstance(trace, PhysicalTrace):
+        for i in range(0, len(trace), rows):
+            s = slice(i, i + rows)
+            yield PhysicalTrace(
+                t_s=trace.t_s[s],
+                gyro_dps=trace.gyro_dps[s],
+                accel_g=trace.accel_g[s],
+                mag_gauss=None if trace.mag_gauss is None else trace.mag_gauss[s],
+                baro_mbar=None if trace.baro_mbar is None else trace.baro_mbar[s],
+                temp_c=None if trace.temp_c is None else trace.temp_c[s],
+                truth_q=None if trace.truth_q is None else trace.truth_q[s],
+                moving=None if trace.moving is None else trace.moving[s],
+                metadata=trace.metadata,
+            )
+    else:
+        yield from PhysicalTrace.iter_chunks(trace, rows)
+
+
+def cost_table_text(profile: Profile) -> tuple[str, str]:
+    """The text and path of the profile's cycle-cost table."""
+    name = str(profile.get("timing.costs"))
+    path = Path(name) if Path(name).is_absolute() else Path(profile.source).parent / name
+    if not path.is_file():
+        path = MODEL_DIR / name
+    if not path.is_file():
+        raise ProfileError(
+            f"key `timing.costs` = {name!r}: no such file next to {profile.source} or in {MODEL_DIR}"
+        )
+    return path.read_text(encoding="utf-8"), str(path)
+
+
+def new_emulator(profile: Profile) -> Any:
+    """A fresh `_core.Emulator` for a profile."""
+    costs, costs_source = cost_table_text(profile)
+    return _core.Emulator(profile.text, profile.source, list(profile.overrides), costs, costs_source)
+
+
+def emulate(
+    trace: PhysicalTrace | str | os.PathLike[str],
+    profile: Profile | str = "reference",
+    *,
+    overrides: Iterable[str] = (),
+    chunk_rows: int = CHUNK_ROWS,
+    on_chunk: Callable[[float], None] | None = None,
+    keep_truth: bool = True,
+) -> Run:
+    """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace or a trace file).
+
+    ``overrides`` are ``key=value`` profile overrides; ``on_chunk`` is called with the trace time
+    reached after each chunk (for progress bars).
+    """
+    prof = profile if isinstance(profile, Profile) else load_profile(profile)
+    if overrides:
+        prof = prof.with_overrides(*overrides)
+    emu = new_emulator(prof)
+    parts: list[dict[str, Any]] = []
+    truth: list[Array] = []
+    moving: list[NDArray[np.bool_]] = []
+    truth_t: list[Array] = []
+    t0: float | None = None
+    for chunk in _chunks(trace, chunk_rows):
+        if len(chunk) == 0:
+            continue
+        if t0 is None:
+            t0 = float(chunk.t_s[0])
+        t = np.ascontiguousarray(chunk.t_s - t0)
+        emu.push(
+            t,
+            np.ascontiguousarray(chunk.gyro_dps),
+            np.ascontiguousarray(chunk.accel_g),
+            None if chunk.mag_gauss is None else np.ascontiguousarray(chunk.mag_gauss),
+            None if chunk.baro_mbar is None else np.ascontiguousarray(chunk.baro_mbar),
+            None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c),
+        )
+        emu.run()
+        parts.append(emu.take())
+        if keep_truth and chunk.truth_q is not None:
+            truth.append(chunk.truth_q)
+            truth_t.append(t)
+            if chunk.moving is not None:
+                moving.append(chunk.moving)
+        if on_chunk is not None:
+            on_chunk(float(chunk.t_s[-1]))
+    emu.end()
+    emu.run()
+    parts.append(emu.take())
+    run = _assemble(prof, t0 or 0.0, parts, dict(emu.stage_cycles()))
+    if truth:
+        tt = np.concatenate(truth_t)
+        run.truth_q = _truth_at(tt, np.concatenate(truth), run.time_s)
+        if moving:
+            mv = np.concatenate(moving)
+            idx = np.clip(np.searchsorted(tt, run.time_s, side="right") - 1, 0, len(tt) - 1)
+            run.moving = mv[idx]
+    return run
+
+
+def _truth_at(t: Array, q: Array, at: Array) -> Array:
+    """Truth quaternion at times ``at``: normalised linear interpolation (sign-aligned), NaN where
+    either neighbour is missing or outside the trace."""
+    out = np.full((len(at), 4), np.nan)
+    if len(t) < 2:
+        return out
+    i = np.clip(np.searchsorted(t, at, side="right") - 1, 0, len(t) - 2)
+    a = (at - t[i]) / (t[i + 1] - t[i])
+    q0, q1 = q[i], q[i + 1].copy()
+    flip = np.sum(q0 * q1, axis=1) < 0
+    q1[flip] *= -1
+    qi = q0 + (q1 - q0) * a[:, None]
+    qi /= np.linalg.norm(qi, axis=1, keepdims=True)
+    inside = (at >= t[0]) & (at <= t[-1])
+    out[inside] = qi[inside]
+    return out
+
+
+def _cat(parts: list[dict[str, Any]], key: str) -> NDArray[Any]:
+    return np.concatenate([p[key] for p in parts])
+
+
+def _assemble(profile: Profile, t0: float, parts: list[dict[str, Any]], stage_cycles: dict[str, int]) -> Run:
+    budget_keys = [k for k in parts[0] if k.startswith("budget_")]
+    return Run(
+        profile=profile,
+        t0_s=t0,
+        time_s=_cat(parts, "cycle_t_ps").astype(np.float64) * PS,
+        step=_cat(parts, "cycle_step"),
+        quat=_cat(parts, "cycle_quat"),
+        euler_deg=_cat(parts, "cycle_euler_deg"),
+        velocity_enu=_cat(parts, "cycle_vel_enu"),
+        position=_cat(parts, "cycle_pos"),
+        read_tick=_cat(parts, "read_tick"),
+        read_t_start_ps=_cat(parts, "read_t_start_ps"),
+        read_t_end_ps=_cat(parts, "read_t_end_ps"),
+        read_words=_cat(parts, "read_words"),
+        read_rate=_cat(parts, "read_rate"),
+        read_accel=_cat(parts, "read_accel"),
+        read_sample_index=_cat(parts, "read_sample_index"),
+        read_sample_ps=_cat(parts, "read_sample_ps"),
+        read_assumed_s=_cat(parts, "read_assumed_s"),
+        read_age_ps=_cat(parts, "read_age_ps"),
+        budget={k.removeprefix("budget_"): _cat(parts, k) for k in budget_keys},
+        events=[e for p in parts for e in p["events"]],
+        stage_cycles=stage_cycles,
+    )
+
+
+def profile_table(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """A TOML data table of firmware_model/ (parity thresholds, costs) by name or path."""
+    p = Path(path)
+    if not p.is_file():
+        p = MODEL_DIR / p
+    try:
+        return tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ProfileError(f"{p}: file not found") from None
+    except tomllib.TOMLDecodeError as e:
+        raise ProfileError(f"{p}: {e}") from None

@@ -1,0 +1,462 @@
+//! The board and its firmware in virtual time: CPU timer 0 raises the acquisition interrupt, the
+//! ISR drives SPI-A exactly as the published code does (CS low on GPIO57, poll BUFFULL, write
+//! SPITXBUF, poll INT_FLAG, read SPIRXBUF, …, CS high), so the SPI traffic and its gaps come out of
+//! the peripheral and device models; the compute stages cost the cycles the timing model gives them.
+//!
+//! The CPU's own time is counted in SYSCLKOUT cycles (an integer) and converted to picoseconds by the
+//! clock, so the CPU and the peripherals share one exact timeline.
+
+mod board;
+pub mod input;
+mod output;
+
+pub use board::BoardReport;
+pub use input::{InputFeed, StreamStimulus};
+pub use output::{BudgetRow, CycleRow, Output, ReadRow};
+
+use crate::bus::link::SpiLink;
+use crate::device::error_model::ErrorModel;
+
+use crate::device::{Adis16407, Physical};
+use crate::dsp::clocks::DspClocks;
+use crate::dsp::spi::{SPIRXBUF, SPITXBUF};
+use crate::dsp::timer::CpuTimer;
+use crate::error::{Error, Result};
+use crate::events::{Event, EventLog, Severity};
+use crate::firmware::{Firmware, Vec3};
+use crate::numerics::Scalar;
+use crate::profile::{OverrunPolicy, Profile, Schedule};
+use crate::time::{ps_to_s, Clock, Ps};
+use crate::timing::costs::CostTable;
+use crate::timing::stages::{stage_costs, StageCosts};
+
+/// Frames of one burst read: the command and the 14 output registers.
+pub const BURST_FRAMES: usize = 15;
+/// Index in the burst of X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (frame 0 is the command).
+const FIRST_INERTIAL: usize = 2;
+/// DIN the firmware sends in the 14 data frames of a burst (don't care for the device).
+const BURST_FILL: u16 = 0x0000;
+/// A poll that has not seen its flag after this many SYSCLKOUT cycles is a hung firmware.
+const POLL_WATCHDOG_CYCLES: u64 = 150_000_000;
+
+/// The emulated board running its firmware in the numeric backend `T`.
+pub struct Emulator<T: Scalar> {
+    profile: Profile,
+    sysclk: Clock,
+    timer: CpuTimer,
+    link: SpiLink<Adis16407>,
+    fw: Firmware<T>,
+    feed: InputFeed,
+    stages: StageCosts,
+    io: crate::timing::costs::IoCosts,
+    poll_cycles: u64,
+    bursts_per_tick: usize,
+    /// Next timer tick to service.
+    tick: u64,
+    /// SYSCLKOUT cycle at which the CPU finishes the ISR it is running.
+    cpu_free: u64,
+    /// Rate samples of the step being assembled (ω_ib, rad/s) and their true sample times.
+    rates: [Vec3<T>; 3],
+    have: usize,
+    /// Index of the next attitude step.
+    step: u64,
+    last_accel: Vec3<T>,
+    aligning: bool,
+    align_until_s: f64,
+    out: Output,
+    events: EventLog,
+}
+
+/// Where the emulation stands after a call to [`Emulator::run`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// Every tick the input covers has run; feed more input.
+    NeedInput,
+    /// The input has ended and every tick it covers has run.
+    Finished,
+}
+
+impl<T: Scalar> Emulator<T> {
+    /// Build the board and firmware of a profile; `costs` is the cycle-cost table.
+    pub fn new(profile: &Profile, costs: &CostTable) -> Result<Self> {
+        let clocks = DspClocks::from_profile(&profile.clocks)?;
+        let timer = CpuTimer::from_profile(&profile.timer, clocks.sysclkout)?;
+        let mut device = Adis16407::new(&profile.device)?;
+        let (feed, stimulus) = InputFeed::new();
+        device.set_stimulus(Box::new(stimulus));
+        let period_s = device.sample_clock().period_s();
+        device.set_sensor_errors(Box::new(ErrorModel::from_profile(&profile.errors, period_s)?));
+        let mut link = SpiLink::from_profile(profile, device)?;
+        // InitSpi runs at power-on (t = 0) in the published order.
+        link.init_from_profile(&profile.spi, 0)?;
+        let fw = Firmware::<T>::new(profile)?;
+        let stages = stage_costs(profile, costs)?;
+        let zero = T::from_f64(0.0, crate::numerics::QClass::Rate);
+        let bursts_per_tick = if profile.firmware.schedule == Schedule::BackToBack { 3 } else { 1 };
+        let aligning = profile.firmware.initial_attitude == crate::profile::InitialAttitude::Level;
+        Ok(Emulator {
+            sysclk: clocks.sysclkout,
+            timer,
+            link,
+            fw,
+            feed,
+            stages,
+            io: costs.io.clone(),
+            poll_cycles: u64::from(profile.timing.poll_loop_cycles),
+            bursts_per_tick,
+            tick: 1,
+            cpu_free: 0,
+            rates: [[zero; 3]; 3],
+            have: 0,
+            step: 0,
+            last_accel: [zero; 3],
+            aligning,
+            align_until_s: profile.firmware.alignment_s,
+            out: Output::default(),
+            events: EventLog::default(),
+            profile: profile.clone(),
+        })
+    }
+
+    /// The input feed: push chunks of physical samples, then [`Emulator::run`].
+    pub fn feed(&self) -> &InputFeed {
+        &self.feed
+    }
+
+    /// Append a chunk of physical input (times in s, values in data-sheet units).
+    pub fn push_input(&mut self, t_s: &[f64], samples: Vec<Physical>) -> Result<()> {
+        self.feed.push(t_s, samples)
+    }
+
+    /// Declare the end of the input.
+    pub fn end_input(&mut self) {
+        self.feed.end();
+    }
+
+    /// The compute-stage costs in use.
+    pub fn stage_costs(&self) -> &StageCosts {
+        &self.stages
+    }
+
+    /// Record every SPI frame and CS edge from now on (for the bus view; off by default).
+    pub fn enable_bus_log(&mut self) {
+        self.link.enable_log();
+    }
+
+    /// Take the bus log recorded so far.
+    pub fn take_bus_log(&mut self) -> Vec<crate::bus::link::LinkRecord> {
+        self.link.take_log()
+    }
+
+    /// The output accumulated since the last [`Emulator::take_output`].
+    pub fn take_output(&mut self) -> Output {
+        self.collect_events();
+        std::mem::take(&mut self.out)
+    }
+
+    /// Run every timer tick the input covers. A tick runs when the input reaches past the end of
+    /// the tick's period (its reads happen within it), or, after the end of the input, when the
+    /// tick itself is inside the input.
+    pub fn run(&mut self) -> Result<Progress> {
+        let Some(last_s) = self.feed.last_time_s() else {
+            return Ok(if self.feed.ended() { Progress::Finished } else { Progress::NeedInput });
+        };
+        let ended = self.feed.ended();
+        loop {
+            let tick_ps = self.timer.tick_ps(self.tick);
+            let horizon_ps = if ended { tick_ps } else { self.timer.tick_ps(self.tick + 1) };
+            if ps_to_s(horizon_ps) > last_s {
+                return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
+            }
+            self.run_tick()?;
+            self.tick += 1;
+        }
+    }
+
+    fn ps(&self, cycle: u64) -> Ps {
+        self.sysclk.cycles_to_ps(cycle)
+    }
+
+    /// One timer tick: the acquisition interrupt and, when the schedule completes a step, the
+    /// attitude, Euler and navigation stages.
+    fn run_tick(&mut self) -> Result<()> {
+        let k = self.tick;
+        let tick_cycle = self.timer.period_cycles() * k;
+        let tick_ps = self.ps(tick_cycle);
+        let busy = tick_cycle < self.cpu_free;
+        let start = if busy {
+            match self.profile.firmware.overrun {
+                OverrunPolicy::Queue => {
+                    // The PIE latches one pending interrupt: a second tick while one is still
+                    // pending is lost.
+                    if k > 1 && self.timer.period_cycles() * (k + 1) <= self.cpu_free {
+                        self.events.push(Event::new(
+                            tick_ps,
+                            "tick_lost",
+                            Severity::Error,
+                            format!("tick {k}: TINT0 arrived while the previous one was still pending: lost"),
+                        ));
+                        self.out.budget.push(BudgetRow::skipped(k, tick_ps));
+                        return Ok(());
+                    }
+                    self.cpu_free
+                }
+                OverrunPolicy::Drop => {
+                    self.events.push(Event::new(
+                        tick_ps,
+                        "overrun",
+                        Severity::Error,
+                        format!("tick {k}: the ISR of the previous tick was still running: tick dropped"),
+                    ));
+                    self.out.budget.push(BudgetRow::skipped(k, tick_ps));
+                    return Ok(());
+                }
+                OverrunPolicy::Nest => tick_cycle,
+            }
+        } else {
+            tick_cycle
+        };
+        if busy {
+            let late = self.ps(self.cpu_free) - tick_ps;
+            self.events.push(Event::rule(
+                tick_ps,
+                "overrun",
+                Severity::Error,
+                format!(
+                    "tick {k}: the previous ISR ran {:.1} µs past this tick ({:?})",
+                    late as f64 / 1e6,
+                    self.profile.firmware.overrun
+                ),
+                ps_to_s(late),
+                0.0,
+            ));
+        }
+
+        let mut c = start + self.stages.entry;
+        let entry_end = c;
+        let mut bursts = [Burst::default(); 3];
+        for b in bursts.iter_mut().take(self.bursts_per_tick) {
+            *b = self.burst(&mut c)?;
+        }
+        let spi_end = c;
+
+        // Decode every burst of the tick.
+        let mut decoded = [[T::from_f64(0.0, crate::numerics::QClass::Rate); 3]; 3];
+        for b in 0..self.bursts_per_tick {
+            let inertial: [u16; 6] = std::array::from_fn(|i| bursts[b].words[FIRST_INERTIAL + i]);
+            let d = self.fw.decode(&inertial);
+            if !d.report.is_clean() {
+                d.report.push_events(self.ps(c), &inertial, &mut self.events);
+            }
+            c += self.stages.decode.cycles;
+            decoded[b] = d.rate;
+            self.last_accel = d.accel;
+            self.record_read(k, b, &bursts[b], &d.rate, &d.accel);
+        }
+        let decode_end = c;
+
+        // Assemble the step's rate samples according to the schedule.
+        let step_ready = self.schedule(&decoded, &mut c);
+        let mut attitude_end = c;
+        let mut euler_end = c;
+        let mut nav_end = c;
+        if step_ready {
+            let t_end_s = ps_to_s(tick_ps);
+            if self.aligning {
+                self.fw.add_alignment_sample(&self.last_accel);
+                if t_end_s >= self.align_until_s {
+                    self.fw.finish_alignment()?;
+                    self.aligning = false;
+                }
+            } else {
+                self.fw.update_attitude(&self.rates)?;
+                c += self.stages.attitude.cycles;
+                attitude_end = c;
+                let e = self.fw.euler();
+                c += self.stages.euler.cycles;
+                euler_end = c;
+                self.fw.navigate(&self.last_accel);
+                c += self.stages.navigation.cycles;
+                nav_end = c;
+                self.record_cycle(tick_ps, &e);
+            }
+            self.rates[0] = self.rates[2];
+            self.step += 1;
+        }
+        c += self.stages.exit;
+        self.cpu_free = if self.profile.firmware.overrun == OverrunPolicy::Nest && busy {
+            // The interrupted ISR resumes after this one: its end moves by this ISR's length.
+            self.cpu_free + (c - start)
+        } else {
+            c
+        };
+        let period = self.timer.period_cycles();
+        self.out.budget.push(BudgetRow {
+            tick: k,
+            tick_ps,
+            start_ps: self.ps(start),
+            entry_end_ps: self.ps(entry_end),
+            spi_start_ps: bursts[0].t_start_ps,
+            spi_end_ps: self.ps(spi_end),
+            decode_end_ps: self.ps(decode_end),
+            attitude_end_ps: self.ps(attitude_end),
+            euler_end_ps: self.ps(euler_end),
+            nav_end_ps: self.ps(nav_end),
+            end_ps: self.ps(c),
+            deadline_ps: self.ps(tick_cycle + period),
+            step: step_ready,
+            overrun: busy,
+        });
+        Ok(())
+    }
+
+    /// Fill the step's rate samples from this tick's decoded bursts; true when a step is ready.
+    fn schedule(&mut self, decoded: &[Vec3<T>; 3], c: &mut u64) -> bool {
+        match self.profile.firmware.schedule {
+            Schedule::HalfStep => {
+                self.rates[self.have] = decoded[0];
+                self.have += 1;
+                if self.have == 3 {
+                    self.have = 1; // the step's last sample is the next step's first
+                    return true;
+                }
+                false
+            }
+            Schedule::Endpoint => {
+                if self.have == 0 {
+                    self.rates[0] = decoded[0];
+                    self.have = 1;
+                    return false;
+                }
+                let half = T::from_f64(0.5, crate::numerics::QClass::Generic);
+                let a = self.rates[0];
+                let b = decoded[0];
+                self.rates[1] = std::array::from_fn(|i| ((a[i] + b[i]) * half).to_class(crate::numerics::QClass::Rate));
+                self.rates[2] = b;
+                *c += self.stages.interpolation.cycles;
+                true
+            }
+            Schedule::BackToBack => {
+                self.rates = *decoded;
+                true
+            }
+        }
+    }
+
+    /// One 15-frame burst read as the published code performs it; returns the received words and
+    /// the cycle of the first SPITXBUF write. `c` is the CPU cycle, advanced by the code's costs.
+    fn burst(&mut self, c: &mut u64) -> Result<Burst> {
+        let cmd = self.profile.device.burst_command as u16;
+        *c += u64::from(self.io.gpio_write);
+        self.link.set_gpio57(false, self.ps(*c))?;
+        let mut b = Burst::default();
+        for i in 0..BURST_FRAMES {
+            // if (Spi_TxReady() == 1) SPITXBUF = sdata;  — wait for BUFFULL_FLAG = 0
+            let ready = self.link.buffull_clear_time();
+            *c = self.poll_until(*c, ready, "BUFFULL_FLAG = 0")?;
+            *c += u64::from(self.io.peripheral_write);
+            self.link.write(SPITXBUF, if i == 0 { cmd } else { BURST_FILL }, self.ps(*c))?;
+            // while (Spi_RxReady() != 1) {}  — wait for INT_FLAG = 1, then read SPIRXBUF
+            let done = self.link.int_flag_time();
+            *c = self.poll_until(*c, done, "INT_FLAG = 1")?;
+            *c += u64::from(self.io.peripheral_read);
+            b.words[i] = self.link.read(SPIRXBUF, self.ps(*c))?;
+            *c += u64::from(self.io.store_word + self.io.frame_loop);
+            if let Some(f) = self.link.slave().last_frame() {
+                if i == 0 {
+                    b.t_start_ps = f.t_start;
+                }
+                if i == 1 {
+                    // Every data word of a burst comes from the sample latest at the burst's start
+                    // (the device latches it at the command frame); its age is counted from there.
+                    b.sample_index = f.sample_index;
+                    b.sample_ps = f.t_start.saturating_sub(f.sample_age_ps.unwrap_or(0));
+                    b.age_ps = b.t_start_ps.saturating_sub(b.sample_ps);
+                }
+                b.t_end_ps = f.t_end;
+            }
+        }
+        *c += u64::from(self.io.gpio_write);
+        self.link.set_gpio57(true, self.ps(*c))?;
+        Ok(b)
+    }
+
+    /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
+    /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
+    /// end of the first iteration whose read sees the flag (set at `flag_ps`).
+    fn poll_until(&mut self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
+        let p = self.poll_cycles;
+        let Some(flag_ps) = flag_ps else {
+            return Err(Error::Config(format!(
+                "firmware hangs at {:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)",
+                ps_to_s(self.ps(c))
+            )));
+        };
+        let flag_cycle = self.sysclk.ps_to_cycles_ceil(flag_ps);
+        let iterations = if flag_cycle <= c { 0 } else { (flag_cycle - c).div_ceil(p) };
+        if iterations * p > POLL_WATCHDOG_CYCLES {
+            return Err(Error::Config(format!(
+                "firmware polls {what} for over a second at {:.6} s",
+                ps_to_s(self.ps(c))
+            )));
+        }
+        Ok(c + (iterations + 1) * p)
+    }
+
+    fn record_read(&mut self, tick: u64, burst: usize, b: &Burst, rate: &Vec3<T>, accel: &Vec3<T>) {
+        let period_s = ps_to_s(self.timer.tick_ps(1));
+        let assumed_s = match self.profile.firmware.schedule {
+            Schedule::HalfStep | Schedule::Endpoint => tick as f64 * period_s,
+            // Three bursts treated as t, t+T/2, t+T of the step ending at this tick.
+            Schedule::BackToBack => (tick as f64 - 1.0 + burst as f64 / 2.0) * period_s,
+        };
+        self.out.reads.push(ReadRow {
+            tick,
+            t_start_ps: b.t_start_ps,
+            t_end_ps: b.t_end_ps,
+            words: b.words,
+            rate: rate.map(|x| x.to_f64()),
+            accel: accel.map(|x| x.to_f64()),
+            sample_index: b.sample_index.map_or(-1, |i| i as i64),
+            sample_ps: b.sample_ps,
+            assumed_s,
+            age_ps: b.age_ps,
+        });
+    }
+
+    fn record_cycle(&mut self, t_ps: Ps, e: &crate::firmware::EulerAngles<T>) {
+        let q = self.fw.quat();
+        let nav = self.fw.nav_state();
+        self.out.cycles.push(CycleRow {
+            step: self.step,
+            t_ps,
+            quat: q.map(|x| x.to_f64()),
+            euler_deg: [e.roll.to_f64().to_degrees(), e.pitch.to_f64().to_degrees(), e.yaw.to_f64().to_degrees()],
+            vel_enu: nav.vel.map(|x| x.to_f64()),
+            pos: [nav.lat.to_f64().to_degrees(), nav.lon.to_f64().to_degrees(), nav.height.to_f64()],
+        });
+    }
+
+    /// Move the models' events into the output, in time order.
+    fn collect_events(&mut self) {
+        let mut all = self.events.drain();
+        all.extend(self.link.drain_events());
+        all.extend(self.link.slave_mut().drain_events());
+        all.sort_by_key(|e| e.t_ps);
+        self.out.events.extend(all);
+    }
+}
+
+/// What one burst read gave the firmware.
+#[derive(Debug, Clone, Copy, Default)]
+struct Burst {
+    words: [u16; BURST_FRAMES],
+    t_start_ps: Ps,
+    t_end_ps: Ps,
+    sample_index: Option<u64>,
+    sample_ps: Ps,
+    age_ps: Ps,
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,228 @@
+//! `_core.Emulator`: the board and firmware of a profile, fed whole numpy arrays in chunks and
+//! returning whole numpy arrays. The numeric backend is chosen at construction; every call runs
+//! inside the profile's IQ formats (harmless for the float backends).
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use std::sync::Mutex;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sins_core::device::Physical;
+use sins_core::emulator::{Emulator as Core, Output, Progress};
+use sins_core::numerics::{iq, Scalar};
+use sins_core::profile::{IqFormats, Numeric, Profile};
+use sins_core::timing::CostTable;
+use sins_core::Error;
+
+use crate::errors::{guard, to_py};
+use crate::event_dict;
+
+/// The type-erased emulator (one instantiation per numeric backend).
+trait Run: Send {
+    fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error>;
+    fn end(&mut self);
+    fn run(&mut self) -> Result<Progress, Error>;
+    fn take(&mut self) -> Output;
+    fn stage_cycles(&self) -> Vec<(&'static str, u64)>;
+}
+
+impl<T: Scalar + Send + 'static> Run for Core<T> {
+    fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error> {
+        self.push_input(t, p)
+    }
+    fn end(&mut self) {
+        self.end_input()
+    }
+    fn run(&mut self) -> Result<Progress, Error> {
+        Core::run(self)
+    }
+    fn take(&mut self) -> Output {
+        self.take_output()
+    }
+    fn stage_cycles(&self) -> Vec<(&'static str, u64)> {
+        let s = self.stage_costs();
+        vec![
+            ("entry", s.entry),
+            ("decode", s.decode.cycles),
+            ("attitude", s.attitude.cycles),
+            ("euler", s.euler.cycles),
+            ("navigation", s.navigation.cycles),
+            ("interpolation", s.interpolation.cycles),
+            ("exit", s.exit),
+        ]
+    }
+}
+
+/// The emulated board.
+#[pyclass(module = "sins_fw._core")]
+pub struct Emulator {
+    // A mutex makes the (Send, not Sync) emulator shareable as Python requires; never contended.
+    inner: Mutex<Box<dyn Run>>,
+    formats: IqFormats,
+}
+
+impl Emulator {
+    fn inner(&self) -> std::sync::MutexGuard<'_, Box<dyn Run>> {
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+fn build(profile: &Profile, costs: &CostTable) -> Result<Box<dyn Run>, Error> {
+    Ok(match profile.firmware.numeric {
+        Numeric::F64 => Box::new(Core::<f64>::new(profile, costs)?),
+        Numeric::C28xF32 => Box::new(Core::<sins_core::numerics::C28xF32Rn>::new(profile, costs)?),
+        Numeric::C28xF32Rz => Box::new(Core::<sins_core::numerics::C28xF32Rz>::new(profile, costs)?),
+        Numeric::Iq => iq::with_formats(&profile.iq, || -> Result<Box<dyn Run>, Error> {
+            Ok(Box::new(Core::<sins_core::numerics::Iq>::new(profile, costs)?))
+        })??,
+    })
+}
+
+fn col3(a: &Option<PyReadonlyArray2<'_, f64>>, n: usize, name: &str) -> PyResult<Option<Vec<[f64; 3]>>> {
+    let Some(a) = a else { return Ok(None) };
+    let v = a.as_array();
+    if v.shape() != [n, 3] {
+        return Err(to_py(Error::Input(format!("input column `{name}`: shape {:?}, expected ({n}, 3)", v.shape()))));
+    }
+    Ok(Some(v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect()))
+}
+
+fn col1(a: &Option<PyReadonlyArray1<'_, f64>>, n: usize, name: &str) -> PyResult<Option<Vec<f64>>> {
+    let Some(a) = a else { return Ok(None) };
+    let v = a.as_array();
+    if v.len() != n {
+        return Err(to_py(Error::Input(format!("input column `{name}`: {} rows, expected {n}", v.len()))));
+    }
+    Ok(Some(v.to_vec()))
+}
+
+#[pymethods]
+impl Emulator {
+    /// Build the board of a profile (TOML text, its source name, overrides) with a cost table.
+    #[new]
+    fn new(text: &str, source: &str, overrides: Vec<String>, costs_text: &str, costs_source: &str) -> PyResult<Self> {
+        let (inner, formats) = guard(|| -> Result<_, Error> {
+            let profile = Profile::from_toml(text, source, &overrides)?;
+            let costs = CostTable::from_toml(costs_text, costs_source)?;
+            Ok((build(&profile, &costs)?, profile.iq.clone()))
+        })?
+        .map_err(to_py)?;
+        Ok(Emulator { inner: Mutex::new(inner), formats })
+    }
+
+    /// Append a chunk of physical input: t (s), gyro (°/s, n×3), accel (g, n×3), and optionally
+    /// mag (gauss, n×3), baro (mbar), temp (°C).
+    #[pyo3(signature = (t, gyro, accel, mag=None, baro=None, temp=None))]
+    fn push(
+        &mut self,
+        t: PyReadonlyArray1<'_, f64>,
+        gyro: PyReadonlyArray2<'_, f64>,
+        accel: PyReadonlyArray2<'_, f64>,
+        mag: Option<PyReadonlyArray2<'_, f64>>,
+        baro: Option<PyReadonlyArray1<'_, f64>>,
+        temp: Option<PyReadonlyArray1<'_, f64>>,
+    ) -> PyResult<()> {
+        let t = t.as_array().to_vec();
+        let n = t.len();
+        let gyro = col3(&Some(gyro), n, "gyro")?.unwrap_or_default();
+        let accel = col3(&Some(accel), n, "accel")?.unwrap_or_default();
+        let mag = col3(&mag, n, "mag")?;
+        let baro = col1(&baro, n, "baro")?;
+        let temp = col1(&temp, n, "temp")?;
+        let idle = Physical::powered_idle();
+        let samples: Vec<Physical> = (0..n)
+            .map(|i| Physical {
+                gyro_dps: gyro[i],
+                accel_g: accel[i],
+                mag_gauss: mag.as_ref().map_or(idle.mag_gauss, |m| m[i]),
+                baro_mbar: baro.as_ref().map_or(idle.baro_mbar, |b| b[i]),
+                temp_c: temp.as_ref().map_or(idle.temp_c, |x| x[i]),
+                ..idle
+            })
+            .collect();
+        let mut inner = self.inner();
+        guard(|| iq::with_formats(&self.formats, || inner.push(&t, samples)))?.map_err(to_py)?.map_err(to_py)
+    }
+
+    /// No more input will come.
+    fn end(&mut self) {
+        self.inner().end();
+    }
+
+    /// Run every tick the input covers; True when the input has ended and everything ran.
+    fn run(&mut self, py: Python<'_>) -> PyResult<bool> {
+        // The GIL is released while the emulator runs: other Python threads (a progress bar, a
+        // second emulator in a thread pool) keep going.
+        let progress = py
+            .detach(|| guard(|| iq::with_formats(&self.formats, || self.inner().run())))?
+            .map_err(to_py)?
+            .map_err(to_py)?;
+        Ok(progress == Progress::Finished)
+    }
+
+    /// SYSCLKOUT cycles of each compute stage, from the op counts and the cost table.
+    fn stage_cycles(&self) -> Vec<(&'static str, u64)> {
+        self.inner().stage_cycles()
+    }
+
+    /// The output since the last call, as a dict of numpy arrays (and a list of event dicts).
+    fn take<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = self.inner().take();
+        output_dict(py, &out)
+    }
+}
+
+fn arr2<const N: usize, T: Copy + numpy::Element>(rows: impl Iterator<Item = [T; N]>, n: usize) -> Array2<T> {
+    let flat: Vec<T> = rows.flat_map(|r| r.into_iter()).collect();
+    Array2::from_shape_vec((n, N), flat).unwrap_or_else(|_| unreachable!("rows have N columns"))
+}
+
+fn output_dict<'py>(py: Python<'py>, o: &Output) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let c = &o.cycles;
+    let n = c.len();
+    d.set_item("cycle_step", c.iter().map(|r| r.step).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("cycle_t_ps", c.iter().map(|r| r.t_ps).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("cycle_quat", arr2(c.iter().map(|r| r.quat), n).into_pyarray(py))?;
+    d.set_item("cycle_euler_deg", arr2(c.iter().map(|r| r.euler_deg), n).into_pyarray(py))?;
+    d.set_item("cycle_vel_enu", arr2(c.iter().map(|r| r.vel_enu), n).into_pyarray(py))?;
+    d.set_item("cycle_pos", arr2(c.iter().map(|r| r.pos), n).into_pyarray(py))?;
+    let r = &o.reads;
+    let n = r.len();
+    d.set_item("read_tick", r.iter().map(|x| x.tick).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("read_t_start_ps", r.iter().map(|x| x.t_start_ps).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("read_t_end_ps", r.iter().map(|x| x.t_end_ps).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("read_words", arr2(r.iter().map(|x| x.words), n).into_pyarray(py))?;
+    d.set_item("read_rate", arr2(r.iter().map(|x| x.rate), n).into_pyarray(py))?;
+    d.set_item("read_accel", arr2(r.iter().map(|x| x.accel), n).into_pyarray(py))?;
+    d.set_item("read_sample_index", r.iter().map(|x| x.sample_index).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("read_sample_ps", r.iter().map(|x| x.sample_ps).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("read_assumed_s", r.iter().map(|x| x.assumed_s).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("read_age_ps", r.iter().map(|x| x.age_ps).collect::<Vec<_>>().into_pyarray(py))?;
+    let b = &o.budget;
+    macro_rules! budget_col {
+        ($($f:ident),*) => {$(
+            d.set_item(concat!("budget_", stringify!($f)), b.iter().map(|x| x.$f).collect::<Vec<_>>().into_pyarray(py))?;
+        )*};
+    }
+    budget_col!(
+        tick,
+        tick_ps,
+        start_ps,
+        entry_end_ps,
+        spi_start_ps,
+        spi_end_ps,
+        decode_end_ps,
+        attitude_end_ps,
+        euler_end_ps,
+        nav_end_ps,
+        end_ps,
+        deadline_ps,
+        step,
+        overrun
+    );
+    let events = o.events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+    d.set_item("events", events)?;
+    Ok(d)
+}
