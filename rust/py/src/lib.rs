@@ -77,12 +77,37 @@ fn board_summary<'py>(
     Ok(d)
 }
 
+/// The rows of an error-model preset: quantity, value, unit, source, unconfirmed.
+#[pyfunction]
+fn preset_table<'py>(py: Python<'py>, name: &str) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let rows = guard(|| sins_core::device::error_model::preset_table(name))?.map_err(to_py)?;
+    rows.iter()
+        .map(|r| {
+            let d = PyDict::new(py);
+            d.set_item("quantity", &r.quantity)?;
+            d.set_item("value", r.value)?;
+            d.set_item("unit", &r.unit)?;
+            d.set_item("source", &r.source)?;
+            d.set_item("unconfirmed", r.unconfirmed)?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// The error-model preset names.
+#[pyfunction]
+fn preset_names() -> Vec<&'static str> {
+    sins_core::device::error_model::PRESET_NAMES.to_vec()
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", sins_core::VERSION)?;
     m.add_function(wrap_pyfunction!(resolve_profile, m)?)?;
     m.add_function(wrap_pyfunction!(profile_keys, m)?)?;
     m.add_function(wrap_pyfunction!(board_summary, m)?)?;
+    m.add_function(wrap_pyfunction!(preset_table, m)?)?;
+    m.add_function(wrap_pyfunction!(preset_names, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     Ok(())
 }

@@ -332,8 +332,8 @@ impl Default for Errors {
 
 impl Errors {
     pub(crate) fn validate(&self) -> Result<()> {
-        if !["ideal", "adis16407"].contains(&self.preset.as_str()) {
-            return Err(bad("errors.preset", &self.preset, "one of `ideal`, `adis16407`"));
+        if !crate::device::error_model::PRESET_NAMES.contains(&self.preset.as_str()) {
+            return Err(bad("errors.preset", &self.preset, "one of `ideal`, `adis16407`, `adis16407-nulled`"));
         }
         Ok(())
     }
