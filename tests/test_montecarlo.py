@@ -6,8 +6,8 @@ from __future__ import annotations
 import json
 
 import numpy as np
-from conftest import run_cli
 
+from conftest import run_cli
 from sins_fw import allan, montecarlo, synth
 from sins_fw.harness import emulate
 

@@ -166,7 +166,7 @@ def published_cases() -> list[Case]:
         )
         cases.append(
             Case(
-                name=f"{'pitch roll yaw'.split()[k]} {target:+.0f}",
+                name=f"{['pitch', 'roll', 'yaw'][k]} {target:+.0f}",
                 scenario="indexing-table",
                 preset="sweep",
                 params=(("axis", axis_of[k]), ("angles_deg", steps)),

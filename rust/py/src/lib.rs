@@ -84,10 +84,10 @@ fn preset_table<'py>(py: Python<'py>, name: &str) -> PyResult<Vec<Bound<'py, PyD
     rows.iter()
         .map(|r| {
             let d = PyDict::new(py);
-            d.set_item("quantity", &r.quantity)?;
+            d.set_item("quantity", r.quantity)?;
             d.set_item("value", r.value)?;
-            d.set_item("unit", &r.unit)?;
-            d.set_item("source", &r.source)?;
+            d.set_item("unit", r.unit)?;
+            d.set_item("source", r.source)?;
             d.set_item("unconfirmed", r.unconfirmed)?;
             Ok(d)
         })
