@@ -65,3 +65,14 @@ def test_board_bad_override_exit_2_names_key():
     r = run_cli("board", "--set", "spi.spibrr=300")
     assert r.code == 2
     assert "spi.spibrr" in r.err and "Traceback" not in r.err
+
+
+def test_a_rust_panic_is_an_internal_error_not_an_abort():
+    import pytest
+
+    from sins_fw import _core
+    from sins_fw.errors import InternalError, SinsError
+
+    with pytest.raises(InternalError, match="self-test panic") as e:
+        _core._selftest_panic()
+    assert isinstance(e.value, SinsError)

@@ -94,6 +94,13 @@ fn preset_table<'py>(py: Python<'py>, name: &str) -> PyResult<Vec<Bound<'py, PyD
         .collect()
 }
 
+/// Raise a panic inside the core's guard: lets the test suite prove that a panic reaches Python as
+/// `sins_fw.errors.InternalError` instead of aborting the interpreter.
+#[pyfunction]
+fn _selftest_panic() -> PyResult<()> {
+    guard(|| -> () { panic!("self-test panic") })
+}
+
 /// The error-model preset names.
 #[pyfunction]
 fn preset_names() -> Vec<&'static str> {
@@ -108,6 +115,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(board_summary, m)?)?;
     m.add_function(wrap_pyfunction!(preset_table, m)?)?;
     m.add_function(wrap_pyfunction!(preset_names, m)?)?;
+    m.add_function(wrap_pyfunction!(_selftest_panic, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     Ok(())
 }
