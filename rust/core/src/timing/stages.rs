@@ -274,8 +274,9 @@ mod tests {
 
     #[test]
     fn every_price_line_names_an_entry_of_the_table_with_its_value() {
-        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../firmware_model/c28x-costs.toml"))
-            .unwrap();
+        let text =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../firmware_model/c28x-costs.toml"))
+                .unwrap();
         let raw: toml::Table = toml::from_str(&text).unwrap();
         let t = table();
         let counts = stage_costs(&Profile::default(), &t).unwrap().attitude.counts;
