@@ -8,11 +8,16 @@ use std::sync::Mutex;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use sins_core::bus::link::LinkRecord;
 use sins_core::device::Physical;
 use sins_core::emulator::{Emulator as Core, Output, Progress};
+use sins_core::firmware::update_period_s;
 use sins_core::numerics::{iq, Scalar};
 use sins_core::profile::{IqFormats, Numeric, Profile};
-use sins_core::timing::CostTable;
+use sins_core::timing::stages::{
+    arith_for, arith_section, arith_terms, entry_terms, exit_terms, location_factor, ArithSection, CostTerm,
+};
+use sins_core::timing::{CostTable, StageCosts};
 use sins_core::Error;
 
 use crate::errors::{guard, to_py};
@@ -25,6 +30,9 @@ trait Run: Send {
     fn run(&mut self) -> Result<Progress, Error>;
     fn take(&mut self) -> Output;
     fn stage_cycles(&self) -> Vec<(&'static str, u64)>;
+    fn stage_costs(&self) -> StageCosts;
+    fn enable_bus_log(&mut self);
+    fn take_bus_log(&mut self) -> Vec<LinkRecord>;
 }
 
 impl<T: Scalar + Send + 'static> Run for Core<T> {
@@ -52,6 +60,15 @@ impl<T: Scalar + Send + 'static> Run for Core<T> {
             ("exit", s.exit),
         ]
     }
+    fn stage_costs(&self) -> StageCosts {
+        *Core::stage_costs(self)
+    }
+    fn enable_bus_log(&mut self) {
+        Core::enable_bus_log(self)
+    }
+    fn take_bus_log(&mut self) -> Vec<LinkRecord> {
+        Core::take_bus_log(self)
+    }
 }
 
 /// The emulated board.
@@ -60,6 +77,11 @@ pub struct Emulator {
     // A mutex makes the (Send, not Sync) emulator shareable as Python requires; never contended.
     inner: Mutex<Box<dyn Run>>,
     formats: IqFormats,
+    /// What prices the stages: the table, the backend's section and the code-location factor.
+    costs: CostTable,
+    numeric: Numeric,
+    location_factor: f64,
+    update_period_s: f64,
 }
 
 impl Emulator {
@@ -102,13 +124,20 @@ impl Emulator {
     /// Build the board of a profile (TOML text, its source name, overrides) with a cost table.
     #[new]
     fn new(text: &str, source: &str, overrides: Vec<String>, costs_text: &str, costs_source: &str) -> PyResult<Self> {
-        let (inner, formats) = guard(|| -> Result<_, Error> {
+        let (inner, profile, costs) = guard(|| -> Result<_, Error> {
             let profile = Profile::from_toml(text, source, &overrides)?;
             let costs = CostTable::from_toml(costs_text, costs_source)?;
-            Ok((build(&profile, &costs)?, profile.iq.clone()))
+            Ok((build(&profile, &costs)?, profile, costs))
         })?
         .map_err(to_py)?;
-        Ok(Emulator { inner: Mutex::new(inner), formats })
+        Ok(Emulator {
+            inner: Mutex::new(inner),
+            formats: profile.iq.clone(),
+            numeric: profile.firmware.numeric,
+            location_factor: location_factor(&profile, &costs),
+            update_period_s: update_period_s(&profile),
+            costs,
+        })
     }
 
     /// Append a chunk of physical input: t (s), gyro (°/s, n×3), accel (g, n×3), and optionally
@@ -166,11 +195,123 @@ impl Emulator {
         self.inner().stage_cycles()
     }
 
+    /// Every compute stage's price, as a dict: `update_period_s` (the attitude step T),
+    /// `code_location_factor`, `arith_section` (`float` or `iq`) and, per stage (`entry`, `decode`,
+    /// `attitude`, `euler`, `navigation`, `interpolation`, `exit`), a dict with `cycles`, `counts`
+    /// (op kind → count; empty for entry and exit) and `terms`: a list of dicts `op`, `count`, `key`
+    /// (the cost-table entry), `unit_cycles`, `scaled` (whether the code-location factor applies).
+    fn stage_costs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.inner().stage_costs();
+        let section = arith_section(self.numeric);
+        let arith = arith_for(self.numeric, &self.costs);
+        let d = PyDict::new(py);
+        d.set_item("update_period_s", self.update_period_s)?;
+        d.set_item("code_location_factor", self.location_factor)?;
+        d.set_item(
+            "arith_section",
+            match section {
+                ArithSection::Float => "float",
+                ArithSection::Iq => "iq",
+            },
+        )?;
+        let interrupt = &self.costs.interrupt;
+        d.set_item("entry", stage_dict(py, s.entry, None, &entry_terms(interrupt))?)?;
+        for (name, stage) in [
+            ("decode", s.decode),
+            ("attitude", s.attitude),
+            ("euler", s.euler),
+            ("navigation", s.navigation),
+            ("interpolation", s.interpolation),
+        ] {
+            let terms = arith_terms(&stage.counts, section, arith);
+            d.set_item(name, stage_dict(py, stage.cycles, Some(&terms), &terms)?)?;
+        }
+        d.set_item("exit", stage_dict(py, s.exit, None, &exit_terms(interrupt))?)?;
+        Ok(d)
+    }
+
+    /// Record every SPI frame and chip-select edge from now on (see `take_bus_log`).
+    fn enable_bus_log(&mut self) {
+        self.inner().enable_bus_log();
+    }
+
+    /// The SPI frames and CS edges recorded since the last call, as a dict of numpy arrays:
+    /// `frame_index`, `frame_start_ps` (character start), `frame_end_ps` (INT_FLAG),
+    /// `frame_first_edge_ps`, `frame_last_edge_ps` (SCLK edges), `frame_sclk_period_ps`,
+    /// `frame_selected`, `frame_master_tx`, `frame_master_rx`; `cs_t_ps`, `cs_low`.
+    fn take_bus_log<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let log = self.inner().take_bus_log();
+        let frames: Vec<_> = log
+            .iter()
+            .filter_map(|r| match r {
+                LinkRecord::Frame(f) => Some(*f),
+                LinkRecord::Cs { .. } => None,
+            })
+            .collect();
+        let cs: Vec<(u64, bool)> = log
+            .iter()
+            .filter_map(|r| match *r {
+                LinkRecord::Cs { t_ps, low } => Some((t_ps, low)),
+                LinkRecord::Frame(_) => None,
+            })
+            .collect();
+        let d = PyDict::new(py);
+        macro_rules! frame_col {
+            ($($name:literal => $f:expr),*) => {$(
+                d.set_item($name, frames.iter().map($f).collect::<Vec<_>>().into_pyarray(py))?;
+            )*};
+        }
+        frame_col!(
+            "frame_index" => |f| f.index,
+            "frame_start_ps" => |f| f.start_ps,
+            "frame_end_ps" => |f| f.end_ps,
+            "frame_first_edge_ps" => |f| f.timing.first_edge,
+            "frame_last_edge_ps" => |f| f.timing.last_edge,
+            "frame_sclk_period_ps" => |f| f.timing.sclk_period,
+            "frame_selected" => |f| f.selected,
+            "frame_master_tx" => |f| f.master_tx,
+            "frame_master_rx" => |f| f.master_rx
+        );
+        d.set_item("cs_t_ps", cs.iter().map(|c| c.0).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("cs_low", cs.iter().map(|c| c.1).collect::<Vec<_>>().into_pyarray(py))?;
+        Ok(d)
+    }
+
     /// The output since the last call, as a dict of numpy arrays (and a list of event dicts).
     fn take<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let out = self.inner().take();
         output_dict(py, &out)
     }
+}
+
+/// One stage's price as a dict (see `Emulator.stage_costs`).
+fn stage_dict<'py>(
+    py: Python<'py>,
+    cycles: u64,
+    counted: Option<&[CostTerm]>,
+    terms: &[CostTerm],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("cycles", cycles)?;
+    let counts = PyDict::new(py);
+    for t in counted.unwrap_or_default() {
+        counts.set_item(t.op, t.count)?;
+    }
+    d.set_item("counts", counts)?;
+    let lines = terms
+        .iter()
+        .map(|t| {
+            let l = PyDict::new(py);
+            l.set_item("op", t.op)?;
+            l.set_item("count", t.count)?;
+            l.set_item("key", t.key)?;
+            l.set_item("unit_cycles", t.unit_cycles)?;
+            l.set_item("scaled", t.scaled)?;
+            Ok(l)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    d.set_item("terms", lines)?;
+    Ok(d)
 }
 
 fn arr2<const N: usize, T: Copy + numpy::Element>(rows: impl Iterator<Item = [T; N]>, n: usize) -> Array2<T> {

@@ -7,7 +7,7 @@ use crate::firmware::{Firmware, Vec3};
 use crate::numerics::counter::{count, Counted, OpCounts};
 use crate::numerics::Scalar;
 use crate::profile::{CodeLocation, Numeric, Profile, Schedule};
-use crate::timing::costs::{ArithCosts, CostTable};
+use crate::timing::costs::{ArithCosts, CostTable, InterruptCosts};
 
 /// Operation counts and cycles of one stage.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -37,32 +37,114 @@ pub struct StageCosts {
     pub interpolation: StageCost,
 }
 
-/// Price operation counts with a backend's arithmetic costs and the code-location factor.
-pub fn price(counts: &OpCounts, arith: &ArithCosts, factor: f64) -> u64 {
-    let c = counts;
-    let raw = (c.adds + c.subs) * u64::from(arith.add)
-        + c.muls * u64::from(arith.mul)
-        + c.divs * u64::from(arith.div)
-        + c.sqrts * u64::from(arith.sqrt)
-        + c.sins * u64::from(arith.sin)
-        + c.coss * u64::from(arith.cos)
-        + c.atans * u64::from(arith.atan)
-        + c.atan2s * u64::from(arith.atan2)
-        + c.asins * u64::from(arith.asin)
-        + c.abs * u64::from(arith.abs)
-        + c.negs * u64::from(arith.neg)
-        + c.comparisons * u64::from(arith.compare)
-        + c.int_to_float * u64::from(arith.int_to_float)
-        + c.constants * u64::from(arith.constant);
-    (raw as f64 * factor).ceil() as u64
+/// One line of a stage's price: a number of operations of one kind at the unit cost of one entry of
+/// the cost table. The budget report shows these lines so that every cycle can be traced to a count
+/// and a table entry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CostTerm {
+    /// What is counted (an `OpCounts` field, or the interrupt step).
+    pub op: &'static str,
+    /// How many times it runs per stage execution.
+    pub count: u64,
+    /// The cost-table entry that prices it, `section.key` (e.g. `float.add`).
+    pub key: &'static str,
+    /// Cycles of one operation, from that entry.
+    pub unit_cycles: u32,
+    /// Whether the code-location factor applies (code the firmware runs; not the hardware's own
+    /// context save or IRET).
+    pub scaled: bool,
 }
 
-/// The arithmetic costs of a backend: FPU for the float backends (f64 is priced as the target's
-/// f32, the arithmetic the reference firmware ran), IQmath for `iq`.
-pub fn arith_for(numeric: Numeric, table: &CostTable) -> &ArithCosts {
+/// Cycles of a list of terms: the scaled ones summed, times the code-location factor, rounded up,
+/// plus the unscaled ones.
+pub fn price_terms(terms: &[CostTerm], factor: f64) -> u64 {
+    let sum = |scaled: bool| -> u64 {
+        terms.iter().filter(|t| t.scaled == scaled).map(|t| t.count * u64::from(t.unit_cycles)).sum()
+    };
+    (sum(true) as f64 * factor).ceil() as u64 + sum(false)
+}
+
+/// The price lines of a stage's operation counts with one backend's arithmetic costs; `section` is
+/// the table section those costs come from (`float` or `iq`, see [`arith_for`]).
+pub fn arith_terms(counts: &OpCounts, section: ArithSection, arith: &ArithCosts) -> [CostTerm; 15] {
+    let c = counts;
+    let k = |float: &'static str, iq: &'static str| match section {
+        ArithSection::Float => float,
+        ArithSection::Iq => iq,
+    };
+    let term = |op, count, key, unit_cycles| CostTerm { op, count, key, unit_cycles, scaled: true };
+    [
+        term("adds", c.adds, k("float.add", "iq.add"), arith.add),
+        term("subs", c.subs, k("float.add", "iq.add"), arith.add),
+        term("muls", c.muls, k("float.mul", "iq.mul"), arith.mul),
+        term("divs", c.divs, k("float.div", "iq.div"), arith.div),
+        term("sqrts", c.sqrts, k("float.sqrt", "iq.sqrt"), arith.sqrt),
+        term("sins", c.sins, k("float.sin", "iq.sin"), arith.sin),
+        term("coss", c.coss, k("float.cos", "iq.cos"), arith.cos),
+        term("atans", c.atans, k("float.atan", "iq.atan"), arith.atan),
+        term("atan2s", c.atan2s, k("float.atan2", "iq.atan2"), arith.atan2),
+        term("asins", c.asins, k("float.asin", "iq.asin"), arith.asin),
+        term("abs", c.abs, k("float.abs", "iq.abs"), arith.abs),
+        term("negs", c.negs, k("float.neg", "iq.neg"), arith.neg),
+        term("comparisons", c.comparisons, k("float.compare", "iq.compare"), arith.compare),
+        term("int_to_float", c.int_to_float, k("float.int_to_float", "iq.int_to_float"), arith.int_to_float),
+        term("constants", c.constants, k("float.constant", "iq.constant"), arith.constant),
+    ]
+}
+
+/// The price lines of the interrupt entry: the hardware context save (not subject to the code
+/// location) and the compiler's prologue.
+pub fn entry_terms(i: &InterruptCosts) -> [CostTerm; 2] {
+    [
+        CostTerm {
+            op: "context_save",
+            count: 1,
+            key: "interrupt.hw_context_save",
+            unit_cycles: i.hw_context_save,
+            scaled: false,
+        },
+        CostTerm { op: "prologue", count: 1, key: "interrupt.c_prologue", unit_cycles: i.c_prologue, scaled: true },
+    ]
+}
+
+/// The price lines of the interrupt exit: epilogue and PIE acknowledge (code), IRET (hardware).
+pub fn exit_terms(i: &InterruptCosts) -> [CostTerm; 3] {
+    [
+        CostTerm { op: "epilogue", count: 1, key: "interrupt.c_epilogue", unit_cycles: i.c_epilogue, scaled: true },
+        CostTerm { op: "pie_ack", count: 1, key: "interrupt.pie_ack", unit_cycles: i.pie_ack, scaled: true },
+        CostTerm { op: "iret", count: 1, key: "interrupt.iret", unit_cycles: i.iret, scaled: false },
+    ]
+}
+
+/// Price operation counts with a backend's arithmetic costs and the code-location factor.
+pub fn price(counts: &OpCounts, arith: &ArithCosts, factor: f64) -> u64 {
+    // The section only names the entries; the cycles do not depend on it.
+    price_terms(&arith_terms(counts, ArithSection::Float, arith), factor)
+}
+
+/// Which arithmetic section of the cost table prices a backend.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ArithSection {
+    /// `[float]`: the C28x FPU.
+    Float,
+    /// `[iq]`: IQmath.
+    Iq,
+}
+
+/// The section of the cost table that prices a backend: FPU for the float backends (f64 is priced as
+/// the target's f32, the arithmetic the reference firmware ran), IQmath for `iq`.
+pub fn arith_section(numeric: Numeric) -> ArithSection {
     match numeric {
-        Numeric::Iq => &table.iq,
-        Numeric::F64 | Numeric::C28xF32 | Numeric::C28xF32Rz => &table.float,
+        Numeric::Iq => ArithSection::Iq,
+        Numeric::F64 | Numeric::C28xF32 | Numeric::C28xF32Rz => ArithSection::Float,
+    }
+}
+
+/// The arithmetic costs of a backend (the section [`arith_section`] names).
+pub fn arith_for(numeric: Numeric, table: &CostTable) -> &ArithCosts {
+    match arith_section(numeric) {
+        ArithSection::Iq => &table.iq,
+        ArithSection::Float => &table.float,
     }
 }
 
@@ -105,11 +187,9 @@ pub fn stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
     });
 
     let stage = |counts: OpCounts| StageCost { counts, cycles: price(&counts, arith, factor) };
-    let i = &table.interrupt;
-    let scale = |c: u32| (f64::from(c) * factor).ceil() as u64;
     Ok(StageCosts {
-        entry: u64::from(i.hw_context_save) + scale(i.c_prologue),
-        exit: scale(i.c_epilogue + i.pie_ack) + u64::from(i.iret),
+        entry: price_terms(&entry_terms(&table.interrupt), factor),
+        exit: price_terms(&exit_terms(&table.interrupt), factor),
         decode: stage(decode),
         attitude: stage(attitude_counts),
         euler: stage(euler),
@@ -156,6 +236,61 @@ mod tests {
         let q = stage_costs(&p, &t).unwrap();
         assert_eq!(f.attitude.counts, q.attitude.counts);
         assert!(q.attitude.cycles > f.attitude.cycles);
+    }
+
+    /// Every profile variant whose price the budget explains: both arithmetic sections, both code
+    /// locations.
+    fn variants() -> Vec<Profile> {
+        let mut out = Vec::new();
+        for numeric in [Numeric::C28xF32, Numeric::Iq] {
+            for location in [CodeLocation::Ram, CodeLocation::Flash] {
+                let mut p = Profile::default();
+                p.firmware.numeric = numeric;
+                p.firmware.code_location = location;
+                out.push(p);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn price_lines_add_up_to_the_stage_cycles_and_cover_every_counted_op() {
+        let t = table();
+        for p in variants() {
+            let s = stage_costs(&p, &t).unwrap();
+            let f = location_factor(&p, &t);
+            let section = arith_section(p.firmware.numeric);
+            let arith = arith_for(p.firmware.numeric, &t);
+            for stage in [s.decode, s.attitude, s.euler, s.navigation, s.interpolation] {
+                let terms = arith_terms(&stage.counts, section, arith);
+                assert_eq!(price_terms(&terms, f), stage.cycles);
+                // No operation kind the counter tallies is left unpriced.
+                assert_eq!(terms.iter().map(|t| t.count).sum::<u64>(), stage.counts.total());
+            }
+            assert_eq!(price_terms(&entry_terms(&t.interrupt), f), s.entry);
+            assert_eq!(price_terms(&exit_terms(&t.interrupt), f), s.exit);
+        }
+    }
+
+    #[test]
+    fn every_price_line_names_an_entry_of_the_table_with_its_value() {
+        let text =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../firmware_model/c28x-costs.toml"))
+                .unwrap();
+        let raw: toml::Table = toml::from_str(&text).unwrap();
+        let t = table();
+        let counts = stage_costs(&Profile::default(), &t).unwrap().attitude.counts;
+        let lines = [
+            arith_terms(&counts, ArithSection::Float, &t.float).to_vec(),
+            arith_terms(&counts, ArithSection::Iq, &t.iq).to_vec(),
+            entry_terms(&t.interrupt).to_vec(),
+            exit_terms(&t.interrupt).to_vec(),
+        ];
+        for term in lines.concat() {
+            let (section, key) = term.key.split_once('.').unwrap();
+            let value = raw[section][key].as_integer().unwrap();
+            assert_eq!(value, i64::from(term.unit_cycles), "{}", term.key);
+        }
     }
 
     #[test]

@@ -1,0 +1,178 @@
+"""`sins-fw budget`: the per-stage timing budget of one tick and one attitude cycle, without a trace."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from sins_fw import budget
+from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.errors import InputError
+
+#: Overruns listed in the text output (the JSON lists every one).
+LISTED_OVERRUNS = 20
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "budget",
+        help="per-stage timing budget of one tick and one attitude cycle (no trace needed)",
+        description="Emulate a slowly turning level board through the profile's board and firmware and show "
+        "where each timer tick's interrupt spends its time: entry, CS set-up, SPI, decode, attitude, Euler, "
+        "navigation, exit (µs and %% of the period, typical and worst), the attitude solution against the "
+        "published 0.35 ms, the op counts × unit cycles of every compute stage, read jitter and sample "
+        "age, overruns and rules broken. Exit code 1 when a tick overran or a rule was broken. "
+        "The model and the JSON keys: docs/budget.md.",
+    )
+    add_profile_options(p)
+    add_json_option(p)
+    p.add_argument(
+        "--plot", type=Path, metavar="FILE.png", help="draw the tick timeline and the cycle breakdown"
+    )
+    p.add_argument(
+        "--seconds",
+        type=float,
+        default=budget.DEFAULT_SECONDS,
+        help=f"emulated time after any alignment (default {budget.DEFAULT_SECONDS:g} s: one full phase "
+        "pattern of 4 ms reads against the 819.2 Hz sample clock)",
+    )
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    if not args.seconds > 0:
+        raise InputError(f"--seconds {args.seconds}: expected a duration > 0")
+    report = budget.budget_report(profile_from_args(args), seconds=args.seconds)
+    if args.plot is not None:
+        budget.plot_report(report, args.plot)
+        report["plot"] = str(args.plot)
+    emit(args, report, render(report))
+    failed = report["summary"]["overruns"]["count"] > 0 or bool(report["rules_broken"])
+    return 1 if failed else 0
+
+
+def _us(x: float | None) -> str:
+    return f"{'—':>10}" if x is None else f"{x * 1e6:10.3f}"
+
+
+def render(r: dict[str, Any]) -> str:
+    """The human-readable budget."""
+    tick_us = r["tick_period_s"] * 1e6
+    cyc = r["cycle"]
+    lines = [
+        f"profile   {r['profile']} {' '.join(r['overrides'])}".rstrip(),
+        f"firmware  {r['algorithm']}, {r['numeric']}, code in {r['code_location']}, "
+        f"schedule {r['schedule']}; SYSCLKOUT {r['sysclkout_hz'] / 1e6:g} MHz, "
+        f"SPI {r['spi_baud_hz'] / 1e3:.3f} kHz",
+        f"emulated  {r['emulated_s']:.3f} s of a slowly turning level board: "
+        f"{r['summary']['ticks']} ticks of {tick_us:.3f} µs, "
+        f"{cyc['cycles']} attitude cycles of {r['cycle_period_s'] * 1e6:.3f} µs",
+        "",
+        f"one timer tick ({tick_us:.3f} µs)  acquisition only          with an attitude step",
+        "stage               typical µs   worst µs    typical µs   worst µs  worst % of tick",
+    ]
+    acq, step = r["tick"]["acquisition"], r["tick"]["step"]
+    for row in (*r["stages"], "busy", "margin"):
+        a, s = acq.get(row, {}), step.get(row, {})
+        pct = s.get("worst_pct", a.get("worst_pct"))
+        lines.append(
+            f"{row:<16}{_us(a.get('typical_s'))} {_us(a.get('worst_s'))}    {_us(s.get('typical_s'))} "
+            f"{_us(s.get('worst_s'))}  {'—' if pct is None else f'{pct:8.3f} %'}"
+        )
+    lines += [
+        "",
+        f"one attitude cycle ({r['cycle_period_s'] * 1e6:.3f} µs)",
+        "stage               typical µs   worst µs  worst %",
+    ]
+    for row in (*r["stages"], "busy"):
+        c = cyc.get(row, {})
+        pct = c.get("worst_pct")
+        lines.append(
+            f"{row:<16}{_us(c.get('typical_s'))} {_us(c.get('worst_s'))}  "
+            f"{'—' if pct is None else f'{pct:7.3f} %'}"
+        )
+    su = r["summary"]
+    u, cu = su["utilisation"], su["cycle_utilisation"]
+    if u["max"] is not None:
+        line = (
+            f"utilisation  tick: max {100 * u['max']:.2f} % (tick {u['max_tick']}), "
+            f"mean {100 * u['mean']:.2f} %"
+        )
+        if cu["max"] is not None:
+            line += f"; attitude cycle: max {100 * cu['max']:.2f} %, mean {100 * cu['mean']:.2f} %"
+        lines.append(line)
+
+    sol = r["solution"]
+    if "time_s" in sol:
+        p = sol["parts_s"]
+        prov = sol["provenance_s"]
+        verdict = "within" if sol["within_tolerance"] else "OUTSIDE"
+        lines += [
+            "",
+            f"attitude solution (burst read + decode + update + Euler, tick {sol['tick']}): "
+            f"{sol['time_s'] * 1e3:.4f} ms = {sol['ratio']:.3f} × the published 0.35 ms ({verdict} ±15 %)",
+            f"  SPI clocking    {_us(sol['spi_clocking_s'])} µs  "
+            f"{r['spi']['reads_per_tick']}×15 frames × 16 bits at {r['spi_baud_hz'] / 1e3:.3f} kHz "
+            "(from the registers)",
+            f"  SPI gaps        {_us(sol['spi_gaps_s'])} µs  "
+            "polled loop between frames, register access, start latency",
+            f"  CS set-up       {_us(p['cs_setup'])} µs  "
+            "CS low, first poll and SPITXBUF write to the first SCLK edge",
+        ]
+        for s in ("decode", "attitude", "euler"):
+            lines.append(f"  {s:<14}{_us(p[s])} µs")
+        lines.append(
+            f"  provenance: {prov['registers'] * 1e6:.3f} µs from registers, "
+            f"{prov['sourced_costs'] * 1e6:.3f} µs from sourced costs, "
+            f"{prov['estimates'] * 1e6:.3f} µs from estimates"
+        )
+
+    comp = r["compute"]
+    lines += [
+        "",
+        f"compute stages: cycles = Σ count × unit cycles ([{comp['arith_section']}] costs) × code-location "
+        f"factor {comp['code_location_factor']:g}",
+    ]
+    for s in ("entry", "decode", "interpolation", "attitude", "euler", "navigation", "exit"):
+        st = comp[s]
+        if st["cycles"] == 0:
+            continue
+        terms = ", ".join(f"{t['count']}×{t['unit_cycles']} {t['op']}" for t in st["terms"])
+        est = 100 * st["estimated_cycles"] / st["cycles"]
+        lines.append(
+            f"  {s:<13} {st['cycles']:6d} cycles {st['time_s'] * 1e6:9.3f} µs  ({est:.0f} % estimate-priced)"
+        )
+        lines.append(f"      {terms}")
+
+    rd = su["reads"]
+    if rd["reads"]:
+        o, a = rd["offset"], rd["sample_age"]
+        lines += [
+            "",
+            f"reads     {rd['reads']}: first SCLK edge {o['min'] * 1e6:.3f}…{o['max'] * 1e6:.3f} µs "
+            f"after the tick, jitter {rd['jitter_s'] * 1e6:.3f} µs",
+            f"sample age min {a['min'] * 1e6:.3f}, mean {a['mean'] * 1e6:.3f}, max {a['max'] * 1e6:.3f} µs "
+            f"({rd['sample_age_distinct']} distinct values)",
+        ]
+    ov = su["overruns"]
+    if ov["count"]:
+        listed = ", ".join(str(t) for t in ov["ticks"][:LISTED_OVERRUNS])
+        more = (
+            f" … ({ov['count'] - LISTED_OVERRUNS} more; --json lists all)"
+            if ov["count"] > LISTED_OVERRUNS
+            else ""
+        )
+        lines.append(f"overruns  {ov['count']} at ticks {listed}{more}")
+        if ov["skipped_ticks"]:
+            lines.append(f"          {len(ov['skipped_ticks'])} ticks never ran (dropped or lost)")
+    else:
+        lines.append("overruns  none")
+    if r["rules_broken"]:
+        lines.append("rules broken:")
+        lines += [f"  {v['kind']} (×{v['count']}, {v['source']}): {v['message']}" for v in r["rules_broken"]]
+    else:
+        lines.append("rules broken: none")
+    if "plot" in r:
+        lines.append(f"plot      {r['plot']}")
+    return "\n".join(lines)
