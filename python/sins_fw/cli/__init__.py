@@ -13,11 +13,12 @@ import traceback
 from collections.abc import Sequence
 
 from sins_fw import __version__
-from sins_fw.cli import board, demo, importer, synth
+from sins_fw.cli import board, demo, importer, parity, run, synth
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError
 
-#: The subcommands, in the order `--help` lists them.
-COMMANDS = (demo, board, synth, importer)
+#: The subcommands, in the order `--help` lists them. (The module `run` is captured here; the name is
+#: then rebound to the console-script function `run()` below.)
+COMMANDS = (demo, board, run, parity, synth, importer)
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 
