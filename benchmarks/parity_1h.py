@@ -45,8 +45,18 @@ def machine() -> str:
 
 def commit() -> str:
     try:
-        sha = subprocess.run(["git", "rev-parse", "HEAD"], cwd=HERE, capture_output=True, text=True, check=True)
-        dirty = subprocess.run(["git", "status", "--porcelain"], cwd=HERE, capture_output=True, text=True, check=True)
+        sha = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=HERE, capture_output=True, text=True, check=True
+        )
+        # Only the code counts (this script's own output file is rewritten on every run).
+        code = ["python", "rust", "firmware_model", "benchmarks/parity_1h.py"]
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--", *code],
+            cwd=HERE.parent,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
         return sha.stdout.strip() + (" (uncommitted changes)" if dirty.stdout.strip() else "")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
@@ -72,7 +82,8 @@ def main() -> None:
             rows.append((title, d))
             print(
                 f"{title}: {backend}: max {d.max_deg:.3e}° RMS {d.rms_deg:.3e}° final {d.final_deg:.3e}° "
-                f"drift {d.drift_deg_per_h:.3e}°/h ({steps} steps; synth {gen_s:.1f} s, 3 runs {run_s:.1f} s)",
+                f"drift {d.drift_deg_per_h:.3e}°/h ({steps} steps; synth {gen_s:.1f} s, "
+                f"3 runs {run_s:.1f} s)",
                 flush=True,
             )
     lines = [

@@ -159,7 +159,11 @@ def compare(run: Run, reference: Run, backend: str, threshold: Threshold | None 
         threshold=threshold,
     )
     if threshold is not None:
-        measured = {"max_deg": diff.max_deg, "rms_deg": diff.rms_deg, "drift_deg_per_h": abs(diff.drift_deg_per_h)}
+        measured = {
+            "max_deg": diff.max_deg,
+            "rms_deg": diff.rms_deg,
+            "drift_deg_per_h": abs(diff.drift_deg_per_h),
+        }
         for key in _LIMITS:
             limit = getattr(threshold, key)
             # NaN compares False: count it as exceeded explicitly.

@@ -205,7 +205,9 @@ def render(s: dict[str, Any]) -> str:
         lines.append(f"  alignment    {a['alignment']['description']}")
         lines.append(f"  {'':<12} {'max |e|':>10} {'RMS':>10} {'final':>10}  (degrees)")
         for name, e in a["euler"].items():
-            lines.append(f"  {name:<12} {e['max_abs_deg']:>10.4f} {e['rms_deg']:>10.4f} {e['final_deg']:>10.4f}")
+            lines.append(
+                f"  {name:<12} {e['max_abs_deg']:>10.4f} {e['rms_deg']:>10.4f} {e['final_deg']:>10.4f}"
+            )
         br = a["broad"]
         lines.append(
             f"  BROAD RMSE over {br['mask']} ({br['samples']} steps): total {br['rmse_total_deg']:.4f}°, "
@@ -214,7 +216,8 @@ def render(s: dict[str, Any]) -> str:
     b = s["budget"]
     lines += [
         f"budget         ISR {_fmt(b['isr_max_s'], 1e6)} µs max, {_fmt(b['isr_mean_s'], 1e6)} µs mean of a "
-        f"{_fmt(b['tick_period_s'], 1e6, '.1f')} µs tick: utilisation {_fmt(b['utilisation_max'], 100, '.2f')} % max, "
+        f"{_fmt(b['tick_period_s'], 1e6, '.1f')} µs tick: utilisation "
+        f"{_fmt(b['utilisation_max'], 100, '.2f')} % max, "
         f"{_fmt(b['utilisation_mean'], 100, '.2f')} % mean",
         f"               {b['overruns']} overruns, {b['ticks_skipped']} ticks skipped, "
         f"{b['spi_violations']} SPI violations over {b['ticks']} ticks",

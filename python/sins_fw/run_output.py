@@ -18,7 +18,9 @@ from sins_fw.traces import Column, _open, _Schema, _write
 RUN_FORMAT = "sins-fw-run-output/1"
 
 RUN_COLUMNS: tuple[Column, ...] = (
-    Column("t_s", "s", "virtual time of the tick that completed the step (0 = power-on = first trace sample)"),
+    Column(
+        "t_s", "s", "virtual time of the tick that completed the step (0 = power-on = first trace sample)"
+    ),
     *(Column(f"q{i}", "1", f"firmware quaternion component q{i} (C_b^n, ENU)") for i in range(4)),
     Column("roll_deg", "°", "roll, the firmware's Euler extraction"),
     Column("pitch_deg", "°", "pitch, the firmware's Euler extraction"),

@@ -46,7 +46,8 @@ def run(args: argparse.Namespace) -> int:
         results.append(r)
         lines.append(f"{path}: {r.steps} steps, {r.duration_s:.3f} s")
         lines.append(
-            f"  {'backend':<12} {'max °':>10} {'at s':>8} {'RMS °':>10} {'final °':>10} {'drift °/h':>11}  verdict"
+            f"  {'backend':<12} {'max °':>10} {'at s':>8} {'RMS °':>10} {'final °':>10} "
+            f"{'drift °/h':>11}  verdict"
         )
         for b in r.backends:
             if not b.checked:
@@ -58,8 +59,13 @@ def run(args: argparse.Namespace) -> int:
                 f"{b.final_deg:>10.3g} {b.drift_deg_per_h:>11.3g}  {verdict}"
             )
     passed = all(r.passed for r in results)
-    lines.append("thresholds: " + "; ".join(f"{n} max {t.max_deg:g}°, RMS {t.rms_deg:g}°, drift "
-                                             f"{t.drift_deg_per_h:g}°/h" for n, t in thresholds.items()))
+    lines.append(
+        "thresholds: "
+        + "; ".join(
+            f"{n} max {t.max_deg:g}°, RMS {t.rms_deg:g}°, drift {t.drift_deg_per_h:g}°/h"
+            for n, t in thresholds.items()
+        )
+    )
     unchecked = sorted({b.backend for r in results for b in r.backends if not b.checked})
     verdict = "parity: every checked backend within its thresholds" if passed else "parity: FAILED"
     lines.append(verdict + (f" (not checked: {', '.join(unchecked)})" if unchecked else ""))
@@ -73,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
     }
     emit(args, report, "\n".join(lines))
     if not passed:
-        print("sins-fw: parity: a backend exceeds its threshold (firmware_model/parity.toml)", file=sys.stderr)
+        print(
+            "sins-fw: parity: a backend exceeds its threshold (firmware_model/parity.toml)", file=sys.stderr
+        )
         return 1
     return 0
