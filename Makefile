@@ -38,6 +38,10 @@ fmt: $(DEPS)
 bench: $(BUILT)
 	$(BIN)/sins-fw bench
 
+# Regenerate tests/golden/hashes.toml (f64 output hashes on the bundled traces), printing old → new.
+golden: $(BUILT)
+	$(BIN)/python -m sins_fw.golden tests/golden/hashes.toml
+
 clean:
 	cargo clean
 	rm -rf $(VENV) python/sins_fw/_core*.so .pytest_cache .ruff_cache .hypothesis

@@ -1,5 +1,5 @@
 """`python -m sins_fw` runs the CLI."""
 
-from sins_fw.cli import run
+from sins_fw.cli import entry
 
-run()
+entry()

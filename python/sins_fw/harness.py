@@ -8,10 +8,11 @@ board's power-on instant (virtual time 0); ``Run.t0_s`` keeps the shift.
 
 from __future__ import annotations
 
+import json
 import os
 import tomllib
 from collections import Counter
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -62,6 +63,8 @@ class Run:
     stage_cycles: dict[str, int]
     truth_q: Array | None = None
     moving: NDArray[np.bool_] | None = None
+    #: The truth at the trace's first sample, the board's power-on instant (None without truth).
+    truth_q0: Array | None = None
     held_input_reads: int = 0
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -128,6 +131,35 @@ def new_emulator(profile: Profile) -> Any:
     return _core.Emulator(profile.text, profile.source, list(profile.overrides), costs, costs_source)
 
 
+def keyword_overrides(settings: Mapping[str, Any]) -> list[str]:
+    """Keyword profile overrides as ``key=value`` texts: ``spi__spibrr=9`` → ``spi.spibrr=9``.
+
+    ``__`` stands for the dot of the dotted key; values are written as TOML (strings quoted, bools
+    ``true``/``false``, lists as arrays).
+    """
+    out = []
+    for name, value in settings.items():
+        if "__" not in name:
+            raise ProfileError(
+                f"unknown keyword argument `{name}`: profile overrides are written section__key=value "
+                "(e.g. spi__spibrr=9 for spi.spibrr)"
+            )
+        out.append(f"{name.replace('__', '.')}={_toml_value(value, name)}")
+    return out
+
+
+def _toml_value(value: Any, name: str) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float | np.integer | np.floating):
+        return repr(value.item() if isinstance(value, np.generic) else value)
+    if isinstance(value, str):
+        return json.dumps(value)  # a TOML basic string is a JSON string for these values
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml_value(v, name) for v in value) + "]"
+    raise ProfileError(f"keyword override `{name}` = {value!r}: expected a number, bool, string or list")
+
+
 def emulate(
     trace: PhysicalTrace | str | os.PathLike[str],
     profile: Profile | str = "reference",
@@ -136,21 +168,26 @@ def emulate(
     chunk_rows: int = CHUNK_ROWS,
     on_chunk: Callable[[float], None] | None = None,
     keep_truth: bool = True,
+    **settings: Any,
 ) -> Run:
     """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace or a trace file).
 
-    ``overrides`` are ``key=value`` profile overrides; ``on_chunk`` is called with the trace time
-    reached after each chunk (for progress bars).
+    Profile overrides come as ``key=value`` texts in ``overrides`` and/or as keywords with ``__`` for
+    the dot, applied after them: ``emulate(trace, spi__spibrr=9, firmware__numeric="iq")`` is
+    ``emulate(trace, overrides=["spi.spibrr=9", "firmware.numeric=iq"])``. ``on_chunk`` is called
+    with the trace time reached after each chunk (for progress bars).
     """
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
-    if overrides:
-        prof = prof.with_overrides(*overrides)
+    every = [*overrides, *keyword_overrides(settings)]
+    if every:
+        prof = prof.with_overrides(*every)
     emu = new_emulator(prof)
     parts: list[dict[str, Any]] = []
     truth: list[Array] = []
     moving: list[NDArray[np.bool_]] = []
     truth_t: list[Array] = []
     t0: float | None = None
+    truth_q0: Array | None = None
     for chunk in _chunks(trace, chunk_rows):
         if len(chunk) == 0:
             continue
@@ -168,6 +205,8 @@ def emulate(
         emu.run()
         parts.append(emu.take())
         if keep_truth and chunk.truth_q is not None:
+            if not truth:
+                truth_q0 = chunk.truth_q[0].copy()
             truth.append(chunk.truth_q)
             truth_t.append(t)
             if chunk.moving is not None:
@@ -178,6 +217,7 @@ def emulate(
     emu.run()
     parts.append(emu.take())
     run = _assemble(prof, t0 or 0.0, parts, dict(emu.stage_cycles()))
+    run.truth_q0 = truth_q0
     if truth:
         tt = np.concatenate(truth_t)
         run.truth_q = _truth_at(tt, np.concatenate(truth), run.time_s)

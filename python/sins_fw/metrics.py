@@ -12,6 +12,10 @@ Two families, both from quaternions ``[w, x, y, z]`` that are C_b^n (navigation 
 Heading alignment (optional): a method without a magnetometer has no heading reference, so its
 estimate is rotated about the navigation z axis once, by the heading error at the first valid
 movement sample; reports say so.
+
+Initial-attitude alignment (``align_initial``): firmware that starts from Q = [1, 0, 0, 0] (the
+reference design) integrates relative to the body's attitude at power-on, so its estimate is
+premultiplied once by the truth at that instant: all three axes, not only heading.
 """
 
 from __future__ import annotations
@@ -103,6 +107,15 @@ def align_heading(
     delta = 2.0 * math.atan2(err[3], err[0])
     turn = quat.from_axis_angle(np.array([0.0, 0.0, 1.0]), -delta)
     return quat.multiply(turn, est), float(wrap_deg(math.degrees(delta))), k
+
+
+def align_initial(q_est: ArrayLike, q_truth_start: ArrayLike) -> Array:
+    """``q_truth_start ⊗ q_est``: an estimate that started from the identity at the instant whose
+    truth is ``q_truth_start``, expressed in the truth's navigation frame."""
+    start = np.asarray(q_truth_start, dtype=np.float64)
+    if start.shape != (4,) or not np.isfinite(start).all():
+        raise InputError(f"initial alignment: truth at the start is {start}; expected a finite quaternion")
+    return quat.multiply(start, np.asarray(q_est, dtype=np.float64))
 
 
 @dataclass(frozen=True)

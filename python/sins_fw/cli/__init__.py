@@ -13,11 +13,11 @@ import traceback
 from collections.abc import Sequence
 
 from sins_fw import __version__
-from sins_fw.cli import board, budget, demo, importer, montecarlo, presets, synth
+from sins_fw.cli import board, budget, demo, importer, montecarlo, parity, presets, run, synth
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError
 
 #: The subcommands, in the order `--help` lists them.
-COMMANDS = (demo, board, budget, synth, importer, presets, montecarlo)
+COMMANDS = (demo, run, board, budget, parity, synth, importer, presets, montecarlo)
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 
@@ -79,6 +79,6 @@ def _fail(args: argparse.Namespace, e: BaseException, code: int) -> int:
     return code
 
 
-def run() -> None:
-    """Console-script wrapper."""
+def entry() -> None:
+    """Console-script entry point (`sins-fw`)."""
     sys.exit(main())

@@ -1,0 +1,258 @@
+"""Numeric parity: the same board, profile and input run in several arithmetic backends, each
+compared step by step with the f64 golden reference.
+
+Only ``firmware.numeric`` differs between the runs, so every difference in the attitude is the
+arithmetic's. Per step the difference is the rotation angle of ``q_backend ⊗ q_f64⁻¹``, computed as
+``2·atan2(|v|, |w|)`` (not ``2·acos(|w|)``, which loses every digit below ~1e-8 rad because ``w`` is
+within 1e-16 of 1 there; the atan2 form is also insensitive to the quaternion's norm). Reported per
+backend: the maximum, the RMS and the final difference (degrees) and the drift rate, the
+least-squares slope of the difference over time (degrees per hour).
+
+Thresholds per backend live in ``firmware_model/parity.toml`` (``max_deg``, ``rms_deg``,
+``drift_deg_per_h``); the file records how they were measured.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from sins_fw import quaternion as quat
+from sins_fw.errors import InputError, ProfileError
+from sins_fw.harness import Run, emulate, profile_table
+from sins_fw.profile import MODEL_DIR, Profile, load_profile
+from sins_fw.traces import PhysicalTrace
+
+Array = NDArray[np.float64]
+
+#: The golden backend every other one is compared with.
+REFERENCE = "f64"
+#: The backends `sins-fw parity` runs by default (the values `firmware.numeric` takes).
+BACKENDS: tuple[str, ...] = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
+#: The threshold table (in firmware_model/).
+THRESHOLDS_FILE = "parity.toml"
+_LIMITS = ("max_deg", "rms_deg", "drift_deg_per_h")
+_SECONDS_PER_HOUR = 3600.0
+
+
+def attitude_difference_deg(q: ArrayLike, q_ref: ArrayLike) -> Array:
+    """Per-row rotation angle (degrees, in [0, 180]) of ``q ⊗ q_ref⁻¹``; both ``(N, 4)``."""
+    a = np.asarray(q, dtype=np.float64)
+    b = np.asarray(q_ref, dtype=np.float64)
+    if a.shape != b.shape or a.ndim != 2 or a.shape[1] != 4:
+        raise InputError(f"quaternions {a.shape} and {b.shape}: expected two (N, 4) arrays")
+    # q_ref⁻¹ = q_ref* / |q_ref|²; the angle does not depend on the scale, so the conjugate does.
+    d = quat.multiply(a, quat.conjugate(b))
+    return np.degrees(2.0 * np.arctan2(np.linalg.norm(d[:, 1:], axis=1), np.abs(d[:, 0])))
+
+
+def drift_rate_deg_per_h(t_s: ArrayLike, angle_deg: ArrayLike) -> float:
+    """Least-squares slope of ``angle_deg`` against ``t_s``, in degrees per hour (0 for < 2 rows)."""
+    t = np.asarray(t_s, dtype=np.float64)
+    a = np.asarray(angle_deg, dtype=np.float64)
+    if len(t) < 2:
+        return 0.0
+    tc = t - t.mean()
+    denom = float(np.dot(tc, tc))
+    if denom == 0.0:
+        return 0.0
+    return float(np.dot(tc, a - a.mean()) / denom) * _SECONDS_PER_HOUR
+
+
+@dataclass(frozen=True)
+class Threshold:
+    """The largest allowed difference of one backend from f64."""
+
+    max_deg: float
+    rms_deg: float
+    drift_deg_per_h: float
+
+
+def load_thresholds(path: str | os.PathLike[str] | None = None) -> dict[str, Threshold]:
+    """The per-backend thresholds of ``firmware_model/parity.toml`` (or ``path``)."""
+    source = Path(path) if path is not None else MODEL_DIR / THRESHOLDS_FILE
+    table = profile_table(source)
+    backends = table.get("backends")
+    if not isinstance(backends, dict):
+        raise ProfileError(f"{source}: expected a [backends.NAME] table per backend")
+    out: dict[str, Threshold] = {}
+    for name, limits in backends.items():
+        if name not in BACKENDS or name == REFERENCE:
+            allowed = ", ".join(b for b in BACKENDS if b != REFERENCE)
+            raise ProfileError(f"{source}: [backends.{name}]: unknown backend; expected one of {allowed}")
+        if not isinstance(limits, dict):
+            raise ProfileError(f"{source}: [backends.{name}]: expected a table")
+        values = {}
+        for key in _LIMITS:
+            v = limits.get(key)
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) or v <= 0:
+                raise ProfileError(
+                    f"{source}: key `backends.{name}.{key}` = {v!r}: expected a positive number"
+                )
+            values[key] = float(v)
+        unknown = sorted(set(limits) - set(_LIMITS))
+        if unknown:
+            raise ProfileError(
+                f"{source}: key `backends.{name}.{unknown[0]}`: unknown; expected {', '.join(_LIMITS)}"
+            )
+        out[name] = Threshold(**values)
+    return out
+
+
+@dataclass
+class BackendDiff:
+    """One backend against the reference on one trace."""
+
+    backend: str
+    steps: int
+    max_deg: float
+    max_at_s: float
+    rms_deg: float
+    final_deg: float
+    drift_deg_per_h: float
+    threshold: Threshold | None = None
+    #: The limits exceeded, as ``name: measured > limit`` texts (empty: within every limit).
+    exceeded: list[str] = field(default_factory=list)
+
+    @property
+    def checked(self) -> bool:
+        """A threshold was given (a backend without one is measured only)."""
+        return self.threshold is not None
+
+    @property
+    def passed(self) -> bool:
+        return not self.exceeded
+
+    def to_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["checked"] = self.checked
+        d["passed"] = self.passed
+        return d
+
+
+def compare(run: Run, reference: Run, backend: str, threshold: Threshold | None = None) -> BackendDiff:
+    """The attitude difference of ``run`` from ``reference`` (same steps), checked against a threshold."""
+    if run.cycles != reference.cycles or not np.array_equal(run.time_s, reference.time_s):
+        raise InputError(
+            f"backend {backend}: {run.cycles} attitude steps, reference {reference.cycles}; the runs must "
+            "produce the same steps at the same times to be compared"
+        )
+    if run.cycles == 0:
+        raise InputError("no attitude step to compare: the trace is shorter than one update period")
+    angle = attitude_difference_deg(run.quat, reference.quat)
+    k = int(np.argmax(angle))
+    diff = BackendDiff(
+        backend=backend,
+        steps=run.cycles,
+        max_deg=float(angle[k]),
+        max_at_s=float(run.time_s[k]),
+        rms_deg=float(np.sqrt(np.mean(angle * angle))),
+        final_deg=float(angle[-1]),
+        drift_deg_per_h=drift_rate_deg_per_h(run.time_s, angle),
+        threshold=threshold,
+    )
+    if threshold is not None:
+        measured = {
+            "max_deg": diff.max_deg,
+            "rms_deg": diff.rms_deg,
+            "drift_deg_per_h": abs(diff.drift_deg_per_h),
+        }
+        for key in _LIMITS:
+            limit = getattr(threshold, key)
+            # NaN compares False: count it as exceeded explicitly.
+            if not measured[key] <= limit:
+                diff.exceeded.append(f"{key}: {measured[key]:.3g} > {limit:.3g}")
+    return diff
+
+
+@dataclass
+class TraceParity:
+    """Every backend against the reference on one trace."""
+
+    trace: str
+    profile: str
+    overrides: tuple[str, ...]
+    duration_s: float
+    steps: int
+    backends: list[BackendDiff]
+
+    @property
+    def passed(self) -> bool:
+        return all(b.passed for b in self.backends)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "trace": self.trace,
+            "profile": self.profile,
+            "overrides": list(self.overrides),
+            "reference": REFERENCE,
+            "duration_s": self.duration_s,
+            "steps": self.steps,
+            "passed": self.passed,
+            "backends": [b.to_dict() for b in self.backends],
+        }
+
+
+def parse_backends(text: str | Sequence[str]) -> list[str]:
+    """A backend list (``"f64,iq"`` or a sequence); f64 first whether given or not, no repeats."""
+    names = [s.strip() for s in (text.split(",") if isinstance(text, str) else text) if s.strip()]
+    for n in names:
+        if n not in BACKENDS:
+            raise InputError(f"backend `{n}`: unknown; expected some of {', '.join(BACKENDS)}")
+    return [REFERENCE, *dict.fromkeys(n for n in names if n != REFERENCE)]
+
+
+def run_backends(
+    trace: PhysicalTrace | str | os.PathLike[str],
+    profile: Profile | str = "reference",
+    *,
+    overrides: Iterable[str] = (),
+    backends: Sequence[str] = BACKENDS,
+    on_chunk: Callable[[str, float], None] | None = None,
+) -> dict[str, Run]:
+    """Emulate ``trace`` once per backend: the profile with only ``firmware.numeric`` changed."""
+    prof = profile if isinstance(profile, Profile) else load_profile(profile)
+    prof = prof.with_overrides(*overrides)
+    if isinstance(trace, str | os.PathLike):
+        trace = PhysicalTrace.load(trace)  # read once, run several times
+    runs: dict[str, Run] = {}
+    for name in parse_backends(backends):
+        report = None if on_chunk is None else (lambda t, n=name: on_chunk(n, t))
+        runs[name] = emulate(trace, prof.with_overrides(f"firmware.numeric={name}"), on_chunk=report)
+    return runs
+
+
+def parity(
+    trace: PhysicalTrace | str | os.PathLike[str],
+    profile: Profile | str = "reference",
+    *,
+    overrides: Iterable[str] = (),
+    backends: Sequence[str] = BACKENDS,
+    thresholds: dict[str, Threshold] | None = None,
+    on_chunk: Callable[[str, float], None] | None = None,
+) -> TraceParity:
+    """Run every backend on ``trace`` and compare each with f64 against ``thresholds`` (default: the
+    table in firmware_model/parity.toml). A backend without a threshold is measured, not checked."""
+    limits = load_thresholds() if thresholds is None else thresholds
+    names = parse_backends(backends)
+    prof = profile if isinstance(profile, Profile) else load_profile(profile)
+    prof = prof.with_overrides(*overrides)
+    runs = run_backends(trace, prof, backends=names, on_chunk=on_chunk)
+    ref = runs[REFERENCE]
+    diffs = [compare(runs[n], ref, n, limits.get(n)) for n in names if n != REFERENCE]
+    duration = float(ref.budget["tick_ps"][-1]) * 1e-12 if len(ref.budget["tick_ps"]) else 0.0
+    return TraceParity(
+        trace=str(trace) if not isinstance(trace, PhysicalTrace) else trace.metadata.get("source", "<trace>"),
+        profile=prof.source,
+        overrides=prof.overrides,
+        duration_s=duration,
+        steps=ref.cycles,
+        backends=diffs,
+    )

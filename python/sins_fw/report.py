@@ -1,0 +1,225 @@
+"""What a run amounts to: its events, its attitude error against the trace's truth, and its time budget.
+
+``summarise(run)`` returns a plain dictionary (JSON-ready); ``render(summary)`` the text `sins-fw run`
+prints.
+
+Attitude error (sins_fw.metrics): the estimate is first aligned to the truth's frame, and the
+summary says how (``alignment.method``):
+
+* ``initial`` (the default when ``firmware.initial_attitude = zero``, the reference design): the
+  firmware starts from Q = [1, 0, 0, 0], i.e. it integrates relative to the body's attitude at
+  power-on, so the estimate is premultiplied by the truth at power-on (the trace's first sample);
+  when that truth is missing, by the rotation that makes the first step with truth exact.
+* ``heading`` (the default for ``level``, which finds roll and pitch itself): rotated about the
+  navigation z axis by the heading error at the first valid movement sample (BROAD's convention).
+* ``none``: compared as is.
+
+Euler errors (roll, pitch, yaw and the total rotation angle) are over every step with truth; BROAD's
+total / heading / inclination RMSE over the movement mask when the trace has one (else every step).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from sins_fw import metrics
+from sins_fw import quaternion as quat
+from sins_fw.harness import PS, Run
+
+ALIGNMENTS = ("auto", "initial", "heading", "none")
+
+#: Event kinds that are broken SPI rules: the device's frame rules (slave), the link's chip-select
+#: rules and the F28335 SPI-A's own (every `spi_*` kind).
+SPI_RULE_KINDS = frozenset(
+    {
+        "sclk_too_fast",
+        "stall_too_short",
+        "cs_setup",
+        "cs_hold",
+        "clock_polarity",
+        "frame_length",
+        "frame_without_cs",
+        "device_busy",
+        "burst_truncated",
+        "cs_changed_mid_frame",
+    }
+)
+
+
+def is_spi_violation(kind: str) -> bool:
+    """True for the event kinds counted as SPI violations."""
+    return kind in SPI_RULE_KINDS or kind.startswith("spi_")
+
+
+def events_summary(run: Run) -> dict[str, Any]:
+    """Count per kind with the first occurrence (time, severity, message)."""
+    kinds: dict[str, dict[str, Any]] = {}
+    for e in run.events:  # in time order
+        k = kinds.get(e["kind"])
+        if k is None:
+            kinds[e["kind"]] = {
+                "count": 1,
+                "severity": e["severity"],
+                "first_t_s": e["t_s"],
+                "first_message": e["message"],
+            }
+        else:
+            k["count"] += 1
+    return {"total": len(run.events), "by_kind": dict(sorted(kinds.items()))}
+
+
+def budget_summary(run: Run) -> dict[str, Any]:
+    """ISR utilisation of the tick period (max, mean), overruns, skipped ticks, SPI violations."""
+    b = run.budget
+    ran = b["deadline_ps"] > b["tick_ps"]  # skipped ticks (dropped or lost) have no deadline
+    period = (b["deadline_ps"][ran] - b["tick_ps"][ran]).astype(np.float64)
+    busy = (b["end_ps"][ran] - b["start_ps"][ran]).astype(np.float64)
+    util = busy / period if len(period) else np.zeros(0)
+    return {
+        "ticks": len(b["tick"]),
+        "tick_period_s": float(period[0]) * PS if len(period) else None,
+        "isr_max_s": float(busy.max()) * PS if len(busy) else None,
+        "isr_mean_s": float(busy.mean()) * PS if len(busy) else None,
+        "utilisation_max": float(util.max()) if len(util) else None,
+        "utilisation_mean": float(util.mean()) if len(util) else None,
+        "overruns": int(np.count_nonzero(b["overrun"])),
+        "ticks_skipped": int(np.count_nonzero(~ran)),
+        "spi_violations": sum(1 for e in run.events if is_spi_violation(e["kind"])),
+    }
+
+
+def _alignment(run: Run, method: str) -> tuple[np.ndarray, dict[str, Any]]:
+    """The estimate in the truth's frame and a description of the alignment."""
+    est, truth = run.quat, run.truth_q
+    assert truth is not None
+    if method == "auto":
+        method = "initial" if run.profile.get("firmware.initial_attitude") == "zero" else "heading"
+    if method == "initial":
+        q0 = run.truth_q0
+        if q0 is not None and np.isfinite(q0).all():
+            text = (
+                "initial attitude: the firmware starts from Q = [1, 0, 0, 0], so its estimate is "
+                "premultiplied by the truth at power-on (the trace's first sample)"
+            )
+            return metrics.align_initial(est, q0), {"method": "initial", "row": None, "description": text}
+        k = int(np.argmax(np.isfinite(truth).all(axis=1)))
+        start = quat.multiply(truth[k], quat.conjugate(est[k]))
+        text = (
+            f"initial attitude: no truth at power-on, so the estimate is rotated to match the truth at "
+            f"step row {k} (t = {run.time_s[k]:.3f} s)"
+        )
+        return metrics.align_initial(est, start), {"method": "initial", "row": k, "description": text}
+    if method == "heading":
+        aligned, delta, row = metrics.align_heading(est, truth, run.moving)
+        text = (
+            f"heading: rotated about navigation z by {delta:.3f}° (the heading error at step row {row}, "
+            "the first valid movement sample)"
+        )
+        return aligned, {"method": "heading", "row": row, "heading_deg": delta, "description": text}
+    return est, {"method": "none", "row": None, "description": "none: estimate compared as is"}
+
+
+def attitude_summary(run: Run, align: str = "auto") -> dict[str, Any] | None:
+    """Errors against the truth (degrees), or None when the trace has none."""
+    if align not in ALIGNMENTS:
+        raise ValueError(f"alignment `{align}`: expected one of {', '.join(ALIGNMENTS)}")
+    truth = run.truth_q
+    if truth is None or run.cycles == 0 or not np.isfinite(truth).all(axis=1).any():
+        return None
+    est, alignment = _alignment(run, align)
+    valid = metrics.valid_mask(truth)
+    e = metrics.attitude_errors(est[valid], truth[valid])
+    last = int(np.flatnonzero(valid)[-1])
+
+    def stats(x: np.ndarray) -> dict[str, float]:
+        return {
+            "max_abs_deg": float(np.abs(x).max()),
+            "rms_deg": float(np.sqrt(np.mean(x * x))),
+            "final_deg": float(x[-1]),
+        }
+
+    has_mask = run.moving is not None and bool(np.any(run.moving & valid))
+    broad = metrics.accuracy(est, truth, run.moving if has_mask else None, align=False)
+    return {
+        "alignment": alignment,
+        "steps_with_truth": int(valid.sum()),
+        "final_t_s": float(run.time_s[last]),
+        "euler": {name: stats(getattr(e, name)) for name in ("roll", "pitch", "yaw", "total")},
+        "broad": {
+            "mask": "movement" if has_mask else "all steps",
+            "samples": broad.samples,
+            "rmse_total_deg": broad.rmse_total_deg,
+            "rmse_heading_deg": broad.rmse_heading_deg,
+            "rmse_inclination_deg": broad.rmse_inclination_deg,
+        },
+    }
+
+
+def summarise(run: Run, *, trace: str = "", align: str = "auto") -> dict[str, Any]:
+    """Everything `sins-fw run` reports, as a JSON-ready dictionary."""
+    b = run.budget
+    return {
+        "trace": trace,
+        "profile": run.profile.source,
+        "overrides": list(run.profile.overrides),
+        "numeric": run.profile.get("firmware.numeric"),
+        "cycles": run.cycles,
+        "duration_s": float(b["tick_ps"][-1]) * PS if len(b["tick_ps"]) else 0.0,
+        "trace_t0_s": run.t0_s,
+        "events": events_summary(run),
+        "attitude_error": attitude_summary(run, align),
+        "budget": budget_summary(run),
+        "stage_cycles": dict(run.stage_cycles),
+    }
+
+
+def _fmt(x: float | None, scale: float = 1.0, spec: str = ".3f") -> str:
+    return "–" if x is None else format(x * scale, spec)
+
+
+def render(s: dict[str, Any]) -> str:
+    """The human-readable summary."""
+    lines = [
+        f"trace          {s['trace']}",
+        f"profile        {s['profile']} {' '.join(s['overrides'])}".rstrip(),
+        f"numeric        {s['numeric']}",
+        f"emulated       {s['duration_s']:.3f} s of virtual time, {s['cycles']} attitude steps",
+    ]
+    ev = s["events"]
+    if ev["total"]:
+        lines.append(f"events         {ev['total']}")
+        for kind, k in ev["by_kind"].items():
+            lines.append(
+                f"  {kind:<24} {k['count']:>8} × {k['severity']:<7} first at {k['first_t_s']:.6f} s: "
+                f"{k['first_message']}"
+            )
+    else:
+        lines.append("events         none")
+    a = s["attitude_error"]
+    if a is None:
+        lines.append("attitude error no truth in the trace")
+    else:
+        lines.append(f"attitude error against the trace's truth, {a['steps_with_truth']} steps")
+        lines.append(f"  alignment    {a['alignment']['description']}")
+        lines.append(f"  {'':<12} {'max |e|':>10} {'RMS':>10} {'final':>10}  (degrees)")
+        for name, e in a["euler"].items():
+            lines.append(
+                f"  {name:<12} {e['max_abs_deg']:>10.4f} {e['rms_deg']:>10.4f} {e['final_deg']:>10.4f}"
+            )
+        br = a["broad"]
+        lines.append(
+            f"  BROAD RMSE over {br['mask']} ({br['samples']} steps): total {br['rmse_total_deg']:.4f}°, "
+            f"heading {br['rmse_heading_deg']:.4f}°, inclination {br['rmse_inclination_deg']:.4f}°"
+        )
+    b = s["budget"]
+    lines += [
+        f"budget         ISR {_fmt(b['isr_max_s'], 1e6)} µs max, {_fmt(b['isr_mean_s'], 1e6)} µs mean of a "
+        f"{_fmt(b['tick_period_s'], 1e6, '.1f')} µs tick: utilisation "
+        f"{_fmt(b['utilisation_max'], 100, '.2f')} % max, "
+        f"{_fmt(b['utilisation_mean'], 100, '.2f')} % mean",
+        f"               {b['overruns']} overruns, {b['ticks_skipped']} ticks skipped, "
+        f"{b['spi_violations']} SPI violations over {b['ticks']} ticks",
+    ]
+    return "\n".join(lines)

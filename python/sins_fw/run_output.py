@@ -1,0 +1,103 @@
+"""The per-step output of a run as a file (`sins-fw run --out FILE`): CSV with a metadata header or
+HDF5, by extension, with the conventions of the trace formats (docs/traces.md, "Run output"):
+shortest round-trip float text, one dataset per column, written atomically and byte-reproducibly.
+"""
+
+from __future__ import annotations
+
+import os
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from sins_fw.errors import InputError
+from sins_fw.harness import Run
+from sins_fw.traces import Column, _open, _Schema, _write
+
+RUN_FORMAT = "sins-fw-run-output/1"
+
+RUN_COLUMNS: tuple[Column, ...] = (
+    Column(
+        "t_s", "s", "virtual time of the tick that completed the step (0 = power-on = first trace sample)"
+    ),
+    *(Column(f"q{i}", "1", f"firmware quaternion component q{i} (C_b^n, ENU)") for i in range(4)),
+    Column("roll_deg", "°", "roll, the firmware's Euler extraction"),
+    Column("pitch_deg", "°", "pitch, the firmware's Euler extraction"),
+    Column("yaw_deg", "°", "yaw, the firmware's Euler extraction"),
+    Column("vel_e_mps", "m/s", "velocity east"),
+    Column("vel_n_mps", "m/s", "velocity north"),
+    Column("vel_u_mps", "m/s", "velocity up"),
+    Column("lat_deg", "°", "latitude"),
+    Column("lon_deg", "°", "longitude"),
+    Column("height_m", "m", "height"),
+    *(
+        Column(
+            f"truth_q{c}",
+            "1",
+            f"truth quaternion component {c} at the step time (C_b^n, ENU)",
+            group="truth",
+            required=False,
+            nan_allowed=True,
+        )
+        for c in "wxyz"
+    ),
+    Column("moving", "0/1", "the trace's movement mask at the step time", "flag", "moving", False),
+)
+RUN_SCHEMA = _Schema("run output", RUN_FORMAT, RUN_COLUMNS)
+
+
+def run_columns(run: Run) -> dict[str, np.ndarray]:
+    """The per-step columns of a run, in file order."""
+    cols: dict[str, np.ndarray] = {"t_s": run.time_s}
+    for i in range(4):
+        cols[f"q{i}"] = run.quat[:, i]
+    for i, name in enumerate(("roll_deg", "pitch_deg", "yaw_deg")):
+        cols[name] = run.euler_deg[:, i]
+    for i, name in enumerate(("vel_e_mps", "vel_n_mps", "vel_u_mps")):
+        cols[name] = run.velocity_enu[:, i]
+    for i, name in enumerate(("lat_deg", "lon_deg", "height_m")):
+        cols[name] = run.position[:, i]
+    if run.truth_q is not None:
+        for i, c in enumerate("wxyz"):
+            cols[f"truth_q{c}"] = run.truth_q[:, i]
+        if run.moving is not None:
+            cols["moving"] = run.moving.astype(np.uint8)
+    return cols
+
+
+def save_run(run: Run, path: str | os.PathLike[str], metadata: dict[str, str] | None = None) -> None:
+    """Write the per-step output (``.csv`` or ``.h5``) atomically. ``metadata`` adds one-line
+    ``key: value`` entries to the ones recorded always (trace, profile, overrides, numeric, rate)."""
+    step_s = _step_s(run)
+    meta = {
+        "format": RUN_FORMAT,
+        "sample_rate_hz": str(1 / step_s),
+        "profile": run.profile.source,
+        "overrides": " ".join(run.profile.overrides),
+        "numeric": str(run.profile.get("firmware.numeric")),
+        "trace_t0_s": repr(run.t0_s),
+        "created_by": "sins-fw run",
+        **(metadata or {}),
+    }
+    _write(path, RUN_SCHEMA, meta, run_columns(run))
+
+
+def _step_s(run: Run) -> Fraction:
+    """The attitude update period T in exact seconds: the spacing of the first two ticks that
+    completed a step (integer picoseconds); the tick period when the run has fewer steps."""
+    b = run.budget
+    ticks = b["tick_ps"][b["step"].astype(bool)]
+    if len(ticks) < 2:
+        ticks = b["tick_ps"]
+    if len(ticks) < 2:
+        raise InputError("run output: the run is too short to have an update period (fewer than two ticks)")
+    return Fraction(int(ticks[1]) - int(ticks[0]), 10**12)
+
+
+def load_run(path: str | os.PathLike[str]) -> tuple[dict[str, str], dict[str, np.ndarray]]:
+    """Read a run-output file back: (metadata, columns), validated as on write."""
+    src = _open(path, RUN_SCHEMA, 1 << 16, True, 1.5)
+    blocks = list(src.blocks)
+    cols: dict[str, Any] = {n: np.concatenate([b[n] for b in blocks]) for n in blocks[0]} if blocks else {}
+    return src.metadata, cols
