@@ -92,6 +92,12 @@ class Run:
     def read_age_s(self) -> Array:
         return self.read_age_ps.astype(np.float64) * PS
 
+    @property
+    def isr_ran(self) -> NDArray[np.bool_]:
+        """Per budget row: the tick's ISR ran (False for a tick lost or dropped by an overrun, whose
+        row has no ISR times)."""
+        return self.budget["deadline_ps"] > self.budget["tick_ps"]
+
 
 def _chunks(trace: PhysicalTrace | str | os.PathLike[str], rows: int) -> Iterator[PhysicalTrace]:
     if isinstance(trace, PhysicalTrace):
@@ -274,7 +280,9 @@ class _BusWindow:
     def __init__(self, emu: Any, profile: Profile, window: tuple[int, int]) -> None:
         first, last = (int(x) for x in window)
         if not 1 <= first <= last:
-            raise ProfileError(f"bus window {window}: expected 1 <= first_tick <= last_tick (ticks count from 1)")
+            raise ProfileError(
+                f"bus window {window}: expected 1 <= first_tick <= last_tick (ticks count from 1)"
+            )
         self.emu, self.first, self.last = emu, first, last
         period_s = float(profile.get("timer.period_us")) * 1e-6
         # Inexact period (PRD rounding) is harmless: the cut only has to come a tick early.

@@ -12,11 +12,11 @@ from collections.abc import Mapping
 import rerun.blueprint as rrb
 
 from sins_fw.harness import Run
-from sins_fw.viewer import paths as P
+from sins_fw.viewer import paths
 
 
 def _events(name: str = "Events") -> rrb.TextLogView:
-    return rrb.TextLogView(origin=P.EVENTS, name=name)
+    return rrb.TextLogView(origin=paths.EVENTS, name=name)
 
 
 def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> rrb.Blueprint:
@@ -26,7 +26,7 @@ def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> r
             name=f"{angle.capitalize()}: estimate and truth (°)",
             origin=f"attitude/{angle}",
         )
-        for angle in P.ANGLES
+        for angle in paths.ANGLES
     ]
     attitude = rrb.Horizontal(
         rrb.Vertical(
@@ -47,19 +47,19 @@ def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> r
             rrb.TimeSeriesView(name="Acceleration: decoded and physical (g)", origin="imu/accel"),
         ),
         rrb.Horizontal(
-            rrb.TimeSeriesView(name="Raw register words", origin=P.REGISTER_WORDS),
-            rrb.TimeSeriesView(name="ND flags (1: new data)", origin=P.REGISTER_ND),
-            rrb.TimeSeriesView(name="EA flags (1: error/alarm)", origin=P.REGISTER_EA),
-            rrb.TimeSeriesView(name="Sample age at the read (µs)", origin=P.SAMPLE_AGE),
+            rrb.TimeSeriesView(name="Raw register words", origin=paths.REGISTER_WORDS),
+            rrb.TimeSeriesView(name="ND flags (1: new data)", origin=paths.REGISTER_ND),
+            rrb.TimeSeriesView(name="EA flags (1: error/alarm)", origin=paths.REGISTER_EA),
+            rrb.TimeSeriesView(name="Sample age at the read (µs)", origin=paths.SAMPLE_AGE),
         ),
         name="Sensor",
     )
     budget = rrb.Vertical(
         rrb.TimeSeriesView(
             name="ISR per tick: busy, end and deadline after the tick (µs)",
-            contents=[P.BUDGET_BUSY, P.BUDGET_FINISH, P.BUDGET_DEADLINE],
+            contents=[paths.BUDGET_BUSY, paths.BUDGET_FINISH, paths.BUDGET_DEADLINE],
         ),
-        rrb.TimeSeriesView(name="Margin to the deadline (µs)", origin=P.BUDGET_MARGIN),
+        rrb.TimeSeriesView(name="Margin to the deadline (µs)", origin=paths.BUDGET_MARGIN),
         _events("Events (overruns, violations)"),
         row_shares=[2, 1, 1],
         name="Budget",
@@ -68,9 +68,13 @@ def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> r
     if run.bus is not None:
         tabs.append(
             rrb.Vertical(
-                rrb.StateTimelineView(name="CS and SCLK (frames: DIN/DOUT, stalls)", contents=[P.BUS_CS, P.BUS_SCLK]),
-                rrb.TimeSeriesView(name="Stall before each frame (µs)", contents=[P.BUS_STALL, P.BUS_STALL_MIN]),
-                rrb.TextLogView(name="Frames", origin=P.BUS_FRAMES),
+                rrb.StateTimelineView(
+                    name="CS and SCLK (frames: DIN/DOUT, stalls)", contents=[paths.BUS_CS, paths.BUS_SCLK]
+                ),
+                rrb.TimeSeriesView(
+                    name="Stall before each frame (µs)", contents=[paths.BUS_STALL, paths.BUS_STALL_MIN]
+                ),
+                rrb.TextLogView(name="Frames", origin=paths.BUS_FRAMES),
                 name="Bus",
             )
         )
@@ -83,6 +87,6 @@ def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> r
         )
     return rrb.Blueprint(
         rrb.Tabs(*tabs, active_tab=0),
-        rrb.TimePanel(timeline=P.TIME, expanded=True),
+        rrb.TimePanel(timeline=paths.TIME, expanded=True),
         collapse_panels=False,
     )

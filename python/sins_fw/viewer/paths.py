@@ -9,6 +9,8 @@ TIME = "emulated_time"
 CYCLE = "cycle"
 #: CPU timer 0 tick index (one acquisition ISR per tick).
 TICK = "tick"
+#: Event index (events share times; this keeps each one addressable).
+EVENT = "event"
 #: SPI character index since power-on (bus window only).
 FRAME = "frame"
 

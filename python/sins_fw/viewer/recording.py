@@ -24,7 +24,7 @@ from sins_fw import quaternion
 from sins_fw.harness import Run
 from sins_fw.metrics import attitude_errors, wrap_deg
 from sins_fw.traces import RAW_WORD_COLUMNS, PhysicalTrace
-from sins_fw.viewer import paths as P
+from sins_fw.viewer import paths
 
 Array = NDArray[np.float64]
 PS_PER_NS = 1000
@@ -33,13 +33,19 @@ BOARD_HALF_SIZE = (1.0, 0.7, 0.12)
 ESTIMATE_COLOR = (66, 135, 245)
 TRUTH_COLOR = (200, 200, 200, 90)
 AXIS_COLORS = ((230, 60, 60), (60, 200, 60), (60, 110, 240))
-SEVERITY_LEVEL = {"info": rr.TextLogLevel.INFO, "warning": rr.TextLogLevel.WARN, "error": rr.TextLogLevel.ERROR}
+SEVERITY_LEVEL = {
+    "info": rr.TextLogLevel.INFO,
+    "warning": rr.TextLogLevel.WARN,
+    "error": rr.TextLogLevel.ERROR,
+}
 #: The 14 output registers of a burst (the command frame's answer, word 0, is don't-care).
 REGISTERS = RAW_WORD_COLUMNS[1:]
 
 
 def _time(t_ps: NDArray[Any]) -> rr.TimeColumn:
-    return rr.TimeColumn(P.TIME, duration=(np.asarray(t_ps, dtype=np.uint64) // PS_PER_NS).astype("timedelta64[ns]"))
+    return rr.TimeColumn(
+        paths.TIME, duration=(np.asarray(t_ps, dtype=np.uint64) // PS_PER_NS).astype("timedelta64[ns]")
+    )
 
 
 def _seq(name: str, values: NDArray[Any]) -> rr.TimeColumn:
@@ -92,12 +98,12 @@ def _log_board(rec: rr.RecordingStream, run: Run) -> None:
     rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)  # ENU: x east, y north, z up
     hx, hy, hz = BOARD_HALF_SIZE
     rec.log(
-        P.BOARD_BODY,
+        paths.BOARD_BODY,
         rr.Boxes3D(half_sizes=[BOARD_HALF_SIZE], colors=[ESTIMATE_COLOR], labels=["estimate"]),
         static=True,
     )
     rec.log(
-        P.BOARD_AXES,
+        paths.BOARD_AXES,
         rr.Arrows3D(
             vectors=[[1.6, 0, 0], [0, 1.3, 0], [0, 0, 0.9]],
             colors=list(AXIS_COLORS),
@@ -108,7 +114,7 @@ def _log_board(rec: rr.RecordingStream, run: Run) -> None:
     # The ADIS16407's own axis marks (sensor axes = body axes, docs/traces.md), on its package.
     top = [0.0, 0.0, hz]
     rec.log(
-        P.BOARD_ADIS,
+        paths.BOARD_ADIS,
         rr.Arrows3D(
             vectors=[[0.35, 0, 0], [0, 0.35, 0], [0, 0, 0.35]],
             origins=[top, top, top],
@@ -118,19 +124,19 @@ def _log_board(rec: rr.RecordingStream, run: Run) -> None:
         static=True,
     )
     rec.log(
-        P.BOARD_ADIS + "/package",
+        paths.BOARD_ADIS + "/package",
         rr.Boxes3D(half_sizes=[[0.25, 0.25, 0.06]], centers=[[0.0, 0.0, hz + 0.06]], colors=[(40, 40, 40)]),
         static=True,
     )
     if not run.cycles:
         return
-    index = [_time(cycle_ps(run)), _seq(P.CYCLE, run.step), _seq(P.TICK, cycle_ticks(run))]
+    index = [_time(cycle_ps(run)), _seq(paths.CYCLE, run.step), _seq(paths.TICK, cycle_ticks(run))]
     xyzw = run.quat[:, [1, 2, 3, 0]]
-    _send(rec, P.BOARD, index, rr.Transform3D.columns(quaternion=xyzw))
+    _send(rec, paths.BOARD, index, rr.Transform3D.columns(quaternion=xyzw))
     if run.truth_q is not None and np.isfinite(run.truth_q).all(axis=1).any():
         ok = np.isfinite(run.truth_q).all(axis=1)
         rec.log(
-            P.TRUTH_BODY,
+            paths.TRUTH_BODY,
             rr.Boxes3D(
                 half_sizes=[[hx * 1.02, hy * 1.02, hz * 1.02]],
                 colors=[TRUTH_COLOR],
@@ -139,16 +145,22 @@ def _log_board(rec: rr.RecordingStream, run: Run) -> None:
             ),
             static=True,
         )
-        truth_index = [_time(cycle_ps(run)[ok]), _seq(P.CYCLE, run.step[ok]), _seq(P.TICK, cycle_ticks(run)[ok])]
-        _send(rec, P.TRUTH, truth_index, rr.Transform3D.columns(quaternion=run.truth_q[ok][:, [1, 2, 3, 0]]))
+        truth_index = [
+            _time(cycle_ps(run)[ok]),
+            _seq(paths.CYCLE, run.step[ok]),
+            _seq(paths.TICK, cycle_ticks(run)[ok]),
+        ]
+        _send(
+            rec, paths.TRUTH, truth_index, rr.Transform3D.columns(quaternion=run.truth_q[ok][:, [1, 2, 3, 0]])
+        )
 
 
 def _log_attitude(rec: rr.RecordingStream, run: Run) -> None:
     if not run.cycles:
         return
-    index = [_time(cycle_ps(run)), _seq(P.CYCLE, run.step), _seq(P.TICK, cycle_ticks(run))]
-    for k, angle in enumerate(P.ANGLES):
-        path = P.attitude(angle, "estimate")
+    index = [_time(cycle_ps(run)), _seq(paths.CYCLE, run.step), _seq(paths.TICK, cycle_ticks(run))]
+    for k, angle in enumerate(paths.ANGLES):
+        path = paths.attitude(angle, "estimate")
         _series(rec, path, [f"{angle} estimate (°)"], [ESTIMATE_COLOR])
         _send(rec, path, index, rr.Scalars.columns(scalars=run.euler_deg[:, k]))
     if run.truth_q is None:
@@ -156,18 +168,18 @@ def _log_attitude(rec: rr.RecordingStream, run: Run) -> None:
     ok = np.isfinite(run.truth_q).all(axis=1)
     if not ok.any():
         return
-    sub = [_time(cycle_ps(run)[ok]), _seq(P.CYCLE, run.step[ok]), _seq(P.TICK, cycle_ticks(run)[ok])]
+    sub = [_time(cycle_ps(run)[ok]), _seq(paths.CYCLE, run.step[ok]), _seq(paths.TICK, cycle_ticks(run)[ok])]
     truth_deg = np.degrees(np.stack(quaternion.to_euler(run.truth_q[ok]), axis=1))
     err = attitude_errors(run.quat[ok], run.truth_q[ok])
-    for k, angle in enumerate(P.ANGLES):
-        path = P.attitude(angle, "truth")
+    for k, angle in enumerate(paths.ANGLES):
+        path = paths.attitude(angle, "truth")
         _series(rec, path, [f"{angle} truth (°)"], [TRUTH_COLOR[:3]])
         _send(rec, path, sub, rr.Scalars.columns(scalars=truth_deg[:, k]))
-        path = P.attitude_error(angle)
+        path = paths.attitude_error(angle)
         _series(rec, path, [f"{angle} error (°)"], [AXIS_COLORS[k]])
         _send(rec, path, sub, rr.Scalars.columns(scalars=getattr(err, angle)))
-    _series(rec, P.attitude_error("total"), ["total attitude error (°)"], [(0, 0, 0)])
-    _send(rec, P.attitude_error("total"), sub, rr.Scalars.columns(scalars=err.total))
+    _series(rec, paths.attitude_error("total"), ["total attitude error (°)"], [(0, 0, 0)])
+    _send(rec, paths.attitude_error("total"), sub, rr.Scalars.columns(scalars=err.total))
 
 
 def physical_at_reads(run: Run, trace: PhysicalTrace) -> tuple[Array, Array]:
@@ -182,44 +194,57 @@ def physical_at_reads(run: Run, trace: PhysicalTrace) -> tuple[Array, Array]:
 def _log_reads(rec: rr.RecordingStream, run: Run, trace: PhysicalTrace | None) -> None:
     if not len(run.read_tick):
         return
-    index = [_time(run.read_t_start_ps), _seq(P.TICK, run.read_tick)]
+    index = [_time(run.read_t_start_ps), _seq(paths.TICK, run.read_tick)]
     g = float(run.profile.get("firmware.accel_g_m_s2"))
     axes = ["x", "y", "z"]
-    _series(rec, P.RATE_DECODED, [f"{a} decoded (°/s)" for a in axes], list(AXIS_COLORS))
-    _send(rec, P.RATE_DECODED, index, rr.Scalars.columns(scalars=np.degrees(run.read_rate)))
-    _series(rec, P.ACCEL_DECODED, [f"{a} decoded (g)" for a in axes], list(AXIS_COLORS))
-    _send(rec, P.ACCEL_DECODED, index, rr.Scalars.columns(scalars=run.read_accel / g))
+    _series(rec, paths.RATE_DECODED, [f"{a} decoded (°/s)" for a in axes], list(AXIS_COLORS))
+    _send(rec, paths.RATE_DECODED, index, rr.Scalars.columns(scalars=np.degrees(run.read_rate)))
+    _series(rec, paths.ACCEL_DECODED, [f"{a} decoded (g)" for a in axes], list(AXIS_COLORS))
+    _send(rec, paths.ACCEL_DECODED, index, rr.Scalars.columns(scalars=run.read_accel / g))
     if trace is not None:
         gyro, accel = physical_at_reads(run, trace)
         light = [tuple(int(c + (255 - c) * 0.55) for c in col) for col in AXIS_COLORS]
-        _series(rec, P.RATE_PHYSICAL, [f"{a} physical (°/s)" for a in axes], light)
-        _send(rec, P.RATE_PHYSICAL, index, rr.Scalars.columns(scalars=gyro))
-        _series(rec, P.ACCEL_PHYSICAL, [f"{a} physical (g)" for a in axes], light)
-        _send(rec, P.ACCEL_PHYSICAL, index, rr.Scalars.columns(scalars=accel))
-    _series(rec, P.SAMPLE_AGE, ["sample age (µs)"])
-    _send(rec, P.SAMPLE_AGE, index, rr.Scalars.columns(scalars=run.read_age_ps.astype(np.float64) * 1e-6))
+        _series(rec, paths.RATE_PHYSICAL, [f"{a} physical (°/s)" for a in axes], light)
+        _send(rec, paths.RATE_PHYSICAL, index, rr.Scalars.columns(scalars=gyro))
+        _series(rec, paths.ACCEL_PHYSICAL, [f"{a} physical (g)" for a in axes], light)
+        _send(rec, paths.ACCEL_PHYSICAL, index, rr.Scalars.columns(scalars=accel))
+    _series(rec, paths.SAMPLE_AGE, ["sample age (µs)"])
+    _send(rec, paths.SAMPLE_AGE, index, rr.Scalars.columns(scalars=run.read_age_ps.astype(np.float64) * 1e-6))
     words = run.read_words[:, 1:]
-    _series(rec, P.REGISTER_WORDS, list(REGISTERS))
-    _send(rec, P.REGISTER_WORDS, index, rr.Scalars.columns(scalars=words.astype(np.float64)))
+    _series(rec, paths.REGISTER_WORDS, list(REGISTERS))
+    _send(rec, paths.REGISTER_WORDS, index, rr.Scalars.columns(scalars=words.astype(np.float64)))
     # ND (bit 15) and EA (bit 14) of each output register, 0/1 per read.
-    _series(rec, P.REGISTER_ND, [f"{r} ND" for r in REGISTERS])
-    _send(rec, P.REGISTER_ND, index, rr.Scalars.columns(scalars=((words >> 15) & 1).astype(np.float64)))
-    _series(rec, P.REGISTER_EA, [f"{r} EA" for r in REGISTERS])
-    _send(rec, P.REGISTER_EA, index, rr.Scalars.columns(scalars=((words >> 14) & 1).astype(np.float64)))
+    _series(rec, paths.REGISTER_ND, [f"{r} ND" for r in REGISTERS])
+    _send(rec, paths.REGISTER_ND, index, rr.Scalars.columns(scalars=((words >> 15) & 1).astype(np.float64)))
+    _series(rec, paths.REGISTER_EA, [f"{r} EA" for r in REGISTERS])
+    _send(rec, paths.REGISTER_EA, index, rr.Scalars.columns(scalars=((words >> 14) & 1).astype(np.float64)))
 
 
 def _log_budget(rec: rr.RecordingStream, run: Run) -> None:
-    b = run.budget
+    # Ticks lost or dropped by an overrun had no ISR: they are in the events, not here.
+    b = {k: v[run.isr_ran] for k, v in run.budget.items()}
     if not len(b["tick"]):
         return
-    index = [_time(b["tick_ps"]), _seq(P.TICK, b["tick"])]
+    index = [_time(b["tick_ps"]), _seq(paths.TICK, b["tick"])]
     us = 1e-6
     tick = b["tick_ps"].astype(np.float64)
     columns = {
-        P.BUDGET_BUSY: ("ISR busy (µs)", (b["end_ps"].astype(np.float64) - b["start_ps"]) * us, (66, 135, 245)),
-        P.BUDGET_FINISH: ("ISR end after its tick (µs)", (b["end_ps"] - tick) * us, (245, 150, 40)),
-        P.BUDGET_DEADLINE: ("deadline after the tick (µs)", (b["deadline_ps"] - tick) * us, (220, 40, 40)),
-        P.BUDGET_MARGIN: ("margin (µs, < 0: overrun)", (b["deadline_ps"] - b["end_ps"].astype(np.float64)) * us, None),
+        paths.BUDGET_BUSY: (
+            "ISR busy (µs)",
+            (b["end_ps"].astype(np.float64) - b["start_ps"]) * us,
+            (66, 135, 245),
+        ),
+        paths.BUDGET_FINISH: ("ISR end after its tick (µs)", (b["end_ps"] - tick) * us, (245, 150, 40)),
+        paths.BUDGET_DEADLINE: (
+            "deadline after the tick (µs)",
+            (b["deadline_ps"] - tick) * us,
+            (220, 40, 40),
+        ),
+        paths.BUDGET_MARGIN: (
+            "margin (µs, < 0: overrun)",
+            (b["deadline_ps"] - b["end_ps"].astype(np.float64)) * us,
+            None,
+        ),
     }
     for path, (name, values, color) in columns.items():
         _series(rec, path, [name], None if color is None else [color])
@@ -232,25 +257,46 @@ def _log_events(rec: rr.RecordingStream, run: Run) -> None:
     rows = event_rows(run)
     text = [f"[{e['kind']}] {e['message']}" for e in run.events]
     level = [SEVERITY_LEVEL.get(e["severity"], rr.TextLogLevel.INFO) for e in run.events]
-    index = [_time(rows["t_ps"]), _seq(P.TICK, rows["tick"]), _seq(P.CYCLE, rows["cycle"])]
-    _send(rec, P.EVENTS, index, rr.TextLog.columns(text=text, level=level))
+    index = [
+        _time(rows["t_ps"]),
+        _seq(paths.TICK, rows["tick"]),
+        _seq(paths.CYCLE, rows["cycle"]),
+        _seq(paths.EVENT, np.arange(len(text))),
+    ]
+    _send(rec, paths.EVENTS, index, rr.TextLog.columns(text=text, level=level))
 
 
 def bus_rows(run: Run) -> dict[str, NDArray[Any]]:
-    """Per frame of the bus log: the stall before it (last SCLK edge of the previous frame to its
-    first edge, NaN for the first frame after CS fell) and the tick whose ISR clocked it."""
+    """Per frame of the bus log: the tick whose ISR clocked it; the stall before it (previous
+    frame's last SCLK edge to its first edge, NaN for the first frame of the log) and the minimum
+    the ADIS16407 requires there (one SCLK period inside a burst, ``device.t_stall_us`` otherwise,
+    as the device model checks); and whether CS rises before the next frame (the lane goes idle)."""
     bus = run.bus or {}
     first, last = bus["frame_first_edge_ps"], bus["frame_last_edge_ps"]
-    stall = np.full(len(first), np.nan)
-    if len(first) > 1:
-        gap = first[1:].astype(np.float64) - last[:-1].astype(np.float64)
-        # A CS edge between two frames starts a new burst: no stall rule across it.
-        falls = bus["cs_t_ps"][bus["cs_low"]]
-        new_burst = np.searchsorted(falls, first[1:]) != np.searchsorted(falls, first[:-1])
-        stall[1:] = np.where(new_burst, np.nan, gap)
+    n = len(first)
+    stall = np.full(n, np.nan)
+    stall[1:] = first[1:].astype(np.float64) - last[:-1].astype(np.float64)
+    # CS window of each frame: the number of CS falls before it.
+    falls = bus["cs_t_ps"][bus["cs_low"]]
+    window = np.searchsorted(falls, first)
+    command = int(run.profile.get("device.burst_command"))
+    in_burst = np.zeros(n, dtype=bool)
+    seen: set[int] = set()
+    for i, (w, din) in enumerate(zip(window.tolist(), bus["frame_din"].tolist(), strict=True)):
+        in_burst[i] = w in seen
+        if din == command:
+            seen.add(w)
+    t_stall_ps = float(run.profile.get("device.t_stall_us")) * 1e6
+    required = np.where(in_burst, bus["frame_sclk_period_ps"].astype(np.float64), t_stall_ps)
+    cs_rises_after = np.append(window[1:] != window[:-1], True)
     start = run.budget["start_ps"]
     i = np.clip(np.searchsorted(start, bus["frame_start_ps"], side="right") - 1, 0, len(start) - 1)
-    return {"stall_ps": stall, "tick": run.budget["tick"][i].astype(np.int64)}
+    return {
+        "stall_ps": stall,
+        "required_ps": required,
+        "cs_rises_after": cs_rises_after,
+        "tick": run.budget["tick"][i].astype(np.int64),
+    }
 
 
 def _log_bus(rec: rr.RecordingStream, run: Run) -> None:
@@ -260,11 +306,13 @@ def _log_bus(rec: rr.RecordingStream, run: Run) -> None:
     rows = bus_rows(run)
     first, last = bus["frame_first_edge_ps"], bus["frame_last_edge_ps"]
     start = run.budget["start_ps"]
-    cs_tick = run.budget["tick"][np.clip(np.searchsorted(start, bus["cs_t_ps"], side="right") - 1, 0, len(start) - 1)]
+    cs_tick = run.budget["tick"][
+        np.clip(np.searchsorted(start, bus["cs_t_ps"], side="right") - 1, 0, len(start) - 1)
+    ]
     _send(
         rec,
-        P.BUS_CS,
-        [_time(bus["cs_t_ps"]), _seq(P.TICK, cs_tick)],
+        paths.BUS_CS,
+        [_time(bus["cs_t_ps"]), _seq(paths.TICK, cs_tick)],
         rr.StateChange.columns(state=np.where(bus["cs_low"], "CS low (selected)", "CS high").tolist()),
     )
     # SCLK lane: each frame from its first to its last edge, labelled with its words; then the
@@ -272,14 +320,19 @@ def _log_bus(rec: rr.RecordingStream, run: Run) -> None:
     n = len(first)
     label = [
         f"#{i} DIN {d:04X} DOUT {o:04X}"
-        for i, d, o in zip(bus["frame_index"].tolist(), bus["frame_din"].tolist(), bus["frame_dout"].tolist(), strict=True)
+        for i, d, o in zip(
+            bus["frame_index"].tolist(), bus["frame_din"].tolist(), bus["frame_dout"].tolist(), strict=True
+        )
     ]
-    after = ["idle" if np.isnan(s) else f"stall {s * 1e-6:.2f} µs" for s in np.append(rows["stall_ps"][1:], np.nan)]
+    after = [
+        "idle (CS high)" if rises else f"stall {s * 1e-6:.3f} µs"
+        for s, rises in zip(np.append(rows["stall_ps"][1:], np.nan), rows["cs_rises_after"], strict=True)
+    ]
     t = np.empty(2 * n, dtype=np.uint64)
     t[0::2], t[1::2] = first, last
     state = [x for pair in zip(label, after, strict=True) for x in pair]
     tick2 = np.repeat(rows["tick"], 2)
-    _send(rec, P.BUS_SCLK, [_time(t), _seq(P.TICK, tick2)], rr.StateChange.columns(state=state))
+    _send(rec, paths.BUS_SCLK, [_time(t), _seq(paths.TICK, tick2)], rr.StateChange.columns(state=state))
     text = [
         f"frame {i}: DIN 0x{d:04X}  DOUT 0x{o:04X}  master read 0x{m:04X}  "
         f"edges {a} … {b} ps ({(b - a) * 1e-6:.3f} µs, {bits} bits, SCLK period {p * 1e-6:.4f} µs)"
@@ -299,17 +352,25 @@ def _log_bus(rec: rr.RecordingStream, run: Run) -> None:
             strict=True,
         )
     ]
-    index = [_time(first), _seq(P.TICK, rows["tick"]), _seq(P.FRAME, bus["frame_index"])]
+    index = [_time(first), _seq(paths.TICK, rows["tick"]), _seq(paths.FRAME, bus["frame_index"])]
     level = [rr.TextLogLevel.DEBUG] * n
-    _send(rec, P.BUS_FRAMES, index, rr.TextLog.columns(text=text, level=level))
+    _send(rec, paths.BUS_FRAMES, index, rr.TextLog.columns(text=text, level=level))
     ok = ~np.isnan(rows["stall_ps"])
     if ok.any():
-        _series(rec, P.BUS_STALL, ["stall before frame (µs)"], [(66, 135, 245)])
-        sub = [_time(first[ok]), _seq(P.TICK, rows["tick"][ok]), _seq(P.FRAME, bus["frame_index"][ok])]
-        _send(rec, P.BUS_STALL, sub, rr.Scalars.columns(scalars=rows["stall_ps"][ok] * 1e-6))
-        required = float(run.profile.get("device.t_stall_us"))
-        _series(rec, P.BUS_STALL_MIN, [f"t_stall minimum {required:g} µs"], [(220, 40, 40)])
-        _send(rec, P.BUS_STALL_MIN, sub, rr.Scalars.columns(scalars=np.full(int(ok.sum()), required)))
+        _series(rec, paths.BUS_STALL, ["stall before frame (µs)"], [(66, 135, 245)])
+        sub = [
+            _time(first[ok]),
+            _seq(paths.TICK, rows["tick"][ok]),
+            _seq(paths.FRAME, bus["frame_index"][ok]),
+        ]
+        _send(rec, paths.BUS_STALL, sub, rr.Scalars.columns(scalars=rows["stall_ps"][ok] * 1e-6))
+        _series(
+            rec,
+            paths.BUS_STALL_MIN,
+            ["required minimum (µs): 1 SCLK period in a burst, t_stall otherwise"],
+            [(220, 40, 40)],
+        )
+        _send(rec, paths.BUS_STALL_MIN, sub, rr.Scalars.columns(scalars=rows["required_ps"][ok] * 1e-6))
 
 
 def _log_parity(rec: rr.RecordingStream, run: Run, others: Mapping[str, Run]) -> None:
@@ -317,13 +378,18 @@ def _log_parity(rec: rr.RecordingStream, run: Run, others: Mapping[str, Run]) ->
         common, i, j = np.intersect1d(run.step, other.step, return_indices=True)
         if not len(common):
             continue
-        index = [_time(cycle_ps(run)[i]), _seq(P.CYCLE, common), _seq(P.TICK, cycle_ticks(run)[i])]
+        index = [_time(cycle_ps(run)[i]), _seq(paths.CYCLE, common), _seq(paths.TICK, cycle_ticks(run)[i])]
         diff = wrap_deg(other.euler_deg[j] - run.euler_deg[i])
-        _series(rec, P.parity(name, "euler"), [f"{name} − this: {a} (°)" for a in P.ANGLES], list(AXIS_COLORS))
-        _send(rec, P.parity(name, "euler"), index, rr.Scalars.columns(scalars=diff))
+        _series(
+            rec,
+            paths.parity(name, "euler"),
+            [f"{name} − this: {a} (°)" for a in paths.ANGLES],
+            list(AXIS_COLORS),
+        )
+        _send(rec, paths.parity(name, "euler"), index, rr.Scalars.columns(scalars=diff))
         err = attitude_errors(other.quat[j], run.quat[i]).total
-        _series(rec, P.parity(name, "angle"), [f"{name} vs this: rotation between attitudes (°)"])
-        _send(rec, P.parity(name, "angle"), index, rr.Scalars.columns(scalars=err))
+        _series(rec, paths.parity(name, "angle"), [f"{name} vs this: rotation between attitudes (°)"])
+        _send(rec, paths.parity(name, "angle"), index, rr.Scalars.columns(scalars=err))
 
 
 def log_run(

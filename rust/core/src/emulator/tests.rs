@@ -131,7 +131,8 @@ fn the_bus_log_covers_only_the_ticks_it_was_on_for() {
     assert!(emu.take_bus_log().is_empty(), "stopped: nothing more is recorded");
     // Per tick: CS low, the 15 frames of the burst, CS high.
     assert_eq!(log.len(), out.budget.len() * (BURST_FRAMES + 2), "{ran} ticks before the log");
-    let frames: Vec<_> = log.iter().filter_map(|r| if let LinkRecord::Frame(f) = r { Some(*f) } else { None }).collect();
+    let frames: Vec<_> =
+        log.iter().filter_map(|r| if let LinkRecord::Frame(f) = r { Some(*f) } else { None }).collect();
     assert_eq!(frames.len(), out.reads.len() * BURST_FRAMES);
     for (burst, read) in frames.chunks(BURST_FRAMES).zip(&out.reads) {
         assert_eq!(burst[0].timing.first_edge, read.t_start_ps);
