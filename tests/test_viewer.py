@@ -303,7 +303,7 @@ def png_size(path: Path) -> tuple[int, int]:
 
 
 def test_report_png_is_drawn_from_the_run(run, tmp_path):
-    from sins_fw.report import DPI, FIGSIZE, save_report
+    from sins_fw.report_page import DPI, FIGSIZE, save_report
 
     out, axes = save_report(run, tmp_path / "r.png", title="static")
     assert png_size(out) == (round(FIGSIZE[0] * DPI), round(FIGSIZE[1] * DPI))

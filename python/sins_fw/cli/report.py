@@ -30,7 +30,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--png {args.png}: directory {args.png.parent} does not exist")
     profile = profile_from_args(args)
     run_ = emulate(args.trace, profile)
-    from sins_fw.report import save_report  # matplotlib is a heavy import
+    from sins_fw.report_page import save_report  # matplotlib is a heavy import
 
     save_report(run_, args.png, title=args.trace.name)
     report = {
