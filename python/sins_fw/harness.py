@@ -67,6 +67,9 @@ class Run:
     truth_q0: Array | None = None
     held_input_reads: int = 0
     extra: dict[str, Any] = field(default_factory=dict)
+    #: The SPI bus log of the ticks ``bus_window`` asked for (see :func:`emulate`): ``cs_t_ps``,
+    #: ``cs_low`` per CS edge; ``frame_*`` per frame (index, start/end, first/last SCLK edge, DIN, DOUT…).
+    bus: dict[str, NDArray[Any]] | None = None
 
     @property
     def cycles(self) -> int:
@@ -91,6 +94,12 @@ class Run:
     @property
     def read_age_s(self) -> Array:
         return self.read_age_ps.astype(np.float64) * PS
+
+    @property
+    def isr_ran(self) -> NDArray[np.bool_]:
+        """Per budget row: the tick's ISR ran (False for a tick lost or dropped by an overrun, whose
+        row has no ISR times)."""
+        return self.budget["deadline_ps"] > self.budget["tick_ps"]
 
 
 def _chunks(trace: PhysicalTrace | str | os.PathLike[str], rows: int) -> Iterator[PhysicalTrace]:
@@ -168,6 +177,7 @@ def emulate(
     chunk_rows: int = CHUNK_ROWS,
     on_chunk: Callable[[float], None] | None = None,
     keep_truth: bool = True,
+    bus_window: tuple[int, int] | None = None,
     **settings: Any,
 ) -> Run:
     """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace or a trace file).
@@ -175,13 +185,16 @@ def emulate(
     Profile overrides come as ``key=value`` texts in ``overrides`` and/or as keywords with ``__`` for
     the dot, applied after them: ``emulate(trace, spi__spibrr=9, firmware__numeric="iq")`` is
     ``emulate(trace, overrides=["spi.spibrr=9", "firmware.numeric=iq"])``. ``on_chunk`` is called
-    with the trace time reached after each chunk (for progress bars).
+    with the trace time reached after each chunk (for progress bars). ``bus_window=(first_tick,
+    last_tick)`` records the SPI bus (CS edges and frames) of the ISRs of those timer ticks into
+    ``Run.bus``; the log is on only around the window, so a long run stays fast and small.
     """
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     every = [*overrides, *keyword_overrides(settings)]
     if every:
         prof = prof.with_overrides(*every)
     emu = new_emulator(prof)
+    bus = _BusWindow(emu, prof, bus_window) if bus_window is not None else None
     parts: list[dict[str, Any]] = []
     truth: list[Array] = []
     moving: list[NDArray[np.bool_]] = []
@@ -194,16 +207,19 @@ def emulate(
         if t0 is None:
             t0 = float(chunk.t_s[0])
         t = np.ascontiguousarray(chunk.t_s - t0)
-        emu.push(
-            t,
-            np.ascontiguousarray(chunk.gyro_dps),
-            np.ascontiguousarray(chunk.accel_g),
-            None if chunk.mag_gauss is None else np.ascontiguousarray(chunk.mag_gauss),
-            None if chunk.baro_mbar is None else np.ascontiguousarray(chunk.baro_mbar),
-            None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c),
-        )
-        emu.run()
-        parts.append(emu.take())
+        for s in bus.pieces(t) if bus is not None else (slice(None),):
+            emu.push(
+                t[s],
+                np.ascontiguousarray(chunk.gyro_dps[s]),
+                np.ascontiguousarray(chunk.accel_g[s]),
+                None if chunk.mag_gauss is None else np.ascontiguousarray(chunk.mag_gauss[s]),
+                None if chunk.baro_mbar is None else np.ascontiguousarray(chunk.baro_mbar[s]),
+                None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c[s]),
+            )
+            emu.run()
+            parts.append(emu.take())
+            if bus is not None:
+                bus.after(parts[-1])
         if keep_truth and chunk.truth_q is not None:
             if not truth:
                 truth_q0 = chunk.truth_q[0].copy()
@@ -218,6 +234,8 @@ def emulate(
     parts.append(emu.take())
     run = _assemble(prof, t0 or 0.0, parts, dict(emu.stage_cycles()))
     run.truth_q0 = truth_q0
+    if bus is not None:
+        run.bus = bus.finish(run.budget)
     if truth:
         tt = np.concatenate(truth_t)
         run.truth_q = _truth_at(tt, np.concatenate(truth), run.time_s)
@@ -288,3 +306,66 @@ def profile_table(path: str | os.PathLike[str]) -> dict[str, Any]:
         raise ProfileError(f"{p}: file not found") from None
     except tomllib.TOMLDecodeError as e:
         raise ProfileError(f"{p}: {e}") from None
+
+
+class _BusWindow:
+    """Switches the core's bus log on just before the first tick of a window and off after its last.
+
+    A tick runs once the input covers its whole period, so the input is split where the window
+    starts: everything before ``(first - 1)`` periods runs with the log off. The log then keeps
+    whatever ran while it was on, and :meth:`finish` keeps only the window's ISRs (first tick's
+    start to the latest end among the window's ticks): the bus is idle between ISRs.
+    """
+
+    def __init__(self, emu: Any, profile: Profile, window: tuple[int, int]) -> None:
+        first, last = (int(x) for x in window)
+        if not 1 <= first <= last:
+            raise ProfileError(
+                f"bus window {window}: expected 1 <= first_tick <= last_tick (ticks count from 1)"
+            )
+        self.emu, self.first, self.last = emu, first, last
+        period_s = float(profile.get("timer.period_us")) * 1e-6
+        # Inexact period (PRD rounding) is harmless: the cut only has to come a tick early.
+        self.t_on = (first - 2) * period_s
+        self.on = self.done = False
+        self.records: list[dict[str, NDArray[Any]]] = []
+
+    def pieces(self, t: Array) -> Iterator[slice]:
+        """The chunk cut where the log must be switched on."""
+        if self.on or self.done:
+            yield slice(None)
+            return
+        cut = int(np.searchsorted(t, self.t_on, side="left"))
+        if cut > 0:
+            yield slice(0, cut)
+        self.emu.enable_bus_log()
+        self.on = True
+        if cut < len(t):
+            yield slice(cut, None)
+
+    def after(self, part: dict[str, Any]) -> None:
+        """Stop once the window's last tick has run."""
+        ticks = part["budget_tick"]
+        if self.on and len(ticks) and int(ticks[-1]) >= self.last:
+            self.records.append(self.emu.take_bus_log(stop=True))
+            self.on, self.done = False, True
+
+    def finish(self, budget: dict[str, NDArray[Any]]) -> dict[str, NDArray[Any]]:
+        if self.on:
+            self.records.append(self.emu.take_bus_log(stop=True))
+            self.on = False
+        sel = (budget["tick"] >= self.first) & (budget["tick"] <= self.last)
+        if not sel.any():
+            raise ProfileError(
+                f"bus window ({self.first}, {self.last}): the run has ticks "
+                f"{int(budget['tick'][0]) if len(budget['tick']) else 0}…"
+                f"{int(budget['tick'][-1]) if len(budget['tick']) else 0}"
+            )
+        lo, hi = int(budget["start_ps"][sel][0]), int(budget["end_ps"][sel].max())
+        log = {k: np.concatenate([r[k] for r in self.records]) for k in self.records[0]}
+        keep_cs = (log["cs_t_ps"] >= lo) & (log["cs_t_ps"] <= hi)
+        keep_frame = (log["frame_start_ps"] >= lo) & (log["frame_end_ps"] <= hi)
+        out = {k: v[keep_cs if k.startswith("cs_") else keep_frame] for k, v in log.items()}
+        out["window_ticks"] = np.array([self.first, self.last], dtype=np.uint64)
+        out["window_ps"] = np.array([lo, hi], dtype=np.uint64)
+        return out

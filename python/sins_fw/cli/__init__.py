@@ -13,11 +13,23 @@ import traceback
 from collections.abc import Sequence
 
 from sins_fw import __version__
-from sins_fw.cli import board, budget, demo, importer, montecarlo, parity, presets, run, synth
+from sins_fw.cli import (
+    board,
+    budget,
+    demo,
+    importer,
+    montecarlo,
+    parity,
+    presets,
+    replay,
+    report,
+    run,
+    synth,
+)
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError
 
 #: The subcommands, in the order `--help` lists them.
-COMMANDS = (demo, run, board, budget, parity, synth, importer, presets, montecarlo)
+COMMANDS = (demo, run, board, budget, parity, replay, report, synth, importer, presets, montecarlo)
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 

@@ -8,7 +8,7 @@ use std::sync::Mutex;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sins_core::bus::link::LinkRecord;
+use sins_core::bus::link::{FrameRecord, LinkRecord};
 use sins_core::device::Physical;
 use sins_core::emulator::{Emulator as Core, Output, Progress};
 use sins_core::firmware::update_period_s;
@@ -32,7 +32,7 @@ trait Run: Send {
     fn stage_cycles(&self) -> Vec<(&'static str, u64)>;
     fn stage_costs(&self) -> StageCosts;
     fn enable_bus_log(&mut self);
-    fn take_bus_log(&mut self) -> Vec<LinkRecord>;
+    fn take_bus_log(&mut self, stop: bool) -> Vec<LinkRecord>;
 }
 
 impl<T: Scalar + Send + 'static> Run for Core<T> {
@@ -66,8 +66,12 @@ impl<T: Scalar + Send + 'static> Run for Core<T> {
     fn enable_bus_log(&mut self) {
         Core::enable_bus_log(self)
     }
-    fn take_bus_log(&mut self) -> Vec<LinkRecord> {
-        Core::take_bus_log(self)
+    fn take_bus_log(&mut self, stop: bool) -> Vec<LinkRecord> {
+        if stop {
+            self.stop_bus_log()
+        } else {
+            Core::take_bus_log(self)
+        }
     }
 }
 
@@ -230,51 +234,17 @@ impl Emulator {
         Ok(d)
     }
 
-    /// Record every SPI frame and chip-select edge from now on (see `take_bus_log`).
+    /// Record every CS edge and SPI frame from now on (off by default: it costs memory per frame).
     fn enable_bus_log(&mut self) {
         self.inner().enable_bus_log();
     }
 
-    /// The SPI frames and CS edges recorded since the last call, as a dict of numpy arrays:
-    /// `frame_index`, `frame_start_ps` (character start), `frame_end_ps` (INT_FLAG),
-    /// `frame_first_edge_ps`, `frame_last_edge_ps` (SCLK edges), `frame_sclk_period_ps`,
-    /// `frame_selected`, `frame_master_tx`, `frame_master_rx`; `cs_t_ps`, `cs_low`.
-    fn take_bus_log<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let log = self.inner().take_bus_log();
-        let frames: Vec<_> = log
-            .iter()
-            .filter_map(|r| match r {
-                LinkRecord::Frame(f) => Some(*f),
-                LinkRecord::Cs { .. } => None,
-            })
-            .collect();
-        let cs: Vec<(u64, bool)> = log
-            .iter()
-            .filter_map(|r| match *r {
-                LinkRecord::Cs { t_ps, low } => Some((t_ps, low)),
-                LinkRecord::Frame(_) => None,
-            })
-            .collect();
-        let d = PyDict::new(py);
-        macro_rules! frame_col {
-            ($($name:literal => $f:expr),*) => {$(
-                d.set_item($name, frames.iter().map($f).collect::<Vec<_>>().into_pyarray(py))?;
-            )*};
-        }
-        frame_col!(
-            "frame_index" => |f| f.index,
-            "frame_start_ps" => |f| f.start_ps,
-            "frame_end_ps" => |f| f.end_ps,
-            "frame_first_edge_ps" => |f| f.timing.first_edge,
-            "frame_last_edge_ps" => |f| f.timing.last_edge,
-            "frame_sclk_period_ps" => |f| f.timing.sclk_period,
-            "frame_selected" => |f| f.selected,
-            "frame_master_tx" => |f| f.master_tx,
-            "frame_master_rx" => |f| f.master_rx
-        );
-        d.set_item("cs_t_ps", cs.iter().map(|c| c.0).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("cs_low", cs.iter().map(|c| c.1).collect::<Vec<_>>().into_pyarray(py))?;
-        Ok(d)
+    /// The bus log since the last call, as numpy columns: `cs_*` per CS edge, `frame_*` per frame.
+    /// With `stop=True` recording stops too.
+    #[pyo3(signature = (stop=false))]
+    fn take_bus_log<'py>(&mut self, py: Python<'py>, stop: bool) -> PyResult<Bound<'py, PyDict>> {
+        let log = self.inner().take_bus_log(stop);
+        bus_log_dict(py, &log)
     }
 
     /// The output since the last call, as a dict of numpy arrays (and a list of event dicts).
@@ -365,5 +335,40 @@ fn output_dict<'py>(py: Python<'py>, o: &Output) -> PyResult<Bound<'py, PyDict>>
     );
     let events = o.events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
     d.set_item("events", events)?;
+    Ok(d)
+}
+
+fn bus_log_dict<'py>(py: Python<'py>, log: &[LinkRecord]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let (mut cs_t, mut cs_low) = (Vec::new(), Vec::new());
+    let mut frames: Vec<FrameRecord> = Vec::with_capacity(log.len());
+    for r in log {
+        match r {
+            LinkRecord::Cs { t_ps, low } => {
+                cs_t.push(*t_ps);
+                cs_low.push(*low);
+            }
+            LinkRecord::Frame(f) => frames.push(*f),
+        }
+    }
+    d.set_item("cs_t_ps", cs_t.into_pyarray(py))?;
+    d.set_item("cs_low", cs_low.into_pyarray(py))?;
+    macro_rules! frame_col {
+        ($name:literal, $f:expr) => {
+            d.set_item($name, frames.iter().map($f).collect::<Vec<_>>().into_pyarray(py))?;
+        };
+    }
+    frame_col!("frame_index", |f| f.index);
+    frame_col!("frame_start_ps", |f| f.start_ps);
+    frame_col!("frame_end_ps", |f| f.end_ps);
+    frame_col!("frame_first_edge_ps", |f| f.timing.first_edge);
+    frame_col!("frame_last_edge_ps", |f| f.timing.last_edge);
+    frame_col!("frame_sclk_period_ps", |f| f.timing.sclk_period);
+    frame_col!("frame_bits", |f| f.timing.bits);
+    frame_col!("frame_selected", |f| f.selected);
+    frame_col!("frame_master_tx", |f| f.master_tx);
+    frame_col!("frame_master_rx", |f| f.master_rx);
+    frame_col!("frame_din", |f| f.din);
+    frame_col!("frame_dout", |f| f.dout);
     Ok(d)
 }

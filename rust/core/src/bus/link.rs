@@ -249,6 +249,11 @@ impl<S: SpiSlave> SpiLink<S> {
         self.wires.log.get_or_insert_with(Vec::new);
     }
 
+    /// Stop recording and take what was recorded (the bus view logs a window, not a whole run).
+    pub fn stop_log(&mut self) -> Vec<LinkRecord> {
+        self.wires.log.take().unwrap_or_default()
+    }
+
     /// Take the log recorded so far (empty when logging is off); logging stays on if it was.
     pub fn take_log(&mut self) -> Vec<LinkRecord> {
         self.wires.log.as_mut().map(std::mem::take).unwrap_or_default()

@@ -148,6 +148,11 @@ impl<T: Scalar> Emulator<T> {
         self.link.take_log()
     }
 
+    /// Stop recording the bus log and take what it holds.
+    pub fn stop_bus_log(&mut self) -> Vec<crate::bus::link::LinkRecord> {
+        self.link.stop_log()
+    }
+
     /// The output accumulated since the last [`Emulator::take_output`].
     pub fn take_output(&mut self) -> Output {
         self.collect_events();

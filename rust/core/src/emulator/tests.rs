@@ -1,6 +1,7 @@
 //! End-to-end checks of the emulated board: the published acquisition on the reference profile.
 
 use super::*;
+use crate::bus::link::LinkRecord;
 use crate::time::{s_to_ps, PS_PER_S};
 
 fn costs() -> CostTable {
@@ -109,4 +110,34 @@ fn spibrr_9_reports_sclk_violations_in_the_run() {
     p.spi.spibrr = 9;
     let out = run::<f64>(&p, 0.1, [0.0; 3]);
     assert!(out.events.iter().any(|e| e.kind == "sclk_too_fast"));
+}
+
+#[test]
+fn the_bus_log_covers_only_the_ticks_it_was_on_for() {
+    let mut emu = Emulator::<f64>::new(&reference_f64(), &costs()).unwrap();
+    let (t, p) = constant_rate(0.1, [0.0; 3]);
+    // 0.1 s of input runs ticks 1…24 (a tick runs once the input covers its whole period).
+    let half = t.partition_point(|&x| x < 0.05);
+    emu.push_input(&t[..half], p[..half].to_vec()).unwrap();
+    assert_eq!(emu.run().unwrap(), Progress::NeedInput);
+    let ran = emu.take_output().budget.len();
+    emu.enable_bus_log();
+    emu.push_input(&t[half..], p[half..].to_vec()).unwrap();
+    emu.run().unwrap();
+    let log = emu.stop_bus_log();
+    let out = emu.take_output();
+    emu.end_input();
+    emu.run().unwrap();
+    assert!(emu.take_bus_log().is_empty(), "stopped: nothing more is recorded");
+    // Per tick: CS low, the 15 frames of the burst, CS high.
+    assert_eq!(log.len(), out.budget.len() * (BURST_FRAMES + 2), "{ran} ticks before the log");
+    let frames: Vec<_> =
+        log.iter().filter_map(|r| if let LinkRecord::Frame(f) = r { Some(*f) } else { None }).collect();
+    assert_eq!(frames.len(), out.reads.len() * BURST_FRAMES);
+    for (burst, read) in frames.chunks(BURST_FRAMES).zip(&out.reads) {
+        assert_eq!(burst[0].timing.first_edge, read.t_start_ps);
+        assert_eq!(burst[0].din, 0x4200, "the burst command");
+        let rx: Vec<u16> = burst.iter().map(|f| f.master_rx).collect();
+        assert_eq!(rx, read.words.to_vec(), "the words the firmware stored are the words on the bus");
+    }
 }

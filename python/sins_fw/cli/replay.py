@@ -1,0 +1,161 @@
+"""`sins-fw replay TRACE --save FILE.rrd [--spawn]`: emulate a physical trace and write a Rerun
+recording (3-D attitude, time series, budget, events, the SPI bus of a window of ticks) with its
+default layout; `--spawn` opens it in the Rerun viewer when one can be shown.
+
+TRACE is a physical trace (.h5 or .csv, docs/traces.md). Saved run outputs are not accepted yet:
+the project has no run-output file format.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+from pathlib import Path
+
+from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.errors import InputError
+from sins_fw.harness import emulate
+from sins_fw.traces import PhysicalTrace
+
+NUMERICS = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
+
+
+class ViewerUnavailableError(InputError):
+    """The Rerun viewer cannot be shown here (no display, no viewer executable)."""
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "replay",
+        help="emulate a trace and write a Rerun recording (.rrd) to replay in the Rerun viewer",
+        description="Emulate a physical trace and write a Rerun recording: the board at the estimated "
+        "attitude (and its truth), roll/pitch/yaw and their errors, decoded vs physical IMU data, raw "
+        "register words with ND/EA, sample age, the ISR budget per tick, events, and the SPI bus "
+        "(CS, frames with DIN/DOUT, stalls) for a window of ticks. Open it with `rerun FILE.rrd`.",
+    )
+    p.add_argument("trace", type=Path, metavar="TRACE", help="physical trace (.h5 or .csv)")
+    add_profile_options(p)
+    p.add_argument("--save", type=Path, metavar="FILE.rrd", help="write the recording to this file")
+    p.add_argument(
+        "--spawn", action="store_true", help="open the recording in the Rerun viewer (needs a display)"
+    )
+    p.add_argument(
+        "--bus-ticks",
+        default="1:25",
+        metavar="FIRST:LAST",
+        help="timer ticks whose SPI traffic is recorded, inclusive (default 1:25; `none` for no bus view)",
+    )
+    p.add_argument(
+        "--parity",
+        action="append",
+        default=[],
+        choices=NUMERICS,
+        metavar="NUMERIC",
+        help=f"also run this numeric backend ({', '.join(NUMERICS)}) and log its difference (repeatable)",
+    )
+    add_json_option(p)
+    p.set_defaults(func=run)
+
+
+def parse_ticks(text: str) -> tuple[int, int] | None:
+    """`FIRST:LAST` → (first, last); `none` → None."""
+    if text.strip().lower() == "none":
+        return None
+    try:
+        first, last = (int(x) for x in text.split(":"))
+    except ValueError:
+        raise InputError(
+            f"--bus-ticks {text!r}: expected FIRST:LAST (timer ticks, from 1) or `none`"
+        ) from None
+    if not 1 <= first <= last:
+        raise InputError(f"--bus-ticks {text!r}: expected 1 <= FIRST <= LAST")
+    return first, last
+
+
+def viewer_problem() -> str | None:
+    """Why the Rerun viewer cannot be opened here, or None when it can."""
+    has_viewer = shutil.which("rerun") is not None or _bundled_viewer()
+    if not has_viewer:
+        return "no Rerun viewer executable (`rerun`) is installed"
+    if sys.platform.startswith("linux") and not (
+        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    ):
+        return "no display (DISPLAY and WAYLAND_DISPLAY are unset)"
+    return None
+
+
+def _bundled_viewer() -> bool:
+    try:
+        import rerun_cli  # noqa: F401  (the viewer shipped with rerun-sdk)
+    except ImportError:
+        return False
+    return True
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.save is None and not args.spawn:
+        raise InputError("nothing to do: give --save FILE.rrd and/or --spawn")
+    if args.save is not None and (args.save.is_dir() or args.save.suffix != ".rrd"):
+        raise InputError(f"--save {args.save}: expected a file name ending in .rrd")
+    window = parse_ticks(args.bus_ticks)
+    problem = viewer_problem() if args.spawn else None
+    if problem is not None and args.save is None:
+        # Fail before any work: nothing would be kept.
+        raise ViewerUnavailableError(
+            f"cannot open the Rerun viewer: {problem}; use --save FILE.rrd and open it "
+            "with `rerun FILE.rrd` where a display is available"
+        )
+    profile = profile_from_args(args)
+    trace = PhysicalTrace.load(args.trace)
+    run_ = emulate(trace, profile, bus_window=window)
+    parity = {
+        name: emulate(trace, profile, overrides=[f"firmware.numeric={name}"])
+        for name in args.parity
+        if name != profile.get("firmware.numeric")
+    }
+    from sins_fw.viewer import default_blueprint, log_run, save_recording  # rerun is a heavy import
+
+    report = {
+        "trace": str(args.trace),
+        "profile": profile.source,
+        "overrides": list(profile.overrides),
+        "cycles": run_.cycles,
+        "ticks": len(run_.budget["tick"]),
+        "events": run_.events_by_kind(),
+        "bus_ticks": list(window) if window else None,
+        "bus_frames": 0 if run_.bus is None else len(run_.bus["frame_index"]),
+        "parity": sorted(parity),
+        "saved": None,
+    }
+    if args.save is not None:
+        save_recording(run_, args.save, trace=trace, parity=parity, name=args.trace.name)
+        report["saved"] = str(args.save)
+    lines = [
+        f"replay of {args.trace}: {run_.cycles} cycles, {report['ticks']} ticks, "
+        f"{len(run_.events)} events {report['events'] or ''}".rstrip(),
+        f"bus window: ticks {window[0]}…{window[1]}, {report['bus_frames']} frames"
+        if window
+        else "bus: not recorded",
+    ]
+    if args.save is not None:
+        lines.append(f"saved {args.save} (open it with `rerun {args.save}`)")
+    if args.spawn:
+        if problem is not None:
+            emit(args, report, "\n".join(lines))
+            raise ViewerUnavailableError(
+                f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.save}"
+            )
+        import rerun as rr
+
+        rec = rr.RecordingStream("sins-fw")
+        try:
+            rec.spawn(default_blueprint=default_blueprint(run_, parity=parity))
+        except Exception as e:  # the viewer failed to start: say why, no traceback
+            raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
+        log_run(rec, run_, trace=trace, parity=parity)
+        rec.flush()
+        lines.append("sent to the Rerun viewer")
+    emit(args, report, "\n".join(lines))
+    return 0

@@ -1,0 +1,49 @@
+"""`sins-fw report TRACE --png FILE`: emulate a trace and draw a one-page static report (attitude
+error, ISR budget, events) for people without the Rerun viewer."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.errors import InputError
+from sins_fw.harness import emulate
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "report",
+        help="emulate a trace and draw a one-page PNG report (attitude error, ISR budget, events)",
+    )
+    p.add_argument("trace", type=Path, metavar="TRACE", help="physical trace (.h5 or .csv)")
+    p.add_argument("--png", type=Path, required=True, metavar="FILE", help="output image (.png)")
+    add_profile_options(p)
+    add_json_option(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.png.suffix.lower() != ".png" or args.png.is_dir():
+        raise InputError(f"--png {args.png}: expected a file name ending in .png")
+    if not args.png.parent.is_dir() and str(args.png.parent):
+        raise InputError(f"--png {args.png}: directory {args.png.parent} does not exist")
+    profile = profile_from_args(args)
+    run_ = emulate(args.trace, profile)
+    from sins_fw.report_page import save_report  # matplotlib is a heavy import
+
+    save_report(run_, args.png, title=args.trace.name)
+    report = {
+        "trace": str(args.trace),
+        "profile": profile.source,
+        "overrides": list(profile.overrides),
+        "cycles": run_.cycles,
+        "events": run_.events_by_kind(),
+        "png": str(args.png),
+    }
+    emit(
+        args,
+        report,
+        f"report of {args.trace} ({run_.cycles} cycles, {len(run_.events)} events) written to {args.png}",
+    )
+    return 0

@@ -1,0 +1,92 @@
+"""The default layout of a sins-fw recording (a Rerun blueprint), so that a replay opens organised:
+one tab per question. *Attitude*: is it right, and where did it go wrong (the board and its truth
+ghost, roll/pitch/yaw against truth, the errors, the events). *Sensor*: what the firmware decoded
+next to what the IMU felt, the raw register words and their ND/EA flags, the sample age. *Budget*:
+which cycle missed its deadline. *Bus*: what was on the SPI bus in the recorded window. *Parity*:
+how the other numeric backends differ."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import rerun.blueprint as rrb
+
+from sins_fw.harness import Run
+from sins_fw.viewer import paths
+
+
+def _events(name: str = "Events") -> rrb.TextLogView:
+    return rrb.TextLogView(origin=paths.EVENTS, name=name)
+
+
+def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> rrb.Blueprint:
+    """Tabs Attitude, Sensor, Budget, and Bus / Parity when the run has them; emulated time selected."""
+    angles = [
+        rrb.TimeSeriesView(
+            name=f"{angle.capitalize()}: estimate and truth (°)",
+            origin=f"attitude/{angle}",
+        )
+        for angle in paths.ANGLES
+    ]
+    attitude = rrb.Horizontal(
+        rrb.Vertical(
+            rrb.Spatial3DView(name="Board (estimate) and truth (wireframe), ENU", origin="world"),
+            _events(),
+            row_shares=[3, 1],
+        ),
+        rrb.Vertical(
+            *angles,
+            rrb.TimeSeriesView(name="Attitude error (°), estimate − truth", origin="attitude_error"),
+        ),
+        column_shares=[2, 3],
+        name="Attitude",
+    )
+    sensor = rrb.Vertical(
+        rrb.Horizontal(
+            rrb.TimeSeriesView(name="Rate: decoded and physical (°/s)", origin="imu/rate"),
+            rrb.TimeSeriesView(name="Acceleration: decoded and physical (g)", origin="imu/accel"),
+        ),
+        rrb.Horizontal(
+            rrb.TimeSeriesView(name="Raw register words", origin=paths.REGISTER_WORDS),
+            rrb.TimeSeriesView(name="ND flags (1: new data)", origin=paths.REGISTER_ND),
+            rrb.TimeSeriesView(name="EA flags (1: error/alarm)", origin=paths.REGISTER_EA),
+            rrb.TimeSeriesView(name="Sample age at the read (µs)", origin=paths.SAMPLE_AGE),
+        ),
+        name="Sensor",
+    )
+    budget = rrb.Vertical(
+        rrb.TimeSeriesView(
+            name="ISR per tick: busy, end and deadline after the tick (µs)",
+            contents=[paths.BUDGET_BUSY, paths.BUDGET_FINISH, paths.BUDGET_DEADLINE],
+        ),
+        rrb.TimeSeriesView(name="Margin to the deadline (µs)", origin=paths.BUDGET_MARGIN),
+        _events("Events (overruns, violations)"),
+        row_shares=[2, 1, 1],
+        name="Budget",
+    )
+    tabs: list[rrb.Container] = [attitude, sensor, budget]
+    if run.bus is not None:
+        tabs.append(
+            rrb.Vertical(
+                rrb.StateTimelineView(
+                    name="CS and SCLK (frames: DIN/DOUT, stalls)", contents=[paths.BUS_CS, paths.BUS_SCLK]
+                ),
+                rrb.TimeSeriesView(
+                    name="Stall before each frame (µs)", contents=[paths.BUS_STALL, paths.BUS_STALL_MIN]
+                ),
+                rrb.TextLogView(name="Frames", origin=paths.BUS_FRAMES),
+                name="Bus",
+            )
+        )
+    if parity:
+        tabs.append(
+            rrb.Vertical(
+                *(rrb.TimeSeriesView(name=f"{name} − this run", origin=f"parity/{name}") for name in parity),
+                name="Parity",
+            )
+        )
+    return rrb.Blueprint(
+        rrb.Tabs(*tabs, active_tab=0),
+        rrb.TimePanel(timeline=paths.TIME, expanded=True),
+        collapse_panels=False,
+    )

@@ -1,0 +1,62 @@
+"""Entity paths and timeline names of a sins-fw recording: one place, shared by the logger, the
+blueprint and the tests."""
+
+from __future__ import annotations
+
+#: Emulated (virtual) time, a duration timeline in nanoseconds (the core's picoseconds, floored).
+TIME = "emulated_time"
+#: Attitude step index (the firmware's 8 ms cycle).
+CYCLE = "cycle"
+#: CPU timer 0 tick index (one acquisition ISR per tick).
+TICK = "tick"
+#: Event index (events share times; this keeps each one addressable).
+EVENT = "event"
+#: SPI character index since power-on (bus window only).
+FRAME = "frame"
+
+BOARD = "world/board"
+BOARD_BODY = "world/board/body"
+BOARD_AXES = "world/board/axes"
+BOARD_ADIS = "world/board/adis16407"
+TRUTH = "world/truth"
+TRUTH_BODY = "world/truth/body"
+
+ANGLES = ("roll", "pitch", "yaw")
+
+
+def attitude(angle: str, what: str) -> str:
+    """``attitude/<angle>/<estimate|truth>``."""
+    return f"attitude/{angle}/{what}"
+
+
+def attitude_error(angle: str) -> str:
+    """``attitude_error/<roll|pitch|yaw|total>``."""
+    return f"attitude_error/{angle}"
+
+
+RATE_DECODED = "imu/rate/decoded"
+RATE_PHYSICAL = "imu/rate/physical"
+ACCEL_DECODED = "imu/accel/decoded"
+ACCEL_PHYSICAL = "imu/accel/physical"
+SAMPLE_AGE = "imu/sample_age"
+REGISTER_WORDS = "registers/words"
+REGISTER_ND = "registers/nd"
+REGISTER_EA = "registers/ea"
+
+BUDGET_BUSY = "budget/busy"
+BUDGET_FINISH = "budget/finish"
+BUDGET_DEADLINE = "budget/deadline"
+BUDGET_MARGIN = "budget/margin"
+
+EVENTS = "events"
+
+BUS_CS = "bus/cs"
+BUS_SCLK = "bus/sclk"
+BUS_FRAMES = "bus/frames"
+BUS_STALL = "bus/stall"
+BUS_STALL_MIN = "bus/stall_min"
+
+
+def parity(backend: str, what: str) -> str:
+    """``parity/<backend>/<euler|angle>``: that backend minus this run."""
+    return f"parity/{backend}/{what}"

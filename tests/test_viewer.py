@@ -1,0 +1,325 @@
+"""Visual replay: the Rerun recording (read back with Rerun's own dataframe query), the bus window of
+the harness, the replay CLI, and the static PNG report."""
+
+from __future__ import annotations
+
+import re
+import struct
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+# Rerun's dataframe query (`ChunkStore.reader`) runs on DataFusion, pinned in requirements.txt.
+import rerun as rr
+
+from conftest import ROOT, run_cli
+from sins_fw import synth
+from sins_fw.harness import emulate
+from sins_fw.metrics import attitude_errors, wrap_deg
+from sins_fw.traces import PhysicalTrace
+from sins_fw.viewer import paths
+from sins_fw.viewer.recording import save_recording
+
+STATIC = ROOT / "traces" / "static_60s.h5"
+WINDOW = (100, 103)
+#: Frames per burst read (the command and 14 output registers) and CS edges per burst.
+BURST_FRAMES = 15
+
+
+@pytest.fixture(scope="module")
+def trace() -> PhysicalTrace:
+    return PhysicalTrace.load(STATIC)
+
+
+@pytest.fixture(scope="module")
+def run(trace):
+    return emulate(trace, bus_window=WINDOW)
+
+
+@pytest.fixture(scope="module")
+def parity_run(trace):
+    return emulate(trace, overrides=["firmware.numeric=f64"])
+
+
+@pytest.fixture(scope="module")
+def store(run, trace, parity_run, tmp_path_factory):
+    path = tmp_path_factory.mktemp("rrd") / "static.rrd"
+    save_recording(run, path, trace=trace, parity={"f64": parity_run}, name="static_60s.h5")
+    reader = rr.chunk.RrdReader(path)
+    assert reader.blueprints(), "the default layout is saved with the recording"
+    return reader.stream().collect()
+
+
+def query(store, index: str, entity: str):
+    """Rows of one entity on one timeline, as a pyarrow table (Rerun's dataframe query)."""
+    return store.reader(index=index, contents=entity).to_arrow_table()
+
+
+def column(table, entity: str, component: str = "Scalars:scalars") -> np.ndarray:
+    return np.array(table.column(f"{entity}:{component}").to_pylist(), dtype=object)
+
+
+def scalars(table, entity: str) -> np.ndarray:
+    return np.array([np.asarray(x, dtype=np.float64) for x in column(table, entity)])
+
+
+# --- the harness's bus window ------------------------------------------------------------------
+
+
+def test_bus_window_holds_exactly_the_window_ticks_and_their_words(run):
+    bus = run.bus
+    ticks = WINDOW[1] - WINDOW[0] + 1
+    assert len(bus["frame_index"]) == ticks * BURST_FRAMES
+    assert len(bus["cs_t_ps"]) == 2 * ticks
+    assert bus["cs_low"].tolist() == [True, False] * ticks
+    sel = (run.read_tick >= WINDOW[0]) & (run.read_tick <= WINDOW[1])
+    # The words the firmware stored are the words the master received on the bus.
+    assert np.array_equal(run.read_words[sel].ravel(), bus["frame_master_rx"])
+    assert np.array_equal(bus["frame_din"][::BURST_FRAMES], np.full(ticks, 0x4200))
+    # Every frame lies inside the ISR of its tick.
+    b = run.budget
+    in_window = (b["tick"] >= WINDOW[0]) & (b["tick"] <= WINDOW[1])
+    start, end = b["start_ps"][in_window], b["end_ps"][in_window]
+    per_tick = bus["frame_start_ps"].reshape(ticks, BURST_FRAMES)
+    assert np.all(per_tick >= start[:, None]) and np.all(per_tick <= end[:, None])
+
+
+def test_bus_window_outside_the_run_is_an_input_error(trace):
+    from sins_fw.errors import InputError
+
+    with pytest.raises(InputError, match="bus window"):
+        emulate(trace, bus_window=(10**7, 10**7 + 1))
+    with pytest.raises(InputError, match="first_tick"):
+        emulate(trace, bus_window=(5, 4))
+
+
+# --- the recording, read back with Rerun's own API --------------------------------------------
+
+
+def test_recording_has_the_documented_entities(store):
+    entities = set(store.schema().entity_paths())
+    expected = {
+        paths.BOARD,
+        paths.BOARD_BODY,
+        paths.BOARD_AXES,
+        paths.BOARD_ADIS,
+        paths.TRUTH,
+        paths.TRUTH_BODY,
+        *(paths.attitude(a, w) for a in paths.ANGLES for w in ("estimate", "truth")),
+        *(paths.attitude_error(a) for a in (*paths.ANGLES, "total")),
+        paths.RATE_DECODED,
+        paths.RATE_PHYSICAL,
+        paths.ACCEL_DECODED,
+        paths.ACCEL_PHYSICAL,
+        paths.SAMPLE_AGE,
+        paths.REGISTER_WORDS,
+        paths.REGISTER_ND,
+        paths.REGISTER_EA,
+        paths.BUDGET_BUSY,
+        paths.BUDGET_FINISH,
+        paths.BUDGET_DEADLINE,
+        paths.BUDGET_MARGIN,
+        paths.BUS_CS,
+        paths.BUS_SCLK,
+        paths.BUS_FRAMES,
+        paths.BUS_STALL,
+        paths.BUS_STALL_MIN,
+        paths.parity("f64", "euler"),
+        paths.parity("f64", "angle"),
+    }
+    assert {"/" + e for e in expected} <= entities, sorted({"/" + e for e in expected} - entities)
+    assert "/" + paths.EVENTS not in entities, "a clean run has no events entity"
+    assert {c.name for c in store.schema().index_columns()} >= {
+        paths.TIME,
+        paths.CYCLE,
+        paths.TICK,
+        paths.FRAME,
+    }
+
+
+def test_cycle_rows_match_the_run(store, run):
+    t = query(store, paths.CYCLE, paths.attitude("roll", "estimate"))
+    assert t.num_rows == run.cycles
+    assert np.array_equal(t.column(paths.CYCLE).to_numpy(), run.step.astype(np.int64))
+    for k, angle in enumerate(paths.ANGLES):
+        t = query(store, paths.CYCLE, paths.attitude(angle, "estimate"))
+        assert np.array_equal(scalars(t, "/" + paths.attitude(angle, "estimate"))[:, 0], run.euler_deg[:, k])
+    # Emulated time is the cycle's tick time in ns; the tick index lines the cycle up with the budget.
+    t = query(store, paths.CYCLE, paths.BOARD)
+    ns = t.column(paths.TIME).cast("int64").to_numpy()
+    assert np.array_equal(ns, np.round(run.time_s * 1e9).astype(np.int64))
+    ticks = t.column(paths.TICK).to_numpy()
+    assert np.array_equal(ticks * 4_000_000, ns), "reference timer: 4 ms ticks"
+    quat = np.array(t.column(f"/{paths.BOARD}:Transform3D:quaternion").to_pylist())
+    assert np.allclose(quat.reshape(-1, 4), run.quat[:, [1, 2, 3, 0]].astype(np.float32), rtol=0, atol=0)
+
+
+def test_truth_and_errors_match_the_run(store, run):
+    err = attitude_errors(run.quat, run.truth_q)
+    t = query(store, paths.CYCLE, paths.attitude_error("total"))
+    assert t.num_rows == run.cycles, "the static trace has truth at every cycle"
+    assert np.array_equal(scalars(t, "/" + paths.attitude_error("total"))[:, 0], err.total)
+    t = query(store, paths.CYCLE, paths.attitude_error("pitch"))
+    assert np.array_equal(scalars(t, "/" + paths.attitude_error("pitch"))[:, 0], err.pitch)
+
+
+def test_read_rows_match_the_run(store, run, trace):
+    t = query(store, paths.TICK, paths.REGISTER_WORDS)
+    assert t.num_rows == len(run.read_tick)
+    assert np.array_equal(t.column(paths.TICK).to_numpy(), run.read_tick.astype(np.int64))
+    words = scalars(t, "/" + paths.REGISTER_WORDS)
+    assert words.shape == (len(run.read_tick), 14)
+    assert np.array_equal(words, run.read_words[:, 1:])
+    nd = scalars(query(store, paths.TICK, paths.REGISTER_ND), "/" + paths.REGISTER_ND)
+    assert np.array_equal(nd, run.read_words[:, 1:] >> 15)
+    rate = scalars(query(store, paths.TICK, paths.RATE_DECODED), "/" + paths.RATE_DECODED)
+    assert np.allclose(rate, np.degrees(run.read_rate), rtol=1e-15, atol=0)
+    # The static board: the physical input is earth rate, constant; the decoded rate is within one
+    # gyro LSB (0.05 °/s) of it.
+    phys = scalars(query(store, paths.TICK, paths.RATE_PHYSICAL), "/" + paths.RATE_PHYSICAL)
+    assert np.allclose(phys, trace.gyro_dps[0], atol=1e-12)
+    assert np.max(np.abs(rate - phys)) <= 0.05
+    age = scalars(query(store, paths.TICK, paths.SAMPLE_AGE), "/" + paths.SAMPLE_AGE)[:, 0]
+    assert np.array_equal(age, run.read_age_ps * 1e-6)
+
+
+def test_budget_rows_match_the_run(store, run):
+    t = query(store, paths.TICK, paths.BUDGET_BUSY)
+    assert t.num_rows == int(run.isr_ran.sum()) == len(run.budget["tick"])
+    busy = scalars(t, "/" + paths.BUDGET_BUSY)[:, 0]
+    assert np.allclose(busy, run.busy_s * 1e6, rtol=1e-12, atol=0)
+    margin = scalars(query(store, paths.TICK, paths.BUDGET_MARGIN), "/" + paths.BUDGET_MARGIN)[:, 0]
+    assert np.allclose(margin, run.margin_s * 1e6, rtol=1e-12, atol=0)
+
+
+def test_bus_rows_match_the_bus_log(store, run):
+    bus = run.bus
+    frames = query(store, paths.FRAME, paths.BUS_FRAMES)
+    assert frames.num_rows == len(bus["frame_index"])
+    assert np.array_equal(frames.column(paths.FRAME).to_numpy(), bus["frame_index"].astype(np.int64))
+    text = [x[0] for x in frames.column(f"/{paths.BUS_FRAMES}:TextLog:text").to_pylist()]
+    for line, din, dout in zip(text, bus["frame_din"], bus["frame_dout"], strict=True):
+        assert f"DIN 0x{din:04X}" in line and f"DOUT 0x{dout:04X}" in line
+    sclk = query(store, paths.TIME, paths.BUS_SCLK)
+    assert sclk.num_rows == 2 * len(bus["frame_index"]), "a state at each frame's first and last edge"
+    cs = query(store, paths.TIME, paths.BUS_CS)
+    states = [x[0] for x in cs.column(f"/{paths.BUS_CS}:StateChange:state").to_pylist()]
+    assert states == ["CS low (selected)", "CS high"] * (WINDOW[1] - WINDOW[0] + 1)
+    # Stalls: previous frame's last SCLK edge to this frame's first edge (the first frame of the log
+    # has none), against one SCLK period inside a burst and t_stall (9 µs) before a command frame.
+    stall = query(store, paths.FRAME, paths.BUS_STALL)
+    got = scalars(stall, "/" + paths.BUS_STALL)[:, 0]
+    first = bus["frame_first_edge_ps"].astype(np.float64)
+    last = bus["frame_last_edge_ps"].astype(np.float64)
+    assert np.array_equal(got, (first[1:] - last[:-1]) * 1e-6)
+    required = scalars(query(store, paths.FRAME, paths.BUS_STALL_MIN), "/" + paths.BUS_STALL_MIN)[:, 0]
+    command = bus["frame_din"][1:] == 0x4200
+    assert np.all(required[command] == 9.0)
+    assert np.array_equal(required[~command], bus["frame_sclk_period_ps"][1:][~command] * 1e-6)
+    assert np.all(got >= required), "the reference firmware keeps both stall rules (no stall_too_short)"
+
+
+def test_parity_rows_are_the_backend_differences(store, run, parity_run):
+    t = query(store, paths.CYCLE, paths.parity("f64", "euler"))
+    assert t.num_rows == run.cycles == parity_run.cycles
+    diff = scalars(t, "/" + paths.parity("f64", "euler"))
+    assert np.array_equal(diff, wrap_deg(parity_run.euler_deg - run.euler_deg))
+    assert np.any(diff != 0), "f32 and f64 differ somewhere"
+
+
+# --- the replay command -------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def short_trace(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("trace") / "static_2s.h5"
+    synth.generate("static", duration_s=2.0).save(path)
+    return path
+
+
+def test_replay_with_overruns_logs_them_at_their_ticks_and_cycles(short_trace, tmp_path):
+    out = tmp_path / "over.rrd"
+    r = run_cli(
+        "replay", str(short_trace), "--set", "timer.period_us=300", "--save", str(out), "--bus-ticks", "none"
+    )
+    assert r.code == 0, r.err
+    assert not out.with_name(out.name + ".tmp").exists() and not list(tmp_path.glob(".over.rrd.*"))
+    run = emulate(short_trace, overrides=["timer.period_us=300"])
+    store = rr.chunk.RrdReader(out).stream().collect()
+    t = query(store, paths.EVENT, paths.EVENTS)
+    text = [x[0] for x in t.column(f"/{paths.EVENTS}:TextLog:text").to_pylist()]
+    level = [x[0] for x in t.column(f"/{paths.EVENTS}:TextLog:level").to_pylist()]
+    assert len(text) == len(run.events)
+    overruns = [i for i, s in enumerate(text) if s.startswith("[overrun] ")]
+    assert len(overruns) == run.events_by_kind()["overrun"] > 100
+    ticks = t.column(paths.TICK).to_numpy()
+    ns = t.column(paths.TIME).cast("int64").to_numpy()
+    cycles = t.column(paths.CYCLE).to_numpy()
+    step_ns = np.round(run.time_s * 1e9).astype(np.int64)
+    for i in overruns:
+        k = int(re.match(r"\[overrun\] tick (\d+):", text[i]).group(1))
+        assert ticks[i] == k, text[i]
+        assert ns[i] == k * 300_000, "the overrun is stamped at its tick (300 µs period)"
+        assert level[i] == "ERROR"
+        # The cycle under way: the first attitude step computed at or after the event.
+        j = np.searchsorted(step_ns, ns[i])
+        assert cycles[i] == (run.step[j] if j < run.cycles else run.step[-1] + 1)
+    # The budget view has one row per ISR that ran, and the late ones end past their deadline.
+    busy = query(store, paths.TICK, paths.BUDGET_MARGIN)
+    assert busy.num_rows == int(run.isr_ran.sum()) < len(run.budget["tick"])
+    assert np.any(scalars(busy, "/" + paths.BUDGET_MARGIN)[:, 0] < 0)
+
+
+def test_replay_spawn_without_a_display_fails_cleanly(short_trace, tmp_path, monkeypatch):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    r = run_cli("replay", str(short_trace), "--spawn")
+    assert r.code == 2
+    assert "cannot open the Rerun viewer" in r.err and "--save" in r.err and "Traceback" not in r.err
+    out = tmp_path / "kept.rrd"
+    r = run_cli("replay", str(short_trace), "--spawn", "--save", str(out))
+    assert r.code == 2 and "was saved to" in r.err
+    assert out.stat().st_size > 0
+
+
+def test_replay_usage_errors(short_trace, tmp_path):
+    r = run_cli("replay", str(short_trace))
+    assert r.code == 2 and "--save" in r.err
+    r = run_cli("replay", str(short_trace), "--save", str(tmp_path / "x.txt"))
+    assert r.code == 2 and ".rrd" in r.err
+    r = run_cli("replay", str(short_trace), "--save", str(tmp_path / "x.rrd"), "--bus-ticks", "9:3")
+    assert r.code == 2 and "FIRST <= LAST" in r.err
+    assert not (tmp_path / "x.rrd").exists()
+
+
+# --- the static report --------------------------------------------------------------------------
+
+
+def png_size(path: Path) -> tuple[int, int]:
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR"
+    return struct.unpack(">II", data[16:24])
+
+
+def test_report_png_is_drawn_from_the_run(run, tmp_path):
+    from sins_fw.report_page import DPI, FIGSIZE, save_report
+
+    out, axes = save_report(run, tmp_path / "r.png", title="static")
+    assert png_size(out) == (round(FIGSIZE[0] * DPI), round(FIGSIZE[1] * DPI))
+    lines = {ln.get_label(): ln for ln in axes.attitude.get_lines()}
+    err = attitude_errors(run.quat, run.truth_q)
+    assert np.array_equal(lines["total (rotation angle)"].get_xdata(), run.time_s)
+    assert np.array_equal(lines["total (rotation angle)"].get_ydata(), err.total)
+    assert np.array_equal(lines["yaw error"].get_ydata(), err.yaw)
+    budget = {ln.get_label(): ln for ln in axes.budget.get_lines()}
+    assert np.allclose(budget["ISR busy"].get_ydata(), run.busy_s * 1e6, rtol=1e-12, atol=0)
+    assert axes.events.texts[0].get_text() == "no events"
+
+
+def test_report_cli_writes_a_png(short_trace, tmp_path):
+    out = tmp_path / "static.png"
+    r = run_cli("report", str(short_trace), "--png", str(out), "--set", "timer.period_us=300", "--json")
+    assert r.code == 0, r.err
+    assert png_size(out) == (1100, 850)
+    assert '"overrun"' in r.out
