@@ -35,11 +35,15 @@ def test_unknown_option_is_usage_error_without_traceback():
     assert "--no-such-option" in r.err
 
 
-def test_demo_json_is_one_object():
-    r = run_cli("demo", "--json")
+def test_demo_json_is_one_object(tmp_path):
+    r = run_cli("demo", "--json", "--out-dir", str(tmp_path))
     assert r.code == 0, r.err
     report = json.loads(r.out)
     assert report["version"] == sins_fw.__version__
+    assert set(report["traces"]) == {"static_60s.h5", "pitch_sweep.h5", "coning_10hz.h5"}
+    assert 0.85 <= report["budget"]["solution"]["ratio"] <= 1.15
+    assert all(p["passed"] for p in report["parity"].values())
+    assert (tmp_path / "pitch_sweep.rrd").stat().st_size > 0
 
 
 def test_board_reference_reports_750khz_mode3():

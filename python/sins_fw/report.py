@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw import metrics
+from sins_fw import budget, metrics
 from sins_fw import quaternion as quat
 from sins_fw.harness import PS, Run
 
@@ -71,22 +71,21 @@ def events_summary(run: Run) -> dict[str, Any]:
 
 
 def budget_summary(run: Run) -> dict[str, Any]:
-    """ISR utilisation of the tick period (max, mean), overruns, skipped ticks, SPI violations."""
-    b = run.budget
-    ran = b["deadline_ps"] > b["tick_ps"]  # skipped ticks (dropped or lost) have no deadline
-    period = (b["deadline_ps"][ran] - b["tick_ps"][ran]).astype(np.float64)
-    busy = (b["end_ps"][ran] - b["start_ps"][ran]).astype(np.float64)
-    util = busy / period if len(period) else np.zeros(0)
+    """The run's time budget: the flat view `sins-fw run` prints of :func:`sins_fw.budget.summarise`
+    (ISR utilisation of the tick period, overruns, skipped ticks, SPI violations), plus that full
+    summary under ``detail``."""
+    full = budget.summarise(run)
     return {
-        "ticks": len(b["tick"]),
-        "tick_period_s": float(period[0]) * PS if len(period) else None,
-        "isr_max_s": float(busy.max()) * PS if len(busy) else None,
-        "isr_mean_s": float(busy.mean()) * PS if len(busy) else None,
-        "utilisation_max": float(util.max()) if len(util) else None,
-        "utilisation_mean": float(util.mean()) if len(util) else None,
-        "overruns": int(np.count_nonzero(b["overrun"])),
-        "ticks_skipped": int(np.count_nonzero(~ran)),
-        "spi_violations": sum(1 for e in run.events if is_spi_violation(e["kind"])),
+        "ticks": full["ticks"],
+        "tick_period_s": full["tick_period_s"],
+        "isr_max_s": full["busy"]["max"],
+        "isr_mean_s": full["busy"]["mean"],
+        "utilisation_max": full["utilisation"]["max"],
+        "utilisation_mean": full["utilisation"]["mean"],
+        "overruns": full["overruns"]["count"],
+        "ticks_skipped": len(full["overruns"]["skipped_ticks"]),
+        "spi_violations": sum(v["count"] for v in full["violations"] if is_spi_violation(v["kind"])),
+        "detail": full,
     }
 
 
