@@ -50,8 +50,10 @@ def main() -> None:
         exact = rate == "4096/5"
         predicted = np.degrees(predicted_drift(None if exact else float(Fraction(rate)))) * 3600
         rows.append((label, measured, predicted))
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if "model name" in line), "?")
+    git = ["git", "rev-parse", "--short", "HEAD"]
+    commit = subprocess.run(git, capture_output=True, text=True, check=False).stdout.strip()
+    cpuinfo = Path("/proc/cpuinfo").read_text(encoding="utf-8").splitlines()
+    cpu = next((line.split(":", 1)[1].strip() for line in cpuinfo if "model name" in line), "?")
     lines = [
         "# Resampling a coning trace onto the device clock",
         "",
