@@ -9,6 +9,7 @@ use sins_core::profile::Profile;
 use sins_core::time::ps_to_s;
 use sins_core::timing::CostTable;
 
+mod board;
 mod emulate;
 mod errors;
 
@@ -117,5 +118,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(preset_names, m)?)?;
     m.add_function(wrap_pyfunction!(_selftest_panic, m)?)?;
     m.add_class::<emulate::Emulator>()?;
+    m.add_class::<board::Board>()?;
+    m.add_function(wrap_pyfunction!(board::encode, m)?)?;
+    m.add_function(wrap_pyfunction!(board::decode, m)?)?;
     Ok(())
 }
