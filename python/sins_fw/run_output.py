@@ -11,8 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw.errors import InputError
-from sins_fw.harness import Run
+from sins_fw.errors import CheckFailed, InputError
+from sins_fw.harness import Run, emulate
+from sins_fw.profile import load_profile
 from sins_fw.traces import Column, _open, _Schema, _write
 
 RUN_FORMAT = "sins-fw-run-output/1"
@@ -101,3 +102,31 @@ def load_run(path: str | os.PathLike[str]) -> tuple[dict[str, str], dict[str, np
     blocks = list(src.blocks)
     cols: dict[str, Any] = {n: np.concatenate([b[n] for b in blocks]) for n in blocks[0]} if blocks else {}
     return src.metadata, cols
+
+
+def replay_check(
+    path: str | os.PathLike[str], bus_window: tuple[int, int] | None = None
+) -> tuple[Run, dict[str, str]]:
+    """Re-emulate a saved run from what its metadata records (trace, profile, overrides) and check
+    that every per-step value comes out bit for bit the same, like ArduPilot's replay checker. Returns
+    the new Run and the metadata; raises CheckFailed naming the first differing column and row."""
+    meta, saved = load_run(path)
+    trace = meta.get("trace")
+    if not trace:
+        raise InputError(f"{path}: run output without a `trace` entry in its metadata: cannot replay it")
+    overrides = [o for o in meta.get("overrides", "").split(" ") if o]
+    run = emulate(trace, load_profile(meta.get("profile", "reference"), overrides), bus_window=bus_window)
+    fresh = run_columns(run)
+    for name, column in saved.items():
+        if name not in fresh:
+            raise CheckFailed(f"{path}: column `{name}` is not produced by the replay")
+        a, b = np.asarray(column), np.asarray(fresh[name])
+        if a.shape != b.shape:
+            raise CheckFailed(f"{path}: column `{name}` has {len(a)} rows, the replay {len(b)}")
+        same = (a == b) | (np.isnan(a) & np.isnan(b)) if a.dtype.kind == "f" else a == b
+        if not same.all():
+            row = int(np.argmin(same))
+            raise CheckFailed(
+                f"{path}: replay differs at row {row}, column `{name}`: saved {a[row]!r}, now {b[row]!r}"
+            )
+    return run, meta

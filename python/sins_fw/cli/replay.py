@@ -17,7 +17,8 @@ from pathlib import Path
 from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
 from sins_fw.errors import InputError
 from sins_fw.harness import emulate
-from sins_fw.traces import PhysicalTrace
+from sins_fw.run_output import RUN_FORMAT, replay_check
+from sins_fw.traces import PhysicalTrace, read_metadata
 
 NUMERICS = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
 
@@ -35,7 +36,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         "register words with ND/EA, sample age, the ISR budget per tick, events, and the SPI bus "
         "(CS, frames with DIN/DOUT, stalls) for a window of ticks. Open it with `rerun FILE.rrd`.",
     )
-    p.add_argument("trace", type=Path, metavar="TRACE", help="physical trace (.h5 or .csv)")
+    p.add_argument(
+        "trace",
+        type=Path,
+        metavar="TRACE_OR_RUN",
+        help="physical trace (.h5 or .csv), or a `sins-fw run --out` file: re-emulated from its recorded "
+        "trace and profile and checked bit for bit against it (exit 1 on a difference)",
+    )
     add_profile_options(p)
     p.add_argument("--save", type=Path, metavar="FILE.rrd", help="write the recording to this file")
     p.add_argument(
@@ -107,9 +114,15 @@ def run(args: argparse.Namespace) -> int:
             f"cannot open the Rerun viewer: {problem}; use --save FILE.rrd and open it "
             "with `rerun FILE.rrd` where a display is available"
         )
-    profile = profile_from_args(args)
-    trace = PhysicalTrace.load(args.trace)
-    run_ = emulate(trace, profile, bus_window=window)
+    if read_metadata(args.trace).get("format") == RUN_FORMAT:
+        # A saved run: replay it from its recorded inputs and check it before showing it.
+        run_, meta = replay_check(args.trace, bus_window=window)
+        profile = run_.profile
+        trace = PhysicalTrace.load(meta["trace"])
+    else:
+        profile = profile_from_args(args)
+        trace = PhysicalTrace.load(args.trace)
+        run_ = emulate(trace, profile, bus_window=window)
     parity = {
         name: emulate(trace, profile, overrides=[f"firmware.numeric={name}"])
         for name in args.parity
