@@ -90,8 +90,16 @@ class Run:
         return self.read_age_ps.astype(np.float64) * PS
 
 
-def _chunks(trace: PhysicalTrace | str | os.PathLike[str], rows: int) -> Iterator[PhysicalTrace]:
-    if isinstance(trace, PhysicalTrace):
+#: What `emulate` accepts: a whole trace, a trace file, or an iterable of consecutive chunks (a
+#: generator of PhysicalTrace, for inputs too long to hold in memory).
+TraceInput = PhysicalTrace | str | os.PathLike[str] | Iterable[PhysicalTrace]
+
+
+def _chunks(trace: TraceInput, rows: int) -> Iterator[PhysicalTrace]:
+    if not isinstance(trace, PhysicalTrace | str | os.PathLike):
+        for chunk in trace:
+            yield from _chunks(chunk, rows)
+    elif isinstance(trace, PhysicalTrace):
         for i in range(0, len(trace), rows):
             s = slice(i, i + rows)
             yield PhysicalTrace(
@@ -129,18 +137,25 @@ def new_emulator(profile: Profile) -> Any:
 
 
 def emulate(
-    trace: PhysicalTrace | str | os.PathLike[str],
+    trace: TraceInput,
     profile: Profile | str = "reference",
     *,
     overrides: Iterable[str] = (),
     chunk_rows: int = CHUNK_ROWS,
     on_chunk: Callable[[float], None] | None = None,
     keep_truth: bool = True,
+    sink: Callable[[dict[str, Any]], None] | None = None,
 ) -> Run:
-    """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace or a trace file).
+    """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace, a trace file, or an iterable of
+    consecutive PhysicalTrace chunks).
 
     ``overrides`` are ``key=value`` profile overrides; ``on_chunk`` is called with the trace time
     reached after each chunk (for progress bars).
+
+    ``sink`` streams the output instead of keeping it (for runs of hours: 24 h keep ~1.7 GB): it is
+    called with each chunk's output, a dict of numpy arrays keyed ``cycle_*``, ``read_*``,
+    ``budget_*`` (the columns of :class:`Run`, times in integer ps) plus ``events``; the returned
+    Run then holds no rows (every array empty, no truth) and memory stays flat.
     """
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     if overrides:
@@ -166,8 +181,8 @@ def emulate(
             None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c),
         )
         emu.run()
-        parts.append(emu.take())
-        if keep_truth and chunk.truth_q is not None:
+        _collect(emu.take(), parts, sink)
+        if keep_truth and sink is None and chunk.truth_q is not None:
             truth.append(chunk.truth_q)
             truth_t.append(t)
             if chunk.moving is not None:
@@ -176,7 +191,7 @@ def emulate(
             on_chunk(float(chunk.t_s[-1]))
     emu.end()
     emu.run()
-    parts.append(emu.take())
+    _collect(emu.take(), parts, sink)
     run = _assemble(prof, t0 or 0.0, parts, dict(emu.stage_cycles()))
     if truth:
         tt = np.concatenate(truth_t)
@@ -186,6 +201,18 @@ def emulate(
             idx = np.clip(np.searchsorted(tt, run.time_s, side="right") - 1, 0, len(tt) - 1)
             run.moving = mv[idx]
     return run
+
+
+def _collect(
+    part: dict[str, Any], parts: list[dict[str, Any]], sink: Callable[[dict[str, Any]], None] | None
+) -> None:
+    """Keep a chunk's output, or hand it to the sink and keep only its (empty) shape."""
+    if sink is None:
+        parts.append(part)
+        return
+    sink(part)
+    if not parts:
+        parts.append({k: v[:0] if hasattr(v, "shape") else [] for k, v in part.items()})
 
 
 def _truth_at(t: Array, q: Array, at: Array) -> Array:

@@ -77,12 +77,33 @@ fn board_summary<'py>(
     Ok(d)
 }
 
+/// The benchmark's lower bound: the firmware's RK4 step alone in f64 over pre-decoded rates (n×3,
+/// rad/s, two rows per step). Returns (steps, final quaternion); the caller times the call (it runs
+/// on the calling thread with the GIL released, so `time.thread_time()` counts it).
+#[pyfunction]
+fn bench_rk4_lower_bound(
+    py: Python<'_>,
+    rates: numpy::PyReadonlyArray2<'_, f64>,
+    step_s: f64,
+) -> PyResult<(u64, [f64; 4])> {
+    let v = rates.as_array();
+    if v.ncols() != 3 {
+        return Err(to_py(sins_core::Error::Input(format!("rates: shape {:?}, expected (n, 3)", v.shape()))));
+    }
+    let rows: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+    Ok(py.detach(|| {
+        let (q, steps) = sins_core::emulator::bench::rk4_lower_bound(&rows, step_s);
+        (steps, q)
+    }))
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", sins_core::VERSION)?;
     m.add_function(wrap_pyfunction!(resolve_profile, m)?)?;
     m.add_function(wrap_pyfunction!(profile_keys, m)?)?;
     m.add_function(wrap_pyfunction!(board_summary, m)?)?;
+    m.add_function(wrap_pyfunction!(bench_rk4_lower_bound, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     Ok(())
 }

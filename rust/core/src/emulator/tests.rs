@@ -273,3 +273,75 @@ fn outputs_are_pinned_bit_for_bit() {
         assert_eq!(*h, want, "{name}: the outputs changed (digest 0x{h:016x}, pinned 0x{want:016x})");
     }
 }
+
+/// Emulated 8 ms cycles per second of CPU time of the full pipeline. Run with `cargo test --release
+/// -p sins-core --lib emulator::tests::throughput -- --ignored --nocapture` (the `sins-fw bench`
+/// suite measures the same through the Python API).
+#[test]
+#[ignore = "timing measurement: run in release"]
+fn throughput() {
+    let cpu_s = || {
+        std::fs::read_to_string("/proc/thread-self/schedstat")
+            .ok()
+            .and_then(|s| s.split_whitespace().next().and_then(|v| v.parse::<f64>().ok()))
+            .map(|ns| ns * 1e-9)
+    };
+    let seconds: f64 = std::env::var("SINS_BENCH_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(200.0);
+    let n = (seconds * 819.2) as usize;
+    let t: Vec<f64> = (0..n).map(|i| i as f64 / 819.2).collect();
+    let p: Vec<Physical> = t
+        .iter()
+        .map(|&t| Physical {
+            gyro_dps: [10.0 * (6.0 * t).sin(), 10.0 * (6.0 * t).cos(), 1.0],
+            accel_g: [0.0, 0.0, 1.0],
+            ..Physical::powered_idle()
+        })
+        .collect();
+    let cases: [(&str, &[&str]); 5] = [
+        ("f64 adis16407", &["firmware.numeric=\"f64\"", "errors.preset=adis16407"]),
+        ("f64 ideal", &["firmware.numeric=\"f64\""]),
+        ("c28x-f32 adis16407", &["errors.preset=adis16407"]),
+        ("iq adis16407", &["firmware.numeric=\"iq\"", "errors.preset=adis16407"]),
+        ("bit f64 adis16407", &["firmware.numeric=\"f64\"", "errors.preset=adis16407", "spi.level=\"bit\""]),
+    ];
+    let only = std::env::var("SINS_BENCH_CASE").ok();
+    for (name, ov) in cases {
+        if only.as_deref().is_some_and(|o| o != name) {
+            continue;
+        }
+        let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+        let profile = Profile::from_toml("", "bench", &ov).unwrap();
+        let steps = crate::numerics::iq::with_formats(&profile.iq, || -> (usize, f64) {
+            fn go<T: Scalar>(
+                profile: &Profile,
+                t: &[f64],
+                p: &[Physical],
+                cpu_s: impl Fn() -> Option<f64>,
+            ) -> (usize, f64) {
+                let start = (cpu_s().unwrap_or(0.0), std::time::Instant::now());
+                let mut emu = Emulator::<T>::new(profile, &costs()).unwrap();
+                let mut steps = 0;
+                for (tc, pc) in t.chunks(1 << 16).zip(p.chunks(1 << 16)) {
+                    emu.push_input(tc, pc.to_vec()).unwrap();
+                    emu.run().unwrap();
+                    steps += emu.take_output().cycles.len();
+                }
+                emu.end_input();
+                emu.run().unwrap();
+                steps += emu.take_output().cycles.len();
+                let secs = match cpu_s() {
+                    Some(b) => b - start.0,
+                    None => start.1.elapsed().as_secs_f64(),
+                };
+                (steps, secs)
+            }
+            match profile.firmware.numeric {
+                crate::profile::Numeric::F64 => go::<f64>(&profile, &t, &p, cpu_s),
+                crate::profile::Numeric::Iq => go::<crate::numerics::Iq>(&profile, &t, &p, cpu_s),
+                _ => go::<crate::numerics::C28xF32Rn>(&profile, &t, &p, cpu_s),
+            }
+        })
+        .unwrap();
+        println!("{name:>22}: {:>10.0} cycles/s ({} steps in {:.3} s CPU)", steps.0 as f64 / steps.1, steps.0, steps.1);
+    }
+}
