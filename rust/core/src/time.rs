@@ -224,7 +224,8 @@ mod tests {
         let mut n = 0x243F_6A88_85A3_08D3u64;
         for d in divisors {
             let div = Divisor::new(d);
-            let edge = [0, 1, d - 1, d, d.wrapping_add(1), u64::MAX - 1, u64::MAX, u64::MAX / d * d, u64::MAX / d * d - 1];
+            let edge =
+                [0, 1, d - 1, d, d.wrapping_add(1), u64::MAX - 1, u64::MAX, u64::MAX / d * d, u64::MAX / d * d - 1];
             for i in 0..10_000 {
                 n = n.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
                 let x = if i < edge.len() { edge[i] } else { n >> (i % 64) };

@@ -164,6 +164,13 @@ impl<T: Scalar> Emulator<T> {
             return Ok(if self.feed.ended() { Progress::Finished } else { Progress::NeedInput });
         };
         let ended = self.feed.ended();
+        // Room for the rows this call will add, at once (growing by doubling copies them again and
+        // again); capped, so a sparse input cannot make it reserve more than a few tens of MB.
+        let ticks_ahead = (last_s / ps_to_s(self.timer.tick_ps(1))) as u64;
+        let ticks_ahead = ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(1 << 18) as usize;
+        self.out.budget.reserve(ticks_ahead);
+        self.out.reads.reserve(ticks_ahead * self.bursts_per_tick);
+        self.out.cycles.reserve(ticks_ahead);
         loop {
             let tick_ps = self.timer.tick_ps(self.tick);
             let horizon_ps = if ended { tick_ps } else { self.timer.tick_ps(self.tick + 1) };
