@@ -54,7 +54,7 @@ impl Divisor {
     }
 
     /// ⌊n / d⌋.
-    pub fn div(self, n: u64) -> u64 {
+    pub fn quotient(self, n: u64) -> u64 {
         self.div_rem(n).0
     }
 
@@ -125,7 +125,7 @@ impl Clock {
     /// Time of `cycles` whole cycles, floored to the picosecond.
     pub fn cycles_to_ps(self, cycles: u64) -> Ps {
         match cycles.checked_mul(self.ps_num.get()) {
-            Some(p) if self.ps_num.get() != u64::MAX => self.ps_den.div(p),
+            Some(p) if self.ps_num.get() != u64::MAX => self.ps_den.quotient(p),
             _ => ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps,
         }
     }
@@ -133,7 +133,7 @@ impl Clock {
     /// Whole cycles completed by time `t` (floor).
     pub fn ps_to_cycles(self, t: Ps) -> u64 {
         match t.checked_mul(self.ps_den.get()) {
-            Some(n) if self.ps_num.get() != u64::MAX => self.ps_num.div(n),
+            Some(n) if self.ps_num.get() != u64::MAX => self.ps_num.quotient(n),
             _ => ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64,
         }
     }
