@@ -7,7 +7,6 @@ import json
 import math
 
 from conftest import run_cli
-
 from sins_fw.bench import CASES
 
 

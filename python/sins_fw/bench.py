@@ -194,7 +194,9 @@ def long_trace(duration_s: float, rows: int = 1 << 16) -> Iterator[PhysicalTrace
         gyro = np.stack([np.full_like(t, 0.0), -a * w * np.sin(w * t), a * w * np.cos(w * t) + 0.1], axis=1)
         accel = np.zeros((len(t), 3))
         accel[:, 2] = 1.0
-        yield PhysicalTrace(t_s=t, gyro_dps=np.degrees(gyro), accel_g=accel, metadata={"sample_rate_hz": "819.2"})
+        yield PhysicalTrace(
+            t_s=t, gyro_dps=np.degrees(gyro), accel_g=accel, metadata={"sample_rate_hz": "819.2"}
+        )
 
 
 def long_run(overrides: tuple[str, ...], duration_s: float) -> dict[str, Any]:
@@ -224,7 +226,9 @@ def long_run(overrides: tuple[str, ...], duration_s: float) -> dict[str, Any]:
 
 def _seeded_run(args: tuple[tuple[str, ...], float, int]) -> int:
     overrides, duration_s, seed = args
-    return emulate(coning_trace(duration_s), overrides=(*overrides, f"errors.seed={seed}"), keep_truth=False).cycles
+    return emulate(
+        coning_trace(duration_s), overrides=(*overrides, f"errors.seed={seed}"), keep_truth=False
+    ).cycles
 
 
 def monte_carlo(overrides: tuple[str, ...], duration_s: float, runs: int) -> dict[str, Any]:
@@ -272,7 +276,9 @@ def machine() -> dict[str, Any]:
         commit = subprocess.run(
             ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False
         ).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain"], capture_output=True, text=True, check=False).stdout
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain"], capture_output=True, text=True, check=False
+        ).stdout
         commit = (commit + ("+dirty" if dirty.strip() else "")) or "unknown"
     except OSError:
         commit = "unknown"
@@ -295,7 +301,11 @@ def run_suite(quick: bool = False, progress: Callable[[str], None] | None = None
     duration = 20.0 if quick else 240.0
     repeats = 1 if quick else 5
     long_s = 120.0 if quick else 86_400.0
-    report: dict[str, Any] = {"quick": quick, "machine": machine(), "input": f"coning 1° 10 Hz, {duration:g} s"}
+    report: dict[str, Any] = {
+        "quick": quick,
+        "machine": machine(),
+        "input": f"coning 1° 10 Hz, {duration:g} s",
+    }
     pipeline = {}
     for name, overrides in CASES.items():
         say(f"pipeline {name} …")
@@ -361,12 +371,14 @@ def render(report: dict[str, Any]) -> str:
     lines = [
         "# Benchmarks",
         "",
-        f"- date: {m['date']}; commit: `{m['commit']}`{' (quick run: rough figures)' if report['quick'] else ''}",
+        f"- date: {m['date']}; commit: `{m['commit']}`"
+        + (" (quick run: rough figures)" if report["quick"] else ""),
         f"- machine: `{m['uname']}`; CPU: {m['cpu']}; cores: {m['cores']}",
         f"- load average before / after: {' '.join(f'{x:.2f}' for x in m['load_average'])} / "
         f"{' '.join(f'{x:.2f}' for x in m.get('load_average_after', []))} (a shared machine: rates are per "
         "CPU second of the measuring thread, wall-clock rates beside them)",
-        f"- input: {report['input']} at 819.2 SPS; medians of repeated runs; one emulated cycle = one 8 ms step",
+        f"- input: {report['input']} at 819.2 SPS; medians of repeated runs; "
+        "one emulated cycle = one 8 ms step",
         "",
         "| case | cycles | cycles/s (CPU) | cycles/s (wall) | × real time | peak RSS MB |",
         "|---|---:|---:|---:|---:|---:|",

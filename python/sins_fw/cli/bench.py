@@ -12,7 +12,9 @@ from sins_fw.cli.common import add_json_option, emit
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("bench", help="measure emulated cycles per second and memory against baselines")
-    p.add_argument("--quick", action="store_true", help="short inputs (seconds, rough figures; for the smoke test)")
+    p.add_argument(
+        "--quick", action="store_true", help="short inputs (seconds, rough figures; for the smoke test)"
+    )
     p.add_argument("--output", type=Path, metavar="FILE", help="also write the report as Markdown to FILE")
     add_json_option(p)
     p.set_defaults(func=run)
