@@ -36,7 +36,7 @@ fmt: $(DEPS)
 	$(BIN)/ruff check --fix python tests benchmarks
 
 bench: $(BUILT)
-	$(BIN)/sins-fw bench
+	$(BIN)/sins-fw bench --output benchmarks/results.md
 
 # Regenerate tests/golden/hashes.toml (f64 output hashes on the bundled traces), printing old → new.
 golden: $(BUILT)

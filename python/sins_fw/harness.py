@@ -102,8 +102,16 @@ class Run:
         return self.budget["deadline_ps"] > self.budget["tick_ps"]
 
 
-def _chunks(trace: PhysicalTrace | str | os.PathLike[str], rows: int) -> Iterator[PhysicalTrace]:
-    if isinstance(trace, PhysicalTrace):
+#: What `emulate` accepts: a whole trace, a trace file, or an iterable of consecutive chunks (a
+#: generator of PhysicalTrace, for inputs too long to hold in memory).
+TraceInput = PhysicalTrace | str | os.PathLike[str] | Iterable[PhysicalTrace]
+
+
+def _chunks(trace: TraceInput, rows: int) -> Iterator[PhysicalTrace]:
+    if not isinstance(trace, PhysicalTrace | str | os.PathLike):
+        for chunk in trace:
+            yield from _chunks(chunk, rows)
+    elif isinstance(trace, PhysicalTrace):
         for i in range(0, len(trace), rows):
             s = slice(i, i + rows)
             yield PhysicalTrace(
@@ -170,7 +178,7 @@ def _toml_value(value: Any, name: str) -> str:
 
 
 def emulate(
-    trace: PhysicalTrace | str | os.PathLike[str],
+    trace: TraceInput,
     profile: Profile | str = "reference",
     *,
     overrides: Iterable[str] = (),
@@ -178,9 +186,11 @@ def emulate(
     on_chunk: Callable[[float], None] | None = None,
     keep_truth: bool = True,
     bus_window: tuple[int, int] | None = None,
+    sink: Callable[[dict[str, Any]], None] | None = None,
     **settings: Any,
 ) -> Run:
-    """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace or a trace file).
+    """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace, a trace file, or an iterable of
+    consecutive PhysicalTrace chunks).
 
     Profile overrides come as ``key=value`` texts in ``overrides`` and/or as keywords with ``__`` for
     the dot, applied after them: ``emulate(trace, spi__spibrr=9, firmware__numeric="iq")`` is
@@ -188,6 +198,11 @@ def emulate(
     with the trace time reached after each chunk (for progress bars). ``bus_window=(first_tick,
     last_tick)`` records the SPI bus (CS edges and frames) of the ISRs of those timer ticks into
     ``Run.bus``; the log is on only around the window, so a long run stays fast and small.
+
+    ``sink`` streams the output instead of keeping it (for runs of hours: 24 h keep ~1.7 GB): it is
+    called with each chunk's output, a dict of numpy arrays keyed ``cycle_*``, ``read_*``,
+    ``budget_*`` (the columns of :class:`Run`, times in integer ps) plus ``events``; the returned
+    Run then holds no rows (every array empty, no truth) and memory stays flat.
     """
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     every = [*overrides, *keyword_overrides(settings)]
@@ -217,10 +232,10 @@ def emulate(
                 None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c[s]),
             )
             emu.run()
-            parts.append(emu.take())
+            _collect(emu.take(), parts, sink)
             if bus is not None:
                 bus.after(parts[-1])
-        if keep_truth and chunk.truth_q is not None:
+        if keep_truth and sink is None and chunk.truth_q is not None:
             if not truth:
                 truth_q0 = chunk.truth_q[0].copy()
             truth.append(chunk.truth_q)
@@ -231,7 +246,7 @@ def emulate(
             on_chunk(float(chunk.t_s[-1]))
     emu.end()
     emu.run()
-    parts.append(emu.take())
+    _collect(emu.take(), parts, sink)
     run = _assemble(prof, t0 or 0.0, parts, dict(emu.stage_cycles()))
     run.truth_q0 = truth_q0
     if bus is not None:
@@ -244,6 +259,18 @@ def emulate(
             idx = np.clip(np.searchsorted(tt, run.time_s, side="right") - 1, 0, len(tt) - 1)
             run.moving = mv[idx]
     return run
+
+
+def _collect(
+    part: dict[str, Any], parts: list[dict[str, Any]], sink: Callable[[dict[str, Any]], None] | None
+) -> None:
+    """Keep a chunk's output, or hand it to the sink and keep only its (empty) shape."""
+    if sink is None:
+        parts.append(part)
+        return
+    sink(part)
+    if not parts:
+        parts.append({k: v[:0] if hasattr(v, "shape") else [] for k, v in part.items()})
 
 
 def _truth_at(t: Array, q: Array, at: Array) -> Array:

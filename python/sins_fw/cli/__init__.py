@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 from sins_fw import __version__
 from sins_fw.cli import (
+    bench,
     board,
     budget,
     demo,
@@ -29,7 +30,7 @@ from sins_fw.cli import (
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError
 
 #: The subcommands, in the order `--help` lists them.
-COMMANDS = (demo, run, board, budget, parity, replay, report, synth, importer, presets, montecarlo)
+COMMANDS = (demo, run, board, budget, parity, replay, report, synth, importer, presets, montecarlo, bench)
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 

@@ -18,6 +18,53 @@ pub fn s_to_ps(s: f64) -> Ps {
     (s * PS_PER_S as f64).round().max(0.0) as Ps
 }
 
+/// Exact division of u64 values by a fixed divisor, with the reciprocal computed once: a multiply
+/// (high half of a 64×64-bit product) and at most one correction instead of a hardware divide, which
+/// costs several times more and sits on the emulator's per-frame path (every time conversion).
+///
+/// With r = ⌊(2⁶⁴ − 1)/d⌋, the estimate ⌊n·r/2⁶⁴⌋ is ⌊n/d⌋ or one less (2⁶⁴ − d·r ≤ d, so the
+/// estimate errs by less than n/2⁶⁴ < 1); the remainder test fixes it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Divisor {
+    d: u64,
+    reciprocal: u64,
+}
+
+impl Divisor {
+    /// Division by `d` (> 0; a zero divisor is clamped to 1, which callers rule out).
+    pub fn new(d: u64) -> Self {
+        let d = d.max(1);
+        Divisor { d, reciprocal: u64::MAX / d }
+    }
+
+    /// The divisor.
+    pub fn get(self) -> u64 {
+        self.d
+    }
+
+    /// ⌊n / d⌋ and n mod d.
+    pub fn div_rem(self, n: u64) -> (u64, u64) {
+        let q = ((n as u128 * self.reciprocal as u128) >> 64) as u64;
+        let r = n - q * self.d;
+        if r >= self.d {
+            (q + 1, r - self.d)
+        } else {
+            (q, r)
+        }
+    }
+
+    /// ⌊n / d⌋.
+    pub fn quotient(self, n: u64) -> u64 {
+        self.div_rem(n).0
+    }
+
+    /// ⌈n / d⌉.
+    pub fn div_ceil(self, n: u64) -> u64 {
+        let (q, r) = self.div_rem(n);
+        q + u64::from(r != 0)
+    }
+}
+
 /// A clock of rational frequency `num/den` hertz.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Clock {
@@ -25,8 +72,8 @@ pub struct Clock {
     den: u64,
     /// One cycle is `ps_num/ps_den` ps, reduced (a function of num/den, so equality is unchanged):
     /// lets `cycles_to_ps` use one u64 multiply and divide when the product fits (the hot path).
-    ps_num: u64,
-    ps_den: u64,
+    ps_num: Divisor,
+    ps_den: Divisor,
 }
 
 impl Clock {
@@ -40,7 +87,7 @@ impl Clock {
         let h = gcd128(ps_total, num as u128);
         // When the reduced numerator does not fit u64 the fast path is disabled (u64::MAX overflows).
         let ps_num = u64::try_from(ps_total / h).unwrap_or(u64::MAX);
-        Clock { num, den, ps_num, ps_den: (num as u128 / h) as u64 }
+        Clock { num, den, ps_num: Divisor::new(ps_num), ps_den: Divisor::new((num as u128 / h) as u64) }
     }
 
     /// A clock of a whole number of hertz.
@@ -77,24 +124,24 @@ impl Clock {
 
     /// Time of `cycles` whole cycles, floored to the picosecond.
     pub fn cycles_to_ps(self, cycles: u64) -> Ps {
-        match cycles.checked_mul(self.ps_num) {
-            Some(p) if self.ps_num != u64::MAX => p / self.ps_den,
+        match cycles.checked_mul(self.ps_num.get()) {
+            Some(p) if self.ps_num.get() != u64::MAX => self.ps_den.quotient(p),
             _ => ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps,
         }
     }
 
     /// Whole cycles completed by time `t` (floor).
     pub fn ps_to_cycles(self, t: Ps) -> u64 {
-        match t.checked_mul(self.ps_den) {
-            Some(n) if self.ps_num != u64::MAX => n / self.ps_num,
+        match t.checked_mul(self.ps_den.get()) {
+            Some(n) if self.ps_num.get() != u64::MAX => self.ps_num.quotient(n),
             _ => ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64,
         }
     }
 
     /// The first cycle boundary at or after `t`, as a cycle count (ceil).
     pub fn ps_to_cycles_ceil(self, t: Ps) -> u64 {
-        if let Some(n) = t.checked_mul(self.ps_den).filter(|_| self.ps_num != u64::MAX) {
-            return n.div_ceil(self.ps_num);
+        if let Some(n) = t.checked_mul(self.ps_den.get()).filter(|_| self.ps_num.get() != u64::MAX) {
+            return self.ps_num.div_ceil(n);
         }
         let n = t as u128 * self.num as u128;
         let d = PS_PER_S as u128 * self.den as u128;
@@ -167,6 +214,23 @@ mod tests {
                 let num = t as u128 * c.num as u128;
                 assert_eq!(c.ps_to_cycles(t) as u128, num / d, "{c:?} {t}");
                 assert_eq!(c.ps_to_cycles_ceil(t) as u128, num.div_ceil(d), "{c:?} {t}");
+            }
+        }
+    }
+
+    #[test]
+    fn divisor_is_exact() {
+        let divisors = [1, 2, 3, 7, 10, 1_000, 20_000, 1_220_703_125, 1 << 32, (1 << 63) + 1, u64::MAX - 1, u64::MAX];
+        let mut n = 0x243F_6A88_85A3_08D3u64;
+        for d in divisors {
+            let div = Divisor::new(d);
+            let edge =
+                [0, 1, d - 1, d, d.wrapping_add(1), u64::MAX - 1, u64::MAX, u64::MAX / d * d, u64::MAX / d * d - 1];
+            for i in 0..10_000 {
+                n = n.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                let x = if i < edge.len() { edge[i] } else { n >> (i % 64) };
+                assert_eq!(div.div_rem(x), (x / d, x % d), "{x} / {d}");
+                assert_eq!(div.div_ceil(x), x.div_ceil(d), "{x} / {d}");
             }
         }
     }

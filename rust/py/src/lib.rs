@@ -108,6 +108,26 @@ fn preset_names() -> Vec<&'static str> {
     sins_core::device::error_model::PRESET_NAMES.to_vec()
 }
 
+/// The benchmark's lower bound: the firmware's RK4 step alone in f64 over pre-decoded rates (n×3,
+/// rad/s, two rows per step). Returns (steps, final quaternion); the caller times the call (it runs
+/// on the calling thread with the GIL released, so `time.thread_time()` counts it).
+#[pyfunction]
+fn bench_rk4_lower_bound(
+    py: Python<'_>,
+    rates: numpy::PyReadonlyArray2<'_, f64>,
+    step_s: f64,
+) -> PyResult<(u64, [f64; 4])> {
+    let v = rates.as_array();
+    if v.ncols() != 3 {
+        return Err(to_py(sins_core::Error::Input(format!("rates: shape {:?}, expected (n, 3)", v.shape()))));
+    }
+    let rows: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+    Ok(py.detach(|| {
+        let (q, steps) = sins_core::emulator::bench::rk4_lower_bound(&rows, step_s);
+        (steps, q)
+    }))
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", sins_core::VERSION)?;
@@ -117,6 +137,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(preset_table, m)?)?;
     m.add_function(wrap_pyfunction!(preset_names, m)?)?;
     m.add_function(wrap_pyfunction!(_selftest_panic, m)?)?;
+    m.add_function(wrap_pyfunction!(bench_rk4_lower_bound, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;

@@ -6,7 +6,7 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
-use crate::dsp::spi::{Frame, SpiA, SpiWire};
+use crate::dsp::spi::{CharShape, Frame, SpiA, SpiWire};
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -66,8 +66,10 @@ struct Wires<S> {
     simo: bool,
     floating: bool,
     in_flight: Option<InFlight>,
-    /// The bit-level waveform of the frame in flight (kept here, not copied per frame).
+    /// The bit-level waveform of the frame in flight (kept here, not copied per frame), and the
+    /// character shape it was built for: rebuilt only when the shape changes.
     waveform: bitlevel::Waveform,
+    waveform_shape: Option<CharShape>,
     period_cache: Option<(u32, Ps)>,
     log: Option<Vec<LinkRecord>>,
     events: EventLog,
@@ -89,7 +91,10 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
                 transaction::frame_timing(frame, period)
             }
             BusLevel::Bit => {
-                self.waveform = bitlevel::Waveform::of(frame);
+                if self.waveform_shape != Some(frame.shape) {
+                    self.waveform = bitlevel::Waveform::of(frame);
+                    self.waveform_shape = Some(frame.shape);
+                }
                 self.waveform.timing(frame)
             }
         };
@@ -165,6 +170,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 floating: true,
                 in_flight: None,
                 waveform: bitlevel::Waveform::default(),
+                waveform_shape: None,
                 period_cache: None,
                 log: None,
                 events: EventLog::default(),

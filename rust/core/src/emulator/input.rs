@@ -15,16 +15,53 @@ use crate::time::{ps_to_s, Ps};
 
 /// The samples not yet consumed, shared between the emulator (which feeds them) and the device
 /// (which reads them). A mutex because the device's stimulus must be `Send`; it is never contended.
+/// The chunks are kept as they were fed (moved in, never copied or regrown): the current row is
+/// `pos` of the first chunk.
 #[derive(Debug, Default)]
 struct Window {
-    t: VecDeque<f64>,
-    p: VecDeque<Physical>,
+    chunks: VecDeque<Chunk>,
+    pos: usize,
     /// Total rows fed so far (to name rows in errors).
     rows_fed: u64,
     /// Reads that fell outside the fed data (held at the nearest end).
     held: u64,
     /// No more chunks will come.
     ended: bool,
+}
+
+/// One fed chunk (never empty).
+#[derive(Debug)]
+struct Chunk {
+    t: Vec<f64>,
+    p: Vec<Physical>,
+}
+
+impl Window {
+    /// The row after the current one.
+    fn next_row(&self) -> Option<(f64, &Physical)> {
+        let first = self.chunks.front()?;
+        if self.pos + 1 < first.t.len() {
+            return Some((first.t[self.pos + 1], &first.p[self.pos + 1]));
+        }
+        self.chunks.get(1).map(|c| (c.t[0], &c.p[0]))
+    }
+
+    /// Make the next row the current one.
+    fn step(&mut self) {
+        self.pos += 1;
+        if self.chunks.front().is_some_and(|c| self.pos == c.t.len()) {
+            self.chunks.pop_front();
+            self.pos = 0;
+        }
+    }
+
+    fn first_time(&self) -> Option<f64> {
+        self.chunks.front().map(|c| c.t[self.pos])
+    }
+
+    fn last_time(&self) -> Option<f64> {
+        self.chunks.back().and_then(|c| c.t.last().copied())
+    }
 }
 
 /// Handle the emulator keeps to feed chunks and ask how far the input reaches.
@@ -57,7 +94,7 @@ impl InputFeed {
         if w.ended {
             return Err(Error::Input("input: a chunk was fed after the end of the input".into()));
         }
-        let mut last = w.t.back().copied();
+        let mut last = w.last_time();
         for (i, (&t, p)) in t_s.iter().zip(&samples).enumerate() {
             let row = w.rows_fed + i as u64;
             if !t.is_finite() {
@@ -77,8 +114,9 @@ impl InputFeed {
             last = Some(t);
         }
         w.rows_fed += t_s.len() as u64;
-        w.t.extend(t_s.iter().copied());
-        w.p.extend(samples);
+        if !t_s.is_empty() {
+            w.chunks.push_back(Chunk { t: t_s.to_vec(), p: samples });
+        }
         Ok(())
     }
 
@@ -94,12 +132,12 @@ impl InputFeed {
 
     /// The last time the input covers, seconds (None before the first chunk).
     pub fn last_time_s(&self) -> Option<f64> {
-        self.lock().t.back().copied()
+        self.lock().last_time()
     }
 
     /// The first time the input covers, seconds.
     pub fn first_time_s(&self) -> Option<f64> {
-        self.lock().t.front().copied()
+        self.lock().first_time()
     }
 
     /// Reads that fell outside the fed data.
@@ -119,29 +157,26 @@ impl Stimulus for StreamStimulus {
         let ts = ps_to_s(t);
         // Drop rows the device will never need again (its sample times only increase), keeping one
         // row before `ts` to interpolate from.
-        while w.t.len() >= 2 && w.t[1] <= ts {
-            w.t.pop_front();
-            w.p.pop_front();
+        while w.next_row().is_some_and(|(t1, _)| t1 <= ts) {
+            w.step();
         }
-        match (w.t.front().copied(), w.t.get(1).copied()) {
-            (None, _) => {
+        let Some(first) = w.chunks.front() else {
+            w.held += 1;
+            return Physical::powered_idle();
+        };
+        let (t0, p0) = (first.t[w.pos], first.p[w.pos]);
+        if ts <= t0 {
+            if ts < t0 {
                 w.held += 1;
-                Physical::powered_idle()
             }
-            (Some(t0), _) if ts <= t0 => {
-                if ts < t0 {
-                    w.held += 1;
-                }
-                w.p[0]
-            }
-            (Some(_), None) => {
+            return p0;
+        }
+        match w.next_row() {
+            None => {
                 w.held += 1;
-                w.p[0]
+                p0
             }
-            (Some(t0), Some(t1)) => {
-                let a = (ts - t0) / (t1 - t0);
-                lerp(&w.p[0], &w.p[1], a)
-            }
+            Some((t1, p1)) => lerp(&p0, p1, (ts - t0) / (t1 - t0)),
         }
     }
 }

@@ -6,6 +6,7 @@
 //! The CPU's own time is counted in SYSCLKOUT cycles (an integer) and converted to picoseconds by the
 //! clock, so the CPU and the peripherals share one exact timeline.
 
+pub mod bench;
 mod board;
 pub mod input;
 mod output;
@@ -26,7 +27,7 @@ use crate::events::{Event, EventLog, Severity};
 use crate::firmware::{Firmware, Vec3};
 use crate::numerics::Scalar;
 use crate::profile::{OverrunPolicy, Profile, Schedule};
-use crate::time::{ps_to_s, Clock, Ps};
+use crate::time::{ps_to_s, Clock, Divisor, Ps};
 use crate::timing::costs::CostTable;
 use crate::timing::stages::{stage_costs, StageCosts};
 
@@ -49,7 +50,8 @@ pub struct Emulator<T: Scalar> {
     feed: InputFeed,
     stages: StageCosts,
     io: crate::timing::costs::IoCosts,
-    poll_cycles: u64,
+    /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
+    poll_cycles: Divisor,
     bursts_per_tick: usize,
     /// Next timer tick to service.
     tick: u64,
@@ -102,7 +104,7 @@ impl<T: Scalar> Emulator<T> {
             feed,
             stages,
             io: costs.io.clone(),
-            poll_cycles: u64::from(profile.timing.poll_loop_cycles),
+            poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
             bursts_per_tick,
             tick: 1,
             cpu_free: 0,
@@ -167,6 +169,13 @@ impl<T: Scalar> Emulator<T> {
             return Ok(if self.feed.ended() { Progress::Finished } else { Progress::NeedInput });
         };
         let ended = self.feed.ended();
+        // Room for the rows this call will add, at once (growing by doubling copies them again and
+        // again); capped, so a sparse input cannot make it reserve more than a few tens of MB.
+        let ticks_ahead = (last_s / ps_to_s(self.timer.tick_ps(1))) as u64;
+        let ticks_ahead = ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(1 << 18) as usize;
+        self.out.budget.reserve(ticks_ahead);
+        self.out.reads.reserve(ticks_ahead * self.bursts_per_tick);
+        self.out.cycles.reserve(ticks_ahead);
         loop {
             let tick_ps = self.timer.tick_ps(self.tick);
             let horizon_ps = if ended { tick_ps } else { self.timer.tick_ps(self.tick + 1) };
@@ -390,7 +399,7 @@ impl<T: Scalar> Emulator<T> {
     /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
     /// end of the first iteration whose read sees the flag (set at `flag_ps`).
     fn poll_until(&mut self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
-        let p = self.poll_cycles;
+        let p = self.poll_cycles.get();
         let Some(flag_ps) = flag_ps else {
             return Err(Error::Config(format!(
                 "firmware hangs at {:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)",
@@ -398,7 +407,7 @@ impl<T: Scalar> Emulator<T> {
             )));
         };
         let flag_cycle = self.sysclk.ps_to_cycles_ceil(flag_ps);
-        let iterations = if flag_cycle <= c { 0 } else { (flag_cycle - c).div_ceil(p) };
+        let iterations = if flag_cycle <= c { 0 } else { self.poll_cycles.div_ceil(flag_cycle - c) };
         if iterations * p > POLL_WATCHDOG_CYCLES {
             return Err(Error::Config(format!(
                 "firmware polls {what} for over a second at {:.6} s",

@@ -141,3 +141,238 @@ fn the_bus_log_covers_only_the_ticks_it_was_on_for() {
         assert_eq!(rx, read.words.to_vec(), "the words the firmware stored are the words on the bus");
     }
 }
+
+/// FNV-1a over everything a run produced: every row field (floats by their bit pattern), every
+/// event (kind, time, severity, message, figures) and the bus log. Any change of behaviour, however
+/// small, changes it.
+fn digest(out: &Output, bus: &[crate::bus::link::LinkRecord], held: u64) -> u64 {
+    struct Fnv(u64);
+    impl Fnv {
+        fn bytes(&mut self, b: &[u8]) {
+            for &x in b {
+                self.0 = (self.0 ^ u64::from(x)).wrapping_mul(0x0100_0000_01b3);
+            }
+        }
+        fn u(&mut self, x: u64) {
+            self.bytes(&x.to_le_bytes());
+        }
+        fn f(&mut self, x: f64) {
+            self.u(x.to_bits());
+        }
+    }
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    for r in &out.cycles {
+        h.u(r.step);
+        h.u(r.t_ps);
+        r.quat.iter().chain(&r.euler_deg).chain(&r.vel_enu).chain(&r.pos).for_each(|&x| h.f(x));
+    }
+    for r in &out.reads {
+        [r.tick, r.t_start_ps, r.t_end_ps, r.sample_index as u64, r.sample_ps, r.age_ps].iter().for_each(|&x| h.u(x));
+        r.words.iter().for_each(|&w| h.u(u64::from(w)));
+        r.rate.iter().chain(&r.accel).chain([&r.assumed_s]).for_each(|&x| h.f(x));
+    }
+    for b in &out.budget {
+        let times = [
+            b.tick,
+            b.tick_ps,
+            b.start_ps,
+            b.entry_end_ps,
+            b.spi_start_ps,
+            b.spi_end_ps,
+            b.decode_end_ps,
+            b.attitude_end_ps,
+            b.euler_end_ps,
+            b.nav_end_ps,
+            b.end_ps,
+            b.deadline_ps,
+        ];
+        times.iter().for_each(|&x| h.u(x));
+        h.u(u64::from(b.step) | u64::from(b.overrun) << 1);
+    }
+    for e in &out.events {
+        h.u(e.t_ps);
+        h.bytes(e.kind.as_bytes());
+        h.bytes(format!("{:?}", e.severity).as_bytes());
+        h.bytes(e.message.as_bytes());
+        [e.measured, e.required].iter().for_each(|x| h.f(x.unwrap_or(f64::NAN)));
+    }
+    h.bytes(format!("{bus:?}").as_bytes());
+    h.u(held);
+    h.u(out.cycles.len() as u64 | (out.reads.len() as u64) << 20 | (out.events.len() as u64) << 40);
+    h.0
+}
+
+/// A moving board (sinusoidal rates on every axis, a varying specific force, mag, baro and
+/// temperature), 819.2 rows/s starting at `t0`, fed in chunks of uneven size.
+fn pinned_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool) -> u64 {
+    let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let profile = Profile::from_toml("", "pinned", &ov).unwrap();
+    let run = || {
+        let mut emu = Emulator::<T>::new(&profile, &costs()).unwrap();
+        if bus_log {
+            emu.enable_bus_log();
+        }
+        let n = (seconds * 819.2) as usize;
+        let rows: Vec<(f64, Physical)> = (0..n)
+            .map(|i| {
+                let t = 0.25 + i as f64 / 819.2 + 1e-4 * ((i * 7919) % 13) as f64;
+                let w = |f: f64, a: f64| a * (2.0 * std::f64::consts::PI * f * t).sin();
+                let p = Physical {
+                    gyro_dps: [w(1.3, 40.0), w(0.7, -25.0) + 3.0, w(2.1, 90.0)],
+                    accel_g: [w(0.5, 0.2), w(0.9, -0.1), 1.0 + w(1.7, 0.05)],
+                    mag_gauss: [0.3 + w(0.2, 0.01), -0.1, 0.45],
+                    baro_mbar: 900.0 + w(0.1, 2.0),
+                    temp_c: 25.0 + 10.0 * t / seconds,
+                    ..Physical::powered_idle()
+                };
+                (t, p)
+            })
+            .collect();
+        let mut out = Output::default();
+        let mut bus = Vec::new();
+        for chunk in rows.chunks(997) {
+            let t: Vec<f64> = chunk.iter().map(|r| r.0).collect();
+            emu.push_input(&t, chunk.iter().map(|r| r.1).collect()).unwrap();
+            assert_eq!(emu.run().unwrap(), Progress::NeedInput);
+            let o = emu.take_output();
+            out.cycles.extend(o.cycles);
+            out.reads.extend(o.reads);
+            out.budget.extend(o.budget);
+            out.events.extend(o.events);
+            bus.extend(emu.take_bus_log());
+        }
+        emu.end_input();
+        assert_eq!(emu.run().unwrap(), Progress::Finished);
+        let o = emu.take_output();
+        out.cycles.extend(o.cycles);
+        out.reads.extend(o.reads);
+        out.budget.extend(o.budget);
+        out.events.extend(o.events);
+        bus.extend(emu.take_bus_log());
+        assert!(!out.cycles.is_empty());
+        digest(&out, &bus, emu.feed().held_reads())
+    };
+    crate::numerics::iq::with_formats(&profile.iq, run).unwrap()
+}
+
+/// The outputs of short runs, pinned bit for bit before the emulator was optimised for throughput
+/// (x86_64 Linux, glibc libm): a change of these digests is a change of behaviour, never a speed-up.
+/// Covers the numeric backends, both bus levels, every schedule, the error model, overruns and SPI
+/// rule violations, and the bus log.
+#[test]
+fn outputs_are_pinned_bit_for_bit() {
+    let adis = "errors.preset=adis16407";
+    let got = [
+        ("f64", pinned_run::<f64>(&["firmware.numeric=\"f64\"", adis], 3.0, false)),
+        ("c28x-f32", pinned_run::<crate::numerics::C28xF32Rn>(&[adis, "errors.seed=7"], 3.0, false)),
+        ("c28x-f32-rz", pinned_run::<crate::numerics::C28xF32Rz>(&["firmware.numeric=\"c28x-f32-rz\""], 2.0, false)),
+        ("iq", pinned_run::<crate::numerics::Iq>(&["firmware.numeric=\"iq\"", adis], 3.0, false)),
+        ("bit", pinned_run::<f64>(&["firmware.numeric=\"f64\"", adis, "spi.level=\"bit\""], 1.0, true)),
+        ("endpoint", pinned_run::<f64>(&["firmware.numeric=\"f64\"", "firmware.schedule=\"endpoint\""], 2.0, false)),
+        (
+            "back-to-back-level",
+            pinned_run::<f64>(
+                &[
+                    "firmware.numeric=\"f64\"",
+                    "firmware.schedule=\"back-to-back\"",
+                    "firmware.initial_attitude=\"level\"",
+                ],
+                3.0,
+                false,
+            ),
+        ),
+        ("overrun-drop", pinned_run::<f64>(&["timer.period_us=300.0", "firmware.overrun=\"drop\""], 0.3, false)),
+        ("overrun-queue", pinned_run::<f64>(&["timer.period_us=310.0"], 0.3, false)),
+        ("spibrr-9", pinned_run::<f64>(&["spi.spibrr=9", "device.timing_mode=\"lenient\""], 0.5, true)),
+        ("spibrr-9-strict", pinned_run::<f64>(&["spi.spibrr=9"], 0.5, false)),
+    ];
+    let pinned = [
+        ("f64", 0x64b42e6a71ea0467),
+        ("c28x-f32", 0x0491be9ab5fbe69c),
+        ("c28x-f32-rz", 0x3f0bfd2872701dec),
+        ("iq", 0x1bac076628e018af),
+        ("bit", 0xa0087798eabe7c62),
+        ("endpoint", 0xf8f7d2cbb6d69426),
+        ("back-to-back-level", 0xd16ec5455ac63714),
+        ("overrun-drop", 0x153ef5e6f7035e57),
+        ("overrun-queue", 0xada9072c98b84575),
+        ("spibrr-9", 0x16a894d71a2bdd34),
+        ("spibrr-9-strict", 0xc36eb556409cd505),
+    ];
+    for ((name, h), (pinned_name, want)) in got.iter().zip(pinned) {
+        assert_eq!(*name, pinned_name);
+        assert_eq!(*h, want, "{name}: the outputs changed (digest 0x{h:016x}, pinned 0x{want:016x})");
+    }
+}
+
+/// Emulated 8 ms cycles per second of CPU time of the full pipeline. Run with `cargo test --release
+/// -p sins-core --lib emulator::tests::throughput -- --ignored --nocapture` (the `sins-fw bench`
+/// suite measures the same through the Python API).
+#[test]
+#[ignore = "timing measurement: run in release"]
+fn throughput() {
+    let cpu_s = || {
+        std::fs::read_to_string("/proc/thread-self/schedstat")
+            .ok()
+            .and_then(|s| s.split_whitespace().next().and_then(|v| v.parse::<f64>().ok()))
+            .map(|ns| ns * 1e-9)
+    };
+    let seconds: f64 = std::env::var("SINS_BENCH_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(200.0);
+    let n = (seconds * 819.2) as usize;
+    let t: Vec<f64> = (0..n).map(|i| i as f64 / 819.2).collect();
+    let p: Vec<Physical> = t
+        .iter()
+        .map(|&t| Physical {
+            gyro_dps: [10.0 * (6.0 * t).sin(), 10.0 * (6.0 * t).cos(), 1.0],
+            accel_g: [0.0, 0.0, 1.0],
+            ..Physical::powered_idle()
+        })
+        .collect();
+    let cases: [(&str, &[&str]); 5] = [
+        ("f64 adis16407", &["firmware.numeric=\"f64\"", "errors.preset=adis16407"]),
+        ("f64 ideal", &["firmware.numeric=\"f64\""]),
+        ("c28x-f32 adis16407", &["errors.preset=adis16407"]),
+        ("iq adis16407", &["firmware.numeric=\"iq\"", "errors.preset=adis16407"]),
+        ("bit f64 adis16407", &["firmware.numeric=\"f64\"", "errors.preset=adis16407", "spi.level=\"bit\""]),
+    ];
+    let only = std::env::var("SINS_BENCH_CASE").ok();
+    for (name, ov) in cases {
+        if only.as_deref().is_some_and(|o| o != name) {
+            continue;
+        }
+        let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+        let profile = Profile::from_toml("", "bench", &ov).unwrap();
+        let steps = crate::numerics::iq::with_formats(&profile.iq, || -> (usize, f64) {
+            fn go<T: Scalar>(
+                profile: &Profile,
+                t: &[f64],
+                p: &[Physical],
+                cpu_s: impl Fn() -> Option<f64>,
+            ) -> (usize, f64) {
+                let start = (cpu_s().unwrap_or(0.0), std::time::Instant::now());
+                let mut emu = Emulator::<T>::new(profile, &costs()).unwrap();
+                let mut steps = 0;
+                for (tc, pc) in t.chunks(1 << 16).zip(p.chunks(1 << 16)) {
+                    emu.push_input(tc, pc.to_vec()).unwrap();
+                    emu.run().unwrap();
+                    steps += emu.take_output().cycles.len();
+                }
+                emu.end_input();
+                emu.run().unwrap();
+                steps += emu.take_output().cycles.len();
+                let secs = match cpu_s() {
+                    Some(b) => b - start.0,
+                    None => start.1.elapsed().as_secs_f64(),
+                };
+                (steps, secs)
+            }
+            match profile.firmware.numeric {
+                crate::profile::Numeric::F64 => go::<f64>(&profile, &t, &p, cpu_s),
+                crate::profile::Numeric::Iq => go::<crate::numerics::Iq>(&profile, &t, &p, cpu_s),
+                _ => go::<crate::numerics::C28xF32Rn>(&profile, &t, &p, cpu_s),
+            }
+        })
+        .unwrap();
+        println!("{name:>22}: {:>10.0} cycles/s ({} steps in {:.3} s CPU)", steps.0 as f64 / steps.1, steps.0, steps.1);
+    }
+}

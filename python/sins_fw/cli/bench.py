@@ -1,0 +1,31 @@
+"""`sins-fw bench`: the benchmark suite (throughput, memory, scaling; see sins_fw.bench)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from sins_fw.bench import render, run_suite
+from sins_fw.cli.common import add_json_option, emit
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("bench", help="measure emulated cycles per second and memory against baselines")
+    p.add_argument(
+        "--quick", action="store_true", help="short inputs (seconds, rough figures; for the smoke test)"
+    )
+    p.add_argument("--output", type=Path, metavar="FILE", help="also write the report as Markdown to FILE")
+    add_json_option(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    quiet = args.json
+    report = run_suite(quick=args.quick, progress=None if quiet else lambda m: print(m, file=sys.stderr))
+    text = render(report)
+    if args.output is not None:
+        args.output.parent.mkdir(parents=True, exist_ok=True)
+        args.output.write_text(text, encoding="utf-8")
+    emit(args, report, text)
+    return 0
