@@ -25,12 +25,13 @@ def test_broad_trial_runs_with_saturation_events_and_metrics(path):
     # The reference firmware only integrates the gyro: its error grows, but it is a finite number.
     rmse = [broad["rmse_total_deg"], broad["rmse_heading_deg"], broad["rmse_inclination_deg"]]
     assert np.isfinite(rmse).all()
-    # A rate beyond the ±300 °/s range reaches the device: the 14-bit code saturates (flagged) and the
-    # published decode keeps a stale value (reported). Below the range, neither happens.
-    over = np.abs(trace.gyro_dps).max() > 300.0
+    # A rate beyond the rated ±300 °/s (or a force beyond ±18 g) reaches the device: it flags the
+    # overrange (an event per episode). Within the range the published decode never goes stale.
+    over = np.abs(trace.gyro_dps).max() > 300.0 or np.abs(trace.accel_g).max() > 18.0
     kinds = run.events_by_kind()
-    assert ("saturated_reading" in kinds) == over, (np.abs(trace.gyro_dps).max(), kinds)
-    assert ("stale_decode" in kinds) == over
+    assert ("sensor_overrange" in kinds) == over, (np.abs(trace.gyro_dps).max(), kinds)
+    if not over:
+        assert "stale_decode" not in kinds
 
 
 def _held_angles(run, trace, axis_index):

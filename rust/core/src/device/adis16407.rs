@@ -151,6 +151,8 @@ pub(crate) struct Limits {
 const OUTPUT_SLOTS: u64 = 0x7FFE;
 /// Filter channels: gyro x, y, z, accel x, y, z, mag x, y, z, baro.
 const FILTERS: usize = 10;
+/// The accelerometers' rated range, g (data sheet: ±18 g).
+const ACCEL_RATED_G: f64 = 18.0;
 
 /// Slot of a register address, as a constant.
 const fn s(a: u8) -> usize {
@@ -181,6 +183,8 @@ pub struct Adis16407 {
     now: Ps,
     busy_until: Ps,
     data_ready: Option<DataReady>,
+    /// The last sample's physical input was beyond the rated range (events fire on entry only).
+    over_rated: bool,
     pub(super) events: EventLog,
     pub(super) spi: SlaveState,
 }
@@ -245,6 +249,7 @@ impl Adis16407 {
             now: 0,
             busy_until: 0,
             data_ready: None,
+            over_rated: false,
             events: EventLog::default(),
             spi: SlaveState::default(),
         };
@@ -452,12 +457,41 @@ impl Adis16407 {
         }
     }
 
+    /// Whether the physical input is beyond the sensor's rated range (gyro ±300/150/75 °/s, accel
+    /// ±18 g). Above it the part's output is [unconfirmed]: the model keeps encoding the filtered value
+    /// (clipping at the 14-bit limit) and sets the overrange flag; the first sample of each overrange
+    /// episode is an event, so a trace that leaves the range shows where and by how much.
+    fn check_rated_range(&mut self, p: &Physical, t: Ps) -> bool {
+        let gyro_limit = self.range.rated_dps();
+        let gyro = p.gyro_dps.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let accel = p.accel_g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let over = gyro > gyro_limit || accel > ACCEL_RATED_G;
+        if over && !self.over_rated {
+            let (what, measured, limit, unit) = if gyro > gyro_limit {
+                ("rate", gyro, gyro_limit, "°/s")
+            } else {
+                ("specific force", accel, ACCEL_RATED_G, "g")
+            };
+            self.events.push(Event::rule(
+                t,
+                "sensor_overrange",
+                Severity::Warning,
+                format!("{what} {measured:.1} {unit} beyond the rated ±{limit} {unit}: outputs clip, DIAG_STAT overrange set"),
+                measured,
+                limit,
+            ));
+        }
+        self.over_rated = over;
+        over
+    }
+
     fn take_sample(&mut self, k: u64, t: Ps) {
         let mut p = self.stimulus.at(k, t);
         self.errors.apply(k, t, &mut p);
         if !p.is_finite() {
             self.sanitize(&mut p, k, t);
         }
+        let rated = self.check_rated_range(&p, t);
         let mut f = p;
         for i in 0..3 {
             f.gyro_dps[i] = self.filters[i].push(p.gyro_dps[i]);
@@ -497,7 +531,7 @@ impl Adis16407 {
 
         let o = &self.opts;
         let mut flags = 0u16;
-        if over {
+        if over || rated {
             flags |= 1 << o.diag_overrange_bit;
         }
         if f.supply_v > o.supply_high_v {
