@@ -152,7 +152,8 @@ def test_published_decode_keeps_previous_value_for_0x1800(fast_trace):
     # Every read between the ranges is reported, once per read.
     assert run.events_by_kind().get("stale_decode") == _gap_reads(run) > len(hit)
     stale = [e for e in run.events if e["kind"] == "stale_decode"]
-    assert any("XGYRO_OUT = 0x9800" in e["message"] for e in stale)  # ND flag (bit 15) + 0x1800
+    # ND (bit 15) and EA (bit 14: 307.2 °/s is beyond the rated ±300, the overrange flag is set) + 0x1800
+    assert any("XGYRO_OUT = 0xD800" in e["message"] for e in stale)
     # The value held is the last one inside the range: the read before the first out-of-range code.
     last_in_range = np.flatnonzero(codes <= 0x1770)
     held = run.read_rate[last_in_range[last_in_range < hit[0]][-1], 0]
