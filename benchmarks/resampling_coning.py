@@ -13,9 +13,6 @@ Run: .venv/bin/python benchmarks/resampling_coning.py  (writes benchmarks/resamp
 
 from __future__ import annotations
 
-import datetime
-import platform
-import subprocess
 from fractions import Fraction
 from pathlib import Path
 
@@ -23,6 +20,7 @@ import numpy as np
 
 from sins_fw import quaternion as q
 from sins_fw import synth
+from sins_fw.bench import machine_line
 from sins_fw.harness import emulate
 
 RATES = {"819.2 (device clock, exact)": "4096/5", "1000": "1000", "285.714 (BROAD)": "2000/7"}
@@ -50,14 +48,10 @@ def main() -> None:
         exact = rate == "4096/5"
         predicted = np.degrees(predicted_drift(None if exact else float(Fraction(rate)))) * 3600
         rows.append((label, measured, predicted))
-    git = ["git", "rev-parse", "--short", "HEAD"]
-    commit = subprocess.run(git, capture_output=True, text=True, check=False).stdout.strip()
-    cpuinfo = Path("/proc/cpuinfo").read_text(encoding="utf-8").splitlines()
-    cpu = next((line.split(":", 1)[1].strip() for line in cpuinfo if "model name" in line), "?")
     lines = [
         "# Resampling a coning trace onto the device clock",
         "",
-        f"Machine: {platform.platform()}, {cpu}; commit {commit}; {datetime.date.today()}.",
+        f"Machine: {machine_line()}.",
         "Command: `.venv/bin/python benchmarks/resampling_coning.py` (120 s, 10 Hz, α = 1°, f64 backend).",
         "",
         "| input rate, Hz | drift about the cone axis, °/h | predicted, °/h |",

@@ -294,6 +294,12 @@ def machine() -> dict[str, Any]:
     }
 
 
+def machine_line() -> str:
+    """One line naming the machine, the commit and the date, for benchmark result files."""
+    m = machine()
+    return f"{m['uname']}; CPU: {m['cpu']} ({m['cores']} cores); commit {m['commit']}; {m['date']}"
+
+
 def run_suite(quick: bool = False, progress: Callable[[str], None] | None = None) -> dict[str, Any]:
     """Measure every figure. `quick` shortens every input (for the smoke test), the figures are then
     rough."""
