@@ -120,6 +120,14 @@ def _alignment(run: Run, method: str) -> tuple[np.ndarray, dict[str, Any]]:
     return est, {"method": "none", "row": None, "description": "none: estimate compared as is"}
 
 
+def aligned_estimate(run: Run, align: str = "auto") -> tuple[np.ndarray, dict[str, Any]]:
+    """The estimate expressed in the truth's frame (see the module doc) and how it was aligned; the
+    one alignment every report (text, PNG, Rerun) uses."""
+    if run.truth_q is None:
+        return run.quat, {"method": "none", "row": None, "description": "no truth: not aligned"}
+    return _alignment(run, align)
+
+
 def attitude_summary(run: Run, align: str = "auto") -> dict[str, Any] | None:
     """Errors against the truth (degrees), or None when the trace has none."""
     if align not in ALIGNMENTS:

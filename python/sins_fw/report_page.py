@@ -25,6 +25,7 @@ from matplotlib.figure import Figure
 from sins_fw import quaternion
 from sins_fw.harness import PS, Run
 from sins_fw.metrics import attitude_errors
+from sins_fw.report import aligned_estimate
 
 #: Page size in inches and resolution: 1100 × 850 pixels.
 FIGSIZE = (11.0, 8.5)
@@ -59,7 +60,7 @@ def _attitude_panel(ax: Axes, run: Run) -> None:
         ax.set_ylabel("attitude (°)")
         ax.set_title("Attitude estimate (the trace has no truth)", loc="left", fontsize=10)
     else:
-        err = attitude_errors(run.quat[ok], run.truth_q[ok])
+        err = attitude_errors(aligned_estimate(run)[0][ok], run.truth_q[ok])
         t = run.time_s[ok]
         # Roll and yaw are undefined at pitch ±90°: their errors are left out near it.
         truth_pitch = np.degrees(quaternion.to_euler(run.truth_q[ok])[1])

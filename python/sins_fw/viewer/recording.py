@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from sins_fw import quaternion
 from sins_fw.harness import Run
 from sins_fw.metrics import attitude_errors, wrap_deg
+from sins_fw.report import aligned_estimate
 from sins_fw.traces import RAW_WORD_COLUMNS, PhysicalTrace
 from sins_fw.viewer import paths
 
@@ -170,7 +171,7 @@ def _log_attitude(rec: rr.RecordingStream, run: Run) -> None:
         return
     sub = [_time(cycle_ps(run)[ok]), _seq(paths.CYCLE, run.step[ok]), _seq(paths.TICK, cycle_ticks(run)[ok])]
     truth_deg = np.degrees(np.stack(quaternion.to_euler(run.truth_q[ok]), axis=1))
-    err = attitude_errors(run.quat[ok], run.truth_q[ok])
+    err = attitude_errors(aligned_estimate(run)[0][ok], run.truth_q[ok])
     for k, angle in enumerate(paths.ANGLES):
         path = paths.attitude(angle, "truth")
         _series(rec, path, [f"{angle} truth (°)"], [TRUTH_COLOR[:3]])
