@@ -38,8 +38,8 @@ def bundled_runs() -> dict[str, dict]:
     return {t: run_backends(ROOT / "traces" / f"{t}.h5", backends=CHECKED) for t in TRACES}
 
 
-def test_thresholds_cover_the_float_backends():
-    assert {"c28x-f32", "c28x-f32-rz"} <= set(THRESHOLDS)
+def test_thresholds_cover_every_backend():
+    assert {"c28x-f32", "c28x-f32-rz", "iq"} <= set(THRESHOLDS)
 
 
 @pytest.mark.parametrize("trace", TRACES)

@@ -6,8 +6,17 @@
 //! it was written for ±300 °/s. `correct` masks, sign-extends and uses the configured range's LSB.
 //! Both flag saturation (a code at the 14-bit limit, 0x1FFF or 0x2000).
 //!
-//! Units, in the order the firmware converts: the decoded value in °/s (g) as published, then one
-//! multiplication by π/180 (by the firmware's g constant, `firmware.accel_g_m_s2`).
+//! Units, in the order the firmware converts. Float backends run the published code: the code times
+//! the LSB in °/s (g), the value the published decode holds, then one multiplication by π/180 (by the
+//! firmware's g constant, `firmware.accel_g_m_s2`). A fixed-point build cannot hold that intermediate
+//! (±409.6 °/s and ±27 g do not fit GLOBAL_Q = Q24's ±128), so its firmware folds the two constants
+//! into one per-LSB constant in the firmware unit and decodes with one `_IQmpyI32(constant, code)`
+//! ([`Scalar::mul_i32`]), then shifts the product to the class's Q (`_IQ28toIQ24`). The constant is
+//! `_IQN(LSB·π/180)` (`_IQN(LSB·g)`) in the finest N that holds the full-scale product 8192·LSB
+//! ([`Scalar::from_f64_range`]): Q28 for 0.05 °/s (7.15 rad/s), Q22 for 3.333 mg (268 m/s²). In the
+//! class's own Q instead, `_IQ()`'s truncation would be a scale-factor error of up to one class LSB over
+//! the constant: 0.83/14640 = 5.7e-5 for 0.05 °/s in Q24, 0.13° over a 2300° turn. The held previous
+//! values are the fine products.
 
 use super::{lit, Vec3};
 use crate::events::{Event, EventLog, Severity};
@@ -27,6 +36,8 @@ const SATURATED_NEGATIVE: u16 = 0x2000;
 /// Published range tests: (positive upper bound, negative lower bound) of the 14-bit code.
 const GYRO_RANGE: (u16, u16) = (0x1770, 0x2890);
 const ACCEL_RANGE: (u16, u16) = (0x1519, 0x2AE7);
+/// The largest magnitude of a 14-bit two's-complement code (0x2000 = −8192).
+const FULL_SCALE_CODE: f64 = 8192.0;
 const CHANNELS: [&str; 6] = ["XGYRO_OUT", "YGYRO_OUT", "ZGYRO_OUT", "XACCL_OUT", "YACCL_OUT", "ZACCL_OUT"];
 
 /// The gyro LSB, °/s, of the range selected by SENS_AVG bits 10:8 (100 → ±300, 010 → ±150,
@@ -105,15 +116,44 @@ pub struct Decoded<T> {
     pub report: DecodeReport,
 }
 
-/// The decode stage with its state: the previous values (°/s and g) the published code keeps.
+/// How a code becomes the firmware unit: `lsb.mul_i32(code)`, then `× unit` when there is one.
+#[derive(Debug, Clone, Copy)]
+struct Scale<T> {
+    /// Per LSB: in the source unit (°/s, g) on a float backend, in the firmware unit (rad/s, m/s²)
+    /// on a fixed-point one.
+    lsb: T,
+    /// Source to firmware unit (π/180 or g) on a float backend; folded into `lsb` in fixed point.
+    unit: Option<T>,
+    /// The firmware unit's class.
+    class: QClass,
+}
+
+impl<T: Scalar> Scale<T> {
+    fn new(lsb: f64, unit: f64, class: QClass) -> Self {
+        if T::fixed_point() {
+            let full_scale = FULL_SCALE_CODE * (lsb * unit).abs();
+            Scale { lsb: T::from_f64_range(lsb * unit, full_scale), unit: None, class }
+        } else {
+            Scale { lsb: lit(lsb), unit: Some(lit(unit)), class }
+        }
+    }
+
+    /// The held value (what the published code stores) to the firmware unit.
+    fn firmware_unit(&self, held: T) -> T {
+        match self.unit {
+            Some(unit) => (held * unit).to_class(self.class),
+            None => held.to_class(self.class),
+        }
+    }
+}
+
+/// The decode stage with its state: the previous values the published code keeps.
 #[derive(Debug, Clone)]
 pub struct Decoder<T> {
     mode: Decode,
-    gyro_lsb: T,
-    published_lsb: T,
-    accel_lsb: T,
-    deg_to_rad: T,
-    g: T,
+    gyro: Scale<T>,
+    published_gyro: Scale<T>,
+    accel: Scale<T>,
     zero: T,
     published_matches_range: bool,
     previous: [T; 6],
@@ -129,27 +169,26 @@ impl<T: Scalar> Decoder<T> {
     pub fn new(device: &Device, firmware: &FirmwareProfile) -> Result<Self> {
         let lsb = gyro_lsb_dps(device.sens_avg)?;
         let zero = lit(0.0);
+        let deg_to_rad = std::f64::consts::PI / 180.0;
         Ok(Decoder {
             mode: firmware.decode,
-            gyro_lsb: lit(lsb),
-            published_lsb: lit(PUBLISHED_GYRO_LSB_DPS),
-            accel_lsb: lit(ACCEL_LSB_G),
-            deg_to_rad: lit(std::f64::consts::PI / 180.0),
-            g: lit(firmware.accel_g_m_s2),
+            gyro: Scale::new(lsb, deg_to_rad, QClass::Rate),
+            published_gyro: Scale::new(PUBLISHED_GYRO_LSB_DPS, deg_to_rad, QClass::Rate),
+            accel: Scale::new(ACCEL_LSB_G, firmware.accel_g_m_s2, QClass::Accel),
             zero,
             published_matches_range: lsb == PUBLISHED_GYRO_LSB_DPS,
             previous: [zero; 6],
         })
     }
 
-    /// The published range test on one 14-bit code: `Some(value)` or `None` (stale).
-    fn published(&self, code: u16, (hi, lo): (u16, u16), scale: T) -> Option<T> {
+    /// The published range test on one 14-bit code: `Some(held value)` or `None` (stale).
+    fn published(&self, code: u16, (hi, lo): (u16, u16), lsb: T) -> Option<T> {
         if code <= hi {
-            Some(T::from_i32(code as i32, QClass::Generic) * scale)
+            Some(lsb.mul_i32(code as i32))
         } else if code >= lo {
             // `r ^= 0x3FFF; r = r + 1; a = 0 - (r * scale);`
             let r = (code ^ VALID_BITS_MASK) + 1;
-            Some(self.zero - T::from_i32(r as i32, QClass::Generic) * scale)
+            Some(self.zero - lsb.mul_i32(r as i32))
         } else {
             None
         }
@@ -163,11 +202,8 @@ impl<T: Scalar> Decoder<T> {
             let code = word & VALID_BITS_MASK;
             let bit = 1u8 << i;
             let gyro = i < 3;
-            let (range, published_scale, correct_scale) = if gyro {
-                (GYRO_RANGE, self.published_lsb, self.gyro_lsb)
-            } else {
-                (ACCEL_RANGE, self.accel_lsb, self.accel_lsb)
-            };
+            let (range, published_scale, correct_scale) =
+                if gyro { (GYRO_RANGE, self.published_gyro, self.gyro) } else { (ACCEL_RANGE, self.accel, self.accel) };
             if code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE {
                 report.saturated |= bit;
             }
@@ -178,21 +214,20 @@ impl<T: Scalar> Decoder<T> {
             if published_stale || (gyro && !self.published_matches_range && code != 0) {
                 report.differs |= bit;
             }
-            let source_units = match self.mode {
-                Decode::Published => self.published(code, range, published_scale).unwrap_or(self.previous[i]),
-                Decode::Correct => T::from_i32(sign_extend_14(code), QClass::Generic) * correct_scale,
+            // Both decodes of a channel share the unit (the same π/180 or g), so the held value of
+            // either converts with `correct_scale`'s unit.
+            let held = match self.mode {
+                Decode::Published => self.published(code, range, published_scale.lsb).unwrap_or(self.previous[i]),
+                Decode::Correct => correct_scale.lsb.mul_i32(sign_extend_14(code)),
             };
-            self.previous[i] = source_units;
-            out[i] = if gyro {
-                (source_units * self.deg_to_rad).to_class(QClass::Rate)
-            } else {
-                (source_units * self.g).to_class(QClass::Accel)
-            };
+            self.previous[i] = held;
+            out[i] = correct_scale.firmware_unit(held);
         }
         Decoded { rate: [out[0], out[1], out[2]], accel: [out[3], out[4], out[5]], report }
     }
 
-    /// The previous decoded values in source units (°/s, g), as the published code holds them.
+    /// The previous decoded values as the published code holds them: in °/s and g on a float backend,
+    /// in rad/s and m/s² on a fixed-point one (folded scale, see the module documentation).
     pub fn previous(&self) -> &[T; 6] {
         &self.previous
     }
@@ -268,6 +303,56 @@ mod tests {
         let mut p = decoder(Decode::Published, 0x0102);
         let out = p.decode(&[0xF9DA, 0, 0, 0, 0, 0]);
         assert!((dps(&out, 0) + 78.7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn float_decode_is_the_published_two_step_conversion() {
+        // Bit for bit: code × LSB (the held °/s or g), then × π/180 or × g.
+        let mut d = decoder(Decode::Published, 0x0402);
+        let out = d.decode(&[0x1770, 0x3FFE, 0x0001, 0x012C, 0x2AE7, 0x0000]);
+        let rad = std::f64::consts::PI / 180.0;
+        assert_eq!(out.rate[0].to_bits(), ((6000.0 * 0.05) * rad).to_bits());
+        assert_eq!(out.rate[1].to_bits(), ((0.0 - 2.0 * 0.05) * rad).to_bits());
+        assert_eq!(out.accel[0].to_bits(), ((300.0f64 * 3.333e-3) * 9.80665).to_bits());
+        assert_eq!(out.accel[1].to_bits(), ((0.0f64 - 5401.0 * 3.333e-3) * 9.80665).to_bits());
+        assert_eq!(d.previous()[0], 300.0, "the published code holds °/s");
+    }
+
+    #[test]
+    fn iq_decodes_full_scale_straight_to_the_firmware_unit() {
+        use crate::numerics::iq::{count_overflows, q_of};
+        use crate::numerics::Iq;
+        let rad = std::f64::consts::PI / 180.0;
+        // Codes from full scale to one LSB, both signs (published ranges, then correct's 14-bit limits).
+        let cases = [
+            (Decode::Published, [0x1770, 0x2890, 0x0001, 0x1519, 0x2AE7, 0x3FFF]),
+            (Decode::Correct, [0x1FFF, 0x2000, 0x3FFF, 0x1FFF, 0x2000, 0x012C]),
+        ];
+        for (mode, words) in cases {
+            let device = Device { sens_avg: 0x0402, ..Device::default() };
+            let firmware = FirmwareProfile { decode: mode, ..FirmwareProfile::default() };
+            let (out, overflows) = count_overflows(|| {
+                let mut d = Decoder::<Iq>::new(&device, &firmware).unwrap();
+                d.decode(&words)
+            });
+            assert_eq!(overflows, 0, "{mode:?}: 409.6 °/s and 27 g fit the rate and accel classes");
+            for (i, w) in words.iter().enumerate() {
+                let n = sign_extend_14(w & VALID_BITS_MASK) as f64;
+                let (value, exact, q) = if i < 3 {
+                    (out.rate[i], n * 0.05 * rad, q_of(QClass::Rate))
+                } else {
+                    (out.accel[i - 3], n * ACCEL_LSB_G * 9.80665, q_of(QClass::Accel))
+                };
+                assert_eq!(value.q(), q);
+                // The folded constant (Q28 gyro, Q22 accel) is truncated by less than one of its LSB, the
+                // product is exact, the shift to the class floors: the error is below |n| constant LSB
+                // plus one class LSB.
+                let err = value.to_f64() - exact;
+                let lsb = 2f64.powi(-(q as i32));
+                let constant_lsb = 2f64.powi(if i < 3 { -28 } else { -22 });
+                assert!(err.abs() < n.abs() * constant_lsb + lsb, "{mode:?} word {i}: {err:e}");
+            }
+        }
     }
 
     #[test]

@@ -5,6 +5,11 @@
 //! T31 = −sin θ, T32 = cos θ sin φ, T33 = cos θ cos φ, T11 = cos θ cos ψ, T21 = cos θ sin ψ. The
 //! quaternion is therefore Q = q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ), q_a(x) = [cos x/2, a sin x/2].
 //! Angles are radians (the firmware's `T` backends hold 2π without overflow, not 360).
+//!
+//! Fixed point: the tables' ratios T32/T33 and T21/T11 are formed in the angle class (`div_to`), not in
+//! the elements' Q30 (which holds |ratio| < 2 only, i.e. angles below 63.4°). In Q24 a ratio saturates
+//! at 128: between the `euler_zero_eps` row and |T33| = |T32|/128 the table gives ±89.55° instead of up
+//! to ±90° (a limit of the published atan-of-ratio tables in GLOBAL_Q; the atan2 method has none).
 
 use super::{lit, Mat3, Quat};
 use crate::numerics::{QClass, Scalar};
@@ -54,7 +59,7 @@ impl<T: Scalar> EulerExtractor<T> {
         if t33.abs() < self.eps {
             return if t32 >= self.zero { self.half_pi } else { -self.half_pi };
         }
-        let principal = (t32 / t33).atan();
+        let principal = t32.div_to(t33, QClass::Angle).atan();
         if t33 > self.zero {
             principal
         } else if t32 >= self.zero {
@@ -70,7 +75,7 @@ impl<T: Scalar> EulerExtractor<T> {
         if t11.abs() < self.eps {
             return if t21 >= self.zero { self.half_pi } else { self.three_half_pi };
         }
-        let principal = (t21 / t11).atan();
+        let principal = t21.div_to(t11, QClass::Angle).atan();
         if t11 > self.zero {
             if t21 >= self.zero {
                 principal
@@ -193,6 +198,25 @@ mod tests {
             assert_eq!((a.roll / D, a.yaw / D), (roll, yaw));
             assert!((a.pitch - 0.2).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn iq_tables_hold_the_ratio_in_the_angle_class() {
+        use crate::numerics::iq::count_overflows;
+        use crate::numerics::{Iq, Scalar};
+        let e = EulerExtractor::<Iq>::new(Euler::PublishedTables, 1e-6);
+        let iq = |m: Mat3<f64>| m.map(|r| r.map(|x| Iq::from_f64(x, QClass::Quat)));
+        // Roll 80°: T32/T33 = 5.67, beyond Q30's ±2 (which would give atan 2 = 63.4°), inside Q24's ±128.
+        let (roll, ratio_roll) = (80f64.to_radians(), 89.9f64.to_radians());
+        let (a, n) = count_overflows(|| e.extract(&iq(with(roll.sin(), roll.cos(), 0.0, 1.0))));
+        assert_eq!(n, 0);
+        // Error: T32, T33 truncated in Q30 (≤ 2⁻³⁰ each, ≈ 1e-8 rad), the ratio rounded and atan truncated
+        // in Q24 (≤ 2⁻²⁴ each).
+        assert!((a.roll.to_f64() - roll).abs() < 2.0 * 2f64.powi(-24), "{}", a.roll.to_f64().to_degrees());
+        // 89.9°: the ratio 573 saturates at 128 → atan(128) = 89.55°, the documented limit.
+        let (a, n) = count_overflows(|| e.extract(&iq(with(ratio_roll.sin(), ratio_roll.cos(), 0.0, 1.0))));
+        assert_eq!(n, 1, "the ratio saturated");
+        assert!((a.roll.to_f64() - 128f64.atan()).abs() < 2f64.powi(-23));
     }
 
     #[test]

@@ -10,6 +10,17 @@
 //!
 //! Integration: one explicit Euler step per update period T, every derivative evaluated from the
 //! state at the start of the step (velocity and position advance together from the old state).
+//!
+//! Fixed point (classes of `numerics::QClass`, defaults of the profile's `[iq]`): lengths (earth radius,
+//! height, R + h) are `Length` (Q8: ±8.4e6 m, LSB 3.9 mm), latitude and longitude `Nav` (Q29: ±4 rad,
+//! LSB 1.9e-9 rad = 1.2 cm), velocity and specific force `Accel` (Q20: ±2048 m/s, LSB 9.5e-7), rates
+//! `Rate` (Q24). The quotients V/(R+h) are formed with `div_to` straight into the class of the result
+//! (`_IQNdiv` with N = Q_result − Q_V + Q_R), since the coarse length Q would otherwise be the quotient's.
+//! Limits that follow: ω_ie (7.29e-5 rad/s) and ω_en are held to 6e-8 rad/s (Q24, 8e-4 of ω_ie); the
+//! position and height increments V·T are floored to one LSB of their class every step, which biases
+//! them by up to one LSB per step: up to 1.9e-9 rad (1.2 cm) of latitude/longitude and 3.9 mm of height
+//! per step, i.e. up to 1.5 m/s and 0.49 m/s of apparent motion. The fixed-point navigation serves the
+//! earth-rate correction of the attitude; it is not a positioning solution.
 
 use super::{lit, Mat3, Vec3};
 use crate::numerics::{QClass, Scalar};
@@ -37,7 +48,7 @@ impl<T: Scalar> NavState<T> {
         NavState {
             lat: T::from_f64(nav.latitude_deg.to_radians(), QClass::Nav),
             lon: T::from_f64(nav.longitude_deg.to_radians(), QClass::Nav),
-            height: T::from_f64(nav.height_m, QClass::Nav),
+            height: T::from_f64(nav.height_m, QClass::Length),
             vel: nav.velocity_enu.map(|v| T::from_f64(v, QClass::Accel)),
         }
     }
@@ -87,7 +98,7 @@ impl<T: Scalar> EarthModel<T> {
     pub fn new(nav: &Navigation) -> Self {
         let f = nav.flattening;
         EarthModel {
-            radius: T::from_f64(nav.earth_radius_m, QClass::Nav),
+            radius: T::from_f64(nav.earth_radius_m, QClass::Length),
             flattening: T::from_f64(f, QClass::Nav),
             earth_rate: T::from_f64(nav.earth_rate_rad_s, QClass::Rate),
             gamma_e: T::from_f64(nav.gravity_equator, QClass::Accel),
@@ -108,12 +119,18 @@ impl<T: Scalar> EarthModel<T> {
         let e = self.flattening;
         let rn = self.radius * (self.one - self.two * e + self.three * e * s2);
         let re = self.radius * (self.one + e * s2);
-        let rn_h = (rn + s.height).to_class(QClass::Nav);
-        let re_h = (re + s.height).to_class(QClass::Nav);
-        let tan_lat = sin_lat / cos_lat;
+        let rn_h = (rn + s.height).to_class(QClass::Length);
+        let re_h = (re + s.height).to_class(QClass::Length);
+        // tan φ in GLOBAL_Q: the Nav Q (29) would saturate it above 76°.
+        let tan_lat = sin_lat.div_to(cos_lat, QClass::Generic);
         let [vx, vy, _] = s.vel;
         let w_ie = [self.zero, self.earth_rate * cos_lat, self.earth_rate * sin_lat].map(|x| x.to_class(QClass::Rate));
-        let w_en = [-(vy / rn_h), vx / re_h, vx * tan_lat / re_h].map(|x| x.to_class(QClass::Rate));
+        let w_en = [
+            -(vy.div_to(rn_h, QClass::Rate)),
+            vx.div_to(re_h, QClass::Rate),
+            (vx * tan_lat).div_to(re_h, QClass::Rate),
+        ]
+        .map(|x| x.to_class(QClass::Rate));
         EarthRates { w_ie, w_en, sin_lat, cos_lat, rn_h, re_h }
     }
 
@@ -121,7 +138,7 @@ impl<T: Scalar> EarthModel<T> {
     pub fn gravity(&self, sin_lat: T, height: T) -> T {
         let s2 = sin_lat * sin_lat;
         let gamma = self.gamma_e * (self.one + self.k * s2) / (self.one - self.e2 * s2).sqrt();
-        (gamma * (self.one - self.two * height / self.radius)).to_class(QClass::Accel)
+        (gamma * (self.one - (self.two * height).div_to(self.radius, QClass::Generic))).to_class(QClass::Accel)
     }
 
     /// One navigation step of `dt` seconds with T = C_b^n and the specific force f^b (m/s²).
@@ -133,15 +150,17 @@ impl<T: Scalar> EarthModel<T> {
         let v = s.vel;
         let coriolis = [a[1] * v[2] - a[2] * v[1], a[2] * v[0] - a[0] * v[2], a[0] * v[1] - a[1] * v[0]];
         let gravity_n = [self.zero, self.zero, -g];
-        let lat_dot = v[1] / r.rn_h;
-        let lon_dot = v[0] / (r.re_h * r.cos_lat);
+        let lat_dot = v[1].div_to(r.rn_h, QClass::Nav);
+        let lon_dot = v[0].div_to(r.re_h * r.cos_lat, QClass::Nav);
         for i in 0..3 {
             let v_dot = f_n[i] - coriolis[i] + gravity_n[i];
             s.vel[i] = (v[i] + v_dot * dt).to_class(QClass::Accel);
         }
-        s.lat = (s.lat + lat_dot * dt).to_class(QClass::Nav);
-        s.lon = (s.lon + lon_dot * dt).to_class(QClass::Nav);
-        s.height = (s.height + v[2] * dt).to_class(QClass::Nav);
+        // T in the position's class, so that the product keeps its Q (a GLOBAL_Q T would floor it to Q24).
+        let dt_nav = dt.to_class(QClass::Nav);
+        s.lat = (s.lat + lat_dot * dt_nav).to_class(QClass::Nav);
+        s.lon = (s.lon + lon_dot * dt_nav).to_class(QClass::Nav);
+        s.height = (s.height + v[2] * dt).to_class(QClass::Length);
     }
 }
 

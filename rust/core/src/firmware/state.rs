@@ -259,6 +259,50 @@ mod tests {
     }
 
     #[test]
+    fn iq_firmware_at_full_scale_stays_in_range_and_tracks_f64() {
+        use super::super::quat::tests::angle_between;
+        use crate::numerics::iq::{count_overflows, with_formats};
+        use crate::numerics::Iq;
+        // The correct decode at the 14-bit limits: 409.55 °/s about x, −409.6 °/s about z, 27.3 g on y,
+        // 1 g on z (0x012C ≈ 0.9999 g), with navigation and the earth-rate correction on, for 2 s. (The
+        // Euler tables are left out: their ratio saturates by design near ±90°, see euler.rs.)
+        let mut p = Profile::default();
+        p.firmware.decode = Decode::Correct;
+        let words = [0x1FFF, 0x0000, 0x2000, 0x0000, 0x1FFF, 0x012C];
+        let mut f = Firmware::<f64>::new(&p).unwrap();
+        for _ in 0..250 {
+            let d = f.decode(&words);
+            f.update_attitude(&[d.rate; 3]).unwrap();
+            f.navigate(&d.accel);
+        }
+        let want = *f.quat();
+        let (got, overflows) = with_formats(&p.iq, || {
+            count_overflows(|| {
+                let mut fw = Firmware::<Iq>::new(&p).unwrap();
+                for _ in 0..250 {
+                    let d = fw.decode(&words);
+                    fw.update_attitude(&[d.rate; 3]).unwrap();
+                    fw.navigate(&d.accel);
+                }
+                fw.quat().map(|x| x.to_f64())
+            })
+        })
+        .unwrap();
+        assert_eq!(overflows, 0, "no IQ value wrapped or saturated");
+        // The constant rate turns the board by |ω|·2 s = 20.2 rad; the IQ firmware's gyro constant (Q28) and
+        // T1 (Q30) are truncated by `_IQ()`, so it turns that much less by their relative shortfalls.
+        let shortfall = |x: f64, q: i32| (x - (x * 2f64.powi(q)).trunc() / 2f64.powi(q)) / x;
+        let lsb = 0.05f64.to_radians();
+        let turned = (8191f64.powi(2) + 8192f64.powi(2)).sqrt() * lsb * 2.0;
+        let predicted = (shortfall(lsb, 28) + shortfall(0.008, 30)) * turned; // 1.23e-5 rad
+                                                                              // Left over: the floors to Q24 rad/s of the decode (< 6e-8 rad/s per axis) and of the earth-rate
+                                                                              // correction (a few 6e-8 rad/s) over 2 s, and the Q30 RK4 increments (≈ 1e-9 per step): < 1e-6 rad.
+        let err = angle_between(&want, &got);
+        assert!((err - predicted).abs() < 1e-6, "{err:e} rad, predicted {predicted:e}");
+        assert!(err > 0.0, "the IQ backend was not used");
+    }
+
+    #[test]
     fn level_alignment_then_decode_and_euler() {
         let mut p = Profile::default();
         p.firmware.initial_attitude = InitialAttitude::Level;

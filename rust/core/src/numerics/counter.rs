@@ -8,7 +8,13 @@
 //! - `+ − × ÷` and negation: one each; `sqrt`, `sin`, `cos`, `atan`, `atan2`, `asin`, `abs`: one each;
 //! - comparisons: one per `==`/`!=` or `<`, `<=`, `>`, `>=`, `partial_cmp` (a `CMPF32` each);
 //! - `from_i32`: an int→float conversion; `from_f64`: a constant (or input) loaded;
+//! - `mul_i32`: what it is on the backend counted (see [`count_as`]): on a float target an int→float
+//!   conversion and a multiplication (`(float)n * x`), on IQ one integer multiply `_IQmpyI32`;
+//! - `div_to`, `mul_to`: a division, a multiplication (as `/`, `*`); `from_f64_range`: a constant;
 //! - `to_f64` and `to_class` are free (no instruction on a float target).
+//!
+//! The generic firmware differs between float and fixed point where [`Scalar::fixed_point`] says so (the
+//! decode's folded scale constant): [`count_as`] selects which firmware the counts are those of.
 
 use super::{QClass, Scalar};
 use std::cell::Cell;
@@ -76,6 +82,8 @@ op_kinds! {
     int_to_float,
     /// Constants (and inputs) loaded with `from_f64`.
     constants,
+    /// Integer × fixed-point multiplications `_IQmpyI32` (counted only for the fixed-point firmware).
+    int_muls,
 }
 
 impl OpCounts {
@@ -114,6 +122,20 @@ impl Sub for OpCounts {
 
 thread_local! {
     static TALLY: [Cell<u64>; KINDS] = const { [const { Cell::new(0) }; KINDS] };
+    static FIXED_POINT: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Run `f` counting the firmware of a fixed-point backend (`fixed_point` true: IQ) or of a float one
+/// (false, also the default outside any scope); the previous setting is restored afterwards.
+pub fn count_as<R>(fixed_point: bool, f: impl FnOnce() -> R) -> R {
+    struct Restore(bool);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            FIXED_POINT.with(|c| c.set(self.0));
+        }
+    }
+    let _restore = Restore(FIXED_POINT.with(|c| c.replace(fixed_point)));
+    f()
 }
 
 #[inline]
@@ -243,6 +265,26 @@ impl Scalar for Counted {
     fn to_class(self, _: QClass) -> Self {
         self
     }
+    fn fixed_point() -> bool {
+        FIXED_POINT.with(|c| c.get())
+    }
+    fn mul_i32(self, n: i32) -> Self {
+        if Self::fixed_point() {
+            tally(Op::int_muls);
+            Counted(n as f64 * self.0)
+        } else {
+            Counted::from_i32(n, QClass::Generic) * self
+        }
+    }
+    fn div_to(self, rhs: Self, _: QClass) -> Self {
+        self / rhs
+    }
+    fn mul_to(self, rhs: Self, _: QClass) -> Self {
+        self * rhs
+    }
+    fn from_f64_range(x: f64, _: f64) -> Self {
+        Counted::from_f64(x, QClass::Generic)
+    }
     fn sqrt(self) -> Self {
         tally(Op::sqrts);
         Counted(Scalar::sqrt(self.0))
@@ -350,6 +392,22 @@ mod tests {
             assert!(r.is_err());
         });
         assert_eq!(outer.divs, 1);
+    }
+}
+
+#[cfg(test)]
+mod integer_multiply {
+    use super::*;
+
+    #[test]
+    fn mul_i32_counts_as_the_backend_executes_it() {
+        let (v, c) = count(|| Counted(0.25).mul_i32(-3));
+        assert_eq!((v.0, c.int_to_float, c.muls, c.int_muls), (-0.75, 1, 1, 0), "float: I32TOF32 + MPYF32");
+        let (v, c) = count_as(true, || count(|| Counted(0.25).mul_i32(-3)));
+        assert_eq!((v.0, c.int_to_float, c.muls, c.int_muls), (-0.75, 0, 0, 1), "IQ: one _IQmpyI32");
+        assert!(!Counted::fixed_point(), "the setting is scoped");
+        let (_, c) = count(|| Counted(1.0).div_to(Counted(3.0), QClass::Rate).mul_to(Counted(3.0), QClass::Quat));
+        assert_eq!((c.divs, c.muls), (1, 1));
     }
 }
 

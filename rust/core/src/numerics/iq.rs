@@ -7,14 +7,23 @@
 //! setting is the one place they can live without threading a context through every generic algorithm.
 //! Without a scope the defaults of [`IqFormats`] apply.
 //!
-//! Semantics (spec `f28335.md`, "IQmath"), where firmware mixes Qs the rules below define what it means:
+//! Semantics (spec `f28335.md`, "IQmath"). In C an `_iq30` and an `_iq24` are both `long`: mixing them
+//! needs an explicit `_IQNtoIQM`. The rules below are the conversion this model applies where the generic
+//! firmware code mixes classes, chosen so that it never wraps by itself; where the firmware needs the finer
+//! Q (an increment added to a Q30 quaternion), the generic code converts explicitly with `to_class`
+//! *before* the operation, as `_IQ24toIQ30(dk)` in C:
 //! - `a ± b`: the operand with more fractional bits is shifted to the other's Q (arithmetic shift right =
 //!   floor), then a 32-bit wrapping add (the C28x `ADDL` does not saturate). Result Q = the lower Q.
-//! - `a * b` = `_IQNmpy`: the full 64-bit product shifted right (floor) by the larger Q, so the result is in
-//!   the lower Q; no rounding; the low 32 bits are kept (overflow wraps).
+//! - `a * b` = `_IQNmpy` with N the larger Q: the full 64-bit product shifted right (floor) by the larger
+//!   Q, so the result is in the lower Q; no rounding; the low 32 bits are kept (overflow wraps).
 //! - `a / b` = `_IQNdiv`: the quotient in the lower Q, rounded to nearest (ties away from zero, i.e. within
 //!   ½ LSB as TI documents the rounded result of its Newton–Raphson routine), saturated to
 //!   0x7FFFFFFF / 0x80000000; a zero divisor gives 0x7FFFFFFF whatever the numerator's sign.
+//!   `div_to(b, class)` is the same routine with N chosen so the quotient lands in the class's Q, and
+//!   `mul_to(b, class)` is `_IQNmpy` with N = Qa + Qb − Q_class (floor, wrapping): the product in the
+//!   class's Q.
+//! - `from_f64_range(x, max)`: `_IQN(x)` in the finest N ≤ 30 with max < 2^(31−N).
+//! - `mul_i32(n)` = `_IQmpyI32(a, n)`: the 32-bit integer product, in a's Q, wrapping.
 //! - `to_class` = `_IQNtoIQM`: a plain shift (left shifts wrap, right shifts floor), as IQmath's macros.
 //! - `from_f64` = `_IQN(x)`: `(long)(x·2^N)`, truncation toward zero; out-of-range values saturate to the
 //!   i32 limits (the C cast is undefined there; the C28x float→int conversion saturates) and NaN gives 0.
@@ -29,6 +38,9 @@
 //!   sqrt(≤ 0) = 0, hence ±π/2.
 //! - abs and negation wrap (`_IQabs` is `labs`: |0x80000000| stays 0x80000000).
 //! - comparisons compare real values across Qs.
+//!
+//! Every result that wrapped or saturated is tallied per thread ([`overflows`], [`count_overflows`]): on
+//! the target it is silent, here a run can show it never happened.
 
 use super::{QClass, Scalar};
 use crate::error::Result;
@@ -42,11 +54,11 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 const ANGLE_MAX_Q: u8 = 29;
 
 /// Fractional bits per class, in [`QClass`] order.
-type QTable = [u8; 6];
+type QTable = [u8; 7];
 
 fn q_table(f: &IqFormats) -> QTable {
     // Validated to 1…30 before use, so the narrowing is lossless.
-    [f.quat_q, f.rate_q, f.angle_q, f.accel_q, f.nav_q, f.global_q].map(|q| q as u8)
+    [f.quat_q, f.rate_q, f.angle_q, f.accel_q, f.nav_q, f.length_q, f.global_q].map(|q| q as u8)
 }
 
 fn class_index(class: QClass) -> usize {
@@ -56,12 +68,43 @@ fn class_index(class: QClass) -> usize {
         QClass::Angle => 2,
         QClass::Accel => 3,
         QClass::Nav => 4,
-        QClass::Generic => 5,
+        QClass::Length => 5,
+        QClass::Generic => 6,
     }
 }
 
 thread_local! {
-    static FORMATS: Cell<QTable> = const { Cell::new([30, 24, 24, 20, 24, 24]) };
+    /// The defaults of `IqFormats` (checked by a test: `Default` is not const).
+    static FORMATS: Cell<QTable> = const { Cell::new([30, 24, 24, 20, 29, 8, 24]) };
+    static OVERFLOWS: Cell<u64> = const { Cell::new(0) };
+}
+
+/// Tally one result that did not fit (wrapped or saturated). Off the fast path: only called on overflow.
+#[cold]
+fn note_overflow() {
+    OVERFLOWS.with(|c| c.set(c.get() + 1));
+}
+
+/// Results that wrapped or saturated on this thread so far (every `Iq` operation, any scope).
+pub fn overflows() -> u64 {
+    OVERFLOWS.with(|c| c.get())
+}
+
+/// Run `f` and return its result with the number of results that wrapped or saturated meanwhile.
+pub fn count_overflows<R>(f: impl FnOnce() -> R) -> (R, u64) {
+    let before = overflows();
+    let r = f();
+    (r, overflows() - before)
+}
+
+/// The low 32 bits of `x` (the C28x keeps them), tallying an overflow when `x` does not fit.
+#[inline(always)]
+fn wrap(x: i64) -> i32 {
+    let low = x as i32;
+    if low as i64 != x {
+        note_overflow();
+    }
+    low
 }
 
 /// Run `f` with `formats` as this thread's Q per class; the previous formats are restored afterwards (also
@@ -100,7 +143,7 @@ impl fmt::Debug for Iq {
 #[inline(always)]
 fn shift(raw: i32, from: u8, to: u8) -> i32 {
     if to >= from {
-        ((raw as i64) << (to - from)) as i32
+        wrap((raw as i64) << (to - from))
     } else {
         raw >> (from - to)
     }
@@ -119,10 +162,14 @@ fn isqrt_u128(n: u128) -> u128 {
     r
 }
 
-/// Saturate to i32.
+/// Saturate to i32 (tallying an overflow when it clamps).
 #[inline(always)]
 fn saturate(x: i128) -> i32 {
-    x.clamp(i32::MIN as i128, i32::MAX as i128) as i32
+    let clamped = x.clamp(i32::MIN as i128, i32::MAX as i128);
+    if clamped != x {
+        note_overflow();
+    }
+    clamped as i32
 }
 
 impl Iq {
@@ -171,7 +218,7 @@ impl Iq {
     pub fn rmpy(self, rhs: Iq) -> Iq {
         let (shift_by, q) = (self.q.max(rhs.q), self.q.min(rhs.q));
         let p = self.raw as i64 * rhs.raw as i64 + (1i64 << (shift_by - 1));
-        Iq { raw: (p >> shift_by) as i32, q }
+        Iq { raw: wrap(p >> shift_by), q }
     }
 
     /// `_IQrsmpy`: the product rounded and saturated to 0x7FFFFFFF / 0x80000000.
@@ -207,7 +254,27 @@ impl Iq {
     #[inline]
     fn truncated(value: f64, q: u8) -> Iq {
         // Scaling by 2^q is exact; `as i32` truncates toward zero, saturates and maps NaN to 0.
-        Iq { raw: (value * (1u64 << q) as f64) as i32, q }
+        let scaled = value * (1u64 << q) as f64;
+        let fits = scaled > i32::MIN as f64 - 1.0 && scaled < i32::MAX as f64 + 1.0;
+        if !fits && !scaled.is_nan() {
+            note_overflow();
+        }
+        Iq { raw: scaled as i32, q }
+    }
+
+    /// `_IQNdiv` with the quotient in Q `q`: `a·2^(q − qa + qb) / b` exact in i128, rounded to nearest
+    /// (ties away from zero), saturated; a zero divisor gives 0x7FFFFFFF.
+    fn quotient(self, rhs: Iq, q: u8) -> Iq {
+        if rhs.raw == 0 {
+            note_overflow();
+            return Iq { raw: i32::MAX, q };
+        }
+        let s = q as i32 - self.q as i32 + rhs.q as i32;
+        let num = (self.raw as i128) << s.max(0);
+        let den = (rhs.raw as i128) << (-s).max(0);
+        let (quot, rem) = (num / den, num % den);
+        let away = if 2 * rem.abs() >= den.abs() { num.signum() * den.signum() } else { 0 };
+        Iq { raw: saturate(quot + away), q }
     }
 }
 
@@ -232,7 +299,7 @@ impl Add for Iq {
     #[inline]
     fn add(self, rhs: Iq) -> Iq {
         let q = self.q.min(rhs.q);
-        Iq { raw: shift(self.raw, self.q, q).wrapping_add(shift(rhs.raw, rhs.q, q)), q }
+        Iq { raw: wrap(shift(self.raw, self.q, q) as i64 + shift(rhs.raw, rhs.q, q) as i64), q }
     }
 }
 
@@ -241,7 +308,7 @@ impl Sub for Iq {
     #[inline]
     fn sub(self, rhs: Iq) -> Iq {
         let q = self.q.min(rhs.q);
-        Iq { raw: shift(self.raw, self.q, q).wrapping_sub(shift(rhs.raw, rhs.q, q)), q }
+        Iq { raw: wrap(shift(self.raw, self.q, q) as i64 - shift(rhs.raw, rhs.q, q) as i64), q }
     }
 }
 
@@ -250,24 +317,15 @@ impl Mul for Iq {
     #[inline]
     fn mul(self, rhs: Iq) -> Iq {
         let p = self.raw as i64 * rhs.raw as i64;
-        Iq { raw: (p >> self.q.max(rhs.q)) as i32, q: self.q.min(rhs.q) }
+        Iq { raw: wrap(p >> self.q.max(rhs.q)), q: self.q.min(rhs.q) }
     }
 }
 
 impl Div for Iq {
     type Output = Iq;
+    #[inline]
     fn div(self, rhs: Iq) -> Iq {
-        let q = self.q.min(rhs.q);
-        if rhs.raw == 0 {
-            return Iq { raw: i32::MAX, q };
-        }
-        // result·2^q = (a/2^qa)/(b/2^qb)·2^q = a·2^(q − qa + qb) / b, exact in i128.
-        let s = q as i32 - self.q as i32 + rhs.q as i32;
-        let num = (self.raw as i128) << s.max(0);
-        let den = (rhs.raw as i128) << (-s).max(0);
-        let (quot, rem) = (num / den, num % den);
-        let away = if 2 * rem.abs() >= den.abs() { num.signum() * den.signum() } else { 0 };
-        Iq { raw: saturate(quot + away), q }
+        self.quotient(rhs, self.q.min(rhs.q))
     }
 }
 
@@ -275,7 +333,7 @@ impl Neg for Iq {
     type Output = Iq;
     #[inline]
     fn neg(self) -> Iq {
-        Iq { raw: self.raw.wrapping_neg(), q: self.q }
+        Iq { raw: wrap(-(self.raw as i64)), q: self.q }
     }
 }
 
@@ -295,6 +353,35 @@ impl Scalar for Iq {
     #[inline]
     fn to_class(self, class: QClass) -> Self {
         self.to_q(q_of(class))
+    }
+    fn fixed_point() -> bool {
+        true
+    }
+    #[inline]
+    fn mul_i32(self, n: i32) -> Self {
+        Iq { raw: wrap(self.raw as i64 * n as i64), q: self.q }
+    }
+    #[inline]
+    fn div_to(self, rhs: Self, class: QClass) -> Self {
+        self.quotient(rhs, q_of(class))
+    }
+    #[inline]
+    fn mul_to(self, rhs: Self, class: QClass) -> Self {
+        let q = q_of(class);
+        let p = self.raw as i128 * rhs.raw as i128;
+        // N = Qa + Qb − Q; a class finer than both operands together (N < 0) is a left shift.
+        let n = self.q as i32 + rhs.q as i32 - q as i32;
+        let shifted = if n >= 0 { p >> n } else { p << -n };
+        let raw = shifted as i32;
+        if raw as i128 != shifted {
+            note_overflow();
+        }
+        Iq { raw, q }
+    }
+    fn from_f64_range(x: f64, max_abs: f64) -> Self {
+        // Integer bits for max_abs: the range of Q N is [−2^(31−N), 2^(31−N)).
+        let int_bits = if max_abs.abs() < 1.0 { 0 } else { max_abs.abs().log2().floor() as i32 + 1 };
+        Iq::truncated(x, (31 - int_bits).clamp(1, 30) as u8)
     }
     fn sqrt(self) -> Self {
         if self.raw <= 0 {
@@ -324,7 +411,7 @@ impl Scalar for Iq {
     }
     #[inline]
     fn abs(self) -> Self {
-        Iq { raw: self.raw.wrapping_abs(), q: self.q }
+        Iq { raw: wrap((self.raw as i64).abs()), q: self.q }
     }
 }
 
@@ -341,12 +428,13 @@ mod tests {
 
     #[test]
     fn formats_are_scoped_and_validated() {
-        assert_eq!(q_of(QClass::Quat), 30, "defaults without a scope");
-        let custom = IqFormats { quat_q: 29, rate_q: 20, angle_q: 22, accel_q: 16, nav_q: 27, global_q: 12 };
-        let inner = with_formats(&custom, || {
-            [QClass::Quat, QClass::Rate, QClass::Angle, QClass::Accel, QClass::Nav, QClass::Generic].map(q_of)
-        });
-        assert_eq!(inner, Ok([29, 20, 22, 16, 27, 12]));
+        let classes =
+            [QClass::Quat, QClass::Rate, QClass::Angle, QClass::Accel, QClass::Nav, QClass::Length, QClass::Generic];
+        assert_eq!(classes.map(q_of), q_table(&IqFormats::default()), "defaults without a scope");
+        let custom =
+            IqFormats { quat_q: 29, rate_q: 20, angle_q: 22, accel_q: 16, nav_q: 27, length_q: 6, global_q: 12 };
+        let inner = with_formats(&custom, || classes.map(q_of));
+        assert_eq!(inner, Ok([29, 20, 22, 16, 27, 6, 12]));
         assert_eq!(q_of(QClass::Rate), IqFormats::default().rate_q as u8, "restored");
         let bad = IqFormats { accel_q: 31, ..IqFormats::default() };
         let err = with_formats(&bad, || ()).unwrap_err().to_string();
@@ -409,6 +497,73 @@ mod tests {
         let d = Iq::truncated(0.75, 30) / Iq::truncated(0.5, 20);
         assert_eq!((d.to_f64(), d.q), (1.5, 20));
         assert_eq!((Iq::truncated(1.0, 10) / Iq::truncated(3.0, 29)).raw, 341); // 341.33
+    }
+
+    #[test]
+    fn mul_i32_is_the_integer_product_in_the_value_q() {
+        // _IQ24(0.05·π/180) = 14640 (14640.83 truncated); × −8192 stays in Q24, exactly.
+        let lsb = Iq::from_f64(0.05f64.to_radians(), QClass::Rate);
+        assert_eq!(lsb.raw, 14_640);
+        let r = lsb.mul_i32(-8192);
+        assert_eq!((r.raw, r.q), (14_640 * -8192, 24));
+        let (r, n) = count_overflows(|| q24(100.0).mul_i32(2));
+        assert_eq!((r.to_f64(), n), (-56.0, 1), "200 wraps modulo 256 (the Q24 range)");
+    }
+
+    #[test]
+    fn div_to_rounds_the_quotient_into_the_class() {
+        // 10 m/s (Q20) over 6378137 m (Q8): the plain quotient takes the divisor's Q8 and is 0.
+        let v = Iq::truncated(10.0, 20);
+        let r = Iq::truncated(6_378_137.0, 8);
+        assert_eq!((v / r).raw, 0);
+        let w = v.div_to(r, QClass::Rate);
+        assert_eq!((w.q, w.raw), (24, (10.0 / 6_378_137.0 * 16_777_216.0f64).round() as i32));
+        // Into a coarser Q than both operands, rounded (ties away from zero) and saturated.
+        assert_eq!(q24(-5.0).div_to(q24(2.0), QClass::Length).to_f64(), -2.5);
+        let (sat, n) = count_overflows(|| q24(100.0).div_to(q24(0.5), QClass::Quat));
+        assert_eq!((sat.raw, n), (i32::MAX, 1));
+    }
+
+    #[test]
+    fn mul_to_floors_the_product_into_the_class() {
+        // K·T = 0.3 rad/s · 0.008 s in Q24 × Q24: the lower-Q product keeps Q24, mul_to keeps Q30.
+        let (k, t) = (q24(0.3), q24(0.008));
+        let exact = k.to_f64() * t.to_f64();
+        assert_eq!((k * t).raw, (exact * 2f64.powi(24)).floor() as i32);
+        let p = k.mul_to(t, QClass::Quat);
+        assert_eq!((p.q, p.raw), (30, (exact * 2f64.powi(30)).floor() as i32));
+        assert_eq!(q24(-0.5).mul_to(q24(3.0), QClass::Length).raw, -(3 << 7), "−1.5 in Q8");
+        let (w, n) = count_overflows(|| q24(2.0).mul_to(q24(1.5), QClass::Quat));
+        assert_eq!((w.to_f64(), n), (-1.0, 1), "3 wraps in Q30");
+    }
+
+    #[test]
+    fn from_f64_range_takes_the_finest_q_that_holds_the_range() {
+        // 0.05 °/s in rad/s for codes up to ±8192: 7.15 rad/s needs 3 integer bits → Q28.
+        let c = Iq::from_f64_range(0.05f64.to_radians(), 8192.0 * 0.05f64.to_radians());
+        assert_eq!((c.q, c.raw), (28, (0.05f64.to_radians() * 2f64.powi(28)) as i32));
+        assert_eq!(Iq::from_f64_range(0.5, 0.9).q, 30);
+        assert_eq!(Iq::from_f64_range(0.03, 267.8).q, 22, "±512");
+        assert_eq!(Iq::from_f64_range(1.0, 256.0).q, 22, "256 itself needs 9 integer bits");
+    }
+
+    #[test]
+    fn overflows_are_tallied() {
+        let (_, n) = count_overflows(|| {
+            let _ = q24(1.0) + q24(2.0) - q24(0.5) * q24(3.0) / q24(7.0);
+            let _ = Iq::truncated(-0.5, 30).to_q(24).abs();
+        });
+        assert_eq!(n, 0, "nothing overflows in range");
+        let (_, n) = count_overflows(|| {
+            let _ = q24(127.5) + q24(1.0); // add wraps
+            let _ = q24(-128.0) - q24(1.0); // sub wraps
+            let _ = q24(100.0) * q24(100.0); // product wraps
+            let _ = q24(3.0).to_q(30); // left shift wraps
+            let _ = -raw(i32::MIN, 24); // negation of the most negative value
+            let _ = Iq::from_f64(200.0, QClass::Rate); // _IQ() saturates
+            let _ = q24(1.0) / q24(0.0); // zero divisor
+        });
+        assert_eq!(n, 7);
     }
 
     #[test]

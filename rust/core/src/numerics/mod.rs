@@ -90,8 +90,11 @@ pub enum QClass {
     Angle,
     /// Specific force and accelerations (m/s²) and velocities (m/s).
     Accel,
-    /// Positions (rad of latitude/longitude, metres of height) and earth-model quantities.
+    /// Latitude and longitude (rad) and small earth-model quantities (flattening).
     Nav,
+    /// Lengths in metres: the earth radius, R_N + h, R_E + h and the height (6.4e6 m needs ≥ 23
+    /// integer bits, so a fixed-point backend gives lengths a Q of its own).
+    Length,
     /// Anything else: scale factors, time steps, small constants.
     Generic,
 }
@@ -115,12 +118,36 @@ pub trait Scalar:
     /// A constant or an input of class `class`, converted as the firmware's compiler or runtime
     /// would (f32: round to nearest; IQ: `_IQ()` truncation in that class's Q).
     fn from_f64(x: f64, class: QClass) -> Self;
+    /// A constant for products of magnitude up to `max_abs` (an LSB times the largest code): floats as
+    /// `from_f64`; IQ `_IQN(x)` in the finest Q (≤ 30) whose range holds `max_abs`, so that the integer
+    /// product keeps every bit the 32-bit word allows before the firmware shifts it to its class.
+    fn from_f64_range(x: f64, max_abs: f64) -> Self;
     /// An integer converted to this type (an `I16TOF32`/`I32TOF32` or `_IQ()` of an int on target).
     fn from_i32(x: i32, class: QClass) -> Self;
     /// The value as f64 (exact for every backend).
     fn to_f64(self) -> f64;
     /// Requantise into a class (IQ: shift into that class's Q; floats: identity).
     fn to_class(self, class: QClass) -> Self;
+    /// True for a fixed-point backend (and for the counting type while it counts one): its firmware
+    /// scales integer inputs with one constant folded into the firmware unit, because intermediate
+    /// units (°/s up to 409.6, g) may not fit the class's Q. The float firmware keeps the published
+    /// two-step conversion, so its results stay bit-identical to the published code.
+    fn fixed_point() -> bool;
+
+    /// `self · n` for an integer `n` (a raw sensor code): floats convert `n` (`I32TOF32`) and
+    /// multiply, `(float)n * self`; IQ is `_IQmpyI32(self, n)`, the 32-bit integer product in
+    /// `self`'s Q, wrapping on overflow (IQmathLib.h: `#define _IQmpyI32(A,B) ((A)*(B))`).
+    fn mul_i32(self, n: i32) -> Self;
+    /// `self / rhs` with the quotient in `class` (floats: the plain division). IQ: `_IQNdiv` with N
+    /// chosen so the quotient of the two operands' Qs lands in the class's Q (N = Q_class − Q_self +
+    /// Q_rhs), rounded and saturated as `/`; for quotients of operands whose Q does not suit the result,
+    /// such as V/(R+h) (m/s over metres in a coarse length Q, giving rad/s).
+    fn div_to(self, rhs: Self, class: QClass) -> Self;
+    /// `self * rhs` with the product in `class` (floats: the plain product). IQ: `_IQNmpy` with N chosen
+    /// so the product of the two operands' Qs lands in the class's Q (N = Q_self + Q_rhs − Q_class),
+    /// floored, wrapping as `*`; for small products of coarse operands, such as K·T (rate × step) added
+    /// to a Q30 quaternion.
+    fn mul_to(self, rhs: Self, class: QClass) -> Self;
 
     /// Square root (fastRTS `sqrt`, `_IQsqrt`).
     fn sqrt(self) -> Self;
@@ -151,6 +178,21 @@ impl Scalar for f64 {
     }
     fn to_class(self, _: QClass) -> Self {
         self
+    }
+    fn fixed_point() -> bool {
+        false
+    }
+    fn mul_i32(self, n: i32) -> Self {
+        n as f64 * self
+    }
+    fn div_to(self, rhs: Self, _: QClass) -> Self {
+        self / rhs
+    }
+    fn mul_to(self, rhs: Self, _: QClass) -> Self {
+        self * rhs
+    }
+    fn from_f64_range(x: f64, _: f64) -> Self {
+        x
     }
     fn sqrt(self) -> Self {
         f64::sqrt(self)

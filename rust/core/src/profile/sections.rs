@@ -605,15 +605,17 @@ pub struct IqFormats {
     pub angle_q: u32,
     /// Specific force, accelerations, velocities.
     pub accel_q: u32,
-    /// Navigation quantities (latitude, longitude in rad; height in m scaled).
+    /// Latitude and longitude (rad) and the flattening: |x| ≤ π needs 2 integer bits, hence ≤ 29.
     pub nav_q: u32,
+    /// Lengths in metres (earth radius, R + h, height): 6.4e6 m needs 23 integer bits, hence ≤ 8.
+    pub length_q: u32,
     /// Everything else (GLOBAL_Q).
     pub global_q: u32,
 }
 
 impl Default for IqFormats {
     fn default() -> Self {
-        IqFormats { quat_q: 30, rate_q: 24, angle_q: 24, accel_q: 20, nav_q: 24, global_q: 24 }
+        IqFormats { quat_q: 30, rate_q: 24, angle_q: 24, accel_q: 20, nav_q: 29, length_q: 8, global_q: 24 }
     }
 }
 
@@ -625,6 +627,7 @@ impl IqFormats {
             ("iq.angle_q", self.angle_q),
             ("iq.accel_q", self.accel_q),
             ("iq.nav_q", self.nav_q),
+            ("iq.length_q", self.length_q),
             ("iq.global_q", self.global_q),
         ] {
             if !(1..=30).contains(&v) {

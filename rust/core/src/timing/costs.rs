@@ -72,6 +72,9 @@ pub struct ArithCosts {
     pub float_to_int: u32,
     /// Loading a constant.
     pub constant: u32,
+    /// An integer times a value of the backend's type (`_IQmpyI32`; on float counted as its conversion
+    /// and multiplication instead).
+    pub mul_i32: u32,
     /// Changing Q format (fixed point only).
     #[serde(default)]
     pub requantise: u32,

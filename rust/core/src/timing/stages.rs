@@ -4,7 +4,7 @@
 
 use crate::error::Result;
 use crate::firmware::{Firmware, Vec3};
-use crate::numerics::counter::{count, Counted, OpCounts};
+use crate::numerics::counter::{count, count_as, Counted, OpCounts};
 use crate::numerics::Scalar;
 use crate::profile::{CodeLocation, Numeric, Profile, Schedule};
 use crate::timing::costs::{ArithCosts, CostTable, InterruptCosts};
@@ -66,7 +66,7 @@ pub fn price_terms(terms: &[CostTerm], factor: f64) -> u64 {
 
 /// The price lines of a stage's operation counts with one backend's arithmetic costs; `section` is
 /// the table section those costs come from (`float` or `iq`, see [`arith_for`]).
-pub fn arith_terms(counts: &OpCounts, section: ArithSection, arith: &ArithCosts) -> [CostTerm; 15] {
+pub fn arith_terms(counts: &OpCounts, section: ArithSection, arith: &ArithCosts) -> [CostTerm; 16] {
     let c = counts;
     let k = |float: &'static str, iq: &'static str| match section {
         ArithSection::Float => float,
@@ -89,6 +89,7 @@ pub fn arith_terms(counts: &OpCounts, section: ArithSection, arith: &ArithCosts)
         term("comparisons", c.comparisons, k("float.compare", "iq.compare"), arith.compare),
         term("int_to_float", c.int_to_float, k("float.int_to_float", "iq.int_to_float"), arith.int_to_float),
         term("constants", c.constants, k("float.constant", "iq.constant"), arith.constant),
+        term("int_muls", c.int_muls, k("float.mul_i32", "iq.mul_i32"), arith.mul_i32),
     ]
 }
 
@@ -163,8 +164,13 @@ pub fn location_factor(profile: &Profile, table: &CostTable) -> f64 {
 const WORDS: [u16; 6] = [0x0014, 0x3FF6, 0x0008, 0x0003, 0x3FFD, 0x012C];
 const RATES: [[f64; 3]; 3] = [[0.010, -0.005, 0.020], [0.011, -0.004, 0.021], [0.012, -0.003, 0.022]];
 
-/// Count and price every stage of the profile's firmware.
+/// Count and price every stage of the profile's firmware (the fixed-point firmware's operations for
+/// `iq`, see [`count_as`]).
 pub fn stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
+    count_as(arith_section(profile.firmware.numeric) == ArithSection::Iq, || counted_stage_costs(profile, table))
+}
+
+fn counted_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
     let arith = arith_for(profile.firmware.numeric, table);
     let factor = location_factor(profile, table);
     let mut fw = Firmware::<Counted>::new(profile)?;
@@ -236,6 +242,20 @@ mod tests {
         let q = stage_costs(&p, &t).unwrap();
         assert_eq!(f.attitude.counts, q.attitude.counts);
         assert!(q.attitude.cycles > f.attitude.cycles);
+    }
+
+    #[test]
+    fn decode_counts_follow_the_backend_firmware() {
+        let t = table();
+        let float = stage_costs(&Profile::default(), &t).unwrap().decode.counts;
+        // Published code per channel: I32TOF32, MPYF32 by the LSB, MPYF32 by π/180 or g.
+        assert_eq!((float.int_to_float, float.muls, float.int_muls), (6, 12, 0), "{float:?}");
+        let mut p = Profile::default();
+        p.firmware.numeric = Numeric::Iq;
+        let iq = stage_costs(&p, &t).unwrap().decode.counts;
+        // IQ: one _IQmpyI32 by the folded constant.
+        assert_eq!((iq.int_to_float, iq.muls, iq.int_muls), (0, 0, 6), "{iq:?}");
+        assert_eq!(float.subs, iq.subs, "the same negative-code branches");
     }
 
     /// Every profile variant whose price the budget explains: both arithmetic sections, both code
