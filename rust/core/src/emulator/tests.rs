@@ -290,7 +290,7 @@ fn outputs_are_pinned_bit_for_bit() {
         ("f64", 0x64b42e6a71ea0467),
         ("c28x-f32", 0x0491be9ab5fbe69c),
         ("c28x-f32-rz", 0x3f0bfd2872701dec),
-        ("iq", 0x1bac076628e018af),
+        ("iq", 0xbf0f0140727ec4e0),
         ("bit", 0xa0087798eabe7c62),
         ("endpoint", 0xf8f7d2cbb6d69426),
         ("back-to-back-level", 0xd16ec5455ac63714),
