@@ -84,7 +84,7 @@ def _trace_corpus() -> list[tuple[str, str]]:
     rows = re.findall(
         r"^\| (\S+\.(?:csv|h5)) \| (.+) \|$", (BAD / "README.md").read_text(encoding="utf-8"), re.M
     )
-    return [(name, fragment) for name, fragment in rows if "/" not in name]
+    return [(name, fragment.replace("\\|", "|")) for name, fragment in rows]
 
 
 TRACE_CASES = _trace_corpus()
@@ -332,3 +332,33 @@ def test_run_output_is_byte_identical_across_runs_and_bus_levels(capsys, tmp_pat
     assert cols_a.keys() == cols_bit.keys()
     for k in cols_a:
         assert cols_a[k].tobytes() == cols_bit[k].tobytes(), k
+
+
+# ---------------------------------------------------------------------------------------------------
+# Errors that are not the input's: the file system, and bugs
+# ---------------------------------------------------------------------------------------------------
+
+
+def test_an_output_path_through_a_file_is_exit_2_naming_it(capsys, tmp_path):
+    blocker = tmp_path / "not_a_folder"
+    blocker.write_text("")
+    code, _, err = _cli(capsys, "run", str(STATIC), "--out", str(blocker / "run.csv"))
+    assert code == 2 and f"{blocker / 'run.csv'}: {blocker} is not a folder" in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["not_a_folder"]
+
+
+def test_a_bug_is_one_line_with_exit_3_and_a_traceback_only_with_debug(capsys, monkeypatch):
+    from sins_fw.cli import board
+
+    def broken(args):
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(board, "run", broken)
+    code, _, err = _cli(capsys, "board")
+    assert (
+        code == 3
+        and err
+        == "sins-fw: error: internal error (please report; --debug shows where): RuntimeError('a bug')\n"
+    )
+    code, _, err = _cli(capsys, "--debug", "board")
+    assert code == 3 and "Traceback" in err and 'raise RuntimeError("a bug")' in err

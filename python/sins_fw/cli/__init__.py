@@ -98,6 +98,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(args, e, EXIT_BUG)
     except SinsError as e:
         return _fail(args, e, EXIT_USAGE)
+    except OSError as e:
+        # The file system said no (permissions, a full disk, a missing folder): the user's to fix.
+        where = f"{e.filename}: " if e.filename else ""
+        return _fail(args, InputError(f"{where}{e.strerror or e}"), EXIT_USAGE, e)
     except MemoryError:
         return _fail(
             args, InputError("not enough memory for this command (a shorter trace or run?)"), EXIT_USAGE
