@@ -18,6 +18,7 @@ from sins_fw.cli import main
 from sins_fw.errors import TraceError
 from sins_fw.traces import PHYSICAL_SCHEMA, RAW_SCHEMA, PhysicalTrace, RawRegisterTrace
 
+
 def fuzz(examples: int) -> settings:
     """Fixed example counts (bounded time), no deadline (a first call may import or build a lot)."""
     return settings(
@@ -25,6 +26,7 @@ def fuzz(examples: int) -> settings:
         deadline=None,
         suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
     )
+
 
 _DIR = Path(tempfile.mkdtemp(prefix="sins-fw-fuzz-"))
 
@@ -75,7 +77,25 @@ def test_random_bytes_are_a_trace_error_or_a_sound_trace(data, ext, h5_head):
 
 # Mutations of a valid CSV: each edit is (kind, position, text).
 TOKENS = st.sampled_from(
-    ["0", "-1", "1e308", "1e400", "-1e400", "nan", "inf", "0x1F", ",", ",,", "\n", "\r\n", "#", " ", "", "é", "\x00"]
+    [
+        "0",
+        "-1",
+        "1e308",
+        "1e400",
+        "-1e400",
+        "nan",
+        "inf",
+        "0x1F",
+        ",",
+        ",,",
+        "\n",
+        "\r\n",
+        "#",
+        " ",
+        "",
+        "é",
+        "\x00",
+    ]
 )
 EDIT = st.tuples(
     st.sampled_from(["insert", "delete", "replace", "duplicate_line", "drop_line", "swap_lines", "truncate"]),
@@ -126,14 +146,16 @@ VALUE = st.one_of(
     st.integers(-(2**70), 2**70).map(str),
     st.integers(0, 0xFFFF).map(hex),
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
-    st.sampled_from(["true", "false", '"rk4"', "level", "bit", "[0, 0]", "[1.0, 2.0, 3.0]", "{a = 1}", "", "="]),
+    st.sampled_from(
+        ["true", "false", '"rk4"', "level", "bit", "[0, 0]", "[1.0, 2.0, 3.0]", "{a = 1}", "", "="]
+    ),
     st.text(max_size=10),
 )
 
 
 def _check_cli(capsys, *args: str) -> None:
     code = main(list(args))
-    out, err = capsys.readouterr()
+    _, err = capsys.readouterr()
     assert "Traceback" not in err and "panicked" not in err, err
     assert code in (0, 2), (code, args, err)
     if code == 2:
@@ -159,3 +181,47 @@ def tiny_trace() -> Path:
 def test_random_overrides_never_crash_run(capsys, tiny_trace, pairs):
     sets = [a for k, v in pairs for a in ("--set", f"{k}={v}")]
     _check_cli(capsys, "run", str(tiny_trace), "--json", *sets)
+
+
+# HDF5 containers that are well-formed files with random content: names, shapes, types, values, metadata.
+COLUMN_NAMES = st.sampled_from([*PHYSICAL_SCHEMA.names(), *RAW_SCHEMA.names(), "t_ms", "gyro_x_rads", "foo"])
+DTYPES = st.sampled_from(["f8", "f4", "i8", "u1", "u2", "i2", "c8", "S4", "b1"])
+H5_VALUES = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True), st.integers(-(2**31), 2**31), st.sampled_from([0.0, 1.0])
+)
+
+
+@st.composite
+def h5_content(draw):
+    n = draw(st.integers(0, 6))
+    columns = {}
+    for name in draw(st.lists(COLUMN_NAMES, min_size=0, max_size=9, unique=True)):
+        dtype = draw(DTYPES)
+        rows = draw(st.sampled_from([n, n, n, max(n - 1, 0), n + 1]))
+        shape = draw(st.sampled_from([(rows,), (rows,), (rows, 2)]))
+        values = draw(st.lists(H5_VALUES, min_size=int(np.prod(shape)), max_size=int(np.prod(shape))))
+        with np.errstate(all="ignore"):
+            columns[name] = np.array(values, dtype="f8").reshape(shape).astype(dtype)
+    if "t_s" in columns and columns["t_s"].dtype.kind == "f" and draw(st.booleans()):
+        columns["t_s"] = np.arange(len(columns["t_s"])) / 100.0  # often a sound time column
+    rate = draw(st.sampled_from(["100", "0", "-1", "fast", "1e400", "2000/7", ""]))
+    fmt = draw(st.sampled_from([None, "sins-fw-physical-trace/1", "sins-fw-raw-register-trace/1", "x"]))
+    return columns, rate, fmt
+
+
+@fuzz(120)
+@given(content=h5_content())
+def test_random_hdf5_content_is_a_trace_error_or_a_sound_trace(content):
+    import h5py
+
+    columns, rate, fmt = content
+    path = _DIR / "random_content.h5"
+    with h5py.File(path, "w") as f:
+        if rate:
+            f.attrs["sample_rate_hz"] = rate
+        if fmt is not None:
+            f.attrs["format"] = fmt
+        for name, arr in columns.items():
+            f.create_dataset(name, data=arr)
+    for kind in (PhysicalTrace, RawRegisterTrace):
+        _load_checked(kind, path)

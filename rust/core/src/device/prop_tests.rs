@@ -113,7 +113,7 @@ fn check_registers(d: &Adis16407, cfg: &Device) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(192))]
+    #![proptest_config(ProptestConfig::with_cases(1024))]
 
     #[test]
     fn random_frames_never_panic_and_keep_the_registers_valid(

@@ -149,7 +149,7 @@ fn run(profile: &Profile, ops: &[Op], level: BusLevel) -> Result<Outcome, TestCa
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(192))]
+    #![proptest_config(ProptestConfig::with_cases(1024))]
 
     #[test]
     fn random_register_traffic_never_panics_and_levels_agree(

@@ -262,3 +262,6 @@ mod reference_file {
         assert_eq!(p, Profile::default());
     }
 }
+
+#[cfg(test)]
+mod prop_tests;

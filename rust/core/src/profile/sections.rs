@@ -21,16 +21,34 @@ fn check_reg(key: &str, value: u32, bits: u32) -> Result<()> {
     Ok(())
 }
 
+/// A float as a user wrote it, unless that is unreadably long (1e-308 has 300 digits in full).
+fn num(value: f64) -> String {
+    let full = value.to_string();
+    if full.len() > 24 {
+        format!("{value:e}")
+    } else {
+        full
+    }
+}
+
 fn check_pos(key: &str, value: f64) -> Result<()> {
     if !(value.is_finite() && value > 0.0) {
-        return Err(bad(key, value, "a finite number > 0"));
+        return Err(bad(key, num(value), "a finite number > 0"));
+    }
+    Ok(())
+}
+
+/// `allowed` says the range in words, as a user would write it (`1e6…1e8 m`).
+fn check_range(key: &str, value: f64, lo: f64, hi: f64, allowed: &str) -> Result<()> {
+    if !(value.is_finite() && (lo..=hi).contains(&value)) {
+        return Err(bad(key, num(value), allowed));
     }
     Ok(())
 }
 
 fn check_nonneg(key: &str, value: f64) -> Result<()> {
     if !(value.is_finite() && value >= 0.0) {
-        return Err(bad(key, value, "a finite number ≥ 0"));
+        return Err(bad(key, num(value), "a finite number ≥ 0"));
     }
     Ok(())
 }
@@ -594,7 +612,7 @@ impl Firmware {
                 self.alignment_s
             )));
         }
-        check_pos("firmware.accel_g_m_s2", self.accel_g_m_s2)?;
+        check_range("firmware.accel_g_m_s2", self.accel_g_m_s2, 1.0, 100.0, "1…100 m/s² per g")?;
         Ok(())
     }
 }
@@ -648,16 +666,26 @@ impl Navigation {
         if !self.longitude_deg.is_finite() {
             return Err(bad("navigation.longitude_deg", self.longitude_deg, "a finite angle"));
         }
-        if !self.height_m.is_finite() {
-            return Err(bad("navigation.height_m", self.height_m, "a finite height"));
+        check_range("navigation.height_m", self.height_m, -1e4, 1e5, "−1e4…1e5 m (a mine to the edge of space)")?;
+        // Beyond orbital speeds the position update leaves the ellipsoid within a step.
+        if self.velocity_enu.iter().any(|v| !(v.is_finite() && v.abs() <= 1e4)) {
+            return Err(bad(
+                "navigation.velocity_enu",
+                format!("{:?}", self.velocity_enu),
+                "three m/s values within ±1e4",
+            ));
         }
-        if self.velocity_enu.iter().any(|v| !v.is_finite()) {
-            return Err(bad("navigation.velocity_enu", format!("{:?}", self.velocity_enu), "three finite m/s values"));
+        // Earth-model constants may be changed (another ellipsoid, an exaggerated earth rate for a
+        // test), but only within ranges where the navigation equations stay finite: outside them
+        // the output would turn to NaN without a word.
+        for (key, value, lo, hi, what) in [
+            ("navigation.earth_radius_m", self.earth_radius_m, 1e6, 1e8, "1e6…1e8 m (a planet-sized radius)"),
+            ("navigation.flattening", self.flattening, 0.0, 0.1, "0…0.1 (an ellipsoid's flattening)"),
+            ("navigation.earth_rate_rad_s", self.earth_rate_rad_s, 0.0, 1e-2, "0…0.01 rad/s"),
+            ("navigation.gravity_equator", self.gravity_equator, 1.0, 100.0, "1…100 m/s²"),
+        ] {
+            check_range(key, value, lo, hi, what)?;
         }
-        check_pos("navigation.earth_radius_m", self.earth_radius_m)?;
-        check_nonneg("navigation.flattening", self.flattening)?;
-        check_nonneg("navigation.earth_rate_rad_s", self.earth_rate_rad_s)?;
-        check_pos("navigation.gravity_equator", self.gravity_equator)?;
         Ok(())
     }
 }
