@@ -176,6 +176,7 @@ def tiny_trace() -> Path:
     return path
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")  # a NaN or overflow in the summary: a silent NaN
 @fuzz(60)
 @given(pairs=st.lists(st.tuples(st.sampled_from(KEYS), VALUE), min_size=1, max_size=2))
 def test_random_overrides_never_crash_run(capsys, tiny_trace, pairs):
