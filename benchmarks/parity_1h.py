@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 from sins_fw import synth
+from sins_fw.atomic import write_text
 from sins_fw.bench import machine_line
 from sins_fw.parity import compare, run_backends
 
@@ -92,7 +93,7 @@ def main() -> None:
             f"| {title} | {d.backend} | {d.max_deg:.3e} | {d.rms_deg:.3e} | {d.final_deg:.3e} | "
             f"{d.drift_deg_per_h:.3e} | {d.max_at_s:.1f} |"
         )
-    args.out.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    write_text(args.out, "\n".join(lines) + "\n")
     print(f"wrote {args.out}")
 
 

@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 
 from sins_fw import synth
+from sins_fw.atomic import write_text
 from sins_fw.harness import emulate
 from sins_fw.viewer import save_recording
 
@@ -90,7 +91,7 @@ Machine: `{platform.uname().system} {platform.uname().release} {platform.uname()
 Commit `{commit()}`, {datetime.date.today().isoformat()}. The machine is shared (2 cores): other jobs may
 have been running; the best of the repeats is the figure.
 """
-    args.out.write_text(text, encoding="utf-8")
+    write_text(args.out, text)
     print(text)
 
 

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from sins_fw import atomic, synth
 from sins_fw import quaternion as q
-from sins_fw import synth
 from sins_fw.bench import machine_line
 from sins_fw.harness import emulate
 
@@ -62,7 +62,7 @@ def main() -> None:
         "linear interpolation adds ((ωT)²/12 amplitude loss on average). At BROAD's rate it adds ≈ 40 %",
         "to the drift the ADIS16407's own Bartlett filter already causes.",
     ]
-    Path(__file__).with_suffix(".md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    atomic.write_text(Path(__file__).with_suffix(".md"), "\n".join(lines) + "\n")
     print("\n".join(lines))
 
 

@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw import _core
+from sins_fw.atomic import atomic_path
 from sins_fw.harness import PS, Run, _assemble, cost_table_text, new_emulator
 from sins_fw.profile import Profile, load_profile
 
@@ -548,5 +549,8 @@ def plot_report(report: dict[str, Any], path: str | Path) -> None:
     ax2.set_xlabel(f"% of the attitude cycle ({report['cycle_period_s'] * 1e3:g} ms), typical; {rest}")
     ax2.legend(loc="upper center", fontsize=7, ncol=8, frameon=False)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format="png", dpi=120)
+    finally:
+        plt.close(fig)

@@ -9,6 +9,9 @@ message, which names the file, key, register or row and what was expected.
     │   └── ConfigError       a configuration the hardware cannot realise
     ├── CheckFailed           a check (parity threshold, deadline) failed (CLI exit code 1)
     └── InternalError         a bug: a panic in the core, caught before it could abort Python
+
+    Terminated                SIGTERM, raised by the CLI's handler; a KeyboardInterrupt so that it
+                              unwinds exactly like Ctrl-C (CLI exit code 143)
 """
 
 from __future__ import annotations
@@ -44,3 +47,8 @@ class CheckFailed(SinsError):  # noqa: N818 (a verdict, not an error of the tool
 
 class InternalError(SinsError):
     """A bug in sins-fw (e.g. a Rust panic that was caught)."""
+
+
+class Terminated(KeyboardInterrupt):
+    """The process received SIGTERM (the CLI turns it into this exception so that output files are
+    left intact and the command says how far it got, as with Ctrl-C)."""

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sins_fw.atomic import write_text
 from sins_fw.harness import Run, emulate
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -86,8 +87,7 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f"{mark}{trace}.{key}: {was} → {value}" if was != value else f"{mark}{trace}.{key}: {value}"
             )
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(render(new), encoding="utf-8")
+    write_text(path, render(new))
     changed = sum(1 for t, h in new.items() for k, v in h.items() if old.get(t, {}).get(k) != v)
     print(f"wrote {path}: {changed} value(s) changed")
     return 0

@@ -8,9 +8,7 @@ per timer tick against its deadline, and the events in time.
 
 from __future__ import annotations
 
-import contextlib
 import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,6 +21,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from sins_fw import quaternion
+from sins_fw.atomic import atomic_path
 from sins_fw.harness import PS, Run
 from sins_fw.metrics import attitude_errors
 from sins_fw.report import aligned_estimate
@@ -173,20 +172,9 @@ def save_report(run: Run, path: str | os.PathLike[str], *, title: str = "") -> t
     """Render the report of ``run`` to a PNG at ``path`` (temporary file + rename)."""
     out = Path(path)
     fig, axes = report_figure(run, title=title)
-    fd, tmp = tempfile.mkstemp(
-        prefix=f".{out.name}.", suffix=".png", dir=out.parent if str(out.parent) else "."
-    )
-    os.close(fd)
     try:
-        fig.savefig(tmp, format="png", dpi=DPI)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, out)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
+        with atomic_path(out) as tmp:
+            fig.savefig(tmp, format="png", dpi=DPI)
     finally:
         plt.close(fig)
     return out, axes

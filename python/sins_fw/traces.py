@@ -9,12 +9,10 @@ from 0 (the first data row is row 0); CSV line numbers from 1.
 
 from __future__ import annotations
 
-import contextlib
 import io
 import itertools
 import os
 import re
-import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -25,6 +23,7 @@ import h5py
 import numpy as np
 from numpy.typing import NDArray
 
+from sins_fw.atomic import atomic_path
 from sins_fw.errors import TraceError
 
 Array = NDArray[np.float64]
@@ -631,26 +630,8 @@ def _dtype_of(c: Column) -> str:
 
 
 # ---------------------------------------------------------------------------------------------------
-# Writing (atomic: a temporary file in the same folder, then os.replace)
+# Writing (atomic: sins_fw.atomic)
 # ---------------------------------------------------------------------------------------------------
-
-
-@contextlib.contextmanager
-def _atomic_path(path: Path) -> Iterator[Path]:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        # mkstemp creates the file private (0600); give it the permissions a plain open() would.
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
 
 
 def _format_column(c: Column, arr: np.ndarray) -> NDArray[np.str_]:
@@ -666,7 +647,7 @@ def _format_column(c: Column, arr: np.ndarray) -> NDArray[np.str_]:
 def _write_csv(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
     names = list(cols)
     n = len(cols["t_s"])
-    with _atomic_path(path) as tmp, tmp.open("w", encoding="utf-8", newline="\n") as out:
+    with atomic_path(path) as tmp, tmp.open("w", encoding="utf-8", newline="\n") as out:
         out.write(f"# sins-fw {schema.title} (format described in docs/traces.md)\n")
         for k, v in metadata.items():
             out.write(f"# {k}: {v}\n")
@@ -687,7 +668,7 @@ def _write_h5(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: di
     dtypes = {"float": np.float64, "flag": np.uint8, "word": np.uint16}
     # track_times off: the same content gives the same bytes (no timestamps); track_order keeps the
     # metadata in the order it was written (as in CSV).
-    with _atomic_path(path) as tmp, h5py.File(tmp, "w", libver=("earliest", "v110"), track_order=True) as f:
+    with atomic_path(path) as tmp, h5py.File(tmp, "w", libver=("earliest", "v110"), track_order=True) as f:
         for k, v in metadata.items():
             f.attrs[k] = v
         for name, arr in cols.items():

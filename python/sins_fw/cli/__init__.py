@@ -1,14 +1,19 @@
 """The `sins-fw` command line. Each subcommand is a module of this package with `register(sub)`.
 
-Exit codes: 0 success, 1 a check failed (parity, deadline), 2 bad input or usage, 130 interrupted.
-User errors print one message on stderr, never a traceback (``--debug`` shows one).
+Exit codes: 0 success, 1 a check failed (parity, deadline), 2 bad input or usage, 3 a bug in sins-fw
+(reported in one line; ``--debug`` shows the traceback), 130 interrupted (Ctrl-C, SIGINT), 143
+terminated (SIGTERM). User errors print one message on stderr, never a traceback (``--debug`` shows
+one). An interrupted command leaves every output file either as it was or complete (sins_fw.atomic)
+and says how far it got.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 import traceback
 from collections.abc import Sequence
 
@@ -27,12 +32,14 @@ from sins_fw.cli import (
     run,
     synth,
 )
-from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError
+from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated
 
 #: The subcommands, in the order `--help` lists them.
 COMMANDS = (demo, run, board, budget, parity, replay, report, synth, importer, presets, montecarlo, bench)
 
-EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_BUG = 0, 1, 2, 3
+#: 128 + the signal number, as a shell reports a process its signal ended.
+EXIT_INTERRUPTED, EXIT_TERMINATED = 128 + signal.SIGINT, 128 + signal.SIGTERM
 
 
 class _Parser(argparse.ArgumentParser):
@@ -56,6 +63,10 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of `sins-fw`; returns the exit code."""
     parser = build_parser()
@@ -63,6 +74,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
+    # SIGTERM unwinds like Ctrl-C (temporary files removed, progress reported) instead of killing
+    # the process where it stands. Only the main thread may install handlers (not when embedded).
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         return int(args.func(args))
     except CheckFailed as e:
@@ -73,21 +89,42 @@ def main(argv: Sequence[str] | None = None) -> int:
         # The reader went away (`sins-fw ... | head`): not an error of ours; silence the final flush.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
-    except KeyboardInterrupt:
-        print("sins-fw: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except (InternalError, SinsError) as e:
-        return _fail(args, e, EXIT_USAGE if not isinstance(e, InternalError) else 3)
+    except KeyboardInterrupt as e:
+        # Terminated is a KeyboardInterrupt; the message (if any) says how far the command got.
+        what = "terminated" if isinstance(e, Terminated) else "interrupted"
+        detail = f": {e}" if str(e) else ""
+        print(f"sins-fw: {what}{detail}", file=sys.stderr)
+        return EXIT_TERMINATED if isinstance(e, Terminated) else EXIT_INTERRUPTED
+    except InternalError as e:
+        return _fail(args, e, EXIT_BUG)
+    except SinsError as e:
+        return _fail(args, e, EXIT_USAGE)
+    except OSError as e:
+        # The file system said no (permissions, a full disk, a missing folder): the user's to fix.
+        where = f"{e.filename}: " if e.filename else ""
+        return _fail(args, InputError(f"{where}{e.strerror or e}"), EXIT_USAGE, e)
+    except MemoryError:
+        return _fail(
+            args, InputError("not enough memory for this command (a shorter trace or run?)"), EXIT_USAGE
+        )
+    except Exception as e:
+        # A bug of ours: one line naming it (the traceback with --debug), never a raw traceback.
+        return _fail(
+            args, InternalError(f"internal error (please report; --debug shows where): {e!r}"), EXIT_BUG, e
+        )
     except BaseException as e:
         # A Rust panic surfaces as pyo3's PanicException (a BaseException): report it as a bug.
         if type(e).__name__ == "PanicException":
-            return _fail(args, InternalError(str(e)), 3)
+            return _fail(args, InternalError(str(e)), EXIT_BUG)
         raise
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
-def _fail(args: argparse.Namespace, e: BaseException, code: int) -> int:
+def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseException | None = None) -> int:
     if getattr(args, "debug", False):
-        traceback.print_exception(e)
+        traceback.print_exception(cause or e)
     print(f"sins-fw: error: {e}", file=sys.stderr)
     return code
 

@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from sins_fw import atomic
 from sins_fw.bench import render, run_suite
 from sins_fw.cli.common import add_json_option, emit
 
@@ -26,6 +27,6 @@ def run(args: argparse.Namespace) -> int:
     text = render(report)
     if args.output is not None:
         args.output.parent.mkdir(parents=True, exist_ok=True)
-        args.output.write_text(text, encoding="utf-8")
+        atomic.write_text(args.output, text)
     emit(args, report, text)
     return 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 from typing import Any
 
@@ -41,8 +42,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if not args.seconds > 0:
-        raise InputError(f"--seconds {args.seconds}: expected a duration > 0")
+    if not (math.isfinite(args.seconds) and args.seconds > 0):
+        raise InputError(f"--seconds {args.seconds}: expected a finite duration > 0")
+    if args.plot is not None and (args.plot.suffix.lower() != ".png" or args.plot.is_dir()):
+        raise InputError(f"--plot {args.plot}: expected a file name ending in .png")
     report = budget.budget_report(profile_from_args(args), seconds=args.seconds)
     if args.plot is not None:
         budget.plot_report(report, args.plot)

@@ -3,19 +3,22 @@
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import h5py
+import numpy as np
 
 from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
-from sins_fw.errors import TraceError
+from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import emulate
 from sins_fw.report import ALIGNMENTS, render, summarise
 from sins_fw.run_output import save_run
-from sins_fw.traces import check_output_path
+from sins_fw.traces import DEFAULT_MAX_GAP_PERIODS, PhysicalTrace, check_output_path
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,6 +33,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("trace", type=Path, help="physical trace, .csv or .h5")
     add_profile_options(p)
     p.add_argument("--out", type=Path, help="write the per-step output here (.csv or .h5)")
+    p.add_argument(
+        "--allow-gaps",
+        action="store_true",
+        help="accept time steps longer than 1.5 sample periods: the device sees the input interpolated "
+        "linearly across each gap, and each gap is an `input_gap` event (the trace is read into memory)",
+    )
     p.add_argument(
         "--align",
         choices=ALIGNMENTS,
@@ -56,15 +65,18 @@ def _trace_span_s(path: Path) -> float | None:
 
 
 @contextmanager
-def _progress(args: argparse.Namespace) -> Iterator[Callable[[float], None] | None]:
+def _progress(args: argparse.Namespace, span_s: float | None) -> Iterator[Callable[[float], None] | None]:
     """A tqdm bar on stderr for interactive use (not with --json, not when stderr is redirected)."""
     if args.json or not sys.stderr.isatty():
         yield None
         return
     from tqdm import tqdm
 
-    span = _trace_span_s(args.trace)
-    with tqdm(total=span, unit="s", unit_scale=True, desc="emulating", file=sys.stderr, leave=False) as bar:
+    # A Ctrl-C inside tqdm's constructor leaves a half-built bar whose __del__ prints a traceback:
+    # hold the signals for the few microseconds it takes (they are delivered right after).
+    with _signals_held():
+        bar = tqdm(total=span_s, unit="s", unit_scale=True, desc="emulating", file=sys.stderr, leave=False)
+    with bar:
         start: list[float] = []
 
         def update(t: float) -> None:
@@ -75,17 +87,114 @@ def _progress(args: argparse.Namespace) -> Iterator[Callable[[float], None] | No
         yield update
 
 
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """Block SIGINT and SIGTERM for the duration (delivered when the block ends)."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+class _Reached:
+    """How far the emulation got: the trace time covered by the chunks emulated so far (virtual time
+    0 is the trace's first sample), for the message of an interrupted run."""
+
+    def __init__(self, span_s: float | None) -> None:
+        self.span_s = span_s
+        self.t: float | None = None
+
+    def __call__(self, t: float) -> None:
+        self.t = t
+
+    def text(self, t0_s: float | None) -> str:
+        if self.t is None:
+            return "before the first chunk of the trace was emulated (virtual time 0 s)"
+        reached = self.t - (t0_s or 0.0)
+        of = f" of {self.span_s:.6g} s" if self.span_s is not None else ""
+        return f"after emulating {reached:.6g} s{of} of the trace (virtual time reached)"
+
+
+def _first_time(path: Path) -> float | None:
+    """The trace's first time stamp (reads only its first row); None when it cannot be read."""
+    try:
+        first = next(iter(PhysicalTrace.iter_chunks(path, 1)), None)
+    except InputError:
+        return None
+    return float(first.t_s[0]) if first is not None and len(first) else None
+
+
+def gap_events(
+    trace: PhysicalTrace, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+) -> list[dict[str, Any]]:
+    """One `input_gap` event per time step longer than ``max_gap_periods`` sample periods, at the
+    virtual time of the sample before the gap (the run's time 0 is the trace's first sample)."""
+    t = trace.t_s
+    if len(t) < 2:
+        return []
+    period = float(1 / trace.sample_rate_hz)
+    dt = np.diff(t)
+    limit = max_gap_periods * period
+    return [
+        {
+            "t_s": float(t[i] - t[0]),
+            "kind": "input_gap",
+            "severity": "warning",
+            "message": f"trace gap of {dt[i]:.6g} s ({dt[i] / period:.3g} sample periods) after trace time "
+            f"{float(t[i])!r} s: the device sees the input interpolated linearly across it",
+            "measured": float(dt[i]),
+            "required": limit,
+        }
+        for i in np.flatnonzero(dt > limit)
+    ]
+
+
+def _out_state(out: Path | None, existed: bool) -> str:
+    if out is None:
+        return ""
+    return f"; {out} left as it was" if existed else f"; {out} not written"
+
+
 def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         check_output_path(args.out)
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
     profile = profile_from_args(args)
-    with _progress(args) as on_chunk:
-        result = emulate(args.trace, profile, on_chunk=on_chunk)
+    out_existed = args.out is not None and args.out.exists()
+    span = _trace_span_s(args.trace)
+    reached = _Reached(span)
+    trace: PhysicalTrace | Path = args.trace
+    gaps: list[dict[str, Any]] = []
+    if args.allow_gaps:
+        trace = PhysicalTrace.load(args.trace, allow_gaps=True)
+        gaps = gap_events(trace)
+    with _progress(args, span) as bar:
+
+        def on_chunk(t: float) -> None:
+            reached(t)
+            if bar is not None:
+                bar(t)
+
+        try:
+            result = emulate(trace, profile, on_chunk=on_chunk)
+        except KeyboardInterrupt as e:
+            how_far = reached.text(_first_time(args.trace) if reached.t is not None else None)
+            raise type(e)(f"stopped {how_far}{_out_state(args.out, out_existed)}") from None
+    if gaps:
+        # Stable sort: the core's events keep their order; each gap goes where its time puts it.
+        result.events = sorted([*result.events, *gaps], key=lambda e: e["t_s"])
     summary = summarise(result, trace=str(args.trace), align=args.align)
     if args.out is not None:
-        save_run(result, args.out, {"trace": str(args.trace)})
+        try:
+            save_run(result, args.out, {"trace": str(args.trace)})
+        except KeyboardInterrupt as e:
+            done = f"after emulating all {result.time_s[-1] if result.cycles else 0:.6g} s"
+            raise type(e)(
+                f"stopped while writing {args.out} {done}{_out_state(args.out, out_existed)}"
+            ) from None
         summary["out"] = str(args.out)
     text = render(summary)
     if args.out is not None:

@@ -9,9 +9,7 @@ Paths and timeline names are in :mod:`sins_fw.viewer.paths`.
 
 from __future__ import annotations
 
-import contextlib
 import os
-import tempfile
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -21,6 +19,7 @@ import rerun as rr
 from numpy.typing import NDArray
 
 from sins_fw import quaternion
+from sins_fw.atomic import atomic_path
 from sins_fw.harness import Run
 from sins_fw.metrics import attitude_errors, wrap_deg
 from sins_fw.report import aligned_estimate
@@ -428,24 +427,13 @@ def save_recording(
     from sins_fw.viewer.layout import default_blueprint
 
     out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent)
-    os.close(fd)
-    try:
+    with atomic_path(out) as tmp:
         rec = rr.RecordingStream("sins-fw", recording_id=None, send_properties=True)
         bp = blueprint if blueprint is not None else default_blueprint(run, parity=parity)
-        rec.save(tmp, default_blueprint=bp)
+        rec.save(str(tmp), default_blueprint=bp)
         if name:
             rec.send_recording_name(name)
         log_run(rec, run, trace=trace, parity=parity)
         rec.flush()
         rec.disconnect()
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a recording is an ordinary file
-        os.replace(tmp, out)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
     return out

@@ -1,6 +1,8 @@
 """Writes the bad-trace corpus of this folder (run from anywhere: python make_corpus.py).
 
 Each file is one defect; README.md maps each file to the message fragment loading it must give.
+The files in handled/ load (they are valid traces) but carry something a run must report as an
+event rather than pass on silently (README.md, second table).
 """
 
 from __future__ import annotations
@@ -105,6 +107,22 @@ def main() -> None:
     (HERE / "h5_named_csv.csv").write_bytes(good)
     (HERE / "garbage.h5").write_bytes(b"\x00\x01garbage" * 50)
     (HERE / "text_named_h5.h5").write_text(META + COLS + "\n" + "\n".join(ROWS) + "\n")
+    csv("time_goes_back.csv", rows=[ROWS[0], ROWS[1], "0.005,0,0,0,0,0,1"])
+    handled()
+
+
+def handled() -> None:
+    """Valid 2 s traces at 100 Hz that a run must report: far beyond the sensor's range (saturation),
+    and a gap (with --allow-gaps)."""
+    (HERE / "handled").mkdir(exist_ok=True)
+    t = [f"{k / 100!r}" for k in range(200)]
+    # ±1e6 °/s and 1e3 g: far beyond the ±300 °/s and ±18 g fields, and beyond the filter's input
+    # limit (2^20 units); -1e300 °/s on y.
+    far = [f"{tk},1000000.0,-1e+300,0,0,0,1000.0" for tk in t]
+    text("handled/far_beyond_range.csv", META + COLS + "\n" + "\n".join(far) + "\n")
+    # 0.5 s without samples after t = 0.99 s (50 sample periods).
+    gap = [f"{tk},0,0,0,0,0,1" for tk in t if not 0.99 < float(tk) < 1.5]
+    text("handled/time_gap_2s.csv", META + COLS + "\n" + "\n".join(gap) + "\n")
 
 
 if __name__ == "__main__":

@@ -66,4 +66,6 @@ impl Physical {
 }
 
 #[cfg(test)]
+mod prop_tests;
+#[cfg(test)]
 mod tests;

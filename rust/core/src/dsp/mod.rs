@@ -10,3 +10,6 @@ pub use clocks::DspClocks;
 pub use spi::SpiA;
 pub use summary::BoardSummary;
 pub use timer::CpuTimer;
+
+#[cfg(test)]
+mod prop_tests;

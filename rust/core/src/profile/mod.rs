@@ -49,7 +49,10 @@ impl Profile {
         let de = toml::Value::Table(table);
         let profile: Profile = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
-            Error::Profile(format!("{source}: key `{path}`: {}", e.inner().to_string().trim()))
+            let inner = e.inner().to_string();
+            // serde's message ends by naming the key again; it is already named up front.
+            let inner = inner.trim().trim_end_matches(&format!("in `{path}`")).trim_end().to_string();
+            Error::Profile(format!("{source}: key `{path}`: {inner}"))
         })?;
         profile.validate().map_err(|e| match e {
             Error::Profile(m) => Error::Profile(format!("{source}: {m}")),
@@ -77,6 +80,7 @@ impl Profile {
         self.spi.validate()?;
         self.timer.validate()?;
         self.device.validate()?;
+        self.device.validate_power_on_sens_avg()?;
         self.errors.validate()?;
         self.firmware.validate()?;
         self.navigation.validate()?;
@@ -201,6 +205,48 @@ mod tests {
         let e = Profile::from_toml("", "x", &["timer.period_us=0".into()]).unwrap_err();
         assert!(e.to_string().contains("timer.period_us"), "{e}");
     }
+
+    fn rejected(overrides: &[&str]) -> String {
+        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        Profile::from_toml("", "x.toml", &ov).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn contradictions_name_both_keys() {
+        let m = rejected(&["firmware.initial_attitude=level", "firmware.alignment_s=0"]);
+        assert!(m.contains("firmware.alignment_s") && m.contains("firmware.initial_attitude"), "{m}");
+        // With the published Q = [1, 0, 0, 0] start the still period is not used.
+        assert!(Profile::from_toml("", "x", &["firmware.alignment_s=0".into()]).is_ok());
+        let m = rejected(&["device.sclk_burst_max_hz=3e6"]);
+        assert!(m.contains("device.sclk_burst_max_hz") && m.contains("device.sclk_max_hz"), "{m}");
+        let m = rejected(&["clocks.crystal_hz=35000000"]);
+        assert!(m.contains("clocks.crystal_hz") && m.contains("clocks.divsel") && m.contains("175 MHz"), "{m}");
+        assert!(Profile::from_toml("", "x", &["clocks.pllcr=0".into(), "clocks.divsel=1".into()]).is_ok());
+    }
+
+    #[test]
+    fn sens_avg_the_part_cannot_hold_is_rejected() {
+        // ±75 °/s needs M ≥ 4, ±150 °/s M ≥ 2 (the device model's minimums): the message says what to write.
+        let m = rejected(&["device.sens_avg=0x0102"]);
+        assert!(m.contains("device.sens_avg") && m.contains("M = 2") && m.contains("0x0104"), "{m}");
+        let m = rejected(&["device.sens_avg=0x0201"]);
+        assert!(m.contains("±150") && m.contains("0x0202"), "{m}");
+        for ok in ["0x0104", "0x0202", "0x0400"] {
+            assert!(Profile::from_toml("", "x", &[format!("device.sens_avg={ok}")]).is_ok(), "{ok}");
+        }
+        let m = rejected(&["device.smpl_prd=0x0101"]);
+        assert!(m.contains("device.smpl_prd") && m.contains("0x00FF"), "{m}");
+    }
+
+    #[test]
+    fn extreme_integers_are_errors_not_overflows() {
+        let m = rejected(&["device.clock_ppb=-9223372036854775808"]);
+        assert!(m.contains("device.clock_ppb"), "{m}");
+        let m = rejected(&["spi.spibrr=-1"]);
+        assert!(m.contains("spi.spibrr"), "{m}");
+        let m = rejected(&["clocks.crystal_hz=18446744073709551615"]);
+        assert!(m.contains("clocks.crystal_hz"), "{m}");
+    }
 }
 
 #[cfg(test)]
@@ -216,3 +262,6 @@ mod reference_file {
         assert_eq!(p, Profile::default());
     }
 }
+
+#[cfg(test)]
+mod prop_tests;

@@ -1,6 +1,8 @@
 //! The sections of a profile. Defaults are the reference design as published; values marked
 //! [unconfirmed] in the spec are parameters here, documented in `firmware_model/SCHEMA.md`.
 
+use crate::device::registers::{self, addr};
+use crate::device::{GyroRange, ModelOptions};
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
@@ -19,16 +21,34 @@ fn check_reg(key: &str, value: u32, bits: u32) -> Result<()> {
     Ok(())
 }
 
+/// A float as a user wrote it, unless that is unreadably long (1e-308 has 300 digits in full).
+fn num(value: f64) -> String {
+    let full = value.to_string();
+    if full.len() > 24 {
+        format!("{value:e}")
+    } else {
+        full
+    }
+}
+
 fn check_pos(key: &str, value: f64) -> Result<()> {
     if !(value.is_finite() && value > 0.0) {
-        return Err(bad(key, value, "a finite number > 0"));
+        return Err(bad(key, num(value), "a finite number > 0"));
+    }
+    Ok(())
+}
+
+/// `allowed` says the range in words, as a user would write it (`1e6…1e8 m`).
+fn check_range(key: &str, value: f64, lo: f64, hi: f64, allowed: &str) -> Result<()> {
+    if !(value.is_finite() && (lo..=hi).contains(&value)) {
+        return Err(bad(key, num(value), allowed));
     }
     Ok(())
 }
 
 fn check_nonneg(key: &str, value: f64) -> Result<()> {
     if !(value.is_finite() && value >= 0.0) {
-        return Err(bad(key, value, "a finite number ≥ 0"));
+        return Err(bad(key, num(value), "a finite number ≥ 0"));
     }
     Ok(())
 }
@@ -51,6 +71,9 @@ impl Default for Meta {
         }
     }
 }
+
+/// The F28335's rated maximum SYSCLKOUT, Hz (data sheet: 150 MHz, 6.67 ns cycle).
+pub const MAX_SYSCLKOUT_HZ: f64 = 150e6;
 
 /// The F28335 clock tree: SYSCLKOUT = crystal × PLLCR / DIVSEL, LSPCLK = SYSCLKOUT / (2·LOSPCP).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -85,6 +108,20 @@ impl Clocks {
         }
         if self.lospcp > 7 {
             return Err(bad("clocks.lospcp", self.lospcp, "0…7"));
+        }
+        // The three keys together set SYSCLKOUT; the part is rated for 150 MHz at most.
+        let pll = if self.pllcr == 0 { 1 } else { u64::from(self.pllcr) };
+        let sysclkout_hz = self.crystal_hz as f64 * pll as f64 / f64::from(self.divsel);
+        if sysclkout_hz > MAX_SYSCLKOUT_HZ {
+            return Err(Error::Profile(format!(
+                "keys `clocks.crystal_hz` = {}, `clocks.pllcr` = {}, `clocks.divsel` = {} give SYSCLKOUT = {} MHz: \
+                 expected at most {} MHz (the F28335's rated maximum)",
+                self.crystal_hz,
+                self.pllcr,
+                self.divsel,
+                sysclkout_hz / 1e6,
+                MAX_SYSCLKOUT_HZ / 1e6
+            )));
         }
         Ok(())
     }
@@ -292,24 +329,67 @@ impl Device {
                 "a read command (bit 15 = 0)",
             ));
         }
-        let range = (self.sens_avg >> 8) & 0x7;
-        if ![1, 2, 4].contains(&range) {
+        // A power-on value is what the part holds: bits the register does not have cannot be set.
+        for (key, value, a) in [
+            ("device.smpl_prd", self.smpl_prd, addr::SMPL_PRD),
+            ("device.sens_avg", self.sens_avg, addr::SENS_AVG),
+            ("device.msc_ctrl", self.msc_ctrl, addr::MSC_CTRL),
+        ] {
+            let mask = registers::lookup(a).map_or(0xFFFF, |r| u32::from(r.mask));
+            if value & !mask != 0 {
+                return Err(bad(key, format!("0x{value:04X}"), &format!("only the register's bits 0x{mask:04X} set")));
+            }
+        }
+        if GyroRange::from_bits((self.sens_avg >> 8) as u16 & 0x7).is_none() {
             return Err(bad(
                 "device.sens_avg",
                 format!("0x{:04X}", self.sens_avg),
                 "range bits 10:8 = 100 (±300), 010 (±150) or 001 (±75)",
             ));
         }
-        if self.clock_ppb.abs() > 100_000_000 {
+        // unsigned_abs: i64::MIN is a valid TOML integer and has no i64 absolute value.
+        if self.clock_ppb.unsigned_abs() > 100_000_000 {
             return Err(bad("device.clock_ppb", self.clock_ppb, "−1e8…1e8 ppb"));
         }
         check_nonneg("device.first_sample_us", self.first_sample_us)?;
         check_nonneg("device.reset_time_ms", self.reset_time_ms)?;
         check_pos("device.sclk_max_hz", self.sclk_max_hz)?;
         check_pos("device.sclk_burst_max_hz", self.sclk_burst_max_hz)?;
+        if self.sclk_burst_max_hz > self.sclk_max_hz {
+            return Err(Error::Profile(format!(
+                "key `device.sclk_burst_max_hz` = {} is above `device.sclk_max_hz` = {}: expected the burst limit \
+                 to be the stricter one (≤ the normal-mode limit)",
+                self.sclk_burst_max_hz, self.sclk_max_hz
+            )));
+        }
         check_nonneg("device.t_stall_us", self.t_stall_us)?;
         check_nonneg("device.t_cs_ns", self.t_cs_ns)?;
         check_nonneg("device.t_sfs_ns", self.t_sfs_ns)?;
+        Ok(())
+    }
+    /// The power-on SENS_AVG must be a value the part can hold. The device model accepts a smaller M
+    /// and raises it like a write (with an event), as the part would; a profile stating one is
+    /// rejected, because its SENS_AVG would read back differently from what it says.
+    pub(crate) fn validate_power_on_sens_avg(&self) -> Result<()> {
+        let Some(range) = GyroRange::from_bits((self.sens_avg >> 8) as u16 & 0x7) else {
+            return Ok(()); // reported by `validate`
+        };
+        // The part raises M to the range's minimum on every write, so it cannot hold a smaller M:
+        // a power-on value with one would read back differently from what the profile states.
+        let m = (self.sens_avg & 0x7) as u8;
+        let min_m = ModelOptions::default().min_m(range);
+        if m < min_m {
+            return Err(bad(
+                "device.sens_avg",
+                format!("0x{:04X} (±{} °/s, M = {m})", self.sens_avg, range.rated_dps()),
+                &format!(
+                    "M (bits 2:0) ≥ {min_m} with the ±{} °/s range (bits 10:8): the part raises M to {min_m}, \
+                     so write 0x{:04X}",
+                    range.rated_dps(),
+                    self.sens_avg & !0x7 | u32::from(min_m)
+                ),
+            ));
+        }
         Ok(())
     }
 }
@@ -525,7 +605,14 @@ impl Firmware {
             return Err(bad("firmware.initial_yaw_deg", self.initial_yaw_deg, "a finite angle in degrees"));
         }
         check_nonneg("firmware.alignment_s", self.alignment_s)?;
-        check_pos("firmware.accel_g_m_s2", self.accel_g_m_s2)?;
+        if self.initial_attitude == InitialAttitude::Level && self.alignment_s <= 0.0 {
+            return Err(Error::Profile(format!(
+                "key `firmware.alignment_s` = {} with `firmware.initial_attitude` = \"level\": expected a still \
+                 period > 0 s to average the accelerometer over (or `firmware.initial_attitude` = \"zero\")",
+                self.alignment_s
+            )));
+        }
+        check_range("firmware.accel_g_m_s2", self.accel_g_m_s2, 1.0, 100.0, "1…100 m/s² per g")?;
         Ok(())
     }
 }
@@ -579,16 +666,26 @@ impl Navigation {
         if !self.longitude_deg.is_finite() {
             return Err(bad("navigation.longitude_deg", self.longitude_deg, "a finite angle"));
         }
-        if !self.height_m.is_finite() {
-            return Err(bad("navigation.height_m", self.height_m, "a finite height"));
+        check_range("navigation.height_m", self.height_m, -1e4, 1e5, "−1e4…1e5 m (a mine to the edge of space)")?;
+        // Beyond orbital speeds the position update leaves the ellipsoid within a step.
+        if self.velocity_enu.iter().any(|v| !(v.is_finite() && v.abs() <= 1e4)) {
+            return Err(bad(
+                "navigation.velocity_enu",
+                format!("{:?}", self.velocity_enu),
+                "three m/s values within ±1e4",
+            ));
         }
-        if self.velocity_enu.iter().any(|v| !v.is_finite()) {
-            return Err(bad("navigation.velocity_enu", format!("{:?}", self.velocity_enu), "three finite m/s values"));
+        // Earth-model constants may be changed (another ellipsoid, an exaggerated earth rate for a
+        // test), but only within ranges where the navigation equations stay finite: outside them
+        // the output would turn to NaN without a word.
+        for (key, value, lo, hi, what) in [
+            ("navigation.earth_radius_m", self.earth_radius_m, 1e6, 1e8, "1e6…1e8 m (a planet-sized radius)"),
+            ("navigation.flattening", self.flattening, 0.0, 0.1, "0…0.1 (an ellipsoid's flattening)"),
+            ("navigation.earth_rate_rad_s", self.earth_rate_rad_s, 0.0, 1e-2, "0…0.01 rad/s"),
+            ("navigation.gravity_equator", self.gravity_equator, 1.0, 100.0, "1…100 m/s²"),
+        ] {
+            check_range(key, value, lo, hi, what)?;
         }
-        check_pos("navigation.earth_radius_m", self.earth_radius_m)?;
-        check_nonneg("navigation.flattening", self.flattening)?;
-        check_nonneg("navigation.earth_rate_rad_s", self.earth_rate_rad_s)?;
-        check_pos("navigation.gravity_equator", self.gravity_equator)?;
         Ok(())
     }
 }
