@@ -230,7 +230,7 @@ def test_every_writer_in_the_package_writes_a_temporary_path():
         if path.name == "atomic.py":
             continue
         for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
-            if WRITE_CALL.search(line) and "tmp" not in line:
+            if WRITE_CALL.search(line) and "tmp" not in line and "atomic.write_" not in line:
                 offenders.append(f"{path.relative_to(ROOT)}:{n}: {line.strip()}")
     assert not offenders, "write through sins_fw.atomic.atomic_path:\n" + "\n".join(offenders)
 
