@@ -589,3 +589,7 @@ struct Burst {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_faults;
+#[cfg(test)]
+mod tests_replay;
