@@ -5,6 +5,11 @@
 //!
 //! The CPU's own time is counted in SYSCLKOUT cycles (an integer) and converted to picoseconds by the
 //! clock, so the CPU and the peripherals share one exact timeline.
+//!
+//! The sensor is a type parameter ([`Sensor`]): the ADIS16407 model fed a physical input
+//! ([`Emulator::new`]), or the replay of a raw-register trace's words ([`Emulator::replay`]). Faults of
+//! the profile act inside the device model, except `dropped_burst`, a glitch of the CS line driven here
+//! (`glitch.rs`).
 
 pub mod bench;
 mod board;

@@ -25,7 +25,7 @@ pub enum FaultKind {
     /// The CS line goes high inside a burst (after frame `after_frame`), for `glitch_us` or until
     /// the firmware raises CS itself.
     DroppedBurst,
-    /// A software reset (GLOB_CMD[7] semantics) at `start_s`.
+    /// A software reset (the semantics of GLOB_CMD bit 7) at `start_s`.
     SensorReset,
     /// DIAG_STAT `flags` set by every sample in the window.
     DiagFlags,
