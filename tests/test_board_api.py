@@ -84,7 +84,11 @@ def test_burst_read_gives_the_published_supply_frame():
     words = _burst(b, BURST_GAP)
     assert words[1] == 0xC7A7  # 4.737 V < 4.75 V sets a DIAG_STAT flag: EA in every word
     assert words[2] == 0xC000 | 200  # +10 °/s
-    assert b.take_events() == []
+    # The only event: the supply below the DIAG_STAT limit (once, at the first sample); no SPI rule broken.
+    events = b.take_events()
+    assert [(e["kind"], e["measured"], e["required"]) for e in events] == [
+        ("supply_out_of_range", 4.737, 4.75)
+    ]
     frames = [r for r in b.take_log() if r["type"] == "frame"]
     assert frames[-15]["din"] == 0x4200
 

@@ -14,3 +14,5 @@ sins synth static --duration-s 60 --out "$out/static_60s.h5"
 sins synth indexing-table --preset sweep --axis y --max-rate-dps 40 --max-accel-dps2 300 --dwell-s 6 \
     --out "$out/pitch_sweep.h5"
 sins synth coning --half-angle-deg 1 --frequency-hz 10 --duration-s 360 --out "$out/coning_10hz.h5"
+# The raw-register example: the words the reference firmware read in the first 10 s of the pitch sweep.
+sins run "$out/pitch_sweep.h5" --until-s 10 --raw-out "$out/pitch_sweep_10s_raw.csv"

@@ -4,6 +4,11 @@
 a Python call per sample) and returns a :class:`Run` of numpy arrays: one row per attitude step, per
 burst read and per timer tick, and the events. Trace time is shifted so that its first sample is the
 board's power-on instant (virtual time 0); ``Run.t0_s`` keeps the shift.
+
+A raw-register trace (:class:`RawRegisterTrace`, or a file whose metadata or columns say so) is
+replayed instead: the device model is bypassed and each burst read gets the next recorded burst's 15
+words, so the firmware sees exactly what was recorded (docs/traces.md, "Replaying a raw-register
+trace"). Its timestamps are taken as virtual time since power-on, unshifted (``Run.t0_s`` = 0).
 """
 
 from __future__ import annotations
@@ -14,6 +19,8 @@ import tomllib
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
+from decimal import Decimal
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -21,9 +28,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw import _core
-from sins_fw.errors import ProfileError
+from sins_fw.errors import InputError, ProfileError
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
-from sins_fw.traces import PhysicalTrace
+from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace
 
 PS = 1e-12
 #: Rows per chunk streamed into the core: big enough to amortise the call, small enough for memory.
@@ -48,6 +55,8 @@ class Run:
     position: Array
     # One row per burst read.
     read_tick: NDArray[np.uint64]
+    #: CS falling edge of each burst (the time a raw-register trace records).
+    read_t_cs_ps: NDArray[np.uint64]
     read_t_start_ps: NDArray[np.uint64]
     read_t_end_ps: NDArray[np.uint64]
     read_words: NDArray[np.uint16]
@@ -95,6 +104,22 @@ class Run:
     def read_age_s(self) -> Array:
         return self.read_age_ps.astype(np.float64) * PS
 
+    def raw_register_trace(self, metadata: Mapping[str, str] | None = None) -> RawRegisterTrace:
+        """The words the firmware read, as a raw-register trace: one row per burst, timestamped at
+        its CS falling edge (virtual time since power-on), the 15 SPIRXBUF words. Replaying it
+        (``emulate(raw)``) gives the firmware exactly these words again. ``sample_rate_hz`` is the
+        timer tick rate (one burst per tick; back-to-back reads three within each tick)."""
+        ticks = self.budget["tick_ps"]
+        if len(ticks) < 2:
+            raise InputError("raw-register trace: the run is too short (fewer than two timer ticks)")
+        rate = Fraction(10**12, int(ticks[1]) - int(ticks[0]))
+        meta = {"sample_rate_hz": _rate_text(rate), **(metadata or {})}
+        return RawRegisterTrace(
+            t_s=self.read_t_cs_ps.astype(np.float64) / 1e12,
+            words=np.ascontiguousarray(self.read_words, dtype=np.uint16),
+            metadata=meta,
+        )
+
     @property
     def isr_ran(self) -> NDArray[np.bool_]:
         """Per budget row: the tick's ISR ran (False for a tick lost or dropped by an overrun, whose
@@ -102,9 +127,33 @@ class Run:
         return self.budget["deadline_ps"] > self.budget["tick_ps"]
 
 
+def _rate_text(rate: Fraction) -> str:
+    """A rate as exact text: a decimal when it has one (``250``, ``819.2``), else ``num/den``."""
+    den = rate.denominator
+    while den % 2 == 0:
+        den //= 2
+    while den % 5 == 0:
+        den //= 5
+    if den != 1:
+        return f"{rate.numerator}/{rate.denominator}"
+    text = f"{Decimal(rate.numerator) / Decimal(rate.denominator):f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
+
+
 #: What `emulate` accepts: a whole trace, a trace file, or an iterable of consecutive chunks (a
-#: generator of PhysicalTrace, for inputs too long to hold in memory).
-TraceInput = PhysicalTrace | str | os.PathLike[str] | Iterable[PhysicalTrace]
+#: generator of PhysicalTrace, for inputs too long to hold in memory); a raw-register trace or file
+#: is replayed.
+TraceInput = PhysicalTrace | RawRegisterTrace | str | os.PathLike[str] | Iterable[PhysicalTrace]
+
+
+def _raw_chunks(trace: RawRegisterTrace | str | os.PathLike[str], rows: int) -> Iterator[RawRegisterTrace]:
+    if isinstance(trace, RawRegisterTrace):
+        trace.validate(allow_gaps=True)
+        for i in range(0, len(trace), rows):
+            yield RawRegisterTrace(t_s=trace.t_s[i : i + rows], words=trace.words[i : i + rows])
+    else:
+        # Gaps are a fact of a recording (a lost tick, a pause in the log), not a defect to refuse.
+        yield from RawRegisterTrace.iter_chunks(trace, rows, allow_gaps=True)
 
 
 def _chunks(trace: TraceInput, rows: int) -> Iterator[PhysicalTrace]:
@@ -142,10 +191,12 @@ def cost_table_text(profile: Profile) -> tuple[str, str]:
     return path.read_text(encoding="utf-8"), str(path)
 
 
-def new_emulator(profile: Profile) -> Any:
-    """A fresh `_core.Emulator` for a profile."""
+def new_emulator(profile: Profile, *, replay: bool = False) -> Any:
+    """A fresh `_core.Emulator` for a profile (``replay=True``: reading recorded burst words)."""
     costs, costs_source = cost_table_text(profile)
-    return _core.Emulator(profile.text, profile.source, list(profile.overrides), costs, costs_source)
+    return _core.Emulator(
+        profile.text, profile.source, list(profile.overrides), costs, costs_source, replay=replay
+    )
 
 
 def keyword_overrides(settings: Mapping[str, Any]) -> list[str]:
@@ -187,6 +238,7 @@ def emulate(
     keep_truth: bool = True,
     bus_window: tuple[int, int] | None = None,
     sink: Callable[[dict[str, Any]], None] | None = None,
+    until_s: float | None = None,
     **settings: Any,
 ) -> Run:
     """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace, a trace file, or an iterable of
@@ -203,13 +255,26 @@ def emulate(
     called with each chunk's output, a dict of numpy arrays keyed ``cycle_*``, ``read_*``,
     ``budget_*`` (the columns of :class:`Run`, times in integer ps) plus ``events``; the returned
     Run then holds no rows (every array empty, no truth) and memory stays flat.
+
+    ``until_s`` emulates only the trace's first ``until_s`` seconds (rows at most that long after the
+    first one; for a raw-register trace, bursts recorded up to that virtual time).
+
+    A :class:`RawRegisterTrace` or a raw-register trace file is replayed through the firmware (the
+    device model is bypassed; its recorded timestamps are the reads' sample times); profile faults
+    cannot apply to it (they act on the device model) and are refused.
     """
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     every = [*overrides, *keyword_overrides(settings)]
     if every:
         prof = prof.with_overrides(*every)
-    emu = new_emulator(prof)
+    replay = isinstance(trace, RawRegisterTrace) or (
+        isinstance(trace, str | os.PathLike) and is_raw_register_trace(trace)
+    )
+    emu = new_emulator(prof, replay=replay)
     bus = _BusWindow(emu, prof, bus_window) if bus_window is not None else None
+    if replay:
+        assert isinstance(trace, RawRegisterTrace | str | os.PathLike)
+        return _replay(emu, prof, trace, chunk_rows, on_chunk, bus, sink, until_s)
     parts: list[dict[str, Any]] = []
     truth: list[Array] = []
     moving: list[NDArray[np.bool_]] = []
@@ -221,6 +286,11 @@ def emulate(
             continue
         if t0 is None:
             t0 = float(chunk.t_s[0])
+        if until_s is not None and chunk.t_s[-1] - t0 > until_s:
+            n = int(np.searchsorted(chunk.t_s - t0, until_s, side="right"))
+            if n == 0:
+                break
+            chunk = next(_chunks(chunk, n))
         t = np.ascontiguousarray(chunk.t_s - t0)
         for s in bus.pieces(t) if bus is not None else (slice(None),):
             emu.push(
@@ -244,6 +314,8 @@ def emulate(
                 moving.append(chunk.moving)
         if on_chunk is not None:
             on_chunk(float(chunk.t_s[-1]))
+        if until_s is not None and chunk.t_s[-1] - t0 >= until_s:
+            break
     emu.end()
     emu.run()
     _collect(emu.take(), parts, sink)
@@ -258,6 +330,43 @@ def emulate(
             mv = np.concatenate(moving)
             idx = np.clip(np.searchsorted(tt, run.time_s, side="right") - 1, 0, len(tt) - 1)
             run.moving = mv[idx]
+    return run
+
+
+def _replay(
+    emu: Any,
+    prof: Profile,
+    trace: RawRegisterTrace | str | os.PathLike[str],
+    chunk_rows: int,
+    on_chunk: Callable[[float], None] | None,
+    bus: _BusWindow | None,
+    sink: Callable[[dict[str, Any]], None] | None,
+    until_s: float | None,
+) -> Run:
+    """Feed recorded bursts to a replaying emulator (see :func:`emulate`)."""
+    parts: list[dict[str, Any]] = []
+    for chunk in _raw_chunks(trace, chunk_rows):
+        t = np.ascontiguousarray(chunk.t_s, dtype=np.float64)
+        words = np.ascontiguousarray(chunk.words, dtype=np.uint16)
+        if until_s is not None:
+            n = int(np.searchsorted(t, until_s, side="right"))
+            t, words = t[:n], words[:n]
+        for s in bus.pieces(t) if bus is not None else (slice(None),):
+            emu.push_words(t[s], np.ascontiguousarray(words[s]))
+            emu.run()
+            _collect(emu.take(), parts, sink)
+            if bus is not None:
+                bus.after(parts[-1])
+        if on_chunk is not None and len(t):
+            on_chunk(float(t[-1]))
+        if until_s is not None and len(t) < len(chunk):
+            break
+    emu.end()
+    emu.run()
+    _collect(emu.take(), parts, sink)
+    run = _assemble(prof, 0.0, parts, dict(emu.stage_cycles()))
+    if bus is not None:
+        run.bus = bus.finish(run.budget)
     return run
 
 
@@ -307,6 +416,7 @@ def _assemble(profile: Profile, t0: float, parts: list[dict[str, Any]], stage_cy
         velocity_enu=_cat(parts, "cycle_vel_enu"),
         position=_cat(parts, "cycle_pos"),
         read_tick=_cat(parts, "read_tick"),
+        read_t_cs_ps=_cat(parts, "read_t_cs_ps"),
         read_t_start_ps=_cat(parts, "read_t_start_ps"),
         read_t_end_ps=_cat(parts, "read_t_end_ps"),
         read_words=_cat(parts, "read_words"),

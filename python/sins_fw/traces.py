@@ -908,6 +908,31 @@ def read_metadata(path: PathLike) -> dict[str, str]:
         return {}
 
 
+def is_raw_register_trace(path: PathLike) -> bool:
+    """Whether a trace file is a raw-register trace: its `format` metadata says so or, without it,
+    its columns are the raw words (``frame0`` … ``aux_adc``). Unreadable files count as physical
+    (loading them explains what is wrong)."""
+    fmt = read_metadata(path).get("format")
+    if fmt is not None:
+        return fmt == RAW_FORMAT
+    p = Path(path)
+    try:
+        if _extension(p) == ".h5":
+            with h5py.File(p, "r") as f:
+                names = set(f.keys())
+        else:
+            with p.open("rb") as fh:
+                names = set()
+                for raw in fh:
+                    text = raw.decode("utf-8").lstrip("\ufeff").strip()
+                    if text and not text.startswith("#"):
+                        names = {n.strip() for n in text.split(",")}
+                        break
+    except (OSError, UnicodeDecodeError, TraceError):
+        return False
+    return bool(names & set(RAW_WORD_COLUMNS))
+
+
 def iter_chunks(
     path: PathLike, rows: int, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
 ) -> Iterator[PhysicalTrace]:

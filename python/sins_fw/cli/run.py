@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import signal
 import sys
 from collections.abc import Callable, Iterator
@@ -18,7 +19,7 @@ from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import emulate
 from sins_fw.report import ALIGNMENTS, render, summarise
 from sins_fw.run_output import save_run
-from sins_fw.traces import DEFAULT_MAX_GAP_PERIODS, PhysicalTrace, check_output_path
+from sins_fw.traces import DEFAULT_MAX_GAP_PERIODS, PhysicalTrace, check_output_path, is_raw_register_trace
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,9 +31,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         "against the trace's truth (alignment stated), ISR budget. --out writes the per-step output "
         "(docs/traces.md, 'Run output').",
     )
-    p.add_argument("trace", type=Path, help="physical trace, .csv or .h5")
+    p.add_argument("trace", type=Path, help="physical or raw-register trace, .csv or .h5")
     add_profile_options(p)
     p.add_argument("--out", type=Path, help="write the per-step output here (.csv or .h5)")
+    p.add_argument(
+        "--raw-out",
+        type=Path,
+        metavar="FILE",
+        help="also write the words the firmware read as a raw-register trace (.csv or .h5; each "
+        "burst timestamped at its CS falling edge), which `sins-fw run FILE` replays",
+    )
+    p.add_argument(
+        "--until-s",
+        type=float,
+        metavar="S",
+        help="emulate only the first S seconds of the trace",
+    )
     p.add_argument(
         "--allow-gaps",
         action="store_true",
@@ -158,8 +172,11 @@ def _out_state(out: Path | None, existed: bool) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.out is not None:
-        check_output_path(args.out)
+    for out in (args.out, args.raw_out):
+        if out is not None:
+            check_output_path(out)
+    if args.until_s is not None and not (math.isfinite(args.until_s) and args.until_s > 0):
+        raise InputError(f"--until-s {args.until_s}: expected a number of seconds > 0")
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
     profile = profile_from_args(args)
@@ -168,7 +185,8 @@ def run(args: argparse.Namespace) -> int:
     reached = _Reached(span)
     trace: PhysicalTrace | Path = args.trace
     gaps: list[dict[str, Any]] = []
-    if args.allow_gaps:
+    replayed = is_raw_register_trace(args.trace)
+    if args.allow_gaps and not replayed:  # raw-register traces load with gaps allowed anyway
         trace = PhysicalTrace.load(args.trace, allow_gaps=True)
         gaps = gap_events(trace)
     with _progress(args, span) as bar:
@@ -179,7 +197,7 @@ def run(args: argparse.Namespace) -> int:
                 bar(t)
 
         try:
-            result = emulate(trace, profile, on_chunk=on_chunk)
+            result = emulate(trace, profile, on_chunk=on_chunk, until_s=args.until_s)
         except KeyboardInterrupt as e:
             how_far = reached.text(_first_time(args.trace) if reached.t is not None else None)
             raise type(e)(f"stopped {how_far}{_out_state(args.out, out_existed)}") from None
@@ -187,6 +205,7 @@ def run(args: argparse.Namespace) -> int:
         # Stable sort: the core's events keep their order; each gap goes where its time puts it.
         result.events = sorted([*result.events, *gaps], key=lambda e: e["t_s"])
     summary = summarise(result, trace=str(args.trace), align=args.align)
+    summary["replayed"] = replayed
     if args.out is not None:
         try:
             save_run(result, args.out, {"trace": str(args.trace)})
@@ -196,8 +215,33 @@ def run(args: argparse.Namespace) -> int:
                 f"stopped while writing {args.out} {done}{_out_state(args.out, out_existed)}"
             ) from None
         summary["out"] = str(args.out)
+    if args.raw_out is not None:
+        raw = result.raw_register_trace(_raw_metadata(args))
+        raw.save(args.raw_out, allow_gaps=True)
+        summary["raw_out"] = str(args.raw_out)
     text = render(summary)
+    if replayed:
+        text = "replayed       raw-register trace: recorded words, no device model\n" + text
     if args.out is not None:
         text += f"\nwrote          {args.out} ({result.cycles} steps)"
+    if args.raw_out is not None:
+        text += f"\nwrote          {args.raw_out} ({len(result.read_words)} bursts)"
     emit(args, summary, text)
     return 0
+
+
+def _raw_metadata(args: argparse.Namespace) -> dict[str, str]:
+    """Provenance of a --raw-out file: the command that reproduces it (no version or time, so the
+    same command gives the same bytes)."""
+    command = ["sins-fw run", args.trace.name]
+    if args.profile != "reference":
+        command.append(f"--profile {args.profile}")
+    command += [f"--set '{o}'" for o in args.overrides]
+    if args.until_s is not None:
+        command.append(f"--until-s {args.until_s:g}")
+    command.append(f"--raw-out {args.raw_out.name}")
+    return {
+        "source": f"emulated burst reads of {args.trace.name}",
+        "generator": " ".join(command),
+        "created_by": "sins-fw run --raw-out (no version or time recorded: regeneration is byte-identical)",
+    }

@@ -9,8 +9,9 @@ use std::sync::Mutex;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sins_core::bus::link::{FrameRecord, LinkRecord};
+use sins_core::device::replay::{ReplaySlave, RECORDED_WORDS};
 use sins_core::device::Physical;
-use sins_core::emulator::{Emulator as Core, Output, Progress};
+use sins_core::emulator::{Emulator as Core, Output, Progress, Sensor};
 use sins_core::firmware::update_period_s;
 use sins_core::numerics::{iq, Scalar};
 use sins_core::profile::{IqFormats, Numeric, Profile};
@@ -23,9 +24,10 @@ use sins_core::Error;
 use crate::errors::{guard, to_py};
 use crate::event_dict;
 
-/// The type-erased emulator (one instantiation per numeric backend).
+/// The type-erased emulator (one instantiation per numeric backend and sensor).
 trait Run: Send {
     fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error>;
+    fn push_words(&mut self, t: &[f64], words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error>;
     fn end(&mut self);
     fn run(&mut self) -> Result<Progress, Error>;
     fn take(&mut self) -> Output;
@@ -35,12 +37,49 @@ trait Run: Send {
     fn take_bus_log(&mut self, stop: bool) -> Vec<LinkRecord>;
 }
 
-impl<T: Scalar + Send + 'static> Run for Core<T> {
+/// What each sensor takes as input: physical samples (the device model) or recorded words (a replay).
+trait Inputs {
+    fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error>;
+    fn push_words(&mut self, t: &[f64], words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error>;
+    fn end(&mut self);
+}
+
+impl<T: Scalar> Inputs for Core<T> {
     fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error> {
         self.push_input(t, p)
     }
+    fn push_words(&mut self, _t: &[f64], _words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error> {
+        Err(Error::Input("push_words: this emulator reads a physical input; build it with replay=True".into()))
+    }
     fn end(&mut self) {
         self.end_input()
+    }
+}
+
+impl<T: Scalar> Inputs for Core<T, ReplaySlave> {
+    fn push(&mut self, _t: &[f64], _p: Vec<Physical>) -> Result<(), Error> {
+        Err(Error::Input("push: this emulator replays recorded words (replay=True); use push_words".into()))
+    }
+    fn push_words(&mut self, t: &[f64], words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error> {
+        Core::push_words(self, t, words)
+    }
+    fn end(&mut self) {
+        self.end_input()
+    }
+}
+
+impl<T: Scalar + Send + 'static, S: Sensor + 'static> Run for Core<T, S>
+where
+    Core<T, S>: Inputs,
+{
+    fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error> {
+        Inputs::push(self, t, p)
+    }
+    fn push_words(&mut self, t: &[f64], words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error> {
+        Inputs::push_words(self, t, words)
+    }
+    fn end(&mut self) {
+        Inputs::end(self)
     }
     fn run(&mut self) -> Result<Progress, Error> {
         Core::run(self)
@@ -94,15 +133,24 @@ impl Emulator {
     }
 }
 
-fn build(profile: &Profile, costs: &CostTable) -> Result<Box<dyn Run>, Error> {
-    Ok(match profile.firmware.numeric {
-        Numeric::F64 => Box::new(Core::<f64>::new(profile, costs)?),
-        Numeric::C28xF32 => Box::new(Core::<sins_core::numerics::C28xF32Rn>::new(profile, costs)?),
-        Numeric::C28xF32Rz => Box::new(Core::<sins_core::numerics::C28xF32Rz>::new(profile, costs)?),
-        Numeric::Iq => iq::with_formats(&profile.iq, || -> Result<Box<dyn Run>, Error> {
-            Ok(Box::new(Core::<sins_core::numerics::Iq>::new(profile, costs)?))
-        })??,
-    })
+fn build(profile: &Profile, costs: &CostTable, replay: bool) -> Result<Box<dyn Run>, Error> {
+    fn one<T: Scalar + Send + 'static>(
+        profile: &Profile,
+        costs: &CostTable,
+        replay: bool,
+    ) -> Result<Box<dyn Run>, Error> {
+        Ok(if replay {
+            Box::new(Core::<T, ReplaySlave>::replay(profile, costs)?)
+        } else {
+            Box::new(Core::<T>::new(profile, costs)?)
+        })
+    }
+    match profile.firmware.numeric {
+        Numeric::F64 => one::<f64>(profile, costs, replay),
+        Numeric::C28xF32 => one::<sins_core::numerics::C28xF32Rn>(profile, costs, replay),
+        Numeric::C28xF32Rz => one::<sins_core::numerics::C28xF32Rz>(profile, costs, replay),
+        Numeric::Iq => iq::with_formats(&profile.iq, || one::<sins_core::numerics::Iq>(profile, costs, replay))?,
+    }
 }
 
 fn col3(a: &Option<PyReadonlyArray2<'_, f64>>, n: usize, name: &str) -> PyResult<Option<Vec<[f64; 3]>>> {
@@ -125,13 +173,22 @@ fn col1(a: &Option<PyReadonlyArray1<'_, f64>>, n: usize, name: &str) -> PyResult
 
 #[pymethods]
 impl Emulator {
-    /// Build the board of a profile (TOML text, its source name, overrides) with a cost table.
+    /// Build the board of a profile (TOML text, its source name, overrides) with a cost table. With
+    /// `replay=True` the firmware reads recorded burst words (`push_words`) instead of the device model.
     #[new]
-    fn new(text: &str, source: &str, overrides: Vec<String>, costs_text: &str, costs_source: &str) -> PyResult<Self> {
+    #[pyo3(signature = (text, source, overrides, costs_text, costs_source, replay=false))]
+    fn new(
+        text: &str,
+        source: &str,
+        overrides: Vec<String>,
+        costs_text: &str,
+        costs_source: &str,
+        replay: bool,
+    ) -> PyResult<Self> {
         let (inner, profile, costs) = guard(|| -> Result<_, Error> {
             let profile = Profile::from_toml(text, source, &overrides)?;
             let costs = CostTable::from_toml(costs_text, costs_source)?;
-            Ok((build(&profile, &costs)?, profile, costs))
+            Ok((build(&profile, &costs, replay)?, profile, costs))
         })?
         .map_err(to_py)?;
         Ok(Emulator {
@@ -176,6 +233,23 @@ impl Emulator {
             .collect();
         let mut inner = self.inner();
         guard(|| iq::with_formats(&self.formats, || inner.push(&t, samples)))?.map_err(to_py)?.map_err(to_py)
+    }
+
+    /// Append recorded bursts (an emulator built with `replay=True`): t (s since power-on, strictly
+    /// increasing) and words (n×15 uint16: the command frame's answer, SUPPLY_OUT … AUX_ADC).
+    fn push_words(&mut self, t: PyReadonlyArray1<'_, f64>, words: PyReadonlyArray2<'_, u16>) -> PyResult<()> {
+        let t = t.as_array().to_vec();
+        let w = words.as_array();
+        if w.shape() != [t.len(), RECORDED_WORDS] {
+            return Err(to_py(Error::Input(format!(
+                "recorded words: shape {:?}, expected ({}, {RECORDED_WORDS})",
+                w.shape(),
+                t.len()
+            ))));
+        }
+        let rows: Vec<[u16; RECORDED_WORDS]> = w.rows().into_iter().map(|r| std::array::from_fn(|i| r[i])).collect();
+        let mut inner = self.inner();
+        guard(|| iq::with_formats(&self.formats, || inner.push_words(&t, &rows)))?.map_err(to_py)?.map_err(to_py)
     }
 
     /// No more input will come.
@@ -302,6 +376,7 @@ fn output_dict<'py>(py: Python<'py>, o: &Output) -> PyResult<Bound<'py, PyDict>>
     let r = &o.reads;
     let n = r.len();
     d.set_item("read_tick", r.iter().map(|x| x.tick).collect::<Vec<_>>().into_pyarray(py))?;
+    d.set_item("read_t_cs_ps", r.iter().map(|x| x.t_cs_ps).collect::<Vec<_>>().into_pyarray(py))?;
     d.set_item("read_t_start_ps", r.iter().map(|x| x.t_start_ps).collect::<Vec<_>>().into_pyarray(py))?;
     d.set_item("read_t_end_ps", r.iter().map(|x| x.t_end_ps).collect::<Vec<_>>().into_pyarray(py))?;
     d.set_item("read_words", arr2(r.iter().map(|x| x.words), n).into_pyarray(py))?;

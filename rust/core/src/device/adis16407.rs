@@ -9,6 +9,7 @@ use super::encoding::{
     encode_field, sign_extend, to_field, Channel, GyroRange, ACCEL_OFF_LSB_G, GYRO_OFF_LSB_DPS, MAG_HIC_LSB_GAUSS,
     MAG_SIC_UNITY,
 };
+use super::faults::{DeviceFaults, SampleFaults};
 use super::filter::Bartlett;
 use super::registers::{self, addr, Access, Format, RegisterDef, BURST_ORDER, REGISTERS, SLOTS};
 use super::sampler::{sample_clock, Constant, Ideal, Schedule, SensorErrors, Stimulus};
@@ -16,7 +17,7 @@ use super::slave::SlaveState;
 use super::Physical;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
-use crate::profile::{Device, TimingMode};
+use crate::profile::{Device, Faults, TimingMode};
 use crate::time::{s_to_ps, Clock, Ps, PS_PER_S};
 
 /// Model choices the data sheet leaves open, each with the documented default. (They are model
@@ -154,6 +155,20 @@ const FILTERS: usize = 10;
 /// The accelerometers' rated range, g (data sheet: ±18 g).
 const ACCEL_RATED_G: f64 = 18.0;
 
+/// Add the spikes of `sf` to the filtered values they concern (by burst index of the register).
+fn spike(f: &mut Physical, sf: &SampleFaults) {
+    let d = &sf.spike;
+    f.supply_v += d[0];
+    for i in 0..3 {
+        f.gyro_dps[i] += d[1 + i];
+        f.accel_g[i] += d[4 + i];
+        f.mag_gauss[i] += d[7 + i];
+    }
+    f.baro_mbar += d[10] + d[11];
+    f.temp_c += d[12];
+    f.aux_v += d[13];
+}
+
 /// Slot of a register address, as a constant.
 const fn s(a: u8) -> usize {
     (a >> 1) as usize
@@ -185,6 +200,10 @@ pub struct Adis16407 {
     data_ready: Option<DataReady>,
     /// The last sample's physical input was beyond the rated range (events fire on entry only).
     over_rated: bool,
+    /// The last sample's supply was outside the DIAG_STAT supply limits (events on entry only).
+    supply_bad: bool,
+    /// Injected faults (profile `[faults]`); none by default.
+    faults: DeviceFaults,
     pub(super) events: EventLog,
     pub(super) spi: SlaveState,
 }
@@ -250,6 +269,8 @@ impl Adis16407 {
             busy_until: 0,
             data_ready: None,
             over_rated: false,
+            supply_bad: false,
+            faults: DeviceFaults::default(),
             events: EventLog::default(),
             spi: SlaveState::default(),
         };
@@ -270,6 +291,12 @@ impl Adis16407 {
         self.errors = errors;
     }
 
+    /// Inject the device kinds of the profile's faults (`[faults]`; `dropped_burst` acts on the bus
+    /// and is left to whoever drives CS). Replaces any faults set before.
+    pub fn set_faults(&mut self, faults: &Faults) {
+        self.faults = DeviceFaults::from_profile(faults);
+    }
+
     /// The model options in force.
     pub fn options(&self) -> &ModelOptions {
         &self.opts
@@ -278,7 +305,13 @@ impl Adis16407 {
     /// Take every internal sample due at or before `t` (each updates the output registers).
     /// Moving backwards is a no-op.
     pub fn advance_to(&mut self, t: Ps) {
-        while self.schedule.next_t <= t {
+        while self.schedule.next_t <= t || self.faults.next_reset <= t {
+            // An injected reset due before (or at) the next sample happens first.
+            if self.faults.next_reset <= self.schedule.next_t {
+                let tr = self.faults.take_reset(&mut self.events);
+                self.software_reset(tr);
+                continue;
+            }
             let (k, tk) = (self.schedule.next_k, self.schedule.next_t);
             self.take_sample(k, tk);
             self.schedule.step();
@@ -491,6 +524,10 @@ impl Adis16407 {
         if !p.is_finite() {
             self.sanitize(&mut p, k, t);
         }
+        let faults = if t >= self.faults.watch_from { Some(self.sample_faults(t)) } else { None };
+        if let Some(v) = faults.as_ref().and_then(|f| f.supply_v) {
+            p.supply_v = v;
+        }
         let rated = self.check_rated_range(&p, t);
         let mut f = p;
         for i in 0..3 {
@@ -504,6 +541,9 @@ impl Adis16407 {
             f.baro_mbar = self.filters[9].push(p.baro_mbar);
         }
         self.filtered = f;
+        if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
+            spike(&mut f, sf);
+        }
 
         let range = self.range;
         let mut over = false;
@@ -528,9 +568,16 @@ impl Adis16407 {
         put(r, addr::BARO_OUTL, Channel::BaroLow, f.baro_mbar);
         put(r, addr::TEMP_OUT, Channel::Temp, f.temp_c);
         put(r, addr::AUX_ADC, Channel::Aux, f.aux_v);
+        if let Some(sf) = &faults {
+            for (i, a) in BURST_ORDER.iter().enumerate() {
+                if sf.stuck >> i & 1 != 0 {
+                    r[s(*a)] = sf.frozen[i];
+                }
+            }
+        }
 
         let o = &self.opts;
-        let mut flags = 0u16;
+        let mut flags = faults.map_or(0, |sf| sf.diag);
         if over || rated {
             flags |= 1 << o.diag_overrange_bit;
         }
@@ -540,8 +587,13 @@ impl Adis16407 {
         if f.supply_v < o.supply_low_v {
             flags |= 1 << o.diag_supply_low_bit;
         }
+        let supply_bad = f.supply_v > o.supply_high_v || f.supply_v < o.supply_low_v;
+        let clear_on_read = o.diag_clear_on_read;
+        if supply_bad != self.supply_bad {
+            self.supply_changed(supply_bad, f.supply_v, t);
+        }
         let diag = &mut self.regs[s(addr::DIAG_STAT)];
-        *diag = if o.diag_clear_on_read { *diag | flags } else { flags };
+        *diag = if clear_on_read { *diag | flags } else { flags };
 
         self.nd |= OUTPUT_SLOTS;
         self.latest = Some(SampleStamp { index: k, t });
@@ -550,6 +602,38 @@ impl Adis16407 {
             let line = if msc & 1 == 0 { DataReadyLine::Dio1 } else { DataReadyLine::Dio2 };
             self.data_ready = Some(DataReady { t, sample_index: k, line, active_high: msc & 2 != 0 });
         }
+    }
+
+    /// What the injected faults do to the sample at `t` (cold: only once a fault is due).
+    #[cold]
+    fn sample_faults(&mut self, t: Ps) -> SampleFaults {
+        let regs = self.regs;
+        self.faults.at_sample(t, |i| regs[s(BURST_ORDER[i])], &mut self.events)
+    }
+
+    /// The supply left or re-entered the DIAG_STAT limits: an event on leaving (one per episode).
+    #[cold]
+    fn supply_changed(&mut self, bad: bool, volts: f64, t: Ps) {
+        self.supply_bad = bad;
+        if !bad {
+            return;
+        }
+        let o = &self.opts;
+        let (limit, which, bit) = if volts > o.supply_high_v {
+            (o.supply_high_v, "above", o.diag_supply_high_bit)
+        } else {
+            (o.supply_low_v, "below", o.diag_supply_low_bit)
+        };
+        self.events.push(Event::rule(
+            t,
+            "supply_out_of_range",
+            Severity::Warning,
+            format!(
+                "supply {volts:.3} V {which} the {limit} V limit: DIAG_STAT bit {bit} set, EA in every output word"
+            ),
+            volts,
+            limit,
+        ));
     }
 
     /// NaN inputs (from a closure or an error model) become 0 and are reported; infinities are kept,

@@ -5,17 +5,22 @@
 //! - [`registers`]: the register map as one table.
 //! - [`filter`]: the Bartlett filter (exact integer arithmetic).
 //! - [`sampler`]: the sample clock (SMPL_PRD), the [`Stimulus`] and the [`SensorErrors`] hook.
-//! - [`Adis16407`]: the device; it implements [`crate::bus::SpiSlave`].
+//! - [`Adis16407`]: the device; it implements [`crate::bus::SpiSlave`]; injected faults (profile
+//!   `[faults]`) act inside it (`faults.rs`).
+//! - [`replay`]: a slave answering recorded burst words instead of the device (raw-register traces).
 
 mod adis16407;
 pub mod encoding;
+mod faults;
 pub mod filter;
 pub mod registers;
+pub mod replay;
 pub mod sampler;
 mod slave;
 
 pub use adis16407::{Adis16407, DataReady, DataReadyLine, ModelOptions, SampleStamp};
 pub use encoding::{decode, decode_baro, encode, Channel, DecodedWord, Encoded, GyroRange};
+pub use faults::describe as describe_fault;
 pub use sampler::{Constant, FnStimulus, Ideal, SensorErrors, SliceStimulus, Stimulus};
 pub use slave::{ReadRecord, Violations};
 

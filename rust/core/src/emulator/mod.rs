@@ -5,18 +5,28 @@
 //!
 //! The CPU's own time is counted in SYSCLKOUT cycles (an integer) and converted to picoseconds by the
 //! clock, so the CPU and the peripherals share one exact timeline.
+//!
+//! The sensor is a type parameter ([`Sensor`]): the ADIS16407 model fed a physical input
+//! ([`Emulator::new`]), or the replay of a raw-register trace's words ([`Emulator::replay`]). Faults of
+//! the profile act inside the device model, except `dropped_burst`, a glitch of the CS line driven here
+//! (`glitch.rs`).
 
 pub mod bench;
 mod board;
+mod glitch;
 pub mod input;
 mod output;
+pub mod sensor;
 
 pub use board::BoardReport;
 pub use input::{InputFeed, StreamStimulus};
 pub use output::{BudgetRow, CycleRow, Output, ReadRow};
+pub use sensor::{FrameSummary, Reach, Sensor, StreamedDevice};
 
 use crate::bus::link::SpiLink;
 use crate::device::error_model::ErrorModel;
+use crate::device::replay::{ReplaySlave, RECORDED_WORDS};
+use glitch::Glitches;
 
 use crate::device::{Adis16407, Physical};
 use crate::dsp::clocks::DspClocks;
@@ -40,14 +50,16 @@ const BURST_FILL: u16 = 0x0000;
 /// A poll that has not seen its flag after this many SYSCLKOUT cycles is a hung firmware.
 const POLL_WATCHDOG_CYCLES: u64 = 150_000_000;
 
-/// The emulated board running its firmware in the numeric backend `T`.
-pub struct Emulator<T: Scalar> {
+/// The emulated board running its firmware in the numeric backend `T`, reading the sensor `S`: the
+/// ADIS16407 model fed a physical input (the default), or a [`ReplaySlave`] answering recorded words.
+pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     profile: Profile,
     sysclk: Clock,
     timer: CpuTimer,
-    link: SpiLink<Adis16407>,
+    link: SpiLink<S>,
     fw: Firmware<T>,
-    feed: InputFeed,
+    /// Injected CS glitches (`dropped_burst` faults).
+    glitches: Glitches,
     stages: StageCosts,
     io: crate::timing::costs::IoCosts,
     /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
@@ -81,14 +93,63 @@ pub enum Progress {
 impl<T: Scalar> Emulator<T> {
     /// Build the board and firmware of a profile; `costs` is the cycle-cost table.
     pub fn new(profile: &Profile, costs: &CostTable) -> Result<Self> {
-        let clocks = DspClocks::from_profile(&profile.clocks)?;
-        let timer = CpuTimer::from_profile(&profile.timer, clocks.sysclkout)?;
         let mut device = Adis16407::new(&profile.device)?;
-        let (feed, stimulus) = InputFeed::new();
-        device.set_stimulus(Box::new(stimulus));
         let period_s = device.sample_clock().period_s();
         device.set_sensor_errors(Box::new(ErrorModel::from_profile(&profile.errors, period_s)?));
-        let mut link = SpiLink::from_profile(profile, device)?;
+        device.set_faults(&profile.faults);
+        Emulator::with_sensor(profile, costs, StreamedDevice::new(device))
+    }
+
+    /// The input feed: push chunks of physical samples, then [`Emulator::run`].
+    pub fn feed(&self) -> &InputFeed {
+        self.link.slave().feed()
+    }
+
+    /// Append a chunk of physical input (times in s, values in data-sheet units).
+    pub fn push_input(&mut self, t_s: &[f64], samples: Vec<Physical>) -> Result<()> {
+        self.feed().push(t_s, samples)
+    }
+
+    /// Declare the end of the input.
+    pub fn end_input(&mut self) {
+        self.feed().end();
+    }
+}
+
+impl<T: Scalar> Emulator<T, ReplaySlave> {
+    /// The board and firmware of a profile reading recorded bursts instead of the device model (a
+    /// raw-register trace): push them with [`Emulator::push_words`]. The profile's device timing
+    /// rules are not checked against the recording, and its faults cannot apply (they act on the
+    /// device model): a profile with faults is refused.
+    pub fn replay(profile: &Profile, costs: &CostTable) -> Result<Self> {
+        if let Some(f) = profile.faults.list.first() {
+            return Err(Error::Config(format!(
+                "faults.list: a replayed raw-register trace bypasses the device model, so the `{}` fault (and any \
+                 other) cannot be injected; remove the faults or emulate a physical trace",
+                f.kind.as_str()
+            )));
+        }
+        let slave = ReplaySlave::new(profile.device.dout_after_write as u16, profile.device.burst_command as u16);
+        Emulator::with_sensor(profile, costs, slave)
+    }
+
+    /// Append recorded bursts: timestamps (s since power-on) and the 15 DOUT words of each.
+    pub fn push_words(&mut self, t_s: &[f64], words: &[[u16; RECORDED_WORDS]]) -> Result<()> {
+        self.link.slave_mut().push(t_s, words)
+    }
+
+    /// Declare the end of the recording.
+    pub fn end_input(&mut self) {
+        self.link.slave_mut().end();
+    }
+}
+
+impl<T: Scalar, S: Sensor> Emulator<T, S> {
+    /// The board and firmware of a profile reading `sensor`.
+    fn with_sensor(profile: &Profile, costs: &CostTable, sensor: S) -> Result<Self> {
+        let clocks = DspClocks::from_profile(&profile.clocks)?;
+        let timer = CpuTimer::from_profile(&profile.timer, clocks.sysclkout)?;
+        let mut link = SpiLink::from_profile(profile, sensor)?;
         // InitSpi runs at power-on (t = 0) in the published order.
         link.init_from_profile(&profile.spi, 0)?;
         let fw = Firmware::<T>::new(profile)?;
@@ -101,7 +162,7 @@ impl<T: Scalar> Emulator<T> {
             timer,
             link,
             fw,
-            feed,
+            glitches: Glitches::from_profile(&profile.faults),
             stages,
             io: costs.io.clone(),
             poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
@@ -118,21 +179,6 @@ impl<T: Scalar> Emulator<T> {
             events: EventLog::default(),
             profile: profile.clone(),
         })
-    }
-
-    /// The input feed: push chunks of physical samples, then [`Emulator::run`].
-    pub fn feed(&self) -> &InputFeed {
-        &self.feed
-    }
-
-    /// Append a chunk of physical input (times in s, values in data-sheet units).
-    pub fn push_input(&mut self, t_s: &[f64], samples: Vec<Physical>) -> Result<()> {
-        self.feed.push(t_s, samples)
-    }
-
-    /// Declare the end of the input.
-    pub fn end_input(&mut self) {
-        self.feed.end();
     }
 
     /// The compute-stage costs in use.
@@ -161,21 +207,48 @@ impl<T: Scalar> Emulator<T> {
         std::mem::take(&mut self.out)
     }
 
-    /// Run every timer tick the input covers. A tick runs when the input reaches past the end of
-    /// the tick's period (its reads happen within it), or, after the end of the input, when the
-    /// tick itself is inside the input.
+    /// Run every timer tick the input covers. A physical input: a tick runs when the input reaches
+    /// past the end of the tick's period (its reads happen within it), or, after the end of the
+    /// input, when the tick itself is inside the input. A recording: a tick runs while the bursts it
+    /// reads are queued (after the end, the bursts left over for a partial tick are not read).
     pub fn run(&mut self) -> Result<Progress> {
-        let Some(last_s) = self.feed.last_time_s() else {
-            return Ok(if self.feed.ended() { Progress::Finished } else { Progress::NeedInput });
+        match self.link.slave().reach() {
+            Reach::Time { last_s, ended } => self.run_to_time(last_s, ended),
+            Reach::Bursts { queued, ended } => self.run_bursts(queued, ended),
+        }
+    }
+
+    fn run_bursts(&mut self, queued: usize, ended: bool) -> Result<Progress> {
+        let ticks_ahead = (queued / self.bursts_per_tick).min(1 << 18);
+        self.reserve_rows(ticks_ahead);
+        loop {
+            let queued = match self.link.slave().reach() {
+                Reach::Bursts { queued, .. } => queued,
+                Reach::Time { .. } => 0,
+            };
+            if queued < self.bursts_per_tick {
+                return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
+            }
+            self.run_tick()?;
+            self.tick += 1;
+        }
+    }
+
+    fn reserve_rows(&mut self, ticks_ahead: usize) {
+        self.out.budget.reserve(ticks_ahead);
+        self.out.reads.reserve(ticks_ahead * self.bursts_per_tick);
+        self.out.cycles.reserve(ticks_ahead);
+    }
+
+    fn run_to_time(&mut self, last_s: Option<f64>, ended: bool) -> Result<Progress> {
+        let Some(last_s) = last_s else {
+            return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
         };
-        let ended = self.feed.ended();
         // Room for the rows this call will add, at once (growing by doubling copies them again and
         // again); capped, so a sparse input cannot make it reserve more than a few tens of MB.
         let ticks_ahead = (last_s / ps_to_s(self.timer.tick_ps(1))) as u64;
         let ticks_ahead = ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(1 << 18) as usize;
-        self.out.budget.reserve(ticks_ahead);
-        self.out.reads.reserve(ticks_ahead * self.bursts_per_tick);
-        self.out.cycles.reserve(ticks_ahead);
+        self.reserve_rows(ticks_ahead);
         loop {
             let tick_ps = self.timer.tick_ps(self.tick);
             let horizon_ps = if ended { tick_ps } else { self.timer.tick_ps(self.tick + 1) };
@@ -362,18 +435,26 @@ impl<T: Scalar> Emulator<T> {
     fn burst(&mut self, c: &mut u64) -> Result<Burst> {
         let cmd = self.profile.device.burst_command as u16;
         *c += u64::from(self.io.gpio_write);
-        self.link.set_gpio57(false, self.ps(*c))?;
-        let mut b = Burst::default();
+        let t_cs = self.ps(*c);
+        self.link.set_gpio57(false, t_cs)?;
+        let mut glitch = if t_cs >= self.glitches.watch_from { self.glitches.take(t_cs) } else { None };
+        let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
         for i in 0..BURST_FRAMES {
             // if (Spi_TxReady() == 1) SPITXBUF = sdata;  — wait for BUFFULL_FLAG = 0
             let ready = self.link.buffull_clear_time();
             *c = self.poll_until(*c, ready, "BUFFULL_FLAG = 0")?;
             *c += u64::from(self.io.peripheral_write);
+            if let Some(g) = glitch.as_mut() {
+                self.end_glitch_before(g, self.ps(*c))?;
+            }
             self.link.write(SPITXBUF, if i == 0 { cmd } else { BURST_FILL }, self.ps(*c))?;
             // while (Spi_RxReady() != 1) {}  — wait for INT_FLAG = 1, then read SPIRXBUF
             let done = self.link.int_flag_time();
             *c = self.poll_until(*c, done, "INT_FLAG = 1")?;
             *c += u64::from(self.io.peripheral_read);
+            if let Some(g) = glitch.as_mut() {
+                self.end_glitch_before(g, self.ps(*c))?;
+            }
             b.words[i] = self.link.read(SPIRXBUF, self.ps(*c))?;
             *c += u64::from(self.io.store_word + self.io.frame_loop);
             if let Some(f) = self.link.slave().last_frame() {
@@ -383,16 +464,53 @@ impl<T: Scalar> Emulator<T> {
                 if i == 1 {
                     // Every data word of a burst comes from the sample latest at the burst's start
                     // (the device latches it at the command frame); its age is counted from there.
-                    b.sample_index = f.sample_index;
-                    b.sample_ps = f.t_start.saturating_sub(f.sample_age_ps.unwrap_or(0));
+                    b.sample_index = f.sample.map(|x| x.index);
+                    b.sample_ps = f.sample.map_or(f.t_start, |x| x.t);
                     b.age_ps = b.t_start_ps.saturating_sub(b.sample_ps);
                 }
                 b.t_end_ps = f.t_end;
             }
+            if let Some(g) = glitch.as_mut().filter(|g| g.after_frame == i) {
+                self.raise_glitch(g, self.ps(*c))?;
+            }
         }
         *c += u64::from(self.io.gpio_write);
+        if let Some(g) = glitch.as_mut() {
+            self.end_glitch_before(g, self.ps(*c))?;
+        }
         self.link.set_gpio57(true, self.ps(*c))?;
         Ok(b)
+    }
+
+    /// A `dropped_burst` fault: the CS line goes high at `t`, in the middle of the burst.
+    #[cold]
+    fn raise_glitch(&mut self, g: &mut glitch::BurstGlitch, t: Ps) -> Result<()> {
+        g.rise = Some(t);
+        self.link.set_gpio57(true, t)?;
+        let how_long = g.length.map_or("until the firmware raises CS at the end of the burst".to_string(), |l| {
+            format!("for {:.3} µs", l as f64 / 1e6)
+        });
+        self.events.push(Event::new(
+            t,
+            "fault_injected",
+            Severity::Warning,
+            format!(
+                "{}: CS high after frame {} of the burst of tick {}, {how_long}",
+                crate::device::describe_fault(&g.fault),
+                g.after_frame,
+                self.tick
+            ),
+        ));
+        Ok(())
+    }
+
+    /// The glitch's CS line falls back at its time if that is before `t` (the next bus access).
+    fn end_glitch_before(&mut self, g: &mut glitch::BurstGlitch, t: Ps) -> Result<()> {
+        if let Some(back) = g.pending_return().filter(|&back| back <= t) {
+            g.returned = true;
+            self.link.set_gpio57(false, back)?;
+        }
+        Ok(())
     }
 
     /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
@@ -426,6 +544,7 @@ impl<T: Scalar> Emulator<T> {
         };
         self.out.reads.push(ReadRow {
             tick,
+            t_cs_ps: b.t_cs_ps,
             t_start_ps: b.t_start_ps,
             t_end_ps: b.t_end_ps,
             words: b.words,
@@ -465,6 +584,7 @@ impl<T: Scalar> Emulator<T> {
 #[derive(Debug, Clone, Copy, Default)]
 struct Burst {
     words: [u16; BURST_FRAMES],
+    t_cs_ps: Ps,
     t_start_ps: Ps,
     t_end_ps: Ps,
     sample_index: Option<u64>,
@@ -474,3 +594,7 @@ struct Burst {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_faults;
+#[cfg(test)]
+mod tests_replay;

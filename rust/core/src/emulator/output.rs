@@ -26,6 +26,8 @@ pub struct CycleRow {
 pub struct ReadRow {
     /// Timer tick of the read.
     pub tick: u64,
+    /// CS falling edge of the burst (the firmware's GPIO57 write): what a raw-register trace records.
+    pub t_cs_ps: Ps,
     /// First SCLK edge of the burst.
     pub t_start_ps: Ps,
     /// Last SCLK edge of the burst.
@@ -36,9 +38,10 @@ pub struct ReadRow {
     pub rate: [f64; 3],
     /// Decoded f^b, m/s².
     pub accel: [f64; 3],
-    /// Device sample the burst carried (−1: none, e.g. before the first sample).
+    /// Device sample the burst carried (−1: none, e.g. before the first sample); in a replay, the
+    /// row of the recorded burst.
     pub sample_index: i64,
-    /// True time of that sample (device clock).
+    /// True time of that sample (device clock); in a replay, the recorded timestamp of the burst.
     pub sample_ps: Ps,
     /// The time the firmware assumes the sample belongs to, s.
     pub assumed_s: f64,

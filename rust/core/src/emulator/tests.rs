@@ -4,13 +4,13 @@ use super::*;
 use crate::bus::link::LinkRecord;
 use crate::time::{s_to_ps, PS_PER_S};
 
-fn costs() -> CostTable {
+pub(super) fn costs() -> CostTable {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../firmware_model/c28x-costs.toml");
     CostTable::from_toml(&std::fs::read_to_string(path).unwrap(), "c28x-costs.toml").unwrap()
 }
 
 /// A level board turning at `rate_dps` about z, sampled at 819.2 Hz, for `seconds`.
-fn constant_rate(seconds: f64, rate_dps: [f64; 3]) -> (Vec<f64>, Vec<Physical>) {
+pub(super) fn constant_rate(seconds: f64, rate_dps: [f64; 3]) -> (Vec<f64>, Vec<Physical>) {
     let n = (seconds * 819.2).ceil() as usize + 2;
     let t: Vec<f64> = (0..n).map(|i| i as f64 / 819.2).collect();
     let p = Physical { gyro_dps: rate_dps, accel_g: [0.0, 0.0, 1.0], ..Physical::powered_idle() };
@@ -26,7 +26,7 @@ fn run<T: Scalar>(profile: &Profile, seconds: f64, rate: [f64; 3]) -> Output {
     emu.take_output()
 }
 
-fn reference_f64() -> Profile {
+pub(super) fn reference_f64() -> Profile {
     let mut p = Profile::default();
     p.firmware.numeric = crate::profile::Numeric::F64;
     p.firmware.earth_rate = false;

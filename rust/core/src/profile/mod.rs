@@ -3,14 +3,17 @@
 //! numeric backend). Every key is documented in `firmware_model/SCHEMA.md`; `key=value` overrides
 //! change one field for one run. Unknown keys are errors with a "did you mean".
 
+mod faults;
 mod sections;
 
+pub use faults::*;
 pub use sections::*;
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
-/// A whole profile: the board (clocks, SPI-A, timer, device, sensor errors) and the firmware.
+/// A whole profile: the board (clocks, SPI-A, timer, device, sensor errors), the firmware, and the
+/// faults injected into a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields, default)]
 pub struct Profile {
@@ -34,6 +37,8 @@ pub struct Profile {
     pub iq: IqFormats,
     /// Compute-time model settings.
     pub timing: Timing,
+    /// Device-side faults injected into the run (none by default).
+    pub faults: Faults,
 }
 
 impl Profile {
@@ -86,6 +91,7 @@ impl Profile {
         self.navigation.validate()?;
         self.iq.validate()?;
         self.timing.validate()?;
+        self.faults.validate()?;
         Ok(())
     }
 }

@@ -1,0 +1,128 @@
+//! What the emulator needs from the sensor at the other end of SPI-A: the slave side of the bus, the
+//! latest frame it answered (for the read records), its events, and how far its input reaches (the
+//! emulator's horizon). Two sensors: the ADIS16407 model fed a physical input ([`StreamedDevice`],
+//! the default), and the replay of recorded burst words ([`ReplaySlave`]), which bypasses the device.
+
+use super::input::{InputFeed, StreamStimulus};
+use crate::bus::{FrameTiming, SpiSlave};
+use crate::device::replay::ReplaySlave;
+use crate::device::{Adis16407, SampleStamp};
+use crate::events::Event;
+use crate::time::Ps;
+
+/// The latest frame a sensor answered, as the read records need it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameSummary {
+    /// First SCLK edge.
+    pub t_start: Ps,
+    /// Last SCLK edge.
+    pub t_end: Ps,
+    /// The sample the frame's word holds: the device's internal sample, or for a replay the
+    /// recorded burst (its index and recorded timestamp).
+    pub sample: Option<SampleStamp>,
+}
+
+/// How far a sensor's input reaches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Reach {
+    /// Physical input: the last time it covers (s; `None` before the first chunk).
+    Time {
+        /// Last input time, s.
+        last_s: Option<f64>,
+        /// No more input will come.
+        ended: bool,
+    },
+    /// Recorded bursts not read yet.
+    Bursts {
+        /// Bursts queued.
+        queued: usize,
+        /// No more bursts will come.
+        ended: bool,
+    },
+}
+
+/// The emulator's sensor: an SPI slave with a frame summary, events and an input horizon.
+pub trait Sensor: SpiSlave + Send {
+    /// The latest frame clocked at the sensor.
+    fn last_frame(&self) -> Option<FrameSummary>;
+    /// Take the sensor's events out.
+    fn drain_events(&mut self) -> Vec<Event>;
+    /// How far the input reaches.
+    fn reach(&self) -> Reach;
+}
+
+/// The ADIS16407 model reading a physical input streamed in chunks.
+pub struct StreamedDevice {
+    device: Adis16407,
+    feed: InputFeed,
+}
+
+impl StreamedDevice {
+    /// The device, its stimulus replaced by a new (empty) input stream.
+    pub fn new(mut device: Adis16407) -> StreamedDevice {
+        let (feed, stimulus): (InputFeed, StreamStimulus) = InputFeed::new();
+        device.set_stimulus(Box::new(stimulus));
+        StreamedDevice { device, feed }
+    }
+
+    /// The input stream.
+    pub fn feed(&self) -> &InputFeed {
+        &self.feed
+    }
+
+    /// The device model.
+    pub fn device(&self) -> &Adis16407 {
+        &self.device
+    }
+}
+
+impl SpiSlave for StreamedDevice {
+    #[inline]
+    fn set_cs(&mut self, low: bool, t: Ps) {
+        self.device.set_cs(low, t);
+    }
+    #[inline]
+    fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
+        self.device.begin_frame(timing)
+    }
+    #[inline]
+    fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
+        self.device.end_frame(din, timing);
+    }
+}
+
+impl Sensor for StreamedDevice {
+    #[inline]
+    fn last_frame(&self) -> Option<FrameSummary> {
+        self.device.last_frame().map(|f| FrameSummary {
+            t_start: f.t_start,
+            t_end: f.t_end,
+            sample: f
+                .sample_index
+                .map(|index| SampleStamp { index, t: f.t_start.saturating_sub(f.sample_age_ps.unwrap_or(0)) }),
+        })
+    }
+    fn drain_events(&mut self) -> Vec<Event> {
+        self.device.drain_events()
+    }
+    fn reach(&self) -> Reach {
+        Reach::Time { last_s: self.feed.last_time_s(), ended: self.feed.ended() }
+    }
+}
+
+impl Sensor for ReplaySlave {
+    #[inline]
+    fn last_frame(&self) -> Option<FrameSummary> {
+        ReplaySlave::last_frame(self).map(|f| FrameSummary {
+            t_start: f.t_start,
+            t_end: f.t_end,
+            sample: self.last_sample(),
+        })
+    }
+    fn drain_events(&mut self) -> Vec<Event> {
+        ReplaySlave::drain_events(self)
+    }
+    fn reach(&self) -> Reach {
+        Reach::Bursts { queued: self.queued(), ended: self.ended() }
+    }
+}
