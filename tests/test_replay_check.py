@@ -23,3 +23,12 @@ def test_saved_run_replays_bit_for_bit_and_tampering_is_caught(tmp_path):
     assert r.code == 1
     assert "row 1234" in r.err and "`q1`" in r.err
     assert not (tmp_path / "b.rrd").exists()
+
+
+def test_a_run_with_an_override_holding_spaces_replays(tmp_path):
+    out = tmp_path / "run.csv"
+    fault = 'faults.list=[{kind = "stuck_axis", channel = "gyro_z", start_s = 1.0, duration_s = 0.5}]'
+    r = run_cli("run", TRACE, "--set", fault, "--until-s", "3", "--out", str(out))
+    assert r.code == 0, r.err
+    r = run_cli("replay", str(out), "--save", str(tmp_path / "a.rrd"))
+    assert r.code == 0, r.err

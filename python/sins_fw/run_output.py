@@ -5,6 +5,7 @@ shortest round-trip float text, one dataset per column, written atomically and b
 
 from __future__ import annotations
 
+import json
 import os
 from fractions import Fraction
 from typing import Any
@@ -75,7 +76,8 @@ def save_run(run: Run, path: str | os.PathLike[str], metadata: dict[str, str] | 
         "format": RUN_FORMAT,
         "sample_rate_hz": str(1 / step_s),
         "profile": run.profile.source,
-        "overrides": " ".join(run.profile.overrides),
+        # JSON: an override may hold spaces (`faults.list=[{kind = "spike", …}]`).
+        "overrides": json.dumps(list(run.profile.overrides), ensure_ascii=False),
         "numeric": str(run.profile.get("firmware.numeric")),
         "trace_t0_s": repr(run.t0_s),
         "created_by": "sins-fw run",
@@ -114,8 +116,13 @@ def replay_check(
     trace = meta.get("trace")
     if not trace:
         raise InputError(f"{path}: run output without a `trace` entry in its metadata: cannot replay it")
-    overrides = [o for o in meta.get("overrides", "").split(" ") if o]
-    run = emulate(trace, load_profile(meta.get("profile", "reference"), overrides), bus_window=bus_window)
+    try:
+        overrides = [str(o) for o in json.loads(meta.get("overrides") or "[]")]
+    except (json.JSONDecodeError, TypeError):
+        raise InputError(f"{path}: metadata `overrides` is not a JSON list of key=value texts") from None
+    until = meta.get("until_s")
+    profile = load_profile(meta.get("profile", "reference"), overrides)
+    run = emulate(trace, profile, bus_window=bus_window, until_s=float(until) if until else None)
     fresh = run_columns(run)
     for name, column in saved.items():
         if name not in fresh:

@@ -208,7 +208,10 @@ def run(args: argparse.Namespace) -> int:
     summary["replayed"] = replayed
     if args.out is not None:
         try:
-            save_run(result, args.out, {"trace": str(args.trace)})
+            recorded = {"trace": str(args.trace)}
+            if args.until_s is not None:
+                recorded["until_s"] = repr(args.until_s)
+            save_run(result, args.out, recorded)
         except KeyboardInterrupt as e:
             done = f"after emulating all {result.time_s[-1] if result.cycles else 0:.6g} s"
             raise type(e)(
