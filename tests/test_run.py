@@ -171,3 +171,20 @@ def test_correct_decode_reads_307_2_dps(fast_trace):
     np.testing.assert_allclose(run.read_rate[hit, 0], expected, rtol=4 * 2.0**-24)
     # The difference from the published decode is still reported.
     assert run.events_by_kind().get("stale_decode") == _gap_reads(run)
+
+
+def test_nested_overruns_complete_and_are_reported():
+    r = run_cli(
+        "run",
+        str(ROOT / "traces" / "static_60s.h5"),
+        "--until-s",
+        "0.2",
+        "--set",
+        "firmware.overrun=nest",
+        "--set",
+        "timer.period_us=300",
+        "--json",
+    )
+    assert r.code == 0, r.err
+    kinds = json.loads(r.out)["events"]["by_kind"]
+    assert "nested_interrupt" in kinds and "overrun" in kinds

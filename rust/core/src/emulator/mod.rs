@@ -69,6 +69,12 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     tick: u64,
     /// SYSCLKOUT cycle at which the CPU finishes the ISR it is running.
     cpu_free: u64,
+    /// The next tick no ISR has serviced yet (ticks serviced by a nested ISR are skipped).
+    next_pending: u64,
+    /// Nesting depth of the ISR being emulated (0: the outer one).
+    depth: u8,
+    /// Nested ISRs so far.
+    nested: u64,
     /// Rate samples of the step being assembled (ω_ib, rad/s) and their true sample times.
     rates: [Vec3<T>; 3],
     have: usize,
@@ -169,6 +175,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             bursts_per_tick,
             tick: 1,
             cpu_free: 0,
+            next_pending: 1,
+            depth: 0,
+            nested: 0,
             rates: [[zero; 3]; 3],
             have: 0,
             step: 0,
@@ -230,7 +239,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
             }
             self.run_tick()?;
-            self.tick += 1;
+            self.tick = self.next_pending;
         }
     }
 
@@ -256,7 +265,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
             }
             self.run_tick()?;
-            self.tick += 1;
+            self.tick = self.next_pending;
         }
     }
 
@@ -268,6 +277,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// attitude, Euler and navigation stages.
     fn run_tick(&mut self) -> Result<()> {
         let k = self.tick;
+        self.next_pending = k + 1;
         let tick_cycle = self.timer.period_cycles() * k;
         let tick_ps = self.ps(tick_cycle);
         let busy = tick_cycle < self.cpu_free;
@@ -298,7 +308,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                     self.out.budget.push(BudgetRow::skipped(k, tick_ps));
                     return Ok(());
                 }
-                OverrunPolicy::Nest => tick_cycle,
+                // Arrived during the ISR's last instructions (after its last interruptible point):
+                // taken as soon as it returns.
+                OverrunPolicy::Nest => self.cpu_free,
             }
         } else {
             tick_cycle
@@ -319,11 +331,58 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             ));
         }
 
+        let (budget_at, reads_at, cycles_at) = (self.out.budget.len(), self.out.reads.len(), self.out.cycles.len());
+        let nested_before = self.nested;
+        let end = self.isr(k, start, busy)?;
+        self.cpu_free = end;
+        if self.nested != nested_before {
+            // A nested ISR wrote its rows inside this one's: put every row back in tick/time order.
+            self.out.budget[budget_at..].sort_by_key(|r| r.tick);
+            self.out.reads[reads_at..].sort_by_key(|r| r.tick);
+            self.out.cycles[cycles_at..].sort_by_key(|r| r.t_ps);
+        }
+        Ok(())
+    }
+
+    /// Under `firmware.overrun = "nest"` the ISR re-enables interrupts (EINT) after its entry: a tick
+    /// that has arrived is taken at the next interruptible point (after each burst frame, after the
+    /// decode, after the attitude update) and runs to completion there, at depth one (the nested ISR
+    /// does not re-enable them: one level). Nothing happens under the other policies.
+    fn maybe_nest(&mut self, c: &mut u64, k: u64) -> Result<()> {
+        if self.profile.firmware.overrun != OverrunPolicy::Nest || self.depth > 0 {
+            return Ok(());
+        }
+        // One nested ISR per interruptible point. On the chip a tick that arrives during a nested ISR
+        // is taken right after its IRET, so an ISR longer than the period starves the outer one for
+        // ever; here the outer one runs on to its next interruptible point first (documented), so
+        // every ISR ends and the starvation shows as a nested ISR at every point.
+        if self.timer.period_cycles() * self.next_pending <= *c {
+            let inner = self.next_pending;
+            self.next_pending += 1;
+            self.nested += 1;
+            self.events.push(Event::new(
+                self.ps(*c),
+                "nested_interrupt",
+                Severity::Warning,
+                format!("tick {inner} preempts the ISR of tick {k}: it runs inside it (SPI-A and the firmware state are shared)"),
+            ));
+            self.depth += 1;
+            let end = self.isr(inner, *c, true);
+            self.depth -= 1;
+            *c = end?;
+        }
+        Ok(())
+    }
+
+    /// One ISR of tick `k` from cycle `start`; returns the cycle it ends at.
+    fn isr(&mut self, k: u64, start: u64, overrun: bool) -> Result<u64> {
+        let tick_cycle = self.timer.period_cycles() * k;
+        let tick_ps = self.ps(tick_cycle);
         let mut c = start + self.stages.entry;
         let entry_end = c;
         let mut bursts = [Burst::default(); 3];
         for b in bursts.iter_mut().take(self.bursts_per_tick) {
-            *b = self.burst(&mut c)?;
+            *b = self.burst(&mut c, k)?;
         }
         let spi_end = c;
 
@@ -340,6 +399,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             self.last_accel = d.accel;
             self.record_read(k, b, &bursts[b], &d.rate, &d.accel);
         }
+        self.maybe_nest(&mut c, k)?;
         let decode_end = c;
 
         // Assemble the step's rate samples according to the schedule.
@@ -358,6 +418,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             } else {
                 self.fw.update_attitude(&self.rates)?;
                 c += self.stages.attitude.cycles;
+                self.maybe_nest(&mut c, k)?;
                 attitude_end = c;
                 let e = self.fw.euler();
                 c += self.stages.euler.cycles;
@@ -371,12 +432,6 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             self.step += 1;
         }
         c += self.stages.exit;
-        self.cpu_free = if self.profile.firmware.overrun == OverrunPolicy::Nest && busy {
-            // The interrupted ISR resumes after this one: its end moves by this ISR's length.
-            self.cpu_free + (c - start)
-        } else {
-            c
-        };
         let period = self.timer.period_cycles();
         self.out.budget.push(BudgetRow {
             tick: k,
@@ -392,9 +447,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             end_ps: self.ps(c),
             deadline_ps: self.ps(tick_cycle + period),
             step: step_ready,
-            overrun: busy,
+            overrun,
         });
-        Ok(())
+        Ok(c)
     }
 
     /// Fill the step's rate samples from this tick's decoded bursts; true when a step is ready.
@@ -432,7 +487,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
 
     /// One 15-frame burst read as the published code performs it; returns the received words and
     /// the cycle of the first SPITXBUF write. `c` is the CPU cycle, advanced by the code's costs.
-    fn burst(&mut self, c: &mut u64) -> Result<Burst> {
+    fn burst(&mut self, c: &mut u64, k: u64) -> Result<Burst> {
         let cmd = self.profile.device.burst_command as u16;
         *c += u64::from(self.io.gpio_write);
         let t_cs = self.ps(*c);
@@ -473,6 +528,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             if let Some(g) = glitch.as_mut().filter(|g| g.after_frame == i) {
                 self.raise_glitch(g, self.ps(*c))?;
             }
+            self.maybe_nest(c, k)?;
         }
         *c += u64::from(self.io.gpio_write);
         if let Some(g) = glitch.as_mut() {
