@@ -322,7 +322,7 @@ def test_run_output_is_byte_identical_across_runs_and_bus_levels(capsys, tmp_pat
     assert files["a", "h5"] == files["b", "h5"]
     # The bit-level run records its override in the metadata; everything else is the same bytes.
     a, bit = files["a", "csv"].decode(), files["bit", "csv"].decode()
-    assert "# overrides: errors.preset=adis16407 errors.seed=7 spi.level=bit" in bit
+    assert '# overrides: ["errors.preset=adis16407", "errors.seed=7", "spi.level=bit"]' in bit
     assert _without_overrides_line(a) == _without_overrides_line(bit)
     _, cols_a = load_run(tmp_path / "a.h5")
     _, cols_bit = load_run(tmp_path / "bit.h5")
