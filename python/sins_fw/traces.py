@@ -698,8 +698,55 @@ def _write(path: PathLike, schema: _Schema, metadata: Mapping[str, str], cols: d
 # ---------------------------------------------------------------------------------------------------
 
 
+class _TraceFile:
+    """File I/O shared by the trace types: a subclass gives ``schema``, ``columns()`` and
+    ``from_columns()``; this writes and reads it in either form, validated the same way."""
+
+    schema: ClassVar[_Schema]
+    metadata: dict[str, str]
+
+    def columns(self) -> dict[str, np.ndarray]:
+        raise NotImplementedError
+
+    @classmethod
+    def from_columns(cls, cols: Mapping[str, np.ndarray], metadata: Mapping[str, str]) -> Self:
+        raise NotImplementedError
+
+    def validate(self, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS) -> None:
+        """The checks a file gets on load, for a trace built in memory."""
+        _validate_memory(self.schema, self.columns(), self.metadata, allow_gaps, max_gap_periods)
+
+    def save(self, path: PathLike, *, allow_gaps: bool = False) -> None:
+        """Write as CSV (``.csv``; raw words as ``0xABCD``) or HDF5 (``.h5``), validated, atomically."""
+        self.validate(allow_gaps=allow_gaps)
+        _write(path, self.schema, self.metadata, self.columns())
+
+    @classmethod
+    def load(
+        cls, path: PathLike, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+    ) -> Self:
+        """Read and validate a whole trace."""
+        return _concat(
+            cls, cls.iter_chunks(path, _BLOCK_ROWS, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
+        )
+
+    @classmethod
+    def iter_chunks(
+        cls,
+        path: PathLike,
+        rows: int,
+        *,
+        allow_gaps: bool = False,
+        max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+    ) -> Iterator[Self]:
+        """Stream a trace in validated chunks of at most ``rows`` rows (memory does not grow with length)."""
+        src = _open(path, cls.schema, rows, allow_gaps, max_gap_periods)
+        for block in src.blocks:
+            yield cls.from_columns(block, src.metadata)
+
+
 @dataclass
-class PhysicalTrace:
+class PhysicalTrace(_TraceFile):
     """What the sensor sees, sample by sample (units and frames: docs/traces.md).
 
     ``gyro_dps`` is ω_ib in the sensor frame (°/s), ``accel_g`` the specific force (g = 9.80665 m/s²),
@@ -776,41 +823,9 @@ class PhysicalTrace:
                 fields[attr] = fields[attr].astype(np.float64)
         return cls(t_s=np.asarray(cols["t_s"], dtype=np.float64), metadata=dict(metadata), **fields)
 
-    def validate(self, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS) -> None:
-        """The checks a file gets on load, for a trace built in memory."""
-        _validate_memory(self.schema, self.columns(), self.metadata, allow_gaps, max_gap_periods)
-
-    def save(self, path: PathLike, *, allow_gaps: bool = False) -> None:
-        """Write as CSV (``.csv``) or HDF5 (``.h5``), atomically, after validating."""
-        self.validate(allow_gaps=allow_gaps)
-        _write(path, self.schema, self.metadata, self.columns())
-
-    @classmethod
-    def load(
-        cls, path: PathLike, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
-    ) -> Self:
-        """Read and validate a whole trace."""
-        return _concat(
-            cls, cls.iter_chunks(path, _BLOCK_ROWS, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
-        )
-
-    @classmethod
-    def iter_chunks(
-        cls,
-        path: PathLike,
-        rows: int,
-        *,
-        allow_gaps: bool = False,
-        max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
-    ) -> Iterator[Self]:
-        """Stream a trace in validated chunks of at most ``rows`` rows (memory does not grow with length)."""
-        src = _open(path, cls.schema, rows, allow_gaps, max_gap_periods)
-        for block in src.blocks:
-            yield cls.from_columns(block, src.metadata)
-
 
 @dataclass
-class RawRegisterTrace:
+class RawRegisterTrace(_TraceFile):
     """Per burst read: the time of the chip-select falling edge (s) and the 15 DOUT words
     (``words[:, 0]`` answers the 0x4200 command frame and is don't care; ``words[:, 1:]`` are
     SUPPLY_OUT … AUX_ADC, see :data:`RAW_WORD_COLUMNS`)."""
@@ -844,38 +859,6 @@ class RawRegisterTrace:
         """Build from named columns."""
         words = np.stack([np.asarray(cols[n], dtype=np.uint16) for n in RAW_WORD_COLUMNS], axis=1)
         return cls(t_s=np.asarray(cols["t_s"], dtype=np.float64), words=words, metadata=dict(metadata))
-
-    def validate(self, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS) -> None:
-        """The checks a file gets on load, for a trace built in memory."""
-        _validate_memory(self.schema, self.columns(), self.metadata, allow_gaps, max_gap_periods)
-
-    def save(self, path: PathLike, *, allow_gaps: bool = False) -> None:
-        """Write as CSV (``.csv``, words as ``0xABCD``) or HDF5 (``.h5``, uint16), atomically."""
-        self.validate(allow_gaps=allow_gaps)
-        _write(path, self.schema, self.metadata, self.columns())
-
-    @classmethod
-    def load(
-        cls, path: PathLike, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
-    ) -> Self:
-        """Read and validate a whole raw-register trace."""
-        return _concat(
-            cls, cls.iter_chunks(path, _BLOCK_ROWS, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
-        )
-
-    @classmethod
-    def iter_chunks(
-        cls,
-        path: PathLike,
-        rows: int,
-        *,
-        allow_gaps: bool = False,
-        max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
-    ) -> Iterator[Self]:
-        """Stream a raw-register trace in validated chunks of at most ``rows`` rows."""
-        src = _open(path, cls.schema, rows, allow_gaps, max_gap_periods)
-        for block in src.blocks:
-            yield cls.from_columns(block, src.metadata)
 
 
 def check_output_path(path: PathLike) -> Path:
