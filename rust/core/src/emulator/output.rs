@@ -116,3 +116,13 @@ pub struct Output {
     /// Events of every model, in time order.
     pub events: Vec<Event>,
 }
+
+impl Output {
+    /// Append another chunk's output (rows and events keep their order).
+    pub fn append(&mut self, other: Output) {
+        self.cycles.extend(other.cycles);
+        self.reads.extend(other.reads);
+        self.budget.extend(other.budget);
+        self.events.extend(other.events);
+    }
+}

@@ -234,20 +234,12 @@ fn pinned_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool) -> u64
             let t: Vec<f64> = chunk.iter().map(|r| r.0).collect();
             emu.push_input(&t, chunk.iter().map(|r| r.1).collect()).unwrap();
             assert_eq!(emu.run().unwrap(), Progress::NeedInput);
-            let o = emu.take_output();
-            out.cycles.extend(o.cycles);
-            out.reads.extend(o.reads);
-            out.budget.extend(o.budget);
-            out.events.extend(o.events);
+            out.append(emu.take_output());
             bus.extend(emu.take_bus_log());
         }
         emu.end_input();
         assert_eq!(emu.run().unwrap(), Progress::Finished);
-        let o = emu.take_output();
-        out.cycles.extend(o.cycles);
-        out.reads.extend(o.reads);
-        out.budget.extend(o.budget);
-        out.events.extend(o.events);
+        out.append(emu.take_output());
         bus.extend(emu.take_bus_log());
         assert!(!out.cycles.is_empty());
         digest(&out, &bus, emu.feed().held_reads())

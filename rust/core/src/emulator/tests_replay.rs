@@ -41,19 +41,11 @@ fn replay<T: Scalar>(profile: &Profile, recorded: &[ReadRow], chunk: usize) -> O
         let words: Vec<[u16; 15]> = rows.iter().map(|r| r.words).collect();
         emu.push_words(&t, &words).unwrap();
         assert_eq!(emu.run().unwrap(), Progress::NeedInput);
-        let o = emu.take_output();
-        out.cycles.extend(o.cycles);
-        out.reads.extend(o.reads);
-        out.budget.extend(o.budget);
-        out.events.extend(o.events);
+        out.append(emu.take_output());
     }
     emu.end_input();
     assert_eq!(emu.run().unwrap(), Progress::Finished);
-    let o = emu.take_output();
-    out.cycles.extend(o.cycles);
-    out.reads.extend(o.reads);
-    out.budget.extend(o.budget);
-    out.events.extend(o.events);
+    out.append(emu.take_output());
     out
 }
 
