@@ -6,8 +6,8 @@
 //! filter is stateful, but nothing is allocated per sample.
 
 use super::encoding::{
-    encode_field, sign_extend, to_field, Channel, GyroRange, ACCEL_OFF_LSB_G, GYRO_OFF_LSB_DPS, MAG_HIC_LSB_GAUSS,
-    MAG_SIC_UNITY,
+    encode_field, overrange, sign_extend, to_field, Channel, GyroRange, ACCEL_OFF_LSB_G, GYRO_OFF_LSB_DPS,
+    MAG_HIC_LSB_GAUSS, MAG_SIC_UNITY,
 };
 use super::faults::{DeviceFaults, SampleFaults};
 use super::filter::Bartlett;
@@ -169,6 +169,18 @@ fn spike(f: &mut Physical, sf: &SampleFaults) {
     f.aux_v += d[13];
 }
 
+/// The word a read of `slot` returns from the register image `regs` with ND flags `nd`: outputs
+/// carry ND (bit 15) and EA (bit 14, any DIAG_STAT flag).
+fn word(regs: &[u16; SLOTS], nd: u64, slot: usize) -> u16 {
+    let value = regs[slot];
+    if OUTPUT_SLOTS >> slot & 1 == 0 {
+        return value;
+    }
+    let nd = if nd >> slot & 1 != 0 { 0x8000 } else { 0 };
+    let ea = if regs[s(addr::DIAG_STAT)] != 0 { 0x4000 } else { 0 };
+    value | nd | ea
+}
+
 /// Slot of a register address, as a constant.
 const fn s(a: u8) -> usize {
     (a >> 1) as usize
@@ -195,6 +207,11 @@ pub struct Adis16407 {
     latest: Option<SampleStamp>,
     /// The latest sample after the sensor errors and the filter, before the calibration registers.
     filtered: Physical,
+    /// The latest sample's values (filtered, spikes added) while the output registers have not been
+    /// encoded from them yet. Most samples are overwritten by the next one before anything reads
+    /// them (the firmware reads every 4 ms, the part samples every 1.22 ms), so encoding waits for a
+    /// read or a register write ([`Adis16407::encode_pending`]); the result is the same bit for bit.
+    pending: Option<Physical>,
     now: Ps,
     busy_until: Ps,
     data_ready: Option<DataReady>,
@@ -265,6 +282,7 @@ impl Adis16407 {
             schedule: Schedule::new(sample_clock(regs[s(addr::SMPL_PRD)], cfg.clock_ppb), first_t, 0),
             latest: None,
             filtered: Physical::default(),
+            pending: None,
             now: 0,
             busy_until: 0,
             data_ready: None,
@@ -386,7 +404,11 @@ impl Adis16407 {
         if def.access == Access::W {
             return Err(Error::Register(format!("{} (0x{addr:02X}) is write-only", def.name)));
         }
-        Ok(self.word(def.slot()))
+        let mut regs = self.regs;
+        if let Some(f) = &self.pending {
+            self.encode_outputs(f, &mut regs);
+        }
+        Ok(word(&regs, self.nd, def.slot()))
     }
 
     /// [`Adis16407::peek`] by register name.
@@ -398,6 +420,8 @@ impl Adis16407 {
     /// Write one byte at time `t`, as an SPI write frame ending at `t` does (0x8000 | addr<<8 | byte).
     pub fn write_byte(&mut self, addr: u8, byte: u8, t: Ps) {
         self.advance_to(t);
+        // A write may change what the latest sample encodes to (offsets, range): encode it first.
+        self.encode_pending();
         let Some(def) = registers::lookup(addr) else {
             self.events.push(Event::new(
                 t,
@@ -439,15 +463,13 @@ impl Adis16407 {
         self.write_byte(addr | 1, (value >> 8) as u8, t);
     }
 
-    /// The word a read of `slot` returns now (no side effects).
-    pub(super) fn word(&self, slot: usize) -> u16 {
-        let value = self.regs[slot];
-        if OUTPUT_SLOTS >> slot & 1 == 0 {
-            return value;
+    /// Encode the output registers from the latest sample if that has not been done yet.
+    fn encode_pending(&mut self) {
+        if let Some(f) = self.pending.take() {
+            let mut regs = self.regs;
+            self.encode_outputs(&f, &mut regs);
+            self.regs = regs;
         }
-        let nd = if self.nd >> slot & 1 != 0 { 0x8000 } else { 0 };
-        let ea = if self.regs[s(addr::DIAG_STAT)] != 0 { 0x4000 } else { 0 };
-        value | nd | ea
     }
 
     /// A read of register `addr` shifted out now: the word, the sample it holds (outputs only), and
@@ -468,7 +490,8 @@ impl Adis16407 {
             }
         };
         let slot = def.slot();
-        let w = self.word(slot);
+        self.encode_pending();
+        let w = word(&self.regs, self.nd, slot);
         let sample = if matches!(def.format, Format::Output(_)) { self.latest } else { None };
         self.nd &= !(1 << slot);
         if slot == s(addr::DIAG_STAT) && self.opts.diag_clear_on_read {
@@ -478,8 +501,9 @@ impl Adis16407 {
     }
 
     /// The 14 output words of a burst, as of now, with the sample they hold.
-    pub(super) fn burst_snapshot(&self) -> ([u16; 14], Option<SampleStamp>) {
-        (BURST_ORDER.map(|a| self.word(s(a))), self.latest)
+    pub(super) fn burst_snapshot(&mut self) -> ([u16; 14], Option<SampleStamp>) {
+        self.encode_pending();
+        (BURST_ORDER.map(|a| word(&self.regs, self.nd, s(a))), self.latest)
     }
 
     /// Clear the ND flag of output register `addr` after a burst shifted it out, unless a newer sample
@@ -524,7 +548,13 @@ impl Adis16407 {
         if !p.is_finite() {
             self.sanitize(&mut p, k, t);
         }
-        let faults = if t >= self.faults.watch_from { Some(self.sample_faults(t)) } else { None };
+        let faults = if t >= self.faults.watch_from {
+            // A stuck register freezes what the previous sample left in it.
+            self.encode_pending();
+            Some(self.sample_faults(t))
+        } else {
+            None
+        };
         if let Some(v) = faults.as_ref().and_then(|f| f.supply_v) {
             p.supply_v = v;
         }
@@ -544,36 +574,19 @@ impl Adis16407 {
         if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
             spike(&mut f, sf);
         }
-
-        let range = self.range;
-        let mut over = false;
-        let mut put = |regs: &mut [u16; SLOTS], a: u8, ch: Channel, v: f64| {
-            let e = encode_field(ch, v, range);
-            regs[s(a)] = e.code;
-            over |= e.overrange;
-        };
-        let r = &mut self.regs;
-        for i in 0..3 {
-            let off = f64::from(sign_extend(r[s(addr::XGYRO_OFF) + i], 13)) * GYRO_OFF_LSB_DPS;
-            put(r, addr::XGYRO_OUT + 2 * i as u8, Channel::Gyro, f.gyro_dps[i] + off);
-            let off = f64::from(sign_extend(r[s(addr::XACCL_OFF) + i], 12)) * ACCEL_OFF_LSB_G;
-            put(r, addr::XACCL_OUT + 2 * i as u8, Channel::Accel, f.accel_g[i] + off);
-            // Hard iron adds, then soft iron scales [unconfirmed order; sibling ADIS16405].
-            let hic = f64::from(sign_extend(r[s(addr::XMAGN_HIC) + i], 14)) * MAG_HIC_LSB_GAUSS;
-            let sic = f64::from(r[s(addr::XMAGN_SIC) + i]) / f64::from(MAG_SIC_UNITY);
-            put(r, addr::XMAGN_OUT + 2 * i as u8, Channel::Mag, (f.mag_gauss[i] + hic) * sic);
-        }
-        put(r, addr::SUPPLY_OUT, Channel::Supply, f.supply_v);
-        put(r, addr::BARO_OUT, Channel::Baro, f.baro_mbar);
-        put(r, addr::BARO_OUTL, Channel::BaroLow, f.baro_mbar);
-        put(r, addr::TEMP_OUT, Channel::Temp, f.temp_c);
-        put(r, addr::AUX_ADC, Channel::Aux, f.aux_v);
+        let over = self.outputs_overrange(&f);
         if let Some(sf) = &faults {
+            let mut regs = self.regs;
+            self.encode_outputs(&f, &mut regs);
             for (i, a) in BURST_ORDER.iter().enumerate() {
                 if sf.stuck >> i & 1 != 0 {
-                    r[s(*a)] = sf.frozen[i];
+                    regs[s(*a)] = sf.frozen[i];
                 }
             }
+            self.regs = regs;
+            self.pending = None;
+        } else {
+            self.pending = Some(f);
         }
 
         let o = &self.opts;
@@ -602,6 +615,47 @@ impl Adis16407 {
             let line = if msc & 1 == 0 { DataReadyLine::Dio1 } else { DataReadyLine::Dio2 };
             self.data_ready = Some(DataReady { t, sample_index: k, line, active_high: msc & 2 != 0 });
         }
+    }
+
+    /// Visit the output registers with the sample values `f` they encode: `visit(slot, channel,
+    /// value)`, the value being the filtered one with the calibration registers applied. (Calls with
+    /// literal channels, not a table, so each encoding is compiled for its channel.)
+    #[inline(always)]
+    fn visit_outputs(&self, f: &Physical, mut visit: impl FnMut(usize, Channel, f64)) {
+        let r = &self.regs;
+        visit(s(addr::SUPPLY_OUT), Channel::Supply, f.supply_v);
+        for i in 0..3 {
+            let off = f64::from(sign_extend(r[s(addr::XGYRO_OFF) + i], 13)) * GYRO_OFF_LSB_DPS;
+            visit(s(addr::XGYRO_OUT) + i, Channel::Gyro, f.gyro_dps[i] + off);
+        }
+        for i in 0..3 {
+            let off = f64::from(sign_extend(r[s(addr::XACCL_OFF) + i], 12)) * ACCEL_OFF_LSB_G;
+            visit(s(addr::XACCL_OUT) + i, Channel::Accel, f.accel_g[i] + off);
+        }
+        for i in 0..3 {
+            // Hard iron adds, then soft iron scales [unconfirmed order; sibling ADIS16405].
+            let hic = f64::from(sign_extend(r[s(addr::XMAGN_HIC) + i], 14)) * MAG_HIC_LSB_GAUSS;
+            let sic = f64::from(r[s(addr::XMAGN_SIC) + i]) / f64::from(MAG_SIC_UNITY);
+            visit(s(addr::XMAGN_OUT) + i, Channel::Mag, (f.mag_gauss[i] + hic) * sic);
+        }
+        visit(s(addr::BARO_OUT), Channel::Baro, f.baro_mbar);
+        visit(s(addr::BARO_OUTL), Channel::BaroLow, f.baro_mbar);
+        visit(s(addr::TEMP_OUT), Channel::Temp, f.temp_c);
+        visit(s(addr::AUX_ADC), Channel::Aux, f.aux_v);
+    }
+
+    /// Write the output registers' codes for the sample values `f` into `regs`.
+    fn encode_outputs(&self, f: &Physical, regs: &mut [u16; SLOTS]) {
+        let range = self.range;
+        self.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field(ch, v, range).code);
+    }
+
+    /// Whether any output register clips at its field limit for the sample values `f`.
+    fn outputs_overrange(&self, f: &Physical) -> bool {
+        let range = self.range;
+        let mut over = false;
+        self.visit_outputs(f, |_, ch, v| over |= overrange(ch, v, range));
+        over
     }
 
     /// What the injected faults do to the sample at `t` (cold: only once a fault is due).
@@ -793,6 +847,7 @@ impl Adis16407 {
         }
         self.regs[s(addr::DIAG_STAT)] = 0;
         self.nd = 0;
+        self.pending = None;
         let sens_avg = self.checked_sens_avg(self.regs[s(addr::SENS_AVG)], t);
         self.regs[s(addr::SENS_AVG)] = sens_avg;
         for f in &mut self.filters {

@@ -274,18 +274,35 @@ pub fn encode(channel: Channel, value: f64, range: GyroRange) -> Result<Encoded>
 
 /// [`encode`] without the NaN check (NaN encodes as code 0), for the device's per-sample path whose
 /// input is already sanitised.
-#[inline]
+#[inline(always)]
 pub(crate) fn encode_field(channel: Channel, value: f64, range: GyroRange) -> Encoded {
+    let (x, lo, hi) = scaled(channel, value, range);
+    let (q, overrange) = quantize(x, lo, hi);
+    let code = match channel {
+        Channel::Baro => q >> 8,
+        Channel::BaroLow => q & 0xFF,
+        _ => i32::from(to_field(q, channel.bits())),
+    };
+    Encoded { code: code as u16, overrange }
+}
+
+/// Whether `value` clips at its field's limits: [`encode_field`]'s `overrange` without the code
+/// (the device flags every sample but encodes only those it is read at).
+#[inline(always)]
+pub(crate) fn overrange(channel: Channel, value: f64, range: GyroRange) -> bool {
+    let (x, lo, hi) = scaled(channel, value, range);
+    x >= f64::from(hi) + 0.5 || x <= f64::from(lo) - 0.5
+}
+
+/// `value` in LSB of its field, with the field's code limits. The barometer's two registers share
+/// one 22-bit unsigned code (BARO_OUT its high 14 bits, BARO_OUTL its low 8).
+#[inline(always)]
+fn scaled(channel: Channel, value: f64, range: GyroRange) -> (f64, i32, i32) {
     match channel {
-        Channel::Baro | Channel::BaroLow => {
-            let (full, overrange) = quantize(value * Channel::BaroLow.inv_lsb(range), 0, (1 << BARO_FINE_BITS) - 1);
-            let code = if channel == Channel::Baro { full >> 8 } else { full & 0xFF };
-            Encoded { code: code as u16, overrange }
-        }
+        Channel::Baro | Channel::BaroLow => (value * Channel::BaroLow.inv_lsb(range), 0, (1 << BARO_FINE_BITS) - 1),
         _ => {
             let (lo, hi) = channel.code_limits();
-            let (q, overrange) = quantize((value - channel.zero()) * channel.inv_lsb(range), lo, hi);
-            Encoded { code: to_field(q, channel.bits()), overrange }
+            ((value - channel.zero()) * channel.inv_lsb(range), lo, hi)
         }
     }
 }

@@ -21,14 +21,20 @@ const QUANTA_PER_UNIT: f64 = 268_435_456.0;
 /// (10⁶ °/s, g, gauss or mbar) saturates every output field anyway.
 const INPUT_LIMIT: f64 = 1_048_576.0;
 
+/// Room for the largest window, 2^MAX_M taps: fixed arrays indexed with a mask need no bounds
+/// checks on the per-sample path (2 KiB per channel).
+const MAX_TAPS: usize = 1 << MAX_M;
+
 /// One channel's Bartlett filter.
 #[derive(Debug, Clone)]
 pub struct Bartlett {
     m: u8,
-    /// Last N inputs (quantised).
-    stage1: Vec<i64>,
-    /// Last N first-stage sums.
-    stage2: Vec<i64>,
+    /// N − 1 (N = 2^M taps per stage).
+    mask: usize,
+    /// Last N inputs (quantised), in slots 0…N−1.
+    stage1: [i64; MAX_TAPS],
+    /// Last N first-stage sums, in slots 0…N−1.
+    stage2: [i64; MAX_TAPS],
     pos: usize,
     sum1: i64,
     sum2: i64,
@@ -43,7 +49,17 @@ impl Bartlett {
         check_m(m)?;
         let n = 1usize << m;
         let out_scale = f64::powi(2.0, -FRACTION_BITS - 2 * i32::from(m));
-        Ok(Bartlett { m, stage1: vec![0; n], stage2: vec![0; n], pos: 0, sum1: 0, sum2: 0, primed: false, out_scale })
+        Ok(Bartlett {
+            m,
+            mask: n - 1,
+            stage1: [0; MAX_TAPS],
+            stage2: [0; MAX_TAPS],
+            pos: 0,
+            sum1: 0,
+            sum2: 0,
+            primed: false,
+            out_scale,
+        })
     }
 
     /// M (taps per stage = 2^M).
@@ -53,7 +69,7 @@ impl Bartlett {
 
     /// Taps per stage, N.
     pub fn taps(&self) -> usize {
-        self.stage1.len()
+        self.mask + 1
     }
 
     /// Change M. The history is dropped: the next input primes the filter as if it had been constant
@@ -80,21 +96,21 @@ impl Bartlett {
     /// window with its value (the part has been sampling since power-on before anyone reads it).
     pub fn push(&mut self, x: f64) -> f64 {
         let q = quantize(x);
-        let n = self.stage1.len();
+        let n = self.taps();
         if !self.primed {
-            self.stage1.fill(q);
+            self.stage1[..n].fill(q);
             self.sum1 = q * n as i64;
-            self.stage2.fill(self.sum1);
+            self.stage2[..n].fill(self.sum1);
             self.sum2 = self.sum1 * n as i64;
             self.pos = 0;
             self.primed = true;
         } else {
-            let pos = self.pos;
+            let pos = self.pos & (MAX_TAPS - 1);
             self.sum1 += q - self.stage1[pos];
             self.stage1[pos] = q;
             self.sum2 += self.sum1 - self.stage2[pos];
             self.stage2[pos] = self.sum1;
-            self.pos = if pos + 1 == n { 0 } else { pos + 1 };
+            self.pos = (pos + 1) & self.mask;
         }
         // sum2 / (N² · 2²⁸): the i64 → f64 conversion is the only rounding (none for sums below 2⁵³,
         // which include every constant input); the scaling is exact.
