@@ -495,6 +495,22 @@ fn autonull_removes_a_constant_bias() {
 }
 
 #[test]
+fn an_offset_written_between_samples_acts_from_the_next_sample_on() {
+    // The part applies the offsets when it computes a sample: a sample taken before the write keeps
+    // the old offset even when it is read after the write (the model encodes lazily, at the read).
+    let mut d = device();
+    d.set_stimulus(still(|p| p.gyro_dps = [1.0, 0.0, 0.0]));
+    d.advance_to(10 * MS);
+    let sample = d.latest_sample().unwrap();
+    let t_write = sample.t + PERIOD / 4;
+    d.write_register(addr::XGYRO_OFF, 80, t_write); // +1.0 °/s
+    assert_eq!(d.latest_sample(), Some(sample), "no sample between the write and the peek");
+    assert_eq!(field(d.peek(addr::XGYRO_OUT).unwrap(), 14), 20, "1 °/s at 0.05 °/s per LSB, old offset");
+    d.advance_to(sample.t + PERIOD);
+    assert_eq!(field(d.peek(addr::XGYRO_OUT).unwrap(), 14), 40, "the next sample has the new offset");
+}
+
+#[test]
 fn calibration_registers_act_on_outputs() {
     let mut d = device();
     d.set_stimulus(still(|p| p.mag_gauss = [0.25, 0.0, 0.0]));
