@@ -597,7 +597,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         Error::Config(if watchdog {
             format!("firmware polls {what} for over a second at {t_s:.6} s")
         } else {
-            format!("firmware hangs at {t_s:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)")
+            format!(
+                "firmware hangs at {t_s:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)"
+            )
         })
     }
 
