@@ -66,43 +66,64 @@ impl Waveform {
 /// Simulate the frame edge by edge: what master and slave sample, given the word the slave shifts
 /// out (`dout`, MSB first) and the lines around the frame.
 pub fn exchange(frame: &Frame, waveform: &Waveform, dout: u16, lines: Lines) -> Exchange {
-    let polarity = frame.shape.scheme.polarity;
-    let delay = frame.shape.scheme.phase;
+    // One walk, compiled once per clock scheme so the per-edge roles are constants.
+    match (frame.shape.scheme.polarity, frame.shape.scheme.phase) {
+        (false, false) => walk::<false, false>(frame, waveform, dout, lines),
+        (false, true) => walk::<false, true>(frame, waveform, dout, lines),
+        (true, false) => walk::<true, false>(frame, waveform, dout, lines),
+        (true, true) => walk::<true, true>(frame, waveform, dout, lines),
+    }
+}
+
+/// The edge walk of [`exchange`] for SPICLK idling high (`POLARITY`) and clocking with delay (`DELAY`).
+///
+/// The waveform alternates leading (idle → active) and trailing edges, starting with a leading one;
+/// the walk takes them in pairs, one bit per pair.
+fn walk<const POLARITY: bool, const DELAY: bool>(
+    frame: &Frame,
+    waveform: &Waveform,
+    dout: u16,
+    lines: Lines,
+) -> Exchange {
     let bits = frame.shape.bits as u32;
-    let tx_bit = |k: u32| frame.tx_bit(k);
-    let mut sclk = polarity;
+    let (talk, loopback, selected, floating) = (frame.talk, frame.loopback, lines.selected, lines.floating);
+    let tx = frame.tx;
     // The shifter's output bit; SPISIMO shows it only with TALK (loopback takes it internally).
-    let mut out = if delay { tx_bit(0) } else { lines.simo_before };
-    let pin = |out: bool| if frame.talk { out } else { lines.floating };
-    let mut somi = if lines.selected { dout & 0x8000 != 0 } else { lines.floating };
+    let mut out = if DELAY { tx & 0x8000 != 0 } else { lines.simo_before };
+    let pin = |out: bool| if talk { out } else { floating };
+    let mut somi = if selected { dout & 0x8000 != 0 } else { floating };
     let (mut rx, mut din) = (0u16, 0u16);
     let mut falls = 0u32;
-    for e in 0..waveform.count as u32 {
-        sclk = !sclk;
-        let leading = sclk != polarity;
-        let rising = sclk;
+    let mut edge = |leading: bool, bit: u32| {
+        // SCLK leaves its idle level on a leading edge: it rises there when it idles low.
+        let rising = leading != POLARITY;
         // Samples first.
-        let master_samples = leading == delay;
+        let master_samples = leading == DELAY;
         if master_samples {
-            let line = if frame.loopback { out } else { somi };
+            let line = if loopback { out } else { somi };
             rx = (rx << 1) | u16::from(line);
         }
-        if lines.selected && rising {
+        if selected && rising {
             din = (din << 1) | u16::from(pin(out));
         }
-        // Then drives.
+        // Then drives: without delay each leading edge puts out its bit, with delay each trailing
+        // edge puts out the next one.
         if !master_samples {
-            let next = if delay { e / 2 + 1 } else { e / 2 };
+            let next = if DELAY { bit + 1 } else { bit };
             if next < bits {
-                out = tx_bit(next);
+                out = (tx >> (15 - next)) & 1 == 1;
             }
         }
-        if lines.selected && !rising {
+        if selected && !rising {
             if falls < 16 {
                 somi = (dout >> (15 - falls)) & 1 == 1;
             }
             falls += 1;
         }
+    };
+    for bit in 0..(waveform.count / 2) as u32 {
+        edge(true, bit);
+        edge(false, bit);
     }
     let mask = frame.rx_mask();
     Exchange { master_rx: rx & mask, slave_din: din & mask, simo_after: pin(out) }

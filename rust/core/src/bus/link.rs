@@ -99,21 +99,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             }
         };
         let selected = self.cs_low;
-        let dout = if selected {
-            self.slave.begin_frame(&timing)
-        } else {
-            self.events.push(Event::new(
-                frame.start_ps,
-                "spi_frame_without_cs",
-                Severity::Warning,
-                format!("SPI character {} clocked with GPIO57 (CS) high: the slave ignores it", frame.index),
-            ));
-            if self.floating {
-                0xFFFF
-            } else {
-                0
-            }
-        };
+        let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
         self.in_flight = Some(InFlight { timing, dout, selected });
     }
 
@@ -145,6 +131,25 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             }));
         }
         ex.master_rx
+    }
+}
+
+impl<S> Wires<S> {
+    /// A frame clocked with CS high: the slave is not involved and DOUT floats.
+    #[cold]
+    #[inline(never)]
+    fn unselected(&mut self, frame: &Frame) -> u16 {
+        self.events.push(Event::new(
+            frame.start_ps,
+            "spi_frame_without_cs",
+            Severity::Warning,
+            format!("SPI character {} clocked with GPIO57 (CS) high: the slave ignores it", frame.index),
+        ));
+        if self.floating {
+            0xFFFF
+        } else {
+            0
+        }
     }
 }
 

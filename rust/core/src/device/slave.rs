@@ -214,86 +214,135 @@ impl Adis16407 {
         self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
     }
 
-    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord) {
-        let t = timing.first_edge;
-        let n = rec.index;
-        if timing.bits != 16 {
-            let msg = format!("frame {n}: {} SCLK cycles; the ADIS16407 needs 16-bit frames", timing.bits);
-            self.violation(rec, Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
-        }
-        if !timing.cpol {
-            let msg = format!("frame {n}: SCLK idles low; the ADIS16407 needs SPI mode 3 (CPOL = 1, CPHA = 1)");
-            self.violation(rec, Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
-        }
-        let (max_hz, min_period, which) = if in_burst {
+    /// The limits that apply to a frame: (SCLK limit in Hz, shortest SCLK period in ps, which limit).
+    fn sclk_limit(&self, in_burst: bool) -> (f64, f64, &'static str) {
+        if in_burst {
             (self.limits.sclk_burst_max_hz, self.limits.sclk_burst_min_period_ps, "burst")
         } else {
             (self.limits.sclk_max_hz, self.limits.sclk_min_period_ps, "normal-mode")
-        };
-        if short(timing.sclk_period, min_period) {
+        }
+    }
+
+    /// Shortest time from the previous frame's last edge to this frame's first edge, ps, and what it is.
+    fn stall_limit(&self, timing: &FrameTiming, in_burst: bool) -> (f64, &'static str) {
+        if in_burst {
+            (timing.sclk_period as f64, "one SCLK period inside a burst")
+        } else {
+            (self.limits.t_stall_ps, "the stall time between frames")
+        }
+    }
+
+    /// The timing rules the frame breaks: comparisons only (this runs on every frame); the events
+    /// are written by [`Adis16407::report_timing`] when there is one.
+    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord) {
+        let t = timing.first_edge;
+        let mut found = Violations::default();
+        if timing.bits != 16 {
+            found.insert(Violations::FRAME_LENGTH);
+        }
+        if !timing.cpol {
+            found.insert(Violations::CLOCK_POLARITY);
+        }
+        if short(timing.sclk_period, self.sclk_limit(in_burst).1) {
+            found.insert(Violations::SCLK_TOO_FAST);
+        }
+        if let Some(le) = self.spi.last_edge {
+            if short(t.saturating_sub(le), self.stall_limit(timing, in_burst).0) {
+                found.insert(Violations::STALL_TOO_SHORT);
+            }
+        }
+        if !self.spi.framed_since_cs && short(t.saturating_sub(self.spi.cs_fall), self.limits.t_cs_ps) {
+            found.insert(Violations::CS_SETUP);
+        }
+        if !found.is_empty() {
+            self.report_timing(timing, in_burst, rec, found);
+        }
+    }
+
+    /// Record the timing violations `found` in a frame (one event each, in rule order).
+    #[cold]
+    #[inline(never)]
+    fn report_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord, found: Violations) {
+        let t = timing.first_edge;
+        let n = rec.index;
+        if found.contains(Violations::FRAME_LENGTH) {
+            let msg = format!("frame {n}: {} SCLK cycles; the ADIS16407 needs 16-bit frames", timing.bits);
+            self.violation(rec, Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
+        }
+        if found.contains(Violations::CLOCK_POLARITY) {
+            let msg = format!("frame {n}: SCLK idles low; the ADIS16407 needs SPI mode 3 (CPOL = 1, CPHA = 1)");
+            self.violation(rec, Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
+        }
+        if found.contains(Violations::SCLK_TOO_FAST) {
+            let (max_hz, _, which) = self.sclk_limit(in_burst);
             let f = hz(timing.sclk_period);
             let msg = format!("frame {n}: SCLK {:.6} MHz exceeds the {which} limit {:.6} MHz", f / 1e6, max_hz / 1e6);
             self.violation(rec, Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
         }
-        if let Some(le) = self.spi.last_edge {
+        if let (true, Some(le)) = (found.contains(Violations::STALL_TOO_SHORT), self.spi.last_edge) {
             let gap = t.saturating_sub(le);
-            let (required, which) = if in_burst {
-                (timing.sclk_period as f64, "one SCLK period inside a burst")
-            } else {
-                (self.limits.t_stall_ps, "the stall time between frames")
-            };
-            if short(gap, required) {
-                let msg = format!(
-                    "frame {n}: {:.3} µs since the previous frame; {which} is {:.3} µs",
-                    gap as f64 / 1e6,
-                    required / 1e6
-                );
-                self.violation(rec, Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
-            }
+            let (required, which) = self.stall_limit(timing, in_burst);
+            let msg = format!(
+                "frame {n}: {:.3} µs since the previous frame; {which} is {:.3} µs",
+                gap as f64 / 1e6,
+                required / 1e6
+            );
+            self.violation(rec, Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
         }
-        if !self.spi.framed_since_cs {
+        if found.contains(Violations::CS_SETUP) {
             let gap = t.saturating_sub(self.spi.cs_fall);
-            if short(gap, self.limits.t_cs_ps) {
-                let msg = format!(
-                    "frame {n}: CS↓ to first SCLK edge {:.1} ns; tCS ≥ {:.1} ns",
-                    gap as f64 / 1e3,
-                    self.limits.t_cs_ps / 1e3
-                );
-                self.violation(rec, Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
-            }
+            let msg = format!(
+                "frame {n}: CS↓ to first SCLK edge {:.1} ns; tCS ≥ {:.1} ns",
+                gap as f64 / 1e3,
+                self.limits.t_cs_ps / 1e3
+            );
+            self.violation(rec, Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
         }
     }
 
-    fn start_frame(&mut self, timing: &FrameTiming) -> u16 {
-        let t = timing.first_edge;
-        if t < self.now() {
-            self.events.push(Event::new(
+    #[cold]
+    #[inline(never)]
+    fn time_reversal(&mut self, t: Ps) {
+        self.events.push(Event::new(
+            t,
+            "time_reversal",
+            Severity::Warning,
+            format!(
+                "frame {} starts at {} ps, before the device time {} ps: it sees samples from its future",
+                self.spi.frames,
                 t,
-                "time_reversal",
-                Severity::Warning,
-                format!(
-                    "frame {} starts at {} ps, before the device time {} ps: it sees samples from its future",
-                    self.spi.frames,
-                    t,
-                    self.now()
-                ),
-            ));
-        }
-        self.advance_to(t);
-        let mut rec = ReadRecord { index: self.spi.frames, t_start: t, t_end: timing.last_edge, ..Default::default() };
+                self.now()
+            ),
+        ));
+    }
+
+    /// A frame the slave does not take part in (CS high, or a software reset running): DOUT reads
+    /// as the corrupt word and DIN is ignored.
+    #[cold]
+    #[inline(never)]
+    fn ignored_frame(&mut self, mut rec: ReadRecord, t: Ps) -> u16 {
         let corrupt = self.limits.corrupt_word;
         if !self.spi.cs_low {
             let msg = format!("frame {}: clocked with CS high; the ADIS16407 ignores it", rec.index);
             self.violation(&mut rec, Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
             return self.finish_start(rec, corrupt, Role::Ignore);
         }
-        if t < self.busy_until() {
-            let left = self.busy_until() - t;
-            let msg =
-                format!("frame {}: the ADIS16407 is resetting for another {:.3} ms", rec.index, left as f64 / 1e9);
-            self.violation(&mut rec, Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
-            self.spi.reset();
-            return self.finish_start(rec, corrupt, Role::Ignore);
+        let left = self.busy_until() - t;
+        let msg = format!("frame {}: the ADIS16407 is resetting for another {:.3} ms", rec.index, left as f64 / 1e9);
+        self.violation(&mut rec, Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
+        self.spi.reset();
+        self.finish_start(rec, corrupt, Role::Ignore)
+    }
+
+    fn start_frame(&mut self, timing: &FrameTiming) -> u16 {
+        let t = timing.first_edge;
+        if t < self.now() {
+            self.time_reversal(t);
+        }
+        self.advance_to(t);
+        let mut rec = ReadRecord { index: self.spi.frames, t_start: t, t_end: timing.last_edge, ..Default::default() };
+        if !self.spi.cs_low || t < self.busy_until() {
+            return self.ignored_frame(rec, t);
         }
         let in_burst = self.spi.burst.is_some();
         self.check_timing(timing, in_burst, &mut rec);
@@ -318,7 +367,7 @@ impl Adis16407 {
             || corrupt_next
             || (self.limits.strict && !rec.violations.is_empty())
         {
-            corrupt
+            self.limits.corrupt_word
         } else {
             word
         };

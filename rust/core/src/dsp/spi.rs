@@ -413,12 +413,18 @@ impl SpiA {
 
     fn check_time(&self, t: Ps) -> Result<()> {
         if t < self.now {
-            return Err(Error::Register(format!(
-                "SPI-A access at t = {t} ps precedes the previous access at {} ps: virtual time must not go backwards",
-                self.now
-            )));
+            return Err(self.time_reversal(t));
         }
         Ok(())
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn time_reversal(&self, t: Ps) -> Error {
+        Error::Register(format!(
+            "SPI-A access at t = {t} ps precedes the previous access at {} ps: virtual time must not go backwards",
+            self.now
+        ))
     }
 
     /// Process every character start and end up to and including `t`, in time order.
@@ -456,15 +462,7 @@ impl SpiA {
         if self.fifo_mode() {
             if self.rx_fifo.len == FIFO_DEPTH {
                 self.rxffovf = true;
-                self.events.push(Event::new(
-                    frame.end_ps,
-                    "spi_rx_fifo_overflow",
-                    Severity::Warning,
-                    format!(
-                        "SPI-A receive FIFO full at the end of character {}: word 0x{:04X} lost",
-                        frame.index, self.spidat
-                    ),
-                ));
+                self.word_lost(frame, "spi_rx_fifo_overflow");
             } else {
                 self.rx_fifo.push(self.spidat);
             }
@@ -472,19 +470,26 @@ impl SpiA {
         }
         if self.int_flag {
             self.overrun = true;
-            self.events.push(Event::new(
-                frame.end_ps,
-                "spi_rx_overrun",
-                Severity::Warning,
-                format!(
-                    "SPI-A character {} ended before SPIRXBUF was read: word 0x{:04X} lost, OVERRUN_FLAG set",
-                    frame.index, self.rxbuf
-                ),
-            ));
+            self.word_lost(frame, "spi_rx_overrun");
         }
         self.rxbuf = self.spidat;
         self.int_flag = true;
         self.int_flag_at = frame.end_ps;
+    }
+
+    /// A received word is lost at the end of `frame` (`kind`: receive FIFO full, or SPIRXBUF not read).
+    #[cold]
+    #[inline(never)]
+    fn word_lost(&mut self, frame: &Frame, kind: &'static str) {
+        let message = if kind == "spi_rx_overrun" {
+            format!(
+                "SPI-A character {} ended before SPIRXBUF was read: word 0x{:04X} lost, OVERRUN_FLAG set",
+                frame.index, self.rxbuf
+            )
+        } else {
+            format!("SPI-A receive FIFO full at the end of character {}: word 0x{:04X} lost", frame.index, self.spidat)
+        };
+        self.events.push(Event::new(frame.end_ps, kind, Severity::Warning, message));
     }
 
     /// Start the next queued word at LSPCLK cycle `cycle`, if the peripheral may run.
@@ -673,25 +678,39 @@ impl SpiA {
             ));
         }
         if self.tx_queue.len >= self.tx_capacity() {
-            let (kind, what) = if fifo {
-                ("spi_tx_fifo_overflow", "transmit FIFO full")
-            } else {
-                ("spi_txbuf_overwrite", "SPITXBUF written while BUFFULL_FLAG = 1")
-            };
-            self.events.push(Event::new(
-                t,
-                kind,
-                Severity::Warning,
-                format!("{what}: word 0x{value:04X} replaces a waiting word"),
-            ));
-            if !fifo {
-                self.tx_queue.clear();
-                self.tx_queue.push(value);
-            }
+            self.txbuf_overflow(value, t);
+            return;
+        }
+        if self.tx_queue.len == 0 && self.active.is_none() && self.can_run() {
+            // Idle with nothing waiting: the word goes straight to SPIDAT (what queueing it and taking
+            // it out again would do).
+            self.schedule(value, self.start_cycle_after(t));
             return;
         }
         self.tx_queue.push(value);
         self.schedule_from_queue(self.start_cycle_after(t));
+    }
+
+    /// A SPITXBUF write finds no room: the transmit FIFO drops it, the single buffer replaces its word.
+    #[cold]
+    #[inline(never)]
+    fn txbuf_overflow(&mut self, value: u16, t: Ps) {
+        let fifo = self.fifo_mode();
+        let (kind, what) = if fifo {
+            ("spi_tx_fifo_overflow", "transmit FIFO full")
+        } else {
+            ("spi_txbuf_overwrite", "SPITXBUF written while BUFFULL_FLAG = 1")
+        };
+        self.events.push(Event::new(
+            t,
+            kind,
+            Severity::Warning,
+            format!("{what}: word 0x{value:04X} replaces a waiting word"),
+        ));
+        if !fifo {
+            self.tx_queue.clear();
+            self.tx_queue.push(value);
+        }
     }
 
     fn write_spidat(&mut self, value: u16, t: Ps) {

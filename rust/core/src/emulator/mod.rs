@@ -512,18 +512,22 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             }
             b.words[i] = self.link.read(SPIRXBUF, self.ps(*c))?;
             *c += u64::from(self.io.store_word + self.io.frame_loop);
-            if let Some(f) = self.link.slave().last_frame() {
-                if i == 0 {
-                    b.t_start_ps = f.t_start;
+            // The record wants the sensor's latest frame after the first, second and last frames only
+            // (before a nested ISR can clock frames of its own).
+            if i < 2 || i == BURST_FRAMES - 1 {
+                if let Some(f) = self.link.slave().last_frame() {
+                    if i == 0 {
+                        b.t_start_ps = f.t_start;
+                    }
+                    if i == 1 {
+                        // Every data word of a burst comes from the sample latest at the burst's start
+                        // (the device latches it at the command frame); its age is counted from there.
+                        b.sample_index = f.sample.map(|x| x.index);
+                        b.sample_ps = f.sample.map_or(f.t_start, |x| x.t);
+                        b.age_ps = b.t_start_ps.saturating_sub(b.sample_ps);
+                    }
+                    b.t_end_ps = f.t_end;
                 }
-                if i == 1 {
-                    // Every data word of a burst comes from the sample latest at the burst's start
-                    // (the device latches it at the command frame); its age is counted from there.
-                    b.sample_index = f.sample.map(|x| x.index);
-                    b.sample_ps = f.sample.map_or(f.t_start, |x| x.t);
-                    b.age_ps = b.t_start_ps.saturating_sub(b.sample_ps);
-                }
-                b.t_end_ps = f.t_end;
             }
             if let Some(g) = glitch.as_mut().filter(|g| g.after_frame == i) {
                 self.raise_glitch(g, self.ps(*c))?;
@@ -572,23 +576,31 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
     /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
     /// end of the first iteration whose read sees the flag (set at `flag_ps`).
-    fn poll_until(&mut self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
+    fn poll_until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
         let p = self.poll_cycles.get();
         let Some(flag_ps) = flag_ps else {
-            return Err(Error::Config(format!(
-                "firmware hangs at {:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)",
-                ps_to_s(self.ps(c))
-            )));
+            return Err(self.hang(c, what, false));
         };
         let flag_cycle = self.sysclk.ps_to_cycles_ceil(flag_ps);
         let iterations = if flag_cycle <= c { 0 } else { self.poll_cycles.div_ceil(flag_cycle - c) };
         if iterations * p > POLL_WATCHDOG_CYCLES {
-            return Err(Error::Config(format!(
-                "firmware polls {what} for over a second at {:.6} s",
-                ps_to_s(self.ps(c))
-            )));
+            return Err(self.hang(c, what, true));
         }
         Ok(c + (iterations + 1) * p)
+    }
+
+    /// The error of a polling loop that does not end (out of line: the poll is on the per-frame path).
+    #[cold]
+    #[inline(never)]
+    fn hang(&self, c: u64, what: &str, watchdog: bool) -> Error {
+        let t_s = ps_to_s(self.ps(c));
+        Error::Config(if watchdog {
+            format!("firmware polls {what} for over a second at {t_s:.6} s")
+        } else {
+            format!(
+                "firmware hangs at {t_s:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)"
+            )
+        })
     }
 
     fn record_read(&mut self, tick: u64, burst: usize, b: &Burst, rate: &Vec3<T>, accel: &Vec3<T>) {
