@@ -150,8 +150,6 @@ pub(crate) struct Limits {
 
 /// Bits of `nd` that belong to the output registers (slots 1…14).
 const OUTPUT_SLOTS: u64 = 0x7FFE;
-/// Filter channels: gyro x, y, z, accel x, y, z, mag x, y, z, baro.
-const FILTERS: usize = 10;
 /// The accelerometers' rated range, g (data sheet: ±18 g).
 const ACCEL_RATED_G: f64 = 18.0;
 
@@ -200,7 +198,10 @@ pub struct Adis16407 {
     /// ND flags, one bit per slot.
     nd: u64,
     range: GyroRange,
-    filters: [Bartlett; FILTERS],
+    /// Bartlett filters of gyro x, y, z and accel x, y, z.
+    inertial_filter: Bartlett<6>,
+    /// Bartlett filters of mag x, y, z and baro (used when `filter_mag_baro`).
+    mag_baro_filter: Bartlett<4>,
     stimulus: Box<dyn Stimulus + Send>,
     errors: Box<dyn SensorErrors + Send>,
     schedule: Schedule,
@@ -265,7 +266,6 @@ impl Adis16407 {
             burst_command: cfg.burst_command as u16,
         };
         let first_t = s_to_ps(cfg.first_sample_us * 1e-6);
-        let filters = std::array::from_fn(|_| Bartlett::new(0).unwrap_or_else(|_| unreachable!("M = 0 is valid")));
         let mut dev = Adis16407 {
             limits,
             opts,
@@ -276,7 +276,8 @@ impl Adis16407 {
             factory: regs,
             nd: 0,
             range: GyroRange::Dps300,
-            filters,
+            inertial_filter: Bartlett::new(0)?,
+            mag_baro_filter: Bartlett::new(0)?,
             stimulus: Box::new(Constant(Physical::powered_idle())),
             errors: Box::new(Ideal),
             schedule: Schedule::new(sample_clock(regs[s(addr::SMPL_PRD)], cfg.clock_ppb), first_t, 0),
@@ -369,7 +370,7 @@ impl Adis16407 {
 
     /// M of the Bartlett filter in force (N = 2^M taps per stage).
     pub fn filter_m(&self) -> u8 {
-        self.filters[0].m()
+        self.inertial_filter.m()
     }
 
     /// The latest sample's physical values after the sensor errors and the filter, before the
@@ -560,15 +561,16 @@ impl Adis16407 {
         }
         let rated = self.check_rated_range(&p, t);
         let mut f = p;
-        for i in 0..3 {
-            f.gyro_dps[i] = self.filters[i].push(p.gyro_dps[i]);
-            f.accel_g[i] = self.filters[3 + i].push(p.accel_g[i]);
-        }
+        let [gx, gy, gz] = p.gyro_dps;
+        let [ax, ay, az] = p.accel_g;
+        let y = self.inertial_filter.push([gx, gy, gz, ax, ay, az]);
+        f.gyro_dps = [y[0], y[1], y[2]];
+        f.accel_g = [y[3], y[4], y[5]];
         if self.opts.filter_mag_baro {
-            for i in 0..3 {
-                f.mag_gauss[i] = self.filters[6 + i].push(p.mag_gauss[i]);
-            }
-            f.baro_mbar = self.filters[9].push(p.baro_mbar);
+            let [mx, my, mz] = p.mag_gauss;
+            let y = self.mag_baro_filter.push([mx, my, mz, p.baro_mbar]);
+            f.mag_gauss = [y[0], y[1], y[2]];
+            f.baro_mbar = y[3];
         }
         self.filtered = f;
         if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
@@ -742,10 +744,9 @@ impl Adis16407 {
             m = min_m;
         }
         self.range = range;
-        for f in &mut self.filters {
-            // m ≤ 7 by construction (3 bits, or a validated minimum).
-            let _ = f.set_m(m);
-        }
+        // m ≤ 7 by construction (3 bits, or a validated minimum).
+        let _ = self.inertial_filter.set_m(m);
+        let _ = self.mag_baro_filter.set_m(m);
         range.bits() << 8 | u16::from(m)
     }
 
@@ -850,9 +851,8 @@ impl Adis16407 {
         self.pending = None;
         let sens_avg = self.checked_sens_avg(self.regs[s(addr::SENS_AVG)], t);
         self.regs[s(addr::SENS_AVG)] = sens_avg;
-        for f in &mut self.filters {
-            f.reset();
-        }
+        self.inertial_filter.reset();
+        self.mag_baro_filter.reset();
         self.schedule.restart(sample_clock(self.regs[s(addr::SMPL_PRD)], self.clock_ppb), self.busy_until);
         self.latest = None;
         self.data_ready = None;

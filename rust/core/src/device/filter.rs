@@ -22,29 +22,30 @@ const QUANTA_PER_UNIT: f64 = 268_435_456.0;
 const INPUT_LIMIT: f64 = 1_048_576.0;
 
 /// Room for the largest window, 2^MAX_M taps: fixed arrays indexed with a mask need no bounds
-/// checks on the per-sample path (2 KiB per channel).
+/// checks on the per-sample path.
 const MAX_TAPS: usize = 1 << MAX_M;
 
-/// One channel's Bartlett filter.
+/// The Bartlett filters of `C` channels. They share the window (SENS_AVG sets one M for every
+/// channel), so one position serves all and a sample updates the channels in one pass.
 #[derive(Debug, Clone)]
-pub struct Bartlett {
+pub struct Bartlett<const C: usize = 1> {
     m: u8,
     /// N − 1 (N = 2^M taps per stage).
     mask: usize,
     /// Last N inputs (quantised), in slots 0…N−1.
-    stage1: [i64; MAX_TAPS],
+    stage1: [[i64; C]; MAX_TAPS],
     /// Last N first-stage sums, in slots 0…N−1.
-    stage2: [i64; MAX_TAPS],
+    stage2: [[i64; C]; MAX_TAPS],
     pos: usize,
-    sum1: i64,
-    sum2: i64,
+    sum1: [i64; C],
+    sum2: [i64; C],
     primed: bool,
     /// 1/(N²·2²⁸), exact.
     out_scale: f64,
 }
 
-impl Bartlett {
-    /// A filter with N = 2^m taps per stage, empty (the first input primes it).
+impl<const C: usize> Bartlett<C> {
+    /// Filters with N = 2^m taps per stage, empty (the first input primes them).
     pub fn new(m: u8) -> Result<Self> {
         check_m(m)?;
         let n = 1usize << m;
@@ -52,11 +53,11 @@ impl Bartlett {
         Ok(Bartlett {
             m,
             mask: n - 1,
-            stage1: [0; MAX_TAPS],
-            stage2: [0; MAX_TAPS],
+            stage1: [[0; C]; MAX_TAPS],
+            stage2: [[0; C]; MAX_TAPS],
             pos: 0,
-            sum1: 0,
-            sum2: 0,
+            sum1: [0; C],
+            sum2: [0; C],
             primed: false,
             out_scale,
         })
@@ -92,31 +93,36 @@ impl Bartlett {
         self.primed
     }
 
-    /// Feed one sample and return the filter output at that sample. A first sample fills the whole
-    /// window with its value (the part has been sampling since power-on before anyone reads it).
-    pub fn push(&mut self, x: f64) -> f64 {
-        let q = quantize(x);
+    /// Feed one sample per channel and return the filter outputs at that sample. A first sample
+    /// fills the whole window with its value (the part has been sampling since power-on before
+    /// anyone reads it).
+    pub fn push(&mut self, x: [f64; C]) -> [f64; C] {
+        let q = x.map(quantize);
         let n = self.taps();
         if !self.primed {
+            self.sum1 = q.map(|q| q * n as i64);
+            self.sum2 = self.sum1.map(|s| s * n as i64);
             self.stage1[..n].fill(q);
-            self.sum1 = q * n as i64;
             self.stage2[..n].fill(self.sum1);
-            self.sum2 = self.sum1 * n as i64;
             self.pos = 0;
             self.primed = true;
         } else {
             let pos = self.pos & (MAX_TAPS - 1);
-            self.sum1 += q - self.stage1[pos];
+            for c in 0..C {
+                self.sum1[c] += q[c] - self.stage1[pos][c];
+                self.sum2[c] += self.sum1[c] - self.stage2[pos][c];
+            }
             self.stage1[pos] = q;
-            self.sum2 += self.sum1 - self.stage2[pos];
             self.stage2[pos] = self.sum1;
             self.pos = (pos + 1) & self.mask;
         }
         // sum2 / (N² · 2²⁸): the i64 → f64 conversion is the only rounding (none for sums below 2⁵³,
         // which include every constant input); the scaling is exact.
-        self.sum2 as f64 * self.out_scale
+        self.sum2.map(|s| s as f64 * self.out_scale)
     }
+}
 
+impl Bartlett {
     /// Analytic magnitude response |H| at frequency `f_hz` for sample rate `fs_hz`.
     pub fn magnitude(m: u8, f_hz: f64, fs_hz: f64) -> f64 {
         let n = f64::from(1u32 << m);
@@ -157,15 +163,28 @@ mod tests {
     use std::f64::consts::PI;
 
     #[test]
+    fn a_bank_filters_each_channel_as_a_filter_of_its_own() {
+        let mut bank = Bartlett::<3>::new(3).unwrap();
+        let mut single: [Bartlett; 3] = std::array::from_fn(|_| Bartlett::new(3).unwrap());
+        for k in 0..500 {
+            let x = [(k as f64 * 0.37).sin() * 50.0, k as f64 * 1e-3, -((k * k) % 97) as f64];
+            let y = bank.push(x);
+            for c in 0..3 {
+                assert_eq!(y[c].to_bits(), single[c].push([x[c]])[0].to_bits(), "sample {k}, channel {c}");
+            }
+        }
+    }
+
+    #[test]
     fn dc_gain_is_exactly_one() {
         for m in 0..=MAX_M {
             for x in [0.0, 1.0, -123.456_789, 299.987_654_321, 1e-3, -4.2e5, 18.000_000_000_000_004, 0.75] {
                 let mut f = Bartlett::new(m).unwrap();
                 let xq = dequantize(quantize(x));
                 assert!((xq - x).abs() <= f64::powi(2.0, -29), "quantisation within half a quantum");
-                f.push(x);
+                f.push([x]);
                 for _ in 0..600 {
-                    assert_eq!(f.push(x), xq, "M = {m}, x = {x}");
+                    assert_eq!(f.push([x])[0], xq, "M = {m}, x = {x}");
                 }
             }
         }
@@ -177,8 +196,8 @@ mod tests {
         for m in 0..=4u8 {
             let n = 1usize << m;
             let mut f = Bartlett::new(m).unwrap();
-            f.push(0.0);
-            let out: Vec<f64> = (0..3 * n).map(|k| f.push(if k == 0 { 1.0 } else { 0.0 })).collect();
+            f.push([0.0]);
+            let out: Vec<f64> = (0..3 * n).map(|k| f.push([if k == 0 { 1.0 } else { 0.0 }])[0]).collect();
             for (k, y) in out.iter().enumerate() {
                 let tri = (n as f64 - (k as f64 - (n as f64 - 1.0)).abs()).max(0.0) / (n * n) as f64;
                 assert_eq!(*y, tri, "M = {m}, k = {k}");
@@ -229,7 +248,7 @@ mod tests {
                 let mut filt = Bartlett::new(m).unwrap();
                 let amp = 10.0;
                 let omega = 2.0 * PI * f / fs;
-                let y: Vec<f64> = (0..20_000).map(|k| filt.push(amp * (omega * k as f64 + 0.3).sin())).collect();
+                let y: Vec<f64> = (0..20_000).map(|k| filt.push([amp * (omega * k as f64 + 0.3).sin()])[0]).collect();
                 // Skip the priming transient (2N − 2 samples) and fit the steady state.
                 let skip = 2 * n;
                 let measured = fitted_amplitude(&y[skip..], omega, skip) / amp;
@@ -244,13 +263,13 @@ mod tests {
         let mut f = Bartlett::new(3).unwrap();
         let mut direct = std::collections::VecDeque::new();
         let mut x = 0.37_f64;
-        f.push(0.0);
+        f.push([0.0]);
         for _ in 0..15 {
             direct.push_back(0.0);
         }
         for _ in 0..200_000 {
             x = (x * 3.9 * (1.0 - x)).clamp(1e-9, 1.0 - 1e-9); // chaotic, non-dyadic input
-            let y = f.push(x * 100.0);
+            let y = f.push([x * 100.0])[0];
             // The reference sums the same quantised inputs in floating point.
             direct.push_back(dequantize(quantize(x * 100.0)));
             if direct.len() > 15 {
@@ -264,8 +283,8 @@ mod tests {
 
     #[test]
     fn m_above_seven_is_rejected() {
-        assert!(Bartlett::new(8).is_err());
-        let mut f = Bartlett::new(2).unwrap();
+        assert!(Bartlett::<1>::new(8).is_err());
+        let mut f = Bartlett::<1>::new(2).unwrap();
         assert!(f.set_m(9).is_err());
         f.set_m(5).unwrap();
         assert_eq!((f.m(), f.taps()), (5, 32));
