@@ -108,8 +108,8 @@ impl<const C: usize> Bartlett<C> {
             self.primed = true;
         } else {
             let pos = self.pos & (MAX_TAPS - 1);
-            for c in 0..C {
-                self.sum1[c] += q[c] - self.stage1[pos][c];
+            for (c, &q) in q.iter().enumerate() {
+                self.sum1[c] += q - self.stage1[pos][c];
                 self.sum2[c] += self.sum1[c] - self.stage2[pos][c];
             }
             self.stage1[pos] = q;
