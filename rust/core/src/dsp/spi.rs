@@ -741,8 +741,22 @@ impl SpiA {
                     Severity::Warning,
                     format!("SPISWRESET cleared while character {} was shifting: it is abandoned", a.frame.index),
                 ));
-            } else if self.fifo_mode() {
+            } else if self.fifo_mode() && self.tx_queue.len < FIFO_DEPTH {
+                // Not started yet: the word is still the transmit FIFO's first.
                 self.tx_queue.push_front(a.frame.tx);
+            } else if self.fifo_mode() {
+                // The FIFO has refilled to its 16 words behind it, so this word was already in SPIDAT:
+                // the reset loses it (and the FIFO never holds more than 16).
+                self.events.push(Event::new(
+                    t,
+                    "spi_reset_word_lost",
+                    Severity::Warning,
+                    format!(
+                        "SPISWRESET cleared before character {} started, with the transmit FIFO full behind it: \
+                         word 0x{:04X} in SPIDAT is lost",
+                        a.frame.index, a.frame.tx
+                    ),
+                ));
             }
         }
         if !self.fifo_mode() {
@@ -1008,6 +1022,29 @@ mod tests {
         assert_eq!(p.begun.len(), 1);
         assert_eq!(p.begun[0].tx, 0xABCD);
         assert_eq!(spi.read(SPIDAT, PS_PER_S, &mut p).unwrap(), 0xC7A7);
+    }
+
+    #[test]
+    fn reset_before_a_character_starts_keeps_the_fifo_at_16_words() {
+        // Found by the register-traffic proptest: a word taken to SPIDAT but not yet started, with
+        // 16 words queued behind it, cannot go back into the FIFO when SPISWRESET is cleared.
+        let mut spi = SpiA::new(lspclk(), 1);
+        let mut p = Probe::default();
+        let cfg = profile::Spi { spifftx: 0xE000, spiffrx: 0x2000, spiffct: 0, ..Default::default() };
+        spi.init_from_profile(&cfg, 0, &mut p).unwrap();
+        for w in 0..17u16 {
+            spi.write(SPITXBUF, 0x1000 + w, 0, &mut p).unwrap();
+        }
+        assert_eq!(spi.read(SPIFFTX, 0, &mut p).unwrap() >> 8 & 0x1F, 16, "one in SPIDAT, 16 waiting");
+        let ccr = spi.read(SPICCR, 0, &mut p).unwrap();
+        spi.write(SPICCR, ccr & !SPICCR_SPISWRESET, 0, &mut p).unwrap();
+        assert_eq!(spi.read(SPIFFTX, 0, &mut p).unwrap() >> 8 & 0x1F, 16);
+        assert_eq!(spi.events().count("spi_reset_word_lost"), 1);
+        // After the reset the 16 waiting words go out; the lost one does not.
+        spi.write(SPICCR, ccr, 0, &mut p).unwrap();
+        spi.advance(PS_PER_S, &mut p).unwrap();
+        let sent: Vec<u16> = p.begun.iter().map(|f| f.tx).collect();
+        assert_eq!(sent, (1..17u16).map(|w| 0x1000 + w).collect::<Vec<_>>());
     }
 
     #[test]
