@@ -11,7 +11,7 @@ use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
 use crate::profile::{self, Profile};
-use crate::time::Ps;
+use crate::time::{Clock, Ps};
 
 /// One frame on the wires, as logged.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,6 +61,8 @@ struct InFlight {
 #[derive(Debug)]
 struct Wires<S> {
     slave: S,
+    /// SPI-A's LSPCLK (fixed per link: kept here rather than copied into every frame).
+    lspclk: Clock,
     level: BusLevel,
     cs_low: bool,
     simo: bool,
@@ -83,19 +85,19 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
                 let period = match self.period_cache {
                     Some((d, p)) if d == divisor => p,
                     _ => {
-                        let p = transaction::sclk_period(frame);
+                        let p = transaction::sclk_period(frame, &self.lspclk);
                         self.period_cache = Some((divisor, p));
                         p
                     }
                 };
-                transaction::frame_timing(frame, period)
+                transaction::frame_timing(frame, &self.lspclk, period)
             }
             BusLevel::Bit => {
                 if self.waveform_shape != Some(frame.shape) {
                     self.waveform = bitlevel::Waveform::of(frame);
                     self.waveform_shape = Some(frame.shape);
                 }
-                self.waveform.timing(frame)
+                self.waveform.timing(frame, &self.lspclk)
             }
         };
         let selected = self.cs_low;
@@ -169,9 +171,9 @@ impl<S: SpiSlave> SpiLink<S> {
     /// documented; see [`SpiLink::set_floating_level`]).
     pub fn new(spi: SpiA, slave: S, level: BusLevel) -> SpiLink<S> {
         SpiLink {
-            spi,
             wires: Wires {
                 slave,
+                lspclk: spi.lspclk(),
                 level,
                 cs_low: false,
                 simo: false,
@@ -183,6 +185,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 log: None,
                 events: EventLog::default(),
             },
+            spi,
             polled_fast_path: true,
         }
     }

@@ -186,11 +186,10 @@ impl CharShape {
 pub struct Frame {
     /// Index of the character since power-on (0-based).
     pub index: u64,
-    /// LSPCLK clock the character is timed by.
-    pub lspclk: Clock,
     /// LSPCLK cycle (since power-on) at which the character starts.
     pub start_cycle: u64,
-    /// Start time (= `lspclk.cycles_to_ps(start_cycle)`).
+    /// Start time (= LSPCLK `cycles_to_ps(start_cycle)`; the clock is not copied into every frame:
+    /// it is fixed per link, see [`SpiA::lspclk`]).
     pub start_ps: Ps,
     /// End time: INT_FLAG sets and SPIRXBUF loads.
     pub end_ps: Ps,
@@ -205,9 +204,9 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// Time of SPICLK edge `e`.
-    pub fn edge_ps(&self, e: u32) -> Ps {
-        self.lspclk.cycles_to_ps(self.start_cycle + self.shape.edge_cycle(e))
+    /// Time of SPICLK edge `e` (`lspclk`: the clock the character is timed by).
+    pub fn edge_ps(&self, lspclk: &Clock, e: u32) -> Ps {
+        lspclk.cycles_to_ps(self.start_cycle + self.shape.edge_cycle(e))
     }
 
     /// Transmitted bit `k` (0 = first, from bit 15 of SPIDAT).
@@ -513,7 +512,6 @@ impl SpiA {
         let shape = self.shape();
         let frame = Frame {
             index: self.frames,
-            lspclk: self.lspclk,
             start_cycle,
             start_ps: self.lspclk.cycles_to_ps(start_cycle),
             end_ps: self.lspclk.cycles_to_ps(start_cycle + shape.length_cycles()),
