@@ -12,6 +12,7 @@
 
 use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::Frame;
+use crate::time::Clock;
 
 /// SCLK edges of one frame, as LSPCLK cycle offsets from the frame start.
 #[derive(Debug, Clone, Copy, Default)]
@@ -50,13 +51,13 @@ impl Waveform {
         &self.offsets[..self.count]
     }
 
-    /// The frame's timing as the slave sees it.
-    pub fn timing(&self, frame: &Frame) -> FrameTiming {
-        let at = |off: u32| frame.lspclk.cycles_to_ps(frame.start_cycle + off as u64);
+    /// The frame's timing as the slave sees it (`lspclk`: the clock the frame is timed by).
+    pub fn timing(&self, frame: &Frame, lspclk: &Clock) -> FrameTiming {
+        let at = |off: u32| lspclk.cycles_to_ps(frame.start_cycle + off as u64);
         FrameTiming {
             first_edge: at(self.offsets[0]),
             last_edge: at(self.offsets[self.count - 1]),
-            sclk_period: frame.lspclk.cycles_to_ps(2 * self.shortest_phase as u64),
+            sclk_period: lspclk.cycles_to_ps(2 * self.shortest_phase as u64),
             bits: frame.shape.bits,
             cpol: frame.shape.scheme.polarity,
         }

@@ -6,12 +6,12 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
-use crate::dsp::spi::{CharShape, Frame, SpiA, SpiWire};
+use crate::dsp::spi::{CharShape, Frame, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
 use crate::profile::{self, Profile};
-use crate::time::Ps;
+use crate::time::{Clock, Ps};
 
 /// One frame on the wires, as logged.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,6 +61,8 @@ struct InFlight {
 #[derive(Debug)]
 struct Wires<S> {
     slave: S,
+    /// SPI-A's LSPCLK (fixed per link: kept here rather than copied into every frame).
+    lspclk: Clock,
     level: BusLevel,
     cs_low: bool,
     simo: bool,
@@ -83,19 +85,19 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
                 let period = match self.period_cache {
                     Some((d, p)) if d == divisor => p,
                     _ => {
-                        let p = transaction::sclk_period(frame);
+                        let p = transaction::sclk_period(frame, &self.lspclk);
                         self.period_cache = Some((divisor, p));
                         p
                     }
                 };
-                transaction::frame_timing(frame, period)
+                transaction::frame_timing(frame, &self.lspclk, period)
             }
             BusLevel::Bit => {
                 if self.waveform_shape != Some(frame.shape) {
                     self.waveform = bitlevel::Waveform::of(frame);
                     self.waveform_shape = Some(frame.shape);
                 }
-                self.waveform.timing(frame)
+                self.waveform.timing(frame, &self.lspclk)
             }
         };
         let selected = self.cs_low;
@@ -158,6 +160,9 @@ impl<S> Wires<S> {
 pub struct SpiLink<S> {
     spi: SpiA,
     wires: Wires<S>,
+    /// Run [`SpiLink::write_poll_read`] in one step when it applies (on by default; off only to check
+    /// that the two paths agree).
+    polled_fast_path: bool,
 }
 
 impl<S: SpiSlave> SpiLink<S> {
@@ -166,9 +171,9 @@ impl<S: SpiSlave> SpiLink<S> {
     /// documented; see [`SpiLink::set_floating_level`]).
     pub fn new(spi: SpiA, slave: S, level: BusLevel) -> SpiLink<S> {
         SpiLink {
-            spi,
             wires: Wires {
                 slave,
+                lspclk: spi.lspclk(),
                 level,
                 cs_low: false,
                 simo: false,
@@ -180,6 +185,8 @@ impl<S: SpiSlave> SpiLink<S> {
                 log: None,
                 events: EventLog::default(),
             },
+            spi,
+            polled_fast_path: true,
         }
     }
 
@@ -204,6 +211,30 @@ impl<S: SpiSlave> SpiLink<S> {
     /// Write an SPI-A register at time `t`.
     pub fn write(&mut self, offset: u16, value: u16, t: Ps) -> Result<()> {
         self.spi.write(offset, value, t, &mut self.wires)
+    }
+
+    /// The firmware's per-word polling sequence: write `tx` to SPITXBUF at `t_write`, poll INT_FLAG,
+    /// read SPIRXBUF at the time `read_at` gives for the INT_FLAG time it is handed (`None`: the flag
+    /// never sets); returns the word read. The same as `write`, `int_flag_time`, `read`; when SPI-A is
+    /// idle in normal mode it is done in one step (the hot path of every burst).
+    pub fn write_poll_read(
+        &mut self,
+        tx: u16,
+        t_write: Ps,
+        read_at: impl FnOnce(Option<Ps>) -> Result<Ps>,
+    ) -> Result<u16> {
+        if self.polled_fast_path && self.spi.polled_frame_applies(t_write) {
+            return self.spi.polled_frame(tx, t_write, read_at, &mut self.wires);
+        }
+        self.write(SPITXBUF, tx, t_write)?;
+        let t_read = read_at(self.int_flag_time())?;
+        self.read(SPIRXBUF, t_read)
+    }
+
+    /// Turn the one-step path of [`SpiLink::write_poll_read`] on or off (on by default). Off, every
+    /// word goes through the register path: for checking that both give the same results.
+    pub fn set_polled_fast_path(&mut self, on: bool) {
+        self.polled_fast_path = on;
     }
 
     /// Process everything that happens on the link up to time `t`.

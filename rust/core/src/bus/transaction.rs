@@ -14,24 +14,24 @@
 
 use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::Frame;
-use crate::time::Ps;
+use crate::time::{Clock, Ps};
 
 /// Shortest full SCLK period of the frame's clock: twice its active (shorter) phase.
-pub fn sclk_period(frame: &Frame) -> Ps {
-    frame.lspclk.cycles_to_ps(2 * frame.shape.active_cycles() as u64)
+pub fn sclk_period(frame: &Frame, lspclk: &Clock) -> Ps {
+    lspclk.cycles_to_ps(2 * frame.shape.active_cycles() as u64)
 }
 
-/// The frame's timing as the slave sees it. `sclk_period` is [`sclk_period`] of the frame (the link
+/// The frame's timing as the slave sees it (`lspclk`: the clock the frame is timed by). `sclk_period` is [`sclk_period`] of the frame (the link
 /// caches it per baud setting).
-pub fn frame_timing(frame: &Frame, sclk_period: Ps) -> FrameTiming {
+pub fn frame_timing(frame: &Frame, lspclk: &Clock, sclk_period: Ps) -> FrameTiming {
     let shape = &frame.shape;
     let bits = shape.bits as u32;
     // Without delay the first edge is the start and the last edge is one idle phase before the end;
     // with delay the first edge is one idle phase after the start and the last edge is the end.
     let (first_edge, last_edge) = if shape.scheme.phase {
-        (frame.lspclk.cycles_to_ps(frame.start_cycle + shape.idle_cycles() as u64), frame.end_ps)
+        (lspclk.cycles_to_ps(frame.start_cycle + shape.idle_cycles() as u64), frame.end_ps)
     } else {
-        (frame.start_ps, frame.lspclk.cycles_to_ps(frame.start_cycle + shape.edge_cycle(2 * bits - 1)))
+        (frame.start_ps, lspclk.cycles_to_ps(frame.start_cycle + shape.edge_cycle(2 * bits - 1)))
     };
     FrameTiming { first_edge, last_edge, sclk_period, bits: shape.bits, cpol: shape.scheme.polarity }
 }

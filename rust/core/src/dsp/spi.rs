@@ -186,11 +186,10 @@ impl CharShape {
 pub struct Frame {
     /// Index of the character since power-on (0-based).
     pub index: u64,
-    /// LSPCLK clock the character is timed by.
-    pub lspclk: Clock,
     /// LSPCLK cycle (since power-on) at which the character starts.
     pub start_cycle: u64,
-    /// Start time (= `lspclk.cycles_to_ps(start_cycle)`).
+    /// Start time (= LSPCLK `cycles_to_ps(start_cycle)`; the clock is not copied into every frame:
+    /// it is fixed per link, see [`SpiA::lspclk`]).
     pub start_ps: Ps,
     /// End time: INT_FLAG sets and SPIRXBUF loads.
     pub end_ps: Ps,
@@ -205,9 +204,9 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// Time of SPICLK edge `e`.
-    pub fn edge_ps(&self, e: u32) -> Ps {
-        self.lspclk.cycles_to_ps(self.start_cycle + self.shape.edge_cycle(e))
+    /// Time of SPICLK edge `e` (`lspclk`: the clock the character is timed by).
+    pub fn edge_ps(&self, lspclk: &Clock, e: u32) -> Ps {
+        lspclk.cycles_to_ps(self.start_cycle + self.shape.edge_cycle(e))
     }
 
     /// Transmitted bit `k` (0 = first, from bit 15 of SPIDAT).
@@ -503,10 +502,16 @@ impl SpiA {
     }
 
     fn schedule(&mut self, tx: u16, start_cycle: u64) {
+        let frame = self.next_frame(tx, start_cycle);
+        self.active = Some(Active { frame, begun: false });
+    }
+
+    /// The character `tx` starting at LSPCLK cycle `start_cycle`, counted and loaded into SPIDAT
+    /// (what scheduling it does, without storing it: the polled frame keeps it local).
+    fn next_frame(&mut self, tx: u16, start_cycle: u64) -> Frame {
         let shape = self.shape();
         let frame = Frame {
             index: self.frames,
-            lspclk: self.lspclk,
             start_cycle,
             start_ps: self.lspclk.cycles_to_ps(start_cycle),
             end_ps: self.lspclk.cycles_to_ps(start_cycle + shape.length_cycles()),
@@ -517,7 +522,52 @@ impl SpiA {
         };
         self.frames += 1;
         self.spidat = tx;
-        self.active = Some(Active { frame, begun: false });
+        frame
+    }
+
+    /// Whether [`SpiA::polled_frame`] may run a SPITXBUF write at `t`: normal (non-FIFO) mode, out of
+    /// reset as a master, shifter idle, nothing waiting and INT_FLAG clear, so the write starts a
+    /// character at once, the poll waits for its end and nothing else can happen on the link until then.
+    pub fn polled_frame_applies(&self, t: Ps) -> bool {
+        t >= self.now
+            && self.active.is_none()
+            && self.tx_queue.len == 0
+            && !self.int_flag
+            && !self.fifo_mode()
+            && self.can_run()
+    }
+
+    /// The published per-word polling sequence in one call: write `tx` to SPITXBUF at `t_write`, poll
+    /// INT_FLAG, read SPIRXBUF at `read_at(INT_FLAG time)`; returns the word read. Only when
+    /// [`SpiA::polled_frame_applies`] (the caller checks). It runs the same steps as the register
+    /// path (`next_frame`, `wire.begin`/`finish`, `complete`) without keeping the character in
+    /// `active` or walking `advance` twice; a read time before the flag (which a poll never gives)
+    /// or an error of `read_at` leaves the character scheduled, exactly as the register path would.
+    pub fn polled_frame<W: SpiWire>(
+        &mut self,
+        tx: u16,
+        t_write: Ps,
+        read_at: impl FnOnce(Option<Ps>) -> Result<Ps>,
+        wire: &mut W,
+    ) -> Result<u16> {
+        debug_assert!(self.polled_frame_applies(t_write));
+        self.now = t_write;
+        self.txbuf = tx;
+        let frame = self.next_frame(tx, self.start_cycle_after(t_write));
+        let t_read = match read_at(Some(frame.end_ps)) {
+            Ok(t) if t >= frame.end_ps => t,
+            other => {
+                self.active = Some(Active { frame, begun: false });
+                return self.read(SPIRXBUF, other?, wire);
+            }
+        };
+        self.now = t_read;
+        wire.begin(&frame);
+        let rx = wire.finish(&frame) & frame.rx_mask();
+        self.complete(&frame, rx);
+        // The SPIRXBUF read.
+        self.int_flag = false;
+        Ok(self.rxbuf)
     }
 
     /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.

@@ -494,23 +494,33 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         self.link.set_gpio57(false, t_cs)?;
         let mut glitch = if t_cs >= self.glitches.watch_from { self.glitches.take(t_cs) } else { None };
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
+        // Copied once per burst, not per frame (the clock is 48 bytes).
+        let (poll, read_cost) = (self.poller(), u64::from(self.io.peripheral_read));
         for i in 0..BURST_FRAMES {
             // if (Spi_TxReady() == 1) SPITXBUF = sdata;  — wait for BUFFULL_FLAG = 0
             let ready = self.link.buffull_clear_time();
-            *c = self.poll_until(*c, ready, "BUFFULL_FLAG = 0")?;
+            *c = poll.until(*c, ready, "BUFFULL_FLAG = 0")?;
             *c += u64::from(self.io.peripheral_write);
+            let word = if i == 0 { cmd } else { BURST_FILL };
             if let Some(g) = glitch.as_mut() {
+                // The CS line may fall back between the write and the read: the register path.
                 self.end_glitch_before(g, self.ps(*c))?;
-            }
-            self.link.write(SPITXBUF, if i == 0 { cmd } else { BURST_FILL }, self.ps(*c))?;
-            // while (Spi_RxReady() != 1) {}  — wait for INT_FLAG = 1, then read SPIRXBUF
-            let done = self.link.int_flag_time();
-            *c = self.poll_until(*c, done, "INT_FLAG = 1")?;
-            *c += u64::from(self.io.peripheral_read);
-            if let Some(g) = glitch.as_mut() {
+                self.link.write(SPITXBUF, word, self.ps(*c))?;
+                // while (Spi_RxReady() != 1) {}  — wait for INT_FLAG = 1, then read SPIRXBUF
+                let done = self.link.int_flag_time();
+                *c = self.poll_until(*c, done, "INT_FLAG = 1")?;
+                *c += u64::from(self.io.peripheral_read);
                 self.end_glitch_before(g, self.ps(*c))?;
+                b.words[i] = self.link.read(SPIRXBUF, self.ps(*c))?;
+            } else {
+                // The same write, INT_FLAG poll and read, in one call to the link.
+                let mut read_cycle = *c;
+                b.words[i] = self.link.write_poll_read(word, self.ps(*c), |done| {
+                    read_cycle = poll.until(read_cycle, done, "INT_FLAG = 1")? + read_cost;
+                    Ok(poll.sysclk.cycles_to_ps(read_cycle))
+                })?;
+                *c = read_cycle;
             }
-            b.words[i] = self.link.read(SPIRXBUF, self.ps(*c))?;
             *c += u64::from(self.io.store_word + self.io.frame_loop);
             // The record wants the sensor's latest frame after the first, second and last frames only
             // (before a nested ISR can clock frames of its own).
@@ -573,36 +583,15 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         Ok(())
     }
 
-    /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
-    /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
-    /// end of the first iteration whose read sees the flag (set at `flag_ps`).
+    /// The firmware's status-polling loops (see [`Poller::until`]).
+    fn poller(&self) -> Poller {
+        Poller { sysclk: self.sysclk, poll_cycles: self.poll_cycles }
+    }
+
+    /// See [`Poller::until`].
     fn poll_until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
-        let p = self.poll_cycles.get();
-        let Some(flag_ps) = flag_ps else {
-            return Err(self.hang(c, what, false));
-        };
-        let flag_cycle = self.sysclk.ps_to_cycles_ceil(flag_ps);
-        let iterations = if flag_cycle <= c { 0 } else { self.poll_cycles.div_ceil(flag_cycle - c) };
-        if iterations * p > POLL_WATCHDOG_CYCLES {
-            return Err(self.hang(c, what, true));
-        }
-        Ok(c + (iterations + 1) * p)
+        self.poller().until(c, flag_ps, what)
     }
-
-    /// The error of a polling loop that does not end (out of line: the poll is on the per-frame path).
-    #[cold]
-    #[inline(never)]
-    fn hang(&self, c: u64, what: &str, watchdog: bool) -> Error {
-        let t_s = ps_to_s(self.ps(c));
-        Error::Config(if watchdog {
-            format!("firmware polls {what} for over a second at {t_s:.6} s")
-        } else {
-            format!(
-                "firmware hangs at {t_s:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)"
-            )
-        })
-    }
-
     fn record_read(&mut self, tick: u64, burst: usize, b: &Burst, rate: &Vec3<T>, accel: &Vec3<T>) {
         let period_s = ps_to_s(self.timer.tick_ps(1));
         let assumed_s = match self.profile.firmware.schedule {
@@ -645,6 +634,48 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         all.extend(self.link.slave_mut().drain_events());
         all.sort_by_key(|e| e.t_ps);
         self.out.events.extend(all);
+    }
+}
+
+/// The timing of the firmware's status-polling loops (a copy, so it can be used while the link is
+/// borrowed).
+#[derive(Clone, Copy)]
+struct Poller {
+    sysclk: Clock,
+    /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
+    poll_cycles: Divisor,
+}
+
+impl Poller {
+    /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
+    /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
+    /// end of the first iteration whose read sees the flag (set at `flag_ps`).
+    #[inline]
+    fn until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
+        let p = self.poll_cycles.get();
+        let Some(flag_ps) = flag_ps else {
+            return Err(self.hang(c, what, false));
+        };
+        let flag_cycle = self.sysclk.ps_to_cycles_ceil(flag_ps);
+        let iterations = if flag_cycle <= c { 0 } else { self.poll_cycles.div_ceil(flag_cycle - c) };
+        if iterations * p > POLL_WATCHDOG_CYCLES {
+            return Err(self.hang(c, what, true));
+        }
+        Ok(c + (iterations + 1) * p)
+    }
+
+    /// The error of a polling loop that does not end (out of line: the poll is on the per-frame path).
+    #[cold]
+    #[inline(never)]
+    fn hang(&self, c: u64, what: &str, watchdog: bool) -> Error {
+        let t_s = ps_to_s(self.sysclk.cycles_to_ps(c));
+        Error::Config(if watchdog {
+            format!("firmware polls {what} for over a second at {t_s:.6} s")
+        } else {
+            format!(
+                "firmware hangs at {t_s:.6} s: polling for {what}, which never happens (is SPI-A released from reset?)"
+            )
+        })
     }
 }
 

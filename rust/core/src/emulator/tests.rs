@@ -205,10 +205,16 @@ fn digest(out: &Output, bus: &[crate::bus::link::LinkRecord], held: u64) -> u64 
 /// A moving board (sinusoidal rates on every axis, a varying specific force, mag, baro and
 /// temperature), 819.2 rows/s starting at `t0`, fed in chunks of uneven size.
 fn pinned_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool) -> u64 {
+    digest_run::<T>(overrides, seconds, bus_log, true).unwrap()
+}
+
+/// [`pinned_run`] with the link's one-step polled frame on or off; a run that fails gives its error.
+fn digest_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool, polled_fast_path: bool) -> Result<u64> {
     let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let profile = Profile::from_toml("", "pinned", &ov).unwrap();
-    let run = || {
-        let mut emu = Emulator::<T>::new(&profile, &costs()).unwrap();
+    let profile = Profile::from_toml("", "pinned", &ov)?;
+    let run = || -> Result<u64> {
+        let mut emu = Emulator::<T>::new(&profile, &costs())?;
+        emu.link.set_polled_fast_path(polled_fast_path);
         if bus_log {
             emu.enable_bus_log();
         }
@@ -232,19 +238,63 @@ fn pinned_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool) -> u64
         let mut bus = Vec::new();
         for chunk in rows.chunks(997) {
             let t: Vec<f64> = chunk.iter().map(|r| r.0).collect();
-            emu.push_input(&t, chunk.iter().map(|r| r.1).collect()).unwrap();
-            assert_eq!(emu.run().unwrap(), Progress::NeedInput);
+            emu.push_input(&t, chunk.iter().map(|r| r.1).collect())?;
+            assert_eq!(emu.run()?, Progress::NeedInput);
             out.append(emu.take_output());
             bus.extend(emu.take_bus_log());
         }
         emu.end_input();
-        assert_eq!(emu.run().unwrap(), Progress::Finished);
+        assert_eq!(emu.run()?, Progress::Finished);
         out.append(emu.take_output());
         bus.extend(emu.take_bus_log());
         assert!(!out.cycles.is_empty());
-        digest(&out, &bus, emu.feed().held_reads())
+        Ok(digest(&out, &bus, emu.feed().held_reads()))
     };
-    crate::numerics::iq::with_formats(&profile.iq, run).unwrap()
+    crate::numerics::iq::with_formats(&profile.iq, run)?
+}
+
+/// The link's one-step polled frame (write SPITXBUF, poll INT_FLAG, read SPIRXBUF) changes nothing:
+/// every output (rows, events, bus log) is the same with it forced off, over baud rates (even, odd,
+/// below the minimum divisor), LSPCLK prescalers, the four clock schemes, strict and lenient timing,
+/// a CS glitch, overruns and nesting, the FIFO, the three schedules and both bus levels.
+#[test]
+fn the_polled_frame_fast_path_changes_nothing() {
+    let glitch = "faults.list=[{kind=\"dropped_burst\", start_s=0.3, after_frame=5, glitch_us=0.1, duration_s=0.2}]";
+    let cases: &[&[&str]] = &[
+        &[],
+        &["spi.spibrr=9"],
+        &["spi.spibrr=9", "device.timing_mode=\"lenient\""],
+        &["spi.spibrr=20", "clocks.lospcp=1"],
+        &["spi.spibrr=2", "clocks.lospcp=3", "device.timing_mode=\"lenient\""],
+        &["spi.spiccr=0x8F"],
+        &["spi.spictl=0x0F"],
+        &["spi.spiccr=0x8F", "spi.spictl=0x0F", "device.timing_mode=\"lenient\""],
+        &["spi.spiccr=0xCF", "spi.spictl=0x0F", "spi.level=\"bit\""],
+        &["spi.spiccr=0x8F", "spi.level=\"bit\""],
+        &[glitch],
+        &[glitch, "spi.level=\"bit\""],
+        &["faults.list=[{kind=\"dropped_burst\", start_s=0.2, after_frame=2}]"],
+        &["timer.period_us=300.0", "firmware.overrun=\"nest\""],
+        &["timer.period_us=310.0"],
+        &["spi.spifftx=0xE040", "spi.spiffrx=0x2044"],
+        &["firmware.schedule=\"endpoint\""],
+        &["firmware.schedule=\"back-to-back\"", "spi.spibrr=30"],
+    ];
+    let mut failed_runs = 0;
+    for (i, case) in cases.iter().enumerate() {
+        let mut overrides = vec!["firmware.numeric=\"f64\""];
+        overrides.extend_from_slice(case);
+        let bus_log = i % 2 == 0;
+        let fast = digest_run::<f64>(&overrides, 0.6, bus_log, true).map_err(|e| e.to_string());
+        let slow = digest_run::<f64>(&overrides, 0.6, bus_log, false).map_err(|e| e.to_string());
+        assert_eq!(fast, slow, "{case:?}");
+        if let Err(e) = &fast {
+            println!("{case:?}: {e}");
+            failed_runs += 1;
+        }
+    }
+    // Only the FIFO case stops (the published firmware polls INT_FLAG, which the FIFO mode never sets).
+    assert_eq!(failed_runs, 1, "only the FIFO run stops");
 }
 
 /// The outputs of short runs, pinned bit for bit before the emulator was optimised for throughput
