@@ -25,11 +25,50 @@
 //!   D·√(330 Hz bandwidth) = 9.1 mg, the 16407's 9 mg rms. The model's noise is white to Nyquist, so
 //!   its per-sample σ at 819.2 SPS (10.1 mg) exceeds that band-limited rms by 12 %.
 //! - Gauss–Markov terms are discretised exactly: x_{k+1} = e^{−Δt/τ} x_k + σ √(1 − e^{−2Δt/τ}) w_k,
-//!   started from the stationary distribution N(0, σ²), so the process is stationary from sample 0.
+//!   started from the stationary distribution N(0, σ²), so the process is stationary from sample 0
+//!   (slow terms step over several samples at once: multi-rate bank below).
 //! - Bias instability is by default a bank of such terms with log-spaced τ and equal variances,
 //!   which approximates flicker noise: its Allan deviation has the flat floor a data sheet's
 //!   "in-run bias stability" describes (a single Gauss–Markov term only has a bump at 1.89 τ, and
 //!   the curve falls again after it). See [`flicker_bank`].
+//!
+//! # Multi-rate bias-instability bank
+//! A term of correlation time τ hardly moves in one sample (Δt = 1.22 ms against τ ≥ 1 s in the
+//! preset), so it is redrawn only every m samples, m the largest power of two with m·Δt ≤ τ/R
+//! ([`gauss_markov_update_interval`]; at least 1; R = [`ErrorParams::gauss_markov_update_ratio`],
+//! default 100, profile key `errors.gauss_markov_update_ratio`), with the exact discretisation over
+//! T = m·Δt (decay e^{−T/τ}, drive σ√(1 − e^{−2T/τ})), and held in between. Updates fall on absolute
+//! sample indices k ≡ 0 (mod m): the value at sample k is the value of the update instant ⌊k/m⌋·m, so
+//! it depends only on which update instants have passed; a jump of k over n of them propagates the
+//! term exactly over n·T (one draw per axis). On the update instants the term is exactly the
+//! stationary N(0, σ²) Gauss–Markov process sampled every T. A term with τ < 2·R·Δt keeps m = 1: the
+//! per-sample process.
+//!
+//! What the hold changes (ε = T/τ ≤ 1/R; derivations for one term, the terms are independent):
+//! - Pointwise, s after an update the held value differs from the exact process by an error of
+//!   variance 2σ²(1 − e^{−s/τ}) ≤ 2σ²ε, on average over the interval ≈ σ²ε.
+//! - Second-order statistics with the hold's phase uniform (what an overlapping Allan deviation
+//!   over a record ≫ T sees): the structure function D(s) = E[(y(t+s) − y(t))²] of the held
+//!   process is 2σ²·E[1 − e^{−N·ε}], N the number of updates in (t, t+s], ⌊s/T⌋ or ⌈s/T⌉ with mean
+//!   s/T: the chord of the exact, concave 2σ²(1 − e^{−s/τ}) between multiples of T, below it by at
+//!   most 2σ²·ε²/8. The Allan variance is a combination of D(s) values whose weights' magnitudes sum
+//!   to 1, so it moves by at most σ²ε²/4 at every averaging time; likewise the PSD is the term's to
+//!   relative O(ε²), but for notches ≈ 1/(2πτ) wide at multiples of 1/T. (For a random walk,
+//!   τ → ∞, a random-phase sample-and-hold has exactly the walk's D(s).)
+//! - Clusters locked to the hold grid (non-overlapping, starting at an update, length τ_A a
+//!   multiple of T) see the walk sampled every T: the Allan variance gains 2σ²T²/(6ττ_A), at most
+//!   σ²ε/3 at τ_A = T; below T a locked cluster pair may see no update and lose the term's
+//!   2σ²τ_A/(3τ) (as large).
+//!
+//! Numbers for `adis16407` (R = 100, Δt = 1/819.2 s): m = 8, 64, 512, 8192, 65536, 524288 for
+//! τ = 1 … 1e5 s (T = 9.8 ms … 640 s, ε = 0.0064 … 0.0100), so the bank costs 0.43 Gaussian draws
+//! per sample and triad instead of 18. Gyro terms have σ = 0.0090 °/s: the hold error is ≤ 1.3e-3
+//! °/s rms (mean variance ≤ 8e-7 (°/s)²), against white noise of 0.95 °/s per sample (0.91 (°/s)²,
+//! 1e6 times more). The overlapping Allan variance moves by ≤ Σ σ²ε²/4 = 8.1e-9 (°/s)², 1.7e-4 of
+//! the floor's 4.9e-5 (Allan deviation: < 1e-4 relative). Locked clusters: ≤ σ²ε/3 = 2.7e-7 (°/s)²
+//! per term, ≤ 0.35 % of the Allan variance at its τ_A = T (0.17 % in deviation, at 80 s and 640 s
+//! where the floor dominates; ≤ 0.17 % at 10 s and far less below, where white noise dominates).
+//! The accelerometer's bank has the same shape, so the same relative numbers.
 //!
 //! # Presets
 //! `ideal` (no error) and `adis16407` ([`ErrorParams::adis16407`]; per value source and flag in
@@ -42,24 +81,30 @@
 //! accel nonlinearity, iron) are 0 and flagged.
 //!
 //! # Random streams
-//! Every source has its own ChaCha20 stream, so enabling, disabling or resizing one source never
-//! changes another's realisation: the key is `ChaCha20Rng::seed_from_u64(seed)` (rand_core 0.6:
-//! PCG32 expands the u64 to the 256-bit key) and the stream is `sensor << 8 | source`, with sensor
-//! 0 gyro, 1 accel, 2 magnetometer, 3 barometer, and source 1 initial bias, 2 bias tempco, 3 scale
-//! factor, 4 scale tempco, 5 nonlinearity, 6 misalignment, 7 g-sensitivity, 8 white noise, 9 bias
-//! instability, 10 rate random walk. Draw order within a stream: axes x, y, z; matrices row-major
-//! (misalignment: the six off-diagonal elements only); bias instability term by term, each x, y, z.
+//! Every source has its own xoshiro256++ stream, so enabling, disabling or resizing one source
+//! never changes another's realisation. Stream id = `sensor << 16 | source << 8 | index`, with
+//! sensor 0 gyro, 1 accel, 2 magnetometer, 3 barometer; source 1 initial bias, 2 bias tempco,
+//! 3 scale factor, 4 scale tempco, 5 nonlinearity, 6 misalignment, 7 g-sensitivity, 8 white noise,
+//! 9 bias instability, 10 rate random walk; index the Gauss–Markov term's place in the bank
+//! (source 9: every term has its own stream, numbered before zero terms are dropped), else 0. The
+//! generator's state is `Xoshiro256PlusPlus::seed_from_u64(splitmix64(splitmix64(seed) ^ id))`
+//! (rand_xoshiro 0.6, which fills the 256-bit state with SplitMix64 outputs), splitmix64 the
+//! SplitMix64 output function: a bijection, so distinct ids of one seed never share a key, and an
+//! avalanching mix, so neighbouring seeds and ids give unrelated streams. Draw order within a
+//! stream: axes x, y, z; matrices row-major (misalignment: the six off-diagonal elements only);
+//! a Gauss–Markov term: x, y, z of its initial state, then x, y, z at each update.
 //!
 //! # Time
 //! The model advances by whole internal samples (`k`), with the period given at construction, so no
-//! float time is accumulated. A jump of k by more than one propagates the Gauss–Markov and random
-//! walk states exactly over the gap; white noise is one draw per call.
+//! float time is accumulated. A jump of k by more than one propagates the random walk exactly over
+//! the gap and each Gauss–Markov term exactly over the update instants in it; white noise is one
+//! draw per call.
 
 use std::f64::consts::{LN_2, PI};
 
 use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha20Rng;
 use rand_distr::StandardNormal;
+use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
 use super::Physical;
@@ -77,8 +122,11 @@ pub const GAUSS_MARKOV_ALLAN_PEAK: f64 = 0.617_364_283_144_441_4;
 pub const GAUSS_MARKOV_ALLAN_PEAK_AT: f64 = 1.892_617_851_020_620_6;
 /// Preset names accepted by [`ErrorParams::preset`].
 pub const PRESET_NAMES: [&str; 3] = ["ideal", "adis16407", "adis16407-nulled"];
-/// Most Gauss–Markov terms per triad (each costs one Gaussian draw per axis and sample).
+/// Most Gauss–Markov terms per triad (each costs one Gaussian draw per axis and update).
 pub const MAX_GAUSS_MARKOV_TERMS: usize = 32;
+/// Default R of [`ErrorParams::gauss_markov_update_ratio`]: a term is redrawn at least R times per
+/// correlation time, so the held value moves by ≈ σ·√(2/R) = 0.14 σ per update (module docs).
+pub const DEFAULT_GAUSS_MARKOV_UPDATE_RATIO: f64 = 100.0;
 
 /// Allan-deviation floor of flicker noise per unit of IEEE-952 bias instability B: √(2 ln 2 / π) ≈ 0.6643.
 pub fn flicker_floor_factor() -> f64 {
@@ -387,6 +435,15 @@ pub struct ErrorParams {
     pub mag: MagErrors,
     /// Barometer, mbar.
     pub baro: BaroErrors,
+    /// R ≥ 1: every Gauss–Markov term of correlation time τ is redrawn every m samples, m the largest
+    /// power of two with m·Δt ≤ τ/R, and held in between (module docs: multi-rate bank). A huge R
+    /// (1e12) redraws every term every sample.
+    #[serde(default = "default_update_ratio")]
+    pub gauss_markov_update_ratio: f64,
+}
+
+fn default_update_ratio() -> f64 {
+    DEFAULT_GAUSS_MARKOV_UPDATE_RATIO
 }
 
 impl Default for ErrorParams {
@@ -408,6 +465,7 @@ impl ErrorParams {
             accel: InertialErrors::ideal(ACCEL_FULL_SCALE_G),
             mag: MagErrors { hard_iron_gauss: [0.0; 3], soft_iron: [[0.0; 3]; 3], noise_rms_gauss: 0.0 },
             baro: BaroErrors { noise_rms_mbar: 0.0 },
+            gauss_markov_update_ratio: DEFAULT_GAUSS_MARKOV_UPDATE_RATIO,
         }
     }
 
@@ -447,6 +505,7 @@ impl ErrorParams {
             },
             mag: MagErrors { hard_iron_gauss: [0.0; 3], soft_iron: [[0.0; 3]; 3], noise_rms_gauss: 1.15e-3 },
             baro: BaroErrors { noise_rms_mbar: 0.027 },
+            gauss_markov_update_ratio: DEFAULT_GAUSS_MARKOV_UPDATE_RATIO,
         }
     }
 
@@ -483,7 +542,8 @@ impl ErrorParams {
             }
         }
         check_nonneg("errors.mag.noise_rms_gauss", self.mag.noise_rms_gauss)?;
-        check_nonneg("errors.baro.noise_rms_mbar", self.baro.noise_rms_mbar)
+        check_nonneg("errors.baro.noise_rms_mbar", self.baro.noise_rms_mbar)?;
+        check_update_ratio(self.gauss_markov_update_ratio)
     }
 
     fn is_ideal(&self) -> bool {
@@ -671,13 +731,39 @@ pub struct InertialUnit {
     pub g_sensitivity: [[f64; 3]; 3],
 }
 
-/// One Gauss–Markov term of one triad with its one-step coefficients.
+/// One Gauss–Markov term of one triad, redrawn every m = 2^`shift` samples (module docs: multi-rate
+/// bank) from its own stream.
 #[derive(Debug, Clone)]
 struct GaussMarkovState {
     params: GaussMarkov,
+    /// log₂ of the update interval m: the term is redrawn at samples k with k % m == 0.
+    shift: u32,
+    /// Coefficients of one update, over m·Δt.
     decay: f64,
     drive: f64,
     state: [f64; 3],
+    rng: StreamRng,
+}
+
+/// Largest log₂ of an update interval: 2^62 samples are 1.8e8 years at 819.2 SPS, and the next
+/// update instant of any sample index stays representable in u64.
+const MAX_UPDATE_SHIFT: u32 = 62;
+
+/// log₂ of [`gauss_markov_update_interval`].
+fn update_shift(tau_s: f64, sample_period_s: f64, update_ratio: f64) -> u32 {
+    let limit_s = tau_s / update_ratio;
+    let mut shift = 0;
+    while shift < MAX_UPDATE_SHIFT && (1u64 << (shift + 1)) as f64 * sample_period_s <= limit_s {
+        shift += 1;
+    }
+    shift
+}
+
+/// Samples between two updates of a Gauss–Markov term of correlation time `tau_s`: the largest power
+/// of two m with m·`sample_period_s` ≤ `tau_s` / `update_ratio`, at least 1 (module docs: multi-rate
+/// bank).
+pub fn gauss_markov_update_interval(tau_s: f64, sample_period_s: f64, update_ratio: f64) -> u64 {
+    1 << update_shift(tau_s, sample_period_s, update_ratio)
 }
 
 /// Exact discretisation over `dt_s`: (e^{−Δt/τ}, σ√(1 − e^{−2Δt/τ})); expm1 keeps the drive exact
@@ -694,11 +780,23 @@ struct Triad {
     white_sigma: f64,
     white_rng: StreamRng,
     gauss_markov: Vec<GaussMarkovState>,
-    gauss_markov_rng: StreamRng,
+    /// Σ of the terms' states per axis, refreshed when a term updates (most samples update none).
+    gauss_markov_sum: [f64; 3],
+    /// First sample index at which some term updates (0: not known yet, check every term).
+    next_update: u64,
     rate_random_walk: f64,
     rate_walk_step: f64,
     rate_walk: [f64; 3],
     rate_walk_rng: StreamRng,
+    /// False when the g-sensitivity matrix is zero (the accelerometer's): its products are skipped.
+    has_g_sensitivity: bool,
+    /// ΔT (bits) that `gain` and `fixed_bias` were computed for; temperature changes slowly, so
+    /// they are recomputed only when it changes.
+    cached_delta_temp: u64,
+    /// 1 + s_i + s_T,i ΔT per axis.
+    gain: [f64; 3],
+    /// b_i + c_i ΔT per axis.
+    fixed_bias: [f64; 3],
 }
 
 const SOURCE_INITIAL_BIAS: u64 = 1;
@@ -716,15 +814,36 @@ const SENSOR_ACCEL: u64 = 1;
 const SENSOR_MAG: u64 = 2;
 const SENSOR_BARO: u64 = 3;
 
-/// The generator of every stream. ChaCha20 costs ≈ 12 ns per Gaussian draw here; ChaCha8Rng would
-/// be about twice as fast (still a good generator) if throughput with errors on matters more.
-type StreamRng = ChaCha20Rng;
+/// The generator of every stream: xoshiro256++ (Blackman & Vigna), 2^256 − 1 period, passes
+/// BigCrush and PractRand; a few ns per Gaussian draw against ≈ 12 ns for ChaCha20. Nothing here
+/// needs a cryptographic generator, only independent, reproducible streams.
+type StreamRng = Xoshiro256PlusPlus;
 
-/// The random stream of one source of one sensor (module docs: derivation).
-fn stream(seed: u64, sensor: u64, source: u64) -> StreamRng {
-    let mut rng = StreamRng::seed_from_u64(seed);
-    rng.set_stream(sensor << 8 | source);
-    rng
+/// The SplitMix64 output function (Steele, Lea & Flood 2014): a bijection of u64 whose outputs of
+/// nearby inputs are uncorrelated, so it separates streams whose keys differ in a few bits.
+fn splitmix64(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The random stream of one source of one sensor; `index` numbers the Gauss–Markov terms of bias
+/// instability, 0 for every other source (module docs: derivation).
+fn stream(seed: u64, sensor: u64, source: u64, index: u64) -> StreamRng {
+    let id = sensor << 16 | source << 8 | index;
+    StreamRng::seed_from_u64(splitmix64(splitmix64(seed) ^ id))
+}
+
+/// Σ of the Gauss–Markov states per axis, in term order (so the sum is the same whatever the history).
+fn sum_states(terms: &[GaussMarkovState]) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    for term in terms {
+        for (total, x) in sum.iter_mut().zip(term.state) {
+            *total += x;
+        }
+    }
+    sum
 }
 
 fn draw_axes(spread: &Spread, rng: &mut StreamRng) -> [f64; 3] {
@@ -732,8 +851,8 @@ fn draw_axes(spread: &Spread, rng: &mut StreamRng) -> [f64; 3] {
 }
 
 impl Triad {
-    fn new(e: &InertialErrors, seed: u64, sensor: u64, dt_s: f64) -> Self {
-        let s = |source| stream(seed, sensor, source);
+    fn new(e: &InertialErrors, seed: u64, sensor: u64, dt_s: f64, update_ratio: f64) -> Self {
+        let s = |source| stream(seed, sensor, source, 0);
         let quadratic = draw_axes(&e.nonlinearity, &mut s(SOURCE_NONLINEARITY)).map(|n| n / e.full_scale);
         let mut axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         let mut rng = s(SOURCE_MISALIGNMENT);
@@ -758,52 +877,80 @@ impl Triad {
             axes,
             g_sensitivity,
         };
-        let mut gauss_markov_rng = s(SOURCE_BIAS_INSTABILITY);
-        let gauss_markov = e
+        let gauss_markov: Vec<GaussMarkovState> = e
             .bias_instability
             .terms()
             .into_iter()
-            .filter(|t| t.sigma > 0.0)
-            .map(|params| {
-                let (decay, drive) = gauss_markov_step(&params, dt_s);
+            .enumerate()
+            .filter(|(_, t)| t.sigma > 0.0)
+            .map(|(index, params)| {
+                // The stream is numbered by the term's place in the bank, so a zero term changes no other.
+                let mut rng = stream(seed, sensor, SOURCE_BIAS_INSTABILITY, index as u64);
+                let shift = update_shift(params.tau_s, dt_s, update_ratio);
+                let (decay, drive) = gauss_markov_step(&params, dt_s * (1u64 << shift) as f64);
                 // Start stationary: x₀ ~ N(0, σ²).
-                let mut state = [0.0; 3];
-                for x in state.iter_mut() {
-                    *x = params.sigma * gauss_markov_rng.sample::<f64, _>(StandardNormal);
-                }
-                GaussMarkovState { params, decay, drive, state }
+                let state = [(); 3].map(|()| params.sigma * rng.sample::<f64, _>(StandardNormal));
+                GaussMarkovState { params, shift, decay, drive, state, rng }
             })
             .collect();
-        Triad {
+        let mut triad = Triad {
+            has_g_sensitivity: unit.g_sensitivity.iter().flatten().any(|g| *g != 0.0),
+            cached_delta_temp: 0,
+            gain: [0.0; 3],
+            fixed_bias: [0.0; 3],
             unit,
             white_sigma: e.noise_density / dt_s.sqrt(),
             white_rng: s(SOURCE_WHITE_NOISE),
+            gauss_markov_sum: sum_states(&gauss_markov),
             gauss_markov,
-            gauss_markov_rng,
+            next_update: 0,
             rate_random_walk: e.rate_random_walk,
             rate_walk_step: e.rate_random_walk * dt_s.sqrt(),
             rate_walk: [0.0; 3],
             rate_walk_rng: s(SOURCE_RATE_RANDOM_WALK),
-        }
+        };
+        triad.set_temperature(0.0);
+        triad
     }
 
-    /// Move the bias processes on by `steps` samples of `dt_s`, exactly.
-    fn advance(&mut self, steps: u64, dt_s: f64) {
-        if steps == 0 {
-            return;
-        }
-        for term in &mut self.gauss_markov {
-            let (decay, drive) = if steps == 1 {
-                (term.decay, term.drive)
-            } else {
-                gauss_markov_step(&term.params, dt_s * steps as f64)
-            };
-            for x in term.state.iter_mut() {
-                let w: f64 = self.gauss_markov_rng.sample(StandardNormal);
-                *x = decay * *x + drive * w;
+    /// Recompute the temperature-dependent gain and bias for ΔT = `delta_temp_c`.
+    fn set_temperature(&mut self, delta_temp_c: f64) {
+        let u = &self.unit;
+        self.cached_delta_temp = delta_temp_c.to_bits();
+        self.gain = std::array::from_fn(|i| 1.0 + u.scale_factor[i] + u.scale_tempco[i] * delta_temp_c);
+        self.fixed_bias = std::array::from_fn(|i| u.bias[i] + u.bias_tempco[i] * delta_temp_c);
+    }
+
+    /// Move the bias processes on from sample `from` to sample `to` > `from` (samples of `dt_s`):
+    /// each Gauss–Markov term exactly over the update instants (multiples of its interval) the move
+    /// passes, the rate random walk exactly over the whole move.
+    fn advance(&mut self, from: u64, to: u64, dt_s: f64) {
+        if to >= self.next_update {
+            let mut next_update = u64::MAX;
+            let mut updated = false;
+            for term in &mut self.gauss_markov {
+                let updates = (to >> term.shift) - (from >> term.shift);
+                if updates > 0 {
+                    let (decay, drive) = if updates == 1 {
+                        (term.decay, term.drive)
+                    } else {
+                        gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
+                    };
+                    for x in term.state.iter_mut() {
+                        let w: f64 = term.rng.sample(StandardNormal);
+                        *x = decay * *x + drive * w;
+                    }
+                    updated = true;
+                }
+                next_update = next_update.min(((to >> term.shift) + 1).saturating_mul(1 << term.shift));
+            }
+            self.next_update = next_update;
+            if updated {
+                self.gauss_markov_sum = sum_states(&self.gauss_markov);
             }
         }
         if self.rate_random_walk > 0.0 {
+            let steps = to - from;
             let step =
                 if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
             for r in self.rate_walk.iter_mut() {
@@ -814,25 +961,26 @@ impl Triad {
     }
 
     fn apply(&mut self, force_g: &[f64; 3], delta_temp_c: f64, x: &mut [f64; 3]) {
+        if delta_temp_c.to_bits() != self.cached_delta_temp {
+            self.set_temperature(delta_temp_c);
+        }
+        let white = if self.white_sigma > 0.0 {
+            [(); 3].map(|()| self.white_sigma * self.white_rng.sample::<f64, _>(StandardNormal))
+        } else {
+            [0.0; 3]
+        };
         let truth = *x;
         let u = &self.unit;
         for (i, out) in x.iter_mut().enumerate() {
             let row = &u.axes[i];
             let mut y = row[0] * truth[0] + row[1] * truth[1] + row[2] * truth[2];
-            y = y * (1.0 + u.scale_factor[i] + u.scale_tempco[i] * delta_temp_c) + u.quadratic[i] * y * y;
-            let g = &u.g_sensitivity[i];
-            let mut bias = u.bias[i]
-                + u.bias_tempco[i] * delta_temp_c
-                + (g[0] * force_g[0] + g[1] * force_g[1] + g[2] * force_g[2]);
-            for term in &self.gauss_markov {
-                bias += term.state[i];
+            y = y * self.gain[i] + u.quadratic[i] * y * y;
+            let mut bias = self.fixed_bias[i] + self.gauss_markov_sum[i] + self.rate_walk[i];
+            if self.has_g_sensitivity {
+                let g = &u.g_sensitivity[i];
+                bias += g[0] * force_g[0] + g[1] * force_g[1] + g[2] * force_g[2];
             }
-            bias += self.rate_walk[i];
-            if self.white_sigma > 0.0 {
-                let w: f64 = self.white_rng.sample(StandardNormal);
-                bias += self.white_sigma * w;
-            }
-            *out = y + bias;
+            *out = y + (bias + white[i]);
         }
     }
 }
@@ -871,20 +1019,22 @@ impl ErrorModel {
             identity: params.is_ideal(),
             sample_period_s: dt,
             last_sample: None,
-            gyro: Triad::new(&params.gyro, seed, SENSOR_GYRO, dt),
-            accel: Triad::new(&params.accel, seed, SENSOR_ACCEL, dt),
+            gyro: Triad::new(&params.gyro, seed, SENSOR_GYRO, dt, params.gauss_markov_update_ratio),
+            accel: Triad::new(&params.accel, seed, SENSOR_ACCEL, dt, params.gauss_markov_update_ratio),
             mag_map,
             mag_hard_iron: params.mag.hard_iron_gauss,
             mag_sigma: params.mag.noise_rms_gauss,
-            mag_rng: stream(seed, SENSOR_MAG, SOURCE_WHITE_NOISE),
+            mag_rng: stream(seed, SENSOR_MAG, SOURCE_WHITE_NOISE, 0),
             baro_sigma: params.baro.noise_rms_mbar,
-            baro_rng: stream(seed, SENSOR_BARO, SOURCE_WHITE_NOISE),
+            baro_rng: stream(seed, SENSOR_BARO, SOURCE_WHITE_NOISE, 0),
         })
     }
 
-    /// The model of the profile's `[errors]` section (preset and seed).
+    /// The model of the profile's `[errors]` section (preset, seed, update ratio).
     pub fn from_profile(errors: &Errors, sample_period_s: f64) -> Result<Self> {
-        ErrorModel::new(&ErrorParams::preset(&errors.preset)?, errors.seed, sample_period_s)
+        let mut params = ErrorParams::preset(&errors.preset)?;
+        params.gauss_markov_update_ratio = errors.gauss_markov_update_ratio;
+        ErrorModel::new(&params, errors.seed, sample_period_s)
     }
 
     /// True when the model changes nothing (the `ideal` preset).
@@ -909,10 +1059,19 @@ impl ErrorModel {
         if self.identity {
             return;
         }
-        let steps = self.last_sample.map_or(0, |last| k.saturating_sub(last));
+        match self.last_sample {
+            Some(last) if k > last => {
+                self.gyro.advance(last, k, self.sample_period_s);
+                self.accel.advance(last, k, self.sample_period_s);
+            }
+            // Out of contract (k went back): hold the processes, and find the next update afresh.
+            Some(last) if k < last => {
+                self.gyro.next_update = 0;
+                self.accel.next_update = 0;
+            }
+            _ => {}
+        }
         self.last_sample = Some(k);
-        self.gyro.advance(steps, self.sample_period_s);
-        self.accel.advance(steps, self.sample_period_s);
         let delta_temp_c = p.temp_c - REFERENCE_TEMP_C;
         // The gyro sees the true specific force, so it goes before the accelerometer's own errors.
         let force = p.accel_g;
@@ -937,6 +1096,18 @@ impl ErrorModel {
 
 fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> Error {
     Error::Profile(format!("key `{key}` = {value}: expected {expected}"))
+}
+
+/// Check `errors.gauss_markov_update_ratio` (the profile checks it with this too).
+pub(crate) fn check_update_ratio(ratio: f64) -> Result<()> {
+    if !(ratio.is_finite() && ratio >= 1.0) {
+        return Err(bad(
+            "errors.gauss_markov_update_ratio",
+            ratio,
+            "a finite number ≥ 1 (below 1 a term would be held longer than its correlation time)",
+        ));
+    }
+    Ok(())
 }
 
 fn check_finite(key: &str, value: f64) -> Result<()> {
@@ -1091,6 +1262,176 @@ mod tests {
                 assert!((rho - a).abs() < rho_tol, "step {k_step}: lag-1 {rho} vs {a}");
             }
         }
+    }
+
+    #[test]
+    fn update_interval_is_the_largest_power_of_two_within_tau_over_r() {
+        let r = DEFAULT_GAUSS_MARKOV_UPDATE_RATIO;
+        let intervals: Vec<u64> =
+            flicker_bank(0.007, 1.0, 1e5, 1).iter().map(|t| gauss_markov_update_interval(t.tau_s, DT, r)).collect();
+        // τ/(R·Δt) = 8.2, 82, 819, 8192, 81920, 819200 samples (module docs numbers).
+        assert_eq!(intervals, [8, 64, 512, 8192, 65536, 524288]);
+        for m in [1u64, 2, 64, 1 << 20] {
+            // Exactly on the bound m is allowed; a hair below it, m/2 (and never below 1).
+            let tau = r * m as f64 * DT;
+            assert_eq!(gauss_markov_update_interval(tau, DT, r), m);
+            assert_eq!(gauss_markov_update_interval(tau * (1.0 - 1e-9), DT, r), (m / 2).max(1));
+        }
+        assert_eq!(gauss_markov_update_interval(1e-9, DT, r), 1);
+        assert_eq!(gauss_markov_update_interval(1e300, DT, r), 1 << MAX_UPDATE_SHIFT);
+        // A huge R is the per-sample process for every τ of the preset.
+        assert_eq!(gauss_markov_update_interval(1e5, DT, 1e12), 1);
+    }
+
+    #[test]
+    fn hold_moves_the_structure_function_by_at_most_the_documented_bound() {
+        // Module docs: with a random hold phase, D_held(s) = 2σ²·E[1 − a^N] (N = n or n + 1 updates
+        // in s = (n + f)·T, P(N = n + 1) = f) is the chord of D(s) = 2σ²(1 − e^{−s/τ}), at most
+        // σ²ε²/4 below it; summed over the adis16407 gyro bank that is 8.1e-9 (°/s)², 1.7e-4 of the
+        // floor's Allan variance. Checked here on a dense grid of s, not from the formula.
+        let floor = 0.007;
+        let mut total = 0.0;
+        for term in flicker_bank(floor, 1.0, 1e5, 1) {
+            let m = gauss_markov_update_interval(term.tau_s, DT, DEFAULT_GAUSS_MARKOV_UPDATE_RATIO);
+            let period = m as f64 * DT;
+            let eps = period / term.tau_s;
+            let s2 = term.sigma * term.sigma;
+            let mut largest = 0.0f64;
+            for i in 0..20_000 {
+                let s = i as f64 * period / 997.0; // 20 intervals, 997 points each
+                let (n, f) = ((s / period).floor(), (s / period).fract());
+                let held = 2.0 * s2 * ((1.0 - f) * -(-n * eps).exp_m1() + f * -(-(n + 1.0) * eps).exp_m1());
+                let exact = 2.0 * s2 * -(-s / term.tau_s).exp_m1();
+                assert!(held <= exact * (1.0 + 1e-12), "τ {}: chord above the curve at s = {s}", term.tau_s);
+                largest = largest.max(exact - held);
+            }
+            let bound = s2 * eps * eps / 4.0;
+            // The bound is reached to within 1 % (mid-interval of the first one) and never exceeded.
+            assert!(largest <= bound && largest > 0.99 * bound, "τ {}: {largest} vs {bound}", term.tau_s);
+            total += bound;
+        }
+        assert!((total / 8.15e-9 - 1.0).abs() < 0.01, "{total}");
+        assert!(total / (floor * floor) < 1.7e-4);
+    }
+
+    /// Gyro of an otherwise ideal sensor with the given Gauss–Markov terms and update ratio.
+    fn gauss_markov_only(terms: Vec<GaussMarkov>, update_ratio: f64) -> ErrorParams {
+        let mut params = ErrorParams::ideal();
+        params.gyro.bias_instability = BiasInstability::GaussMarkov { terms };
+        params.gauss_markov_update_ratio = update_ratio;
+        params
+    }
+
+    #[test]
+    fn a_fast_term_keeps_the_per_sample_process_exactly() {
+        // τ = 10 Δt < 2·R·Δt: m = 1. The model's output is then today's recursion bit for bit,
+        // from the term's own stream, including the exact propagation over gaps.
+        let term = GaussMarkov { sigma: 0.3, tau_s: 10.0 * DT };
+        assert_eq!(gauss_markov_update_interval(term.tau_s, DT, DEFAULT_GAUSS_MARKOV_UPDATE_RATIO), 1);
+        let mut m = model(&gauss_markov_only(vec![term], DEFAULT_GAUSS_MARKOV_UPDATE_RATIO), 9);
+        let mut rng = stream(9, SENSOR_GYRO, SOURCE_BIAS_INSTABILITY, 0);
+        let mut x = [(); 3].map(|()| term.sigma * rng.sample::<f64, _>(StandardNormal));
+        let mut last = 0;
+        for k in (0..3000u64).map(|i| i + i / 7 * 3) {
+            if k > last {
+                let (decay, drive) = gauss_markov_step(&term, (k - last) as f64 * DT);
+                x = x.map(|x| decay * x + drive * rng.sample::<f64, _>(StandardNormal));
+            }
+            last = k;
+            let mut p = Physical { temp_c: REFERENCE_TEMP_C, ..Physical::default() };
+            m.apply(k, 0, &mut p);
+            assert_eq!(p.gyro_dps.map(f64::to_bits), x.map(f64::to_bits), "sample {k}");
+        }
+    }
+
+    #[test]
+    fn multi_rate_terms_are_stationary_and_held_between_updates() {
+        // R = 1 holds each term as long as allowed (m·Δt ≤ τ), so a = e^{−mΔt/τ} = e^{−0.8} is far
+        // from 1 and the AR(1) bounds are tight. The term sits at bank index 1 behind a zero term.
+        for (tau_samples, m, updates) in [(5.0, 4u64, 200_000u64), (20.0, 16, 100_000)] {
+            let term = GaussMarkov { sigma: 0.2, tau_s: tau_samples * DT };
+            assert_eq!(gauss_markov_update_interval(term.tau_s, DT, 1.0), m);
+            let params = gauss_markov_only(vec![GaussMarkov { sigma: 0.0, tau_s: 1.0 }, term], 1.0);
+            let a = (-(m as f64) * DT / term.tau_s).exp();
+            // Calls every sample (one update per interval), then every 3m samples (three updates
+            // per call, propagated exactly in one step: the lag-1 correlation becomes a³).
+            for calls_per_update in [m, 1] {
+                let k_step = if calls_per_update == m { 1 } else { 3 * m };
+                let a_step = if k_step == 1 { a } else { a.powi(3) };
+                let n = updates as usize;
+                let per_axis = gyro_samples(&params, 17, n * calls_per_update as usize, k_step);
+                for axis in per_axis {
+                    // Held: every sample of an interval repeats the value of its update instant.
+                    let at_updates: Vec<f64> = axis.iter().step_by(calls_per_update as usize).copied().collect();
+                    for (i, v) in axis.iter().enumerate() {
+                        assert_eq!(v.to_bits(), at_updates[i / calls_per_update as usize].to_bits());
+                    }
+                    // AR(1) theory at the update instants, as in the per-sample test (5σ bounds).
+                    let var_tol = 5.0 * (2.0 / n as f64 * (1.0 + a_step * a_step) / (1.0 - a_step * a_step)).sqrt();
+                    let rho_tol = 5.0 * ((1.0 - a_step * a_step) / n as f64).sqrt();
+                    let power = at_updates.iter().map(|x| x * x).sum::<f64>();
+                    let variance = power / n as f64;
+                    let rho = at_updates.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / power;
+                    let s2 = term.sigma * term.sigma;
+                    assert!((variance / s2 - 1.0).abs() < var_tol, "m {m} step {k_step}: variance {variance} vs {s2}");
+                    assert!((rho - a_step).abs() < rho_tol, "m {m} step {k_step}: lag-1 {rho} vs {a_step}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gaps_within_update_intervals_keep_the_realisation() {
+        // The adis16407 bank alone (fastest term m = 8). Visiting only k % 8 ∈ {0, 3, 5} still
+        // passes every update instant one at a time, so the values at the visited samples are
+        // those of the contiguous run, bit for bit.
+        let mut params = ErrorParams::ideal();
+        params.gyro.bias_instability = ErrorParams::adis16407().gyro.bias_instability;
+        params.accel.bias_instability = ErrorParams::adis16407().accel.bias_instability;
+        let sample = |m: &mut ErrorModel, k: u64| {
+            let mut p = Physical { temp_c: REFERENCE_TEMP_C, ..Physical::default() };
+            m.apply(k, 0, &mut p);
+            (p.gyro_dps.map(f64::to_bits), p.accel_g.map(f64::to_bits))
+        };
+        let mut contiguous = model(&params, 4);
+        let mut gapped = model(&params, 4);
+        let n = 1 << 17; // two updates of the m = 65536 term
+        let mut changes = 0;
+        let mut previous = sample(&mut gapped, 0);
+        let _ = sample(&mut contiguous, 0);
+        for k in 1..n {
+            let want = sample(&mut contiguous, k);
+            if [0, 3, 5].contains(&(k % 8)) {
+                let got = sample(&mut gapped, k);
+                assert_eq!(got, want, "sample {k}");
+                changes += usize::from(got != previous);
+                previous = got;
+            }
+        }
+        // The bank moves at every update of its fastest term (k % 8 == 0), and only then.
+        assert_eq!(changes, (n as usize - 1) / 8);
+    }
+
+    #[test]
+    fn update_ratio_is_checked_and_reaches_the_model_from_the_profile() {
+        for bad_ratio in [0.5, f64::NAN, f64::INFINITY] {
+            let errors = Errors { gauss_markov_update_ratio: bad_ratio, ..Errors::default() };
+            let err = errors.validate().unwrap_err().to_string();
+            assert!(err.contains("errors.gauss_markov_update_ratio"), "{err}");
+            assert!(ErrorModel::from_profile(&errors, DT).is_err());
+        }
+        // R = 1e12 from the profile is the per-sample bank: the same realisation as ErrorModel::new
+        // with that ratio, and another one than the default R.
+        let errors = Errors { preset: "adis16407".into(), seed: 3, gauss_markov_update_ratio: 1e12 };
+        let mut params = ErrorParams::adis16407();
+        params.gauss_markov_update_ratio = 1e12;
+        let per_sample = run(&mut ErrorModel::from_profile(&errors, DT).unwrap(), 200);
+        assert_eq!(
+            per_sample.iter().map(bits).collect::<Vec<_>>(),
+            run(&mut model(&params, 3), 200).iter().map(bits).collect::<Vec<_>>()
+        );
+        let default = run(&mut model(&ErrorParams::adis16407(), 3), 200);
+        assert_ne!(per_sample.iter().map(bits).collect::<Vec<_>>(), default.iter().map(bits).collect::<Vec<_>>());
     }
 
     #[test]

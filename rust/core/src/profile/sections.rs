@@ -402,11 +402,18 @@ pub struct Errors {
     pub preset: String,
     /// Seed of the random realisation.
     pub seed: u64,
+    /// R of the bias-instability bank: each Gauss–Markov term is redrawn every m samples, m·Δt ≤ τ/R
+    /// (`device::error_model` module docs: multi-rate bank).
+    pub gauss_markov_update_ratio: f64,
 }
 
 impl Default for Errors {
     fn default() -> Self {
-        Errors { preset: "ideal".into(), seed: 1 }
+        Errors {
+            preset: "ideal".into(),
+            seed: 1,
+            gauss_markov_update_ratio: crate::device::error_model::DEFAULT_GAUSS_MARKOV_UPDATE_RATIO,
+        }
     }
 }
 
@@ -415,7 +422,7 @@ impl Errors {
         if !crate::device::error_model::PRESET_NAMES.contains(&self.preset.as_str()) {
             return Err(bad("errors.preset", &self.preset, "one of `ideal`, `adis16407`, `adis16407-nulled`"));
         }
-        Ok(())
+        crate::device::error_model::check_update_ratio(self.gauss_markov_update_ratio)
     }
 }
 
