@@ -359,3 +359,24 @@ def test_a_bug_is_one_line_with_exit_3_and_a_traceback_only_with_debug(capsys, m
     )
     code, _, err = _cli(capsys, "--debug", "board")
     assert code == 3 and "Traceback" in err and 'raise RuntimeError("a bug")' in err
+
+
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
+def test_an_interrupt_dropped_inside_a_finaliser_is_raised_at_the_next_check() -> None:
+    """Python drops an exception raised in a finaliser ("Exception ignored in ..."): a signal landing
+    there must still stop the command at the next chunk (seen as an interrupted run that finished)."""
+    from sins_fw.cli import stop
+
+    class Finalised:
+        def __del__(self) -> None:
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(10_000):  # the handler runs here, inside the finaliser
+                pass
+
+    previous = stop.install()
+    try:
+        Finalised()  # dropped at once: the KeyboardInterrupt is raised and swallowed in __del__
+        with pytest.raises(KeyboardInterrupt):
+            stop.check_stop()
+    finally:
+        stop.restore(previous)

@@ -30,6 +30,7 @@ from sins_fw.cli import (
     replay,
     report,
     run,
+    stop,
     synth,
 )
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated
@@ -63,10 +64,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _on_sigterm(signum: int, frame: object) -> None:
-    raise Terminated()
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of `sins-fw`; returns the exit code."""
     parser = build_parser()
@@ -76,9 +73,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     # SIGTERM unwinds like Ctrl-C (temporary files removed, progress reported) instead of killing
     # the process where it stands. Only the main thread may install handlers (not when embedded).
-    previous = None
-    if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    # SIGTERM unwinds like Ctrl-C (temporary files removed, progress reported) instead of killing
+    # the process where it stands. Only the main thread may install handlers (not when embedded).
+    previous = stop.install() if threading.current_thread() is threading.main_thread() else {}
     try:
         return int(args.func(args))
     except CheckFailed as e:
@@ -118,8 +115,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _fail(args, InternalError(str(e)), EXIT_BUG)
         raise
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        stop.restore(previous)
 
 
 def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseException | None = None) -> int:

@@ -15,6 +15,7 @@ import h5py
 import numpy as np
 
 from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.cli.stop import check_stop
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import emulate
 from sins_fw.report import ALIGNMENTS, render, summarise
@@ -195,9 +196,11 @@ def run(args: argparse.Namespace) -> int:
             reached(t)
             if bar is not None:
                 bar(t)
+            check_stop()
 
         try:
             result = emulate(trace, profile, on_chunk=on_chunk, until_s=args.until_s)
+            check_stop()
         except KeyboardInterrupt as e:
             how_far = reached.text(_first_time(args.trace) if reached.t is not None else None)
             raise type(e)(f"stopped {how_far}{_out_state(args.out, out_existed)}") from None
