@@ -323,7 +323,20 @@ impl Adis16407 {
 
     /// Take every internal sample due at or before `t` (each updates the output registers).
     /// Moving backwards is a no-op.
+    #[inline]
     pub fn advance_to(&mut self, t: Ps) {
+        // Every SPI frame moves the device on, but a sample is due only every ~40 frames: the common
+        // case is this comparison, kept out of the sampling loop's call.
+        if self.schedule.next_t > t && self.faults.next_reset > t {
+            self.now = self.now.max(t);
+            return;
+        }
+        self.take_samples_to(t);
+    }
+
+    /// [`Adis16407::advance_to`] when a sample or an injected reset is due at or before `t`.
+    #[inline(never)]
+    fn take_samples_to(&mut self, t: Ps) {
         while self.schedule.next_t <= t || self.faults.next_reset <= t {
             // An injected reset due before (or at) the next sample happens first.
             if self.faults.next_reset <= self.schedule.next_t {
