@@ -128,6 +128,12 @@ pub fn baud_divisor(spibrr: u16) -> u32 {
     }
 }
 
+/// The character shape SPICCR (SPICHAR, CLKPOLARITY), SPICTL (CLK_PHASE) and SPIBRR select.
+fn shape_of(spiccr: u16, spictl: u16, spibrr: u16) -> CharShape {
+    let scheme = ClockScheme { polarity: spiccr & SPICCR_CLKPOLARITY != 0, phase: spictl & SPICTL_CLK_PHASE != 0 };
+    CharShape { bits: (spiccr & 0xF) as u8 + 1, divisor: baud_divisor(spibrr), scheme }
+}
+
 /// The shape of one character on SPICLK, in LSPCLK cycles from its start.
 ///
 /// Each SPI clock cycle has an *active* phase (SPICLK away from its idle level) of ⌊d/2⌋ cycles and
@@ -278,6 +284,9 @@ pub struct SpiA {
     spiccr: u16,
     spictl: u16,
     spibrr: u16,
+    /// The character shape SPICCR, SPICTL and SPIBRR select, kept up to date by their writes (every
+    /// character needs it; the registers change only at initialisation).
+    shape: CharShape,
     spipri: u16,
     spifftx: u16,
     spiffrx: u16,
@@ -311,6 +320,7 @@ impl SpiA {
             spiccr: 0,
             spictl: 0,
             spibrr: 0,
+            shape: shape_of(0, 0, 0),
             spipri: 0,
             spifftx: 0xA000,
             spiffrx: 0x201F,
@@ -384,12 +394,12 @@ impl SpiA {
 
     /// The clock scheme SPICCR/SPICTL select now.
     pub fn scheme(&self) -> ClockScheme {
-        ClockScheme { polarity: self.spiccr & SPICCR_CLKPOLARITY != 0, phase: self.spictl & SPICTL_CLK_PHASE != 0 }
+        self.shape.scheme
     }
 
     /// The character shape the registers select now.
     pub fn shape(&self) -> CharShape {
-        CharShape { bits: (self.spiccr & 0xF) as u8 + 1, divisor: baud_divisor(self.spibrr), scheme: self.scheme() }
+        self.shape
     }
 
     fn fifo_mode(&self) -> bool {
@@ -508,6 +518,7 @@ impl SpiA {
 
     /// The character `tx` starting at LSPCLK cycle `start_cycle`, counted and loaded into SPIDAT
     /// (what scheduling it does, without storing it: the polled frame keeps it local).
+    #[inline]
     fn next_frame(&mut self, tx: u16, start_cycle: u64) -> Frame {
         let shape = self.shape();
         let frame = Frame {
@@ -571,6 +582,7 @@ impl SpiA {
     }
 
     /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.
+    #[inline]
     fn start_cycle_after(&self, t: Ps) -> u64 {
         self.lspclk.ps_to_cycles_ceil(t) + self.start_latency_lspclk
     }
@@ -706,6 +718,9 @@ impl SpiA {
             SPIFFCT => self.spiffct = value & 0xFF,
             SPIPRI => self.spipri = value & 0x30,
             _ => return Err(no_register(offset)),
+        }
+        if matches!(offset, SPICCR | SPICTL | SPIBRR) {
+            self.shape = shape_of(self.spiccr, self.spictl, self.spibrr);
         }
         self.update_fifo_flags();
         Ok(())
