@@ -79,6 +79,28 @@ struct Wires<S> {
 
 impl<S: SpiSlave> SpiWire for Wires<S> {
     fn begin(&mut self, frame: &Frame) {
+        self.in_flight = Some(self.start(frame));
+    }
+
+    fn finish(&mut self, frame: &Frame) -> u16 {
+        let Some(f) = self.in_flight.take() else {
+            // The peripheral pairs every finish with a begin; an unpaired one reads the floating level.
+            return if self.floating { frame.rx_mask() } else { 0 };
+        };
+        self.end(frame, f)
+    }
+
+    fn transfer(&mut self, frame: &Frame) -> u16 {
+        // Nothing can happen on the wires in between: the frame need not be stored in `in_flight`.
+        let f = self.start(frame);
+        self.end(frame, f)
+    }
+}
+
+impl<S: SpiSlave> Wires<S> {
+    /// The frame starts: what the slave is shown and what it answers.
+    #[inline]
+    fn start(&mut self, frame: &Frame) -> InFlight {
         let timing = match self.level {
             BusLevel::Transaction => {
                 let divisor = frame.shape.divisor;
@@ -102,14 +124,12 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         };
         let selected = self.cs_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
-        self.in_flight = Some(InFlight { timing, dout, selected });
+        InFlight { timing, dout, selected }
     }
 
-    fn finish(&mut self, frame: &Frame) -> u16 {
-        let Some(f) = self.in_flight.take() else {
-            // The peripheral pairs every finish with a begin; an unpaired one reads the floating level.
-            return if self.floating { frame.rx_mask() } else { 0 };
-        };
+    /// The frame `f` ends: what both sides sampled; returns the master's bits.
+    #[inline]
+    fn end(&mut self, frame: &Frame, f: InFlight) -> u16 {
         let lines = Lines { selected: f.selected, simo_before: self.simo, floating: self.floating };
         let ex: Exchange = match self.level {
             BusLevel::Bit => bitlevel::exchange(frame, &self.waveform, f.dout, lines),

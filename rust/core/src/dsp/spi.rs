@@ -233,6 +233,12 @@ pub trait SpiWire {
     /// The character ends: return the bits the master sampled on SPISOMI, right-justified
     /// (`frame.shape.bits` of them).
     fn finish(&mut self, frame: &Frame) -> u16;
+    /// The character starts and ends with nothing else happening on the pins in between (the polled
+    /// path): the same as `begin` then `finish`, which a wire may do without keeping the frame.
+    fn transfer(&mut self, frame: &Frame) -> u16 {
+        self.begin(frame);
+        self.finish(frame)
+    }
 }
 
 /// A fixed-capacity FIFO of 16-bit words (no allocation).
@@ -573,8 +579,7 @@ impl SpiA {
             }
         };
         self.now = t_read;
-        wire.begin(&frame);
-        let rx = wire.finish(&frame) & frame.rx_mask();
+        let rx = wire.transfer(&frame) & frame.rx_mask();
         self.complete(&frame, rx);
         // The SPIRXBUF read.
         self.int_flag = false;
