@@ -347,11 +347,20 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// Under `firmware.overrun = "nest"` the ISR re-enables interrupts (EINT) after its entry: a tick
     /// that has arrived is taken at the next interruptible point (after each burst frame, after the
     /// decode, after the attitude update) and runs to completion there, at depth one (the nested ISR
-    /// does not re-enable them: one level). Nothing happens under the other policies.
+    /// does not re-enable them: one level). Nothing happens under the other policies. Inline: it runs
+    /// after every burst frame and usually only tests the policy.
+    #[inline]
     fn maybe_nest(&mut self, c: &mut u64, k: u64) -> Result<()> {
         if self.profile.firmware.overrun != OverrunPolicy::Nest || self.depth > 0 {
             return Ok(());
         }
+        self.nest_if_due(c, k)
+    }
+
+    /// The nested ISR of [`Emulator::maybe_nest`], if a tick has arrived (out of line, so the policy
+    /// test inlines into the per-frame loop).
+    #[inline(never)]
+    fn nest_if_due(&mut self, c: &mut u64, k: u64) -> Result<()> {
         // One nested ISR per interruptible point. On the chip a tick that arrives during a nested ISR
         // is taken right after its IRET, so an ISR longer than the period starves the outer one for
         // ever; here the outer one runs on to its next interruptible point first (documented), so
