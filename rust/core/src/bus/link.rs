@@ -6,7 +6,7 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
-use crate::dsp::spi::{CharShape, Frame, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{CharShape, FlagTime, Frame, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -241,13 +241,13 @@ impl<S: SpiSlave> SpiLink<S> {
         &mut self,
         tx: u16,
         t_write: Ps,
-        read_at: impl FnOnce(Option<Ps>) -> Result<Ps>,
+        read_at: impl FnOnce(Option<FlagTime>) -> Result<Ps>,
     ) -> Result<u16> {
         if self.polled_fast_path && self.spi.polled_frame_applies(t_write) {
             return self.spi.polled_frame(tx, t_write, read_at, &mut self.wires);
         }
         self.write(SPITXBUF, tx, t_write)?;
-        let t_read = read_at(self.int_flag_time())?;
+        let t_read = read_at(self.int_flag_time().map(FlagTime::at))?;
         self.read(SPIRXBUF, t_read)
     }
 

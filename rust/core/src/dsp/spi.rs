@@ -226,6 +226,24 @@ impl Frame {
     }
 }
 
+/// When a status flag sets, as SPI-A knows it: the time, and the LSPCLK cycle when the flag sets on
+/// a known cycle boundary (a character's end). With the cycle, a poller on a clock of whole multiples
+/// of LSPCLK (SYSCLKOUT) finds its own cycle by a multiplication instead of a division.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FlagTime {
+    /// When the flag sets.
+    pub ps: Ps,
+    /// The LSPCLK cycle at which it sets, when known (`ps` is its floored time).
+    pub lspclk_cycle: Option<u64>,
+}
+
+impl FlagTime {
+    /// A flag time known in picoseconds only.
+    pub fn at(ps: Ps) -> FlagTime {
+        FlagTime { ps, lspclk_cycle: None }
+    }
+}
+
 /// What the SPI pins are connected to: told about each character's start and end, in time order.
 pub trait SpiWire {
     /// The character starts (called once the peripheral has advanced to `frame.start_ps`).
@@ -564,14 +582,16 @@ impl SpiA {
         &mut self,
         tx: u16,
         t_write: Ps,
-        read_at: impl FnOnce(Option<Ps>) -> Result<Ps>,
+        read_at: impl FnOnce(Option<FlagTime>) -> Result<Ps>,
         wire: &mut W,
     ) -> Result<u16> {
         debug_assert!(self.polled_frame_applies(t_write));
         self.now = t_write;
         self.txbuf = tx;
-        let frame = self.next_frame(tx, self.start_cycle_after(t_write));
-        let t_read = match read_at(Some(frame.end_ps)) {
+        let start_cycle = self.start_cycle_after(t_write);
+        let frame = self.next_frame(tx, start_cycle);
+        let end_cycle = start_cycle + frame.shape.length_cycles();
+        let t_read = match read_at(Some(FlagTime { ps: frame.end_ps, lspclk_cycle: Some(end_cycle) })) {
             Ok(t) if t >= frame.end_ps => t,
             other => {
                 self.active = Some(Active { frame, begun: false });

@@ -30,7 +30,7 @@ use glitch::Glitches;
 
 use crate::device::{Adis16407, Physical};
 use crate::dsp::clocks::DspClocks;
-use crate::dsp::spi::{SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{FlagTime, SPIRXBUF, SPITXBUF};
 use crate::dsp::timer::CpuTimer;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -62,8 +62,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     glitches: Glitches,
     stages: StageCosts,
     io: crate::timing::costs::IoCosts,
-    /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
-    poll_cycles: Divisor,
+    /// The firmware's status-polling loops.
+    poller: Poller,
     bursts_per_tick: usize,
     /// Next timer tick to service.
     tick: u64,
@@ -171,7 +171,11 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             glitches: Glitches::from_profile(&profile.faults),
             stages,
             io: costs.io.clone(),
-            poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
+            poller: Poller {
+                sysclk: clocks.sysclkout,
+                poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
+                sysclk_per_lspclk: clocks.sysclkout.cycles_per_cycle_of(clocks.lspclk),
+            },
             bursts_per_tick,
             tick: 1,
             cpu_free: 0,
@@ -505,10 +509,12 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
         // Copied once per burst, not per frame (the clock is 48 bytes).
         let (poll, read_cost) = (self.poller(), u64::from(self.io.peripheral_read));
+        // The latest CPU cycle whose time is known (CS↓, then each fast-path read): see `until_seen`.
+        let mut seen = (*c, t_cs);
         for i in 0..BURST_FRAMES {
             // if (Spi_TxReady() == 1) SPITXBUF = sdata;  — wait for BUFFULL_FLAG = 0
             let ready = self.link.buffull_clear_time();
-            *c = poll.until(*c, ready, "BUFFULL_FLAG = 0")?;
+            *c = poll.until_seen(*c, ready, seen, "BUFFULL_FLAG = 0")?;
             *c += u64::from(self.io.peripheral_write);
             let word = if i == 0 { cmd } else { BURST_FILL };
             if let Some(g) = glitch.as_mut() {
@@ -525,8 +531,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 // The same write, INT_FLAG poll and read, in one call to the link.
                 let mut read_cycle = *c;
                 b.words[i] = self.link.write_poll_read(word, self.ps(*c), |done| {
-                    read_cycle = poll.until(read_cycle, done, "INT_FLAG = 1")? + read_cost;
-                    Ok(poll.sysclk.cycles_to_ps(read_cycle))
+                    read_cycle = poll.until_flag(read_cycle, done, "INT_FLAG = 1")? + read_cost;
+                    seen = (read_cycle, poll.sysclk.cycles_to_ps(read_cycle));
+                    Ok(seen.1)
                 })?;
                 *c = read_cycle;
             }
@@ -594,7 +601,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
 
     /// The firmware's status-polling loops (see [`Poller::until`]).
     fn poller(&self) -> Poller {
-        Poller { sysclk: self.sysclk, poll_cycles: self.poll_cycles }
+        self.poller
     }
 
     /// See [`Poller::until`].
@@ -653,6 +660,9 @@ struct Poller {
     sysclk: Clock,
     /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
     poll_cycles: Divisor,
+    /// SYSCLKOUT cycles per LSPCLK cycle, when whole (always on this board: LSPCLK is SYSCLKOUT
+    /// divided by 2·LOSPCP, or SYSCLKOUT): see [`Clock::cycles_per_cycle_of`].
+    sysclk_per_lspclk: Option<u64>,
 }
 
 impl Poller {
@@ -661,11 +671,41 @@ impl Poller {
     /// end of the first iteration whose read sees the flag (set at `flag_ps`).
     #[inline]
     fn until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
-        let p = self.poll_cycles.get();
         let Some(flag_ps) = flag_ps else {
             return Err(self.hang(c, what, false));
         };
-        let flag_cycle = self.sysclk.ps_to_cycles_ceil(flag_ps);
+        self.until_cycle(c, self.sysclk.ps_to_cycles_ceil(flag_ps), what)
+    }
+
+    /// [`Poller::until`] when cycle `seen.0` ≤ `c` is known to start at `seen.1` ps: a flag set by then
+    /// (BUFFULL, clear since the previous read) ends the loop after one iteration without a
+    /// conversion, exactly as `until` finds (⌈f/P⌉ ≤ seen.0 when f ≤ ⌊seen.0·P⌋, f whole).
+    #[inline]
+    fn until_seen(&self, c: u64, flag_ps: Option<Ps>, seen: (u64, Ps), what: &str) -> Result<u64> {
+        match flag_ps {
+            Some(f) if f <= seen.1 && seen.0 <= c => Ok(c + self.poll_cycles.get()),
+            _ => self.until(c, flag_ps, what),
+        }
+    }
+
+    /// [`Poller::until`] for a flag SPI-A sets on an LSPCLK cycle it names (a character's end): its
+    /// SYSCLKOUT cycle is then a product, not a conversion from picoseconds.
+    #[inline]
+    fn until_flag(&self, c: u64, flag: Option<FlagTime>, what: &str) -> Result<u64> {
+        let Some(flag) = flag else {
+            return Err(self.hang(c, what, false));
+        };
+        let flag_cycle = match (flag.lspclk_cycle, self.sysclk_per_lspclk) {
+            (Some(n), Some(k)) => n * k,
+            _ => self.sysclk.ps_to_cycles_ceil(flag.ps),
+        };
+        self.until_cycle(c, flag_cycle, what)
+    }
+
+    /// A polling loop from cycle `c` for a flag that sets at SYSCLKOUT cycle boundary `flag_cycle`.
+    #[inline]
+    fn until_cycle(&self, c: u64, flag_cycle: u64, what: &str) -> Result<u64> {
+        let p = self.poll_cycles.get();
         let iterations = if flag_cycle <= c { 0 } else { self.poll_cycles.div_ceil(flag_cycle - c) };
         if iterations * p > POLL_WATCHDOG_CYCLES {
             return Err(self.hang(c, what, true));
