@@ -140,7 +140,7 @@ impl Clock {
         // k = (num/den) / (slower.num/slower.den).
         let n = self.num as u128 * slower.den as u128;
         let d = self.den as u128 * slower.num as u128;
-        let whole = n % d == 0;
+        let whole = n.is_multiple_of(d);
         (this_period_at_least_1_ps && whole).then(|| u64::try_from(n / d).ok()).flatten()
     }
 
