@@ -123,11 +123,20 @@ impl Clock {
     }
 
     /// Time of `cycles` whole cycles, floored to the picosecond.
+    #[inline]
     pub fn cycles_to_ps(self, cycles: u64) -> Ps {
         match cycles.checked_mul(self.ps_num.get()) {
             Some(p) if self.ps_num.get() != u64::MAX => self.ps_den.quotient(p),
-            _ => ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps,
+            _ => self.cycles_to_ps_wide(cycles),
         }
+    }
+
+    /// [`Clock::cycles_to_ps`] in 128-bit arithmetic, when the 64-bit product overflows (rare: out
+    /// of line, so the common case inlines small).
+    #[cold]
+    #[inline(never)]
+    fn cycles_to_ps_wide(self, cycles: u64) -> Ps {
+        ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps
     }
 
     /// How many of this clock's cycles one cycle of `slower` lasts, when that is a whole number `k`
@@ -153,10 +162,18 @@ impl Clock {
     }
 
     /// The first cycle boundary at or after `t`, as a cycle count (ceil).
+    #[inline]
     pub fn ps_to_cycles_ceil(self, t: Ps) -> u64 {
-        if let Some(n) = t.checked_mul(self.ps_den.get()).filter(|_| self.ps_num.get() != u64::MAX) {
-            return self.ps_num.div_ceil(n);
+        match t.checked_mul(self.ps_den.get()) {
+            Some(n) if self.ps_num.get() != u64::MAX => self.ps_num.div_ceil(n),
+            _ => self.ps_to_cycles_ceil_wide(t),
         }
+    }
+
+    /// [`Clock::ps_to_cycles_ceil`] in 128-bit arithmetic (see [`Clock::cycles_to_ps_wide`]).
+    #[cold]
+    #[inline(never)]
+    fn ps_to_cycles_ceil_wide(self, t: Ps) -> u64 {
         let n = t as u128 * self.num as u128;
         let d = PS_PER_S as u128 * self.den as u128;
         n.div_ceil(d) as u64

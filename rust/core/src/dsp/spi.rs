@@ -488,6 +488,7 @@ impl SpiA {
     }
 
     /// A character ended: load the receiver.
+    #[inline]
     fn complete(&mut self, frame: &Frame, rx: u16) {
         let bits = frame.shape.bits as u32;
         let shifted = if bits >= 16 { 0 } else { frame.tx << bits };
