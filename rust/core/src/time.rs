@@ -154,11 +154,19 @@ impl Clock {
     }
 
     /// Whole cycles completed by time `t` (floor).
+    #[inline]
     pub fn ps_to_cycles(self, t: Ps) -> u64 {
         match t.checked_mul(self.ps_den.get()) {
             Some(n) if self.ps_num.get() != u64::MAX => self.ps_num.quotient(n),
-            _ => ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64,
+            _ => self.ps_to_cycles_wide(t),
         }
+    }
+
+    /// [`Clock::ps_to_cycles`] in 128-bit arithmetic (see [`Clock::cycles_to_ps_wide`]).
+    #[cold]
+    #[inline(never)]
+    fn ps_to_cycles_wide(self, t: Ps) -> u64 {
+        ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64
     }
 
     /// The first cycle boundary at or after `t`, as a cycle count (ceil).
