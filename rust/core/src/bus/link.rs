@@ -98,8 +98,9 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
 }
 
 impl<S: SpiSlave> Wires<S> {
-    /// The frame starts: what the slave is shown and what it answers.
-    #[inline]
+    /// The frame starts: what the slave is shown and what it answers. `start` and `end` are forced
+    /// inline: each runs once per frame and the compiler kept them out of line (measured).
+    #[inline(always)]
     fn start(&mut self, frame: &Frame) -> InFlight {
         let timing = match self.level {
             BusLevel::Transaction => {
@@ -128,7 +129,7 @@ impl<S: SpiSlave> Wires<S> {
     }
 
     /// The frame `f` ends: what both sides sampled; returns the master's bits.
-    #[inline]
+    #[inline(always)]
     fn end(&mut self, frame: &Frame, f: InFlight) -> u16 {
         let lines = Lines { selected: f.selected, simo_before: self.simo, floating: self.floating };
         let ex: Exchange = match self.level {

@@ -665,6 +665,8 @@ struct Poller {
     sysclk_per_lspclk: Option<u64>,
 }
 
+// The per-frame helpers below are `inline(always)`: they are a few instructions each, and left to
+// its heuristics the compiler kept them out of line (a call per poll, measured with callgrind).
 impl Poller {
     /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
     /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
@@ -680,7 +682,7 @@ impl Poller {
     /// [`Poller::until`] when cycle `seen.0` ≤ `c` is known to start at `seen.1` ps: a flag set by then
     /// (BUFFULL, clear since the previous read) ends the loop after one iteration without a
     /// conversion, exactly as `until` finds (⌈f/P⌉ ≤ seen.0 when f ≤ ⌊seen.0·P⌋, f whole).
-    #[inline]
+    #[inline(always)]
     fn until_seen(&self, c: u64, flag_ps: Option<Ps>, seen: (u64, Ps), what: &str) -> Result<u64> {
         match flag_ps {
             Some(f) if f <= seen.1 && seen.0 <= c => Ok(c + self.poll_cycles.get()),
@@ -690,7 +692,7 @@ impl Poller {
 
     /// [`Poller::until`] for a flag SPI-A sets on an LSPCLK cycle it names (a character's end): its
     /// SYSCLKOUT cycle is then a product, not a conversion from picoseconds.
-    #[inline]
+    #[inline(always)]
     fn until_flag(&self, c: u64, flag: Option<FlagTime>, what: &str) -> Result<u64> {
         let Some(flag) = flag else {
             return Err(self.hang(c, what, false));
@@ -703,7 +705,7 @@ impl Poller {
     }
 
     /// A polling loop from cycle `c` for a flag that sets at SYSCLKOUT cycle boundary `flag_cycle`.
-    #[inline]
+    #[inline(always)]
     fn until_cycle(&self, c: u64, flag_cycle: u64, what: &str) -> Result<u64> {
         let p = self.poll_cycles.get();
         let iterations = if flag_cycle <= c { 0 } else { self.poll_cycles.div_ceil(flag_cycle - c) };
