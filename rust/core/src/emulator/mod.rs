@@ -743,6 +743,47 @@ struct Burst {
 }
 
 #[cfg(test)]
+mod poller_tests {
+    use super::*;
+
+    /// The shortcuts of the poller (a flag already seen, a flag on a named LSPCLK cycle) give the
+    /// cycle the plain conversion from picoseconds gives, for every LOSPCP and poll length.
+    #[test]
+    fn shortcuts_equal_the_conversion_from_picoseconds() {
+        let sysclk = Clock::from_hz(150_000_000);
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        for lospcp in 0..8u64 {
+            // LSPCLK = SYSCLKOUT / (2·LOSPCP), or SYSCLKOUT for LOSPCP = 0.
+            let k = if lospcp == 0 { 1 } else { 2 * lospcp };
+            let lspclk = sysclk.divided(k);
+            for poll in [1, 7, 12] {
+                let poller = Poller {
+                    sysclk,
+                    poll_cycles: Divisor::new(poll),
+                    sysclk_per_lspclk: sysclk.cycles_per_cycle_of(lspclk),
+                };
+                assert_eq!(poller.sysclk_per_lspclk, Some(k));
+                for _ in 0..2_000 {
+                    x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                    let c = (x >> 24) % 10_000_000_000;
+                    // A flag from a few LSPCLK cycles before `c` to a few thousand after.
+                    let end_cycle = (c / k + (x >> 8) % 4_000).saturating_sub(3);
+                    let end_ps = lspclk.cycles_to_ps(end_cycle);
+                    let flag = FlagTime { ps: end_ps, lspclk_cycle: Some(end_cycle) };
+                    let plain = poller.until(c, Some(end_ps), "flag").unwrap();
+                    assert_eq!(poller.until_flag(c, Some(flag), "flag").unwrap(), plain, "LOSPCP {lospcp}");
+                    let seen = (c - (x & 0xFF).min(c), 0);
+                    let seen = (seen.0, sysclk.cycles_to_ps(seen.0));
+                    for f in [seen.1.saturating_sub(1), seen.1, seen.1 + 1, end_ps] {
+                        let plain = poller.until(c, Some(f), "flag").unwrap();
+                        assert_eq!(poller.until_seen(c, Some(f), seen, "flag").unwrap(), plain, "{f} {seen:?}");
+                    }
+                }
+            }
+        }
+    }
+}
+#[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_faults;
