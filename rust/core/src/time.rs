@@ -123,26 +123,65 @@ impl Clock {
     }
 
     /// Time of `cycles` whole cycles, floored to the picosecond.
+    #[inline]
     pub fn cycles_to_ps(self, cycles: u64) -> Ps {
         match cycles.checked_mul(self.ps_num.get()) {
             Some(p) if self.ps_num.get() != u64::MAX => self.ps_den.quotient(p),
-            _ => ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps,
+            _ => self.cycles_to_ps_wide(cycles),
         }
+    }
+
+    /// [`Clock::cycles_to_ps`] in 128-bit arithmetic, when the 64-bit product overflows (rare: out
+    /// of line, so the common case inlines small).
+    #[cold]
+    #[inline(never)]
+    fn cycles_to_ps_wide(self, cycles: u64) -> Ps {
+        ((cycles as u128 * PS_PER_S as u128 * self.den as u128) / self.num as u128) as Ps
+    }
+
+    /// How many of this clock's cycles one cycle of `slower` lasts, when that is a whole number `k`
+    /// and this clock's period is at least 1 ps. Then the first cycle boundary of this clock at or
+    /// after the time of `slower`'s cycle `n` is exactly cycle `k·n`: that time is floored to the
+    /// picosecond, which loses less than 1 ps, less than one period (⌈⌊n·k·P⌋/P⌉ = n·k for P ≥ 1 ps),
+    /// so converting through picoseconds can be skipped.
+    pub fn cycles_per_cycle_of(self, slower: Clock) -> Option<u64> {
+        let this_period_at_least_1_ps = self.num as u128 <= PS_PER_S as u128 * self.den as u128;
+        // k = (num/den) / (slower.num/slower.den).
+        let n = self.num as u128 * slower.den as u128;
+        let d = self.den as u128 * slower.num as u128;
+        let whole = n.is_multiple_of(d);
+        (this_period_at_least_1_ps && whole).then(|| u64::try_from(n / d).ok()).flatten()
     }
 
     /// Whole cycles completed by time `t` (floor).
+    #[inline]
     pub fn ps_to_cycles(self, t: Ps) -> u64 {
         match t.checked_mul(self.ps_den.get()) {
             Some(n) if self.ps_num.get() != u64::MAX => self.ps_num.quotient(n),
-            _ => ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64,
+            _ => self.ps_to_cycles_wide(t),
         }
     }
 
+    /// [`Clock::ps_to_cycles`] in 128-bit arithmetic (see [`Clock::cycles_to_ps_wide`]).
+    #[cold]
+    #[inline(never)]
+    fn ps_to_cycles_wide(self, t: Ps) -> u64 {
+        ((t as u128 * self.num as u128) / (PS_PER_S as u128 * self.den as u128)) as u64
+    }
+
     /// The first cycle boundary at or after `t`, as a cycle count (ceil).
+    #[inline]
     pub fn ps_to_cycles_ceil(self, t: Ps) -> u64 {
-        if let Some(n) = t.checked_mul(self.ps_den.get()).filter(|_| self.ps_num.get() != u64::MAX) {
-            return self.ps_num.div_ceil(n);
+        match t.checked_mul(self.ps_den.get()) {
+            Some(n) if self.ps_num.get() != u64::MAX => self.ps_num.div_ceil(n),
+            _ => self.ps_to_cycles_ceil_wide(t),
         }
+    }
+
+    /// [`Clock::ps_to_cycles_ceil`] in 128-bit arithmetic (see [`Clock::cycles_to_ps_wide`]).
+    #[cold]
+    #[inline(never)]
+    fn ps_to_cycles_ceil_wide(self, t: Ps) -> u64 {
         let n = t as u128 * self.num as u128;
         let d = PS_PER_S as u128 * self.den as u128;
         n.div_ceil(d) as u64
@@ -233,6 +272,22 @@ mod tests {
                 assert_eq!(div.div_ceil(x), x.div_ceil(d), "{x} / {d}");
             }
         }
+    }
+
+    #[test]
+    fn a_whole_ratio_converts_cycle_boundaries_without_picoseconds() {
+        let sys = Clock::new(150_000_000, 1);
+        // LSPCLK = SYSCLKOUT / (2·LOSPCP) for every LOSPCP, and the reference's 37.5 MHz.
+        for div in [1, 2, 4, 6, 14] {
+            let lsp = sys.divided(div);
+            assert_eq!(sys.cycles_per_cycle_of(lsp), Some(div));
+            for n in [0, 1, 2, 3, 7, 12_345, 987_654_321, 1 << 40] {
+                assert_eq!(sys.ps_to_cycles_ceil(lsp.cycles_to_ps(n)), div * n, "÷{div} n = {n}");
+            }
+        }
+        assert_eq!(Clock::new(8192, 10).cycles_per_cycle_of(Clock::from_hz(1)), None, "819.2 is not whole");
+        assert_eq!(sys.cycles_per_cycle_of(sys.multiplied(2)), None, "a faster clock");
+        assert_eq!(Clock::from_hz(2 * PS_PER_S).cycles_per_cycle_of(Clock::from_hz(1)), None, "period below 1 ps");
     }
 
     #[test]

@@ -6,7 +6,7 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
-use crate::dsp::spi::{CharShape, Frame, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{CharShape, FlagTime, Frame, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -79,6 +79,29 @@ struct Wires<S> {
 
 impl<S: SpiSlave> SpiWire for Wires<S> {
     fn begin(&mut self, frame: &Frame) {
+        self.in_flight = Some(self.start(frame));
+    }
+
+    fn finish(&mut self, frame: &Frame) -> u16 {
+        let Some(f) = self.in_flight.take() else {
+            // The peripheral pairs every finish with a begin; an unpaired one reads the floating level.
+            return if self.floating { frame.rx_mask() } else { 0 };
+        };
+        self.end(frame, f)
+    }
+
+    fn transfer(&mut self, frame: &Frame) -> u16 {
+        // Nothing can happen on the wires in between: the frame need not be stored in `in_flight`.
+        let f = self.start(frame);
+        self.end(frame, f)
+    }
+}
+
+impl<S: SpiSlave> Wires<S> {
+    /// The frame starts: what the slave is shown and what it answers. `start` and `end` are forced
+    /// inline: each runs once per frame and the compiler kept them out of line (measured).
+    #[inline(always)]
+    fn start(&mut self, frame: &Frame) -> InFlight {
         let timing = match self.level {
             BusLevel::Transaction => {
                 let divisor = frame.shape.divisor;
@@ -102,14 +125,12 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         };
         let selected = self.cs_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
-        self.in_flight = Some(InFlight { timing, dout, selected });
+        InFlight { timing, dout, selected }
     }
 
-    fn finish(&mut self, frame: &Frame) -> u16 {
-        let Some(f) = self.in_flight.take() else {
-            // The peripheral pairs every finish with a begin; an unpaired one reads the floating level.
-            return if self.floating { frame.rx_mask() } else { 0 };
-        };
+    /// The frame `f` ends: what both sides sampled; returns the master's bits.
+    #[inline(always)]
+    fn end(&mut self, frame: &Frame, f: InFlight) -> u16 {
         let lines = Lines { selected: f.selected, simo_before: self.simo, floating: self.floating };
         let ex: Exchange = match self.level {
             BusLevel::Bit => bitlevel::exchange(frame, &self.waveform, f.dout, lines),
@@ -221,13 +242,13 @@ impl<S: SpiSlave> SpiLink<S> {
         &mut self,
         tx: u16,
         t_write: Ps,
-        read_at: impl FnOnce(Option<Ps>) -> Result<Ps>,
+        read_at: impl FnOnce(Option<FlagTime>) -> Result<Ps>,
     ) -> Result<u16> {
         if self.polled_fast_path && self.spi.polled_frame_applies(t_write) {
             return self.spi.polled_frame(tx, t_write, read_at, &mut self.wires);
         }
         self.write(SPITXBUF, tx, t_write)?;
-        let t_read = read_at(self.int_flag_time())?;
+        let t_read = read_at(self.int_flag_time().map(FlagTime::at))?;
         self.read(SPIRXBUF, t_read)
     }
 

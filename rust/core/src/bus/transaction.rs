@@ -23,6 +23,7 @@ pub fn sclk_period(frame: &Frame, lspclk: &Clock) -> Ps {
 
 /// The frame's timing as the slave sees it (`lspclk`: the clock the frame is timed by). `sclk_period` is [`sclk_period`] of the frame (the link
 /// caches it per baud setting).
+#[inline]
 pub fn frame_timing(frame: &Frame, lspclk: &Clock, sclk_period: Ps) -> FrameTiming {
     let shape = &frame.shape;
     let bits = shape.bits as u32;

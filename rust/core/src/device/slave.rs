@@ -145,10 +145,15 @@ pub(crate) struct SlaveState {
     /// A cs_hold violation under strict corrupts the next DOUT.
     corrupt_next: bool,
     burst: Option<Burst>,
-    current: ReadRecord,
+    /// The records of the frame in progress and of the latest finished frame. Finishing a frame flips
+    /// `current` instead of copying the record (88 bytes, on the per-frame path).
+    records: [ReadRecord; 2],
+    /// Slot of the frame in progress; the other slot holds the latest finished frame.
+    current: usize,
+    /// A frame has finished since power-on (the latest-finished slot is valid).
+    any_finished: bool,
     role: Role,
     frames: u64,
-    last: Option<ReadRecord>,
     log: Option<Vec<ReadRecord>>,
 }
 
@@ -158,6 +163,11 @@ impl SlaveState {
         self.pending_read = None;
         self.corrupt_next = false;
         self.burst = None;
+    }
+
+    /// The latest finished frame.
+    fn last(&self) -> Option<&ReadRecord> {
+        self.any_finished.then(|| &self.records[self.current ^ 1])
     }
 }
 
@@ -181,7 +191,7 @@ fn short(measured: Ps, required_ps: f64) -> bool {
 impl Adis16407 {
     /// The latest frame clocked at this slave.
     pub fn last_frame(&self) -> Option<ReadRecord> {
-        self.spi.last
+        self.spi.last().copied()
     }
 
     /// Frames clocked so far.
@@ -383,13 +393,14 @@ impl Adis16407 {
 
     fn finish_start(&mut self, mut rec: ReadRecord, dout: u16, role: Role) -> u16 {
         rec.dout = dout;
-        self.spi.current = rec;
+        self.spi.records[self.spi.current] = rec;
         self.spi.role = role;
         dout
     }
 
     fn finish_frame(&mut self, din: u16, timing: &FrameTiming) {
-        let mut rec = self.spi.current;
+        let slot = self.spi.current;
+        let rec = &mut self.spi.records[slot];
         rec.din = din;
         let took_part = !rec.violations.contains(Violations::NO_CHIP_SELECT);
         if took_part {
@@ -397,9 +408,10 @@ impl Adis16407 {
             self.spi.framed_since_cs = true;
         }
         self.spi.frames += 1;
-        self.spi.last = Some(rec);
+        self.spi.current = slot ^ 1;
+        self.spi.any_finished = true;
         if let Some(log) = &mut self.spi.log {
-            log.push(rec);
+            log.push(self.spi.records[slot]);
         }
         match self.spi.role {
             Role::Ignore => {}
@@ -438,7 +450,7 @@ impl Adis16407 {
             return;
         }
         self.spi.cs_low = false;
-        if let (true, Some(le), Some(mut last)) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last) {
+        if let (true, Some(le), Some(&(mut last))) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
             let gap = t.saturating_sub(le);
             if short(gap, self.limits.t_sfs_ps) {
                 let msg = format!(
@@ -448,7 +460,7 @@ impl Adis16407 {
                     self.limits.t_sfs_ps / 1e3
                 );
                 self.violation(&mut last, Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
-                self.spi.last = Some(last);
+                self.spi.records[self.spi.current ^ 1] = last;
                 if let Some(entry) = self.spi.log.as_mut().and_then(|l| l.last_mut()) {
                     *entry = last;
                 }

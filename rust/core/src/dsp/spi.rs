@@ -128,6 +128,12 @@ pub fn baud_divisor(spibrr: u16) -> u32 {
     }
 }
 
+/// The character shape SPICCR (SPICHAR, CLKPOLARITY), SPICTL (CLK_PHASE) and SPIBRR select.
+fn shape_of(spiccr: u16, spictl: u16, spibrr: u16) -> CharShape {
+    let scheme = ClockScheme { polarity: spiccr & SPICCR_CLKPOLARITY != 0, phase: spictl & SPICTL_CLK_PHASE != 0 };
+    CharShape { bits: (spiccr & 0xF) as u8 + 1, divisor: baud_divisor(spibrr), scheme }
+}
+
 /// The shape of one character on SPICLK, in LSPCLK cycles from its start.
 ///
 /// Each SPI clock cycle has an *active* phase (SPICLK away from its idle level) of ⌊d/2⌋ cycles and
@@ -220,6 +226,24 @@ impl Frame {
     }
 }
 
+/// When a status flag sets, as SPI-A knows it: the time, and the LSPCLK cycle when the flag sets on
+/// a known cycle boundary (a character's end). With the cycle, a poller on a clock of whole multiples
+/// of LSPCLK (SYSCLKOUT) finds its own cycle by a multiplication instead of a division.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FlagTime {
+    /// When the flag sets.
+    pub ps: Ps,
+    /// The LSPCLK cycle at which it sets, when known (`ps` is its floored time).
+    pub lspclk_cycle: Option<u64>,
+}
+
+impl FlagTime {
+    /// A flag time known in picoseconds only.
+    pub fn at(ps: Ps) -> FlagTime {
+        FlagTime { ps, lspclk_cycle: None }
+    }
+}
+
 /// What the SPI pins are connected to: told about each character's start and end, in time order.
 pub trait SpiWire {
     /// The character starts (called once the peripheral has advanced to `frame.start_ps`).
@@ -227,6 +251,12 @@ pub trait SpiWire {
     /// The character ends: return the bits the master sampled on SPISOMI, right-justified
     /// (`frame.shape.bits` of them).
     fn finish(&mut self, frame: &Frame) -> u16;
+    /// The character starts and ends with nothing else happening on the pins in between (the polled
+    /// path): the same as `begin` then `finish`, which a wire may do without keeping the frame.
+    fn transfer(&mut self, frame: &Frame) -> u16 {
+        self.begin(frame);
+        self.finish(frame)
+    }
 }
 
 /// A fixed-capacity FIFO of 16-bit words (no allocation).
@@ -278,6 +308,9 @@ pub struct SpiA {
     spiccr: u16,
     spictl: u16,
     spibrr: u16,
+    /// The character shape SPICCR, SPICTL and SPIBRR select, kept up to date by their writes (every
+    /// character needs it; the registers change only at initialisation).
+    shape: CharShape,
     spipri: u16,
     spifftx: u16,
     spiffrx: u16,
@@ -311,6 +344,7 @@ impl SpiA {
             spiccr: 0,
             spictl: 0,
             spibrr: 0,
+            shape: shape_of(0, 0, 0),
             spipri: 0,
             spifftx: 0xA000,
             spiffrx: 0x201F,
@@ -384,12 +418,12 @@ impl SpiA {
 
     /// The clock scheme SPICCR/SPICTL select now.
     pub fn scheme(&self) -> ClockScheme {
-        ClockScheme { polarity: self.spiccr & SPICCR_CLKPOLARITY != 0, phase: self.spictl & SPICTL_CLK_PHASE != 0 }
+        self.shape.scheme
     }
 
     /// The character shape the registers select now.
     pub fn shape(&self) -> CharShape {
-        CharShape { bits: (self.spiccr & 0xF) as u8 + 1, divisor: baud_divisor(self.spibrr), scheme: self.scheme() }
+        self.shape
     }
 
     fn fifo_mode(&self) -> bool {
@@ -454,6 +488,7 @@ impl SpiA {
     }
 
     /// A character ended: load the receiver.
+    #[inline]
     fn complete(&mut self, frame: &Frame, rx: u16) {
         let bits = frame.shape.bits as u32;
         let shifted = if bits >= 16 { 0 } else { frame.tx << bits };
@@ -508,6 +543,7 @@ impl SpiA {
 
     /// The character `tx` starting at LSPCLK cycle `start_cycle`, counted and loaded into SPIDAT
     /// (what scheduling it does, without storing it: the polled frame keeps it local).
+    #[inline]
     fn next_frame(&mut self, tx: u16, start_cycle: u64) -> Frame {
         let shape = self.shape();
         let frame = Frame {
@@ -547,14 +583,16 @@ impl SpiA {
         &mut self,
         tx: u16,
         t_write: Ps,
-        read_at: impl FnOnce(Option<Ps>) -> Result<Ps>,
+        read_at: impl FnOnce(Option<FlagTime>) -> Result<Ps>,
         wire: &mut W,
     ) -> Result<u16> {
         debug_assert!(self.polled_frame_applies(t_write));
         self.now = t_write;
         self.txbuf = tx;
-        let frame = self.next_frame(tx, self.start_cycle_after(t_write));
-        let t_read = match read_at(Some(frame.end_ps)) {
+        let start_cycle = self.start_cycle_after(t_write);
+        let frame = self.next_frame(tx, start_cycle);
+        let end_cycle = start_cycle + frame.shape.length_cycles();
+        let t_read = match read_at(Some(FlagTime { ps: frame.end_ps, lspclk_cycle: Some(end_cycle) })) {
             Ok(t) if t >= frame.end_ps => t,
             other => {
                 self.active = Some(Active { frame, begun: false });
@@ -562,8 +600,7 @@ impl SpiA {
             }
         };
         self.now = t_read;
-        wire.begin(&frame);
-        let rx = wire.finish(&frame) & frame.rx_mask();
+        let rx = wire.transfer(&frame) & frame.rx_mask();
         self.complete(&frame, rx);
         // The SPIRXBUF read.
         self.int_flag = false;
@@ -571,6 +608,7 @@ impl SpiA {
     }
 
     /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.
+    #[inline]
     fn start_cycle_after(&self, t: Ps) -> u64 {
         self.lspclk.ps_to_cycles_ceil(t) + self.start_latency_lspclk
     }
@@ -706,6 +744,9 @@ impl SpiA {
             SPIFFCT => self.spiffct = value & 0xFF,
             SPIPRI => self.spipri = value & 0x30,
             _ => return Err(no_register(offset)),
+        }
+        if matches!(offset, SPICCR | SPICTL | SPIBRR) {
+            self.shape = shape_of(self.spiccr, self.spictl, self.spibrr);
         }
         self.update_fifo_flags();
         Ok(())

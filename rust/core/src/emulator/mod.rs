@@ -30,7 +30,7 @@ use glitch::Glitches;
 
 use crate::device::{Adis16407, Physical};
 use crate::dsp::clocks::DspClocks;
-use crate::dsp::spi::{SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{FlagTime, SPIRXBUF, SPITXBUF};
 use crate::dsp::timer::CpuTimer;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -62,8 +62,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     glitches: Glitches,
     stages: StageCosts,
     io: crate::timing::costs::IoCosts,
-    /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
-    poll_cycles: Divisor,
+    /// The firmware's status-polling loops.
+    poller: Poller,
     bursts_per_tick: usize,
     /// Next timer tick to service.
     tick: u64,
@@ -171,7 +171,11 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             glitches: Glitches::from_profile(&profile.faults),
             stages,
             io: costs.io.clone(),
-            poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
+            poller: Poller {
+                sysclk: clocks.sysclkout,
+                poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
+                sysclk_per_lspclk: clocks.sysclkout.cycles_per_cycle_of(clocks.lspclk),
+            },
             bursts_per_tick,
             tick: 1,
             cpu_free: 0,
@@ -347,11 +351,20 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// Under `firmware.overrun = "nest"` the ISR re-enables interrupts (EINT) after its entry: a tick
     /// that has arrived is taken at the next interruptible point (after each burst frame, after the
     /// decode, after the attitude update) and runs to completion there, at depth one (the nested ISR
-    /// does not re-enable them: one level). Nothing happens under the other policies.
+    /// does not re-enable them: one level). Nothing happens under the other policies. Inline: it runs
+    /// after every burst frame and usually only tests the policy.
+    #[inline]
     fn maybe_nest(&mut self, c: &mut u64, k: u64) -> Result<()> {
         if self.profile.firmware.overrun != OverrunPolicy::Nest || self.depth > 0 {
             return Ok(());
         }
+        self.nest_if_due(c, k)
+    }
+
+    /// The nested ISR of [`Emulator::maybe_nest`], if a tick has arrived (out of line, so the policy
+    /// test inlines into the per-frame loop).
+    #[inline(never)]
+    fn nest_if_due(&mut self, c: &mut u64, k: u64) -> Result<()> {
         // One nested ISR per interruptible point. On the chip a tick that arrives during a nested ISR
         // is taken right after its IRET, so an ISR longer than the period starves the outer one for
         // ever; here the outer one runs on to its next interruptible point first (documented), so
@@ -496,10 +509,12 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
         // Copied once per burst, not per frame (the clock is 48 bytes).
         let (poll, read_cost) = (self.poller(), u64::from(self.io.peripheral_read));
+        // The latest CPU cycle whose time is known (CS↓, then each fast-path read): see `until_seen`.
+        let mut seen = (*c, t_cs);
         for i in 0..BURST_FRAMES {
             // if (Spi_TxReady() == 1) SPITXBUF = sdata;  — wait for BUFFULL_FLAG = 0
             let ready = self.link.buffull_clear_time();
-            *c = poll.until(*c, ready, "BUFFULL_FLAG = 0")?;
+            *c = poll.until_seen(*c, ready, seen, "BUFFULL_FLAG = 0")?;
             *c += u64::from(self.io.peripheral_write);
             let word = if i == 0 { cmd } else { BURST_FILL };
             if let Some(g) = glitch.as_mut() {
@@ -516,8 +531,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 // The same write, INT_FLAG poll and read, in one call to the link.
                 let mut read_cycle = *c;
                 b.words[i] = self.link.write_poll_read(word, self.ps(*c), |done| {
-                    read_cycle = poll.until(read_cycle, done, "INT_FLAG = 1")? + read_cost;
-                    Ok(poll.sysclk.cycles_to_ps(read_cycle))
+                    read_cycle = poll.until_flag(read_cycle, done, "INT_FLAG = 1")? + read_cost;
+                    seen = (read_cycle, poll.sysclk.cycles_to_ps(read_cycle));
+                    Ok(seen.1)
                 })?;
                 *c = read_cycle;
             }
@@ -585,7 +601,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
 
     /// The firmware's status-polling loops (see [`Poller::until`]).
     fn poller(&self) -> Poller {
-        Poller { sysclk: self.sysclk, poll_cycles: self.poll_cycles }
+        self.poller
     }
 
     /// See [`Poller::until`].
@@ -644,19 +660,54 @@ struct Poller {
     sysclk: Clock,
     /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
     poll_cycles: Divisor,
+    /// SYSCLKOUT cycles per LSPCLK cycle, when whole (always on this board: LSPCLK is SYSCLKOUT
+    /// divided by 2·LOSPCP, or SYSCLKOUT): see [`Clock::cycles_per_cycle_of`].
+    sysclk_per_lspclk: Option<u64>,
 }
 
+// The per-frame helpers below are `inline(always)`: they are a few instructions each, and left to
+// its heuristics the compiler kept them out of line (a call per poll, measured with callgrind).
 impl Poller {
     /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
     /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
     /// end of the first iteration whose read sees the flag (set at `flag_ps`).
     #[inline]
     fn until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
-        let p = self.poll_cycles.get();
         let Some(flag_ps) = flag_ps else {
             return Err(self.hang(c, what, false));
         };
-        let flag_cycle = self.sysclk.ps_to_cycles_ceil(flag_ps);
+        self.until_cycle(c, self.sysclk.ps_to_cycles_ceil(flag_ps), what)
+    }
+
+    /// [`Poller::until`] when cycle `seen.0` ≤ `c` is known to start at `seen.1` ps: a flag set by then
+    /// (BUFFULL, clear since the previous read) ends the loop after one iteration without a
+    /// conversion, exactly as `until` finds (⌈f/P⌉ ≤ seen.0 when f ≤ ⌊seen.0·P⌋, f whole).
+    #[inline(always)]
+    fn until_seen(&self, c: u64, flag_ps: Option<Ps>, seen: (u64, Ps), what: &str) -> Result<u64> {
+        match flag_ps {
+            Some(f) if f <= seen.1 && seen.0 <= c => Ok(c + self.poll_cycles.get()),
+            _ => self.until(c, flag_ps, what),
+        }
+    }
+
+    /// [`Poller::until`] for a flag SPI-A sets on an LSPCLK cycle it names (a character's end): its
+    /// SYSCLKOUT cycle is then a product, not a conversion from picoseconds.
+    #[inline(always)]
+    fn until_flag(&self, c: u64, flag: Option<FlagTime>, what: &str) -> Result<u64> {
+        let Some(flag) = flag else {
+            return Err(self.hang(c, what, false));
+        };
+        let flag_cycle = match (flag.lspclk_cycle, self.sysclk_per_lspclk) {
+            (Some(n), Some(k)) => n * k,
+            _ => self.sysclk.ps_to_cycles_ceil(flag.ps),
+        };
+        self.until_cycle(c, flag_cycle, what)
+    }
+
+    /// A polling loop from cycle `c` for a flag that sets at SYSCLKOUT cycle boundary `flag_cycle`.
+    #[inline(always)]
+    fn until_cycle(&self, c: u64, flag_cycle: u64, what: &str) -> Result<u64> {
+        let p = self.poll_cycles.get();
         let iterations = if flag_cycle <= c { 0 } else { self.poll_cycles.div_ceil(flag_cycle - c) };
         if iterations * p > POLL_WATCHDOG_CYCLES {
             return Err(self.hang(c, what, true));
@@ -691,6 +742,47 @@ struct Burst {
     age_ps: Ps,
 }
 
+#[cfg(test)]
+mod poller_tests {
+    use super::*;
+
+    /// The shortcuts of the poller (a flag already seen, a flag on a named LSPCLK cycle) give the
+    /// cycle the plain conversion from picoseconds gives, for every LOSPCP and poll length.
+    #[test]
+    fn shortcuts_equal_the_conversion_from_picoseconds() {
+        let sysclk = Clock::from_hz(150_000_000);
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        for lospcp in 0..8u64 {
+            // LSPCLK = SYSCLKOUT / (2·LOSPCP), or SYSCLKOUT for LOSPCP = 0.
+            let k = if lospcp == 0 { 1 } else { 2 * lospcp };
+            let lspclk = sysclk.divided(k);
+            for poll in [1, 7, 12] {
+                let poller = Poller {
+                    sysclk,
+                    poll_cycles: Divisor::new(poll),
+                    sysclk_per_lspclk: sysclk.cycles_per_cycle_of(lspclk),
+                };
+                assert_eq!(poller.sysclk_per_lspclk, Some(k));
+                for _ in 0..2_000 {
+                    x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                    let c = (x >> 24) % 10_000_000_000;
+                    // A flag from a few LSPCLK cycles before `c` to a few thousand after.
+                    let end_cycle = (c / k + (x >> 8) % 4_000).saturating_sub(3);
+                    let end_ps = lspclk.cycles_to_ps(end_cycle);
+                    let flag = FlagTime { ps: end_ps, lspclk_cycle: Some(end_cycle) };
+                    let plain = poller.until(c, Some(end_ps), "flag").unwrap();
+                    assert_eq!(poller.until_flag(c, Some(flag), "flag").unwrap(), plain, "LOSPCP {lospcp}");
+                    let seen = (c - (x & 0xFF).min(c), 0);
+                    let seen = (seen.0, sysclk.cycles_to_ps(seen.0));
+                    for f in [seen.1.saturating_sub(1), seen.1, seen.1 + 1, end_ps] {
+                        let plain = poller.until(c, Some(f), "flag").unwrap();
+                        assert_eq!(poller.until_seen(c, Some(f), seen, "flag").unwrap(), plain, "{f} {seen:?}");
+                    }
+                }
+            }
+        }
+    }
+}
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
