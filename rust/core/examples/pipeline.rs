@@ -4,7 +4,8 @@
 
 use sins_core::device::Physical;
 use sins_core::emulator::Emulator;
-use sins_core::profile::Profile;
+use sins_core::numerics;
+use sins_core::profile::{Numeric, Profile};
 use sins_core::timing::costs::CostTable;
 
 fn main() {
@@ -29,10 +30,14 @@ fn main() {
         })
         .collect();
     let start = std::time::Instant::now();
-    let cycles = match profile.firmware.numeric {
-        sins_core::profile::Numeric::F64 => run::<f64>(&profile, &costs, &t, p),
-        _ => run::<sins_core::numerics::C28xF32Rn>(&profile, &costs, &t, p),
-    };
+    // The IQ backend's Q formats are the profile's `[iq]` section, set for the run's thread.
+    let cycles = numerics::iq::with_formats(&profile.iq, || match profile.firmware.numeric {
+        Numeric::F64 => run::<f64>(&profile, &costs, &t, p),
+        Numeric::C28xF32 => run::<numerics::C28xF32Rn>(&profile, &costs, &t, p),
+        Numeric::C28xF32Rz => run::<numerics::C28xF32Rz>(&profile, &costs, &t, p),
+        Numeric::Iq => run::<numerics::Iq>(&profile, &costs, &t, p),
+    })
+    .unwrap();
     let dt = start.elapsed().as_secs_f64();
     println!(
         "{cycles} cycles in {dt:.3} s: {:.0} cycles/s, {:.3} µs/cycle",
@@ -41,7 +46,7 @@ fn main() {
     );
 }
 
-fn run<T: sins_core::numerics::Scalar>(profile: &Profile, costs: &CostTable, t: &[f64], p: Vec<Physical>) -> usize {
+fn run<T: numerics::Scalar>(profile: &Profile, costs: &CostTable, t: &[f64], p: Vec<Physical>) -> usize {
     let mut emu = Emulator::<T>::new(profile, costs).unwrap();
     emu.push_input(t, p).unwrap();
     emu.end_input();
