@@ -67,27 +67,36 @@ impl Waveform {
 /// Simulate the frame edge by edge: what master and slave sample, given the word the slave shifts
 /// out (`dout`, MSB first) and the lines around the frame.
 pub fn exchange(frame: &Frame, waveform: &Waveform, dout: u16, lines: Lines) -> Exchange {
-    // One walk, compiled once per clock scheme so the per-edge roles are constants.
-    match (frame.shape.scheme.polarity, frame.shape.scheme.phase) {
-        (false, false) => walk::<false, false>(frame, waveform, dout, lines),
-        (false, true) => walk::<false, true>(frame, waveform, dout, lines),
-        (true, false) => walk::<true, false>(frame, waveform, dout, lines),
-        (true, true) => walk::<true, true>(frame, waveform, dout, lines),
+    // One walk, compiled once per clock scheme so the per-edge roles are constants, and once more
+    // for the usual frame (slave selected, TALK on, no loopback) so its line choices are too.
+    let usual = lines.selected && frame.talk && !frame.loopback;
+    match (frame.shape.scheme.polarity, frame.shape.scheme.phase, usual) {
+        (false, false, false) => walk::<false, false, false>(frame, waveform, dout, lines),
+        (false, true, false) => walk::<false, true, false>(frame, waveform, dout, lines),
+        (true, false, false) => walk::<true, false, false>(frame, waveform, dout, lines),
+        (true, true, false) => walk::<true, true, false>(frame, waveform, dout, lines),
+        (false, false, true) => walk::<false, false, true>(frame, waveform, dout, lines),
+        (false, true, true) => walk::<false, true, true>(frame, waveform, dout, lines),
+        (true, false, true) => walk::<true, false, true>(frame, waveform, dout, lines),
+        (true, true, true) => walk::<true, true, true>(frame, waveform, dout, lines),
     }
 }
 
-/// The edge walk of [`exchange`] for SPICLK idling high (`POLARITY`) and clocking with delay (`DELAY`).
+/// The edge walk of [`exchange`] for SPICLK idling high (`POLARITY`) and clocking with delay (`DELAY`);
+/// `USUAL`: the slave is selected, TALK is on and loopback off (the same walk, those three known).
 ///
 /// The waveform alternates leading (idle → active) and trailing edges, starting with a leading one;
 /// the walk takes them in pairs, one bit per pair.
-fn walk<const POLARITY: bool, const DELAY: bool>(
+fn walk<const POLARITY: bool, const DELAY: bool, const USUAL: bool>(
     frame: &Frame,
     waveform: &Waveform,
     dout: u16,
     lines: Lines,
 ) -> Exchange {
     let bits = frame.shape.bits as u32;
-    let (talk, loopback, selected, floating) = (frame.talk, frame.loopback, lines.selected, lines.floating);
+    let (talk, loopback, selected) =
+        if USUAL { (true, false, true) } else { (frame.talk, frame.loopback, lines.selected) };
+    let floating = lines.floating;
     let tx = frame.tx;
     // The shifter's output bit; SPISIMO shows it only with TALK (loopback takes it internally).
     let mut out = if DELAY { tx & 0x8000 != 0 } else { lines.simo_before };
