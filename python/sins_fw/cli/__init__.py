@@ -77,7 +77,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     # the process where it stands. Only the main thread may install handlers (not when embedded).
     previous = stop.install() if threading.current_thread() is threading.main_thread() else {}
     try:
-        return int(args.func(args))
+        code = int(args.func(args))
+        # A signal whose exception was dropped where it landed still ends the command as interrupted.
+        stop.check_stop()
+        return code
     except CheckFailed as e:
         return _fail(args, e, EXIT_CHECK_FAILED)
     except InputError as e:
