@@ -602,9 +602,7 @@ impl SpiA {
         self.now = t_read;
         let rx = wire.transfer(&frame) & frame.rx_mask();
         self.complete(&frame, rx);
-        // The SPIRXBUF read.
-        self.int_flag = false;
-        Ok(self.rxbuf)
+        Ok(self.read_rxbuf())
     }
 
     /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.
@@ -658,16 +656,7 @@ impl SpiA {
                     self.rxbuf
                 }
             }
-            SPIRXBUF => {
-                if self.fifo_mode() {
-                    if let Some(w) = self.rx_fifo.pop() {
-                        self.rxbuf = w;
-                    }
-                } else {
-                    self.int_flag = false;
-                }
-                self.rxbuf
-            }
+            SPIRXBUF => self.read_rxbuf(),
             SPITXBUF => self.txbuf,
             SPIDAT => self.spidat,
             SPIFFTX => (self.spifftx & 0xE03F) | ((self.txffst() as u16) << 8) | (u16::from(self.txffint) << 7),
@@ -682,6 +671,19 @@ impl SpiA {
             _ => return Err(no_register(offset)),
         };
         Ok(v)
+    }
+
+    /// A read of SPIRXBUF: the next word of the receive FIFO, or the buffer (clearing INT_FLAG).
+    #[inline]
+    fn read_rxbuf(&mut self) -> u16 {
+        if self.fifo_mode() {
+            if let Some(w) = self.rx_fifo.pop() {
+                self.rxbuf = w;
+            }
+        } else {
+            self.int_flag = false;
+        }
+        self.rxbuf
     }
 
     fn spists(&self) -> u16 {
