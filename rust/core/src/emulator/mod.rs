@@ -508,7 +508,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let mut glitch = if t_cs >= self.glitches.watch_from { self.glitches.take(t_cs) } else { None };
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
         // Copied once per burst, not per frame (the clock is 48 bytes).
-        let (poll, read_cost) = (self.poller(), u64::from(self.io.peripheral_read));
+        let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
         // The latest CPU cycle whose time is known (CS↓, then each fast-path read): see `until_seen`.
         let mut seen = (*c, t_cs);
         for i in 0..BURST_FRAMES {
@@ -523,8 +523,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 self.link.write(SPITXBUF, word, self.ps(*c))?;
                 // while (Spi_RxReady() != 1) {}  — wait for INT_FLAG = 1, then read SPIRXBUF
                 let done = self.link.int_flag_time();
-                *c = self.poll_until(*c, done, "INT_FLAG = 1")?;
-                *c += u64::from(self.io.peripheral_read);
+                *c = poll.until(*c, done, "INT_FLAG = 1")? + read_cost;
                 self.end_glitch_before(g, self.ps(*c))?;
                 b.words[i] = self.link.read(SPIRXBUF, self.ps(*c))?;
             } else {
@@ -599,15 +598,6 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         Ok(())
     }
 
-    /// The firmware's status-polling loops (see [`Poller::until`]).
-    fn poller(&self) -> Poller {
-        self.poller
-    }
-
-    /// See [`Poller::until`].
-    fn poll_until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
-        self.poller().until(c, flag_ps, what)
-    }
     fn record_read(&mut self, tick: u64, burst: usize, b: &Burst, rate: &Vec3<T>, accel: &Vec3<T>) {
         let period_s = ps_to_s(self.timer.tick_ps(1));
         let assumed_s = match self.profile.firmware.schedule {
