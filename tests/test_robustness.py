@@ -371,14 +371,13 @@ class Finalised:
         for _ in range(10_000):  # the handler runs here, inside the finaliser
             pass
 
-previous = stop.install()
-Finalised()  # dropped at once: the KeyboardInterrupt is raised and swallowed in __del__
-try:
-    stop.check_stop()
-    print("not raised")
-except KeyboardInterrupt:
-    print("raised at the check")
-stop.restore(previous)
+with stop.handling():
+    Finalised()  # dropped at once: the KeyboardInterrupt is raised and swallowed in __del__
+    try:
+        stop.check_stop()
+        print("not raised")
+    except KeyboardInterrupt:
+        print("raised at the check")
 """
 
 

@@ -13,7 +13,6 @@ import argparse
 import os
 import signal
 import sys
-import threading
 import traceback
 from collections.abc import Sequence
 
@@ -71,11 +70,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
-    # SIGTERM unwinds like Ctrl-C (temporary files removed, progress reported) instead of killing
-    # the process where it stands. Only the main thread may install handlers (not when embedded).
-    # SIGTERM unwinds like Ctrl-C (temporary files removed, progress reported) instead of killing
-    # the process where it stands. Only the main thread may install handlers (not when embedded).
-    previous = stop.install() if threading.current_thread() is threading.main_thread() else {}
+    # SIGINT and SIGTERM unwind (temporary files removed, progress reported) instead of killing the
+    # process where it stands.
+    with stop.handling():
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """The command of `args`, its errors turned into a line and an exit code."""
     try:
         code = int(args.func(args))
         # A signal whose exception was dropped where it landed still ends the command as interrupted.
@@ -117,8 +119,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         if type(e).__name__ == "PanicException":
             return _fail(args, InternalError(str(e)), EXIT_BUG)
         raise
-    finally:
-        stop.restore(previous)
 
 
 def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseException | None = None) -> int:

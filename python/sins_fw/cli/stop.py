@@ -12,6 +12,9 @@ from __future__ import annotations
 
 import signal
 import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from sins_fw.errors import Terminated
@@ -34,28 +37,27 @@ def _quiet_when_remembered(unraisable: Any) -> None:
     _previous_hook(unraisable)
 
 
+#: The unraisable-exception hook :func:`handling` replaced.
 _previous_hook = sys.unraisablehook
 
 
-def install() -> dict[Any, Any]:
-    """Install the handlers (main thread only); returns what they replace, for :func:`restore`."""
+@contextmanager
+def handling() -> Iterator[None]:
+    """SIGINT and SIGTERM raise and are remembered while the block runs. Only the main thread may
+    install signal handlers: elsewhere (an embedding program's thread) nothing changes."""
     global _requested, _previous_hook
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
     _requested = None
-    _previous_hook = sys.unraisablehook
-    sys.unraisablehook = _quiet_when_remembered
-    previous: dict[Any, Any] = {"unraisablehook": _previous_hook}
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        previous[sig] = signal.signal(sig, _on_signal)
-    return previous
-
-
-def restore(previous: dict[Any, Any]) -> None:
-    """Put back what :func:`install` replaced."""
-    for key, handler in previous.items():
-        if key == "unraisablehook":
-            sys.unraisablehook = handler
-        else:
-            signal.signal(key, handler)
+    _previous_hook, sys.unraisablehook = sys.unraisablehook, _quiet_when_remembered
+    handlers = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler in handlers.items():
+            signal.signal(sig, handler)
+        sys.unraisablehook = _previous_hook
 
 
 def check_stop() -> None:
