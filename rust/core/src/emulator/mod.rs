@@ -291,25 +291,19 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                     // The PIE latches one pending interrupt: a second tick while one is still
                     // pending is lost.
                     if k > 1 && self.timer.period_cycles() * (k + 1) <= self.cpu_free {
-                        self.events.push(Event::new(
-                            tick_ps,
-                            "tick_lost",
-                            Severity::Error,
-                            format!("tick {k}: TINT0 arrived while the previous one was still pending: lost"),
-                        ));
-                        self.out.budget.push(BudgetRow::skipped(k, tick_ps));
+                        let why = "TINT0 arrived while the previous one was still pending: lost";
+                        self.skip_tick(k, tick_ps, "tick_lost", why);
                         return Ok(());
                     }
                     self.cpu_free
                 }
                 OverrunPolicy::Drop => {
-                    self.events.push(Event::new(
+                    self.skip_tick(
+                        k,
                         tick_ps,
                         "overrun",
-                        Severity::Error,
-                        format!("tick {k}: the ISR of the previous tick was still running: tick dropped"),
-                    ));
-                    self.out.budget.push(BudgetRow::skipped(k, tick_ps));
+                        "the ISR of the previous tick was still running: tick dropped",
+                    );
                     return Ok(());
                 }
                 // Arrived during the ISR's last instructions (after its last interruptible point):
@@ -463,6 +457,13 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             overrun,
         });
         Ok(c)
+    }
+
+    /// Tick `k` is not serviced (`kind`, `why`): an error event and a skipped budget row.
+    #[cold]
+    fn skip_tick(&mut self, k: u64, tick_ps: Ps, kind: &'static str, why: &str) {
+        self.events.push(Event::new(tick_ps, kind, Severity::Error, format!("tick {k}: {why}")));
+        self.out.budget.push(BudgetRow::skipped(k, tick_ps));
     }
 
     /// Fill the step's rate samples from this tick's decoded bursts; true when a step is ready.
