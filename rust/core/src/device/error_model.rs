@@ -1250,18 +1250,24 @@ mod tests {
         // k_step > 1 exercises the exact propagation over gaps: the lag-1 correlation becomes a^step.
         for k_step in [1u64, 3] {
             let a = (-(k_step as f64) * DT / term.tau_s).exp();
-            // AR(1) theory: var(s²)/σ⁴ = (2/n)(1 + a²)/(1 − a²); var(r̂₁) = (1 − a²)/n. Bounds are 5σ.
-            let var_tol = 5.0 * (2.0 / n as f64 * (1.0 + a * a) / (1.0 - a * a)).sqrt();
-            let rho_tol = 5.0 * ((1.0 - a * a) / n as f64).sqrt();
             for axis in gyro_samples(&params, 11, n, k_step) {
-                let power = axis.iter().map(|x| x * x).sum::<f64>();
-                let variance = power / n as f64;
-                let rho = axis.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / power;
-                let s2 = term.sigma * term.sigma;
-                assert!((variance / s2 - 1.0).abs() < var_tol, "step {k_step}: variance {variance} vs {s2}");
-                assert!((rho - a).abs() < rho_tol, "step {k_step}: lag-1 {rho} vs {a}");
+                assert_ar1(&axis, term.sigma, a, &format!("step {k_step}"));
             }
         }
+    }
+
+    /// `x` (n values) is a stationary AR(1) of standard deviation `sigma` and lag-1 correlation `a`:
+    /// var(s²)/σ⁴ = (2/n)(1 + a²)/(1 − a²) and var(r̂₁) = (1 − a²)/n by theory; bounds are 5σ.
+    fn assert_ar1(x: &[f64], sigma: f64, a: f64, what: &str) {
+        let n = x.len() as f64;
+        let var_tol = 5.0 * (2.0 / n * (1.0 + a * a) / (1.0 - a * a)).sqrt();
+        let rho_tol = 5.0 * ((1.0 - a * a) / n).sqrt();
+        let power = x.iter().map(|v| v * v).sum::<f64>();
+        let variance = power / n;
+        let rho = x.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / power;
+        let s2 = sigma * sigma;
+        assert!((variance / s2 - 1.0).abs() < var_tol, "{what}: variance {variance} vs {s2}");
+        assert!((rho - a).abs() < rho_tol, "{what}: lag-1 {rho} vs {a}");
     }
 
     #[test]
@@ -1366,15 +1372,8 @@ mod tests {
                     for (i, v) in axis.iter().enumerate() {
                         assert_eq!(v.to_bits(), at_updates[i / calls_per_update as usize].to_bits());
                     }
-                    // AR(1) theory at the update instants, as in the per-sample test (5σ bounds).
-                    let var_tol = 5.0 * (2.0 / n as f64 * (1.0 + a_step * a_step) / (1.0 - a_step * a_step)).sqrt();
-                    let rho_tol = 5.0 * ((1.0 - a_step * a_step) / n as f64).sqrt();
-                    let power = at_updates.iter().map(|x| x * x).sum::<f64>();
-                    let variance = power / n as f64;
-                    let rho = at_updates.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / power;
-                    let s2 = term.sigma * term.sigma;
-                    assert!((variance / s2 - 1.0).abs() < var_tol, "m {m} step {k_step}: variance {variance} vs {s2}");
-                    assert!((rho - a_step).abs() < rho_tol, "m {m} step {k_step}: lag-1 {rho} vs {a_step}");
+                    // AR(1) theory at the update instants, as in the per-sample test.
+                    assert_ar1(&at_updates, term.sigma, a_step, &format!("m {m} step {k_step}"));
                 }
             }
         }
