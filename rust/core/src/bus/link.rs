@@ -6,7 +6,7 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
-use crate::dsp::spi::{CharShape, FlagTime, Frame, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{CharShape, FlagTime, Frame, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -250,6 +250,25 @@ impl<S: SpiSlave> SpiLink<S> {
         self.write(SPITXBUF, tx, t_write)?;
         let t_read = read_at(self.int_flag_time().map(FlagTime::at))?;
         self.read(SPIRXBUF, t_read)
+    }
+
+    /// Whether [`SpiLink::polled_burst`] may run from a first write at `t` (see
+    /// [`SpiA::polled_frame_applies`]); never with the one-step path turned off.
+    pub fn polled_burst_applies(&self, t: Ps) -> bool {
+        self.polled_fast_path && self.spi.polled_frame_applies(t)
+    }
+
+    /// A whole polled word loop in CPU cycles: [`SpiLink::write_poll_read`] for each of `words`, as
+    /// [`SpiA::polled_burst`] runs it; `after_word(i, slave)` runs after word `i`.
+    pub fn polled_burst<const N: usize>(
+        &mut self,
+        words: [u16; N],
+        c: &mut u64,
+        cpu: &PolledLoop,
+        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        mut after_word: impl FnMut(usize, &S),
+    ) -> Result<[u16; N]> {
+        self.spi.polled_burst(words, c, cpu, read_cycle, &mut self.wires, |i, w| after_word(i, &w.slave))
     }
 
     /// Turn the one-step path of [`SpiLink::write_poll_read`] on or off (on by default). Off, every

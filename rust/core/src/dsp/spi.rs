@@ -30,7 +30,7 @@
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
 use crate::profile;
-use crate::time::{Clock, Ps};
+use crate::time::{Clock, Divisor, Ps};
 
 /// SPI configuration control register (word offset).
 pub const SPICCR: u16 = 0x0;
@@ -242,6 +242,20 @@ impl FlagTime {
     pub fn at(ps: Ps) -> FlagTime {
         FlagTime { ps, lspclk_cycle: None }
     }
+}
+
+/// The CPU side of a polled word loop, in SYSCLKOUT cycles (see [`SpiA::polled_burst`]).
+#[derive(Debug, Clone, Copy)]
+pub struct PolledLoop {
+    /// SYSCLKOUT, the CPU clock.
+    pub sysclk: Clock,
+    /// SYSCLKOUT cycles per LSPCLK cycle.
+    pub sysclk_per_lspclk: Divisor,
+    /// From the end of the previous word (or the start) to the SPITXBUF write: one BUFFULL poll and
+    /// the write.
+    pub before_write: u64,
+    /// From the end of the SPIRXBUF read to the end of the word: storing it, the loop.
+    pub after_read: u64,
 }
 
 /// What the SPI pins are connected to: told about each character's start and end, in time order.
@@ -600,9 +614,68 @@ impl SpiA {
             }
         };
         self.now = t_read;
-        let rx = wire.transfer(&frame) & frame.rx_mask();
-        self.complete(&frame, rx);
-        Ok(self.read_rxbuf())
+        Ok(self.exchange_and_read(&frame, wire))
+    }
+
+    /// A polled character from its start to the firmware's SPIRXBUF read: the wires carry it, the
+    /// receiver loads, the read clears INT_FLAG. The shared tail of [`SpiA::polled_frame`] and
+    /// [`SpiA::polled_burst`].
+    #[inline(always)]
+    fn exchange_and_read<W: SpiWire>(&mut self, frame: &Frame, wire: &mut W) -> u16 {
+        let rx = wire.transfer(frame) & frame.rx_mask();
+        self.complete(frame, rx);
+        self.read_rxbuf()
+    }
+
+    /// The published polled word loop over `words`, in CPU cycles: for each word the CPU polls
+    /// BUFFULL_FLAG once (clear: the previous read emptied the buffers), writes SPITXBUF, polls
+    /// INT_FLAG (`read_cycle(write cycle, SYSCLKOUT cycle the flag sets on)` gives the cycle the read
+    /// of SPIRXBUF ends) and stores the word. `c` (SYSCLKOUT cycle) advances through the loop.
+    ///
+    /// The same steps as [`SpiA::polled_frame`] per word, in whole cycles instead of picoseconds:
+    /// with SYSCLKOUT = k·LSPCLK (period ≥ 1 ps) the first LSPCLK boundary at or after SYSCLKOUT
+    /// cycle c is ⌈c/k⌉, which is what converting through picoseconds gives (see
+    /// [`Clock::cycles_per_cycle_of`]). Only when [`SpiA::polled_frame_applies`] at the first write
+    /// (it keeps applying: each read clears INT_FLAG and nothing is queued); the emulator's fast-path
+    /// equivalence test holds the two paths equal. `after_word(i, wire)` runs after word `i`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn polled_burst<W: SpiWire, const N: usize>(
+        &mut self,
+        words: [u16; N],
+        c: &mut u64,
+        cpu: &PolledLoop,
+        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        wire: &mut W,
+        mut after_word: impl FnMut(usize, &W),
+    ) -> Result<[u16; N]> {
+        let k = cpu.sysclk_per_lspclk;
+        let mut read = [0; N];
+        let mut last_read = None;
+        for (i, &tx) in words.iter().enumerate() {
+            *c += cpu.before_write;
+            let start = k.div_ceil(*c) + self.start_latency_lspclk;
+            self.txbuf = tx;
+            let frame = self.next_frame(tx, start);
+            let flag_cycle = (start + frame.shape.length_cycles()) * k.get();
+            *c = match read_cycle(*c, flag_cycle) {
+                Ok(r) => r,
+                Err(e) => {
+                    // As the register path leaves it: the character scheduled, never read.
+                    self.now = cpu.sysclk.cycles_to_ps(*c);
+                    self.active = Some(Active { frame, begun: false });
+                    return Err(e);
+                }
+            };
+            last_read = Some(*c);
+            read[i] = self.exchange_and_read(&frame, wire);
+            *c += cpu.after_read;
+            after_word(i, wire);
+        }
+        // Only the last read's time is visible after the loop: nothing reads `now` in between.
+        if let Some(r) = last_read {
+            self.now = cpu.sysclk.cycles_to_ps(r);
+        }
+        Ok(read)
     }
 
     /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.

@@ -30,7 +30,7 @@ use glitch::Glitches;
 
 use crate::device::{Adis16407, Physical};
 use crate::dsp::clocks::DspClocks;
-use crate::dsp::spi::{FlagTime, SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{FlagTime, PolledLoop, SPIRXBUF, SPITXBUF};
 use crate::dsp::timer::CpuTimer;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -64,6 +64,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     io: crate::timing::costs::IoCosts,
     /// The firmware's status-polling loops.
     poller: Poller,
+    /// The burst's word loop in CPU cycles, when SYSCLKOUT is a whole multiple of LSPCLK.
+    polled_loop: Option<PolledLoop>,
     bursts_per_tick: usize,
     /// Next timer tick to service.
     tick: u64,
@@ -163,6 +165,11 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let zero = T::from_f64(0.0, crate::numerics::QClass::Rate);
         let bursts_per_tick = if profile.firmware.schedule == Schedule::BackToBack { 3 } else { 1 };
         let aligning = profile.firmware.initial_attitude == crate::profile::InitialAttitude::Level;
+        let poller = Poller {
+            sysclk: clocks.sysclkout,
+            poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
+            sysclk_per_lspclk: clocks.sysclkout.cycles_per_cycle_of(clocks.lspclk),
+        };
         Ok(Emulator {
             sysclk: clocks.sysclkout,
             timer,
@@ -171,11 +178,13 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             glitches: Glitches::from_profile(&profile.faults),
             stages,
             io: costs.io.clone(),
-            poller: Poller {
+            polled_loop: poller.sysclk_per_lspclk.map(|k| PolledLoop {
                 sysclk: clocks.sysclkout,
-                poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
-                sysclk_per_lspclk: clocks.sysclkout.cycles_per_cycle_of(clocks.lspclk),
-            },
+                sysclk_per_lspclk: Divisor::new(k),
+                before_write: poller.poll_cycles.get() + u64::from(costs.io.peripheral_write),
+                after_read: u64::from(costs.io.store_word + costs.io.frame_loop),
+            }),
+            poller,
             bursts_per_tick,
             tick: 1,
             cpu_free: 0,
@@ -502,16 +511,47 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// One 15-frame burst read as the published code performs it; returns the received words and
     /// the cycle of the first SPITXBUF write. `c` is the CPU cycle, advanced by the code's costs.
     fn burst(&mut self, c: &mut u64, k: u64) -> Result<Burst> {
-        let cmd = self.profile.device.burst_command as u16;
         *c += u64::from(self.io.gpio_write);
         let t_cs = self.ps(*c);
         self.link.set_gpio57(false, t_cs)?;
         let mut glitch = if t_cs >= self.glitches.watch_from { self.glitches.take(t_cs) } else { None };
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
+        // Nothing can come between the words (no CS glitch, no nested ISR): the whole word loop in
+        // whole CPU cycles, in one call to the link.
+        let nesting = self.profile.firmware.overrun == OverrunPolicy::Nest && self.depth == 0;
+        match self.polled_loop {
+            Some(cpu) if glitch.is_none() && !nesting && self.link.polled_burst_applies(t_cs) => {
+                let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
+                let mut words = [BURST_FILL; BURST_FRAMES];
+                words[0] = self.profile.device.burst_command as u16;
+                let read_cycle = |write, flag| Ok(poll.until_cycle(write, flag, "INT_FLAG = 1")? + read_cost);
+                let read = self.link.polled_burst(words, c, &cpu, read_cycle, |i, slave| b.note_frame(i, slave))?;
+                b.words = read;
+            }
+            _ => self.burst_word_by_word(c, k, &mut b, &mut glitch)?,
+        }
+        *c += u64::from(self.io.gpio_write);
+        if let Some(g) = glitch.as_mut() {
+            self.end_glitch_before(g, self.ps(*c))?;
+        }
+        self.link.set_gpio57(true, self.ps(*c))?;
+        Ok(b)
+    }
+
+    /// The burst's words one at a time through the register-level steps, with a CS glitch or a
+    /// nested ISR possible between them.
+    fn burst_word_by_word(
+        &mut self,
+        c: &mut u64,
+        k: u64,
+        b: &mut Burst,
+        glitch: &mut Option<glitch::BurstGlitch>,
+    ) -> Result<()> {
+        let cmd = self.profile.device.burst_command as u16;
         // Copied once per burst, not per frame (the clock is 48 bytes).
         let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
         // The latest CPU cycle whose time is known (CS↓, then each fast-path read): see `until_seen`.
-        let mut seen = (*c, t_cs);
+        let mut seen = (*c, b.t_cs_ps);
         for i in 0..BURST_FRAMES {
             // if (Spi_TxReady() == 1) SPITXBUF = sdata;  — wait for BUFFULL_FLAG = 0
             let ready = self.link.buffull_clear_time();
@@ -538,34 +578,13 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 *c = read_cycle;
             }
             *c += u64::from(self.io.store_word + self.io.frame_loop);
-            // The record wants the sensor's latest frame after the first, second and last frames only
-            // (before a nested ISR can clock frames of its own).
-            if i < 2 || i == BURST_FRAMES - 1 {
-                if let Some(f) = self.link.slave().last_frame() {
-                    if i == 0 {
-                        b.t_start_ps = f.t_start;
-                    }
-                    if i == 1 {
-                        // Every data word of a burst comes from the sample latest at the burst's start
-                        // (the device latches it at the command frame); its age is counted from there.
-                        b.sample_index = f.sample.map(|x| x.index);
-                        b.sample_ps = f.sample.map_or(f.t_start, |x| x.t);
-                        b.age_ps = b.t_start_ps.saturating_sub(b.sample_ps);
-                    }
-                    b.t_end_ps = f.t_end;
-                }
-            }
+            b.note_frame(i, self.link.slave());
             if let Some(g) = glitch.as_mut().filter(|g| g.after_frame == i) {
                 self.raise_glitch(g, self.ps(*c))?;
             }
             self.maybe_nest(c, k)?;
         }
-        *c += u64::from(self.io.gpio_write);
-        if let Some(g) = glitch.as_mut() {
-            self.end_glitch_before(g, self.ps(*c))?;
-        }
-        self.link.set_gpio57(true, self.ps(*c))?;
-        Ok(b)
+        Ok(())
     }
 
     /// A `dropped_burst` fault: the CS line goes high at `t`, in the middle of the burst.
@@ -731,6 +750,30 @@ struct Burst {
     sample_index: Option<u64>,
     sample_ps: Ps,
     age_ps: Ps,
+}
+
+impl Burst {
+    /// What the read record needs from the sensor's latest frame after word `i`. Only the first,
+    /// second and last words matter, and they are noted before a nested ISR can clock frames of its own.
+    #[inline(always)]
+    fn note_frame<S: Sensor>(&mut self, i: usize, sensor: &S) {
+        if !(i < 2 || i == BURST_FRAMES - 1) {
+            return;
+        }
+        if let Some(f) = sensor.last_frame() {
+            if i == 0 {
+                self.t_start_ps = f.t_start;
+            }
+            if i == 1 {
+                // Every data word of a burst comes from the sample latest at the burst's start (the
+                // device latches it at the command frame); its age is counted from there.
+                self.sample_index = f.sample.map(|x| x.index);
+                self.sample_ps = f.sample.map_or(f.t_start, |x| x.t);
+                self.age_ps = self.t_start_ps.saturating_sub(self.sample_ps);
+            }
+            self.t_end_ps = f.t_end;
+        }
+    }
 }
 
 #[cfg(test)]
