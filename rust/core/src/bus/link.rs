@@ -90,6 +90,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         self.end(frame, f)
     }
 
+    #[inline(always)]
     fn transfer(&mut self, frame: &Frame) -> u16 {
         // Nothing can happen on the wires in between: the frame need not be stored in `in_flight`.
         let f = self.start(frame);
