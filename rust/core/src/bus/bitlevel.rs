@@ -117,21 +117,20 @@ fn walk<const POLARITY: bool, const DELAY: bool, const USUAL: bool>(
             din = (din << 1) | u16::from(pin(out));
         }
         // Then drives: without delay each leading edge puts out its bit, with delay each trailing
-        // edge puts out the next one.
+        // edge puts out the next one; after the last bit the output holds it (the `min`: bit
+        // `bits − 1` is what it already shows), which keeps the edge free of branches.
         if !master_samples {
             let next = if DELAY { bit + 1 } else { bit };
-            if next < bits {
-                out = (tx >> (15 - next)) & 1 == 1;
-            }
+            out = (tx << next.min(bits - 1)) & 0x8000 != 0;
         }
+        // The slave's n-th falling edge drives bit n: at most `bits` ≤ 16 falling edges, so n < 16.
         if selected && !rising {
-            if falls < 16 {
-                somi = (dout >> (15 - falls)) & 1 == 1;
-            }
+            somi = (dout << falls) & 0x8000 != 0;
             falls += 1;
         }
     };
-    for bit in 0..(waveform.count / 2) as u32 {
+    debug_assert_eq!(waveform.count, 2 * bits as usize);
+    for bit in 0..bits {
         edge(true, bit);
         edge(false, bit);
     }
