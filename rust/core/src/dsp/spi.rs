@@ -1252,4 +1252,66 @@ mod tests {
         }
         assert_eq!(spi.events().count("spi_tx_fifo_overflow"), 1);
     }
+
+    /// The burst in whole CPU cycles gives what the register path gives word by word through
+    /// picoseconds (SPITXBUF write, INT_FLAG time, SPIRXBUF read): the same words, characters, end
+    /// cycle and SPI-A time, for every LSPCLK divider, poll length, start latency and start phase.
+    #[test]
+    fn polled_burst_equals_the_register_path() {
+        let sysclk = Clock::from_hz(150_000_000);
+        // A polling loop of `p` cycles from `c` for a flag on SYSCLKOUT cycle `flag`, then the read.
+        let poll = |c: u64, flag: u64, p: u64, read: u64| c + (flag.saturating_sub(c).div_ceil(p) + 1) * p + read;
+        let words = [0x4200u16, 0, 0x1234, 0xFFFF, 0];
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        for k in [1u64, 2, 4, 6, 14] {
+            for (p, latency, write, read, after) in [(1, 0, 0, 0, 0), (5, 1, 2, 3, 4), (12, 3, 7, 1, 9)] {
+                let lsp = sysclk.divided(k);
+                let cpu = PolledLoop {
+                    sysclk,
+                    sysclk_per_lspclk: Divisor::new(k),
+                    before_write: p + write,
+                    after_read: after,
+                };
+                for brr in [2u32, 9, 30] {
+                    x ^= x << 13;
+                    x ^= x >> 7;
+                    x ^= x << 17;
+                    let c0 = 1_000_000 + x % 10_000;
+                    let spi_profile = profile::Spi { spibrr: brr, ..Default::default() };
+                    let fresh = || {
+                        let mut spi = SpiA::new(lsp, latency);
+                        let mut probe = Probe { answer: 0xC7A7, ..Default::default() };
+                        spi.init_from_profile(&spi_profile, 0, &mut probe).unwrap();
+                        (spi, probe)
+                    };
+                    let (mut a, mut pa) = fresh();
+                    let mut c = c0;
+                    let mut by_register = [0u16; 5];
+                    for (i, &w) in words.iter().enumerate() {
+                        c += p + write; // BUFFULL clear at the first poll
+                        a.write(SPITXBUF, w, sysclk.cycles_to_ps(c), &mut pa).unwrap();
+                        let flag = sysclk.ps_to_cycles_ceil(a.int_flag_time().unwrap());
+                        c = poll(c, flag, p, read);
+                        by_register[i] = a.read(SPIRXBUF, sysclk.cycles_to_ps(c), &mut pa).unwrap();
+                        c += after;
+                    }
+                    let (mut b, mut pb) = fresh();
+                    assert!(b.polled_frame_applies(sysclk.cycles_to_ps(c0)));
+                    let mut c_burst = c0;
+                    let burst = b
+                        .polled_burst(words, &mut c_burst, &cpu, |w, f| Ok(poll(w, f, p, read)), &mut pb, |_, _| {})
+                        .unwrap();
+                    let case = format!("k={k} p={p} latency={latency} brr={brr} c0={c0}");
+                    assert_eq!(burst, by_register, "{case}");
+                    assert_eq!(c_burst, c, "{case}");
+                    assert_eq!(pb.finished, pa.finished, "{case}");
+                    assert_eq!(
+                        (b.now, b.frames, b.int_flag, b.rxbuf),
+                        (a.now, a.frames, a.int_flag, a.rxbuf),
+                        "{case}"
+                    );
+                }
+            }
+        }
+    }
 }
