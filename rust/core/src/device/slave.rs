@@ -184,8 +184,59 @@ fn s(t: f64) -> f64 {
 }
 
 /// `measured` (whole ps, floored by the bus) falls short of `required` ps, with a 1 ps allowance.
+/// This is the definition of every timing rule; the per-frame checks use its integer forms
+/// [`MinPs`] and [`short_ps`], which give the same answer for every `measured`.
 fn short(measured: Ps, required_ps: f64) -> bool {
     (measured as f64) + 1.0 < required_ps
+}
+
+/// [`short`] against a whole-ps requirement (the frame's own SCLK period inside a burst). Below 2^53
+/// both values and `measured + 1` are exact in f64, so the float rule is the integer one; beyond
+/// (2.5 hours) the float rule itself decides.
+fn short_ps(measured: Ps, required: Ps) -> bool {
+    const EXACT: Ps = 1 << 53;
+    if measured < EXACT && required < EXACT {
+        measured + 1 < required
+    } else {
+        short(measured, required as f64)
+    }
+}
+
+/// A fixed timing limit as a whole-ps bound, so that a frame's check is one integer comparison instead
+/// of a u64 → f64 conversion: `short(m)` equals [`short`]`(m, required_ps)` for every `m`.
+///
+/// Why that holds: `m as f64` (round to nearest) and `+ 1.0` are non-decreasing in `m`, so the `m`
+/// that [`short`] rejects are exactly `0..first_ok` for some `first_ok` in 0…2^64; [`MinPs::new`]
+/// finds it by bisection over [`short`] itself (2^64, every u64 short, for an infinite requirement;
+/// hence the u128).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct MinPs {
+    first_ok: u128,
+}
+
+impl MinPs {
+    /// The bound of the rule "`measured` must not fall short of `required_ps`".
+    pub fn new(required_ps: f64) -> MinPs {
+        if short(u64::MAX, required_ps) {
+            return MinPs { first_ok: 1 << 64 };
+        }
+        // Invariant: every m < lo is short, hi is not.
+        let (mut lo, mut hi) = (0u64, u64::MAX);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if short(mid, required_ps) {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        MinPs { first_ok: u128::from(lo) }
+    }
+
+    /// `measured` breaks the rule.
+    pub fn short(self, measured: Ps) -> bool {
+        u128::from(measured) < self.first_ok
+    }
 }
 
 impl Adis16407 {
@@ -224,12 +275,12 @@ impl Adis16407 {
         self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
     }
 
-    /// The limits that apply to a frame: (SCLK limit in Hz, shortest SCLK period in ps, which limit).
-    fn sclk_limit(&self, in_burst: bool) -> (f64, f64, &'static str) {
+    /// The SCLK limit that applies to a frame: (in Hz, as the shortest period, which limit).
+    fn sclk_limit(&self, in_burst: bool) -> (f64, MinPs, &'static str) {
         if in_burst {
-            (self.limits.sclk_burst_max_hz, self.limits.sclk_burst_min_period_ps, "burst")
+            (self.limits.sclk_burst_max_hz, self.limits.min_burst_sclk_period, "burst")
         } else {
-            (self.limits.sclk_max_hz, self.limits.sclk_min_period_ps, "normal-mode")
+            (self.limits.sclk_max_hz, self.limits.min_sclk_period, "normal-mode")
         }
     }
 
@@ -253,15 +304,18 @@ impl Adis16407 {
         if !timing.cpol {
             found.insert(Violations::CLOCK_POLARITY);
         }
-        if short(timing.sclk_period, self.sclk_limit(in_burst).1) {
+        if self.sclk_limit(in_burst).1.short(timing.sclk_period) {
             found.insert(Violations::SCLK_TOO_FAST);
         }
         if let Some(le) = self.spi.last_edge {
-            if short(t.saturating_sub(le), self.stall_limit(timing, in_burst).0) {
+            let gap = t.saturating_sub(le);
+            let stall_short =
+                if in_burst { short_ps(gap, timing.sclk_period) } else { self.limits.min_stall.short(gap) };
+            if stall_short {
                 found.insert(Violations::STALL_TOO_SHORT);
             }
         }
-        if !self.spi.framed_since_cs && short(t.saturating_sub(self.spi.cs_fall), self.limits.t_cs_ps) {
+        if !self.spi.framed_since_cs && self.limits.min_cs_setup.short(t.saturating_sub(self.spi.cs_fall)) {
             found.insert(Violations::CS_SETUP);
         }
         if !found.is_empty() {
@@ -452,7 +506,7 @@ impl Adis16407 {
         self.spi.cs_low = false;
         if let (true, Some(le), Some(&(mut last))) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
             let gap = t.saturating_sub(le);
-            if short(gap, self.limits.t_sfs_ps) {
+            if self.limits.min_cs_hold.short(gap) {
                 let msg = format!(
                     "frame {}: last SCLK edge to CS↑ {:.1} ns; tSFS ≥ {:.1} ns",
                     last.index,
@@ -491,5 +545,82 @@ impl SpiSlave for Adis16407 {
 
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         self.finish_frame(din, timing);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// Requirements where rounding could bite: zero, halves, values next to whole ps, the f64
+    /// precision limit 2^53 and beyond, the top of u64, infinity and NaN, and the profile defaults.
+    fn requirements() -> Vec<f64> {
+        let mut r = vec![
+            0.0,
+            -1.0,
+            0.5,
+            1.0,
+            1.5,
+            2.0,
+            2.5,
+            48_800.0,
+            9e6,
+            1e12 / 2e6,
+            1e12 / 1e6,
+            1_333_333.5,
+            (1u64 << 53) as f64,
+            (1u64 << 53) as f64 + 2.0,
+            (1u64 << 54) as f64 + 4.0,
+            9.2e18,
+            u64::MAX as f64,
+            1e21,
+            f64::INFINITY,
+            f64::NAN,
+        ];
+        for x in r.clone() {
+            r.push(f64::from_bits(x.to_bits().wrapping_add(1)));
+            r.push(f64::from_bits(x.to_bits().wrapping_sub(1)));
+        }
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+        r.extend((0..200).map(|_| rng.gen_range(0.0..2e7)));
+        r.extend((0..200).map(|_| 2f64.powf(rng.gen_range(0.0..66.0))));
+        r
+    }
+
+    #[test]
+    fn min_ps_is_the_float_rule_for_every_measured_value() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        for required in requirements() {
+            let bound = MinPs::new(required);
+            // Around the bound (where the rule flips), at the ends of u64 and at random.
+            let edge = bound.first_ok.min(u128::from(u64::MAX)) as u64;
+            let near = (0..8).flat_map(|d| [edge.saturating_sub(d), edge.saturating_add(d)]);
+            let random = (0..200).map(|_| rng.gen::<u64>() >> rng.gen_range(0..64));
+            for m in near.chain([0, 1, u64::MAX - 1, u64::MAX]).chain(random) {
+                assert_eq!(bound.short(m), short(m, required), "required {required:e} ps, measured {m} ps");
+            }
+        }
+    }
+
+    #[test]
+    fn short_ps_is_the_float_rule() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(10);
+        let around = |x: u64| (0..4).flat_map(move |d| [x.saturating_sub(d), x.saturating_add(d)]);
+        let special: Vec<u64> = [0, 1_333_333, 1 << 53, 1 << 54, u64::MAX].into_iter().flat_map(around).collect();
+        for &required in &special {
+            for &m in &special {
+                assert_eq!(short_ps(m, required), short(m, required as f64), "{m} against {required}");
+            }
+        }
+        for _ in 0..100_000 {
+            let required = rng.gen::<u64>() >> rng.gen_range(0..64);
+            let m = if rng.gen() {
+                required.saturating_sub(rng.gen_range(0..3))
+            } else {
+                rng.gen::<u64>() >> rng.gen_range(0..64)
+            };
+            assert_eq!(short_ps(m, required), short(m, required as f64), "{m} against {required}");
+        }
     }
 }
