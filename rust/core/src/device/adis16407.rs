@@ -524,7 +524,12 @@ impl Adis16407 {
     /// The 14 output words of a burst, as of now, with the sample they hold.
     pub(super) fn burst_snapshot(&mut self) -> ([u16; 14], Option<SampleStamp>) {
         self.encode_pending();
-        (BURST_ORDER.map(|a| word(&self.regs, self.nd, s(a))), self.latest)
+        // A plain loop rather than `BURST_ORDER.map`: it inlines, so each slot is a constant.
+        let mut words = [0u16; 14];
+        for (w, a) in words.iter_mut().zip(BURST_ORDER) {
+            *w = word(&self.regs, self.nd, s(a));
+        }
+        (words, self.latest)
     }
 
     /// Clear the ND flag of output register `addr` after a burst shifted it out, unless a newer sample
