@@ -52,6 +52,10 @@ impl Violations {
     /// Clocked during a software reset.
     pub const DEVICE_BUSY: Violations = Violations(1 << 7);
 
+    /// The rules whose breach makes the slave ignore DIN (and corrupt DOUT) in either timing mode.
+    const IGNORE_DIN: Violations =
+        Violations(Violations::FRAME_LENGTH.0 | Violations::NO_CHIP_SELECT.0 | Violations::DEVICE_BUSY.0);
+
     const NAMES: [(Violations, &'static str); 8] = [
         (Violations::SCLK_TOO_FAST, "sclk_too_fast"),
         (Violations::STALL_TOO_SHORT, "stall_too_short"),
@@ -71,6 +75,11 @@ impl Violations {
     /// Every bit of `other` is set.
     pub fn contains(self, other: Violations) -> bool {
         self.0 & other.0 == other.0
+    }
+
+    /// Some bit of `other` is set.
+    pub fn intersects(self, other: Violations) -> bool {
+        self.0 & other.0 != 0
     }
 
     /// Set the bits of `other`.
@@ -145,14 +154,11 @@ pub(crate) struct SlaveState {
     /// A cs_hold violation under strict corrupts the next DOUT.
     corrupt_next: bool,
     burst: Option<Burst>,
-    /// The records of the frame in progress and of the latest finished frame. Finishing a frame flips
-    /// `current` instead of copying the record (88 bytes, on the per-frame path).
+    /// The records of the frame in progress (slot `frames % 2`) and of the latest finished frame (the
+    /// other slot): finishing a frame moves on `frames` instead of copying the record (88 bytes).
     records: [ReadRecord; 2],
-    /// Slot of the frame in progress; the other slot holds the latest finished frame.
-    current: usize,
-    /// A frame has finished since power-on (the latest-finished slot is valid).
-    any_finished: bool,
     role: Role,
+    /// Frames finished since power-on.
     frames: u64,
     log: Option<Vec<ReadRecord>>,
 }
@@ -165,9 +171,19 @@ impl SlaveState {
         self.burst = None;
     }
 
+    /// Slot of the frame in progress.
+    fn current(&self) -> usize {
+        (self.frames % 2) as usize
+    }
+
+    /// Slot of the latest finished frame.
+    fn finished(&self) -> usize {
+        self.current() ^ 1
+    }
+
     /// The latest finished frame.
     fn last(&self) -> Option<&ReadRecord> {
-        self.any_finished.then(|| &self.records[self.current ^ 1])
+        (self.frames > 0).then(|| &self.records[self.finished()])
     }
 }
 
@@ -269,8 +285,8 @@ impl Adis16407 {
         self.spi.burst.is_some()
     }
 
-    fn violation(&mut self, rec: &mut ReadRecord, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
-        rec.violations.insert(v);
+    /// The event of a broken rule `v` (the caller records the bit in the frame's record).
+    fn violation(&mut self, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
         let kind = v.kinds().next().unwrap_or("spi_violation");
         self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
     }
@@ -295,7 +311,7 @@ impl Adis16407 {
 
     /// The timing rules the frame breaks: comparisons only (this runs on every frame); the events
     /// are written by [`Adis16407::report_timing`] when there is one.
-    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord) {
+    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool) -> Violations {
         let t = timing.first_edge;
         let mut found = Violations::default();
         if timing.bits != 16 {
@@ -319,29 +335,30 @@ impl Adis16407 {
             found.insert(Violations::CS_SETUP);
         }
         if !found.is_empty() {
-            self.report_timing(timing, in_burst, rec, found);
+            self.report_timing(timing, in_burst, found);
         }
+        found
     }
 
-    /// Record the timing violations `found` in a frame (one event each, in rule order).
+    /// The events of the timing violations `found` in the frame in progress (one each, in rule order).
     #[cold]
     #[inline(never)]
-    fn report_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord, found: Violations) {
+    fn report_timing(&mut self, timing: &FrameTiming, in_burst: bool, found: Violations) {
         let t = timing.first_edge;
-        let n = rec.index;
+        let n = self.spi.frames;
         if found.contains(Violations::FRAME_LENGTH) {
             let msg = format!("frame {n}: {} SCLK cycles; the ADIS16407 needs 16-bit frames", timing.bits);
-            self.violation(rec, Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
+            self.violation(Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
         }
         if found.contains(Violations::CLOCK_POLARITY) {
             let msg = format!("frame {n}: SCLK idles low; the ADIS16407 needs SPI mode 3 (CPOL = 1, CPHA = 1)");
-            self.violation(rec, Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
+            self.violation(Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
         }
         if found.contains(Violations::SCLK_TOO_FAST) {
             let (max_hz, _, which) = self.sclk_limit(in_burst);
             let f = hz(timing.sclk_period);
             let msg = format!("frame {n}: SCLK {:.6} MHz exceeds the {which} limit {:.6} MHz", f / 1e6, max_hz / 1e6);
-            self.violation(rec, Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
+            self.violation(Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
         }
         if let (true, Some(le)) = (found.contains(Violations::STALL_TOO_SHORT), self.spi.last_edge) {
             let gap = t.saturating_sub(le);
@@ -351,7 +368,7 @@ impl Adis16407 {
                 gap as f64 / 1e6,
                 required / 1e6
             );
-            self.violation(rec, Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
+            self.violation(Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
         }
         if found.contains(Violations::CS_SETUP) {
             let gap = t.saturating_sub(self.spi.cs_fall);
@@ -360,7 +377,7 @@ impl Adis16407 {
                 gap as f64 / 1e3,
                 self.limits.t_cs_ps / 1e3
             );
-            self.violation(rec, Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
+            self.violation(Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
         }
     }
 
@@ -384,18 +401,22 @@ impl Adis16407 {
     /// as the corrupt word and DIN is ignored.
     #[cold]
     #[inline(never)]
-    fn ignored_frame(&mut self, mut rec: ReadRecord, t: Ps) -> u16 {
-        let corrupt = self.limits.corrupt_word;
-        if !self.spi.cs_low {
-            let msg = format!("frame {}: clocked with CS high; the ADIS16407 ignores it", rec.index);
-            self.violation(&mut rec, Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
-            return self.finish_start(rec, corrupt, Role::Ignore);
-        }
-        let left = self.busy_until() - t;
-        let msg = format!("frame {}: the ADIS16407 is resetting for another {:.3} ms", rec.index, left as f64 / 1e9);
-        self.violation(&mut rec, Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
-        self.spi.reset();
-        self.finish_start(rec, corrupt, Role::Ignore)
+    fn ignored_frame(&mut self, timing: &FrameTiming) -> u16 {
+        let (t, n) = (timing.first_edge, self.spi.frames);
+        let violation = if !self.spi.cs_low {
+            let msg = format!("frame {n}: clocked with CS high; the ADIS16407 ignores it");
+            self.violation(Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
+            Violations::NO_CHIP_SELECT
+        } else {
+            let left = self.busy_until() - t;
+            let msg = format!("frame {n}: the ADIS16407 is resetting for another {:.3} ms", left as f64 / 1e9);
+            self.violation(Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
+            self.spi.reset();
+            Violations::DEVICE_BUSY
+        };
+        let dout = self.limits.corrupt_word;
+        self.record_start(timing, dout, None, None, violation, false);
+        dout
     }
 
     fn start_frame(&mut self, timing: &FrameTiming) -> u16 {
@@ -404,56 +425,69 @@ impl Adis16407 {
             self.time_reversal(t);
         }
         self.advance_to(t);
-        let mut rec = ReadRecord { index: self.spi.frames, t_start: t, t_end: timing.last_edge, ..Default::default() };
         if !self.spi.cs_low || t < self.busy_until() {
-            return self.ignored_frame(rec, t);
+            return self.ignored_frame(timing);
         }
         let in_burst = self.spi.burst.is_some();
-        self.check_timing(timing, in_burst, &mut rec);
+        let violations = self.check_timing(timing, in_burst);
 
-        let (word, sample) = if let Some(b) = self.spi.burst {
-            let reg = BURST_ORDER[b.next];
-            rec.register = Some(reg);
-            rec.in_burst = true;
-            self.clear_nd_after_burst(reg, b.sample);
-            (b.words[b.next], b.sample)
+        let (register, word, sample) = if let Some(b) = &self.spi.burst {
+            let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
+            self.clear_nd_after_burst(register, sample);
+            (Some(register), word, sample)
         } else if let Some(reg) = self.spi.pending_read.take() {
-            rec.register = Some(reg & !1);
-            self.read_for_output(reg, t)
+            let (word, sample) = self.read_for_output(reg, t);
+            (Some(reg & !1), word, sample)
         } else {
-            (self.limits.idle_word, None)
+            (None, self.limits.idle_word, None)
         };
-        rec.sample_index = sample.map(|x| x.index);
-        rec.sample_age_ps = sample.map(|x| t.saturating_sub(x.t));
 
         let corrupt_next = std::mem::take(&mut self.spi.corrupt_next);
-        let dout = if rec.violations.contains(Violations::FRAME_LENGTH)
-            || corrupt_next
-            || (self.limits.strict && !rec.violations.is_empty())
-        {
+        let wrong_length = violations.contains(Violations::FRAME_LENGTH);
+        let dout = if wrong_length || corrupt_next || (self.limits.strict && !violations.is_empty()) {
             self.limits.corrupt_word
         } else {
             word
         };
-        let role = if rec.violations.contains(Violations::FRAME_LENGTH) {
+        self.record_start(timing, dout, register, sample, violations, in_burst);
+        dout
+    }
+
+    /// Write the record of the frame in progress (all but DIN) straight into its slot, once, and
+    /// what the frame's end does with DIN.
+    fn record_start(
+        &mut self,
+        timing: &FrameTiming,
+        dout: u16,
+        register: Option<u8>,
+        sample: Option<SampleStamp>,
+        violations: Violations,
+        in_burst: bool,
+    ) {
+        let t = timing.first_edge;
+        self.spi.role = if violations.intersects(Violations::IGNORE_DIN) {
             Role::Ignore
         } else if in_burst {
             Role::BurstData
         } else {
             Role::Command
         };
-        self.finish_start(rec, dout, role)
-    }
-
-    fn finish_start(&mut self, mut rec: ReadRecord, dout: u16, role: Role) -> u16 {
-        rec.dout = dout;
-        self.spi.records[self.spi.current] = rec;
-        self.spi.role = role;
-        dout
+        self.spi.records[self.spi.current()] = ReadRecord {
+            index: self.spi.frames,
+            t_start: t,
+            t_end: timing.last_edge,
+            din: 0,
+            dout,
+            register,
+            sample_index: sample.map(|x| x.index),
+            sample_age_ps: sample.map(|x| t.saturating_sub(x.t)),
+            violations,
+            in_burst,
+        };
     }
 
     fn finish_frame(&mut self, din: u16, timing: &FrameTiming) {
-        let slot = self.spi.current;
+        let slot = self.spi.current();
         let rec = &mut self.spi.records[slot];
         rec.din = din;
         let took_part = !rec.violations.contains(Violations::NO_CHIP_SELECT);
@@ -462,10 +496,8 @@ impl Adis16407 {
             self.spi.framed_since_cs = true;
         }
         self.spi.frames += 1;
-        self.spi.current = slot ^ 1;
-        self.spi.any_finished = true;
-        if let Some(log) = &mut self.spi.log {
-            log.push(self.spi.records[slot]);
+        if self.spi.log.is_some() {
+            self.log_frame(slot);
         }
         match self.spi.role {
             Role::Ignore => {}
@@ -477,17 +509,31 @@ impl Adis16407 {
                     }
                 }
             }
-            Role::Command => {
-                let addr = ((din >> 8) & 0x7F) as u8;
-                if din & 0x8000 != 0 {
-                    self.write_byte(addr, din as u8, timing.last_edge);
-                } else if din == self.limits.burst_command {
-                    let (words, sample) = self.burst_snapshot();
-                    self.spi.burst = Some(Burst { words, sample, next: 0 });
-                } else {
-                    self.spi.pending_read = Some(addr);
-                }
-            }
+            Role::Command => self.command(din, timing.last_edge),
+        }
+    }
+
+    /// Append the record in `slot` to the frame log (out of line: the log is off by default).
+    #[cold]
+    #[inline(never)]
+    fn log_frame(&mut self, slot: usize) {
+        if let Some(log) = &mut self.spi.log {
+            log.push(self.spi.records[slot]);
+        }
+    }
+
+    /// Act on a command frame's DIN at its last edge `t`. Kept out of line: two frames in 30 are
+    /// commands, and inlined its paths would cost the data frames' path stack and registers.
+    #[inline(never)]
+    fn command(&mut self, din: u16, t: Ps) {
+        let addr = ((din >> 8) & 0x7F) as u8;
+        if din & 0x8000 != 0 {
+            self.write_byte(addr, din as u8, t);
+        } else if din == self.limits.burst_command {
+            let (words, sample) = self.burst_snapshot();
+            self.spi.burst = Some(Burst { words, sample, next: 0 });
+        } else {
+            self.spi.pending_read = Some(addr);
         }
     }
 
@@ -504,7 +550,7 @@ impl Adis16407 {
             return;
         }
         self.spi.cs_low = false;
-        if let (true, Some(le), Some(&(mut last))) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
+        if let (true, Some(le), Some(last)) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
             let gap = t.saturating_sub(le);
             if self.limits.min_cs_hold.short(gap) {
                 let msg = format!(
@@ -513,10 +559,11 @@ impl Adis16407 {
                     gap as f64 / 1e3,
                     self.limits.t_sfs_ps / 1e3
                 );
-                self.violation(&mut last, Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
-                self.spi.records[self.spi.current ^ 1] = last;
+                self.violation(Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
+                let last = &mut self.spi.records[self.spi.finished()];
+                last.violations.insert(Violations::CS_HOLD);
                 if let Some(entry) = self.spi.log.as_mut().and_then(|l| l.last_mut()) {
-                    *entry = last;
+                    *entry = *last;
                 }
                 if self.limits.strict {
                     self.spi.corrupt_next = true;
