@@ -120,18 +120,6 @@ pub struct ReadRecord {
     pub in_burst: bool,
 }
 
-/// What the current frame does with DIN.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-enum Role {
-    /// Decode DIN as a command.
-    #[default]
-    Command,
-    /// A burst data frame: DIN is don't care.
-    BurstData,
-    /// The slave did not take part (or could not): DIN is ignored.
-    Ignore,
-}
-
 /// The output words of a burst in progress.
 #[derive(Debug, Clone, Copy)]
 struct Burst {
@@ -157,7 +145,6 @@ pub(crate) struct SlaveState {
     /// The records of the frame in progress (slot `frames % 2`) and of the latest finished frame (the
     /// other slot): finishing a frame moves on `frames` instead of copying the record (88 bytes).
     records: [ReadRecord; 2],
-    role: Role,
     /// Frames finished since power-on.
     frames: u64,
     log: Option<Vec<ReadRecord>>,
@@ -453,8 +440,7 @@ impl Adis16407 {
         dout
     }
 
-    /// Write the record of the frame in progress (all but DIN) straight into its slot, once, and
-    /// what the frame's end does with DIN.
+    /// Write the record of the frame in progress (all but DIN) straight into its slot, once.
     fn record_start(
         &mut self,
         timing: &FrameTiming,
@@ -465,13 +451,6 @@ impl Adis16407 {
         in_burst: bool,
     ) {
         let t = timing.first_edge;
-        self.spi.role = if violations.intersects(Violations::IGNORE_DIN) {
-            Role::Ignore
-        } else if in_burst {
-            Role::BurstData
-        } else {
-            Role::Command
-        };
         self.spi.records[self.spi.current()] = ReadRecord {
             index: self.spi.frames,
             t_start: t,
@@ -490,8 +469,8 @@ impl Adis16407 {
         let slot = self.spi.current();
         let rec = &mut self.spi.records[slot];
         rec.din = din;
-        let took_part = !rec.violations.contains(Violations::NO_CHIP_SELECT);
-        if took_part {
+        let (violations, in_burst) = (rec.violations, rec.in_burst);
+        if !violations.contains(Violations::NO_CHIP_SELECT) {
             self.spi.last_edge = Some(timing.last_edge);
             self.spi.framed_since_cs = true;
         }
@@ -499,17 +478,18 @@ impl Adis16407 {
         if self.spi.log.is_some() {
             self.log_frame(slot);
         }
-        match self.spi.role {
-            Role::Ignore => {}
-            Role::BurstData => {
-                if let Some(b) = &mut self.spi.burst {
-                    b.next += 1;
-                    if b.next == b.words.len() {
-                        self.spi.burst = None;
-                    }
-                }
+        // What the frame does with DIN: nothing when it was ignored, nothing but move the burst on in
+        // a burst data frame, else it is a command.
+        if violations.intersects(Violations::IGNORE_DIN) {
+            return;
+        }
+        if !in_burst {
+            self.command(din, timing.last_edge);
+        } else if let Some(b) = &mut self.spi.burst {
+            b.next += 1;
+            if b.next == b.words.len() {
+                self.spi.burst = None;
             }
-            Role::Command => self.command(din, timing.last_edge),
         }
     }
 
