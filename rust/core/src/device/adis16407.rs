@@ -13,7 +13,7 @@ use super::faults::{DeviceFaults, SampleFaults};
 use super::filter::Bartlett;
 use super::registers::{self, addr, Access, Format, RegisterDef, BURST_ORDER, REGISTERS, SLOTS};
 use super::sampler::{sample_clock, Constant, Ideal, Schedule, SensorErrors, Stimulus};
-use super::slave::SlaveState;
+use super::slave::{MinPs, SlaveState};
 use super::Physical;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -135,13 +135,16 @@ pub struct DataReady {
 pub(crate) struct Limits {
     pub sclk_max_hz: f64,
     pub sclk_burst_max_hz: f64,
-    /// Shortest SCLK period allowed, ps (1/sclk_max_hz).
-    pub sclk_min_period_ps: f64,
-    /// Shortest SCLK period allowed in a burst, ps.
-    pub sclk_burst_min_period_ps: f64,
     pub t_stall_ps: f64,
     pub t_cs_ps: f64,
     pub t_sfs_ps: f64,
+    /// The same rules as whole-ps bounds, for the per-frame checks: shortest SCLK period (1/sclk_max_hz),
+    /// in a burst, stall, tCS, tSFS.
+    pub min_sclk_period: MinPs,
+    pub min_burst_sclk_period: MinPs,
+    pub min_stall: MinPs,
+    pub min_cs_setup: MinPs,
+    pub min_cs_hold: MinPs,
     pub strict: bool,
     pub corrupt_word: u16,
     pub idle_word: u16,
@@ -252,14 +255,18 @@ impl Adis16407 {
         for r in &REGISTERS {
             regs[r.slot()] = r.power_on_value(cfg);
         }
+        let (t_stall_ps, t_cs_ps, t_sfs_ps) = (cfg.t_stall_us * 1e6, cfg.t_cs_ns * 1e3, cfg.t_sfs_ns * 1e3);
         let limits = Limits {
             sclk_max_hz: cfg.sclk_max_hz,
             sclk_burst_max_hz: cfg.sclk_burst_max_hz,
-            sclk_min_period_ps: PS_PER_S as f64 / cfg.sclk_max_hz,
-            sclk_burst_min_period_ps: PS_PER_S as f64 / cfg.sclk_burst_max_hz,
-            t_stall_ps: cfg.t_stall_us * 1e6,
-            t_cs_ps: cfg.t_cs_ns * 1e3,
-            t_sfs_ps: cfg.t_sfs_ns * 1e3,
+            t_stall_ps,
+            t_cs_ps,
+            t_sfs_ps,
+            min_sclk_period: MinPs::new(PS_PER_S as f64 / cfg.sclk_max_hz),
+            min_burst_sclk_period: MinPs::new(PS_PER_S as f64 / cfg.sclk_burst_max_hz),
+            min_stall: MinPs::new(t_stall_ps),
+            min_cs_setup: MinPs::new(t_cs_ps),
+            min_cs_hold: MinPs::new(t_sfs_ps),
             strict: cfg.timing_mode == TimingMode::Strict,
             corrupt_word: cfg.corrupt_word as u16,
             idle_word: cfg.dout_after_write as u16,
@@ -517,7 +524,12 @@ impl Adis16407 {
     /// The 14 output words of a burst, as of now, with the sample they hold.
     pub(super) fn burst_snapshot(&mut self) -> ([u16; 14], Option<SampleStamp>) {
         self.encode_pending();
-        (BURST_ORDER.map(|a| word(&self.regs, self.nd, s(a))), self.latest)
+        // A plain loop rather than `BURST_ORDER.map`: it inlines, so each slot is a constant.
+        let mut words = [0u16; 14];
+        for (w, a) in words.iter_mut().zip(BURST_ORDER) {
+            *w = word(&self.regs, self.nd, s(a));
+        }
+        (words, self.latest)
     }
 
     /// Clear the ND flag of output register `addr` after a burst shifted it out, unless a newer sample

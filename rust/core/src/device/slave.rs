@@ -52,6 +52,10 @@ impl Violations {
     /// Clocked during a software reset.
     pub const DEVICE_BUSY: Violations = Violations(1 << 7);
 
+    /// The rules whose breach makes the slave ignore DIN (and corrupt DOUT) in either timing mode.
+    const IGNORE_DIN: Violations =
+        Violations(Violations::FRAME_LENGTH.0 | Violations::NO_CHIP_SELECT.0 | Violations::DEVICE_BUSY.0);
+
     const NAMES: [(Violations, &'static str); 8] = [
         (Violations::SCLK_TOO_FAST, "sclk_too_fast"),
         (Violations::STALL_TOO_SHORT, "stall_too_short"),
@@ -71,6 +75,11 @@ impl Violations {
     /// Every bit of `other` is set.
     pub fn contains(self, other: Violations) -> bool {
         self.0 & other.0 == other.0
+    }
+
+    /// Some bit of `other` is set.
+    pub fn intersects(self, other: Violations) -> bool {
+        self.0 & other.0 != 0
     }
 
     /// Set the bits of `other`.
@@ -111,18 +120,6 @@ pub struct ReadRecord {
     pub in_burst: bool,
 }
 
-/// What the current frame does with DIN.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-enum Role {
-    /// Decode DIN as a command.
-    #[default]
-    Command,
-    /// A burst data frame: DIN is don't care.
-    BurstData,
-    /// The slave did not take part (or could not): DIN is ignored.
-    Ignore,
-}
-
 /// The output words of a burst in progress.
 #[derive(Debug, Clone, Copy)]
 struct Burst {
@@ -145,14 +142,10 @@ pub(crate) struct SlaveState {
     /// A cs_hold violation under strict corrupts the next DOUT.
     corrupt_next: bool,
     burst: Option<Burst>,
-    /// The records of the frame in progress and of the latest finished frame. Finishing a frame flips
-    /// `current` instead of copying the record (88 bytes, on the per-frame path).
+    /// The records of the frame in progress (slot `frames % 2`) and of the latest finished frame (the
+    /// other slot): finishing a frame moves on `frames` instead of copying the record (88 bytes).
     records: [ReadRecord; 2],
-    /// Slot of the frame in progress; the other slot holds the latest finished frame.
-    current: usize,
-    /// A frame has finished since power-on (the latest-finished slot is valid).
-    any_finished: bool,
-    role: Role,
+    /// Frames finished since power-on.
     frames: u64,
     log: Option<Vec<ReadRecord>>,
 }
@@ -165,9 +158,19 @@ impl SlaveState {
         self.burst = None;
     }
 
+    /// Slot of the frame in progress.
+    fn current(&self) -> usize {
+        (self.frames % 2) as usize
+    }
+
+    /// Slot of the latest finished frame.
+    fn finished(&self) -> usize {
+        self.current() ^ 1
+    }
+
     /// The latest finished frame.
     fn last(&self) -> Option<&ReadRecord> {
-        self.any_finished.then(|| &self.records[self.current ^ 1])
+        (self.frames > 0).then(|| &self.records[self.finished()])
     }
 }
 
@@ -184,8 +187,59 @@ fn s(t: f64) -> f64 {
 }
 
 /// `measured` (whole ps, floored by the bus) falls short of `required` ps, with a 1 ps allowance.
+/// This is the definition of every timing rule; the per-frame checks use its integer forms
+/// [`MinPs`] and [`short_ps`], which give the same answer for every `measured`.
 fn short(measured: Ps, required_ps: f64) -> bool {
     (measured as f64) + 1.0 < required_ps
+}
+
+/// [`short`] against a whole-ps requirement (the frame's own SCLK period inside a burst). Below 2^53
+/// both values and `measured + 1` are exact in f64, so the float rule is the integer one; beyond
+/// (2.5 hours) the float rule itself decides.
+fn short_ps(measured: Ps, required: Ps) -> bool {
+    const EXACT: Ps = 1 << 53;
+    if measured < EXACT && required < EXACT {
+        measured + 1 < required
+    } else {
+        short(measured, required as f64)
+    }
+}
+
+/// A fixed timing limit as a whole-ps bound, so that a frame's check is one integer comparison instead
+/// of a u64 → f64 conversion: `short(m)` equals [`short`]`(m, required_ps)` for every `m`.
+///
+/// Why that holds: `m as f64` (round to nearest) and `+ 1.0` are non-decreasing in `m`, so the `m`
+/// that [`short`] rejects are exactly `0..first_ok` for some `first_ok` in 0…2^64; [`MinPs::new`]
+/// finds it by bisection over [`short`] itself (2^64, every u64 short, for an infinite requirement;
+/// hence the u128).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct MinPs {
+    first_ok: u128,
+}
+
+impl MinPs {
+    /// The bound of the rule "`measured` must not fall short of `required_ps`".
+    pub fn new(required_ps: f64) -> MinPs {
+        if short(u64::MAX, required_ps) {
+            return MinPs { first_ok: 1 << 64 };
+        }
+        // Invariant: every m < lo is short, hi is not.
+        let (mut lo, mut hi) = (0u64, u64::MAX);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if short(mid, required_ps) {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        MinPs { first_ok: u128::from(lo) }
+    }
+
+    /// `measured` breaks the rule.
+    pub fn short(self, measured: Ps) -> bool {
+        u128::from(measured) < self.first_ok
+    }
 }
 
 impl Adis16407 {
@@ -218,18 +272,18 @@ impl Adis16407 {
         self.spi.burst.is_some()
     }
 
-    fn violation(&mut self, rec: &mut ReadRecord, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
-        rec.violations.insert(v);
+    /// The event of a broken rule `v` (the caller records the bit in the frame's record).
+    fn violation(&mut self, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
         let kind = v.kinds().next().unwrap_or("spi_violation");
         self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
     }
 
-    /// The limits that apply to a frame: (SCLK limit in Hz, shortest SCLK period in ps, which limit).
-    fn sclk_limit(&self, in_burst: bool) -> (f64, f64, &'static str) {
+    /// The SCLK limit that applies to a frame: (in Hz, as the shortest period, which limit).
+    fn sclk_limit(&self, in_burst: bool) -> (f64, MinPs, &'static str) {
         if in_burst {
-            (self.limits.sclk_burst_max_hz, self.limits.sclk_burst_min_period_ps, "burst")
+            (self.limits.sclk_burst_max_hz, self.limits.min_burst_sclk_period, "burst")
         } else {
-            (self.limits.sclk_max_hz, self.limits.sclk_min_period_ps, "normal-mode")
+            (self.limits.sclk_max_hz, self.limits.min_sclk_period, "normal-mode")
         }
     }
 
@@ -244,7 +298,7 @@ impl Adis16407 {
 
     /// The timing rules the frame breaks: comparisons only (this runs on every frame); the events
     /// are written by [`Adis16407::report_timing`] when there is one.
-    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord) {
+    fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool) -> Violations {
         let t = timing.first_edge;
         let mut found = Violations::default();
         if timing.bits != 16 {
@@ -253,41 +307,45 @@ impl Adis16407 {
         if !timing.cpol {
             found.insert(Violations::CLOCK_POLARITY);
         }
-        if short(timing.sclk_period, self.sclk_limit(in_burst).1) {
+        if self.sclk_limit(in_burst).1.short(timing.sclk_period) {
             found.insert(Violations::SCLK_TOO_FAST);
         }
         if let Some(le) = self.spi.last_edge {
-            if short(t.saturating_sub(le), self.stall_limit(timing, in_burst).0) {
+            let gap = t.saturating_sub(le);
+            let stall_short =
+                if in_burst { short_ps(gap, timing.sclk_period) } else { self.limits.min_stall.short(gap) };
+            if stall_short {
                 found.insert(Violations::STALL_TOO_SHORT);
             }
         }
-        if !self.spi.framed_since_cs && short(t.saturating_sub(self.spi.cs_fall), self.limits.t_cs_ps) {
+        if !self.spi.framed_since_cs && self.limits.min_cs_setup.short(t.saturating_sub(self.spi.cs_fall)) {
             found.insert(Violations::CS_SETUP);
         }
         if !found.is_empty() {
-            self.report_timing(timing, in_burst, rec, found);
+            self.report_timing(timing, in_burst, found);
         }
+        found
     }
 
-    /// Record the timing violations `found` in a frame (one event each, in rule order).
+    /// The events of the timing violations `found` in the frame in progress (one each, in rule order).
     #[cold]
     #[inline(never)]
-    fn report_timing(&mut self, timing: &FrameTiming, in_burst: bool, rec: &mut ReadRecord, found: Violations) {
+    fn report_timing(&mut self, timing: &FrameTiming, in_burst: bool, found: Violations) {
         let t = timing.first_edge;
-        let n = rec.index;
+        let n = self.spi.frames;
         if found.contains(Violations::FRAME_LENGTH) {
             let msg = format!("frame {n}: {} SCLK cycles; the ADIS16407 needs 16-bit frames", timing.bits);
-            self.violation(rec, Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
+            self.violation(Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
         }
         if found.contains(Violations::CLOCK_POLARITY) {
             let msg = format!("frame {n}: SCLK idles low; the ADIS16407 needs SPI mode 3 (CPOL = 1, CPHA = 1)");
-            self.violation(rec, Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
+            self.violation(Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
         }
         if found.contains(Violations::SCLK_TOO_FAST) {
             let (max_hz, _, which) = self.sclk_limit(in_burst);
             let f = hz(timing.sclk_period);
             let msg = format!("frame {n}: SCLK {:.6} MHz exceeds the {which} limit {:.6} MHz", f / 1e6, max_hz / 1e6);
-            self.violation(rec, Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
+            self.violation(Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
         }
         if let (true, Some(le)) = (found.contains(Violations::STALL_TOO_SHORT), self.spi.last_edge) {
             let gap = t.saturating_sub(le);
@@ -297,7 +355,7 @@ impl Adis16407 {
                 gap as f64 / 1e6,
                 required / 1e6
             );
-            self.violation(rec, Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
+            self.violation(Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
         }
         if found.contains(Violations::CS_SETUP) {
             let gap = t.saturating_sub(self.spi.cs_fall);
@@ -306,7 +364,7 @@ impl Adis16407 {
                 gap as f64 / 1e3,
                 self.limits.t_cs_ps / 1e3
             );
-            self.violation(rec, Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
+            self.violation(Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
         }
     }
 
@@ -330,18 +388,22 @@ impl Adis16407 {
     /// as the corrupt word and DIN is ignored.
     #[cold]
     #[inline(never)]
-    fn ignored_frame(&mut self, mut rec: ReadRecord, t: Ps) -> u16 {
-        let corrupt = self.limits.corrupt_word;
-        if !self.spi.cs_low {
-            let msg = format!("frame {}: clocked with CS high; the ADIS16407 ignores it", rec.index);
-            self.violation(&mut rec, Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
-            return self.finish_start(rec, corrupt, Role::Ignore);
-        }
-        let left = self.busy_until() - t;
-        let msg = format!("frame {}: the ADIS16407 is resetting for another {:.3} ms", rec.index, left as f64 / 1e9);
-        self.violation(&mut rec, Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
-        self.spi.reset();
-        self.finish_start(rec, corrupt, Role::Ignore)
+    fn ignored_frame(&mut self, timing: &FrameTiming) -> u16 {
+        let (t, n) = (timing.first_edge, self.spi.frames);
+        let violation = if !self.spi.cs_low {
+            let msg = format!("frame {n}: clocked with CS high; the ADIS16407 ignores it");
+            self.violation(Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
+            Violations::NO_CHIP_SELECT
+        } else {
+            let left = self.busy_until() - t;
+            let msg = format!("frame {n}: the ADIS16407 is resetting for another {:.3} ms", left as f64 / 1e9);
+            self.violation(Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
+            self.spi.reset();
+            Violations::DEVICE_BUSY
+        };
+        let dout = self.limits.corrupt_word;
+        self.record_start(timing, dout, None, None, violation, false);
+        dout
     }
 
     fn start_frame(&mut self, timing: &FrameTiming) -> u16 {
@@ -350,90 +412,108 @@ impl Adis16407 {
             self.time_reversal(t);
         }
         self.advance_to(t);
-        let mut rec = ReadRecord { index: self.spi.frames, t_start: t, t_end: timing.last_edge, ..Default::default() };
         if !self.spi.cs_low || t < self.busy_until() {
-            return self.ignored_frame(rec, t);
+            return self.ignored_frame(timing);
         }
         let in_burst = self.spi.burst.is_some();
-        self.check_timing(timing, in_burst, &mut rec);
+        let violations = self.check_timing(timing, in_burst);
 
-        let (word, sample) = if let Some(b) = self.spi.burst {
-            let reg = BURST_ORDER[b.next];
-            rec.register = Some(reg);
-            rec.in_burst = true;
-            self.clear_nd_after_burst(reg, b.sample);
-            (b.words[b.next], b.sample)
+        let (register, word, sample) = if let Some(b) = &self.spi.burst {
+            let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
+            self.clear_nd_after_burst(register, sample);
+            (Some(register), word, sample)
         } else if let Some(reg) = self.spi.pending_read.take() {
-            rec.register = Some(reg & !1);
-            self.read_for_output(reg, t)
+            let (word, sample) = self.read_for_output(reg, t);
+            (Some(reg & !1), word, sample)
         } else {
-            (self.limits.idle_word, None)
+            (None, self.limits.idle_word, None)
         };
-        rec.sample_index = sample.map(|x| x.index);
-        rec.sample_age_ps = sample.map(|x| t.saturating_sub(x.t));
 
         let corrupt_next = std::mem::take(&mut self.spi.corrupt_next);
-        let dout = if rec.violations.contains(Violations::FRAME_LENGTH)
-            || corrupt_next
-            || (self.limits.strict && !rec.violations.is_empty())
-        {
+        let wrong_length = violations.contains(Violations::FRAME_LENGTH);
+        let dout = if wrong_length || corrupt_next || (self.limits.strict && !violations.is_empty()) {
             self.limits.corrupt_word
         } else {
             word
         };
-        let role = if rec.violations.contains(Violations::FRAME_LENGTH) {
-            Role::Ignore
-        } else if in_burst {
-            Role::BurstData
-        } else {
-            Role::Command
-        };
-        self.finish_start(rec, dout, role)
-    }
-
-    fn finish_start(&mut self, mut rec: ReadRecord, dout: u16, role: Role) -> u16 {
-        rec.dout = dout;
-        self.spi.records[self.spi.current] = rec;
-        self.spi.role = role;
+        self.record_start(timing, dout, register, sample, violations, in_burst);
         dout
     }
 
+    /// Write the record of the frame in progress (all but DIN) straight into its slot, once.
+    fn record_start(
+        &mut self,
+        timing: &FrameTiming,
+        dout: u16,
+        register: Option<u8>,
+        sample: Option<SampleStamp>,
+        violations: Violations,
+        in_burst: bool,
+    ) {
+        let t = timing.first_edge;
+        self.spi.records[self.spi.current()] = ReadRecord {
+            index: self.spi.frames,
+            t_start: t,
+            t_end: timing.last_edge,
+            din: 0,
+            dout,
+            register,
+            sample_index: sample.map(|x| x.index),
+            sample_age_ps: sample.map(|x| t.saturating_sub(x.t)),
+            violations,
+            in_burst,
+        };
+    }
+
     fn finish_frame(&mut self, din: u16, timing: &FrameTiming) {
-        let slot = self.spi.current;
+        let slot = self.spi.current();
         let rec = &mut self.spi.records[slot];
         rec.din = din;
-        let took_part = !rec.violations.contains(Violations::NO_CHIP_SELECT);
-        if took_part {
+        let (violations, in_burst) = (rec.violations, rec.in_burst);
+        if !violations.contains(Violations::NO_CHIP_SELECT) {
             self.spi.last_edge = Some(timing.last_edge);
             self.spi.framed_since_cs = true;
         }
         self.spi.frames += 1;
-        self.spi.current = slot ^ 1;
-        self.spi.any_finished = true;
+        if self.spi.log.is_some() {
+            self.log_frame(slot);
+        }
+        // What the frame does with DIN: nothing when it was ignored, nothing but move the burst on in
+        // a burst data frame, else it is a command.
+        if violations.intersects(Violations::IGNORE_DIN) {
+            return;
+        }
+        if !in_burst {
+            self.command(din, timing.last_edge);
+        } else if let Some(b) = &mut self.spi.burst {
+            b.next += 1;
+            if b.next == b.words.len() {
+                self.spi.burst = None;
+            }
+        }
+    }
+
+    /// Append the record in `slot` to the frame log (out of line: the log is off by default).
+    #[cold]
+    #[inline(never)]
+    fn log_frame(&mut self, slot: usize) {
         if let Some(log) = &mut self.spi.log {
             log.push(self.spi.records[slot]);
         }
-        match self.spi.role {
-            Role::Ignore => {}
-            Role::BurstData => {
-                if let Some(b) = &mut self.spi.burst {
-                    b.next += 1;
-                    if b.next == b.words.len() {
-                        self.spi.burst = None;
-                    }
-                }
-            }
-            Role::Command => {
-                let addr = ((din >> 8) & 0x7F) as u8;
-                if din & 0x8000 != 0 {
-                    self.write_byte(addr, din as u8, timing.last_edge);
-                } else if din == self.limits.burst_command {
-                    let (words, sample) = self.burst_snapshot();
-                    self.spi.burst = Some(Burst { words, sample, next: 0 });
-                } else {
-                    self.spi.pending_read = Some(addr);
-                }
-            }
+    }
+
+    /// Act on a command frame's DIN at its last edge `t`. Kept out of line: two frames in 30 are
+    /// commands, and inlined its paths would cost the data frames' path stack and registers.
+    #[inline(never)]
+    fn command(&mut self, din: u16, t: Ps) {
+        let addr = ((din >> 8) & 0x7F) as u8;
+        if din & 0x8000 != 0 {
+            self.write_byte(addr, din as u8, t);
+        } else if din == self.limits.burst_command {
+            let (words, sample) = self.burst_snapshot();
+            self.spi.burst = Some(Burst { words, sample, next: 0 });
+        } else {
+            self.spi.pending_read = Some(addr);
         }
     }
 
@@ -450,19 +530,20 @@ impl Adis16407 {
             return;
         }
         self.spi.cs_low = false;
-        if let (true, Some(le), Some(&(mut last))) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
+        if let (true, Some(le), Some(last)) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
             let gap = t.saturating_sub(le);
-            if short(gap, self.limits.t_sfs_ps) {
+            if self.limits.min_cs_hold.short(gap) {
                 let msg = format!(
                     "frame {}: last SCLK edge to CS↑ {:.1} ns; tSFS ≥ {:.1} ns",
                     last.index,
                     gap as f64 / 1e3,
                     self.limits.t_sfs_ps / 1e3
                 );
-                self.violation(&mut last, Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
-                self.spi.records[self.spi.current ^ 1] = last;
+                self.violation(Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
+                let last = &mut self.spi.records[self.spi.finished()];
+                last.violations.insert(Violations::CS_HOLD);
                 if let Some(entry) = self.spi.log.as_mut().and_then(|l| l.last_mut()) {
-                    *entry = last;
+                    *entry = *last;
                 }
                 if self.limits.strict {
                     self.spi.corrupt_next = true;
@@ -491,5 +572,82 @@ impl SpiSlave for Adis16407 {
 
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         self.finish_frame(din, timing);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// Requirements where rounding could bite: zero, halves, values next to whole ps, the f64
+    /// precision limit 2^53 and beyond, the top of u64, infinity and NaN, and the profile defaults.
+    fn requirements() -> Vec<f64> {
+        let mut r = vec![
+            0.0,
+            -1.0,
+            0.5,
+            1.0,
+            1.5,
+            2.0,
+            2.5,
+            48_800.0,
+            9e6,
+            1e12 / 2e6,
+            1e12 / 1e6,
+            1_333_333.5,
+            (1u64 << 53) as f64,
+            (1u64 << 53) as f64 + 2.0,
+            (1u64 << 54) as f64 + 4.0,
+            9.2e18,
+            u64::MAX as f64,
+            1e21,
+            f64::INFINITY,
+            f64::NAN,
+        ];
+        for x in r.clone() {
+            r.push(f64::from_bits(x.to_bits().wrapping_add(1)));
+            r.push(f64::from_bits(x.to_bits().wrapping_sub(1)));
+        }
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+        r.extend((0..200).map(|_| rng.gen_range(0.0..2e7)));
+        r.extend((0..200).map(|_| 2f64.powf(rng.gen_range(0.0..66.0))));
+        r
+    }
+
+    #[test]
+    fn min_ps_is_the_float_rule_for_every_measured_value() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        for required in requirements() {
+            let bound = MinPs::new(required);
+            // Around the bound (where the rule flips), at the ends of u64 and at random.
+            let edge = bound.first_ok.min(u128::from(u64::MAX)) as u64;
+            let near = (0..8).flat_map(|d| [edge.saturating_sub(d), edge.saturating_add(d)]);
+            let random = (0..200).map(|_| rng.gen::<u64>() >> rng.gen_range(0..64));
+            for m in near.chain([0, 1, u64::MAX - 1, u64::MAX]).chain(random) {
+                assert_eq!(bound.short(m), short(m, required), "required {required:e} ps, measured {m} ps");
+            }
+        }
+    }
+
+    #[test]
+    fn short_ps_is_the_float_rule() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(10);
+        let around = |x: u64| (0..4).flat_map(move |d| [x.saturating_sub(d), x.saturating_add(d)]);
+        let special: Vec<u64> = [0, 1_333_333, 1 << 53, 1 << 54, u64::MAX].into_iter().flat_map(around).collect();
+        for &required in &special {
+            for &m in &special {
+                assert_eq!(short_ps(m, required), short(m, required as f64), "{m} against {required}");
+            }
+        }
+        for _ in 0..100_000 {
+            let required = rng.gen::<u64>() >> rng.gen_range(0..64);
+            let m = if rng.gen() {
+                required.saturating_sub(rng.gen_range(0..3))
+            } else {
+                rng.gen::<u64>() >> rng.gen_range(0..64)
+            };
+            assert_eq!(short_ps(m, required), short(m, required as f64), "{m} against {required}");
+        }
     }
 }
