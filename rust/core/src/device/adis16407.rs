@@ -208,11 +208,12 @@ pub struct Adis16407 {
     latest: Option<SampleStamp>,
     /// The latest sample after the sensor errors and the filter, before the calibration registers.
     filtered: Physical,
-    /// The latest sample's values (filtered, spikes added) while the output registers have not been
-    /// encoded from them yet. Most samples are overwritten by the next one before anything reads
-    /// them (the firmware reads every 4 ms, the part samples every 1.22 ms), so encoding waits for a
-    /// read or a register write ([`Adis16407::encode_pending`]); the result is the same bit for bit.
-    pending: Option<Physical>,
+    /// The output registers have not been encoded from `filtered` yet. Most samples are overwritten
+    /// by the next one before anything reads them (the firmware reads every 4 ms, the part samples
+    /// every 1.22 ms), so encoding waits for a read or a register write
+    /// ([`Adis16407::encode_pending`]); the result is the same bit for bit. (A sample with injected
+    /// spikes, whose outputs differ from `filtered`, is encoded at once.)
+    pending: bool,
     now: Ps,
     busy_until: Ps,
     data_ready: Option<DataReady>,
@@ -283,7 +284,7 @@ impl Adis16407 {
             schedule: Schedule::new(sample_clock(regs[s(addr::SMPL_PRD)], cfg.clock_ppb), first_t, 0),
             latest: None,
             filtered: Physical::default(),
-            pending: None,
+            pending: false,
             now: 0,
             busy_until: 0,
             data_ready: None,
@@ -419,8 +420,8 @@ impl Adis16407 {
             return Err(Error::Register(format!("{} (0x{addr:02X}) is write-only", def.name)));
         }
         let mut regs = self.regs;
-        if let Some(f) = &self.pending {
-            self.encode_outputs(f, &mut regs);
+        if self.pending {
+            self.encode_outputs(&self.filtered, &mut regs);
         }
         Ok(word(&regs, self.nd, def.slot()))
     }
@@ -479,10 +480,11 @@ impl Adis16407 {
 
     /// Encode the output registers from the latest sample if that has not been done yet.
     fn encode_pending(&mut self) {
-        if let Some(f) = self.pending.take() {
+        if self.pending {
             let mut regs = self.regs;
-            self.encode_outputs(&f, &mut regs);
+            self.encode_outputs(&self.filtered, &mut regs);
             self.regs = regs;
+            self.pending = false;
         }
     }
 
@@ -573,15 +575,16 @@ impl Adis16407 {
             p.supply_v = v;
         }
         let rated = self.check_rated_range(&p, t);
+        // From here on `f` holds the filtered values (the unfiltered ones are not needed any more).
         let mut f = p;
-        let [gx, gy, gz] = p.gyro_dps;
-        let [ax, ay, az] = p.accel_g;
+        let [gx, gy, gz] = f.gyro_dps;
+        let [ax, ay, az] = f.accel_g;
         let y = self.inertial_filter.push([gx, gy, gz, ax, ay, az]);
         f.gyro_dps = [y[0], y[1], y[2]];
         f.accel_g = [y[3], y[4], y[5]];
         if self.opts.filter_mag_baro {
-            let [mx, my, mz] = p.mag_gauss;
-            let y = self.mag_baro_filter.push([mx, my, mz, p.baro_mbar]);
+            let [mx, my, mz] = f.mag_gauss;
+            let y = self.mag_baro_filter.push([mx, my, mz, f.baro_mbar]);
             f.mag_gauss = [y[0], y[1], y[2]];
             f.baro_mbar = y[3];
         }
@@ -599,9 +602,9 @@ impl Adis16407 {
                 }
             }
             self.regs = regs;
-            self.pending = None;
+            self.pending = false;
         } else {
-            self.pending = Some(f);
+            self.pending = true;
         }
 
         let o = &self.opts;
@@ -861,7 +864,7 @@ impl Adis16407 {
         }
         self.regs[s(addr::DIAG_STAT)] = 0;
         self.nd = 0;
-        self.pending = None;
+        self.pending = false;
         let sens_avg = self.checked_sens_avg(self.regs[s(addr::SENS_AVG)], t);
         self.regs[s(addr::SENS_AVG)] = sens_avg;
         self.inertial_filter.reset();
