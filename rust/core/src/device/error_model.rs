@@ -967,7 +967,9 @@ impl Triad {
             self.set_temperature(delta_temp_c);
         }
         let white = if self.white_sigma > 0.0 {
-            [(); 3].map(|()| self.white_sigma * standard_normal(&mut self.white_rng))
+            // An array literal, not `[(); 3].map(…)`: the compiler may keep an array map out of line.
+            let mut draw = || self.white_sigma * standard_normal(&mut self.white_rng);
+            [draw(), draw(), draw()]
         } else {
             [0.0; 3]
         };
