@@ -6,8 +6,8 @@
 //! filter is stateful, but nothing is allocated per sample.
 
 use super::encoding::{
-    encode_field, overrange, sign_extend, to_field, Channel, GyroRange, ACCEL_OFF_LSB_G, GYRO_OFF_LSB_DPS,
-    MAG_HIC_LSB_GAUSS, MAG_SIC_UNITY,
+    encode_field, overrange, sign_extend, surely_unclipped, to_field, Channel, GyroRange, ACCEL_OFF_LSB_G,
+    GYRO_OFF_LSB_DPS, MAG_HIC_LSB_GAUSS, MAG_SIC_UNITY,
 };
 use super::faults::{DeviceFaults, SampleFaults};
 use super::filter::Bartlett;
@@ -188,13 +188,15 @@ const fn s(a: u8) -> usize {
 const CALIBRATION_SLOTS: std::ops::Range<usize> = s(addr::XGYRO_OFF)..s(addr::ZMAGN_SIC) + 1;
 const _: () = assert!(CALIBRATION_SLOTS.end - CALIBRATION_SLOTS.start == 12);
 
-/// The calibration registers in the units of the outputs they correct. The device applies them at
-/// every sample (the overrange flag) but they are written almost never, so it keeps them converted
-/// ([`Adis16407::calibration`]).
+/// The calibration registers in the units of the outputs they correct, and what they make of the
+/// overrange test. The device applies them at every sample (the overrange flag) but they are written
+/// almost never, so it keeps them converted ([`Adis16407::refresh_calibration`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Calibration {
     /// The register words (XGYRO_OFF … ZMAGN_SIC) the values come from.
     words: [u16; 12],
+    /// The gyro range the unclipped intervals are for.
+    range: GyroRange,
     /// X/Y/ZGYRO_OFF, °/s.
     gyro_offset: [f64; 3],
     /// X/Y/ZACCL_OFF, g.
@@ -203,18 +205,82 @@ struct Calibration {
     hard_iron: [f64; 3],
     /// X/Y/ZMAGN_SIC, as a factor.
     soft_iron: [f64; 3],
+    /// Per value of [`screened`]: centre and half width of an interval of the filtered value in
+    /// which no output field can clip (the encoding's [`surely_unclipped`] interval taken back
+    /// through the calibration; the few roundings of that are ~1e-16 relative against its 1 % margin).
+    unclipped_centre: [f64; 13],
+    unclipped_half_width: [f64; 13],
+}
+
+/// The sample values the overrange screen looks at: gyro, accel, mag, baro, temp, supply, aux.
+fn screened(f: &Physical) -> [f64; 13] {
+    let ([gx, gy, gz], [ax, ay, az], [mx, my, mz]) = (f.gyro_dps, f.accel_g, f.mag_gauss);
+    [gx, gy, gz, ax, ay, az, mx, my, mz, f.baro_mbar, f.temp_c, f.supply_v, f.aux_v]
 }
 
 impl Calibration {
-    fn of(regs: &[u16; SLOTS]) -> Calibration {
+    fn of(regs: &[u16; SLOTS], range: GyroRange) -> Calibration {
         let words: [u16; 12] = std::array::from_fn(|i| regs[CALIBRATION_SLOTS.start + i]);
+        let gyro_offset = std::array::from_fn(|i| f64::from(sign_extend(words[i], 13)) * GYRO_OFF_LSB_DPS);
+        let accel_offset = std::array::from_fn(|i| f64::from(sign_extend(words[3 + i], 12)) * ACCEL_OFF_LSB_G);
+        let hard_iron = std::array::from_fn(|i| f64::from(sign_extend(words[6 + i], 14)) * MAG_HIC_LSB_GAUSS);
+        let soft_iron: [f64; 3] = std::array::from_fn(|i| f64::from(words[9 + i]) / f64::from(MAG_SIC_UNITY));
+        // Each interval as centre and half width (|v − centre| ≤ half width: three operations per
+        // value), moved back through the calibration.
+        let unclipped = |ch| {
+            let (low, high) = surely_unclipped(ch, range);
+            (0.5 * (low + high), 0.5 * (high - low))
+        };
+        let offset = |(centre, half_width): (f64, f64), by: f64| (centre - by, half_width);
+        let (gyro, accel, mag) = (unclipped(Channel::Gyro), unclipped(Channel::Accel), unclipped(Channel::Mag));
+        let mag_axis = |i: usize| {
+            // (v + hard iron) × soft iron; a zero soft iron makes every value encode as 0.
+            let sic = soft_iron[i];
+            if sic > 0.0 {
+                (mag.0 / sic - hard_iron[i], mag.1 / sic)
+            } else {
+                (0.0, f64::INFINITY)
+            }
+        };
+        let intervals = [
+            offset(gyro, gyro_offset[0]),
+            offset(gyro, gyro_offset[1]),
+            offset(gyro, gyro_offset[2]),
+            offset(accel, accel_offset[0]),
+            offset(accel, accel_offset[1]),
+            offset(accel, accel_offset[2]),
+            mag_axis(0),
+            mag_axis(1),
+            mag_axis(2),
+            unclipped(Channel::Baro),
+            unclipped(Channel::Temp),
+            unclipped(Channel::Supply),
+            unclipped(Channel::Aux),
+        ];
         Calibration {
             words,
-            gyro_offset: std::array::from_fn(|i| f64::from(sign_extend(words[i], 13)) * GYRO_OFF_LSB_DPS),
-            accel_offset: std::array::from_fn(|i| f64::from(sign_extend(words[3 + i], 12)) * ACCEL_OFF_LSB_G),
-            hard_iron: std::array::from_fn(|i| f64::from(sign_extend(words[6 + i], 14)) * MAG_HIC_LSB_GAUSS),
-            soft_iron: std::array::from_fn(|i| f64::from(words[9 + i]) / f64::from(MAG_SIC_UNITY)),
+            range,
+            gyro_offset,
+            accel_offset,
+            hard_iron,
+            soft_iron,
+            unclipped_centre: intervals.map(|(centre, _)| centre),
+            unclipped_half_width: intervals.map(|(_, half_width)| half_width),
         }
+    }
+
+    /// Whether no output field can clip for the sample values `f`. A screen: `false` only means
+    /// that the exact test ([`Adis16407::outputs_overrange`]) must decide.
+    #[inline(always)]
+    fn nothing_can_clip(&self, f: &Physical) -> bool {
+        let mut inside = true;
+        for ((v, centre), half_width) in
+            screened(f).into_iter().zip(self.unclipped_centre).zip(self.unclipped_half_width)
+        {
+            // `&=`, not `&&`: no branch per value. NaN compares false, so it goes to the exact test.
+            inside &= (v - centre).abs() <= half_width;
+        }
+        inside
     }
 
     /// Visit the output registers with the sample values `f` they encode: `visit(slot, channel,
@@ -254,7 +320,8 @@ pub struct Adis16407 {
     /// ND flags, one bit per slot.
     nd: u64,
     range: GyroRange,
-    /// The calibration registers converted, as of the words it holds ([`Adis16407::calibration`]).
+    /// The calibration registers converted, as of the words and range it holds
+    /// ([`Adis16407::refresh_calibration`]).
     calibration: Calibration,
     /// Bartlett filters of gyro x, y, z and accel x, y, z.
     inertial_filter: Bartlett<6>,
@@ -335,7 +402,7 @@ impl Adis16407 {
             factory: regs,
             nd: 0,
             range: GyroRange::Dps300,
-            calibration: Calibration::of(&regs),
+            calibration: Calibration::of(&regs, GyroRange::Dps300),
             inertial_filter: Bartlett::new(0)?,
             mag_baro_filter: Bartlett::new(0)?,
             stimulus: Box::new(Constant(Physical::powered_idle())),
@@ -480,7 +547,7 @@ impl Adis16407 {
         }
         let mut regs = self.regs;
         if self.pending {
-            self.encode_outputs(&Calibration::of(&self.regs), &self.filtered, &mut regs);
+            self.encode_outputs(&Calibration::of(&self.regs, self.range), &self.filtered, &mut regs);
         }
         Ok(word(&regs, self.nd, def.slot()))
     }
@@ -540,9 +607,9 @@ impl Adis16407 {
     /// Encode the output registers from the latest sample if that has not been done yet.
     fn encode_pending(&mut self) {
         if self.pending {
-            let calibration = self.calibration();
+            self.refresh_calibration();
             let mut regs = self.regs;
-            self.encode_outputs(&calibration, &self.filtered, &mut regs);
+            self.encode_outputs(&self.calibration, &self.filtered, &mut regs);
             self.regs = regs;
             self.pending = false;
         }
@@ -652,11 +719,11 @@ impl Adis16407 {
         if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
             spike(&mut f, sf);
         }
-        let calibration = self.calibration();
-        let over = self.outputs_overrange(&calibration, &f);
+        self.refresh_calibration();
+        let over = !self.calibration.nothing_can_clip(&f) && self.outputs_overrange(&self.calibration, &f);
         if let Some(sf) = &faults {
             let mut regs = self.regs;
-            self.encode_outputs(&calibration, &f, &mut regs);
+            self.encode_outputs(&self.calibration, &f, &mut regs);
             for (i, a) in BURST_ORDER.iter().enumerate() {
                 if sf.stuck >> i & 1 != 0 {
                     regs[s(*a)] = sf.frozen[i];
@@ -696,13 +763,13 @@ impl Adis16407 {
         }
     }
 
-    /// The calibration registers in force, converted; recomputed only when one of their words
-    /// changed since the last call (a comparison of 24 bytes per sample instead of twelve conversions).
-    fn calibration(&mut self) -> Calibration {
-        if self.regs[CALIBRATION_SLOTS] != self.calibration.words {
-            self.calibration = Calibration::of(&self.regs);
+    /// Bring `calibration` up to date: recomputed only when one of the registers' words or the
+    /// range changed since the last call (a comparison of 24 bytes per sample instead of twelve
+    /// conversions).
+    fn refresh_calibration(&mut self) {
+        if self.regs[CALIBRATION_SLOTS] != self.calibration.words || self.range != self.calibration.range {
+            self.calibration = Calibration::of(&self.regs, self.range);
         }
-        self.calibration
     }
 
     /// Write the output registers' codes for the sample values `f` into `regs`.
@@ -925,5 +992,65 @@ impl Adis16407 {
                 self.reset_ps as f64 / PS_PER_S as f64
             ),
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// `screened` inverted: the sample whose screened values are `v`.
+    fn from_screened(v: [f64; 13]) -> Physical {
+        let [gx, gy, gz, ax, ay, az, mx, my, mz, baro_mbar, temp_c, supply_v, aux_v] = v;
+        Physical {
+            gyro_dps: [gx, gy, gz],
+            accel_g: [ax, ay, az],
+            mag_gauss: [mx, my, mz],
+            baro_mbar,
+            temp_c,
+            supply_v,
+            aux_v,
+        }
+    }
+
+    #[test]
+    fn the_overrange_screen_never_passes_a_value_the_exact_test_flags() {
+        // Random calibration words (full register widths, soft iron 0 included) and ranges; one value
+        // at a time swept across its screen interval's end (±2 % around it, so across the clip
+        // limit 1 % beyond it too) with the others at their centres. Wherever the screen passes a
+        // sample, no output may clip.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16407);
+        let (mut passed, mut flagged) = (0u32, 0u32);
+        for case in 0..400 {
+            let mut regs = [0u16; SLOTS];
+            for (i, slot) in CALIBRATION_SLOTS.enumerate() {
+                let bits = [13, 13, 13, 12, 12, 12, 14, 14, 14, 12, 12, 12][i];
+                regs[slot] = rng.gen::<u16>() & ((1u32 << bits) - 1) as u16;
+            }
+            if case % 10 == 0 {
+                regs[CALIBRATION_SLOTS.end - 1] = 0;
+            }
+            let range = [GyroRange::Dps300, GyroRange::Dps150, GyroRange::Dps75][case % 3];
+            let cal = Calibration::of(&regs, range);
+            for i in 0..13 {
+                for _ in 0..200 {
+                    let mut v = cal.unclipped_centre;
+                    let side = if rng.gen() { 1.0 } else { -1.0 };
+                    v[i] += side * cal.unclipped_half_width[i] * rng.gen_range(0.98..1.02);
+                    let f = from_screened(v);
+                    let mut over = false;
+                    cal.visit_outputs(&f, |_, ch, x| over |= overrange(ch, x, range));
+                    if cal.nothing_can_clip(&f) {
+                        passed += 1;
+                        assert!(!over, "case {case}, value {i} = {}: passed by the screen but clips", v[i]);
+                    }
+                    flagged += u32::from(over);
+                }
+            }
+        }
+        // About half the sweep is inside the screen, and its outer quarter (past the 1 % margin)
+        // clips: the test reached both the screen's ends and the clip limits.
+        assert!(passed > 400_000 && flagged > 200_000, "{passed} passed, {flagged} clipped");
     }
 }
