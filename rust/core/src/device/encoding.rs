@@ -294,6 +294,23 @@ pub(crate) fn overrange(channel: Channel, value: f64, range: GyroRange) -> bool 
     x >= f64::from(hi) + 0.5 || x <= f64::from(lo) - 0.5
 }
 
+/// An interval of values of `channel` that surely encode without clipping: the field's range shrunk
+/// by 1 %, for a cheap screen before the exact [`overrange`] test. Inside it the exact test cannot
+/// fire: its scaling rounds by a few ulps (1e-16 relative), the margin is 1e-2 of the range.
+pub(crate) fn surely_unclipped(channel: Channel, range: GyroRange) -> (f64, f64) {
+    const MARGIN: f64 = 0.99;
+    // The limits and LSB `scaled` uses.
+    let (lo, hi, lsb) = match channel {
+        Channel::Baro | Channel::BaroLow => (0, (1 << BARO_FINE_BITS) - 1, BARO_FINE_LSB_MBAR),
+        _ => {
+            let (lo, hi) = channel.code_limits();
+            (lo, hi, channel.lsb(range))
+        }
+    };
+    let zero = channel.zero();
+    (zero + MARGIN * (f64::from(lo) - 0.5) * lsb, zero + MARGIN * (f64::from(hi) + 0.5) * lsb)
+}
+
 /// `value` in LSB of its field, with the field's code limits. The barometer's two registers share
 /// one 22-bit unsigned code (BARO_OUT its high 14 bits, BARO_OUTL its low 8).
 #[inline(always)]
@@ -482,6 +499,24 @@ mod tests {
                         let e = encode(ch, d.value, range).unwrap();
                         assert_eq!(e, Encoded { code, overrange: false }, "{} word 0x{word:04X}", ch.name());
                     }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_unclipped_interval_is_inside_the_field_by_its_margin() {
+        for range in [GyroRange::Dps300, GyroRange::Dps150, GyroRange::Dps75] {
+            for ch in Channel::ALL {
+                let (lo, hi) = surely_unclipped(ch, range);
+                let zero = ch.zero();
+                assert!(lo < zero && zero < hi, "{}", ch.name());
+                // The ends do not clip; 1.1 % further out (past the 1 % margin) they do: the interval
+                // has the field's limits and LSB.
+                for (end, side) in [(lo, "low"), (hi, "high")] {
+                    assert!(!overrange(ch, end, range), "{} {side} end clips", ch.name());
+                    let beyond = zero + (end - zero) / 0.99 * 1.001;
+                    assert!(overrange(ch, beyond, range), "{} beyond the {side} end does not clip", ch.name());
                 }
             }
         }

@@ -103,7 +103,6 @@
 use std::f64::consts::{LN_2, PI};
 
 use rand::{Rng, SeedableRng};
-use rand_distr::StandardNormal;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
@@ -111,6 +110,9 @@ use super::Physical;
 use crate::error::{Error, Result};
 use crate::profile::Errors;
 use crate::time::Ps;
+use ziggurat::standard_normal;
+
+mod ziggurat;
 
 /// Temperature at which temperature effects are zero, °C (TEMP_OUT reads 0 there).
 pub const REFERENCE_TEMP_C: f64 = 25.0;
@@ -197,7 +199,7 @@ impl Spread {
 
     fn draw(&self, rng: &mut StreamRng) -> f64 {
         let u: f64 = match self.distribution {
-            Distribution::Normal => rng.sample(StandardNormal),
+            Distribution::Normal => standard_normal(rng),
             Distribution::Uniform => rng.gen_range(-1.0..1.0),
         };
         self.mean + self.width * u
@@ -889,7 +891,7 @@ impl Triad {
                 let shift = update_shift(params.tau_s, dt_s, update_ratio);
                 let (decay, drive) = gauss_markov_step(&params, dt_s * (1u64 << shift) as f64);
                 // Start stationary: x₀ ~ N(0, σ²).
-                let state = [(); 3].map(|()| params.sigma * rng.sample::<f64, _>(StandardNormal));
+                let state = [(); 3].map(|()| params.sigma * standard_normal(&mut rng));
                 GaussMarkovState { params, shift, decay, drive, state, rng }
             })
             .collect();
@@ -937,7 +939,7 @@ impl Triad {
                         gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
                     };
                     for x in term.state.iter_mut() {
-                        let w: f64 = term.rng.sample(StandardNormal);
+                        let w = standard_normal(&mut term.rng);
                         *x = decay * *x + drive * w;
                     }
                     updated = true;
@@ -954,7 +956,7 @@ impl Triad {
             let step =
                 if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
             for r in self.rate_walk.iter_mut() {
-                let w: f64 = self.rate_walk_rng.sample(StandardNormal);
+                let w = standard_normal(&mut self.rate_walk_rng);
                 *r += step * w;
             }
         }
@@ -965,7 +967,9 @@ impl Triad {
             self.set_temperature(delta_temp_c);
         }
         let white = if self.white_sigma > 0.0 {
-            [(); 3].map(|()| self.white_sigma * self.white_rng.sample::<f64, _>(StandardNormal))
+            // An array literal, not `[(); 3].map(…)`: the compiler may keep an array map out of line.
+            let mut draw = || self.white_sigma * standard_normal(&mut self.white_rng);
+            [draw(), draw(), draw()]
         } else {
             [0.0; 3]
         };
@@ -1082,13 +1086,13 @@ impl ErrorModel {
             let row = &self.mag_map[i];
             let mut out = row[0] * m[0] + row[1] * m[1] + row[2] * m[2] + self.mag_hard_iron[i];
             if self.mag_sigma > 0.0 {
-                let w: f64 = self.mag_rng.sample(StandardNormal);
+                let w = standard_normal(&mut self.mag_rng);
                 out += self.mag_sigma * w;
             }
             p.mag_gauss[i] = out;
         }
         if self.baro_sigma > 0.0 {
-            let w: f64 = self.baro_rng.sample(StandardNormal);
+            let w = standard_normal(&mut self.baro_rng);
             p.baro_mbar += self.baro_sigma * w;
         }
     }
@@ -1140,6 +1144,7 @@ impl super::SensorErrors for ErrorModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand_distr::StandardNormal;
 
     /// The default internal sample period, 1/819.2 s.
     const DT: f64 = 1.0 / 819.2;

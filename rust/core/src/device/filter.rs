@@ -97,7 +97,11 @@ impl<const C: usize> Bartlett<C> {
     /// fills the whole window with its value (the part has been sampling since power-on before
     /// anyone reads it).
     pub fn push(&mut self, x: [f64; C]) -> [f64; C] {
-        let q = x.map(quantize);
+        // A loop, not `x.map(quantize)`: the compiler may keep an array map out of line.
+        let mut q = [0; C];
+        for (q, x) in q.iter_mut().zip(x) {
+            *q = quantize(x);
+        }
         let n = self.taps();
         if !self.primed {
             self.sum1 = q.map(|q| q * n as i64);

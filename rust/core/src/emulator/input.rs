@@ -37,7 +37,9 @@ struct Chunk {
 }
 
 impl Window {
-    /// The row after the current one.
+    /// The row after the current one. (Inline: the stimulus asks for it two or three times per device
+    /// sample, and out of line each call re-derives the first chunk.)
+    #[inline]
     fn next_row(&self) -> Option<(f64, &Physical)> {
         let first = self.chunks.front()?;
         if self.pos + 1 < first.t.len() {
