@@ -110,7 +110,7 @@ use super::Physical;
 use crate::error::{Error, Result};
 use crate::profile::Errors;
 use crate::time::Ps;
-use ziggurat::standard_normal;
+use ziggurat::{standard_normal, Gaussian};
 
 mod ziggurat;
 
@@ -778,6 +778,7 @@ fn gauss_markov_step(term: &GaussMarkov, dt_s: f64) -> (f64, f64) {
 /// The stochastic and fixed parts of one triad.
 #[derive(Debug, Clone)]
 struct Triad {
+    gaussian: Gaussian,
     unit: InertialUnit,
     white_sigma: f64,
     white_rng: StreamRng,
@@ -896,6 +897,7 @@ impl Triad {
             })
             .collect();
         let mut triad = Triad {
+            gaussian: Gaussian::new(),
             has_g_sensitivity: unit.g_sensitivity.iter().flatten().any(|g| *g != 0.0),
             cached_delta_temp: 0,
             gain: [0.0; 3],
@@ -939,7 +941,7 @@ impl Triad {
                         gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
                     };
                     for x in term.state.iter_mut() {
-                        let w = standard_normal(&mut term.rng);
+                        let w = self.gaussian.draw(&mut term.rng);
                         *x = decay * *x + drive * w;
                     }
                     updated = true;
@@ -956,7 +958,7 @@ impl Triad {
             let step =
                 if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
             for r in self.rate_walk.iter_mut() {
-                let w = standard_normal(&mut self.rate_walk_rng);
+                let w = self.gaussian.draw(&mut self.rate_walk_rng);
                 *r += step * w;
             }
         }
@@ -968,7 +970,7 @@ impl Triad {
         }
         let white = if self.white_sigma > 0.0 {
             // An array literal, not `[(); 3].map(…)`: the compiler may keep an array map out of line.
-            let mut draw = || self.white_sigma * standard_normal(&mut self.white_rng);
+            let mut draw = || self.white_sigma * self.gaussian.draw(&mut self.white_rng);
             [draw(), draw(), draw()]
         } else {
             [0.0; 3]
@@ -1003,6 +1005,7 @@ pub struct ErrorModel {
     mag_rng: StreamRng,
     baro_sigma: f64,
     baro_rng: StreamRng,
+    gaussian: Gaussian,
 }
 
 impl ErrorModel {
@@ -1031,6 +1034,7 @@ impl ErrorModel {
             mag_rng: stream(seed, SENSOR_MAG, SOURCE_WHITE_NOISE, 0),
             baro_sigma: params.baro.noise_rms_mbar,
             baro_rng: stream(seed, SENSOR_BARO, SOURCE_WHITE_NOISE, 0),
+            gaussian: Gaussian::new(),
         })
     }
 
@@ -1086,13 +1090,13 @@ impl ErrorModel {
             let row = &self.mag_map[i];
             let mut out = row[0] * m[0] + row[1] * m[1] + row[2] * m[2] + self.mag_hard_iron[i];
             if self.mag_sigma > 0.0 {
-                let w = standard_normal(&mut self.mag_rng);
+                let w = self.gaussian.draw(&mut self.mag_rng);
                 out += self.mag_sigma * w;
             }
             p.mag_gauss[i] = out;
         }
         if self.baro_sigma > 0.0 {
-            let w = standard_normal(&mut self.baro_rng);
+            let w = self.gaussian.draw(&mut self.baro_rng);
             p.baro_mbar += self.baro_sigma * w;
         }
     }
