@@ -270,11 +270,22 @@ impl Iq {
             return Iq { raw: i32::MAX, q };
         }
         let s = q as i32 - self.q as i32 + rhs.q as i32;
-        let num = (self.raw as i128) << s.max(0);
-        let den = (rhs.raw as i128) << (-s).max(0);
-        let (quot, rem) = (num / den, num % den);
-        let away = if 2 * rem.abs() >= den.abs() { num.signum() * den.signum() } else { 0 };
-        Iq { raw: saturate(quot + away), q }
+        // n / d exact, rounded to nearest with ties away from zero.
+        macro_rules! rounded {
+            ($n:expr, $d:expr) => {{
+                let (n, d) = ($n, $d);
+                let (quot, rem) = (n / d, n % d);
+                quot + if 2 * rem.abs() >= d.abs() { n.signum() * d.signum() } else { 0 }
+            }};
+        }
+        // With |s| ≤ 31 both operands stay below 2^62 and 2·|rem| below 2^63: the same exact division
+        // in i64 (the usual case), several times cheaper than in i128 (a library call).
+        let raw = if (-31..=31).contains(&s) {
+            rounded!((self.raw as i64) << s.max(0), (rhs.raw as i64) << (-s).max(0)) as i128
+        } else {
+            rounded!((self.raw as i128) << s.max(0), (rhs.raw as i128) << (-s).max(0))
+        };
+        Iq { raw: saturate(raw), q }
     }
 }
 
@@ -481,6 +492,35 @@ mod tests {
         assert_eq!(raw(1, 24).rmpy(q24(0.5)).raw, 1);
         assert_eq!(q24(100.0).rsmpy(q24(100.0)).raw, i32::MAX);
         assert_eq!(q24(-100.0).rsmpy(q24(100.0)).raw, i32::MIN);
+    }
+
+    #[test]
+    fn the_quotient_in_i64_equals_the_quotient_in_i128() {
+        // The i64 path against the exact i128 formula, at every shift it takes and at its edges.
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let extremes = [i32::MIN, i32::MIN + 1, -1, 1, i32::MAX];
+        for n in 0..200_000 {
+            let pick = |r: u64| if r % 8 == 0 { extremes[(r / 8 % 5) as usize] } else { (r >> 16) as i32 };
+            let (a, b) = (pick(next()), pick(next()));
+            if b == 0 {
+                continue;
+            }
+            let (qa, qb, q) = ((next() % 31) as u8, (next() % 31) as u8, (next() % 31) as u8);
+            let s = q as i32 - qa as i32 + qb as i32;
+            let num = (a as i128) << s.max(0);
+            let den = (b as i128) << (-s).max(0);
+            let (quot, rem) = (num / den, num % den);
+            let away = if 2 * rem.abs() >= den.abs() { num.signum() * den.signum() } else { 0 };
+            let want = (quot + away).clamp(i32::MIN as i128, i32::MAX as i128) as i32;
+            let got = Iq { raw: a, q: qa }.quotient(Iq { raw: b, q: qb }, q);
+            assert_eq!(got.raw, want, "case {n}: {a}·2^-{qa} / {b}·2^-{qb} in Q{q}");
+        }
     }
 
     #[test]
