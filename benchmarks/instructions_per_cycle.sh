@@ -15,7 +15,8 @@ count() {
     rm -f "$out"
 }
 for case in 'firmware.numeric="f64"' 'firmware.numeric="f64" errors.preset=adis16407' \
-    'firmware.numeric="f64" errors.preset=adis16407 spi.level="bit"'; do
+    'firmware.numeric="f64" errors.preset=adis16407 spi.level="bit"' \
+    'firmware.numeric="c28x-f32" errors.preset=adis16407' 'firmware.numeric="iq" errors.preset=adis16407'; do
     # shellcheck disable=SC2086  # the case is a list of overrides
     short=$(count 20 $case "$@")
     long=$(count 80 $case "$@")
