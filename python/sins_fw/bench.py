@@ -249,29 +249,40 @@ def _seeded_run(args: tuple[tuple[str, ...], float, int]) -> int:
     ).cycles
 
 
-def monte_carlo(overrides: tuple[str, ...], duration_s: float, runs: int) -> dict[str, Any]:
+def monte_carlo(overrides: tuple[str, ...], duration_s: float, runs: int, rounds: int) -> dict[str, Any]:
     """Wall time of `runs` seeded runs on 1 and 2 workers, processes and threads (the emulator
-    releases the GIL in `run()`). Each pool is warmed up (imports, trace) before it is timed."""
+    releases the GIL in `run()`). Both pools of a kind are warmed up (imports, trace) before they are
+    timed, then timed in turns for `rounds` rounds, so that a slow spell of a shared machine falls on
+    both: the scaling is the ratio of the medians."""
     jobs = [(overrides, duration_s, seed) for seed in range(1, runs + 1)]
-    out: dict[str, Any] = {"runs": runs, "duration_s": duration_s}
+    out: dict[str, Any] = {"runs": runs, "duration_s": duration_s, "rounds": rounds}
     for kind in ("process", "thread"):
-        walls = {}
-        for workers in (1, 2):
-            pool: cf.Executor
-            if kind == "process":
-                pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=_spawn())
-            else:
-                pool = cf.ThreadPoolExecutor(max_workers=workers)
-            with pool:
-                list(pool.map(_seeded_run, [(overrides, duration_s, 0)] * workers))
-                t0 = time.perf_counter()
-                cycles = sum(pool.map(_seeded_run, jobs))
-                walls[workers] = time.perf_counter() - t0
+        pools: dict[int, cf.Executor] = {}
+        walls: dict[int, list[float]] = {1: [], 2: []}
+        cycles = 0
+        try:
+            for workers in (1, 2):
+                if kind == "process":
+                    pools[workers] = cf.ProcessPoolExecutor(max_workers=workers, mp_context=_spawn())
+                else:
+                    pools[workers] = cf.ThreadPoolExecutor(max_workers=workers)
+                list(pools[workers].map(_seeded_run, [(overrides, duration_s, 0)] * workers))
+            for _ in range(rounds):
+                for workers in (1, 2):
+                    t0 = time.perf_counter()
+                    cycles = sum(pools[workers].map(_seeded_run, jobs))
+                    walls[workers].append(time.perf_counter() - t0)
+        finally:
+            for pool in pools.values():
+                pool.shutdown()
+        wall_1, wall_2 = statistics.median(walls[1]), statistics.median(walls[2])
         out[kind] = {
-            "wall_1_s": walls[1],
-            "wall_2_s": walls[2],
+            "wall_1_s": wall_1,
+            "wall_2_s": wall_2,
+            "wall_1_samples_s": walls[1],
+            "wall_2_samples_s": walls[2],
             "cycles": cycles,
-            "scaling": walls[1] / walls[2],
+            "scaling": wall_1 / wall_2,
         }
     return out
 
@@ -357,7 +368,7 @@ def run_suite(quick: bool = False, progress: Callable[[str], None] | None = None
     say(f"long run, {long_s:g} s streamed …")
     report["long_run"] = _in_child(long_run, CASES["full_f64"], long_s)
     say("Monte Carlo scaling …")
-    report["monte_carlo"] = monte_carlo(CASES["full_f64"], duration, 4 if quick else 8)
+    report["monte_carlo"] = monte_carlo(CASES["full_f64"], duration, 4 if quick else 16, 1 if quick else 3)
     report["machine"]["load_average_after"] = list(os.getloadavg())
 
     ours = pipeline["full_f64"]["cycles_per_s"]
@@ -437,7 +448,7 @@ def render(report: dict[str, Any]) -> str:
     ]
     mc = report["monte_carlo"]
     lines.append(
-        f"Monte Carlo, {mc['runs']} seeded runs of {mc['duration_s']:g} s: "
+        f"Monte Carlo, {mc['runs']} seeded runs of {mc['duration_s']:g} s, medians of {mc['rounds']} rounds: "
         + "; ".join(
             f"{k} pool: 1 worker {mc[k]['wall_1_s']:.2f} s, 2 workers {mc[k]['wall_2_s']:.2f} s, "
             f"scaling {mc[k]['scaling']:.2f}×"
