@@ -506,7 +506,7 @@ mod tests {
         };
         let extremes = [i32::MIN, i32::MIN + 1, -1, 1, i32::MAX];
         for n in 0..200_000 {
-            let pick = |r: u64| if r % 8 == 0 { extremes[(r / 8 % 5) as usize] } else { (r >> 16) as i32 };
+            let pick = |r: u64| if r.is_multiple_of(8) { extremes[(r / 8 % 5) as usize] } else { (r >> 16) as i32 };
             let (a, b) = (pick(next()), pick(next()));
             if b == 0 {
                 continue;
