@@ -305,8 +305,12 @@ def machine() -> dict[str, Any]:
         commit = subprocess.run(
             ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False
         ).stdout.strip()
+        # The results file a previous run wrote does not make the code dirty.
         dirty = subprocess.run(
-            ["git", "status", "--porcelain"], capture_output=True, text=True, check=False
+            ["git", "status", "--porcelain", "--", ".", ":!benchmarks/results.md"],
+            capture_output=True,
+            text=True,
+            check=False,
         ).stdout
         commit = (commit + ("+dirty" if dirty.strip() else "")) or "unknown"
     except OSError:
