@@ -66,19 +66,19 @@ impl Waveform {
 
 /// Simulate the frame edge by edge: what master and slave sample, given the word the slave shifts
 /// out (`dout`, MSB first) and the lines around the frame.
-pub fn exchange(frame: &Frame, waveform: &Waveform, dout: u16, lines: Lines) -> Exchange {
+pub fn exchange(frame: &Frame, dout: u16, lines: Lines) -> Exchange {
     // One walk, compiled once per clock scheme so the per-edge roles are constants, and once more
     // for the usual frame (slave selected, TALK on, no loopback) so its line choices are too.
     let usual = lines.selected && frame.talk && !frame.loopback;
     match (frame.shape.scheme.polarity, frame.shape.scheme.phase, usual) {
-        (false, false, false) => walk::<false, false, false>(frame, waveform, dout, lines),
-        (false, true, false) => walk::<false, true, false>(frame, waveform, dout, lines),
-        (true, false, false) => walk::<true, false, false>(frame, waveform, dout, lines),
-        (true, true, false) => walk::<true, true, false>(frame, waveform, dout, lines),
-        (false, false, true) => walk::<false, false, true>(frame, waveform, dout, lines),
-        (false, true, true) => walk::<false, true, true>(frame, waveform, dout, lines),
-        (true, false, true) => walk::<true, false, true>(frame, waveform, dout, lines),
-        (true, true, true) => walk::<true, true, true>(frame, waveform, dout, lines),
+        (false, false, false) => walk::<false, false, false>(frame, dout, lines),
+        (false, true, false) => walk::<false, true, false>(frame, dout, lines),
+        (true, false, false) => walk::<true, false, false>(frame, dout, lines),
+        (true, true, false) => walk::<true, true, false>(frame, dout, lines),
+        (false, false, true) => walk::<false, false, true>(frame, dout, lines),
+        (false, true, true) => walk::<false, true, true>(frame, dout, lines),
+        (true, false, true) => walk::<true, false, true>(frame, dout, lines),
+        (true, true, true) => walk::<true, true, true>(frame, dout, lines),
     }
 }
 
@@ -89,7 +89,6 @@ pub fn exchange(frame: &Frame, waveform: &Waveform, dout: u16, lines: Lines) -> 
 /// the walk takes them in pairs, one bit per pair.
 fn walk<const POLARITY: bool, const DELAY: bool, const USUAL: bool>(
     frame: &Frame,
-    waveform: &Waveform,
     dout: u16,
     lines: Lines,
 ) -> Exchange {
@@ -129,7 +128,8 @@ fn walk<const POLARITY: bool, const DELAY: bool, const USUAL: bool>(
             falls += 1;
         }
     };
-    debug_assert_eq!(waveform.count, 2 * bits as usize);
+    // Two edges per bit, as `Waveform::of` toggles SCLK; the frame's bit count bounds the walk (and
+    // the shifts above).
     for bit in 0..bits {
         edge(true, bit);
         edge(false, bit);

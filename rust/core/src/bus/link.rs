@@ -134,7 +134,7 @@ impl<S: SpiSlave> Wires<S> {
     fn end(&mut self, frame: &Frame, f: InFlight) -> u16 {
         let lines = Lines { selected: f.selected, simo_before: self.simo, floating: self.floating };
         let ex: Exchange = match self.level {
-            BusLevel::Bit => bitlevel::exchange(frame, &self.waveform, f.dout, lines),
+            BusLevel::Bit => bitlevel::exchange(frame, f.dout, lines),
             BusLevel::Transaction => transaction::exchange(frame, f.dout, lines),
         };
         self.simo = ex.simo_after;
