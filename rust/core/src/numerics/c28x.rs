@@ -85,14 +85,7 @@ pub fn estimate_model() -> EstimateModel {
 /// Run `f` with `model` as this thread's estimate model; the previous model is restored afterwards, also
 /// when `f` unwinds.
 pub fn with_estimate_model<R>(model: EstimateModel, f: impl FnOnce() -> R) -> R {
-    struct Restore(EstimateModel);
-    impl Drop for Restore {
-        fn drop(&mut self) {
-            ESTIMATE.with(|c| c.set(self.0));
-        }
-    }
-    let _restore = Restore(ESTIMATE.with(|c| c.replace(model)));
-    f()
+    super::with_setting(&ESTIMATE, model, f)
 }
 
 /// An f32 as the C28x FPU holds it; `RZ` selects round toward zero (else round to nearest even).

@@ -128,14 +128,7 @@ thread_local! {
 /// Run `f` counting the firmware of a fixed-point backend (`fixed_point` true: IQ) or of a float one
 /// (false, also the default outside any scope); the previous setting is restored afterwards.
 pub fn count_as<R>(fixed_point: bool, f: impl FnOnce() -> R) -> R {
-    struct Restore(bool);
-    impl Drop for Restore {
-        fn drop(&mut self) {
-            FIXED_POINT.with(|c| c.set(self.0));
-        }
-    }
-    let _restore = Restore(FIXED_POINT.with(|c| c.replace(fixed_point)));
-    f()
+    super::with_setting(&FIXED_POINT, fixed_point, f)
 }
 
 #[inline]

@@ -111,14 +111,7 @@ fn wrap(x: i64) -> i32 {
 /// if `f` unwinds). Errors if a Q is outside 1…30 (naming the `iq.*` key).
 pub fn with_formats<R>(formats: &IqFormats, f: impl FnOnce() -> R) -> Result<R> {
     formats.validate()?;
-    struct Restore(QTable);
-    impl Drop for Restore {
-        fn drop(&mut self) {
-            FORMATS.with(|c| c.set(self.0));
-        }
-    }
-    let _restore = Restore(FORMATS.with(|c| c.replace(q_table(formats))));
-    Ok(f())
+    Ok(super::with_setting(&FORMATS, q_table(formats), f))
 }
 
 /// The Q of `class` on this thread.

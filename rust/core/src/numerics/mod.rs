@@ -18,6 +18,23 @@ pub use c28x::{C28xF32, C28xF32Rn, C28xF32Rz, EstimateModel};
 pub use counter::{Counted, OpCounts};
 pub use iq::Iq;
 
+use std::cell::Cell;
+use std::thread::LocalKey;
+
+/// Run `f` with the thread-local setting `key` set to `value`; the previous value is restored
+/// afterwards, also when `f` unwinds. The backends' per-run settings (C28x estimate model, IQ formats,
+/// the counter's float/fixed choice) are thread-locals because operators have no context argument.
+pub(crate) fn with_setting<T: Copy, R>(key: &'static LocalKey<Cell<T>>, value: T, f: impl FnOnce() -> R) -> R {
+    struct Restore<T: Copy + 'static>(&'static LocalKey<Cell<T>>, T);
+    impl<T: Copy + 'static> Drop for Restore<T> {
+        fn drop(&mut self) {
+            self.0.with(|c| c.set(self.1));
+        }
+    }
+    let _restore = Restore(key, key.with(|c| c.replace(value)));
+    f()
+}
+
 /// Instantiate generic firmware code for the backend a profile selects.
 ///
 /// `dispatch_numeric!(numeric, T => expr)` evaluates `expr` with the type alias `T` bound to the backend of
