@@ -358,10 +358,15 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// after every burst frame and usually only tests the policy.
     #[inline]
     fn maybe_nest(&mut self, c: &mut u64, k: u64) -> Result<()> {
-        if self.profile.firmware.overrun != OverrunPolicy::Nest || self.depth > 0 {
+        if !self.may_nest() {
             return Ok(());
         }
         self.nest_if_due(c, k)
+    }
+
+    /// Whether a tick may preempt the running ISR (`nest` policy, not already nested).
+    fn may_nest(&self) -> bool {
+        self.profile.firmware.overrun == OverrunPolicy::Nest && self.depth == 0
     }
 
     /// The nested ISR of [`Emulator::maybe_nest`], if a tick has arrived (out of line, so the policy
@@ -508,8 +513,8 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         }
     }
 
-    /// One 15-frame burst read as the published code performs it; returns the received words and
-    /// the cycle of the first SPITXBUF write. `c` is the CPU cycle, advanced by the code's costs.
+    /// One 15-frame burst read as the published code performs it; returns what it gave the firmware.
+    /// `c` is the CPU cycle, advanced by the code's costs.
     fn burst(&mut self, c: &mut u64, k: u64) -> Result<Burst> {
         *c += u64::from(self.io.gpio_write);
         let t_cs = self.ps(*c);
@@ -518,9 +523,8 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
         // Nothing can come between the words (no CS glitch, no nested ISR): the whole word loop in
         // whole CPU cycles, in one call to the link.
-        let nesting = self.profile.firmware.overrun == OverrunPolicy::Nest && self.depth == 0;
         match self.polled_loop {
-            Some(cpu) if glitch.is_none() && !nesting && self.link.polled_burst_applies(t_cs) => {
+            Some(cpu) if glitch.is_none() && !self.may_nest() && self.link.polled_burst_applies(t_cs) => {
                 let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
                 let mut words = [BURST_FILL; BURST_FRAMES];
                 words[0] = self.profile.device.burst_command as u16;
