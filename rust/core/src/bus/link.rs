@@ -6,7 +6,7 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
-use crate::dsp::spi::{CharShape, FlagTime, Frame, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{self, CharShape, FlagTime, Frame, FrameRun, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -73,6 +73,8 @@ struct Wires<S> {
     waveform: bitlevel::Waveform,
     waveform_shape: Option<CharShape>,
     period_cache: Option<(u32, Ps)>,
+    /// The timings of a run of frames (kept: a run is clocked every burst).
+    run_timings: Vec<FrameTiming>,
     log: Option<Vec<LinkRecord>>,
     events: EventLog,
 }
@@ -96,6 +98,29 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         let f = self.start(frame);
         self.end(frame, f)
     }
+
+    fn transfer_run(&mut self, run: &FrameRun, rx: &mut [u16]) {
+        let first = &run.first;
+        let lines = Lines { selected: self.cs_low, simo_before: self.simo, floating: self.floating };
+        // Every character of the run sees the same lines when CS stays asserted (nothing can move it
+        // during a run) and SPISIMO already rests where each character leaves it: then the slave is
+        // told about all of them at once. The bit level walks each character; the log records each.
+        let steady = self.level == BusLevel::Transaction
+            && self.log.is_none()
+            && lines.selected
+            && transaction::simo_after(first, lines) == lines.simo_before;
+        if !steady {
+            return spi::transfer_each(self, run, rx);
+        }
+        let period = self.sclk_period(first);
+        self.run_timings.clear();
+        let (shape, lspclk) = (first.shape, self.lspclk);
+        self.run_timings.extend(run.starts.iter().map(|&s| transaction::frame_timing(&shape, s, &lspclk, period)));
+        self.slave.run_frames(&self.run_timings, transaction::slave_din(first, lines), rx);
+        for r in rx {
+            *r = transaction::master_rx(first, *r, lines);
+        }
+    }
 }
 
 impl<S: SpiSlave> Wires<S> {
@@ -105,16 +130,8 @@ impl<S: SpiSlave> Wires<S> {
     fn start(&mut self, frame: &Frame) -> InFlight {
         let timing = match self.level {
             BusLevel::Transaction => {
-                let divisor = frame.shape.divisor;
-                let period = match self.period_cache {
-                    Some((d, p)) if d == divisor => p,
-                    _ => {
-                        let p = transaction::sclk_period(frame, &self.lspclk);
-                        self.period_cache = Some((divisor, p));
-                        p
-                    }
-                };
-                transaction::frame_timing(frame, &self.lspclk, period)
+                let period = self.sclk_period(frame);
+                transaction::frame_timing(&frame.shape, frame.start_cycle, &self.lspclk, period)
             }
             BusLevel::Bit => {
                 if self.waveform_shape != Some(frame.shape) {
@@ -127,6 +144,20 @@ impl<S: SpiSlave> Wires<S> {
         let selected = self.cs_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
         InFlight { timing, dout, selected }
+    }
+
+    /// The shortest SCLK period of the frame's clock (cached per baud setting).
+    #[inline(always)]
+    fn sclk_period(&mut self, frame: &Frame) -> Ps {
+        let divisor = frame.shape.divisor;
+        match self.period_cache {
+            Some((d, p)) if d == divisor => p,
+            _ => {
+                let p = transaction::sclk_period(frame, &self.lspclk);
+                self.period_cache = Some((divisor, p));
+                p
+            }
+        }
     }
 
     /// The frame `f` ends: what both sides sampled; returns the master's bits.
@@ -204,6 +235,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 waveform: bitlevel::Waveform::default(),
                 waveform_shape: None,
                 period_cache: None,
+                run_timings: Vec::new(),
                 log: None,
                 events: EventLog::default(),
             },
@@ -270,6 +302,18 @@ impl<S: SpiSlave> SpiLink<S> {
         mut after_word: impl FnMut(usize, &S),
     ) -> Result<[u16; N]> {
         self.spi.polled_burst(words, c, cpu, read_cycle, &mut self.wires, |i, w| after_word(i, &w.slave))
+    }
+
+    /// [`SpiLink::polled_burst`] of `N` copies of the word `tx`, the characters clocked as one run
+    /// (see [`SpiA::polled_run`]).
+    pub fn polled_run<const N: usize>(
+        &mut self,
+        tx: u16,
+        c: &mut u64,
+        cpu: &PolledLoop,
+        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+    ) -> Result<[u16; N]> {
+        self.spi.polled_run(tx, c, cpu, read_cycle, &mut self.wires)
     }
 
     /// Turn the one-step path of [`SpiLink::write_poll_read`] on or off (on by default). Off, every

@@ -13,7 +13,7 @@
 //! so it reads the previous SPISIMO level first and loses the LSB.
 
 use super::{Exchange, FrameTiming, Lines};
-use crate::dsp::spi::Frame;
+use crate::dsp::spi::{CharShape, Frame};
 use crate::time::{Clock, Ps};
 
 /// Shortest full SCLK period of the frame's clock: twice its active (shorter) phase.
@@ -21,48 +21,80 @@ pub fn sclk_period(frame: &Frame, lspclk: &Clock) -> Ps {
     lspclk.cycles_to_ps(2 * frame.shape.active_cycles() as u64)
 }
 
-/// The frame's timing as the slave sees it (`lspclk`: the clock the frame is timed by). `sclk_period` is [`sclk_period`] of the frame (the link
-/// caches it per baud setting).
+/// The timing of a character of `shape` started on LSPCLK cycle `start_cycle`, as the slave sees it
+/// (`lspclk`: the clock the character is timed by; `sclk_period`: [`sclk_period`] of the shape, which
+/// the link caches per baud setting).
 #[inline]
-pub fn frame_timing(frame: &Frame, lspclk: &Clock, sclk_period: Ps) -> FrameTiming {
-    let shape = &frame.shape;
-    let bits = shape.bits as u32;
+pub fn frame_timing(shape: &CharShape, start_cycle: u64, lspclk: &Clock, sclk_period: Ps) -> FrameTiming {
     // Without delay the first edge is the start and the last edge is one idle phase before the end;
     // with delay the first edge is one idle phase after the start and the last edge is the end.
-    let (first_edge, last_edge) = if shape.scheme.phase {
-        (lspclk.cycles_to_ps(frame.start_cycle + shape.idle_cycles() as u64), frame.end_ps)
+    let (first, last) = if shape.scheme.phase {
+        (shape.idle_cycles() as u64, shape.length_cycles())
     } else {
-        (frame.start_ps, lspclk.cycles_to_ps(frame.start_cycle + shape.edge_cycle(2 * bits - 1)))
+        (0, shape.edge_cycle(shape.edges() - 1))
     };
-    FrameTiming { first_edge, last_edge, sclk_period, bits: shape.bits, cpol: shape.scheme.polarity }
+    FrameTiming {
+        first_edge: lspclk.cycles_to_ps(start_cycle + first),
+        last_edge: lspclk.cycles_to_ps(start_cycle + last),
+        sclk_period,
+        bits: shape.bits,
+        cpol: shape.scheme.polarity,
+    }
 }
 
 /// What master and slave sample in the frame, given the word the slave shifts out.
 pub fn exchange(frame: &Frame, dout: u16, lines: Lines) -> Exchange {
-    let bits = frame.shape.bits as u32;
-    let drop = 16 - bits;
-    let mask = frame.rx_mask();
-    let ones = if lines.floating { mask } else { 0 };
+    Exchange {
+        master_rx: master_rx(frame, dout, lines),
+        slave_din: slave_din(frame, lines),
+        simo_after: simo_after(frame, lines),
+    }
+}
+
+/// The bits the master samples, right-justified, given the word the slave shifts out.
+#[inline]
+pub fn master_rx(frame: &Frame, dout: u16, lines: Lines) -> u16 {
+    let drop = 16 - frame.shape.bits as u32;
     let scheme = frame.shape.scheme;
-    let mode3 = scheme.polarity && !scheme.phase;
-    let master_rx = if frame.loopback {
+    let rx = if frame.loopback {
         frame.tx >> drop
     } else if !lines.selected {
-        ones
-    } else if mode3 {
+        if lines.floating {
+            0xFFFF
+        } else {
+            0
+        }
+    } else if scheme.polarity && !scheme.phase {
         dout >> drop
     } else {
         ((dout >> 1) | (dout & 0x8000)) >> drop
     };
-    let slave_din = if !lines.selected {
+    rx & frame.rx_mask()
+}
+
+/// The bits the slave samples on DIN, right-justified (0 when it is not selected).
+#[inline]
+pub fn slave_din(frame: &Frame, lines: Lines) -> u16 {
+    let drop = 16 - frame.shape.bits as u32;
+    let scheme = frame.shape.scheme;
+    let din = if !lines.selected {
         0
     } else if !frame.talk {
-        ones
+        0xFFFF * u16::from(lines.floating)
     } else if !scheme.polarity && !scheme.phase {
         ((u16::from(lines.simo_before) << 15) | (frame.tx >> 1)) >> drop
     } else {
         frame.tx >> drop
     };
-    let simo_after = if frame.talk { frame.tx_bit(bits - 1) } else { lines.floating };
-    Exchange { master_rx: master_rx & mask, slave_din: slave_din & mask, simo_after }
+    din & frame.rx_mask()
+}
+
+/// The SPISIMO level after the frame: the last bit driven, or the floating level without TALK.
+#[inline]
+pub fn simo_after(frame: &Frame, lines: Lines) -> bool {
+    if frame.talk {
+        frame.tx_bit(frame.shape.bits as u32 - 1)
+    } else {
+        lines.floating
+    }
 }

@@ -226,6 +226,15 @@ impl Frame {
     }
 }
 
+/// SPIDAT at the end of `frame`, which shifted in `rx`: the character shifted out at the top, the
+/// received bits at the bottom.
+#[inline]
+fn spidat_after(frame: &Frame, rx: u16) -> u16 {
+    let bits = frame.shape.bits as u32;
+    let shifted = if bits >= 16 { 0 } else { frame.tx << bits };
+    shifted | rx
+}
+
 /// When a status flag sets, as SPI-A knows it: the time, and the LSPCLK cycle when the flag sets on
 /// a known cycle boundary (a character's end). With the cycle, a poller on a clock of whole multiples
 /// of LSPCLK (SYSCLKOUT) finds its own cycle by a multiplication instead of a division.
@@ -270,6 +279,48 @@ pub trait SpiWire {
     fn transfer(&mut self, frame: &Frame) -> u16 {
         self.begin(frame);
         self.finish(frame)
+    }
+    /// The characters of `run`, one after another with nothing else happening on the pins between
+    /// them (a polled loop of one word): `rx[i]` gets what `transfer` of character `i` returns. A wire
+    /// may do the run in fewer steps when it can tell the result is the same.
+    fn transfer_run(&mut self, run: &FrameRun, rx: &mut [u16])
+    where
+        Self: Sized,
+    {
+        transfer_each(self, run, rx);
+    }
+}
+
+/// [`SpiWire::transfer_run`] one character at a time (its default).
+pub fn transfer_each<W: SpiWire>(wire: &mut W, run: &FrameRun, rx: &mut [u16]) {
+    for (i, r) in rx.iter_mut().enumerate() {
+        *r = wire.transfer(&run.frame(i));
+    }
+}
+
+/// Characters of one word and shape clocked one after another: character `i` is [`FrameRun::frame`]
+/// `(i)`, started on LSPCLK cycle `starts[i]`.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameRun<'a> {
+    /// The first character.
+    pub first: Frame,
+    /// The LSPCLK cycle each character starts on (the first is `first.start_cycle`).
+    pub starts: &'a [u64],
+    /// The clock the characters are timed by.
+    pub lspclk: Clock,
+}
+
+impl FrameRun<'_> {
+    /// Character `i` of the run.
+    pub fn frame(&self, i: usize) -> Frame {
+        let start_cycle = self.starts[i];
+        Frame {
+            index: self.first.index + i as u64,
+            start_cycle,
+            start_ps: self.lspclk.cycles_to_ps(start_cycle),
+            end_ps: self.lspclk.cycles_to_ps(start_cycle + self.first.shape.length_cycles()),
+            ..self.first
+        }
     }
 }
 
@@ -504,9 +555,7 @@ impl SpiA {
     /// A character ended: load the receiver.
     #[inline]
     fn complete(&mut self, frame: &Frame, rx: u16) {
-        let bits = frame.shape.bits as u32;
-        let shifted = if bits >= 16 { 0 } else { frame.tx << bits };
-        self.spidat = shifted | rx;
+        self.spidat = spidat_after(frame, rx);
         if self.fifo_mode() {
             if self.rx_fifo.len == FIFO_DEPTH {
                 self.rxffovf = true;
@@ -675,6 +724,52 @@ impl SpiA {
         if let Some(r) = last_read {
             self.now = cpu.sysclk.cycles_to_ps(r);
         }
+        Ok(read)
+    }
+
+    /// [`SpiA::polled_burst`] of `N` copies of the word `tx`, the characters handed to the wire as one
+    /// run ([`SpiWire::transfer_run`]). The CPU's side of the loop does not depend on the words, so it
+    /// is worked out first, in whole cycles as in [`SpiA::polled_burst`]; then the wire clocks the
+    /// characters. Each read empties SPIRXBUF before the next character ends, so of the registers only
+    /// what the last character leaves is visible afterwards. Only when [`SpiA::polled_frame_applies`]
+    /// at the first write; the emulator's fast-path equivalence test holds it equal to the register path.
+    pub fn polled_run<W: SpiWire, const N: usize>(
+        &mut self,
+        tx: u16,
+        c: &mut u64,
+        cpu: &PolledLoop,
+        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        wire: &mut W,
+    ) -> Result<[u16; N]> {
+        let (k, length) = (cpu.sysclk_per_lspclk, self.shape.length_cycles());
+        let mut starts = [0u64; N];
+        let (mut cycle, mut last_read) = (*c, *c);
+        for start in &mut starts {
+            cycle += cpu.before_write;
+            *start = k.div_ceil(cycle) + self.start_latency_lspclk;
+            let Ok(read) = read_cycle(cycle, (*start + length) * k.get()) else {
+                // A poll that fails: the word-by-word loop leaves the registers as the register path
+                // does, and returns the error (nothing has changed yet).
+                return self.polled_burst([tx; N], c, cpu, read_cycle, wire, |_, _| {});
+            };
+            last_read = read;
+            cycle = read + cpu.after_read;
+        }
+        if N == 0 {
+            return Ok([0; N]);
+        }
+        self.txbuf = tx;
+        let first = self.next_frame(tx, starts[0]);
+        self.frames += N as u64 - 1;
+        let run = FrameRun { first, starts: &starts, lspclk: self.lspclk };
+        let mut rx = [0u16; N];
+        wire.transfer_run(&run, &mut rx);
+        let mask = first.rx_mask();
+        let read = rx.map(|r| spidat_after(&first, r & mask));
+        self.complete(&run.frame(N - 1), rx[N - 1] & mask);
+        self.read_rxbuf();
+        self.now = cpu.sysclk.cycles_to_ps(last_read);
+        *c = cycle;
         Ok(read)
     }
 

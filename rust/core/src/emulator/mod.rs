@@ -521,16 +521,19 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         self.link.set_gpio57(false, t_cs)?;
         let mut glitch = if t_cs >= self.glitches.watch_from { self.glitches.take(t_cs) } else { None };
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
-        // Nothing can come between the words (no CS glitch, no nested ISR): the whole word loop in
-        // whole CPU cycles, in one call to the link.
+        // Nothing can come between the words (no CS glitch, no nested ISR): the word loop in whole
+        // CPU cycles, in two calls to the link: the command and the first data word, noted one by one,
+        // then the other fill words as one run of characters.
         match self.polled_loop {
             Some(cpu) if glitch.is_none() && !self.may_nest() && self.link.polled_burst_applies(t_cs) => {
                 let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
-                let mut words = [BURST_FILL; BURST_FRAMES];
-                words[0] = self.profile.device.burst_command as u16;
                 let read_cycle = |write, flag| Ok(poll.until_cycle(write, flag, "INT_FLAG = 1")? + read_cost);
-                let read = self.link.polled_burst(words, c, &cpu, read_cycle, |i, slave| b.note_frame(i, slave))?;
-                b.words = read;
+                let head = [self.profile.device.burst_command as u16, BURST_FILL];
+                let read = self.link.polled_burst(head, c, &cpu, read_cycle, |i, slave| b.note_frame(i, slave))?;
+                let rest: [u16; BURST_FRAMES - 2] = self.link.polled_run(BURST_FILL, c, &cpu, read_cycle)?;
+                b.note_frame(BURST_FRAMES - 1, self.link.slave());
+                b.words[..2].copy_from_slice(&read);
+                b.words[2..].copy_from_slice(&rest);
             }
             _ => self.burst_word_by_word(c, k, &mut b, &mut glitch)?,
         }

@@ -89,6 +89,10 @@ impl SpiSlave for StreamedDevice {
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         self.device.end_frame(din, timing);
     }
+    #[inline]
+    fn run_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) {
+        self.device.run_frames(timings, din, dout);
+    }
 }
 
 impl Sensor for StreamedDevice {

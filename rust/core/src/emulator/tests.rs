@@ -256,7 +256,7 @@ fn digest_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool, polled
 /// The link's one-step polled frame (write SPITXBUF, poll INT_FLAG, read SPIRXBUF) changes nothing:
 /// every output (rows, events, bus log) is the same with it forced off, over baud rates (even, odd,
 /// below the minimum divisor), LSPCLK prescalers, the four clock schemes, strict and lenient timing,
-/// a CS glitch, overruns and nesting, the FIFO, the three schedules and both bus levels.
+/// a CS glitch, sensor resets, overruns and nesting, the FIFO, the three schedules and both bus levels.
 #[test]
 fn the_polled_frame_fast_path_changes_nothing() {
     let glitch = "faults.list=[{kind=\"dropped_burst\", start_s=0.3, after_frame=5, glitch_us=0.1, duration_s=0.2}]";
@@ -274,6 +274,7 @@ fn the_polled_frame_fast_path_changes_nothing() {
         &[glitch],
         &[glitch, "spi.level=\"bit\""],
         &["faults.list=[{kind=\"dropped_burst\", start_s=0.2, after_frame=2}]"],
+        &["faults.list=[{kind=\"sensor_reset\", start_s=0.3001}, {kind=\"sensor_reset\", start_s=0.40037}]"],
         &["timer.period_us=300.0", "firmware.overrun=\"nest\""],
         &["timer.period_us=310.0"],
         &["spi.spifftx=0xE040", "spi.spiffrx=0x2044"],
