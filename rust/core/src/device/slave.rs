@@ -242,6 +242,31 @@ impl MinPs {
     }
 }
 
+/// The record of frame `index` (DIN not known yet: 0).
+fn read_record(
+    index: u64,
+    timing: &FrameTiming,
+    dout: u16,
+    register: Option<u8>,
+    sample: Option<SampleStamp>,
+    violations: Violations,
+    in_burst: bool,
+) -> ReadRecord {
+    let t = timing.first_edge;
+    ReadRecord {
+        index,
+        t_start: t,
+        t_end: timing.last_edge,
+        din: 0,
+        dout,
+        register,
+        sample_index: sample.map(|x| x.index),
+        sample_age_ps: sample.map(|x| t.saturating_sub(x.t)),
+        violations,
+        in_burst,
+    }
+}
+
 impl Adis16407 {
     /// The latest frame clocked at this slave.
     pub fn last_frame(&self) -> Option<ReadRecord> {
@@ -296,9 +321,19 @@ impl Adis16407 {
         }
     }
 
-    /// The timing rules the frame breaks: comparisons only (this runs on every frame); the events
-    /// are written by [`Adis16407::report_timing`] when there is one.
+    /// The timing rules the frame breaks, with their events ([`Adis16407::report_timing`]) when
+    /// there is one.
     fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool) -> Violations {
+        let found = self.timing_violations(timing, in_burst);
+        if !found.is_empty() {
+            self.report_timing(timing, in_burst, found);
+        }
+        found
+    }
+
+    /// The timing rules the frame breaks: comparisons only (this runs on every frame).
+    #[inline(always)]
+    fn timing_violations(&self, timing: &FrameTiming, in_burst: bool) -> Violations {
         let t = timing.first_edge;
         let mut found = Violations::default();
         if timing.bits != 16 {
@@ -320,9 +355,6 @@ impl Adis16407 {
         }
         if !self.spi.framed_since_cs && self.limits.min_cs_setup.short(t.saturating_sub(self.spi.cs_fall)) {
             found.insert(Violations::CS_SETUP);
-        }
-        if !found.is_empty() {
-            self.report_timing(timing, in_burst, found);
         }
         found
     }
@@ -406,6 +438,7 @@ impl Adis16407 {
         dout
     }
 
+    #[inline(always)]
     fn start_frame(&mut self, timing: &FrameTiming) -> u16 {
         let t = timing.first_edge;
         if t < self.now() {
@@ -450,21 +483,54 @@ impl Adis16407 {
         violations: Violations,
         in_burst: bool,
     ) {
-        let t = timing.first_edge;
-        self.spi.records[self.spi.current()] = ReadRecord {
-            index: self.spi.frames,
-            t_start: t,
-            t_end: timing.last_edge,
-            din: 0,
-            dout,
-            register,
-            sample_index: sample.map(|x| x.index),
-            sample_age_ps: sample.map(|x| t.saturating_sub(x.t)),
-            violations,
-            in_burst,
-        };
+        let record = read_record(self.spi.frames, timing, dout, register, sample, violations, in_burst);
+        self.spi.records[self.spi.current()] = record;
     }
 
+    /// Data frames of the burst in progress from the front of `timings` (each with DIN `din`), for
+    /// as long as they break no rule and need no event: what `start_frame` and `finish_frame` do
+    /// for such frames, with the record written for the last one only (a frame's record is read
+    /// only until the next frame ends). Returns how many frames it answered into `dout`; at 0 nothing
+    /// has changed but the device's time, which the first frame's own steps would move as well.
+    pub(super) fn clean_burst_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) -> usize {
+        if self.spi.log.is_some() || self.spi.corrupt_next {
+            return 0;
+        }
+        let mut answered = 0;
+        let mut last = None;
+        for (timing, d) in timings.iter().zip(dout) {
+            let t = timing.first_edge;
+            if t < self.now() {
+                break;
+            }
+            self.advance_to(t);
+            let clean = self.spi.cs_low && t >= self.busy_until() && self.spi.burst.is_some();
+            if !clean || !self.timing_violations(timing, true).is_empty() {
+                break;
+            }
+            let Some(b) = self.spi.burst.as_mut() else { break };
+            let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
+            b.next += 1;
+            if b.next == b.words.len() {
+                self.spi.burst = None;
+            }
+            self.clear_nd_after_burst(register, sample);
+            *d = word;
+            self.spi.last_edge = Some(timing.last_edge);
+            self.spi.framed_since_cs = true;
+            self.spi.frames += 1;
+            last = Some((timing, register, word, sample));
+            answered += 1;
+        }
+        if let Some((timing, register, word, sample)) = last {
+            let index = self.spi.frames - 1;
+            let record = read_record(index, timing, word, Some(register), sample, Violations::default(), true);
+            self.spi.records[self.spi.finished()] = ReadRecord { din, ..record };
+        }
+        answered
+    }
+
+    #[inline(always)]
     fn finish_frame(&mut self, din: u16, timing: &FrameTiming) {
         let slot = self.spi.current();
         let rec = &mut self.spi.records[slot];
@@ -572,6 +638,21 @@ impl SpiSlave for Adis16407 {
 
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         self.finish_frame(din, timing);
+    }
+
+    /// A burst's data frames come as a run: the clean ones in few steps, any other frame by its
+    /// own steps.
+    fn run_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) {
+        let mut i = 0;
+        while i < timings.len() {
+            let answered = self.clean_burst_frames(&timings[i..], din, &mut dout[i..]);
+            if answered == 0 {
+                dout[i] = self.start_frame(&timings[i]);
+                self.finish_frame(din, &timings[i]);
+                i += 1;
+            }
+            i += answered;
+        }
     }
 }
 

@@ -688,3 +688,168 @@ fn bench_device_throughput() {
     );
     assert_eq!(timing_events(&d), 0);
 }
+
+/// The timings of frames from `h.t` on, each followed by its gap, as `h` clocks them.
+fn timings_from(h: &Host, gaps: &[Ps]) -> Vec<FrameTiming> {
+    let mut t = h.t;
+    gaps.iter()
+        .map(|&gap| {
+            let tm = FrameTiming { first_edge: t, ..Host { t, ..*h }.timing() };
+            t = tm.last_edge + gap;
+            tm
+        })
+        .collect()
+}
+
+/// A run of frames (`SpiSlave::run_frames`, as the link hands over a burst's data frames) leaves the
+/// device as the same frames one by one do: the words, the latest record, the counters, the events,
+/// the frame log, and what a later read and burst see. Cases: a clean burst; samples inside the run;
+/// a short stall inside it (strict and lenient); more frames than the burst has; a software reset
+/// inside it; the frame log on; SCLK too fast for a burst.
+#[test]
+fn a_run_of_frames_equals_the_frames_one_by_one() {
+    struct Case {
+        name: &'static str,
+        sclk: Ps,
+        gaps: Vec<Ps>,
+        lenient: bool,
+        reset_s: Option<f64>,
+        log: bool,
+        /// Frames the short path answers from the start of the run.
+        clean: usize,
+    }
+    let even = |n: usize, gap: Ps| vec![gap; n];
+    let mut stalled = even(14, 2 * US);
+    stalled[6] = 100 * NS;
+    // Just after the 8th sample (9.766 ms): the runs of 2 µs gaps, the read and the burst after them
+    // end before the 9th (10.986 ms), so the new-data flags they leave show in that burst.
+    let t0 = 9_800 * US;
+    // At 750 kHz the command frame ends at t0 + 100 ns + 15.5 periods; the run starts 2 µs later.
+    let run_start = t0 + 100 * NS + SCLK_750K * 31 / 2 + 2 * US;
+    let cases = [
+        Case {
+            name: "clean",
+            sclk: SCLK_750K,
+            gaps: even(14, 2 * US),
+            lenient: false,
+            reset_s: None,
+            log: false,
+            clean: 14,
+        },
+        Case {
+            name: "samples inside",
+            sclk: SCLK_750K,
+            gaps: even(14, 400 * US),
+            lenient: false,
+            reset_s: None,
+            log: false,
+            clean: 14,
+        },
+        Case {
+            name: "stall strict",
+            sclk: SCLK_750K,
+            gaps: stalled.clone(),
+            lenient: false,
+            reset_s: None,
+            log: false,
+            clean: 7,
+        },
+        Case {
+            name: "stall lenient",
+            sclk: SCLK_750K,
+            gaps: stalled,
+            lenient: true,
+            reset_s: None,
+            log: false,
+            clean: 7,
+        },
+        Case {
+            name: "past the burst",
+            sclk: SCLK_750K,
+            gaps: even(17, 2 * US),
+            lenient: false,
+            reset_s: None,
+            log: false,
+            clean: 14,
+        },
+        Case {
+            name: "reset inside",
+            sclk: SCLK_750K,
+            gaps: even(14, 2 * US),
+            lenient: false,
+            reset_s: Some((run_start + 5 * (SCLK_750K * 31 / 2 + 2 * US) + US) as f64 * 1e-12),
+            log: false,
+            // Frame 5 starts 1 µs before the reset, frame 6 finds the part resetting.
+            clean: 6,
+        },
+        Case {
+            name: "log",
+            sclk: SCLK_750K,
+            gaps: even(14, 2 * US),
+            lenient: false,
+            reset_s: None,
+            log: true,
+            clean: 0,
+        },
+        Case {
+            name: "sclk too fast",
+            sclk: SCLK_1M5,
+            gaps: even(14, 2 * US),
+            lenient: true,
+            reset_s: None,
+            log: false,
+            clean: 0,
+        },
+    ];
+    for case in cases {
+        let make = || {
+            let mut d = device_with(|c| {
+                if case.lenient {
+                    c.timing_mode = crate::profile::TimingMode::Lenient;
+                }
+            });
+            d.set_stimulus(still(|p| p.gyro_dps = [10.0, -20.0, 30.0]));
+            if let Some(s) = case.reset_s {
+                let ov = [format!("faults.list=[{{kind=\"sensor_reset\", start_s={s:e}}}]")];
+                d.set_faults(&crate::profile::Profile::from_toml("", "test", &ov).unwrap().faults);
+            }
+            d.set_frame_log(case.log);
+            let mut h = Host::new(t0, case.sclk);
+            h.cs_low(&mut d);
+            h.frame_with_gap(&mut d, 0x4200, 2 * US);
+            assert_eq!(h.t, t0 + 100 * NS + case.sclk * 31 / 2 + 2 * US, "{}", case.name);
+            (d, h)
+        };
+        let ((mut one, mut h1), (mut run, mut h2), (mut short, _)) = (make(), make(), make());
+        let timings = timings_from(&h1, &case.gaps);
+        let words: Vec<u16> = timings
+            .iter()
+            .map(|tm| {
+                let w = one.begin_frame(tm);
+                one.end_frame(0, tm);
+                w
+            })
+            .collect();
+        let mut run_words = vec![0u16; timings.len()];
+        run.run_frames(&timings, 0, &mut run_words);
+        let mut short_words = vec![0u16; timings.len()];
+        assert_eq!(short.clean_burst_frames(&timings, 0, &mut short_words), case.clean, "{}", case.name);
+        assert_eq!(run_words, words, "{}", case.name);
+        assert_eq!(run.last_frame(), one.last_frame(), "{}", case.name);
+        assert_eq!(run.frames_clocked(), one.frames_clocked(), "{}", case.name);
+        assert_eq!(run.in_burst(), one.in_burst(), "{}", case.name);
+        assert_eq!(format!("{run:?}"), format!("{one:?}"), "{}", case.name);
+        assert_eq!(run.drain_frame_log(), one.drain_frame_log(), "{}", case.name);
+        assert_eq!(run.drain_events(), one.drain_events(), "{}", case.name);
+        // What comes after sees the same device.
+        for (d, h) in [(&mut one, &mut h1), (&mut run, &mut h2)] {
+            let last = timings.last().unwrap().last_edge;
+            (h.t, h.last_edge) = (last + 2 * US, last);
+            h.cs_high(d);
+            h.t += 50 * US;
+        }
+        assert_eq!(h2.read(&mut run, addr::DIAG_STAT), h1.read(&mut one, addr::DIAG_STAT), "{}", case.name);
+        assert_eq!(h2.burst(&mut run), h1.burst(&mut one), "{}", case.name);
+        assert_eq!(run.drain_events(), one.drain_events(), "{}", case.name);
+    }
+}
