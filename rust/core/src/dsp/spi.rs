@@ -1379,30 +1379,43 @@ mod tests {
                         spi.init_from_profile(&spi_profile, 0, &mut probe).unwrap();
                         (spi, probe)
                     };
-                    let (mut a, mut pa) = fresh();
-                    let mut c = c0;
-                    let mut by_register = [0u16; 5];
-                    for (i, &w) in words.iter().enumerate() {
-                        c += p + write; // BUFFULL clear at the first poll
-                        a.write(SPITXBUF, w, sysclk.cycles_to_ps(c), &mut pa).unwrap();
-                        let flag = sysclk.ps_to_cycles_ceil(a.int_flag_time().unwrap());
-                        c = poll(c, flag, p, read);
-                        by_register[i] = a.read(SPIRXBUF, sysclk.cycles_to_ps(c), &mut pa).unwrap();
-                        c += after;
-                    }
+                    // The register path, word by word through picoseconds.
+                    let by_register = |words: [u16; 5]| {
+                        let (mut a, mut pa) = fresh();
+                        let mut c = c0;
+                        let mut got = [0u16; 5];
+                        for (i, &w) in words.iter().enumerate() {
+                            c += p + write; // BUFFULL clear at the first poll
+                            a.write(SPITXBUF, w, sysclk.cycles_to_ps(c), &mut pa).unwrap();
+                            let flag = sysclk.ps_to_cycles_ceil(a.int_flag_time().unwrap());
+                            c = poll(c, flag, p, read);
+                            got[i] = a.read(SPIRXBUF, sysclk.cycles_to_ps(c), &mut pa).unwrap();
+                            c += after;
+                        }
+                        (got, c, a, pa)
+                    };
+                    let read_cycle = |w, f| Ok(poll(w, f, p, read));
+                    let case = format!("k={k} p={p} latency={latency} brr={brr} c0={c0}");
+                    let (want, c, a, pa) = by_register(words);
                     let (mut b, mut pb) = fresh();
                     assert!(b.polled_frame_applies(sysclk.cycles_to_ps(c0)));
                     let mut c_burst = c0;
-                    let burst = b
-                        .polled_burst(words, &mut c_burst, &cpu, |w, f| Ok(poll(w, f, p, read)), &mut pb, |_, _| {})
-                        .unwrap();
-                    let case = format!("k={k} p={p} latency={latency} brr={brr} c0={c0}");
-                    assert_eq!(burst, by_register, "{case}");
-                    assert_eq!(c_burst, c, "{case}");
-                    assert_eq!(pb.finished, pa.finished, "{case}");
+                    let burst = b.polled_burst(words, &mut c_burst, &cpu, read_cycle, &mut pb, |_, _| {}).unwrap();
+                    assert_eq!((burst, c_burst, &pb.finished), (want, c, &pa.finished), "{case}");
                     assert_eq!(
-                        (b.now, b.frames, b.int_flag, b.rxbuf),
-                        (a.now, a.frames, a.int_flag, a.rxbuf),
+                        (b.now, b.frames, b.int_flag, b.rxbuf, b.spidat),
+                        (a.now, a.frames, a.int_flag, a.rxbuf, a.spidat),
+                        "{case}"
+                    );
+                    // One word five times, as one run of characters.
+                    let (want, c, a, pa) = by_register([0x5A5A; 5]);
+                    let (mut r, mut pr) = fresh();
+                    let mut c_run = c0;
+                    let run: [u16; 5] = r.polled_run(0x5A5A, &mut c_run, &cpu, read_cycle, &mut pr).unwrap();
+                    assert_eq!((run, c_run, &pr.finished), (want, c, &pa.finished), "{case}");
+                    assert_eq!(
+                        (r.now, r.frames, r.int_flag, r.rxbuf, r.spidat, r.txbuf, r.int_flag_at),
+                        (a.now, a.frames, a.int_flag, a.rxbuf, a.spidat, a.txbuf, a.int_flag_at),
                         "{case}"
                     );
                 }
