@@ -334,7 +334,15 @@ impl Adis16407 {
     /// The timing rules the frame breaks: comparisons only (this runs on every frame).
     #[inline(always)]
     fn timing_violations(&self, timing: &FrameTiming, in_burst: bool) -> Violations {
-        let t = timing.first_edge;
+        let mut found = self.shape_violations(timing, in_burst);
+        found.insert(self.gap_violations(timing, in_burst));
+        found
+    }
+
+    /// The rules a frame breaks by its shape alone (length, clock polarity, SCLK rate): the same for
+    /// every frame of one character shape.
+    #[inline(always)]
+    fn shape_violations(&self, timing: &FrameTiming, in_burst: bool) -> Violations {
         let mut found = Violations::default();
         if timing.bits != 16 {
             found.insert(Violations::FRAME_LENGTH);
@@ -345,6 +353,14 @@ impl Adis16407 {
         if self.sclk_limit(in_burst).1.short(timing.sclk_period) {
             found.insert(Violations::SCLK_TOO_FAST);
         }
+        found
+    }
+
+    /// The rules a frame breaks by when it starts: the stall since the previous frame, CS setup.
+    #[inline(always)]
+    fn gap_violations(&self, timing: &FrameTiming, in_burst: bool) -> Violations {
+        let t = timing.first_edge;
+        let mut found = Violations::default();
         if let Some(le) = self.spi.last_edge {
             let gap = t.saturating_sub(le);
             let stall_short =
@@ -493,7 +509,12 @@ impl Adis16407 {
     /// only until the next frame ends). Returns how many frames it answered into `dout`; at 0 nothing
     /// has changed but the device's time, which the first frame's own steps would move as well.
     pub(super) fn clean_burst_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) -> usize {
-        if self.spi.log.is_some() || self.spi.corrupt_next {
+        // One shape for the whole run (see `SpiSlave::run_frames`): its rules are checked once.
+        let Some(shape) = timings.first() else { return 0 };
+        let same_shape =
+            |t: &FrameTiming| (t.bits, t.cpol, t.sclk_period) == (shape.bits, shape.cpol, shape.sclk_period);
+        debug_assert!(timings.iter().all(same_shape), "a run of frames has one shape");
+        if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(shape, true).is_empty() {
             return 0;
         }
         let mut answered = 0;
@@ -505,7 +526,7 @@ impl Adis16407 {
             }
             self.advance_to(t);
             let clean = self.spi.cs_low && t >= self.busy_until() && self.spi.burst.is_some();
-            if !clean || !self.timing_violations(timing, true).is_empty() {
+            if !clean || !self.gap_violations(timing, true).is_empty() {
                 break;
             }
             let Some(b) = self.spi.burst.as_mut() else { break };
