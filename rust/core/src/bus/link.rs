@@ -113,9 +113,9 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             return spi::transfer_each(self, run, rx);
         }
         let period = self.sclk_period(first);
+        let timing = transaction::TimingOf::new(&first.shape, &self.lspclk, period);
         self.run_timings.clear();
-        let (shape, lspclk) = (first.shape, self.lspclk);
-        self.run_timings.extend(run.starts.iter().map(|&s| transaction::frame_timing(&shape, s, &lspclk, period)));
+        self.run_timings.extend(run.starts.iter().map(|&s| timing.at(s)));
         self.slave.run_frames(&self.run_timings, transaction::slave_din(first, lines), rx);
         for r in rx {
             *r = transaction::master_rx(first, *r, lines);

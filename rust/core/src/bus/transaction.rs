@@ -26,19 +26,46 @@ pub fn sclk_period(frame: &Frame, lspclk: &Clock) -> Ps {
 /// the link caches per baud setting).
 #[inline]
 pub fn frame_timing(shape: &CharShape, start_cycle: u64, lspclk: &Clock, sclk_period: Ps) -> FrameTiming {
-    // Without delay the first edge is the start and the last edge is one idle phase before the end;
-    // with delay the first edge is one idle phase after the start and the last edge is the end.
-    let (first, last) = if shape.scheme.phase {
-        (shape.idle_cycles() as u64, shape.length_cycles())
-    } else {
-        (0, shape.edge_cycle(shape.edges() - 1))
-    };
-    FrameTiming {
-        first_edge: lspclk.cycles_to_ps(start_cycle + first),
-        last_edge: lspclk.cycles_to_ps(start_cycle + last),
-        sclk_period,
-        bits: shape.bits,
-        cpol: shape.scheme.polarity,
+    TimingOf::new(shape, lspclk, sclk_period).at(start_cycle)
+}
+
+/// [`frame_timing`] for any start cycle of one character shape: what does not depend on the start is
+/// worked out once (a run of characters shares it).
+#[derive(Debug, Clone, Copy)]
+pub struct TimingOf {
+    /// LSPCLK cycles from the start to the first and to the last SCLK edge.
+    first: u64,
+    last: u64,
+    lspclk: Clock,
+    sclk_period: Ps,
+    bits: u8,
+    cpol: bool,
+}
+
+impl TimingOf {
+    /// The timing of characters of `shape`.
+    #[inline]
+    pub fn new(shape: &CharShape, lspclk: &Clock, sclk_period: Ps) -> TimingOf {
+        // Without delay the first edge is the start and the last edge is one idle phase before the
+        // end; with delay the first edge is one idle phase after the start and the last edge is the end.
+        let (first, last) = if shape.scheme.phase {
+            (shape.idle_cycles() as u64, shape.length_cycles())
+        } else {
+            (0, shape.edge_cycle(shape.edges() - 1))
+        };
+        TimingOf { first, last, lspclk: *lspclk, sclk_period, bits: shape.bits, cpol: shape.scheme.polarity }
+    }
+
+    /// The timing of the character started on LSPCLK cycle `start_cycle`.
+    #[inline]
+    pub fn at(&self, start_cycle: u64) -> FrameTiming {
+        FrameTiming {
+            first_edge: self.lspclk.cycles_to_ps(start_cycle + self.first),
+            last_edge: self.lspclk.cycles_to_ps(start_cycle + self.last),
+            sclk_period: self.sclk_period,
+            bits: self.bits,
+            cpol: self.cpol,
+        }
     }
 }
 
