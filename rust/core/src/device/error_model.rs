@@ -928,39 +928,52 @@ impl Triad {
     /// Move the bias processes on from sample `from` to sample `to` > `from` (samples of `dt_s`):
     /// each Gauss–Markov term exactly over the update instants (multiples of its interval) the move
     /// passes, the rate random walk exactly over the whole move.
+    #[inline]
     fn advance(&mut self, from: u64, to: u64, dt_s: f64) {
+        // Most samples update no term: that test stays in the caller, the updates go out of line.
         if to >= self.next_update {
-            let mut next_update = u64::MAX;
-            let mut updated = false;
-            for term in &mut self.gauss_markov {
-                let updates = (to >> term.shift) - (from >> term.shift);
-                if updates > 0 {
-                    let (decay, drive) = if updates == 1 {
-                        (term.decay, term.drive)
-                    } else {
-                        gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
-                    };
-                    for x in term.state.iter_mut() {
-                        let w = self.gaussian.draw(&mut term.rng);
-                        *x = decay * *x + drive * w;
-                    }
-                    updated = true;
-                }
-                next_update = next_update.min(((to >> term.shift) + 1).saturating_mul(1 << term.shift));
-            }
-            self.next_update = next_update;
-            if updated {
-                self.gauss_markov_sum = sum_states(&self.gauss_markov);
-            }
+            self.update_gauss_markov(from, to, dt_s);
         }
         if self.rate_random_walk > 0.0 {
-            let steps = to - from;
-            let step =
-                if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
-            for r in self.rate_walk.iter_mut() {
-                let w = self.gaussian.draw(&mut self.rate_walk_rng);
-                *r += step * w;
+            self.walk(from, to, dt_s);
+        }
+    }
+
+    /// The Gauss–Markov part of [`Triad::advance`], when some term is due.
+    #[inline(never)]
+    fn update_gauss_markov(&mut self, from: u64, to: u64, dt_s: f64) {
+        let mut next_update = u64::MAX;
+        let mut updated = false;
+        for term in &mut self.gauss_markov {
+            let updates = (to >> term.shift) - (from >> term.shift);
+            if updates > 0 {
+                let (decay, drive) = if updates == 1 {
+                    (term.decay, term.drive)
+                } else {
+                    gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
+                };
+                for x in term.state.iter_mut() {
+                    let w = self.gaussian.draw(&mut term.rng);
+                    *x = decay * *x + drive * w;
+                }
+                updated = true;
             }
+            next_update = next_update.min(((to >> term.shift) + 1).saturating_mul(1 << term.shift));
+        }
+        self.next_update = next_update;
+        if updated {
+            self.gauss_markov_sum = sum_states(&self.gauss_markov);
+        }
+    }
+
+    /// The rate random walk part of [`Triad::advance`].
+    #[inline(never)]
+    fn walk(&mut self, from: u64, to: u64, dt_s: f64) {
+        let steps = to - from;
+        let step = if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
+        for r in self.rate_walk.iter_mut() {
+            let w = self.gaussian.draw(&mut self.rate_walk_rng);
+            *r += step * w;
         }
     }
 
