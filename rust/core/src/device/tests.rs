@@ -688,3 +688,19 @@ fn bench_device_throughput() {
     );
     assert_eq!(timing_events(&d), 0);
 }
+
+#[test]
+fn is_finite_finds_any_non_finite_value_and_passes_the_largest_finite_ones() {
+    let with = |i: usize, x: f64| {
+        let mut p = Physical::powered_idle();
+        *p.values_mut().nth(i).unwrap() = x;
+        p
+    };
+    for i in 0..13 {
+        assert_eq!(with(i, f64::MAX).values()[i], f64::MAX, "values and values_mut agree on value {i}");
+        assert!(with(i, f64::MAX).is_finite() && with(i, -f64::MAX).is_finite(), "value {i}");
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(!with(i, x).is_finite(), "value {i} = {x}");
+        }
+    }
+}
