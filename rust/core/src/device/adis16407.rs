@@ -709,7 +709,7 @@ impl Adis16407 {
         }
         let rated = self.check_rated_range(&p, t);
         // From here on `f` holds the filtered values (the unfiltered ones are not needed any more).
-        let mut f = p;
+        let f = &mut p;
         let [gx, gy, gz] = f.gyro_dps;
         let [ax, ay, az] = f.accel_g;
         let y = self.inertial_filter.push([gx, gy, gz, ax, ay, az]);
@@ -721,15 +721,15 @@ impl Adis16407 {
             f.mag_gauss = [y[0], y[1], y[2]];
             f.baro_mbar = y[3];
         }
-        self.filtered = f;
+        self.filtered = *f;
         if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
-            spike(&mut f, sf);
+            spike(f, sf);
         }
         self.refresh_calibration();
-        let over = !self.calibration.nothing_can_clip(&f) && self.outputs_overrange(&self.calibration, &f);
+        let over = !self.calibration.nothing_can_clip(f) && self.outputs_overrange(&self.calibration, f);
         if let Some(sf) = &faults {
             let mut regs = self.regs;
-            self.encode_outputs(&self.calibration, &f, &mut regs);
+            self.encode_outputs(&self.calibration, f, &mut regs);
             for (i, a) in BURST_ORDER.iter().enumerate() {
                 if sf.stuck >> i & 1 != 0 {
                     regs[s(*a)] = sf.frozen[i];
