@@ -952,8 +952,8 @@ impl Triad {
                 } else {
                     gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
                 };
-                for x in term.state.iter_mut() {
-                    let w = self.gaussian.draw(&mut term.rng);
+                let w = self.gaussian.draw3(&mut term.rng);
+                for (x, w) in term.state.iter_mut().zip(w) {
                     *x = decay * *x + drive * w;
                 }
                 updated = true;
@@ -971,8 +971,8 @@ impl Triad {
     fn walk(&mut self, from: u64, to: u64, dt_s: f64) {
         let steps = to - from;
         let step = if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
-        for r in self.rate_walk.iter_mut() {
-            let w = self.gaussian.draw(&mut self.rate_walk_rng);
+        let w = self.gaussian.draw3(&mut self.rate_walk_rng);
+        for (r, w) in self.rate_walk.iter_mut().zip(w) {
             *r += step * w;
         }
     }
@@ -986,9 +986,8 @@ impl Triad {
             self.set_temperature(delta_temp_c);
         }
         let white = if self.white_sigma > 0.0 {
-            // An array literal, not `[(); 3].map(…)`: the compiler may keep an array map out of line.
-            let mut draw = || self.white_sigma * self.gaussian.draw(&mut self.white_rng);
-            [draw(), draw(), draw()]
+            let [a, b, c] = self.gaussian.draw3(&mut self.white_rng);
+            [self.white_sigma * a, self.white_sigma * b, self.white_sigma * c]
         } else {
             [0.0; 3]
         };
@@ -1103,12 +1102,12 @@ impl ErrorModel {
         self.gyro.apply(&force, delta_temp_c, &mut p.gyro_dps);
         self.accel.apply(&force, delta_temp_c, &mut p.accel_g);
         let m = p.mag_gauss;
+        let noise = if self.mag_sigma > 0.0 { Some(self.gaussian.draw3(&mut self.mag_rng)) } else { None };
         for i in 0..3 {
             let row = &self.mag_map[i];
             let mut out = row[0] * m[0] + row[1] * m[1] + row[2] * m[2] + self.mag_hard_iron[i];
-            if self.mag_sigma > 0.0 {
-                let w = self.gaussian.draw(&mut self.mag_rng);
-                out += self.mag_sigma * w;
+            if let Some(w) = noise {
+                out += self.mag_sigma * w[i];
             }
             p.mag_gauss[i] = out;
         }
