@@ -787,6 +787,8 @@ struct Triad {
     gauss_markov_sum: [f64; 3],
     /// First sample index at which some term updates (0: not known yet, check every term).
     next_update: u64,
+    /// log₂ of the bank's shortest update interval (None: no term).
+    shortest_shift: Option<u32>,
     rate_random_walk: f64,
     rate_walk_step: f64,
     rate_walk: [f64; 3],
@@ -906,6 +908,7 @@ impl Triad {
             white_sigma: e.noise_density / dt_s.sqrt(),
             white_rng: s(SOURCE_WHITE_NOISE),
             gauss_markov_sum: sum_states(&gauss_markov),
+            shortest_shift: gauss_markov.iter().map(|term| term.shift).min(),
             gauss_markov,
             next_update: 0,
             rate_random_walk: e.rate_random_walk,
@@ -942,7 +945,6 @@ impl Triad {
     /// The Gauss–Markov part of [`Triad::advance`], when some term is due.
     #[inline(never)]
     fn update_gauss_markov(&mut self, from: u64, to: u64, dt_s: f64) {
-        let mut next_update = u64::MAX;
         let mut updated = false;
         for term in &mut self.gauss_markov {
             let updates = (to >> term.shift) - (from >> term.shift);
@@ -958,9 +960,10 @@ impl Triad {
                 }
                 updated = true;
             }
-            next_update = next_update.min(((to >> term.shift) + 1).saturating_mul(1 << term.shift));
         }
-        self.next_update = next_update;
+        // Every term's update instants are multiples of the shortest interval, so the next one of
+        // those is the bank's next update.
+        self.next_update = self.shortest_shift.map_or(u64::MAX, |s| ((to >> s) + 1).saturating_mul(1 << s));
         if updated {
             self.gauss_markov_sum = sum_states(&self.gauss_markov);
         }
