@@ -208,17 +208,11 @@ struct Calibration {
     hard_iron: [f64; 3],
     /// X/Y/ZMAGN_SIC, as a factor.
     soft_iron: [f64; 3],
-    /// Per value of [`screened`]: centre and half width of an interval of the filtered value in
-    /// which no output field can clip (the encoding's [`surely_unclipped`] interval taken back
+    /// Per value of [`Physical::values`]: centre and half width of an interval of the filtered value
+    /// in which no output field can clip (the encoding's [`surely_unclipped`] interval taken back
     /// through the calibration; the few roundings of that are ~1e-16 relative against its 1 % margin).
     unclipped_centre: [f64; 13],
     unclipped_half_width: [f64; 13],
-}
-
-/// The sample values the overrange screen looks at: gyro, accel, mag, baro, temp, supply, aux.
-fn screened(f: &Physical) -> [f64; 13] {
-    let ([gx, gy, gz], [ax, ay, az], [mx, my, mz]) = (f.gyro_dps, f.accel_g, f.mag_gauss);
-    [gx, gy, gz, ax, ay, az, mx, my, mz, f.baro_mbar, f.temp_c, f.supply_v, f.aux_v]
 }
 
 impl Calibration {
@@ -278,7 +272,7 @@ impl Calibration {
     fn nothing_can_clip(&self, f: &Physical) -> bool {
         let mut inside = true;
         for ((v, centre), half_width) in
-            screened(f).into_iter().zip(self.unclipped_centre).zip(self.unclipped_half_width)
+            f.values().into_iter().zip(self.unclipped_centre).zip(self.unclipped_half_width)
         {
             // `&=`, not `&&`: no branch per value. NaN compares false, so it goes to the exact test.
             inside &= (v - centre).abs() <= half_width;
@@ -715,7 +709,7 @@ impl Adis16407 {
         }
         let rated = self.check_rated_range(&p, t);
         // From here on `f` holds the filtered values (the unfiltered ones are not needed any more).
-        let mut f = p;
+        let f = &mut p;
         let [gx, gy, gz] = f.gyro_dps;
         let [ax, ay, az] = f.accel_g;
         let y = self.inertial_filter.push([gx, gy, gz, ax, ay, az]);
@@ -727,15 +721,15 @@ impl Adis16407 {
             f.mag_gauss = [y[0], y[1], y[2]];
             f.baro_mbar = y[3];
         }
-        self.filtered = f;
+        self.filtered = *f;
         if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
-            spike(&mut f, sf);
+            spike(f, sf);
         }
         self.refresh_calibration();
-        let over = !self.calibration.nothing_can_clip(&f) && self.outputs_overrange(&self.calibration, &f);
+        let over = !self.calibration.nothing_can_clip(f) && self.outputs_overrange(&self.calibration, f);
         if let Some(sf) = &faults {
             let mut regs = self.regs;
-            self.encode_outputs(&self.calibration, &f, &mut regs);
+            self.encode_outputs(&self.calibration, f, &mut regs);
             for (i, a) in BURST_ORDER.iter().enumerate() {
                 if sf.stuck >> i & 1 != 0 {
                     regs[s(*a)] = sf.frozen[i];
@@ -1012,7 +1006,7 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
-    /// `screened` inverted: the sample whose screened values are `v`.
+    /// [`Physical::values`] inverted: the sample whose values are `v`.
     fn from_screened(v: [f64; 13]) -> Physical {
         let [gx, gy, gz, ax, ay, az, mx, my, mz, baro_mbar, temp_c, supply_v, aux_v] = v;
         Physical {

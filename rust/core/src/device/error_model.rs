@@ -787,6 +787,8 @@ struct Triad {
     gauss_markov_sum: [f64; 3],
     /// First sample index at which some term updates (0: not known yet, check every term).
     next_update: u64,
+    /// log₂ of the bank's shortest update interval (None: no term).
+    shortest_shift: Option<u32>,
     rate_random_walk: f64,
     rate_walk_step: f64,
     rate_walk: [f64; 3],
@@ -906,6 +908,7 @@ impl Triad {
             white_sigma: e.noise_density / dt_s.sqrt(),
             white_rng: s(SOURCE_WHITE_NOISE),
             gauss_markov_sum: sum_states(&gauss_markov),
+            shortest_shift: gauss_markov.iter().map(|term| term.shift).min(),
             gauss_markov,
             next_update: 0,
             rate_random_walk: e.rate_random_walk,
@@ -928,50 +931,66 @@ impl Triad {
     /// Move the bias processes on from sample `from` to sample `to` > `from` (samples of `dt_s`):
     /// each Gauss–Markov term exactly over the update instants (multiples of its interval) the move
     /// passes, the rate random walk exactly over the whole move.
+    #[inline]
     fn advance(&mut self, from: u64, to: u64, dt_s: f64) {
+        // Most samples update no term: that test stays in the caller, the updates go out of line.
         if to >= self.next_update {
-            let mut next_update = u64::MAX;
-            let mut updated = false;
-            for term in &mut self.gauss_markov {
-                let updates = (to >> term.shift) - (from >> term.shift);
-                if updates > 0 {
-                    let (decay, drive) = if updates == 1 {
-                        (term.decay, term.drive)
-                    } else {
-                        gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
-                    };
-                    for x in term.state.iter_mut() {
-                        let w = self.gaussian.draw(&mut term.rng);
-                        *x = decay * *x + drive * w;
-                    }
-                    updated = true;
-                }
-                next_update = next_update.min(((to >> term.shift) + 1).saturating_mul(1 << term.shift));
-            }
-            self.next_update = next_update;
-            if updated {
-                self.gauss_markov_sum = sum_states(&self.gauss_markov);
-            }
+            self.update_gauss_markov(from, to, dt_s);
         }
         if self.rate_random_walk > 0.0 {
-            let steps = to - from;
-            let step =
-                if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
-            for r in self.rate_walk.iter_mut() {
-                let w = self.gaussian.draw(&mut self.rate_walk_rng);
-                *r += step * w;
-            }
+            self.walk(from, to, dt_s);
         }
     }
 
+    /// The Gauss–Markov part of [`Triad::advance`], when some term is due.
+    #[inline(never)]
+    fn update_gauss_markov(&mut self, from: u64, to: u64, dt_s: f64) {
+        let mut updated = false;
+        for term in &mut self.gauss_markov {
+            let updates = (to >> term.shift) - (from >> term.shift);
+            if updates > 0 {
+                let (decay, drive) = if updates == 1 {
+                    (term.decay, term.drive)
+                } else {
+                    gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
+                };
+                let w = self.gaussian.draw3(&mut term.rng);
+                for (x, w) in term.state.iter_mut().zip(w) {
+                    *x = decay * *x + drive * w;
+                }
+                updated = true;
+            }
+        }
+        // Every term's update instants are multiples of the shortest interval, so the next one of
+        // those is the bank's next update.
+        self.next_update = self.shortest_shift.map_or(u64::MAX, |s| ((to >> s) + 1).saturating_mul(1 << s));
+        if updated {
+            self.gauss_markov_sum = sum_states(&self.gauss_markov);
+        }
+    }
+
+    /// The rate random walk part of [`Triad::advance`].
+    #[inline(never)]
+    fn walk(&mut self, from: u64, to: u64, dt_s: f64) {
+        let steps = to - from;
+        let step = if steps == 1 { self.rate_walk_step } else { self.rate_random_walk * (dt_s * steps as f64).sqrt() };
+        let w = self.gaussian.draw3(&mut self.rate_walk_rng);
+        for (r, w) in self.rate_walk.iter_mut().zip(w) {
+            *r += step * w;
+        }
+    }
+
+    /// Corrupt the true values `x` of the triad's three axes (`force_g`: the true specific force).
+    /// Always inline: it runs twice per sample, and a call's register saves cost as much as the bias
+    /// sum it wraps.
+    #[inline(always)]
     fn apply(&mut self, force_g: &[f64; 3], delta_temp_c: f64, x: &mut [f64; 3]) {
         if delta_temp_c.to_bits() != self.cached_delta_temp {
             self.set_temperature(delta_temp_c);
         }
         let white = if self.white_sigma > 0.0 {
-            // An array literal, not `[(); 3].map(…)`: the compiler may keep an array map out of line.
-            let mut draw = || self.white_sigma * self.gaussian.draw(&mut self.white_rng);
-            [draw(), draw(), draw()]
+            let [a, b, c] = self.gaussian.draw3(&mut self.white_rng);
+            [self.white_sigma * a, self.white_sigma * b, self.white_sigma * c]
         } else {
             [0.0; 3]
         };
@@ -1086,12 +1105,12 @@ impl ErrorModel {
         self.gyro.apply(&force, delta_temp_c, &mut p.gyro_dps);
         self.accel.apply(&force, delta_temp_c, &mut p.accel_g);
         let m = p.mag_gauss;
+        let noise = if self.mag_sigma > 0.0 { Some(self.gaussian.draw3(&mut self.mag_rng)) } else { None };
         for i in 0..3 {
             let row = &self.mag_map[i];
             let mut out = row[0] * m[0] + row[1] * m[1] + row[2] * m[2] + self.mag_hard_iron[i];
-            if self.mag_sigma > 0.0 {
-                let w = self.gaussian.draw(&mut self.mag_rng);
-                out += self.mag_sigma * w;
+            if let Some(w) = noise {
+                out += self.mag_sigma * w[i];
             }
             p.mag_gauss[i] = out;
         }

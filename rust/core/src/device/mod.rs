@@ -55,8 +55,15 @@ impl Physical {
 
     /// Every value is finite.
     pub fn is_finite(&self) -> bool {
-        self.gyro_dps.iter().chain(&self.accel_g).chain(&self.mag_gauss).all(|v| v.is_finite())
-            && [self.baro_mbar, self.temp_c, self.supply_v, self.aux_v].iter().all(|v| v.is_finite())
+        // 0·x is ±0 for every finite x and NaN for ±∞ and NaN, and a NaN survives the sum: one
+        // comparison instead of a branch per value (the device checks every sample).
+        self.values().iter().map(|v| 0.0 * v).sum::<f64>() == 0.0
+    }
+
+    /// Every value, in the order of [`Physical::values_mut`].
+    pub fn values(&self) -> [f64; 13] {
+        let ([gx, gy, gz], [ax, ay, az], [mx, my, mz]) = (self.gyro_dps, self.accel_g, self.mag_gauss);
+        [gx, gy, gz, ax, ay, az, mx, my, mz, self.baro_mbar, self.temp_c, self.supply_v, self.aux_v]
     }
 
     /// Every value, mutably (x, y, z of gyro, accel, mag, then baro, temp, supply, aux).

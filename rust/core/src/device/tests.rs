@@ -853,3 +853,19 @@ fn a_run_of_frames_equals_the_frames_one_by_one() {
         assert_eq!(run.drain_events(), one.drain_events(), "{}", case.name);
     }
 }
+
+#[test]
+fn is_finite_finds_any_non_finite_value_and_passes_the_largest_finite_ones() {
+    let with = |i: usize, x: f64| {
+        let mut p = Physical::powered_idle();
+        *p.values_mut().nth(i).unwrap() = x;
+        p
+    };
+    for i in 0..13 {
+        assert_eq!(with(i, f64::MAX).values()[i], f64::MAX, "values and values_mut agree on value {i}");
+        assert!(with(i, f64::MAX).is_finite() && with(i, -f64::MAX).is_finite(), "value {i}");
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(!with(i, x).is_finite(), "value {i} = {x}");
+        }
+    }
+}

@@ -35,20 +35,43 @@ impl Gaussian {
     /// One draw of N(0, 1) from `rng`: exactly `rng.sample::<f64, _>(StandardNormal)`.
     #[inline(always)]
     pub(super) fn draw<R: RngCore + Clone>(self, rng: &mut R) -> f64 {
-        // rand_distr 0.4's ziggurat (`utils::ziggurat`, symmetric case), first step: the low 8 bits
-        // pick the layer, the high 52 make u uniform on [−1, 1); x = u·X[i] is accepted if
-        // |x| < X[i + 1].
-        let edges = self.0;
         let mut ahead = rng.clone();
-        let bits = ahead.next_u64();
+        match self.first_step(&mut ahead) {
+            Some(x) => {
+                *rng = ahead;
+                x
+            }
+            None => rejected_first_step(rng),
+        }
+    }
+
+    /// Three draws: exactly `[self.draw(rng), self.draw(rng), self.draw(rng)]`, but when all three
+    /// take the fast path (95 % of triples) the generator's state is stored once, not three times.
+    #[inline(always)]
+    pub(super) fn draw3<R: RngCore + Clone>(self, rng: &mut R) -> [f64; 3] {
+        let mut ahead = rng.clone();
+        let mut out = [0.0; 3];
+        for x in &mut out {
+            match self.first_step(&mut ahead) {
+                Some(v) => *x = v,
+                None => return three_draws(self, rng),
+            }
+        }
+        *rng = ahead;
+        out
+    }
+
+    /// rand_distr 0.4's ziggurat (`utils::ziggurat`, symmetric case), first step: the low 8 bits of
+    /// one `next_u64` pick the layer, the high 52 make u uniform on [−1, 1); x = u·X[i] is accepted
+    /// if |x| < X[i + 1]. `None`: rejected, `rng` has moved on by one word.
+    #[inline(always)]
+    fn first_step<R: RngCore>(self, rng: &mut R) -> Option<f64> {
+        let edges = self.0;
+        let bits = rng.next_u64();
         let layer = (bits & 0xff) as usize;
         let u = f64::from_bits(bits >> 12 | EXPONENT_OF_2) - 3.0;
         let x = u * edges[layer];
-        if x.abs() < edges[layer + 1] {
-            *rng = ahead;
-            return x;
-        }
-        rejected_first_step(rng)
+        (x.abs() < edges[layer + 1]).then_some(x)
     }
 }
 
@@ -57,6 +80,14 @@ impl Gaussian {
 #[inline(never)]
 fn rejected_first_step<R: RngCore>(rng: &mut R) -> f64 {
     rng.sample(StandardNormal)
+}
+
+/// [`Gaussian::draw3`] when one of the three leaves the fast path: the three draws one by one from
+/// the state before them.
+#[cold]
+#[inline(never)]
+fn three_draws<R: RngCore + Clone>(gaussian: Gaussian, rng: &mut R) -> [f64; 3] {
+    [gaussian.draw(rng), gaussian.draw(rng), gaussian.draw(rng)]
 }
 
 /// Exponent bits of 2.0: with 52 random mantissa bits, a float uniform on [2, 4).
@@ -108,5 +139,21 @@ mod tests {
             }
         }
         assert!(rejected > 10_000, "only {rejected} draws left the fast path: the test covers too little");
+    }
+
+    #[test]
+    fn a_triple_is_three_draws_bit_for_bit() {
+        // 10⁶ triples: ≈ 4.5 % of them (45 000) leave the fast path somewhere and take the fallback.
+        let gaussian = Gaussian::new();
+        for seed in 0..4 {
+            let mut triples = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let mut singles = triples.clone();
+            for n in 0..250_000 {
+                let got = gaussian.draw3(&mut triples);
+                let want = [gaussian.draw(&mut singles), gaussian.draw(&mut singles), gaussian.draw(&mut singles)];
+                assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "seed {seed}, triple {n}");
+                assert_eq!(triples, singles, "seed {seed}, triple {n}: stream positions differ");
+            }
+        }
     }
 }
