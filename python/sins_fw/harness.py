@@ -33,8 +33,13 @@ from sins_fw.profile import MODEL_DIR, Profile, load_profile
 from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace
 
 PS = 1e-12
-#: Rows per chunk streamed into the core: big enough to amortise the call, small enough for memory.
+#: Rows per chunk read from a trace (file): big enough to amortise the reading, small enough for memory.
 CHUNK_ROWS = 1 << 16
+#: Rows per push into the core: big enough to amortise the call (a few µs), small enough that the
+#: core's copy of the input and each run's output rows stay in cache and in memory the allocator
+#: reuses (at 1 << 16 rows each push took fresh pages from the kernel: 2× the page faults, which cost
+#: about 2 µs each on the benchmark VM).
+FEED_ROWS = 1 << 13
 
 Array = NDArray[np.float64]
 
@@ -292,7 +297,7 @@ def emulate(
                 break
             chunk = next(_chunks(chunk, n))
         t = np.ascontiguousarray(chunk.t_s - t0)
-        for s in bus.pieces(t) if bus is not None else (slice(None),):
+        for s in _pieces(t, bus):
             emu.push(
                 t[s],
                 np.ascontiguousarray(chunk.gyro_dps[s]),
@@ -302,7 +307,10 @@ def emulate(
                 None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c[s]),
             )
             emu.run()
-            _collect(emu.take(), parts, sink)
+            # The core holds each run's output until `take`: one take at the end builds each numpy
+            # column once, unless the output streams to a sink or the bus window watches the ticks.
+            if sink is not None or bus is not None:
+                _collect(emu.take(), parts, sink)
             if bus is not None:
                 bus.after(parts[-1])
         if keep_truth and sink is None and chunk.truth_q is not None:
@@ -351,10 +359,11 @@ def _replay(
         if until_s is not None:
             n = int(np.searchsorted(t, until_s, side="right"))
             t, words = t[:n], words[:n]
-        for s in bus.pieces(t) if bus is not None else (slice(None),):
+        for s in _pieces(t, bus):
             emu.push_words(t[s], np.ascontiguousarray(words[s]))
             emu.run()
-            _collect(emu.take(), parts, sink)
+            if sink is not None or bus is not None:
+                _collect(emu.take(), parts, sink)
             if bus is not None:
                 bus.after(parts[-1])
         if on_chunk is not None and len(t):
@@ -368,6 +377,15 @@ def _replay(
     if bus is not None:
         run.bus = bus.finish(run.budget)
     return run
+
+
+def _pieces(t: Array, bus: _BusWindow | None) -> Iterator[slice]:
+    """A chunk's rows (times ``t``) as the slices pushed into the core: at most FEED_ROWS each, and
+    cut where the bus window switches the log on."""
+    for lo in range(0, len(t), FEED_ROWS):
+        hi = min(lo + FEED_ROWS, len(t))
+        for s in bus.pieces(t[lo:hi]) if bus is not None else (slice(None),):
+            yield slice(lo + (s.start or 0), hi if s.stop is None else lo + s.stop)
 
 
 def _collect(
@@ -401,7 +419,8 @@ def _truth_at(t: Array, q: Array, at: Array) -> Array:
 
 
 def _cat(parts: list[dict[str, Any]], key: str) -> NDArray[Any]:
-    return np.concatenate([p[key] for p in parts])
+    # One part (the usual case: one take at the end of a run) is used as it is, not copied.
+    return parts[0][key] if len(parts) == 1 else np.concatenate([p[key] for p in parts])
 
 
 def _assemble(profile: Profile, t0: float, parts: list[dict[str, Any]], stage_cycles: dict[str, int]) -> Run:
