@@ -268,10 +268,11 @@ def emulate(
     device model is bypassed; its recorded timestamps are the reads' sample times); profile faults
     cannot apply to it (they act on the device model) and are refused.
     """
-    prof = profile if isinstance(profile, Profile) else load_profile(profile)
     every = [*overrides, *keyword_overrides(settings)]
-    if every:
-        prof = prof.with_overrides(*every)
+    if isinstance(profile, Profile):
+        prof = profile.with_overrides(*every) if every else profile
+    else:
+        prof = load_profile(profile, every)  # validated once, overrides included
     replay = isinstance(trace, RawRegisterTrace) or (
         isinstance(trace, str | os.PathLike) and is_raw_register_trace(trace)
     )
