@@ -308,12 +308,13 @@ def emulate(
                 None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c[s]),
             )
             emu.run()
-            # The core holds each run's output until `take`: one take at the end builds each numpy
-            # column once, unless the output streams to a sink or the bus window watches the ticks.
-            if sink is not None or bus is not None:
-                _collect(emu.take(), parts, sink)
+            # The emulator holds the output (in columns) until `take`: one take at the end gives the
+            # Run without concatenating, unless the bus window watches the ticks or a sink streams.
             if bus is not None:
+                _collect(emu.take(), parts, sink)
                 bus.after(parts[-1])
+        if sink is not None and bus is None:
+            _collect(emu.take(), parts, sink)
         if keep_truth and sink is None and chunk.truth_q is not None:
             if not truth:
                 truth_q0 = chunk.truth_q[0].copy()
@@ -363,10 +364,11 @@ def _replay(
         for s in _pieces(t, bus):
             emu.push_words(t[s], np.ascontiguousarray(words[s]))
             emu.run()
-            if sink is not None or bus is not None:
-                _collect(emu.take(), parts, sink)
             if bus is not None:
+                _collect(emu.take(), parts, sink)
                 bus.after(parts[-1])
+        if sink is not None and bus is None:
+            _collect(emu.take(), parts, sink)
         if on_chunk is not None and len(t):
             on_chunk(float(t[-1]))
         if until_s is not None and len(t) < len(chunk):
