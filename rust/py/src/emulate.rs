@@ -162,9 +162,11 @@ fn build(profile: &Profile, costs: &CostTable, replay: bool) -> Result<Box<dyn R
 /// An array's elements in logical (row-major) order as one slice: numpy's own buffer when it is
 /// C-contiguous (the harness always passes such arrays), else a copy.
 fn flat<'a, D: numpy::ndarray::Dimension>(a: &'a PyReadonlyArray<'_, f64, D>) -> Cow<'a, [f64]> {
-    match a.as_slice() {
-        Ok(s) => Cow::Borrowed(s),
-        Err(_) => Cow::Owned(a.as_array().iter().copied().collect()),
+    // ndarray's `to_slice` is row-major only (numpy's `as_slice` also takes a Fortran-ordered buffer).
+    let v = a.as_array();
+    match v.to_slice() {
+        Some(s) => Cow::Borrowed(s),
+        None => Cow::Owned(v.iter().copied().collect()),
     }
 }
 
@@ -186,11 +188,6 @@ fn col1<'a>(a: Option<&'a PyReadonlyArray1<'_, f64>>, n: usize, name: &str) -> P
         return Err(to_py(Error::Input(format!("input column `{name}`: {rows} rows, expected {n}"))));
     }
     Ok(Some(flat(a)))
-}
-
-/// Row `i` of a flattened n×3 column.
-fn row3(c: &[f64], i: usize) -> [f64; 3] {
-    [c[3 * i], c[3 * i + 1], c[3 * i + 2]]
 }
 
 #[pymethods]
@@ -243,17 +240,23 @@ impl Emulator {
         let mag = col3(mag.as_ref(), n, "mag")?;
         let baro = col1(baro.as_ref(), n, "baro")?;
         let temp = col1(temp.as_ref(), n, "temp")?;
+        // The required columns first, then each optional one over them: no per-row test of which
+        // columns came.
         let idle = Physical::powered_idle();
-        let samples: Vec<Physical> = (0..n)
-            .map(|i| Physical {
-                gyro_dps: row3(&gyro, i),
-                accel_g: row3(&accel, i),
-                mag_gauss: mag.as_ref().map_or(idle.mag_gauss, |m| row3(m, i)),
-                baro_mbar: baro.as_ref().map_or(idle.baro_mbar, |b| b[i]),
-                temp_c: temp.as_ref().map_or(idle.temp_c, |x| x[i]),
-                ..idle
-            })
+        let mut samples: Vec<Physical> = gyro
+            .chunks_exact(3)
+            .zip(accel.chunks_exact(3))
+            .map(|(g, a)| Physical { gyro_dps: [g[0], g[1], g[2]], accel_g: [a[0], a[1], a[2]], ..idle })
             .collect();
+        if let Some(mag) = mag {
+            samples.iter_mut().zip(mag.chunks_exact(3)).for_each(|(p, m)| p.mag_gauss = [m[0], m[1], m[2]]);
+        }
+        if let Some(baro) = baro {
+            samples.iter_mut().zip(baro.iter()).for_each(|(p, &b)| p.baro_mbar = b);
+        }
+        if let Some(temp) = temp {
+            samples.iter_mut().zip(temp.iter()).for_each(|(p, &x)| p.temp_c = x);
+        }
         let mut inner = self.inner();
         guard(|| iq::with_formats(&self.formats, || inner.push(&t, samples)))?.map_err(to_py)?.map_err(to_py)
     }
