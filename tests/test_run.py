@@ -202,7 +202,7 @@ def test_push_reads_any_memory_layout_in_logical_order():
     cols = [
         np.arange(n) / 819.2,
         rng.normal(0.0, 5.0, (n, 3)),
-        rng.normal(0.0, 0.1, (n, 3)) + [0.0, 0.0, 1.0],
+        rng.normal(0.0, 0.1, (n, 3)) + np.array([0.0, 0.0, 1.0]),
         rng.normal(0.3, 0.05, (n, 3)),
         1000.0 + rng.normal(0.0, 1.0, n),
         25.0 + rng.normal(0.0, 1.0, n),
