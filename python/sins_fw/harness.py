@@ -281,6 +281,10 @@ def emulate(
     if replay:
         assert isinstance(trace, RawRegisterTrace | str | os.PathLike)
         return _replay(emu, prof, trace, chunk_rows, on_chunk, bus, sink, until_s)
+    if isinstance(trace, PhysicalTrace) and len(trace) and sink is None and bus is None:
+        # The whole trace is here and the output is taken once: the emulator sizes its output for it.
+        end = float(trace.t_s[-1] - trace.t_s[0])
+        emu.expect_input_until(end if until_s is None else min(end, until_s))
     parts: list[dict[str, Any]] = []
     truth: list[Array] = []
     moving: list[NDArray[np.bool_]] = []

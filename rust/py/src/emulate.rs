@@ -131,6 +131,11 @@ pub struct Emulator {
     /// its events, time-sorted per call) out of the core into them, and `take` hands them to numpy
     /// without a copy.
     held: Columns,
+    /// The last input time pushed, s (what the output so far covers, about).
+    input_reach_s: Option<f64>,
+    /// The caller's hint (`expect_input_until`): the input's last time, s; used once, to size the
+    /// columns at the first run that produces rows.
+    expected_end_s: Option<f64>,
 }
 
 impl Emulator {
@@ -218,6 +223,8 @@ impl Emulator {
             update_period_s: update_period_s(&profile),
             costs,
             held: Columns::default(),
+            input_reach_s: None,
+            expected_end_s: None,
         })
     }
 
@@ -257,6 +264,7 @@ impl Emulator {
         if let Some(temp) = temp {
             samples.iter_mut().zip(temp.iter()).for_each(|(p, &x)| p.temp_c = x);
         }
+        self.input_reach_s = t.last().copied().or(self.input_reach_s);
         let mut inner = self.inner();
         guard(|| iq::with_formats(&self.formats, || inner.push(&t, samples)))?.map_err(to_py)?.map_err(to_py)
     }
@@ -274,8 +282,17 @@ impl Emulator {
             ))));
         }
         let rows: Vec<[u16; RECORDED_WORDS]> = w.rows().into_iter().map(|r| std::array::from_fn(|i| r[i])).collect();
+        self.input_reach_s = t.last().copied().or(self.input_reach_s);
         let mut inner = self.inner();
         guard(|| iq::with_formats(&self.formats, || inner.push_words(&t, &rows)))?.map_err(to_py)?.map_err(to_py)
+    }
+
+    /// A hint: the input will end at `t_s` (seconds, the time of its last row, as pushed). The
+    /// output columns are then sized once for the whole run, extrapolated from the first run that
+    /// produces rows, instead of growing by doubling (which copies them). Only worth giving when
+    /// the output is taken once, at the end.
+    fn expect_input_until(&mut self, t_s: f64) {
+        self.expected_end_s = Some(t_s).filter(|t| t.is_finite());
     }
 
     /// No more input will come.
@@ -288,21 +305,32 @@ impl Emulator {
     fn run(&mut self, py: Python<'_>) -> PyResult<bool> {
         // The GIL is released while the emulator runs: other Python threads (a progress bar, a
         // second emulator in a thread pool) keep going.
+        // Output rows are uniform in input time: the whole run's are the first output's times
+        // expected end / input reach.
+        let scale = match (self.expected_end_s, self.input_reach_s) {
+            (Some(end), Some(reach)) if reach > 0.0 && end > reach => Some(end / reach),
+            _ => None,
+        };
         let held = &mut self.held;
         let (inner, formats) = (&self.inner, &self.formats);
-        let progress = py
+        let (progress, sized) = py
             .detach(|| {
                 guard(|| {
                     iq::with_formats(formats, || {
                         let mut inner = inner.lock().unwrap_or_else(|e| e.into_inner());
                         let progress = inner.run()?;
-                        held.append(inner.take());
-                        Ok::<_, Error>(progress)
+                        let out = inner.take();
+                        let scale = scale.filter(|_| !out.budget.is_empty());
+                        held.append(out, scale);
+                        Ok::<_, Error>((progress, scale.is_some()))
                     })
                 })
             })?
             .map_err(to_py)?
             .map_err(to_py)?;
+        if sized {
+            self.expected_end_s = None;
+        }
         Ok(progress == Progress::Finished)
     }
 
@@ -362,7 +390,7 @@ impl Emulator {
     /// The output since the last call, as a dict of numpy arrays (and a list of event dicts).
     fn take<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let rest = self.inner().take();
-        self.held.append(rest);
+        self.held.append(rest, None);
         std::mem::take(&mut self.held).into_dict(py)
     }
 }
@@ -424,6 +452,12 @@ impl<T: numpy::Element, const N: usize> IntoColumn for Vec<[T; N]> {
     }
 }
 
+/// Rows to make room for: `scale` times `rows`, with 1 % and 64 rows of margin (the first output
+/// lags its input by up to a tick), capped at 2^28 so that a wild hint cannot reserve without bound.
+fn room_for(rows: usize, scale: f64) -> usize {
+    ((rows as f64 * scale * 1.01) as usize + 64).min(1 << 28)
+}
+
 /// Declares [`Columns`]: one column per output field (`name: type = rows.field`), in the order
 /// `Emulator.take` returns them.
 macro_rules! output_columns {
@@ -436,8 +470,13 @@ macro_rules! output_columns {
         }
 
         impl Columns {
-            /// Append one run's output (rows in order; events after the ones already held).
-            fn append(&mut self, o: Output) {
+            /// Append one run's output (rows in order; events after the ones already held). With
+            /// `scale`, first make room for `scale` times this output's rows (see `expect_input_until`).
+            fn append(&mut self, o: Output, scale: Option<f64>) {
+                if let Some(scale) = scale {
+                    // A hint: if the memory is not there, the columns just grow as they would have.
+                    $(let _ = self.$name.try_reserve_exact(room_for(o.$rows.len(), scale));)*
+                }
                 $(self.$name.extend(o.$rows.iter().map(|r| r.$field));)*
                 self.events.extend(o.events);
             }
