@@ -225,3 +225,30 @@ def test_push_reads_any_memory_layout_in_logical_order():
     assert not fortran[1].flags.c_contiguous
     assert output(fortran) == reference
     assert output([strided(c) for c in cols]) == reference
+
+
+def test_output_size_hint_never_changes_the_output():
+    # `expect_input_until` only sizes the output columns: right, too long, too short or not finite,
+    # the output is the same bytes.
+    from sins_fw.harness import new_emulator
+    from sins_fw.profile import load_profile
+
+    profile = load_profile("reference", ["errors.preset=adis16407"])
+    trace = synth.generate("coning", duration_s=3.0)
+    t = trace.t_s - trace.t_s[0]
+
+    def output(hint):
+        emu = new_emulator(profile)
+        if hint is not None:
+            emu.expect_input_until(hint)
+        for s in (slice(0, 1000), slice(1000, None)):
+            emu.push(t[s], trace.gyro_dps[s], trace.accel_g[s])
+            emu.run()
+        emu.end()
+        emu.run()
+        out = emu.take()
+        return [v.tobytes() for k, v in out.items() if k != "events"] + [repr(out["events"]).encode()]
+
+    reference = output(None)
+    for hint in (float(t[-1]), 100.0, 0.5, math.nan):
+        assert output(hint) == reference
