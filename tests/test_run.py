@@ -188,3 +188,67 @@ def test_nested_overruns_complete_and_are_reported():
     assert r.code == 0, r.err
     kinds = json.loads(r.out)["events"]["by_kind"]
     assert "nested_interrupt" in kinds and "overrun" in kinds
+
+
+def test_push_reads_any_memory_layout_in_logical_order():
+    # The binding reads C-contiguous numpy buffers in place and copies anything else in row-major
+    # order: a Fortran-ordered or strided column must give exactly the output of a C-ordered one.
+    from sins_fw.harness import new_emulator
+    from sins_fw.profile import load_profile
+
+    profile = load_profile("reference", ["errors.preset=adis16407"])
+    rng = np.random.default_rng(7)
+    n = 2048  # 2.5 s at 819.2 SPS
+    cols = [
+        np.arange(n) / 819.2,
+        rng.normal(0.0, 5.0, (n, 3)),
+        rng.normal(0.0, 0.1, (n, 3)) + np.array([0.0, 0.0, 1.0]),
+        rng.normal(0.3, 0.05, (n, 3)),
+        1000.0 + rng.normal(0.0, 1.0, n),
+        25.0 + rng.normal(0.0, 1.0, n),
+    ]
+
+    def output(columns):
+        emu = new_emulator(profile)
+        emu.push(*columns)
+        emu.end()
+        emu.run()
+        out = emu.take()
+        return [out[k].tobytes() for k in ("read_words", "cycle_quat", "cycle_t_ps")]
+
+    def strided(a):
+        return np.repeat(a, 2, axis=0)[::2]
+
+    reference = output(cols)
+    assert len(reference[0]) > 0
+    fortran = [np.asfortranarray(c) for c in cols]
+    assert not fortran[1].flags.c_contiguous
+    assert output(fortran) == reference
+    assert output([strided(c) for c in cols]) == reference
+
+
+def test_output_size_hint_never_changes_the_output():
+    # `expect_input_until` only sizes the output columns: right, too long, too short or not finite,
+    # the output is the same bytes.
+    from sins_fw.harness import new_emulator
+    from sins_fw.profile import load_profile
+
+    profile = load_profile("reference", ["errors.preset=adis16407"])
+    trace = synth.generate("coning", duration_s=3.0)
+    t = trace.t_s - trace.t_s[0]
+
+    def output(hint):
+        emu = new_emulator(profile)
+        if hint is not None:
+            emu.expect_input_until(hint)
+        for s in (slice(0, 1000), slice(1000, None)):
+            emu.push(t[s], trace.gyro_dps[s], trace.accel_g[s])
+            emu.run()
+        emu.end()
+        emu.run()
+        out = emu.take()
+        return [v.tobytes() for k, v in out.items() if k != "events"] + [repr(out["events"]).encode()]
+
+    reference = output(None)
+    for hint in (float(t[-1]), 100.0, 0.5, math.nan):
+        assert output(hint) == reference

@@ -3,7 +3,8 @@
 //! inside the profile's IQ formats (harmless for the float backends).
 
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2};
+use std::borrow::Cow;
 use std::sync::Mutex;
 
 use pyo3::prelude::*;
@@ -12,6 +13,7 @@ use sins_core::bus::link::{FrameRecord, LinkRecord};
 use sins_core::device::replay::{ReplaySlave, RECORDED_WORDS};
 use sins_core::device::Physical;
 use sins_core::emulator::{Emulator as Core, Output, Progress, Sensor};
+use sins_core::events::Event;
 use sins_core::firmware::update_period_s;
 use sins_core::numerics::{iq, Scalar};
 use sins_core::profile::{IqFormats, Numeric, Profile};
@@ -125,6 +127,15 @@ pub struct Emulator {
     numeric: Numeric,
     location_factor: f64,
     update_period_s: f64,
+    /// The output since the last `take`, already in columns: each `run` call moves its rows (and
+    /// its events, time-sorted per call) out of the core into them, and `take` hands them to numpy
+    /// without a copy.
+    held: Columns,
+    /// The last input time pushed, s (what the output so far covers, about).
+    input_reach_s: Option<f64>,
+    /// The caller's hint (`expect_input_until`): the input's last time, s; used once, to size the
+    /// columns at the first run that produces rows.
+    expected_end_s: Option<f64>,
 }
 
 impl Emulator {
@@ -153,22 +164,35 @@ fn build(profile: &Profile, costs: &CostTable, replay: bool) -> Result<Box<dyn R
     }
 }
 
-fn col3(a: &Option<PyReadonlyArray2<'_, f64>>, n: usize, name: &str) -> PyResult<Option<Vec<[f64; 3]>>> {
-    let Some(a) = a else { return Ok(None) };
+/// An array's elements in logical (row-major) order as one slice: numpy's own buffer when it is
+/// C-contiguous (the harness always passes such arrays), else a copy.
+fn flat<'a, D: numpy::ndarray::Dimension>(a: &'a PyReadonlyArray<'_, f64, D>) -> Cow<'a, [f64]> {
+    // ndarray's `to_slice` is row-major only (numpy's `as_slice` also takes a Fortran-ordered buffer).
     let v = a.as_array();
-    if v.shape() != [n, 3] {
-        return Err(to_py(Error::Input(format!("input column `{name}`: shape {:?}, expected ({n}, 3)", v.shape()))));
+    match v.to_slice() {
+        Some(s) => Cow::Borrowed(s),
+        None => Cow::Owned(v.iter().copied().collect()),
     }
-    Ok(Some(v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect()))
 }
 
-fn col1(a: &Option<PyReadonlyArray1<'_, f64>>, n: usize, name: &str) -> PyResult<Option<Vec<f64>>> {
+/// An optional n×3 input column, checked and flattened (see [`flat`]).
+fn col3<'a>(a: Option<&'a PyReadonlyArray2<'_, f64>>, n: usize, name: &str) -> PyResult<Option<Cow<'a, [f64]>>> {
     let Some(a) = a else { return Ok(None) };
-    let v = a.as_array();
-    if v.len() != n {
-        return Err(to_py(Error::Input(format!("input column `{name}`: {} rows, expected {n}", v.len()))));
+    if a.as_array().shape() != [n, 3] {
+        let shape = a.as_array().shape().to_vec();
+        return Err(to_py(Error::Input(format!("input column `{name}`: shape {shape:?}, expected ({n}, 3)"))));
     }
-    Ok(Some(v.to_vec()))
+    Ok(Some(flat(a)))
+}
+
+/// An optional n-row input column, checked and flattened (see [`flat`]).
+fn col1<'a>(a: Option<&'a PyReadonlyArray1<'_, f64>>, n: usize, name: &str) -> PyResult<Option<Cow<'a, [f64]>>> {
+    let Some(a) = a else { return Ok(None) };
+    let rows = a.as_array().len();
+    if rows != n {
+        return Err(to_py(Error::Input(format!("input column `{name}`: {rows} rows, expected {n}"))));
+    }
+    Ok(Some(flat(a)))
 }
 
 #[pymethods]
@@ -198,6 +222,9 @@ impl Emulator {
             location_factor: location_factor(&profile, &costs),
             update_period_s: update_period_s(&profile),
             costs,
+            held: Columns::default(),
+            input_reach_s: None,
+            expected_end_s: None,
         })
     }
 
@@ -213,24 +240,31 @@ impl Emulator {
         baro: Option<PyReadonlyArray1<'_, f64>>,
         temp: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<()> {
-        let t = t.as_array().to_vec();
+        let t = flat(&t);
         let n = t.len();
-        let gyro = col3(&Some(gyro), n, "gyro")?.unwrap_or_default();
-        let accel = col3(&Some(accel), n, "accel")?.unwrap_or_default();
-        let mag = col3(&mag, n, "mag")?;
-        let baro = col1(&baro, n, "baro")?;
-        let temp = col1(&temp, n, "temp")?;
+        let gyro = col3(Some(&gyro), n, "gyro")?.unwrap_or_default();
+        let accel = col3(Some(&accel), n, "accel")?.unwrap_or_default();
+        let mag = col3(mag.as_ref(), n, "mag")?;
+        let baro = col1(baro.as_ref(), n, "baro")?;
+        let temp = col1(temp.as_ref(), n, "temp")?;
+        // The required columns first, then each optional one over them: no per-row test of which
+        // columns came.
         let idle = Physical::powered_idle();
-        let samples: Vec<Physical> = (0..n)
-            .map(|i| Physical {
-                gyro_dps: gyro[i],
-                accel_g: accel[i],
-                mag_gauss: mag.as_ref().map_or(idle.mag_gauss, |m| m[i]),
-                baro_mbar: baro.as_ref().map_or(idle.baro_mbar, |b| b[i]),
-                temp_c: temp.as_ref().map_or(idle.temp_c, |x| x[i]),
-                ..idle
-            })
+        let mut samples: Vec<Physical> = gyro
+            .chunks_exact(3)
+            .zip(accel.chunks_exact(3))
+            .map(|(g, a)| Physical { gyro_dps: [g[0], g[1], g[2]], accel_g: [a[0], a[1], a[2]], ..idle })
             .collect();
+        if let Some(mag) = mag {
+            samples.iter_mut().zip(mag.chunks_exact(3)).for_each(|(p, m)| p.mag_gauss = [m[0], m[1], m[2]]);
+        }
+        if let Some(baro) = baro {
+            samples.iter_mut().zip(baro.iter()).for_each(|(p, &b)| p.baro_mbar = b);
+        }
+        if let Some(temp) = temp {
+            samples.iter_mut().zip(temp.iter()).for_each(|(p, &x)| p.temp_c = x);
+        }
+        self.input_reach_s = t.last().copied().or(self.input_reach_s);
         let mut inner = self.inner();
         guard(|| iq::with_formats(&self.formats, || inner.push(&t, samples)))?.map_err(to_py)?.map_err(to_py)
     }
@@ -248,8 +282,17 @@ impl Emulator {
             ))));
         }
         let rows: Vec<[u16; RECORDED_WORDS]> = w.rows().into_iter().map(|r| std::array::from_fn(|i| r[i])).collect();
+        self.input_reach_s = t.last().copied().or(self.input_reach_s);
         let mut inner = self.inner();
         guard(|| iq::with_formats(&self.formats, || inner.push_words(&t, &rows)))?.map_err(to_py)?.map_err(to_py)
+    }
+
+    /// A hint: the input will end at `t_s` (seconds, the time of its last row, as pushed). The
+    /// output columns are then sized once for the whole run, extrapolated from the first run that
+    /// produces rows, instead of growing by doubling (which copies them). Only worth giving when
+    /// the output is taken once, at the end.
+    fn expect_input_until(&mut self, t_s: f64) {
+        self.expected_end_s = Some(t_s).filter(|t| t.is_finite());
     }
 
     /// No more input will come.
@@ -257,14 +300,37 @@ impl Emulator {
         self.inner().end();
     }
 
-    /// Run every tick the input covers; True when the input has ended and everything ran.
+    /// Run every tick the input covers; True when the input has ended and everything ran. The
+    /// output of the call is held (its events sorted by time) until `take`.
     fn run(&mut self, py: Python<'_>) -> PyResult<bool> {
         // The GIL is released while the emulator runs: other Python threads (a progress bar, a
         // second emulator in a thread pool) keep going.
-        let progress = py
-            .detach(|| guard(|| iq::with_formats(&self.formats, || self.inner().run())))?
+        // Output rows are uniform in input time: the whole run's are the first output's times
+        // expected end / input reach.
+        let scale = match (self.expected_end_s, self.input_reach_s) {
+            (Some(end), Some(reach)) if reach > 0.0 && end > reach => Some(end / reach),
+            _ => None,
+        };
+        let held = &mut self.held;
+        let (inner, formats) = (&self.inner, &self.formats);
+        let (progress, sized) = py
+            .detach(|| {
+                guard(|| {
+                    iq::with_formats(formats, || {
+                        let mut inner = inner.lock().unwrap_or_else(|e| e.into_inner());
+                        let progress = inner.run()?;
+                        let out = inner.take();
+                        let scale = scale.filter(|_| !out.budget.is_empty());
+                        held.append(out, scale);
+                        Ok::<_, Error>((progress, scale.is_some()))
+                    })
+                })
+            })?
             .map_err(to_py)?
             .map_err(to_py)?;
+        if sized {
+            self.expected_end_s = None;
+        }
         Ok(progress == Progress::Finished)
     }
 
@@ -323,8 +389,9 @@ impl Emulator {
 
     /// The output since the last call, as a dict of numpy arrays (and a list of event dicts).
     fn take<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let out = self.inner().take();
-        output_dict(py, &out)
+        let rest = self.inner().take();
+        self.held.append(rest, None);
+        std::mem::take(&mut self.held).into_dict(py)
     }
 }
 
@@ -358,59 +425,106 @@ fn stage_dict<'py>(
     Ok(d)
 }
 
-fn arr2<const N: usize, T: Copy + numpy::Element>(rows: impl Iterator<Item = [T; N]>, n: usize) -> Array2<T> {
-    let flat: Vec<T> = rows.flat_map(|r| r.into_iter()).collect();
-    Array2::from_shape_vec((n, N), flat).unwrap_or_else(|_| unreachable!("rows have N columns"))
+/// A column of the output, handed to numpy without a copy: a field of one value per row becomes a
+/// 1-D array, a field of N values an n×N array.
+trait IntoColumn {
+    fn into_column(self, py: Python<'_>) -> Bound<'_, PyAny>;
 }
 
-fn output_dict<'py>(py: Python<'py>, o: &Output) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let c = &o.cycles;
-    let n = c.len();
-    d.set_item("cycle_step", c.iter().map(|r| r.step).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("cycle_t_ps", c.iter().map(|r| r.t_ps).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("cycle_quat", arr2(c.iter().map(|r| r.quat), n).into_pyarray(py))?;
-    d.set_item("cycle_euler_deg", arr2(c.iter().map(|r| r.euler_deg), n).into_pyarray(py))?;
-    d.set_item("cycle_vel_enu", arr2(c.iter().map(|r| r.vel_enu), n).into_pyarray(py))?;
-    d.set_item("cycle_pos", arr2(c.iter().map(|r| r.pos), n).into_pyarray(py))?;
-    let r = &o.reads;
-    let n = r.len();
-    d.set_item("read_tick", r.iter().map(|x| x.tick).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("read_t_cs_ps", r.iter().map(|x| x.t_cs_ps).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("read_t_start_ps", r.iter().map(|x| x.t_start_ps).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("read_t_end_ps", r.iter().map(|x| x.t_end_ps).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("read_words", arr2(r.iter().map(|x| x.words), n).into_pyarray(py))?;
-    d.set_item("read_rate", arr2(r.iter().map(|x| x.rate), n).into_pyarray(py))?;
-    d.set_item("read_accel", arr2(r.iter().map(|x| x.accel), n).into_pyarray(py))?;
-    d.set_item("read_sample_index", r.iter().map(|x| x.sample_index).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("read_sample_ps", r.iter().map(|x| x.sample_ps).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("read_assumed_s", r.iter().map(|x| x.assumed_s).collect::<Vec<_>>().into_pyarray(py))?;
-    d.set_item("read_age_ps", r.iter().map(|x| x.age_ps).collect::<Vec<_>>().into_pyarray(py))?;
-    let b = &o.budget;
-    macro_rules! budget_col {
-        ($($f:ident),*) => {$(
-            d.set_item(concat!("budget_", stringify!($f)), b.iter().map(|x| x.$f).collect::<Vec<_>>().into_pyarray(py))?;
-        )*};
+macro_rules! one_value_columns {
+    ($($t:ty),*) => {$(
+        impl IntoColumn for Vec<$t> {
+            fn into_column(self, py: Python<'_>) -> Bound<'_, PyAny> {
+                self.into_pyarray(py).into_any()
+            }
+        }
+    )*};
+}
+one_value_columns!(u64, i64, f64, bool);
+
+impl<T: numpy::Element, const N: usize> IntoColumn for Vec<[T; N]> {
+    fn into_column(self, py: Python<'_>) -> Bound<'_, PyAny> {
+        let rows = self.len();
+        Array2::from_shape_vec((rows, N), self.into_flattened())
+            .unwrap_or_else(|_| unreachable!("rows have N values"))
+            .into_pyarray(py)
+            .into_any()
     }
-    budget_col!(
-        tick,
-        tick_ps,
-        start_ps,
-        entry_end_ps,
-        spi_start_ps,
-        spi_end_ps,
-        decode_end_ps,
-        attitude_end_ps,
-        euler_end_ps,
-        nav_end_ps,
-        end_ps,
-        deadline_ps,
-        step,
-        overrun
-    );
-    let events = o.events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
-    d.set_item("events", events)?;
-    Ok(d)
+}
+
+/// Rows to make room for: `scale` times `rows`, with 1 % and 64 rows of margin (the first output
+/// lags its input by up to a tick), capped at 2^28 so that a wild hint cannot reserve without bound.
+fn room_for(rows: usize, scale: f64) -> usize {
+    ((rows as f64 * scale * 1.01) as usize + 64).min(1 << 28)
+}
+
+/// Declares [`Columns`]: one column per output field (`name: type = rows.field`), in the order
+/// `Emulator.take` returns them.
+macro_rules! output_columns {
+    ($($name:ident: $t:ty = $rows:ident.$field:ident),* $(,)?) => {
+        /// The output in columns, as `Emulator.take` returns it.
+        #[derive(Default)]
+        struct Columns {
+            $($name: Vec<$t>,)*
+            events: Vec<Event>,
+        }
+
+        impl Columns {
+            /// Append one run's output (rows in order; events after the ones already held). With
+            /// `scale`, first make room for `scale` times this output's rows (see `expect_input_until`).
+            fn append(&mut self, o: Output, scale: Option<f64>) {
+                if let Some(scale) = scale {
+                    // A hint: if the memory is not there, the columns just grow as they would have.
+                    $(let _ = self.$name.try_reserve_exact(room_for(o.$rows.len(), scale));)*
+                }
+                $(self.$name.extend(o.$rows.iter().map(|r| r.$field));)*
+                self.events.extend(o.events);
+            }
+
+            /// The columns as numpy arrays (moved, not copied) and the events as dicts.
+            fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+                let d = PyDict::new(py);
+                $(d.set_item(stringify!($name), self.$name.into_column(py))?;)*
+                let events = self.events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+                d.set_item("events", events)?;
+                Ok(d)
+            }
+        }
+    };
+}
+
+output_columns! {
+    cycle_step: u64 = cycles.step,
+    cycle_t_ps: u64 = cycles.t_ps,
+    cycle_quat: [f64; 4] = cycles.quat,
+    cycle_euler_deg: [f64; 3] = cycles.euler_deg,
+    cycle_vel_enu: [f64; 3] = cycles.vel_enu,
+    cycle_pos: [f64; 3] = cycles.pos,
+    read_tick: u64 = reads.tick,
+    read_t_cs_ps: u64 = reads.t_cs_ps,
+    read_t_start_ps: u64 = reads.t_start_ps,
+    read_t_end_ps: u64 = reads.t_end_ps,
+    read_words: [u16; 15] = reads.words,
+    read_rate: [f64; 3] = reads.rate,
+    read_accel: [f64; 3] = reads.accel,
+    read_sample_index: i64 = reads.sample_index,
+    read_sample_ps: u64 = reads.sample_ps,
+    read_assumed_s: f64 = reads.assumed_s,
+    read_age_ps: u64 = reads.age_ps,
+    budget_tick: u64 = budget.tick,
+    budget_tick_ps: u64 = budget.tick_ps,
+    budget_start_ps: u64 = budget.start_ps,
+    budget_entry_end_ps: u64 = budget.entry_end_ps,
+    budget_spi_start_ps: u64 = budget.spi_start_ps,
+    budget_spi_end_ps: u64 = budget.spi_end_ps,
+    budget_decode_end_ps: u64 = budget.decode_end_ps,
+    budget_attitude_end_ps: u64 = budget.attitude_end_ps,
+    budget_euler_end_ps: u64 = budget.euler_end_ps,
+    budget_nav_end_ps: u64 = budget.nav_end_ps,
+    budget_end_ps: u64 = budget.end_ps,
+    budget_deadline_ps: u64 = budget.deadline_ps,
+    budget_step: bool = budget.step,
+    budget_overrun: bool = budget.overrun,
 }
 
 fn bus_log_dict<'py>(py: Python<'py>, log: &[LinkRecord]) -> PyResult<Bound<'py, PyDict>> {
