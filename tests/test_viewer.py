@@ -85,6 +85,16 @@ def test_bus_window_holds_exactly_the_window_ticks_and_their_words(run):
     assert np.all(per_tick >= start[:, None]) and np.all(per_tick <= end[:, None])
 
 
+def test_bus_window_with_a_sink_is_the_same_window(trace, run):
+    """The window is noted from the output as it streams past, so a sink does not lose it."""
+    parts: list[dict] = []
+    streamed = emulate(trace, bus_window=WINDOW, sink=parts.append)
+    assert streamed.bus.keys() == run.bus.keys()
+    for k, v in run.bus.items():
+        assert np.array_equal(streamed.bus[k], v), k
+    assert sum(len(p["budget_tick"]) for p in parts) == len(run.budget["tick"])
+
+
 def test_bus_window_outside_the_run_is_an_input_error(trace):
     from sins_fw.errors import InputError
 

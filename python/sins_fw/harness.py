@@ -315,10 +315,9 @@ def emulate(
             # The emulator holds the output (in columns) until `take`: one take at the end gives the
             # Run without concatenating, unless the bus window watches the ticks or a sink streams.
             if bus is not None:
-                _collect(emu.take(), parts, sink)
-                bus.after(parts[-1])
+                _take(emu, parts, sink, bus)
         if sink is not None and bus is None:
-            _collect(emu.take(), parts, sink)
+            _take(emu, parts, sink, bus)
         if keep_truth and sink is None and chunk.truth_q is not None:
             if not truth:
                 truth_q0 = chunk.truth_q[0].copy()
@@ -332,11 +331,11 @@ def emulate(
             break
     emu.end()
     emu.run()
-    _collect(emu.take(), parts, sink)
+    _take(emu, parts, sink, bus)
     run = _assemble(prof, t0 or 0.0, parts, dict(emu.stage_cycles()))
     run.truth_q0 = truth_q0
     if bus is not None:
-        run.bus = bus.finish(run.budget)
+        run.bus = bus.finish()
     if truth:
         tt = np.concatenate(truth_t)
         run.truth_q = _truth_at(tt, np.concatenate(truth), run.time_s)
@@ -369,20 +368,19 @@ def _replay(
             emu.push_words(t[s], np.ascontiguousarray(words[s]))
             emu.run()
             if bus is not None:
-                _collect(emu.take(), parts, sink)
-                bus.after(parts[-1])
+                _take(emu, parts, sink, bus)
         if sink is not None and bus is None:
-            _collect(emu.take(), parts, sink)
+            _take(emu, parts, sink, bus)
         if on_chunk is not None and len(t):
             on_chunk(float(t[-1]))
         if until_s is not None and len(t) < len(chunk):
             break
     emu.end()
     emu.run()
-    _collect(emu.take(), parts, sink)
+    _take(emu, parts, sink, bus)
     run = _assemble(prof, 0.0, parts, dict(emu.stage_cycles()))
     if bus is not None:
-        run.bus = bus.finish(run.budget)
+        run.bus = bus.finish()
     return run
 
 
@@ -393,6 +391,19 @@ def _pieces(t: Array, bus: _BusWindow | None) -> Iterator[slice]:
         hi = min(lo + FEED_ROWS, len(t))
         for s in bus.pieces(t[lo:hi]) if bus is not None else (slice(None),):
             yield slice(lo + (s.start or 0), hi if s.stop is None else lo + s.stop)
+
+
+def _take(
+    emu: Any,
+    parts: list[dict[str, Any]],
+    sink: Callable[[dict[str, Any]], None] | None,
+    bus: _BusWindow | None,
+) -> None:
+    """Take the output so far: the bus window sees it, then it is kept or handed to the sink."""
+    part = emu.take()
+    if bus is not None:
+        bus.after(part)
+    _collect(part, parts, sink)
 
 
 def _collect(
@@ -477,7 +488,8 @@ class _BusWindow:
     A tick runs once the input covers its whole period, so the input is split where the window
     starts: everything before ``(first - 1)`` periods runs with the log off. The log then keeps
     whatever ran while it was on, and :meth:`finish` keeps only the window's ISRs (first tick's
-    start to the latest end among the window's ticks): the bus is idle between ISRs.
+    start to the latest end among the window's ticks): the bus is idle between ISRs. The window's
+    ISRs are noted from the output as it is taken (:meth:`after`), so a sink may stream it away.
     """
 
     def __init__(self, emu: Any, profile: Profile, window: tuple[int, int]) -> None:
@@ -492,6 +504,10 @@ class _BusWindow:
         self.t_on = (first - 2) * period_s
         self.on = self.done = False
         self.records: list[dict[str, NDArray[Any]]] = []
+        #: The ISRs of the window seen so far: (first start, latest end), ps.
+        self.span: tuple[int, int] | None = None
+        #: The first and last tick seen (for the error when the window is not in the run).
+        self.ticks_seen: tuple[int, int] | None = None
 
     def pieces(self, t: Array) -> Iterator[slice]:
         """The chunk cut where the log must be switched on."""
@@ -507,24 +523,29 @@ class _BusWindow:
             yield slice(cut, None)
 
     def after(self, part: dict[str, Any]) -> None:
-        """Stop once the window's last tick has run."""
+        """Note the window's ISRs in a part of the output; stop once the window's last tick has run."""
         ticks = part["budget_tick"]
+        if len(ticks):
+            lo, hi = int(ticks[0]), int(ticks[-1])
+            self.ticks_seen = (lo, hi) if self.ticks_seen is None else (self.ticks_seen[0], hi)
+        sel = (ticks >= self.first) & (ticks <= self.last)
+        if sel.any():
+            start, end = int(part["budget_start_ps"][sel][0]), int(part["budget_end_ps"][sel].max())
+            self.span = (start, end) if self.span is None else (self.span[0], max(self.span[1], end))
         if self.on and len(ticks) and int(ticks[-1]) >= self.last:
             self.records.append(self.emu.take_bus_log(stop=True))
             self.on, self.done = False, True
 
-    def finish(self, budget: dict[str, NDArray[Any]]) -> dict[str, NDArray[Any]]:
+    def finish(self) -> dict[str, NDArray[Any]]:
         if self.on:
             self.records.append(self.emu.take_bus_log(stop=True))
             self.on = False
-        sel = (budget["tick"] >= self.first) & (budget["tick"] <= self.last)
-        if not sel.any():
+        if self.span is None:
+            seen = self.ticks_seen or (0, 0)
             raise ProfileError(
-                f"bus window ({self.first}, {self.last}): the run has ticks "
-                f"{int(budget['tick'][0]) if len(budget['tick']) else 0}…"
-                f"{int(budget['tick'][-1]) if len(budget['tick']) else 0}"
+                f"bus window ({self.first}, {self.last}): the run has ticks {seen[0]}…{seen[1]}"
             )
-        lo, hi = int(budget["start_ps"][sel][0]), int(budget["end_ps"][sel].max())
+        lo, hi = self.span
         log = {k: np.concatenate([r[k] for r in self.records]) for k in self.records[0]}
         keep_cs = (log["cs_t_ps"] >= lo) & (log["cs_t_ps"] <= hi)
         keep_frame = (log["frame_start_ps"] >= lo) & (log["frame_end_ps"] <= hi)
