@@ -102,23 +102,43 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
     fn transfer_run(&mut self, run: &FrameRun, rx: &mut [u16]) {
         let first = &run.first;
         let lines = Lines { selected: self.cs_low, simo_before: self.simo, floating: self.floating };
+        // What the slave samples does not depend on what it answers: at the bit level one walk of
+        // the word tells it (and where SPISIMO is left).
+        let (din, simo_after) = match self.level {
+            BusLevel::Transaction => (transaction::slave_din(first, lines), transaction::simo_after(first, lines)),
+            BusLevel::Bit => {
+                let ex = bitlevel::exchange(first, 0, lines);
+                (ex.slave_din, ex.simo_after)
+            }
+        };
         // Every character of the run sees the same lines when CS stays asserted (nothing can move it
         // during a run) and SPISIMO already rests where each character leaves it: then the slave is
-        // told about all of them at once. The bit level walks each character; the log records each.
-        let steady = self.level == BusLevel::Transaction
-            && self.log.is_none()
-            && lines.selected
-            && transaction::simo_after(first, lines) == lines.simo_before;
-        if !steady {
+        // told about all of them at once. The log records each character on its own.
+        if self.log.is_some() || !lines.selected || simo_after != lines.simo_before {
             return spi::transfer_each(self, run, rx);
         }
-        let period = self.sclk_period(first);
-        let timing = transaction::TimingOf::new(&first.shape, &self.lspclk, period);
         self.run_timings.clear();
-        self.run_timings.extend(run.starts.iter().map(|&s| timing.at(s)));
-        self.slave.run_frames(&self.run_timings, transaction::slave_din(first, lines), rx);
+        match self.level {
+            BusLevel::Transaction => {
+                let period = self.sclk_period(first);
+                let timing = transaction::TimingOf::new(&first.shape, &self.lspclk, period);
+                self.run_timings.extend(run.starts.iter().map(|&s| timing.at(s)));
+            }
+            BusLevel::Bit => {
+                self.use_waveform_of(first);
+                let (waveform, lspclk) = (&self.waveform, &self.lspclk);
+                let at = |start_cycle| waveform.timing(&Frame { start_cycle, ..*first }, lspclk);
+                self.run_timings.extend(run.starts.iter().map(|&s| at(s)));
+            }
+        }
+        self.slave.run_frames(&self.run_timings, din, rx);
+        // What the master samples: each character's word through the closed form or its own walk
+        // (which depends on the word, the shape and the lines, not on the character's time).
         for r in rx {
-            *r = transaction::master_rx(first, *r, lines);
+            *r = match self.level {
+                BusLevel::Transaction => transaction::master_rx(first, *r, lines),
+                BusLevel::Bit => bitlevel::exchange(first, *r, lines).master_rx,
+            };
         }
     }
 }
@@ -134,16 +154,22 @@ impl<S: SpiSlave> Wires<S> {
                 transaction::frame_timing(&frame.shape, frame.start_cycle, &self.lspclk, period)
             }
             BusLevel::Bit => {
-                if self.waveform_shape != Some(frame.shape) {
-                    self.waveform = bitlevel::Waveform::of(frame);
-                    self.waveform_shape = Some(frame.shape);
-                }
+                self.use_waveform_of(frame);
                 self.waveform.timing(frame, &self.lspclk)
             }
         };
         let selected = self.cs_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
         InFlight { timing, dout, selected }
+    }
+
+    /// Build the bit-level waveform of the frame's shape, unless it is the one built last.
+    #[inline(always)]
+    fn use_waveform_of(&mut self, frame: &Frame) {
+        if self.waveform_shape != Some(frame.shape) {
+            self.waveform = bitlevel::Waveform::of(frame);
+            self.waveform_shape = Some(frame.shape);
+        }
     }
 
     /// The shortest SCLK period of the frame's clock (cached per baud setting).
