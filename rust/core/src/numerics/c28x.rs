@@ -110,7 +110,7 @@ impl<const RZ: bool> C28xF32<RZ> {
     /// An f32 as the FPU would load it: subnormals and −0 become +0, NaN becomes +∞.
     #[inline]
     pub fn new(x: f32) -> Self {
-        C28xF32(if x.is_nan() { f32::INFINITY } else { flush(x) })
+        C28xF32(canonical(x, false))
     }
 
     /// The stored f32 (canonical).
@@ -197,10 +197,24 @@ fn round_f64<const RZ: bool>(hi: f64, lo: f64) -> f32 {
     }
 }
 
-/// `ADDF32` on canonical operands.
+/// A rounded result made canonical: NaN becomes ∞ with the sign `negative_if_invalid` (see module docs),
+/// subnormals and ±0 become +0. One comparison serves the usual case: `|r| ≥ MIN_POSITIVE` is false for
+/// NaN, zeros and subnormals alike, and true for normals and ±∞, which pass unchanged.
 #[inline(always)]
-fn add<const RZ: bool>(a: f32, b: f32) -> f32 {
-    let r = if RZ {
+fn canonical(r: f32, negative_if_invalid: bool) -> f32 {
+    if r.abs() >= f32::MIN_POSITIVE {
+        r
+    } else if r.is_nan() {
+        invalid(negative_if_invalid)
+    } else {
+        0.0
+    }
+}
+
+/// `a + b` rounded in the mode, before canonicalisation (may be NaN or subnormal).
+#[inline(always)]
+fn rounded_add<const RZ: bool>(a: f32, b: f32) -> f32 {
+    if RZ {
         let (x, y) = (a as f64, b as f64);
         let s = x + y;
         // TwoSum: x + y = s + err exactly (err is NaN only for infinite inputs, where s decides).
@@ -209,12 +223,23 @@ fn add<const RZ: bool>(a: f32, b: f32) -> f32 {
         round_f64::<true>(s, err)
     } else {
         a + b
-    };
-    if r.is_nan() {
-        invalid(a < 0.0)
-    } else {
-        flush(r)
     }
+}
+
+/// `a · b` rounded in the mode, before canonicalisation (may be NaN or subnormal).
+#[inline(always)]
+fn rounded_mul<const RZ: bool>(a: f32, b: f32) -> f32 {
+    if RZ {
+        round_f64::<true>(a as f64 * b as f64, 0.0)
+    } else {
+        a * b
+    }
+}
+
+/// `ADDF32` on canonical operands.
+#[inline(always)]
+fn add<const RZ: bool>(a: f32, b: f32) -> f32 {
+    canonical(rounded_add::<RZ>(a, b), a < 0.0)
 }
 
 /// `SUBF32` on canonical operands.
@@ -227,12 +252,7 @@ fn sub<const RZ: bool>(a: f32, b: f32) -> f32 {
 /// `MPYF32` on canonical operands.
 #[inline(always)]
 fn mul<const RZ: bool>(a: f32, b: f32) -> f32 {
-    let r = if RZ { round_f64::<true>(a as f64 * b as f64, 0.0) } else { a * b };
-    if r.is_nan() {
-        invalid((a < 0.0) != (b < 0.0))
-    } else {
-        flush(r)
-    }
+    canonical(rounded_mul::<RZ>(a, b), (a < 0.0) != (b < 0.0))
 }
 
 /// `NEGF32` (−0 stays +0).
@@ -359,12 +379,36 @@ fn div<const RZ: bool>(a: f32, b: f32, model: EstimateModel) -> f32 {
     if a == 0.0 {
         return 0.0;
     }
-    let mut ye = recip_estimate(b, model);
-    for _ in 0..2 {
-        ye = mul::<RZ>(ye, sub::<RZ>(2.0, mul::<RZ>(ye, b)));
-    }
     let a = if b == 0.0 { neg(a) } else { a };
-    mul::<RZ>(a, ye)
+    mul::<RZ>(a, refined_reciprocal::<RZ>(b, model))
+}
+
+/// Divisors whose reciprocal refinement cannot leave the normal range: 2⁻¹²⁶ ≤ |b| < 2¹²⁵.
+const RECIPROCAL_STAYS_NORMAL: std::ops::Range<f32> = f32::MIN_POSITIVE..f32::from_bits((125 + 127) << 23);
+
+/// `FS$$DIV`'s reciprocal: the `EINVF32` estimate refined by two Newton–Raphson steps.
+///
+/// Fast path, bit-identical: for 2⁻¹²⁶ ≤ |B| < 2¹²⁵ no intermediate needs canonicalising. The estimate is
+/// within a factor 1 ± 2⁻⁸·(1 + 2⁻¹⁰) of 1/|B| for every model ([`EstimateModel::max_relative_error`]),
+/// and a step only shrinks that error (e₁ ≤ e₀² + 4u), so `Ye·B` and `2 − Ye·B` stay within 1 ± 2⁻⁷ and
+/// `Ye` within (1 ± 2⁻⁷)/|B| ⊂ (2⁻¹²⁶, 2¹²⁷): all normal and finite, where `canonical` is the identity.
+/// Other divisors (0, ±∞, the extremes) take the checked operations.
+#[inline(always)]
+fn refined_reciprocal<const RZ: bool>(b: f32, model: EstimateModel) -> f32 {
+    let ye = recip_estimate(b, model);
+    if RECIPROCAL_STAYS_NORMAL.contains(&b.abs()) {
+        let step = |ye: f32| rounded_mul::<RZ>(ye, rounded_add::<RZ>(2.0, -rounded_mul::<RZ>(ye, b)));
+        step(step(ye))
+    } else {
+        newton_reciprocal_checked::<RZ>(ye, b)
+    }
+}
+
+/// Two steps `Ye = Ye·(2 − Ye·B)`, every operation canonicalised as the FPU stores it.
+#[inline(always)]
+fn newton_reciprocal_checked<const RZ: bool>(ye: f32, b: f32) -> f32 {
+    let step = |ye: f32| mul::<RZ>(ye, sub::<RZ>(2.0, mul::<RZ>(ye, b)));
+    step(step(ye))
 }
 
 /// fastRTS `sqrt`.
@@ -718,6 +762,50 @@ mod tests {
                 assert_eq!(rn(4.0).sqrt().value(), 2.0);
                 assert_eq!(rn(0.0).isqrt().value(), f32::INFINITY);
             });
+        }
+    }
+
+    /// Canonical f32s that probe the fast paths' edges: zero, the normal range's ends, the fast ranges'
+    /// bounds and their neighbours, every power of two, ±∞, each with both signs.
+    fn edge_values() -> Vec<f32> {
+        let mut v = vec![0.0, f32::MIN_POSITIVE, f32::MAX, f32::INFINITY, 1.0, 1.5, 2.0, 3.0, 6.0, 0.1];
+        v.extend((-126..=127).map(|k| pow2(k) as f32));
+        for bound in [f32::MIN_POSITIVE, RECIPROCAL_STAYS_NORMAL.end, f32::MAX] {
+            v.extend((-3..=3).map(|d: i32| f32::from_bits(bound.to_bits().saturating_add_signed(d))));
+        }
+        let negated: Vec<f32> = v.iter().map(|x| -x).collect();
+        v.extend(negated);
+        v.into_iter().map(|x| C28xF32Rn::new(x).value()).collect()
+    }
+
+    /// Random canonical f32s: uniform bit patterns (every exponent, as often), canonicalised.
+    fn random_bit_patterns(n: usize, seed: u64) -> Vec<f32> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        (0..n).map(|_| C28xF32Rn::from_bits(rng.gen()).value()).collect()
+    }
+
+    #[test]
+    fn reciprocal_fast_path_equals_the_checked_steps() {
+        // Every divisor: the fast path (unchecked steps where they cannot leave the normal range) against the
+        // checked steps, bit for bit, in both modes and for every model; also the whole division.
+        let mut divisors = edge_values();
+        divisors.extend(random_bit_patterns(200_000, 0xD1F));
+        // Every ROM cell near 1, and near the fast range's upper end.
+        divisors.extend((0..1 << 10).map(|i| 1.0 + i as f32 * 2f32.powi(-10)));
+        divisors.extend((0..1 << 10).map(|i| RECIPROCAL_STAYS_NORMAL.end * (0.5 + i as f32 * 2f32.powi(-10))));
+        fn check<const RZ: bool>(model: EstimateModel, b: f32) {
+            let want = newton_reciprocal_checked::<RZ>(recip_estimate(b, model), b);
+            let got = refined_reciprocal::<RZ>(b, model);
+            assert_eq!(got.to_bits(), want.to_bits(), "1/{b:e} ({model:?}, rz {RZ})");
+            let a = 3.0f32;
+            let want = mul::<RZ>(if b == 0.0 { neg(a) } else { a }, want);
+            assert_eq!(div::<RZ>(a, b, model).to_bits(), want.to_bits(), "{a}/{b:e} ({model:?}, rz {RZ})");
+        }
+        for model in EstimateModel::ALL {
+            for &b in &divisors {
+                check::<false>(model, b);
+                check::<true>(model, b);
+            }
         }
     }
 
