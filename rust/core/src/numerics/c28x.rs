@@ -285,8 +285,9 @@ const TABLE_ENTRIES: usize = 1 << ESTIMATE_FRACTION_BITS;
 /// The `Table8` ROM: for each interval of the top 8 fraction bits of the input, the function at the
 /// interval's midpoint, scaled into [1, 2] and rounded to 8 fraction bits. Built once, on first use.
 struct EstimateRom {
-    /// 2/c for the mantissa midpoint c ∈ [1, 2).
-    recip: [f64; TABLE_ENTRIES],
+    /// 2/c for the mantissa midpoint c ∈ [1, 2); in [1, 2). Held as f32 (9 significant bits: exact) for the
+    /// division's fast path ([`recip_estimate_normal`]).
+    recip: [f32; TABLE_ENTRIES],
     /// 2/√c for c = the mantissa midpoint (even exponent) or twice it (odd exponent).
     isqrt: [[f64; TABLE_ENTRIES]; 2],
 }
@@ -295,7 +296,7 @@ impl EstimateRom {
     fn build() -> EstimateRom {
         let midpoint = |index: usize| 1.0 + (index as f64 + 0.5) / TABLE_ENTRIES as f64;
         EstimateRom {
-            recip: std::array::from_fn(|i| round_fraction(2.0 / midpoint(i), true)),
+            recip: std::array::from_fn(|i| round_fraction(2.0 / midpoint(i), true) as f32),
             isqrt: [1.0, 2.0]
                 .map(|scale| std::array::from_fn(|i| round_fraction(2.0 / (midpoint(i) * scale).sqrt(), true))),
         }
@@ -328,7 +329,7 @@ fn recip_estimate(b: f32, model: EstimateModel) -> f32 {
         return 0.0;
     }
     let magnitude = match model {
-        EstimateModel::Table8 => EstimateRom::get().recip[table_index(b)] * 0.5 * pow2(-exponent(b)),
+        EstimateModel::Table8 => EstimateRom::get().recip[table_index(b)] as f64 * 0.5 * pow2(-exponent(b)),
         EstimateModel::Rounded8 => round_fraction(1.0 / (b.abs() as f64), true),
         EstimateModel::Truncated8 => round_fraction(1.0 / (b.abs() as f64), false),
     };
@@ -395,12 +396,25 @@ const RECIPROCAL_STAYS_NORMAL: std::ops::Range<f32> = f32::MIN_POSITIVE..f32::fr
 /// Other divisors (0, ±∞, the extremes) take the checked operations.
 #[inline(always)]
 fn refined_reciprocal<const RZ: bool>(b: f32, model: EstimateModel) -> f32 {
-    let ye = recip_estimate(b, model);
     if RECIPROCAL_STAYS_NORMAL.contains(&b.abs()) {
         let step = |ye: f32| rounded_mul::<RZ>(ye, rounded_add::<RZ>(2.0, -rounded_mul::<RZ>(ye, b)));
-        step(step(ye))
+        step(step(recip_estimate_normal(b, model)))
     } else {
-        newton_reciprocal_checked::<RZ>(ye, b)
+        newton_reciprocal_checked::<RZ>(recip_estimate(b, model), b)
+    }
+}
+
+/// [`recip_estimate`] for |b| in [`RECIPROCAL_STAYS_NORMAL`], where the estimate is normal and no special
+/// case applies. `Table8` in f32: the ROM entry e ∈ [1, 2) times 2^(−1−E) (E = b's exponent, −126…124) is
+/// exact and normal, the same value as the general path's f64 product converted to f32.
+#[inline(always)]
+fn recip_estimate_normal(b: f32, model: EstimateModel) -> f32 {
+    match model {
+        EstimateModel::Table8 => {
+            let scale = f32::from_bits(((126 - exponent(b)) as u32) << 23); // 2^(−1−E)
+            (EstimateRom::get().recip[table_index(b)] * scale).copysign(b)
+        }
+        _ => recip_estimate(b, model),
     }
 }
 
@@ -786,8 +800,9 @@ mod tests {
 
     #[test]
     fn reciprocal_fast_path_equals_the_checked_steps() {
-        // Every divisor: the fast path (unchecked steps where they cannot leave the normal range) against the
-        // checked steps, bit for bit, in both modes and for every model; also the whole division.
+        // Every divisor: the fast path (f32 estimate, unchecked steps where they cannot leave the normal range)
+        // against the general estimate and the checked steps, bit for bit, in both modes and for every model;
+        // also the whole division.
         let mut divisors = edge_values();
         divisors.extend(random_bit_patterns(200_000, 0xD1F));
         // Every ROM cell near 1, and near the fast range's upper end.
