@@ -25,7 +25,7 @@
 //! - sin, cos, atan, atan2, asin: fastRTS is accurate to about 1 ulp; the model evaluates them in f64 and
 //!   rounds once in the mode, so results may differ from the target library by an ulp.
 
-use super::{QClass, Scalar};
+use super::{pow2, QClass, Scalar};
 use std::cell::Cell;
 use std::fmt;
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -259,12 +259,6 @@ fn mul<const RZ: bool>(a: f32, b: f32) -> f32 {
 #[inline(always)]
 fn neg(a: f32) -> f32 {
     flush(-a)
-}
-
-/// 2^k as f64 for |k| ≤ 1022.
-#[inline(always)]
-fn pow2(k: i32) -> f64 {
-    f64::from_bits(((k + 1023) as u64) << 52)
 }
 
 /// Round a positive normal f64 to `FRACTION_BITS` fraction bits, to nearest (ties away) or truncating.

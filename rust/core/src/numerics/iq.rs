@@ -42,7 +42,7 @@
 //! Every result that wrapped or saturated is tallied per thread ([`overflows`], [`count_overflows`]): on
 //! the target it is silent, here a run can show it never happened.
 
-use super::{QClass, Scalar};
+use super::{pow2, QClass, Scalar};
 use crate::error::Result;
 use crate::profile::IqFormats;
 use std::cell::Cell;
@@ -279,7 +279,7 @@ impl Iq {
     #[inline]
     fn truncated(value: f64, q: u8) -> Iq {
         // Scaling by 2^q is exact; `as i32` truncates toward zero, saturates and maps NaN to 0.
-        let scaled = value * (1u64 << q) as f64;
+        let scaled = value * pow2(q as i32);
         let fits = scaled > i32::MIN as f64 - 1.0 && scaled < i32::MAX as f64 + 1.0;
         if !fits && !scaled.is_nan() {
             note_overflow();
@@ -385,7 +385,8 @@ impl Scalar for Iq {
     }
     #[inline]
     fn to_f64(self) -> f64 {
-        self.raw as f64 / (1u64 << self.q) as f64
+        // Exact: scaling by a power of two.
+        self.raw as f64 * pow2(-(self.q as i32))
     }
     #[inline]
     fn to_class(self, class: QClass) -> Self {
