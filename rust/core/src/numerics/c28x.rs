@@ -311,8 +311,8 @@ const TABLE_ENTRIES: usize = 1 << ESTIMATE_FRACTION_BITS;
 /// The `Table8` ROM: for each interval of the top 8 fraction bits of the input, the function at the
 /// interval's midpoint, scaled into [1, 2] and rounded to 8 fraction bits. Built once, on first use.
 struct EstimateRom {
-    /// 2/c for the mantissa midpoint c ∈ [1, 2); in [1, 2). Held as f32 (9 significant bits: exact) for the
-    /// division's fast path ([`recip_estimate_normal`]).
+    /// 2/c for each interval's midpoint c ∈ [1, 2); every entry lies in [1, 2). Held as f32 (9 significant
+    /// bits: exact) for the division's fast path ([`recip_estimate_normal`]).
     recip: [f32; TABLE_ENTRIES],
     /// 2/√c for c = the mantissa midpoint (even exponent) or twice it (odd exponent).
     isqrt: [[f64; TABLE_ENTRIES]; 2],
@@ -831,6 +831,23 @@ mod tests {
     fn random_bit_patterns(n: usize, seed: u64) -> Vec<f32> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
         (0..n).map(|_| C28xF32Rn::from_bits(rng.gen()).value()).collect()
+    }
+
+    #[test]
+    fn canonical_is_nan_to_infinity_then_flush() {
+        // The one-comparison form against the rule written out, over raw results of every class: random bit
+        // patterns (NaNs, subnormals, both zeros, normals, infinities) and the class boundaries.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0xCA90);
+        let boundaries =
+            [0, 1, 0x007F_FFFF, 0x0080_0000, 0x0080_0001, 0x7F7F_FFFF, 0x7F80_0000, 0x7F80_0001, 0x7FC0_0000];
+        let patterns = boundaries.into_iter().flat_map(|b: u32| [b, b | 0x8000_0000]);
+        for bits in patterns.chain((0..1_000_000).map(|_| rng.gen::<u32>())) {
+            let r = f32::from_bits(bits);
+            for negative in [false, true] {
+                let want = if r.is_nan() { invalid(negative) } else { flush(r) };
+                assert_eq!(canonical(r, negative).to_bits(), want.to_bits(), "{bits:#010x}");
+            }
+        }
     }
 
     #[test]
