@@ -25,7 +25,7 @@
 //! - sin, cos, atan, atan2, asin: fastRTS is accurate to about 1 ulp; the model evaluates them in f64 and
 //!   rounds once in the mode, so results may differ from the target library by an ulp.
 
-use super::{QClass, Scalar};
+use super::{pow2, QClass, Scalar};
 use std::cell::Cell;
 use std::fmt;
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -71,21 +71,53 @@ impl EstimateModel {
     }
 }
 
+/// This thread's estimate model and the last division's refined reciprocal under it.
+#[derive(Clone, Copy)]
+struct EstimateState {
+    model: EstimateModel,
+    /// (divisor bits, round toward zero, refined reciprocal) of the last division: the reciprocal depends on
+    /// nothing else, and the firmware's divisors come in runs (`/ two` four times per quaternion derivative,
+    /// `/ mo` four times per normalisation): about two thirds of its divisions repeat the previous divisor.
+    /// NaN bits (never a canonical value) when empty.
+    last_reciprocal: (u32, bool, f32),
+}
+
+impl EstimateState {
+    const fn new(model: EstimateModel) -> Self {
+        EstimateState { model, last_reciprocal: (f32::NAN.to_bits(), false, f32::NAN) }
+    }
+}
+
 thread_local! {
-    /// The estimate model of this thread. A thread-local, because operators have no context argument and the
+    /// The estimate state of this thread. A thread-local, because operators have no context argument and the
     /// model is a per-run experiment setting, not part of a value.
-    static ESTIMATE: Cell<EstimateModel> = const { Cell::new(EstimateModel::Table8) };
+    static ESTIMATE: Cell<EstimateState> = const { Cell::new(EstimateState::new(EstimateModel::Table8)) };
 }
 
 /// The estimate model in force on this thread.
 pub fn estimate_model() -> EstimateModel {
-    ESTIMATE.with(Cell::get)
+    ESTIMATE.with(Cell::get).model
 }
 
 /// Run `f` with `model` as this thread's estimate model; the previous model is restored afterwards, also
 /// when `f` unwinds.
 pub fn with_estimate_model<R>(model: EstimateModel, f: impl FnOnce() -> R) -> R {
-    super::with_setting(&ESTIMATE, model, f)
+    super::with_setting(&ESTIMATE, EstimateState::new(model), f)
+}
+
+/// `b`'s refined reciprocal under this thread's model, reused when `b` was the last divisor (same mode).
+#[inline(always)]
+fn remembered_reciprocal<const RZ: bool>(b: f32) -> f32 {
+    ESTIMATE.with(|state| {
+        let current = state.get();
+        let (bits, rz, ye) = current.last_reciprocal;
+        if bits == b.to_bits() && rz == RZ {
+            return ye;
+        }
+        let ye = refined_reciprocal::<RZ>(b, current.model);
+        state.set(EstimateState { last_reciprocal: (b.to_bits(), RZ, ye), ..current });
+        ye
+    })
 }
 
 /// An f32 as the C28x FPU holds it; `RZ` selects round toward zero (else round to nearest even).
@@ -110,7 +142,7 @@ impl<const RZ: bool> C28xF32<RZ> {
     /// An f32 as the FPU would load it: subnormals and −0 become +0, NaN becomes +∞.
     #[inline]
     pub fn new(x: f32) -> Self {
-        C28xF32(if x.is_nan() { f32::INFINITY } else { flush(x) })
+        C28xF32(canonical(x, false))
     }
 
     /// The stored f32 (canonical).
@@ -197,10 +229,24 @@ fn round_f64<const RZ: bool>(hi: f64, lo: f64) -> f32 {
     }
 }
 
-/// `ADDF32` on canonical operands.
+/// A rounded result made canonical: NaN becomes ∞ with the sign `negative_if_invalid` (see module docs),
+/// subnormals and ±0 become +0. One comparison serves the usual case: `|r| ≥ MIN_POSITIVE` is false for
+/// NaN, zeros and subnormals alike, and true for normals and ±∞, which pass unchanged.
 #[inline(always)]
-fn add<const RZ: bool>(a: f32, b: f32) -> f32 {
-    let r = if RZ {
+fn canonical(r: f32, negative_if_invalid: bool) -> f32 {
+    if r.abs() >= f32::MIN_POSITIVE {
+        r
+    } else if r.is_nan() {
+        invalid(negative_if_invalid)
+    } else {
+        0.0
+    }
+}
+
+/// `a + b` rounded in the mode, before canonicalisation (may be NaN or subnormal).
+#[inline(always)]
+fn rounded_add<const RZ: bool>(a: f32, b: f32) -> f32 {
+    if RZ {
         let (x, y) = (a as f64, b as f64);
         let s = x + y;
         // TwoSum: x + y = s + err exactly (err is NaN only for infinite inputs, where s decides).
@@ -209,12 +255,23 @@ fn add<const RZ: bool>(a: f32, b: f32) -> f32 {
         round_f64::<true>(s, err)
     } else {
         a + b
-    };
-    if r.is_nan() {
-        invalid(a < 0.0)
-    } else {
-        flush(r)
     }
+}
+
+/// `a · b` rounded in the mode, before canonicalisation (may be NaN or subnormal).
+#[inline(always)]
+fn rounded_mul<const RZ: bool>(a: f32, b: f32) -> f32 {
+    if RZ {
+        round_f64::<true>(a as f64 * b as f64, 0.0)
+    } else {
+        a * b
+    }
+}
+
+/// `ADDF32` on canonical operands.
+#[inline(always)]
+fn add<const RZ: bool>(a: f32, b: f32) -> f32 {
+    canonical(rounded_add::<RZ>(a, b), a < 0.0)
 }
 
 /// `SUBF32` on canonical operands.
@@ -227,24 +284,13 @@ fn sub<const RZ: bool>(a: f32, b: f32) -> f32 {
 /// `MPYF32` on canonical operands.
 #[inline(always)]
 fn mul<const RZ: bool>(a: f32, b: f32) -> f32 {
-    let r = if RZ { round_f64::<true>(a as f64 * b as f64, 0.0) } else { a * b };
-    if r.is_nan() {
-        invalid((a < 0.0) != (b < 0.0))
-    } else {
-        flush(r)
-    }
+    canonical(rounded_mul::<RZ>(a, b), (a < 0.0) != (b < 0.0))
 }
 
 /// `NEGF32` (−0 stays +0).
 #[inline(always)]
 fn neg(a: f32) -> f32 {
     flush(-a)
-}
-
-/// 2^k as f64 for |k| ≤ 1022.
-#[inline(always)]
-fn pow2(k: i32) -> f64 {
-    f64::from_bits(((k + 1023) as u64) << 52)
 }
 
 /// Round a positive normal f64 to `FRACTION_BITS` fraction bits, to nearest (ties away) or truncating.
@@ -265,8 +311,9 @@ const TABLE_ENTRIES: usize = 1 << ESTIMATE_FRACTION_BITS;
 /// The `Table8` ROM: for each interval of the top 8 fraction bits of the input, the function at the
 /// interval's midpoint, scaled into [1, 2] and rounded to 8 fraction bits. Built once, on first use.
 struct EstimateRom {
-    /// 2/c for the mantissa midpoint c ∈ [1, 2).
-    recip: [f64; TABLE_ENTRIES],
+    /// 2/c for each interval's midpoint c ∈ [1, 2); every entry lies in [1, 2). Held as f32 (9 significant
+    /// bits: exact) for the division's fast path ([`recip_estimate_normal`]).
+    recip: [f32; TABLE_ENTRIES],
     /// 2/√c for c = the mantissa midpoint (even exponent) or twice it (odd exponent).
     isqrt: [[f64; TABLE_ENTRIES]; 2],
 }
@@ -275,7 +322,7 @@ impl EstimateRom {
     fn build() -> EstimateRom {
         let midpoint = |index: usize| 1.0 + (index as f64 + 0.5) / TABLE_ENTRIES as f64;
         EstimateRom {
-            recip: std::array::from_fn(|i| round_fraction(2.0 / midpoint(i), true)),
+            recip: std::array::from_fn(|i| round_fraction(2.0 / midpoint(i), true) as f32),
             isqrt: [1.0, 2.0]
                 .map(|scale| std::array::from_fn(|i| round_fraction(2.0 / (midpoint(i) * scale).sqrt(), true))),
         }
@@ -308,7 +355,7 @@ fn recip_estimate(b: f32, model: EstimateModel) -> f32 {
         return 0.0;
     }
     let magnitude = match model {
-        EstimateModel::Table8 => EstimateRom::get().recip[table_index(b)] * 0.5 * pow2(-exponent(b)),
+        EstimateModel::Table8 => EstimateRom::get().recip[table_index(b)] as f64 * 0.5 * pow2(-exponent(b)),
         EstimateModel::Rounded8 => round_fraction(1.0 / (b.abs() as f64), true),
         EstimateModel::Truncated8 => round_fraction(1.0 / (b.abs() as f64), false),
     };
@@ -356,15 +403,61 @@ fn isqrt_refined<const RZ: bool>(x: f32, model: EstimateModel) -> f32 {
 /// fastRTS `FS$$DIV`.
 #[inline(always)]
 fn div<const RZ: bool>(a: f32, b: f32, model: EstimateModel) -> f32 {
+    divide_by_reciprocal::<RZ>(a, b, || refined_reciprocal::<RZ>(b, model))
+}
+
+/// fastRTS `FS$$DIV` given how to obtain B's refined reciprocal (not needed for a zero dividend).
+#[inline(always)]
+fn divide_by_reciprocal<const RZ: bool>(a: f32, b: f32, reciprocal: impl FnOnce() -> f32) -> f32 {
     if a == 0.0 {
         return 0.0;
     }
-    let mut ye = recip_estimate(b, model);
-    for _ in 0..2 {
-        ye = mul::<RZ>(ye, sub::<RZ>(2.0, mul::<RZ>(ye, b)));
-    }
     let a = if b == 0.0 { neg(a) } else { a };
-    mul::<RZ>(a, ye)
+    mul::<RZ>(a, reciprocal())
+}
+
+/// Divisors whose reciprocal refinement cannot leave the normal range: 2⁻¹²⁶ ≤ |b| < 2¹²⁵.
+const RECIPROCAL_STAYS_NORMAL: std::ops::Range<f32> = f32::MIN_POSITIVE..f32::from_bits((125 + 127) << 23);
+
+/// `FS$$DIV`'s reciprocal: the `EINVF32` estimate refined by two Newton–Raphson steps.
+///
+/// Fast path, bit-identical: for 2⁻¹²⁶ ≤ |B| < 2¹²⁵ no intermediate needs canonicalising. The estimate is
+/// within a factor 1 ± 2⁻⁸·(1 + 2⁻¹⁰) of 1/|B| for every model ([`EstimateModel::max_relative_error`]),
+/// and a step only shrinks that error (e₁ ≤ e₀² + 4u), so `Ye·B` and `2 − Ye·B` stay within 1 ± 2⁻⁷ and
+/// `Ye` within (1 ± 2⁻⁷)/|B| ⊂ (2⁻¹²⁶, 2¹²⁷): all normal and finite, where `canonical` is the identity.
+/// Other divisors (0, ±∞, the extremes) take the checked operations.
+///
+/// Not inlined: a division by the last divisor skips it ([`remembered_reciprocal`]), and that short path is
+/// what the firmware's code should inline (measured: inlining this too costs ≈ 1 000 instructions per cycle).
+#[inline(never)]
+fn refined_reciprocal<const RZ: bool>(b: f32, model: EstimateModel) -> f32 {
+    if RECIPROCAL_STAYS_NORMAL.contains(&b.abs()) {
+        let step = |ye: f32| rounded_mul::<RZ>(ye, rounded_add::<RZ>(2.0, -rounded_mul::<RZ>(ye, b)));
+        step(step(recip_estimate_normal(b, model)))
+    } else {
+        newton_reciprocal_checked::<RZ>(recip_estimate(b, model), b)
+    }
+}
+
+/// [`recip_estimate`] for |b| in [`RECIPROCAL_STAYS_NORMAL`], where the estimate is normal and no special
+/// case applies. `Table8` in f32: the ROM entry e ∈ [1, 2) times 2^(−1−E) (E = b's exponent, −126…124) is
+/// exact and normal, the same value as the general path's f64 product converted to f32.
+#[inline(always)]
+fn recip_estimate_normal(b: f32, model: EstimateModel) -> f32 {
+    match model {
+        EstimateModel::Table8 => {
+            let scale = f32::from_bits(((126 - exponent(b)) as u32) << 23); // 2^(−1−E)
+            (EstimateRom::get().recip[table_index(b)] * scale).copysign(b)
+        }
+        _ => recip_estimate(b, model),
+    }
+}
+
+/// Two steps `Ye = Ye·(2 − Ye·B)`, every operation canonicalised as the FPU stores it.
+#[inline(always)]
+fn newton_reciprocal_checked<const RZ: bool>(ye: f32, b: f32) -> f32 {
+    let step = |ye: f32| mul::<RZ>(ye, sub::<RZ>(2.0, mul::<RZ>(ye, b)));
+    step(step(ye))
 }
 
 /// fastRTS `sqrt`.
@@ -410,7 +503,7 @@ impl<const RZ: bool> Div for C28xF32<RZ> {
     type Output = Self;
     #[inline]
     fn div(self, rhs: Self) -> Self {
-        C28xF32(div::<RZ>(self.0, rhs.0, estimate_model()))
+        C28xF32(divide_by_reciprocal::<RZ>(self.0, rhs.0, || remembered_reciprocal::<RZ>(rhs.0)))
     }
 }
 
@@ -719,6 +812,104 @@ mod tests {
                 assert_eq!(rn(0.0).isqrt().value(), f32::INFINITY);
             });
         }
+    }
+
+    /// Canonical f32s that probe the fast paths' edges: zero, the normal range's ends, the fast ranges'
+    /// bounds and their neighbours, every power of two, ±∞, each with both signs.
+    fn edge_values() -> Vec<f32> {
+        let mut v = vec![0.0, f32::MIN_POSITIVE, f32::MAX, f32::INFINITY, 1.0, 1.5, 2.0, 3.0, 6.0, 0.1];
+        v.extend((-126..=127).map(|k| pow2(k) as f32));
+        for bound in [f32::MIN_POSITIVE, RECIPROCAL_STAYS_NORMAL.end, f32::MAX] {
+            v.extend((-3..=3).map(|d: i32| f32::from_bits(bound.to_bits().saturating_add_signed(d))));
+        }
+        let negated: Vec<f32> = v.iter().map(|x| -x).collect();
+        v.extend(negated);
+        v.into_iter().map(|x| C28xF32Rn::new(x).value()).collect()
+    }
+
+    /// Random canonical f32s: uniform bit patterns (every exponent, as often), canonicalised.
+    fn random_bit_patterns(n: usize, seed: u64) -> Vec<f32> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        (0..n).map(|_| C28xF32Rn::from_bits(rng.gen()).value()).collect()
+    }
+
+    #[test]
+    fn canonical_is_nan_to_infinity_then_flush() {
+        // The one-comparison form against the rule written out, over raw results of every class: random bit
+        // patterns (NaNs, subnormals, both zeros, normals, infinities) and the class boundaries.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0xCA90);
+        let boundaries =
+            [0, 1, 0x007F_FFFF, 0x0080_0000, 0x0080_0001, 0x7F7F_FFFF, 0x7F80_0000, 0x7F80_0001, 0x7FC0_0000];
+        let patterns = boundaries.into_iter().flat_map(|b: u32| [b, b | 0x8000_0000]);
+        for bits in patterns.chain((0..1_000_000).map(|_| rng.gen::<u32>())) {
+            let r = f32::from_bits(bits);
+            for negative in [false, true] {
+                let want = if r.is_nan() { invalid(negative) } else { flush(r) };
+                assert_eq!(canonical(r, negative).to_bits(), want.to_bits(), "{bits:#010x}");
+            }
+        }
+    }
+
+    #[test]
+    fn reciprocal_fast_path_equals_the_checked_steps() {
+        // Every divisor: the fast path (f32 estimate, unchecked steps where they cannot leave the normal range)
+        // against the general estimate and the checked steps, bit for bit, in both modes and for every model;
+        // also the whole division.
+        let mut divisors = edge_values();
+        divisors.extend(random_bit_patterns(200_000, 0xD1F));
+        // Every ROM cell near 1, and near the fast range's upper end.
+        divisors.extend((0..1 << 10).map(|i| 1.0 + i as f32 * 2f32.powi(-10)));
+        divisors.extend((0..1 << 10).map(|i| RECIPROCAL_STAYS_NORMAL.end * (0.5 + i as f32 * 2f32.powi(-10))));
+        fn check<const RZ: bool>(model: EstimateModel, b: f32) {
+            let want = newton_reciprocal_checked::<RZ>(recip_estimate(b, model), b);
+            let got = refined_reciprocal::<RZ>(b, model);
+            assert_eq!(got.to_bits(), want.to_bits(), "1/{b:e} ({model:?}, rz {RZ})");
+            let a = 3.0f32;
+            let want = mul::<RZ>(if b == 0.0 { neg(a) } else { a }, want);
+            assert_eq!(div::<RZ>(a, b, model).to_bits(), want.to_bits(), "{a}/{b:e} ({model:?}, rz {RZ})");
+        }
+        for model in EstimateModel::ALL {
+            for &b in &divisors {
+                check::<false>(model, b);
+                check::<true>(model, b);
+            }
+        }
+    }
+
+    #[test]
+    fn remembered_reciprocal_equals_the_computed_one() {
+        // The operator reuses the last divisor's reciprocal: against `div` computed afresh, with every divisor
+        // repeated, both modes interleaved on the same divisor, and nested model changes.
+        let mut divisors = edge_values();
+        divisors.extend(random_bit_patterns(20_000, 0xBEEF));
+        let a = 0.7f32;
+        // Modes in the order RN, RZ, RZ, RN: a switch each way, a repeat, and the next check starts in the mode
+        // this one ended in (so a reciprocal kept across a model change would be reused).
+        let check = |model: EstimateModel, b: f32| {
+            let rn_quotient = || {
+                assert_eq!((rn(a) / Rn::new(b)).to_bits(), div::<false>(a, b, model).to_bits(), "{b:e} rn {model:?}")
+            };
+            let rz_quotient =
+                || assert_eq!((rz(a) / Rz::new(b)).to_bits(), div::<true>(a, b, model).to_bits(), "{b:e} rz {model:?}");
+            rn_quotient();
+            rz_quotient();
+            rz_quotient();
+            rn_quotient();
+        };
+        let (mut modes_differ, mut models_differ) = (0, 0);
+        for &b in &divisors {
+            check(EstimateModel::Table8, b);
+            modes_differ +=
+                usize::from(div::<false>(a, b, EstimateModel::Table8) != div::<true>(a, b, EstimateModel::Table8));
+            for model in EstimateModel::ALL {
+                // Same divisor right after the outer model's division, then again after the scope ends.
+                with_estimate_model(model, || check(model, b));
+                check(EstimateModel::Table8, b);
+                models_differ += usize::from(div::<false>(a, b, model) != div::<false>(a, b, EstimateModel::Table8));
+            }
+        }
+        // The cases that would expose a stale reciprocal exist in the sample.
+        assert!(modes_differ > 1000 && models_differ > 100, "{modes_differ} {models_differ}");
     }
 
     #[test]

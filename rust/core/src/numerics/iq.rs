@@ -42,7 +42,7 @@
 //! Every result that wrapped or saturated is tallied per thread ([`overflows`], [`count_overflows`]): on
 //! the target it is silent, here a run can show it never happened.
 
-use super::{QClass, Scalar};
+use super::{pow2, QClass, Scalar};
 use crate::error::Result;
 use crate::profile::IqFormats;
 use std::cell::Cell;
@@ -140,6 +140,38 @@ fn shift(raw: i32, from: u8, to: u8) -> i32 {
     } else {
         raw >> (from - to)
     }
+}
+
+/// `raw` floored from `from` to `to` ≤ `from` fractional bits (an arithmetic shift right: never wraps).
+#[inline(always)]
+fn floor_to(raw: i32, from: u8, to: u8) -> i32 {
+    raw >> (from - to)
+}
+
+/// The wrapped 32-bit result of an operation and whether it overflowed (tallied, see [`wrap`]).
+#[inline(always)]
+fn wrapped((low, overflowed): (i32, bool)) -> i32 {
+    if overflowed {
+        note_overflow();
+    }
+    low
+}
+
+/// |a·2^s / b| rounded half up (ties away from zero once the sign of a·b is applied), computed in the
+/// unsigned type `$wide`, which must hold a·2^s, b·2^−s and twice the remainder. Unsigned: the division has no
+/// overflow case.
+macro_rules! rounded_magnitude {
+    ($wide:ty, $a:expr, $b:expr, $s:expr) => {{
+        let (n, d) = (($a as $wide) << $s.max(0), ($b as $wide) << (-$s).max(0));
+        n / d + <$wide>::from(2 * (n % d) >= d)
+    }};
+}
+
+/// [`rounded_magnitude!`] for shifts beyond ±31 (up to 2^90 / 2^60), in u128, clamped to u64.
+#[cold]
+#[inline(never)]
+fn wide_rounded_magnitude(a: u32, b: u32, s: i32) -> u64 {
+    u64::try_from(rounded_magnitude!(u128, a, b, s)).unwrap_or(u64::MAX)
 }
 
 /// floor(√n).
@@ -247,7 +279,7 @@ impl Iq {
     #[inline]
     fn truncated(value: f64, q: u8) -> Iq {
         // Scaling by 2^q is exact; `as i32` truncates toward zero, saturates and maps NaN to 0.
-        let scaled = value * (1u64 << q) as f64;
+        let scaled = value * pow2(q as i32);
         let fits = scaled > i32::MIN as f64 - 1.0 && scaled < i32::MAX as f64 + 1.0;
         if !fits && !scaled.is_nan() {
             note_overflow();
@@ -255,30 +287,30 @@ impl Iq {
         Iq { raw: scaled as i32, q }
     }
 
-    /// `_IQNdiv` with the quotient in Q `q`: `a·2^(q − qa + qb) / b` exact in i128, rounded to nearest
-    /// (ties away from zero), saturated; a zero divisor gives 0x7FFFFFFF.
+    /// `_IQNdiv` with the quotient in Q `q`: `a·2^(q − qa + qb) / b` exact, rounded to nearest (ties away from
+    /// zero), saturated; a zero divisor gives 0x7FFFFFFF.
     fn quotient(self, rhs: Iq, q: u8) -> Iq {
         if rhs.raw == 0 {
             note_overflow();
             return Iq { raw: i32::MAX, q };
         }
         let s = q as i32 - self.q as i32 + rhs.q as i32;
-        // n / d exact, rounded to nearest with ties away from zero.
-        macro_rules! rounded {
-            ($n:expr, $d:expr) => {{
-                let (n, d) = ($n, $d);
-                let (quot, rem) = (n / d, n % d);
-                quot + if 2 * rem.abs() >= d.abs() { n.signum() * d.signum() } else { 0 }
-            }};
-        }
-        // With |s| ≤ 31 both operands stay below 2^62 and 2·|rem| below 2^63: the same exact division
-        // in i64 (the usual case), several times cheaper than in i128 (a library call).
-        let raw = if (-31..=31).contains(&s) {
-            rounded!((self.raw as i64) << s.max(0), (rhs.raw as i64) << (-s).max(0)) as i128
+        let (a, b) = (self.raw.unsigned_abs(), rhs.raw.unsigned_abs());
+        // With |s| ≤ 31 both operands are at most 2^62 and 2·rem below 2^63: exact in u64 (the usual case),
+        // several times cheaper than in u128 (a library call, kept out of line so this path saves no registers).
+        let magnitude =
+            if (-31..=31).contains(&s) { rounded_magnitude!(u64, a, b, s) } else { wide_rounded_magnitude(a, b, s) };
+        let negative = (self.raw < 0) != (rhs.raw < 0);
+        // The i32 range: up to 2^31 below zero, 2^31 − 1 above.
+        let limit = (1u64 << 31) - u64::from(!negative);
+        let magnitude = if magnitude > limit {
+            note_overflow();
+            limit
         } else {
-            rounded!((self.raw as i128) << s.max(0), (rhs.raw as i128) << (-s).max(0))
+            magnitude
         };
-        Iq { raw: saturate(raw), q }
+        let raw = if negative { -(magnitude as i64) } else { magnitude as i64 } as i32;
+        Iq { raw, q }
     }
 }
 
@@ -302,8 +334,9 @@ impl Add for Iq {
     type Output = Iq;
     #[inline]
     fn add(self, rhs: Iq) -> Iq {
+        // Both operands go to the lower Q: a right shift (floor) for one, none for the other.
         let q = self.q.min(rhs.q);
-        Iq { raw: wrap(shift(self.raw, self.q, q) as i64 + shift(rhs.raw, rhs.q, q) as i64), q }
+        Iq { raw: wrapped(floor_to(self.raw, self.q, q).overflowing_add(floor_to(rhs.raw, rhs.q, q))), q }
     }
 }
 
@@ -312,7 +345,7 @@ impl Sub for Iq {
     #[inline]
     fn sub(self, rhs: Iq) -> Iq {
         let q = self.q.min(rhs.q);
-        Iq { raw: wrap(shift(self.raw, self.q, q) as i64 - shift(rhs.raw, rhs.q, q) as i64), q }
+        Iq { raw: wrapped(floor_to(self.raw, self.q, q).overflowing_sub(floor_to(rhs.raw, rhs.q, q))), q }
     }
 }
 
@@ -352,7 +385,8 @@ impl Scalar for Iq {
     }
     #[inline]
     fn to_f64(self) -> f64 {
-        self.raw as f64 / (1u64 << self.q) as f64
+        // Exact: scaling by a power of two.
+        self.raw as f64 * pow2(-(self.q as i32))
     }
     #[inline]
     fn to_class(self, class: QClass) -> Self {
@@ -487,32 +521,64 @@ mod tests {
         assert_eq!(q24(-100.0).rsmpy(q24(100.0)).raw, i32::MIN);
     }
 
-    #[test]
-    fn the_quotient_in_i64_equals_the_quotient_in_i128() {
-        // The i64 path against the exact i128 formula, at every shift it takes and at its edges.
+    /// A xorshift stream of raw values, one in eight an extreme (i32::MIN, MIN + 1, −1, 1, i32::MAX), and Qs.
+    fn raw_stream() -> impl FnMut() -> (i32, u8) {
         let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
+        let extremes = [i32::MIN, i32::MIN + 1, -1, 1, i32::MAX];
+        move || {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
-            x
-        };
-        let extremes = [i32::MIN, i32::MIN + 1, -1, 1, i32::MAX];
+            let raw = if x.is_multiple_of(8) { extremes[(x / 8 % 5) as usize] } else { (x >> 16) as i32 };
+            (raw, (x >> 58) as u8 % 31)
+        }
+    }
+
+    #[test]
+    fn the_quotient_equals_the_exact_rounded_quotient() {
+        // The u64 path (|shift| ≤ 31) and the u128 one against the exact i128 formula, at every shift and at
+        // the edges, with the saturation tally.
+        let mut next = raw_stream();
         for n in 0..200_000 {
-            let pick = |r: u64| if r.is_multiple_of(8) { extremes[(r / 8 % 5) as usize] } else { (r >> 16) as i32 };
-            let (a, b) = (pick(next()), pick(next()));
+            let ((a, qa), (b, qb), (_, q)) = (next(), next(), next());
             if b == 0 {
                 continue;
             }
-            let (qa, qb, q) = ((next() % 31) as u8, (next() % 31) as u8, (next() % 31) as u8);
             let s = q as i32 - qa as i32 + qb as i32;
             let num = (a as i128) << s.max(0);
             let den = (b as i128) << (-s).max(0);
             let (quot, rem) = (num / den, num % den);
             let away = if 2 * rem.abs() >= den.abs() { num.signum() * den.signum() } else { 0 };
-            let want = (quot + away).clamp(i32::MIN as i128, i32::MAX as i128) as i32;
-            let got = Iq { raw: a, q: qa }.quotient(Iq { raw: b, q: qb }, q);
+            let exact = quot + away;
+            let want = exact.clamp(i32::MIN as i128, i32::MAX as i128) as i32;
+            let (got, overflows) = count_overflows(|| Iq { raw: a, q: qa }.quotient(Iq { raw: b, q: qb }, q));
             assert_eq!(got.raw, want, "case {n}: {a}·2^-{qa} / {b}·2^-{qb} in Q{q}");
+            assert_eq!(overflows, u64::from(want as i128 != exact), "case {n}: saturation tally");
+        }
+    }
+
+    #[test]
+    fn add_and_sub_equal_the_wide_sum() {
+        // Against the definition: both operands floored to the lower Q, summed in i64, low 32 bits kept and
+        // an overflow tallied when they do not hold the sum.
+        let mut next = raw_stream();
+        for n in 0..200_000 {
+            let ((a, qa), (b, qb)) = (next(), next());
+            let (qa, qb) = (qa.max(1), qb.max(1));
+            let q = qa.min(qb);
+            let (x, y) = ((a >> (qa - q)) as i64, (b >> (qb - q)) as i64);
+            for (exact, op) in [(x + y, "+"), (x - y, "-")] {
+                let (got, overflows) = count_overflows(|| {
+                    let (l, r) = (Iq { raw: a, q: qa }, Iq { raw: b, q: qb });
+                    if op == "+" {
+                        l + r
+                    } else {
+                        l - r
+                    }
+                });
+                assert_eq!((got.raw, got.q), (exact as i32, q), "case {n}: {a}·2^-{qa} {op} {b}·2^-{qb}");
+                assert_eq!(overflows, u64::from(exact as i32 as i64 != exact), "case {n}: wrap tally");
+            }
         }
     }
 

@@ -35,6 +35,12 @@ pub(crate) fn with_setting<T: Copy, R>(key: &'static LocalKey<Cell<T>>, value: T
     f()
 }
 
+/// 2^k as f64 for |k| ≤ 1022, from its bits (a few integer instructions; no conversion or library call).
+#[inline(always)]
+pub(crate) fn pow2(k: i32) -> f64 {
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
 /// Instantiate generic firmware code for the backend a profile selects.
 ///
 /// `dispatch_numeric!(numeric, T => expr)` evaluates `expr` with the type alias `T` bound to the backend of
