@@ -450,7 +450,7 @@ impl Adis16407 {
             Violations::DEVICE_BUSY
         };
         let dout = self.limits.corrupt_word;
-        self.record_start(timing, dout, None, None, violation, false);
+        self.record_start(read_record(self.spi.frames, timing, dout, None, None, violation, false));
         dout
     }
 
@@ -485,22 +485,14 @@ impl Adis16407 {
         } else {
             word
         };
-        self.record_start(timing, dout, register, sample, violations, in_burst);
+        self.record_start(read_record(self.spi.frames, timing, dout, register, sample, violations, in_burst));
         dout
     }
 
     /// Write the record of the frame in progress (all but DIN) straight into its slot, once.
-    fn record_start(
-        &mut self,
-        timing: &FrameTiming,
-        dout: u16,
-        register: Option<u8>,
-        sample: Option<SampleStamp>,
-        violations: Violations,
-        in_burst: bool,
-    ) {
-        let record = read_record(self.spi.frames, timing, dout, register, sample, violations, in_burst);
-        self.spi.records[self.spi.current()] = record;
+    fn record_start(&mut self, record: ReadRecord) {
+        let slot = self.spi.current();
+        self.spi.records[slot] = record;
     }
 
     /// Data frames of the burst in progress from the front of `timings` (each with DIN `din`), for
