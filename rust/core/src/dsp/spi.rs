@@ -697,15 +697,13 @@ impl SpiA {
         wire: &mut W,
         mut after_word: impl FnMut(usize, &W),
     ) -> Result<[u16; N]> {
-        let k = cpu.sysclk_per_lspclk;
         let mut read = [0; N];
         let mut last_read = None;
         for (i, &tx) in words.iter().enumerate() {
             *c += cpu.before_write;
-            let start = k.div_ceil(*c) + self.start_latency_lspclk;
+            let (start, flag_cycle) = self.polled_word(*c, cpu);
             self.txbuf = tx;
             let frame = self.next_frame(tx, start);
-            let flag_cycle = (start + frame.shape.length_cycles()) * k.get();
             *c = match read_cycle(*c, flag_cycle) {
                 Ok(r) => r,
                 Err(e) => {
@@ -741,13 +739,13 @@ impl SpiA {
         read_cycle: impl Fn(u64, u64) -> Result<u64>,
         wire: &mut W,
     ) -> Result<[u16; N]> {
-        let (k, length) = (cpu.sysclk_per_lspclk, self.shape.length_cycles());
         let mut starts = [0u64; N];
         let (mut cycle, mut last_read) = (*c, *c);
         for start in &mut starts {
             cycle += cpu.before_write;
-            *start = k.div_ceil(cycle) + self.start_latency_lspclk;
-            let Ok(read) = read_cycle(cycle, (*start + length) * k.get()) else {
+            let flag_cycle;
+            (*start, flag_cycle) = self.polled_word(cycle, cpu);
+            let Ok(read) = read_cycle(cycle, flag_cycle) else {
                 // A poll that fails: the word-by-word loop leaves the registers as the register path
                 // does, and returns the error (nothing has changed yet).
                 return self.polled_burst([tx; N], c, cpu, read_cycle, wire, |_, _| {});
@@ -771,6 +769,15 @@ impl SpiA {
         self.now = cpu.sysclk.cycles_to_ps(last_read);
         *c = cycle;
         Ok(read)
+    }
+
+    /// One word of a polled loop written to SPITXBUF on SYSCLKOUT cycle `write` (shifter idle): the
+    /// LSPCLK cycle its character starts on and the SYSCLKOUT cycle INT_FLAG sets on.
+    #[inline(always)]
+    fn polled_word(&self, write: u64, cpu: &PolledLoop) -> (u64, u64) {
+        let k = cpu.sysclk_per_lspclk;
+        let start = k.div_ceil(write) + self.start_latency_lspclk;
+        (start, (start + self.shape.length_cycles()) * k.get())
     }
 
     /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.
