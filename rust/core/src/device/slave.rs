@@ -158,6 +158,16 @@ impl SlaveState {
         self.burst = None;
     }
 
+    /// A burst data frame ended: the burst moves on to its next word, and is over after the last.
+    fn burst_frame_done(&mut self) {
+        if let Some(b) = &mut self.burst {
+            b.next += 1;
+            if b.next == b.words.len() {
+                self.burst = None;
+            }
+        }
+    }
+
     /// Slot of the frame in progress.
     fn current(&self) -> usize {
         (self.frames % 2) as usize
@@ -467,9 +477,7 @@ impl Adis16407 {
         let in_burst = self.spi.burst.is_some();
         let violations = self.check_timing(timing, in_burst);
 
-        let (register, word, sample) = if let Some(b) = &self.spi.burst {
-            let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
-            self.clear_nd_after_burst(register, sample);
+        let (register, word, sample) = if let Some((register, word, sample)) = self.burst_word() {
             (Some(register), word, sample)
         } else if let Some(reg) = self.spi.pending_read.take() {
             let (word, sample) = self.read_for_output(reg, t);
@@ -521,13 +529,8 @@ impl Adis16407 {
             if !clean || !self.gap_violations(timing, true).is_empty() {
                 break;
             }
-            let Some(b) = self.spi.burst.as_mut() else { break };
-            let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
-            b.next += 1;
-            if b.next == b.words.len() {
-                self.spi.burst = None;
-            }
-            self.clear_nd_after_burst(register, sample);
+            let Some((register, word, sample)) = self.burst_word() else { break };
+            self.spi.burst_frame_done();
             *d = word;
             self.spi.last_edge = Some(timing.last_edge);
             self.spi.framed_since_cs = true;
@@ -562,14 +565,21 @@ impl Adis16407 {
         if violations.intersects(Violations::IGNORE_DIN) {
             return;
         }
-        if !in_burst {
+        if in_burst {
+            self.spi.burst_frame_done();
+        } else {
             self.command(din, timing.last_edge);
-        } else if let Some(b) = &mut self.spi.burst {
-            b.next += 1;
-            if b.next == b.words.len() {
-                self.spi.burst = None;
-            }
         }
+    }
+
+    /// The word the burst in progress shifts out next (its register, the word, the sample it holds),
+    /// with the register's ND bit cleared as the read does; `None` without a burst.
+    #[inline(always)]
+    fn burst_word(&mut self) -> Option<(u8, u16, Option<SampleStamp>)> {
+        let b = self.spi.burst.as_ref()?;
+        let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
+        self.clear_nd_after_burst(register, sample);
+        Some((register, word, sample))
     }
 
     /// Append the record in `slot` to the frame log (out of line: the log is off by default).
