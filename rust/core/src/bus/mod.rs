@@ -40,8 +40,9 @@ pub trait SpiSlave {
     /// The frame is over; `din` is the word the slave sampled on DIN.
     fn end_frame(&mut self, din: u16, timing: &FrameTiming);
     /// Frames of one shape (the same `bits`, `cpol` and `sclk_period`) clocked one after another in
-    /// one chip select, each with DIN `din`: `dout[i]` gets the word frame `i` shifts out. The same as `begin_frame` then `end_frame` for each, which is what
-    /// the default does; a slave may answer the run in fewer steps.
+    /// one chip select, each with DIN `din`: `dout[i]` gets the word frame `i` shifts out. The same
+    /// as `begin_frame` then `end_frame` for each, which is what the default does; a slave may
+    /// answer the run in fewer steps.
     fn run_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) {
         for (timing, d) in timings.iter().zip(dout) {
             *d = self.begin_frame(timing);

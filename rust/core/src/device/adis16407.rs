@@ -1008,16 +1008,9 @@ mod tests {
 
     /// [`Physical::values`] inverted: the sample whose values are `v`.
     fn from_screened(v: [f64; 13]) -> Physical {
-        let [gx, gy, gz, ax, ay, az, mx, my, mz, baro_mbar, temp_c, supply_v, aux_v] = v;
-        Physical {
-            gyro_dps: [gx, gy, gz],
-            accel_g: [ax, ay, az],
-            mag_gauss: [mx, my, mz],
-            baro_mbar,
-            temp_c,
-            supply_v,
-            aux_v,
-        }
+        let mut p = Physical::default();
+        p.values_mut().zip(v).for_each(|(x, v)| *x = v);
+        p
     }
 
     #[test]
