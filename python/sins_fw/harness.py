@@ -329,13 +329,8 @@ def emulate(
             on_chunk(float(chunk.t_s[-1]))
         if until_s is not None and chunk.t_s[-1] - t0 >= until_s:
             break
-    emu.end()
-    emu.run()
-    _take(emu, parts, sink, bus)
-    run = _assemble(prof, t0 or 0.0, parts, dict(emu.stage_cycles()))
+    run = _finish(emu, prof, t0 or 0.0, parts, sink, bus)
     run.truth_q0 = truth_q0
-    if bus is not None:
-        run.bus = bus.finish()
     if truth:
         tt = np.concatenate(truth_t)
         run.truth_q = _truth_at(tt, np.concatenate(truth), run.time_s)
@@ -375,13 +370,7 @@ def _replay(
             on_chunk(float(t[-1]))
         if until_s is not None and len(t) < len(chunk):
             break
-    emu.end()
-    emu.run()
-    _take(emu, parts, sink, bus)
-    run = _assemble(prof, 0.0, parts, dict(emu.stage_cycles()))
-    if bus is not None:
-        run.bus = bus.finish()
-    return run
+    return _finish(emu, prof, 0.0, parts, sink, bus)
 
 
 def _pieces(t: Array, bus: _BusWindow | None) -> Iterator[slice]:
@@ -391,6 +380,24 @@ def _pieces(t: Array, bus: _BusWindow | None) -> Iterator[slice]:
         hi = min(lo + FEED_ROWS, len(t))
         for s in bus.pieces(t[lo:hi]) if bus is not None else (slice(None),):
             yield slice(lo + (s.start or 0), hi if s.stop is None else lo + s.stop)
+
+
+def _finish(
+    emu: Any,
+    prof: Profile,
+    t0: float,
+    parts: list[dict[str, Any]],
+    sink: Callable[[dict[str, Any]], None] | None,
+    bus: _BusWindow | None,
+) -> Run:
+    """End the input, run the ticks it still covers and assemble the Run (with the bus window)."""
+    emu.end()
+    emu.run()
+    _take(emu, parts, sink, bus)
+    run = _assemble(prof, t0, parts, dict(emu.stage_cycles()))
+    if bus is not None:
+        run.bus = bus.finish()
+    return run
 
 
 def _take(
