@@ -11,7 +11,7 @@
 //! - at one edge, every sample happens before every drive (outputs change after the hold time).
 
 use super::{Exchange, FrameTiming, Lines};
-use crate::dsp::spi::Frame;
+use crate::dsp::spi::{CharShape, Frame};
 use crate::time::Clock;
 
 /// SCLK edges of one frame, as LSPCLK cycle offsets from the frame start.
@@ -51,15 +51,16 @@ impl Waveform {
         &self.offsets[..self.count]
     }
 
-    /// The frame's timing as the slave sees it (`lspclk`: the clock the frame is timed by).
-    pub fn timing(&self, frame: &Frame, lspclk: &Clock) -> FrameTiming {
-        let at = |off: u32| lspclk.cycles_to_ps(frame.start_cycle + off as u64);
+    /// The timing, as the slave sees it, of a character of this waveform's `shape` started on LSPCLK
+    /// cycle `start_cycle` (`lspclk`: the clock the character is timed by).
+    pub fn timing(&self, shape: &CharShape, start_cycle: u64, lspclk: &Clock) -> FrameTiming {
+        let at = |off: u32| lspclk.cycles_to_ps(start_cycle + off as u64);
         FrameTiming {
             first_edge: at(self.offsets[0]),
             last_edge: at(self.offsets[self.count - 1]),
             sclk_period: lspclk.cycles_to_ps(2 * self.shortest_phase as u64),
-            bits: frame.shape.bits,
-            cpol: frame.shape.scheme.polarity,
+            bits: shape.bits,
+            cpol: shape.scheme.polarity,
         }
     }
 }

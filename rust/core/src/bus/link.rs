@@ -127,8 +127,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             BusLevel::Bit => {
                 self.use_waveform_of(first);
                 let (waveform, lspclk) = (&self.waveform, &self.lspclk);
-                let at = |start_cycle| waveform.timing(&Frame { start_cycle, ..*first }, lspclk);
-                self.run_timings.extend(run.starts.iter().map(|&s| at(s)));
+                self.run_timings.extend(run.starts.iter().map(|&s| waveform.timing(&first.shape, s, lspclk)));
             }
         }
         self.slave.run_frames(&self.run_timings, din, rx);
@@ -155,7 +154,7 @@ impl<S: SpiSlave> Wires<S> {
             }
             BusLevel::Bit => {
                 self.use_waveform_of(frame);
-                self.waveform.timing(frame, &self.lspclk)
+                self.waveform.timing(&frame.shape, frame.start_cycle, &self.lspclk)
             }
         };
         let selected = self.cs_low;
