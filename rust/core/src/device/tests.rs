@@ -694,7 +694,7 @@ fn timings_from(h: &Host, gaps: &[Ps]) -> Vec<FrameTiming> {
     let mut t = h.t;
     gaps.iter()
         .map(|&gap| {
-            let tm = FrameTiming { first_edge: t, ..Host { t, ..*h }.timing() };
+            let tm = Host { t, ..*h }.timing();
             t = tm.last_edge + gap;
             tm
         })
