@@ -54,5 +54,5 @@ $(DEPS): requirements.txt | $(VENV)/bin/python
 	touch $@
 
 $(BUILT): $(DEPS) $(RUST_SOURCES)
-	VIRTUAL_ENV=$(abspath $(VENV)) $(BIN)/maturin develop --release --quiet
+	VIRTUAL_ENV=$(abspath $(VENV)) $(BIN)/maturin develop --profile dist --quiet
 	touch $@

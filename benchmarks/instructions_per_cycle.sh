@@ -5,8 +5,8 @@
 # Usage: benchmarks/instructions_per_cycle.sh [override ...]   (needs valgrind)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --quiet --release -p sins-core --example pipeline
-bin=${CARGO_TARGET_DIR:-target}/release/examples/pipeline
+cargo build --quiet --profile dist -p sins-core --example pipeline
+bin=${CARGO_TARGET_DIR:-target}/dist/examples/pipeline
 count() {
     local out
     out=$(mktemp)

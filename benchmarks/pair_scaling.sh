@@ -7,8 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds=${1:-5}
 seconds=${2:-3000}
-cargo build --quiet --release -p sins-core --example pipeline
-bin=${CARGO_TARGET_DIR:-target}/release/examples/pipeline
+cargo build --quiet --profile dist -p sins-core --example pipeline
+bin=${CARGO_TARGET_DIR:-target}/dist/examples/pipeline
 run() { "$bin" "$seconds" 'firmware.numeric="f64"' errors.preset=adis16407 >/dev/null; }
 now() { date +%s.%N; }
 for _ in $(seq "$rounds"); do
