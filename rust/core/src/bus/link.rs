@@ -57,6 +57,16 @@ struct InFlight {
     selected: bool,
 }
 
+/// What the bit level's walk of a frame depends on, besides the slave's word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct MasterRxKey {
+    tx: u16,
+    shape: CharShape,
+    talk: bool,
+    loopback: bool,
+    lines: Lines,
+}
+
 /// The wires between SPI-A and the slave.
 #[derive(Debug)]
 struct Wires<S> {
@@ -75,6 +85,8 @@ struct Wires<S> {
     period_cache: Option<(u32, Ps)>,
     /// The timings of a run of frames (kept: a run is clocked every burst).
     run_timings: Vec<FrameTiming>,
+    /// The bit level's map of what the master samples in a run, and what it was made for.
+    master_rx: Option<(MasterRxKey, Box<bitlevel::MasterRx>)>,
     log: Option<Vec<LinkRecord>>,
     events: EventLog,
 }
@@ -131,13 +143,14 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             }
         }
         self.slave.run_frames(&self.run_timings, din, rx);
-        // What the master samples: each character's word through the closed form or its own walk
-        // (which depends on the word, the shape and the lines, not on the character's time).
-        for r in rx {
-            *r = match self.level {
-                BusLevel::Transaction => transaction::master_rx(first, *r, lines),
-                BusLevel::Bit => bitlevel::exchange(first, *r, lines).master_rx,
-            };
+        // What the master samples: each character's word through the closed form or the walk's map
+        // (the walk depends on the word, the shape and the lines, not on the character's time).
+        match self.level {
+            BusLevel::Transaction => rx.iter_mut().for_each(|r| *r = transaction::master_rx(first, *r, lines)),
+            BusLevel::Bit => {
+                let map = self.master_rx_map(first, lines);
+                rx.iter_mut().for_each(|r| *r = map.master_rx(*r));
+            }
         }
     }
 }
@@ -169,6 +182,16 @@ impl<S: SpiSlave> Wires<S> {
             self.waveform = bitlevel::Waveform::of(frame);
             self.waveform_shape = Some(frame.shape);
         }
+    }
+
+    /// The bit level's map of what the master samples in frames like `frame` with these `lines`
+    /// (kept: rebuilt only when the frame's word, shape, TALK, loopback or the lines change).
+    fn master_rx_map(&mut self, frame: &Frame, lines: Lines) -> &bitlevel::MasterRx {
+        let key = MasterRxKey { tx: frame.tx, shape: frame.shape, talk: frame.talk, loopback: frame.loopback, lines };
+        if self.master_rx.as_ref().map(|(k, _)| k) != Some(&key) {
+            self.master_rx = None;
+        }
+        &self.master_rx.get_or_insert_with(|| (key, Box::new(bitlevel::MasterRx::of(frame, lines)))).1
     }
 
     /// The shortest SCLK period of the frame's clock (cached per baud setting).
@@ -261,6 +284,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 waveform_shape: None,
                 period_cache: None,
                 run_timings: Vec::new(),
+                master_rx: None,
                 log: None,
                 events: EventLog::default(),
             },
