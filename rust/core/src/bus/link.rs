@@ -347,10 +347,10 @@ impl<S: SpiSlave> SpiLink<S> {
         words: [u16; N],
         c: &mut u64,
         cpu: &PolledLoop,
-        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        read_after: impl Fn(u64, u64) -> Result<u64>,
         mut after_word: impl FnMut(usize, &S),
     ) -> Result<[u16; N]> {
-        self.spi.polled_burst(words, c, cpu, read_cycle, &mut self.wires, |i, w| after_word(i, &w.slave))
+        self.spi.polled_burst(words, c, cpu, read_after, &mut self.wires, |i, w| after_word(i, &w.slave))
     }
 
     /// [`SpiLink::polled_burst`] of `N` copies of the word `tx`, the characters clocked as one run
@@ -360,9 +360,9 @@ impl<S: SpiSlave> SpiLink<S> {
         tx: u16,
         c: &mut u64,
         cpu: &PolledLoop,
-        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        read_after: impl Fn(u64, u64) -> Result<u64>,
     ) -> Result<[u16; N]> {
-        self.spi.polled_run(tx, c, cpu, read_cycle, &mut self.wires)
+        self.spi.polled_run(tx, c, cpu, read_after, &mut self.wires)
     }
 
     /// Turn the one-step path of [`SpiLink::write_poll_read`] on or off (on by default). Off, every
