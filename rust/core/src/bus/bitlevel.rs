@@ -12,20 +12,25 @@
 
 use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::{CharShape, Frame};
-use crate::time::Clock;
+use crate::time::{Clock, Ps};
 
-/// SCLK edges of one frame, as LSPCLK cycle offsets from the frame start.
-#[derive(Debug, Clone, Copy, Default)]
+/// SCLK edges of one frame, as LSPCLK cycle offsets from the frame start, for one character shape
+/// and LSPCLK.
+#[derive(Debug, Clone, Copy)]
 pub struct Waveform {
     offsets: [u32; 32],
     count: usize,
-    shortest_phase: u32,
+    shape: CharShape,
+    lspclk: Clock,
+    /// Twice the shortest phase, in ps: the same for every character of the shape.
+    sclk_period: Ps,
 }
 
 impl Waveform {
-    /// Toggle SCLK through the frame: with delay an idle-level phase comes first; then each bit is
-    /// an active phase (⌊d/2⌋ cycles) followed by an idle-level phase (⌈d/2⌉ cycles).
-    pub fn of(frame: &Frame) -> Waveform {
+    /// Toggle SCLK through a character of `frame`'s shape: with delay an idle-level phase comes first;
+    /// then each bit is an active phase (⌊d/2⌋ cycles) followed by an idle-level phase (⌈d/2⌉
+    /// cycles). `lspclk`: the clock the characters are timed by.
+    pub fn of(frame: &Frame, lspclk: &Clock) -> Waveform {
         let d = frame.shape.divisor;
         let active = d / 2;
         let idle = d - active;
@@ -43,7 +48,13 @@ impl Waveform {
         for pair in offsets[..count].windows(2) {
             shortest_phase = shortest_phase.min(pair[1] - pair[0]);
         }
-        Waveform { offsets, count, shortest_phase }
+        let sclk_period = lspclk.cycles_to_ps(2 * shortest_phase as u64);
+        Waveform { offsets, count, shape: frame.shape, lspclk: *lspclk, sclk_period }
+    }
+
+    /// The character shape the waveform was built for.
+    pub fn shape(&self) -> CharShape {
+        self.shape
     }
 
     /// Edge offsets from the frame start, LSPCLK cycles.
@@ -51,16 +62,16 @@ impl Waveform {
         &self.offsets[..self.count]
     }
 
-    /// The timing, as the slave sees it, of a character of this waveform's `shape` started on LSPCLK
-    /// cycle `start_cycle` (`lspclk`: the clock the character is timed by).
-    pub fn timing(&self, shape: &CharShape, start_cycle: u64, lspclk: &Clock) -> FrameTiming {
-        let at = |off: u32| lspclk.cycles_to_ps(start_cycle + off as u64);
+    /// The timing, as the slave sees it, of a character of this waveform started on LSPCLK cycle
+    /// `start_cycle`.
+    pub fn timing(&self, start_cycle: u64) -> FrameTiming {
+        let at = |off: u32| self.lspclk.cycles_to_ps(start_cycle + off as u64);
         FrameTiming {
             first_edge: at(self.offsets[0]),
             last_edge: at(self.offsets[self.count - 1]),
-            sclk_period: lspclk.cycles_to_ps(2 * self.shortest_phase as u64),
-            bits: shape.bits,
-            cpol: shape.scheme.polarity,
+            sclk_period: self.sclk_period,
+            bits: self.shape.bits,
+            cpol: self.shape.scheme.polarity,
         }
     }
 }

@@ -78,10 +78,9 @@ struct Wires<S> {
     simo: bool,
     floating: bool,
     in_flight: Option<InFlight>,
-    /// The bit-level waveform of the frame in flight (kept here, not copied per frame), and the
-    /// character shape it was built for: rebuilt only when the shape changes.
-    waveform: bitlevel::Waveform,
-    waveform_shape: Option<CharShape>,
+    /// The bit-level waveform of the latest character shape (kept here, not copied per frame): rebuilt
+    /// only when the shape changes.
+    waveform: Option<bitlevel::Waveform>,
     period_cache: Option<(u32, Ps)>,
     /// The timings of a run of frames (kept: a run is clocked every burst).
     run_timings: Vec<FrameTiming>,
@@ -137,9 +136,8 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
                 self.run_timings.extend(run.starts.iter().map(|&s| timing.at(s)));
             }
             BusLevel::Bit => {
-                self.use_waveform_of(first);
-                let (waveform, lspclk) = (&self.waveform, &self.lspclk);
-                self.run_timings.extend(run.starts.iter().map(|&s| waveform.timing(&first.shape, s, lspclk)));
+                let waveform = *self.waveform_of(first);
+                self.run_timings.extend(run.starts.iter().map(|&s| waveform.timing(s)));
             }
         }
         self.slave.run_frames(&self.run_timings, din, rx);
@@ -165,23 +163,20 @@ impl<S: SpiSlave> Wires<S> {
                 let period = self.sclk_period(frame);
                 transaction::frame_timing(&frame.shape, frame.start_cycle, &self.lspclk, period)
             }
-            BusLevel::Bit => {
-                self.use_waveform_of(frame);
-                self.waveform.timing(&frame.shape, frame.start_cycle, &self.lspclk)
-            }
+            BusLevel::Bit => self.waveform_of(frame).timing(frame.start_cycle),
         };
         let selected = self.cs_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
         InFlight { timing, dout, selected }
     }
 
-    /// Build the bit-level waveform of the frame's shape, unless it is the one built last.
+    /// The bit-level waveform of the frame's shape (built when the shape is not the last one's).
     #[inline(always)]
-    fn use_waveform_of(&mut self, frame: &Frame) {
-        if self.waveform_shape != Some(frame.shape) {
-            self.waveform = bitlevel::Waveform::of(frame);
-            self.waveform_shape = Some(frame.shape);
+    fn waveform_of(&mut self, frame: &Frame) -> &bitlevel::Waveform {
+        if self.waveform.as_ref().map(bitlevel::Waveform::shape) != Some(frame.shape) {
+            self.waveform = None;
         }
+        self.waveform.get_or_insert_with(|| bitlevel::Waveform::of(frame, &self.lspclk))
     }
 
     /// The bit level's map of what the master samples in frames like `frame` with these `lines`
@@ -280,8 +275,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 simo: false,
                 floating: true,
                 in_flight: None,
-                waveform: bitlevel::Waveform::default(),
-                waveform_shape: None,
+                waveform: None,
                 period_cache: None,
                 run_timings: Vec::new(),
                 master_rx: None,
