@@ -94,29 +94,30 @@ pub fn exchange(frame: &Frame, dout: u16, lines: Lines) -> Exchange {
     }
 }
 
-/// What the master samples as a function of the slave's word, for frames of one word, shape and
-/// lines (a run of characters): the edge walk of [`exchange`] made once per DOUT bit instead of once
-/// per frame.
+/// What frames of one word, shape and lines exchange (a run of characters), as a function of the
+/// slave's word: the edge walk of [`exchange`] made once per DOUT bit instead of once per frame.
 ///
-/// Why that is exact: in the walk the master samples SPISOMI, or with loopback its own shifter
-/// output; SPISOMI shows one bit of DOUT or the floating level, the shifter output one bit of SPIDAT
-/// or the SPISIMO level before the frame. So each received bit is either one bit of DOUT or a level
-/// that does not depend on DOUT: the received word is the walk's word for DOUT = 0 with, for each set
-/// bit `j` of DOUT, the bits that bit alone sets (the walk for DOUT = `1 << j`, less the walk for 0).
-/// Two tables, over the low and the high byte of DOUT, hold those unions.
+/// Why that is exact: what the slave samples on DIN and where SPISIMO is left come from the
+/// master's side alone (the word, TALK, the lines), so the walk for DOUT = 0 tells them. In the walk
+/// the master samples SPISOMI, or with loopback its own shifter output; SPISOMI shows one bit of
+/// DOUT or the floating level, the shifter output one bit of SPIDAT or the SPISIMO level before the
+/// frame. So each received bit is either one bit of DOUT or a level that does not depend on DOUT:
+/// the received word is the walk's word for DOUT = 0 with, for each set bit `j` of DOUT, the bits
+/// that bit alone sets (the walk for DOUT = `1 << j`, less the walk for 0). Two tables, over the low
+/// and the high byte of DOUT, hold those unions.
 #[derive(Debug, Clone)]
-pub struct MasterRx {
-    fixed: u16,
+pub struct ExchangeMap {
+    /// The walk for DOUT = 0.
+    fixed: Exchange,
     low: [u16; 256],
     high: [u16; 256],
 }
 
-impl MasterRx {
+impl ExchangeMap {
     /// Walk `frame` (its word, shape, TALK and loopback) with the `lines` once per DOUT bit.
-    pub fn of(frame: &Frame, lines: Lines) -> MasterRx {
-        let walk = |dout: u16| exchange(frame, dout, lines).master_rx;
-        let fixed = walk(0);
-        let by_bit: [u16; 16] = std::array::from_fn(|j| walk(1 << j) ^ fixed);
+    pub fn of(frame: &Frame, lines: Lines) -> ExchangeMap {
+        let fixed = exchange(frame, 0, lines);
+        let by_bit: [u16; 16] = std::array::from_fn(|j| exchange(frame, 1 << j, lines).master_rx ^ fixed.master_rx);
         let (mut low, mut high) = ([0u16; 256], [0u16; 256]);
         for byte in 1..256usize {
             // The byte's lowest set bit, added to the byte without it (already in the table).
@@ -124,14 +125,14 @@ impl MasterRx {
             low[byte] = low[rest] | by_bit[j];
             high[byte] = high[rest] | by_bit[j + 8];
         }
-        MasterRx { fixed, low, high }
+        ExchangeMap { fixed, low, high }
     }
 
-    /// The bits the master samples when the slave shifts out `dout`: `exchange(frame, dout, lines)
-    /// .master_rx` for the frame and lines the map was made for.
+    /// `exchange(frame, dout, lines)` for the frame and lines the map was made for.
     #[inline]
-    pub fn master_rx(&self, dout: u16) -> u16 {
-        self.fixed | self.low[usize::from(dout & 0xFF)] | self.high[usize::from(dout >> 8)]
+    pub fn exchange(&self, dout: u16) -> Exchange {
+        let master_rx = self.fixed.master_rx | self.low[usize::from(dout & 0xFF)] | self.high[usize::from(dout >> 8)];
+        Exchange { master_rx, ..self.fixed }
     }
 }
 
@@ -200,7 +201,7 @@ mod tests {
     /// The map gives what the walk gives, for every scheme, character length, TALK, loopback and
     /// lines, for random words and every single-bit and all-ones word.
     #[test]
-    fn master_rx_map_equals_the_walk() {
+    fn exchange_map_equals_the_walk() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
         for code in 0..(1 << 7) {
             let flag = |b: u32| code >> b & 1 == 1;
@@ -217,12 +218,12 @@ mod tests {
                     talk: flag(2),
                     loopback: flag(3),
                 };
-                let map = MasterRx::of(&frame, lines);
+                let map = ExchangeMap::of(&frame, lines);
                 let singles = (0..16).map(|j| 1u16 << j);
                 let random: Vec<u16> = (0..64).map(|_| rng.gen()).collect();
                 for dout in singles.chain([0, 0xFFFF]).chain(random) {
-                    let walked = exchange(&frame, dout, lines).master_rx;
-                    assert_eq!(map.master_rx(dout), walked, "{frame:?} {lines:?} DOUT {dout:#06x}");
+                    let walked = exchange(&frame, dout, lines);
+                    assert_eq!(map.exchange(dout), walked, "{frame:?} {lines:?} DOUT {dout:#06x}");
                 }
             }
         }

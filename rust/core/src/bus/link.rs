@@ -59,7 +59,7 @@ struct InFlight {
 
 /// What the bit level's walk of a frame depends on, besides the slave's word.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct MasterRxKey {
+struct ExchangeKey {
     tx: u16,
     shape: CharShape,
     talk: bool,
@@ -84,8 +84,8 @@ struct Wires<S> {
     period_cache: Option<(u32, Ps)>,
     /// The timings of a run of frames (kept: a run is clocked every burst).
     run_timings: Vec<FrameTiming>,
-    /// The bit level's map of what the master samples in a run, and what it was made for.
-    master_rx: Option<(MasterRxKey, Box<bitlevel::MasterRx>)>,
+    /// The bit level's map of what a run's frames exchange, and what it was made for.
+    exchange_map: Option<(ExchangeKey, Box<bitlevel::ExchangeMap>)>,
     log: Option<Vec<LinkRecord>>,
     events: EventLog,
 }
@@ -118,7 +118,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         let (din, simo_after) = match self.level {
             BusLevel::Transaction => (transaction::slave_din(first, lines), transaction::simo_after(first, lines)),
             BusLevel::Bit => {
-                let ex = bitlevel::exchange(first, 0, lines);
+                let ex = self.exchange_map(first, lines).exchange(0);
                 (ex.slave_din, ex.simo_after)
             }
         };
@@ -146,8 +146,8 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         match self.level {
             BusLevel::Transaction => rx.iter_mut().for_each(|r| *r = transaction::master_rx(first, *r, lines)),
             BusLevel::Bit => {
-                let map = self.master_rx_map(first, lines);
-                rx.iter_mut().for_each(|r| *r = map.master_rx(*r));
+                let map = self.exchange_map(first, lines);
+                rx.iter_mut().for_each(|r| *r = map.exchange(*r).master_rx);
             }
         }
     }
@@ -179,14 +179,14 @@ impl<S: SpiSlave> Wires<S> {
         self.waveform.get_or_insert_with(|| bitlevel::Waveform::of(frame, &self.lspclk))
     }
 
-    /// The bit level's map of what the master samples in frames like `frame` with these `lines`
-    /// (kept: rebuilt only when the frame's word, shape, TALK, loopback or the lines change).
-    fn master_rx_map(&mut self, frame: &Frame, lines: Lines) -> &bitlevel::MasterRx {
-        let key = MasterRxKey { tx: frame.tx, shape: frame.shape, talk: frame.talk, loopback: frame.loopback, lines };
-        if self.master_rx.as_ref().map(|(k, _)| k) != Some(&key) {
-            self.master_rx = None;
+    /// The bit level's map of what frames like `frame` exchange with these `lines` (kept: rebuilt
+    /// only when the frame's word, shape, TALK, loopback or the lines change).
+    fn exchange_map(&mut self, frame: &Frame, lines: Lines) -> &bitlevel::ExchangeMap {
+        let key = ExchangeKey { tx: frame.tx, shape: frame.shape, talk: frame.talk, loopback: frame.loopback, lines };
+        if self.exchange_map.as_ref().map(|(k, _)| k) != Some(&key) {
+            self.exchange_map = None;
         }
-        &self.master_rx.get_or_insert_with(|| (key, Box::new(bitlevel::MasterRx::of(frame, lines)))).1
+        &self.exchange_map.get_or_insert_with(|| (key, Box::new(bitlevel::ExchangeMap::of(frame, lines)))).1
     }
 
     /// The shortest SCLK period of the frame's clock (cached per baud setting).
@@ -278,7 +278,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 waveform: None,
                 period_cache: None,
                 run_timings: Vec::new(),
-                master_rx: None,
+                exchange_map: None,
                 log: None,
                 events: EventLog::default(),
             },
