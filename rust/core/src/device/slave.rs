@@ -534,7 +534,7 @@ impl Adis16407 {
             }
             self.advance_to(t);
             let clean = self.spi.cs_low && t >= self.busy_until();
-            let Some(burst) = self.spi.burst.filter(|_| clean) else { break };
+            let Some(burst) = self.spi.burst.as_ref().filter(|_| clean) else { break };
             if !self.gap_violations(timing, true).is_empty() {
                 break;
             }
@@ -550,26 +550,21 @@ impl Adis16407 {
                 }
                 end += 1;
             }
-            let (first_word, n) = (burst.next, end - answered);
-            let words = first_word..first_word + n;
+            let n = end - answered;
+            let words = burst.next..burst.next + n;
             dout[answered..end].copy_from_slice(&burst.words[words.clone()]);
-            self.clear_nd_after_burst(&BURST_ORDER[words], burst.sample);
+            let (sample, last_word) = (burst.sample, words.end - 1);
+            let record_word = burst.words[last_word];
+            self.clear_nd_after_burst(&BURST_ORDER[words], sample);
             let last = &timings[end - 1];
             self.advance_to(last.first_edge);
             self.spi.last_edge = Some(last.last_edge);
             self.spi.framed_since_cs = true;
             self.spi.frames += n as u64;
             self.spi.burst_frames_done(n);
-            let word = first_word + n - 1;
-            let record = read_record(
-                self.spi.frames - 1,
-                last,
-                burst.words[word],
-                Some(BURST_ORDER[word]),
-                burst.sample,
-                Violations::default(),
-                true,
-            );
+            let register = Some(BURST_ORDER[last_word]);
+            let record =
+                read_record(self.spi.frames - 1, last, record_word, register, sample, Violations::default(), true);
             self.spi.records[self.spi.finished()] = ReadRecord { din, ..record };
             answered = end;
         }
