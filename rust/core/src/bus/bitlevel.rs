@@ -12,20 +12,25 @@
 
 use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::{CharShape, Frame};
-use crate::time::Clock;
+use crate::time::{Clock, Ps};
 
-/// SCLK edges of one frame, as LSPCLK cycle offsets from the frame start.
-#[derive(Debug, Clone, Copy, Default)]
+/// SCLK edges of one frame, as LSPCLK cycle offsets from the frame start, for one character shape
+/// and LSPCLK.
+#[derive(Debug, Clone, Copy)]
 pub struct Waveform {
     offsets: [u32; 32],
     count: usize,
-    shortest_phase: u32,
+    shape: CharShape,
+    lspclk: Clock,
+    /// Twice the shortest phase, in ps: the same for every character of the shape.
+    sclk_period: Ps,
 }
 
 impl Waveform {
-    /// Toggle SCLK through the frame: with delay an idle-level phase comes first; then each bit is
-    /// an active phase (⌊d/2⌋ cycles) followed by an idle-level phase (⌈d/2⌉ cycles).
-    pub fn of(frame: &Frame) -> Waveform {
+    /// Toggle SCLK through a character of `frame`'s shape: with delay an idle-level phase comes first;
+    /// then each bit is an active phase (⌊d/2⌋ cycles) followed by an idle-level phase (⌈d/2⌉
+    /// cycles). `lspclk`: the clock the characters are timed by.
+    pub fn of(frame: &Frame, lspclk: &Clock) -> Waveform {
         let d = frame.shape.divisor;
         let active = d / 2;
         let idle = d - active;
@@ -43,7 +48,13 @@ impl Waveform {
         for pair in offsets[..count].windows(2) {
             shortest_phase = shortest_phase.min(pair[1] - pair[0]);
         }
-        Waveform { offsets, count, shortest_phase }
+        let sclk_period = lspclk.cycles_to_ps(2 * shortest_phase as u64);
+        Waveform { offsets, count, shape: frame.shape, lspclk: *lspclk, sclk_period }
+    }
+
+    /// The character shape the waveform was built for.
+    pub fn shape(&self) -> CharShape {
+        self.shape
     }
 
     /// Edge offsets from the frame start, LSPCLK cycles.
@@ -51,16 +62,16 @@ impl Waveform {
         &self.offsets[..self.count]
     }
 
-    /// The timing, as the slave sees it, of a character of this waveform's `shape` started on LSPCLK
-    /// cycle `start_cycle` (`lspclk`: the clock the character is timed by).
-    pub fn timing(&self, shape: &CharShape, start_cycle: u64, lspclk: &Clock) -> FrameTiming {
-        let at = |off: u32| lspclk.cycles_to_ps(start_cycle + off as u64);
+    /// The timing, as the slave sees it, of a character of this waveform started on LSPCLK cycle
+    /// `start_cycle`.
+    pub fn timing(&self, start_cycle: u64) -> FrameTiming {
+        let at = |off: u32| self.lspclk.cycles_to_ps(start_cycle + off as u64);
         FrameTiming {
             first_edge: at(self.offsets[0]),
             last_edge: at(self.offsets[self.count - 1]),
-            sclk_period: lspclk.cycles_to_ps(2 * self.shortest_phase as u64),
-            bits: shape.bits,
-            cpol: shape.scheme.polarity,
+            sclk_period: self.sclk_period,
+            bits: self.shape.bits,
+            cpol: self.shape.scheme.polarity,
         }
     }
 }
@@ -80,6 +91,48 @@ pub fn exchange(frame: &Frame, dout: u16, lines: Lines) -> Exchange {
         (false, true, true) => walk::<false, true, true>(frame, dout, lines),
         (true, false, true) => walk::<true, false, true>(frame, dout, lines),
         (true, true, true) => walk::<true, true, true>(frame, dout, lines),
+    }
+}
+
+/// What frames of one word, shape and lines exchange (a run of characters), as a function of the
+/// slave's word: the edge walk of [`exchange`] made once per DOUT bit instead of once per frame.
+///
+/// Why that is exact: what the slave samples on DIN and where SPISIMO is left come from the
+/// master's side alone (the word, TALK, the lines), so the walk for DOUT = 0 tells them. In the walk
+/// the master samples SPISOMI, or with loopback its own shifter output; SPISOMI shows one bit of
+/// DOUT or the floating level, the shifter output one bit of SPIDAT or the SPISIMO level before the
+/// frame. So each received bit is either one bit of DOUT or a level that does not depend on DOUT:
+/// the received word is the walk's word for DOUT = 0 with, for each set bit `j` of DOUT, the bits
+/// that bit alone sets (the walk for DOUT = `1 << j`, less the walk for 0). Two tables, over the low
+/// and the high byte of DOUT, hold those unions.
+#[derive(Debug, Clone)]
+pub struct ExchangeMap {
+    /// The walk for DOUT = 0.
+    fixed: Exchange,
+    low: [u16; 256],
+    high: [u16; 256],
+}
+
+impl ExchangeMap {
+    /// Walk `frame` (its word, shape, TALK and loopback) with the `lines` once per DOUT bit.
+    pub fn of(frame: &Frame, lines: Lines) -> ExchangeMap {
+        let fixed = exchange(frame, 0, lines);
+        let by_bit: [u16; 16] = std::array::from_fn(|j| exchange(frame, 1 << j, lines).master_rx ^ fixed.master_rx);
+        let (mut low, mut high) = ([0u16; 256], [0u16; 256]);
+        for byte in 1..256usize {
+            // The byte's lowest set bit, added to the byte without it (already in the table).
+            let (j, rest) = (byte.trailing_zeros() as usize, byte & (byte - 1));
+            low[byte] = low[rest] | by_bit[j];
+            high[byte] = high[rest] | by_bit[j + 8];
+        }
+        ExchangeMap { fixed, low, high }
+    }
+
+    /// `exchange(frame, dout, lines)` for the frame and lines the map was made for.
+    #[inline]
+    pub fn exchange(&self, dout: u16) -> Exchange {
+        let master_rx = self.fixed.master_rx | self.low[usize::from(dout & 0xFF)] | self.high[usize::from(dout >> 8)];
+        Exchange { master_rx, ..self.fixed }
     }
 }
 
@@ -137,4 +190,42 @@ fn walk<const POLARITY: bool, const DELAY: bool, const USUAL: bool>(
     }
     let mask = frame.rx_mask();
     Exchange { master_rx: rx & mask, slave_din: din & mask, simo_after: pin(out) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dsp::spi::ClockScheme;
+    use rand::{Rng, SeedableRng};
+
+    /// The map gives what the walk gives, for every scheme, character length, TALK, loopback and
+    /// lines, for random words and every single-bit and all-ones word.
+    #[test]
+    fn exchange_map_equals_the_walk() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for code in 0..(1 << 7) {
+            let flag = |b: u32| code >> b & 1 == 1;
+            let scheme = ClockScheme { polarity: flag(0), phase: flag(1) };
+            let lines = Lines { selected: flag(4), simo_before: flag(5), floating: flag(6) };
+            for bits in 1..=16u8 {
+                let frame = Frame {
+                    index: 0,
+                    start_cycle: 0,
+                    start_ps: 0,
+                    end_ps: 0,
+                    tx: rng.gen(),
+                    shape: CharShape { bits, divisor: 4, scheme },
+                    talk: flag(2),
+                    loopback: flag(3),
+                };
+                let map = ExchangeMap::of(&frame, lines);
+                let singles = (0..16).map(|j| 1u16 << j);
+                let random: Vec<u16> = (0..64).map(|_| rng.gen()).collect();
+                for dout in singles.chain([0, 0xFFFF]).chain(random) {
+                    let walked = exchange(&frame, dout, lines);
+                    assert_eq!(map.exchange(dout), walked, "{frame:?} {lines:?} DOUT {dout:#06x}");
+                }
+            }
+        }
+    }
 }

@@ -57,6 +57,16 @@ struct InFlight {
     selected: bool,
 }
 
+/// What the bit level's walk of a frame depends on, besides the slave's word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ExchangeKey {
+    tx: u16,
+    shape: CharShape,
+    talk: bool,
+    loopback: bool,
+    lines: Lines,
+}
+
 /// The wires between SPI-A and the slave.
 #[derive(Debug)]
 struct Wires<S> {
@@ -68,13 +78,14 @@ struct Wires<S> {
     simo: bool,
     floating: bool,
     in_flight: Option<InFlight>,
-    /// The bit-level waveform of the frame in flight (kept here, not copied per frame), and the
-    /// character shape it was built for: rebuilt only when the shape changes.
-    waveform: bitlevel::Waveform,
-    waveform_shape: Option<CharShape>,
+    /// The bit-level waveform of the latest character shape (kept here, not copied per frame): rebuilt
+    /// only when the shape changes.
+    waveform: Option<bitlevel::Waveform>,
     period_cache: Option<(u32, Ps)>,
     /// The timings of a run of frames (kept: a run is clocked every burst).
     run_timings: Vec<FrameTiming>,
+    /// The bit level's map of what a run's frames exchange, and what it was made for.
+    exchange_map: Option<(ExchangeKey, Box<bitlevel::ExchangeMap>)>,
     log: Option<Vec<LinkRecord>>,
     events: EventLog,
 }
@@ -107,7 +118,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         let (din, simo_after) = match self.level {
             BusLevel::Transaction => (transaction::slave_din(first, lines), transaction::simo_after(first, lines)),
             BusLevel::Bit => {
-                let ex = bitlevel::exchange(first, 0, lines);
+                let ex = self.exchange_map(first, lines).exchange(0);
                 (ex.slave_din, ex.simo_after)
             }
         };
@@ -125,19 +136,19 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
                 self.run_timings.extend(run.starts.iter().map(|&s| timing.at(s)));
             }
             BusLevel::Bit => {
-                self.use_waveform_of(first);
-                let (waveform, lspclk) = (&self.waveform, &self.lspclk);
-                self.run_timings.extend(run.starts.iter().map(|&s| waveform.timing(&first.shape, s, lspclk)));
+                let waveform = *self.waveform_of(first);
+                self.run_timings.extend(run.starts.iter().map(|&s| waveform.timing(s)));
             }
         }
         self.slave.run_frames(&self.run_timings, din, rx);
-        // What the master samples: each character's word through the closed form or its own walk
-        // (which depends on the word, the shape and the lines, not on the character's time).
-        for r in rx {
-            *r = match self.level {
-                BusLevel::Transaction => transaction::master_rx(first, *r, lines),
-                BusLevel::Bit => bitlevel::exchange(first, *r, lines).master_rx,
-            };
+        // What the master samples: each character's word through the closed form or the walk's map
+        // (the walk depends on the word, the shape and the lines, not on the character's time).
+        match self.level {
+            BusLevel::Transaction => rx.iter_mut().for_each(|r| *r = transaction::master_rx(first, *r, lines)),
+            BusLevel::Bit => {
+                let map = self.exchange_map(first, lines);
+                rx.iter_mut().for_each(|r| *r = map.exchange(*r).master_rx);
+            }
         }
     }
 }
@@ -152,23 +163,30 @@ impl<S: SpiSlave> Wires<S> {
                 let period = self.sclk_period(frame);
                 transaction::frame_timing(&frame.shape, frame.start_cycle, &self.lspclk, period)
             }
-            BusLevel::Bit => {
-                self.use_waveform_of(frame);
-                self.waveform.timing(&frame.shape, frame.start_cycle, &self.lspclk)
-            }
+            BusLevel::Bit => self.waveform_of(frame).timing(frame.start_cycle),
         };
         let selected = self.cs_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
         InFlight { timing, dout, selected }
     }
 
-    /// Build the bit-level waveform of the frame's shape, unless it is the one built last.
+    /// The bit-level waveform of the frame's shape (built when the shape is not the last one's).
     #[inline(always)]
-    fn use_waveform_of(&mut self, frame: &Frame) {
-        if self.waveform_shape != Some(frame.shape) {
-            self.waveform = bitlevel::Waveform::of(frame);
-            self.waveform_shape = Some(frame.shape);
+    fn waveform_of(&mut self, frame: &Frame) -> &bitlevel::Waveform {
+        if self.waveform.as_ref().map(bitlevel::Waveform::shape) != Some(frame.shape) {
+            self.waveform = None;
         }
+        self.waveform.get_or_insert_with(|| bitlevel::Waveform::of(frame, &self.lspclk))
+    }
+
+    /// The bit level's map of what frames like `frame` exchange with these `lines` (kept: rebuilt
+    /// only when the frame's word, shape, TALK, loopback or the lines change).
+    fn exchange_map(&mut self, frame: &Frame, lines: Lines) -> &bitlevel::ExchangeMap {
+        let key = ExchangeKey { tx: frame.tx, shape: frame.shape, talk: frame.talk, loopback: frame.loopback, lines };
+        if self.exchange_map.as_ref().map(|(k, _)| k) != Some(&key) {
+            self.exchange_map = None;
+        }
+        &self.exchange_map.get_or_insert_with(|| (key, Box::new(bitlevel::ExchangeMap::of(frame, lines)))).1
     }
 
     /// The shortest SCLK period of the frame's clock (cached per baud setting).
@@ -257,10 +275,10 @@ impl<S: SpiSlave> SpiLink<S> {
                 simo: false,
                 floating: true,
                 in_flight: None,
-                waveform: bitlevel::Waveform::default(),
-                waveform_shape: None,
+                waveform: None,
                 period_cache: None,
                 run_timings: Vec::new(),
+                exchange_map: None,
                 log: None,
                 events: EventLog::default(),
             },
@@ -323,10 +341,10 @@ impl<S: SpiSlave> SpiLink<S> {
         words: [u16; N],
         c: &mut u64,
         cpu: &PolledLoop,
-        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        read_after: impl Fn(u64, u64) -> Result<u64>,
         mut after_word: impl FnMut(usize, &S),
     ) -> Result<[u16; N]> {
-        self.spi.polled_burst(words, c, cpu, read_cycle, &mut self.wires, |i, w| after_word(i, &w.slave))
+        self.spi.polled_burst(words, c, cpu, read_after, &mut self.wires, |i, w| after_word(i, &w.slave))
     }
 
     /// [`SpiLink::polled_burst`] of `N` copies of the word `tx`, the characters clocked as one run
@@ -336,9 +354,9 @@ impl<S: SpiSlave> SpiLink<S> {
         tx: u16,
         c: &mut u64,
         cpu: &PolledLoop,
-        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        read_after: impl Fn(u64, u64) -> Result<u64>,
     ) -> Result<[u16; N]> {
-        self.spi.polled_run(tx, c, cpu, read_cycle, &mut self.wires)
+        self.spi.polled_run(tx, c, cpu, read_after, &mut self.wires)
     }
 
     /// Turn the one-step path of [`SpiLink::write_poll_read`] on or off (on by default). Off, every

@@ -455,11 +455,18 @@ impl Adis16407 {
     pub fn advance_to(&mut self, t: Ps) {
         // Every SPI frame moves the device on, but a sample is due only every ~40 frames: the common
         // case is this comparison, kept out of the sampling loop's call.
-        if self.schedule.next_t > t && self.faults.next_reset > t {
+        if self.next_event() > t {
             self.now = self.now.max(t);
             return;
         }
         self.take_samples_to(t);
+    }
+
+    /// The time of the next sample or injected reset: before it, [`Adis16407::advance_to`] only moves
+    /// the device's time and nothing the device holds changes (a run of SPI frames relies on this).
+    #[inline]
+    pub(super) fn next_event(&self) -> Ps {
+        self.schedule.next_t.min(self.faults.next_reset)
     }
 
     /// [`Adis16407::advance_to`] when a sample or an injected reset is due at or before `t`.
@@ -655,11 +662,12 @@ impl Adis16407 {
         (words, self.latest)
     }
 
-    /// Clear the ND flag of output register `addr` after a burst shifted it out, unless a newer sample
-    /// than the one shifted out has set it since.
-    pub(super) fn clear_nd_after_burst(&mut self, addr: u8, shifted: Option<SampleStamp>) {
+    /// Clear the ND flags of the output registers `addrs` after a burst shifted them out, unless a
+    /// newer sample than the one shifted out has set them since.
+    #[inline]
+    pub(super) fn clear_nd_after_burst(&mut self, addrs: &[u8], shifted: Option<SampleStamp>) {
         if shifted == self.latest {
-            self.nd &= !(1 << s(addr));
+            self.nd &= !addrs.iter().fold(0, |mask, &a| mask | 1 << s(a));
         }
     }
 

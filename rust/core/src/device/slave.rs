@@ -158,10 +158,10 @@ impl SlaveState {
         self.burst = None;
     }
 
-    /// A burst data frame ended: the burst moves on to its next word, and is over after the last.
-    fn burst_frame_done(&mut self) {
+    /// `n` burst data frames ended: the burst moves on by `n` words, and is over after the last.
+    fn burst_frames_done(&mut self, n: usize) {
         if let Some(b) = &mut self.burst {
-            b.next += 1;
+            b.next += n;
             if b.next == b.words.len() {
                 self.burst = None;
             }
@@ -508,40 +508,65 @@ impl Adis16407 {
     /// for such frames, with the record written for the last one only (a frame's record is read
     /// only until the next frame ends). Returns how many frames it answered into `dout`; at 0 nothing
     /// has changed but the device's time, which the first frame's own steps would move as well.
+    ///
+    /// The frames go in stretches that end before the device's next sample or injected reset
+    /// ([`Adis16407::next_event`]): inside one, advancing the device only moves its time, so CS, the
+    /// reset state, the burst's sample and the latest sample stay as they are at the stretch's first
+    /// frame, whose checks are made in full. A later frame of the stretch needs only the stall rule
+    /// against the frame before it (CS setup concerns the first frame after CS↓ alone), and the
+    /// stretch's words, ND flags and counters are moved on at once.
     pub(super) fn clean_burst_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) -> usize {
         // One shape for the whole run (see `SpiSlave::run_frames`): its rules are checked once.
         let Some(shape) = timings.first() else { return 0 };
         let same_shape =
             |t: &FrameTiming| (t.bits, t.cpol, t.sclk_period) == (shape.bits, shape.cpol, shape.sclk_period);
         debug_assert!(timings.iter().all(same_shape), "a run of frames has one shape");
+        debug_assert!(timings.windows(2).all(|w| w[0].last_edge <= w[1].first_edge), "a run is in time order");
         if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(shape, true).is_empty() {
             return 0;
         }
         let mut answered = 0;
-        let mut last = None;
-        for (timing, d) in timings.iter().zip(dout) {
+        while let Some(timing) = timings.get(answered) {
+            // The stretch's first frame: every check, as `start_frame` makes them.
             let t = timing.first_edge;
             if t < self.now() {
                 break;
             }
             self.advance_to(t);
-            let clean = self.spi.cs_low && t >= self.busy_until() && self.spi.burst.is_some();
-            if !clean || !self.gap_violations(timing, true).is_empty() {
+            let clean = self.spi.cs_low && t >= self.busy_until();
+            let Some(burst) = self.spi.burst.as_ref().filter(|_| clean) else { break };
+            if !self.gap_violations(timing, true).is_empty() {
                 break;
             }
-            let Some((register, word, sample)) = self.burst_word() else { break };
-            self.spi.burst_frame_done();
-            *d = word;
-            self.spi.last_edge = Some(timing.last_edge);
+            // The frames after it up to the next device event (their first edges, in time order,
+            // are past `now` and the end of any reset), the burst's last word, or a short stall.
+            let horizon = self.next_event();
+            let words_left = burst.words.len() - burst.next;
+            let mut end = answered + 1;
+            while let Some(next) = timings.get(end) {
+                let stall = next.first_edge.saturating_sub(timings[end - 1].last_edge);
+                if end - answered == words_left || next.first_edge >= horizon || short_ps(stall, shape.sclk_period) {
+                    break;
+                }
+                end += 1;
+            }
+            let n = end - answered;
+            let words = burst.next..burst.next + n;
+            dout[answered..end].copy_from_slice(&burst.words[words.clone()]);
+            let (sample, last_word) = (burst.sample, words.end - 1);
+            let record_word = burst.words[last_word];
+            self.clear_nd_after_burst(&BURST_ORDER[words], sample);
+            let last = &timings[end - 1];
+            self.advance_to(last.first_edge);
+            self.spi.last_edge = Some(last.last_edge);
             self.spi.framed_since_cs = true;
-            self.spi.frames += 1;
-            last = Some((timing, register, word, sample));
-            answered += 1;
-        }
-        if let Some((timing, register, word, sample)) = last {
-            let index = self.spi.frames - 1;
-            let record = read_record(index, timing, word, Some(register), sample, Violations::default(), true);
+            self.spi.frames += n as u64;
+            self.spi.burst_frames_done(n);
+            let register = Some(BURST_ORDER[last_word]);
+            let record =
+                read_record(self.spi.frames - 1, last, record_word, register, sample, Violations::default(), true);
             self.spi.records[self.spi.finished()] = ReadRecord { din, ..record };
+            answered = end;
         }
         answered
     }
@@ -566,7 +591,7 @@ impl Adis16407 {
             return;
         }
         if in_burst {
-            self.spi.burst_frame_done();
+            self.spi.burst_frames_done(1);
         } else {
             self.command(din, timing.last_edge);
         }
@@ -578,7 +603,7 @@ impl Adis16407 {
     fn burst_word(&mut self) -> Option<(u8, u16, Option<SampleStamp>)> {
         let b = self.spi.burst.as_ref()?;
         let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
-        self.clear_nd_after_burst(register, sample);
+        self.clear_nd_after_burst(&[register], sample);
         Some((register, word, sample))
     }
 

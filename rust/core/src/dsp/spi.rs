@@ -678,8 +678,10 @@ impl SpiA {
 
     /// The published polled word loop over `words`, in CPU cycles: for each word the CPU polls
     /// BUFFULL_FLAG once (clear: the previous read emptied the buffers), writes SPITXBUF, polls
-    /// INT_FLAG (`read_cycle(write cycle, SYSCLKOUT cycle the flag sets on)` gives the cycle the read
-    /// of SPIRXBUF ends) and stores the word. `c` (SYSCLKOUT cycle) advances through the loop.
+    /// INT_FLAG and stores the word. `read_after(write, wait)` gives the SYSCLKOUT cycles from the
+    /// write (on cycle `write`) to the end of the SPIRXBUF read when INT_FLAG sets `wait` cycles after
+    /// the write; as for any polling loop it depends on `wait` alone (`write` only dates an error),
+    /// which [`SpiA::polled_run`] relies on. `c` (SYSCLKOUT cycle) advances through the loop.
     ///
     /// The same steps as [`SpiA::polled_frame`] per word, in whole cycles instead of picoseconds:
     /// with SYSCLKOUT = k·LSPCLK (period ≥ 1 ps) the first LSPCLK boundary at or after SYSCLKOUT
@@ -693,7 +695,7 @@ impl SpiA {
         words: [u16; N],
         c: &mut u64,
         cpu: &PolledLoop,
-        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        read_after: impl Fn(u64, u64) -> Result<u64>,
         wire: &mut W,
         mut after_word: impl FnMut(usize, &W),
     ) -> Result<[u16; N]> {
@@ -701,10 +703,10 @@ impl SpiA {
         let mut last_read = None;
         for (i, &tx) in words.iter().enumerate() {
             *c += cpu.before_write;
-            let (start, flag_cycle) = self.polled_word(*c, cpu);
+            let (start, wait) = self.polled_word(cpu.sysclk_per_lspclk.div_rem(*c), cpu);
             self.txbuf = tx;
             let frame = self.next_frame(tx, start);
-            *c = match read_cycle(*c, flag_cycle) {
+            *c += match read_after(*c, wait) {
                 Ok(r) => r,
                 Err(e) => {
                     // As the register path leaves it: the character scheduled, never read.
@@ -731,27 +733,57 @@ impl SpiA {
     /// characters. Each read empties SPIRXBUF before the next character ends, so of the registers only
     /// what the last character leaves is visible afterwards. Only when [`SpiA::polled_frame_applies`]
     /// at the first write; the emulator's fast-path equivalence test holds it equal to the register path.
+    ///
+    /// The CPU's side of a word depends only on the phase of its write within an LSPCLK cycle: with
+    /// the write on SYSCLKOUT cycle q·k + φ (0 ≤ φ < k) the character starts on LSPCLK cycle
+    /// q + [φ > 0] + latency, INT_FLAG sets ([φ > 0] + latency + length)·k − φ cycles after the write
+    /// (q cancels), so the poll's length, the next write's distance and the next phase are functions
+    /// of φ. Each is worked out once per phase (at most k of them) and reused.
     pub fn polled_run<W: SpiWire, const N: usize>(
         &mut self,
         tx: u16,
         c: &mut u64,
         cpu: &PolledLoop,
-        read_cycle: impl Fn(u64, u64) -> Result<u64>,
+        read_after: impl Fn(u64, u64) -> Result<u64>,
         wire: &mut W,
     ) -> Result<[u16; N]> {
+        /// Phases remembered (k ≤ 14 on the F28335: 2·LOSPCP); a higher phase is worked out each time.
+        const PHASES: usize = 16;
+        /// What one word does from a write at some phase: cycles to the end of its read, and the
+        /// next write's position relative to this one (whole LSPCLK cycles, new phase).
+        #[derive(Clone, Copy)]
+        struct Step {
+            to_read: u64,
+            lspclk_cycles: u64,
+            next_phase: u64,
+        }
+        let k = cpu.sysclk_per_lspclk;
+        let mut steps = [None::<Step>; PHASES];
         let mut starts = [0u64; N];
-        let (mut cycle, mut last_read) = (*c, *c);
+        let (mut q, mut phase) = k.div_rem(*c + cpu.before_write);
+        let mut last_read = *c;
         for start in &mut starts {
-            cycle += cpu.before_write;
-            let flag_cycle;
-            (*start, flag_cycle) = self.polled_word(cycle, cpu);
-            let Ok(read) = read_cycle(cycle, flag_cycle) else {
-                // A poll that fails: the word-by-word loop leaves the registers as the register path
-                // does, and returns the error (nothing has changed yet).
-                return self.polled_burst([tx; N], c, cpu, read_cycle, wire, |_, _| {});
+            let wait;
+            (*start, wait) = self.polled_word((q, phase), cpu);
+            let remembered = steps.get(phase as usize).copied().flatten();
+            let step = match remembered {
+                Some(step) => step,
+                None => {
+                    let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
+                        // A poll that fails: the word-by-word loop leaves the registers as the register
+                        // path does, and returns the error (nothing has changed yet).
+                        return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
+                    };
+                    let (lspclk_cycles, next_phase) = k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
+                    let step = Step { to_read, lspclk_cycles, next_phase };
+                    if let Some(slot) = steps.get_mut(phase as usize) {
+                        *slot = Some(step);
+                    }
+                    step
+                }
             };
-            last_read = read;
-            cycle = read + cpu.after_read;
+            last_read = q * k.get() + phase + step.to_read;
+            (q, phase) = (q + step.lspclk_cycles, step.next_phase);
         }
         if N == 0 {
             return Ok([0; N]);
@@ -767,17 +799,19 @@ impl SpiA {
         self.complete(&run.frame(N - 1), rx[N - 1] & mask);
         self.read_rxbuf();
         self.now = cpu.sysclk.cycles_to_ps(last_read);
-        *c = cycle;
+        *c = last_read + cpu.after_read;
         Ok(read)
     }
 
-    /// One word of a polled loop written to SPITXBUF on SYSCLKOUT cycle `write` (shifter idle): the
-    /// LSPCLK cycle its character starts on and the SYSCLKOUT cycle INT_FLAG sets on.
+    /// One word of a polled loop written to SPITXBUF on SYSCLKOUT cycle q·k + φ, given as (q, φ)
+    /// with 0 ≤ φ < k (shifter idle): the LSPCLK cycle its character starts on (the first boundary
+    /// at or after the write, ⌈write/k⌉, plus the start latency) and the SYSCLKOUT cycles from the
+    /// write to INT_FLAG (the character's end).
     #[inline(always)]
-    fn polled_word(&self, write: u64, cpu: &PolledLoop) -> (u64, u64) {
-        let k = cpu.sysclk_per_lspclk;
-        let start = k.div_ceil(write) + self.start_latency_lspclk;
-        (start, (start + self.shape.length_cycles()) * k.get())
+    fn polled_word(&self, (q, phase): (u64, u64), cpu: &PolledLoop) -> (u64, u64) {
+        let k = cpu.sysclk_per_lspclk.get();
+        let start = q + u64::from(phase != 0) + self.start_latency_lspclk;
+        (start, (start + self.shape.length_cycles()) * k - (q * k + phase))
     }
 
     /// First LSPCLK cycle a character written at `t` (shifter idle) may start on.
@@ -1365,8 +1399,11 @@ mod tests {
         let poll = |c: u64, flag: u64, p: u64, read: u64| c + (flag.saturating_sub(c).div_ceil(p) + 1) * p + read;
         let words = [0x4200u16, 0, 0x1234, 0xFFFF, 0];
         let mut x = 0x2545_F491_4F6C_DD1Du64;
-        for k in [1u64, 2, 4, 6, 14] {
-            for (p, latency, write, read, after) in [(1, 0, 0, 0, 0), (5, 1, 2, 3, 4), (12, 3, 7, 1, 9)] {
+        // k = 20: more phases than `polled_run` remembers.
+        for k in [1u64, 2, 4, 6, 14, 20] {
+            for (p, latency, write, read, after) in
+                [(1, 0, 0, 0, 0), (5, 1, 2, 3, 4), (12, 3, 7, 1, 9), (39, 1, 4, 4, 7)]
+            {
                 let lsp = sysclk.divided(k);
                 let cpu = PolledLoop {
                     sysclk,
@@ -1387,10 +1424,10 @@ mod tests {
                         (spi, probe)
                     };
                     // The register path, word by word through picoseconds.
-                    let by_register = |words: [u16; 5]| {
+                    let by_register = |words: &[u16]| {
                         let (mut a, mut pa) = fresh();
                         let mut c = c0;
-                        let mut got = [0u16; 5];
+                        let mut got = vec![0u16; words.len()];
                         for (i, &w) in words.iter().enumerate() {
                             c += p + write; // BUFFULL clear at the first poll
                             a.write(SPITXBUF, w, sysclk.cycles_to_ps(c), &mut pa).unwrap();
@@ -1401,25 +1438,25 @@ mod tests {
                         }
                         (got, c, a, pa)
                     };
-                    let read_cycle = |w, f| Ok(poll(w, f, p, read));
+                    let read_after = |w, wait| Ok(poll(w, w + wait, p, read) - w);
                     let case = format!("k={k} p={p} latency={latency} brr={brr} c0={c0}");
-                    let (want, c, a, pa) = by_register(words);
+                    let (want, c, a, pa) = by_register(&words);
                     let (mut b, mut pb) = fresh();
                     assert!(b.polled_frame_applies(sysclk.cycles_to_ps(c0)));
                     let mut c_burst = c0;
-                    let burst = b.polled_burst(words, &mut c_burst, &cpu, read_cycle, &mut pb, |_, _| {}).unwrap();
-                    assert_eq!((burst, c_burst, &pb.finished), (want, c, &pa.finished), "{case}");
+                    let burst = b.polled_burst(words, &mut c_burst, &cpu, read_after, &mut pb, |_, _| {}).unwrap();
+                    assert_eq!((burst.to_vec(), c_burst, &pb.finished), (want, c, &pa.finished), "{case}");
                     assert_eq!(
                         (b.now, b.frames, b.int_flag, b.rxbuf, b.spidat),
                         (a.now, a.frames, a.int_flag, a.rxbuf, a.spidat),
                         "{case}"
                     );
-                    // One word five times, as one run of characters.
-                    let (want, c, a, pa) = by_register([0x5A5A; 5]);
+                    // One word 24 times, as one run of characters (long enough to come back to a phase).
+                    let (want, c, a, pa) = by_register(&[0x5A5A; 24]);
                     let (mut r, mut pr) = fresh();
                     let mut c_run = c0;
-                    let run: [u16; 5] = r.polled_run(0x5A5A, &mut c_run, &cpu, read_cycle, &mut pr).unwrap();
-                    assert_eq!((run, c_run, &pr.finished), (want, c, &pa.finished), "{case}");
+                    let run: [u16; 24] = r.polled_run(0x5A5A, &mut c_run, &cpu, read_after, &mut pr).unwrap();
+                    assert_eq!((run.to_vec(), c_run, &pr.finished), (want, c, &pa.finished), "{case}");
                     assert_eq!(
                         (r.now, r.frames, r.int_flag, r.rxbuf, r.spidat, r.txbuf, r.int_flag_at),
                         (a.now, a.frames, a.int_flag, a.rxbuf, a.spidat, a.txbuf, a.int_flag_at),

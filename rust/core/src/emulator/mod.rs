@@ -527,10 +527,12 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         match self.polled_loop {
             Some(cpu) if glitch.is_none() && !self.may_nest() && self.link.polled_burst_applies(t_cs) => {
                 let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
-                let read_cycle = |write, flag| Ok(poll.until_cycle(write, flag, "INT_FLAG = 1")? + read_cost);
+                // From the write to the end of the read (the poll's length depends on the wait alone).
+                let read_after =
+                    |write, wait| Ok(poll.until_cycle(write, write + wait, "INT_FLAG = 1")? + read_cost - write);
                 let head = [self.profile.device.burst_command as u16, BURST_FILL];
-                let read = self.link.polled_burst(head, c, &cpu, read_cycle, |i, slave| b.note_frame(i, slave))?;
-                let rest: [u16; BURST_FRAMES - 2] = self.link.polled_run(BURST_FILL, c, &cpu, read_cycle)?;
+                let read = self.link.polled_burst(head, c, &cpu, read_after, |i, slave| b.note_frame(i, slave))?;
+                let rest: [u16; BURST_FRAMES - 2] = self.link.polled_run(BURST_FILL, c, &cpu, read_after)?;
                 b.note_frame(BURST_FRAMES - 1, self.link.slave());
                 b.words[..2].copy_from_slice(&read);
                 b.words[2..].copy_from_slice(&rest);
