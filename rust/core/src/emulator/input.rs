@@ -149,6 +149,40 @@ impl InputFeed {
 impl Stimulus for StreamStimulus {
     fn at(&mut self, _k: u64, t: Ps) -> Physical {
         let ts = ps_to_s(t);
+        match self.cursor.as_mut().and_then(|cursor| cursor.within_chunk(ts)) {
+            Some(p) => p,
+            None => self.at_anywhere(ts),
+        }
+    }
+}
+
+impl Cursor {
+    /// The input at `ts` when the cursor's chunk holds a row after `ts` and the cursor's row is not
+    /// after it (the common case: no lock), the cursor moved to the last row at or before `ts`.
+    /// `None` otherwise (the cursor moved on as far as its chunk allows).
+    #[inline(always)]
+    fn within_chunk(&mut self, ts: f64) -> Option<Physical> {
+        let (t, p) = (&self.chunk.t, &self.chunk.p);
+        loop {
+            let t1 = *t.get(self.pos + 1)?;
+            if t1 > ts {
+                break;
+            }
+            self.pos += 1;
+        }
+        let pos = self.pos;
+        match value_at(ts, (t[pos], &p[pos]), Some((t[pos + 1], &p[pos + 1]))) {
+            (p, false) => Some(p),
+            (_, true) => None,
+        }
+    }
+}
+
+impl StreamStimulus {
+    /// The input at `ts` wherever it falls: before any row is fed, between chunks (moving the cursor
+    /// into the next chunk and dropping the one left), outside the fed data (held and counted).
+    #[inline(never)]
+    fn at_anywhere(&mut self, ts: f64) -> Physical {
         if self.cursor.is_none() {
             self.cursor = lock(&self.window).chunks.front().map(|chunk| Cursor { chunk: chunk.clone(), pos: 0 });
         }
@@ -157,8 +191,8 @@ impl Stimulus for StreamStimulus {
             return Physical::powered_idle();
         };
         // Move on to the last row at or before `ts` (the device's sample times only increase, so rows
-        // before it are never needed again): within the chunk without locking; into the next chunk
-        // under the lock, dropping the chunk left.
+        // before it are never needed again): within the chunk, then into the next chunk under the
+        // lock.
         loop {
             let (chunk, pos) = (&cursor.chunk, cursor.pos);
             let row = (chunk.t[pos], &chunk.p[pos]);
