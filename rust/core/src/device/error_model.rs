@@ -795,6 +795,10 @@ struct Triad {
     rate_walk_rng: StreamRng,
     /// False when the g-sensitivity matrix is zero (the accelerometer's): its products are skipped.
     has_g_sensitivity: bool,
+    /// `unit.axes` and `unit.g_sensitivity` by column: a column's three elements side by side let
+    /// the compiler compute two axes in one instruction (each axis's sum in the same order).
+    axes_by_column: [[f64; 3]; 3],
+    g_sensitivity_by_column: [[f64; 3]; 3],
     /// ΔT (bits) that `gain` and `fixed_bias` were computed for; temperature changes slowly, so
     /// they are recomputed only when it changes.
     cached_delta_temp: u64,
@@ -838,6 +842,11 @@ fn splitmix64(x: u64) -> u64 {
 fn stream(seed: u64, sensor: u64, source: u64, index: u64) -> StreamRng {
     let id = sensor << 16 | source << 8 | index;
     StreamRng::seed_from_u64(splitmix64(splitmix64(seed) ^ id))
+}
+
+/// The columns of `m` (rows of its transpose).
+fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|j| std::array::from_fn(|i| m[i][j]))
 }
 
 /// Σ of the Gauss–Markov states per axis, in term order (so the sum is the same whatever the history).
@@ -901,6 +910,8 @@ impl Triad {
         let mut triad = Triad {
             gaussian: Gaussian::new(),
             has_g_sensitivity: unit.g_sensitivity.iter().flatten().any(|g| *g != 0.0),
+            axes_by_column: transpose(&unit.axes),
+            g_sensitivity_by_column: transpose(&unit.g_sensitivity),
             cached_delta_temp: 0,
             gain: [0.0; 3],
             fixed_bias: [0.0; 3],
@@ -994,19 +1005,21 @@ impl Triad {
         } else {
             [0.0; 3]
         };
+        // Step by step for the three axes together (the compiler pairs axes); per axis the operations
+        // and their order are the model's formula (module docs).
         let truth = *x;
-        let u = &self.unit;
-        for (i, out) in x.iter_mut().enumerate() {
-            let row = &u.axes[i];
-            let mut y = row[0] * truth[0] + row[1] * truth[1] + row[2] * truth[2];
-            y = y * self.gain[i] + u.quadratic[i] * y * y;
-            let mut bias = self.fixed_bias[i] + self.gauss_markov_sum[i] + self.rate_walk[i];
-            if self.has_g_sensitivity {
-                let g = &u.g_sensitivity[i];
-                bias += g[0] * force_g[0] + g[1] * force_g[1] + g[2] * force_g[2];
+        let (a, q) = (&self.axes_by_column, &self.unit.quadratic);
+        let mut y: [f64; 3] = std::array::from_fn(|i| a[0][i] * truth[0] + a[1][i] * truth[1] + a[2][i] * truth[2]);
+        y = std::array::from_fn(|i| y[i] * self.gain[i] + q[i] * y[i] * y[i]);
+        let mut bias: [f64; 3] =
+            std::array::from_fn(|i| self.fixed_bias[i] + self.gauss_markov_sum[i] + self.rate_walk[i]);
+        if self.has_g_sensitivity {
+            let g = &self.g_sensitivity_by_column;
+            for (i, bias) in bias.iter_mut().enumerate() {
+                *bias += g[0][i] * force_g[0] + g[1][i] * force_g[1] + g[2][i] * force_g[2];
             }
-            *out = y + (bias + white[i]);
         }
+        *x = std::array::from_fn(|i| y[i] + (bias[i] + white[i]));
     }
 }
 
