@@ -1031,7 +1031,8 @@ pub struct ErrorModel {
     last_sample: Option<u64>,
     gyro: Triad,
     accel: Triad,
-    mag_map: [[f64; 3]; 3],
+    /// The magnetometer's map I + S, by column (see `Triad::axes_by_column`).
+    mag_map_by_column: [[f64; 3]; 3],
     mag_hard_iron: [f64; 3],
     mag_sigma: f64,
     mag_rng: StreamRng,
@@ -1060,7 +1061,7 @@ impl ErrorModel {
             last_sample: None,
             gyro: Triad::new(&params.gyro, seed, SENSOR_GYRO, dt, params.gauss_markov_update_ratio),
             accel: Triad::new(&params.accel, seed, SENSOR_ACCEL, dt, params.gauss_markov_update_ratio),
-            mag_map,
+            mag_map_by_column: transpose(&mag_map),
             mag_hard_iron: params.mag.hard_iron_gauss,
             mag_sigma: params.mag.noise_rms_gauss,
             mag_rng: stream(seed, SENSOR_MAG, SOURCE_WHITE_NOISE, 0),
@@ -1117,15 +1118,14 @@ impl ErrorModel {
         let force = p.accel_g;
         self.gyro.apply(&force, delta_temp_c, &mut p.gyro_dps);
         self.accel.apply(&force, delta_temp_c, &mut p.accel_g);
-        let m = p.mag_gauss;
-        let noise = if self.mag_sigma > 0.0 { Some(self.gaussian.draw3(&mut self.mag_rng)) } else { None };
-        for i in 0..3 {
-            let row = &self.mag_map[i];
-            let mut out = row[0] * m[0] + row[1] * m[1] + row[2] * m[2] + self.mag_hard_iron[i];
-            if let Some(w) = noise {
-                out += self.mag_sigma * w[i];
+        // As in `Triad::apply`: step by step for the three axes together.
+        let (m, c, h) = (p.mag_gauss, &self.mag_map_by_column, &self.mag_hard_iron);
+        p.mag_gauss = std::array::from_fn(|i| c[0][i] * m[0] + c[1][i] * m[1] + c[2][i] * m[2] + h[i]);
+        if self.mag_sigma > 0.0 {
+            let w = self.gaussian.draw3(&mut self.mag_rng);
+            for (out, w) in p.mag_gauss.iter_mut().zip(w) {
+                *out += self.mag_sigma * w;
             }
-            p.mag_gauss[i] = out;
         }
         if self.baro_sigma > 0.0 {
             let w = self.gaussian.draw(&mut self.baro_rng);
