@@ -795,6 +795,10 @@ struct Triad {
     rate_walk_rng: StreamRng,
     /// False when the g-sensitivity matrix is zero (the accelerometer's): its products are skipped.
     has_g_sensitivity: bool,
+    /// `unit.axes` and `unit.g_sensitivity` by column: a column's three elements side by side let
+    /// the compiler compute two axes in one instruction (each axis's sum in the same order).
+    axes_by_column: [[f64; 3]; 3],
+    g_sensitivity_by_column: [[f64; 3]; 3],
     /// ΔT (bits) that `gain` and `fixed_bias` were computed for; temperature changes slowly, so
     /// they are recomputed only when it changes.
     cached_delta_temp: u64,
@@ -838,6 +842,11 @@ fn splitmix64(x: u64) -> u64 {
 fn stream(seed: u64, sensor: u64, source: u64, index: u64) -> StreamRng {
     let id = sensor << 16 | source << 8 | index;
     StreamRng::seed_from_u64(splitmix64(splitmix64(seed) ^ id))
+}
+
+/// The columns of `m` (rows of its transpose).
+fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|j| std::array::from_fn(|i| m[i][j]))
 }
 
 /// Σ of the Gauss–Markov states per axis, in term order (so the sum is the same whatever the history).
@@ -901,6 +910,8 @@ impl Triad {
         let mut triad = Triad {
             gaussian: Gaussian::new(),
             has_g_sensitivity: unit.g_sensitivity.iter().flatten().any(|g| *g != 0.0),
+            axes_by_column: transpose(&unit.axes),
+            g_sensitivity_by_column: transpose(&unit.g_sensitivity),
             cached_delta_temp: 0,
             gain: [0.0; 3],
             fixed_bias: [0.0; 3],
@@ -994,19 +1005,21 @@ impl Triad {
         } else {
             [0.0; 3]
         };
+        // Step by step for the three axes together (the compiler pairs axes); per axis the operations
+        // and their order are the model's formula (module docs).
         let truth = *x;
-        let u = &self.unit;
-        for (i, out) in x.iter_mut().enumerate() {
-            let row = &u.axes[i];
-            let mut y = row[0] * truth[0] + row[1] * truth[1] + row[2] * truth[2];
-            y = y * self.gain[i] + u.quadratic[i] * y * y;
-            let mut bias = self.fixed_bias[i] + self.gauss_markov_sum[i] + self.rate_walk[i];
-            if self.has_g_sensitivity {
-                let g = &u.g_sensitivity[i];
-                bias += g[0] * force_g[0] + g[1] * force_g[1] + g[2] * force_g[2];
+        let (a, q) = (&self.axes_by_column, &self.unit.quadratic);
+        let mut y: [f64; 3] = std::array::from_fn(|i| a[0][i] * truth[0] + a[1][i] * truth[1] + a[2][i] * truth[2]);
+        y = std::array::from_fn(|i| y[i] * self.gain[i] + q[i] * y[i] * y[i]);
+        let mut bias: [f64; 3] =
+            std::array::from_fn(|i| self.fixed_bias[i] + self.gauss_markov_sum[i] + self.rate_walk[i]);
+        if self.has_g_sensitivity {
+            let g = &self.g_sensitivity_by_column;
+            for (i, bias) in bias.iter_mut().enumerate() {
+                *bias += g[0][i] * force_g[0] + g[1][i] * force_g[1] + g[2][i] * force_g[2];
             }
-            *out = y + (bias + white[i]);
         }
+        *x = std::array::from_fn(|i| y[i] + (bias[i] + white[i]));
     }
 }
 
@@ -1018,7 +1031,8 @@ pub struct ErrorModel {
     last_sample: Option<u64>,
     gyro: Triad,
     accel: Triad,
-    mag_map: [[f64; 3]; 3],
+    /// The magnetometer's map I + S, by column (see `Triad::axes_by_column`).
+    mag_map_by_column: [[f64; 3]; 3],
     mag_hard_iron: [f64; 3],
     mag_sigma: f64,
     mag_rng: StreamRng,
@@ -1047,7 +1061,7 @@ impl ErrorModel {
             last_sample: None,
             gyro: Triad::new(&params.gyro, seed, SENSOR_GYRO, dt, params.gauss_markov_update_ratio),
             accel: Triad::new(&params.accel, seed, SENSOR_ACCEL, dt, params.gauss_markov_update_ratio),
-            mag_map,
+            mag_map_by_column: transpose(&mag_map),
             mag_hard_iron: params.mag.hard_iron_gauss,
             mag_sigma: params.mag.noise_rms_gauss,
             mag_rng: stream(seed, SENSOR_MAG, SOURCE_WHITE_NOISE, 0),
@@ -1104,15 +1118,14 @@ impl ErrorModel {
         let force = p.accel_g;
         self.gyro.apply(&force, delta_temp_c, &mut p.gyro_dps);
         self.accel.apply(&force, delta_temp_c, &mut p.accel_g);
-        let m = p.mag_gauss;
-        let noise = if self.mag_sigma > 0.0 { Some(self.gaussian.draw3(&mut self.mag_rng)) } else { None };
-        for i in 0..3 {
-            let row = &self.mag_map[i];
-            let mut out = row[0] * m[0] + row[1] * m[1] + row[2] * m[2] + self.mag_hard_iron[i];
-            if let Some(w) = noise {
-                out += self.mag_sigma * w[i];
+        // As in `Triad::apply`: step by step for the three axes together.
+        let (m, c, h) = (p.mag_gauss, &self.mag_map_by_column, &self.mag_hard_iron);
+        p.mag_gauss = std::array::from_fn(|i| c[0][i] * m[0] + c[1][i] * m[1] + c[2][i] * m[2] + h[i]);
+        if self.mag_sigma > 0.0 {
+            let w = self.gaussian.draw3(&mut self.mag_rng);
+            for (out, w) in p.mag_gauss.iter_mut().zip(w) {
+                *out += self.mag_sigma * w;
             }
-            p.mag_gauss[i] = out;
         }
         if self.baro_sigma > 0.0 {
             let w = self.gaussian.draw(&mut self.baro_rng);

@@ -13,14 +13,14 @@ use crate::device::{Physical, Stimulus};
 use crate::error::{Error, Result};
 use crate::time::{ps_to_s, Ps};
 
-/// The samples not yet consumed, shared between the emulator (which feeds them) and the device
-/// (which reads them). A mutex because the device's stimulus must be `Send`; it is never contended.
-/// The chunks are kept as they were fed (moved in, never copied or regrown): the current row is
-/// `pos` of the first chunk.
+/// The chunks not yet consumed, shared between the emulator (which feeds them) and the device
+/// (which reads them). A mutex because the device's stimulus must be `Send`; it is never contended,
+/// and the device takes it only when it moves past the last row of a chunk (see [`StreamStimulus`]).
+/// The chunks are kept as they were fed (moved in, never copied or regrown); the first one holds
+/// the device's current row.
 #[derive(Debug, Default)]
 struct Window {
-    chunks: VecDeque<Chunk>,
-    pos: usize,
+    chunks: VecDeque<Arc<Chunk>>,
     /// Total rows fed so far (to name rows in errors).
     rows_fed: u64,
     /// Reads that fell outside the fed data (held at the nearest end).
@@ -37,28 +37,8 @@ struct Chunk {
 }
 
 impl Window {
-    /// The row after the current one. (Inline: the stimulus asks for it two or three times per device
-    /// sample, and out of line each call re-derives the first chunk.)
-    #[inline]
-    fn next_row(&self) -> Option<(f64, &Physical)> {
-        let first = self.chunks.front()?;
-        if self.pos + 1 < first.t.len() {
-            return Some((first.t[self.pos + 1], &first.p[self.pos + 1]));
-        }
-        self.chunks.get(1).map(|c| (c.t[0], &c.p[0]))
-    }
-
-    /// Make the next row the current one.
-    fn step(&mut self) {
-        self.pos += 1;
-        if self.chunks.front().is_some_and(|c| self.pos == c.t.len()) {
-            self.chunks.pop_front();
-            self.pos = 0;
-        }
-    }
-
     fn first_time(&self) -> Option<f64> {
-        self.chunks.front().map(|c| c.t[self.pos])
+        self.chunks.front().map(|c| c.t[0])
     }
 
     fn last_time(&self) -> Option<f64> {
@@ -72,17 +52,29 @@ pub struct InputFeed {
     window: Arc<Mutex<Window>>,
 }
 
-/// The device-side view of the same window.
+/// The device-side view of the same window. It reads through a cursor on the chunk holding its
+/// current row (shared with the window, whose first chunk it is), so a sample locks the window only
+/// when it moves past that chunk's last row (once per chunk) or falls outside the fed data.
 #[derive(Debug)]
 pub struct StreamStimulus {
     window: Arc<Mutex<Window>>,
+    /// The current row (the last one at or before the latest sample time): `None` until the first
+    /// chunk is read.
+    cursor: Option<Cursor>,
+}
+
+/// A row of a chunk.
+#[derive(Debug)]
+struct Cursor {
+    chunk: Arc<Chunk>,
+    pos: usize,
 }
 
 impl InputFeed {
     /// A new, empty input and the stimulus that reads it.
     pub fn new() -> (InputFeed, StreamStimulus) {
         let window = Arc::new(Mutex::new(Window::default()));
-        (InputFeed { window: window.clone() }, StreamStimulus { window })
+        (InputFeed { window: window.clone() }, StreamStimulus { window, cursor: None })
     }
 
     /// Append a chunk: times in seconds (strictly increasing, continuing the previous chunk) and
@@ -117,7 +109,7 @@ impl InputFeed {
         }
         w.rows_fed += t_s.len() as u64;
         if !t_s.is_empty() {
-            w.chunks.push_back(Chunk { t: t_s.to_vec(), p: samples });
+            w.chunks.push_back(Arc::new(Chunk { t: t_s.to_vec(), p: samples }));
         }
         Ok(())
     }
@@ -137,7 +129,9 @@ impl InputFeed {
         self.lock().last_time()
     }
 
-    /// The first time the input covers, seconds.
+    /// The first time the input still holds, seconds: the first row of the oldest chunk not yet
+    /// passed by the device (rows the device has passed may still be counted until it leaves their
+    /// chunk).
     pub fn first_time_s(&self) -> Option<f64> {
         self.lock().first_time()
     }
@@ -148,38 +142,105 @@ impl InputFeed {
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, Window> {
-        // A poisoned lock means a panic elsewhere already failed the run; the data is still valid.
-        self.window.lock().unwrap_or_else(|e| e.into_inner())
+        lock(&self.window)
     }
 }
 
 impl Stimulus for StreamStimulus {
     fn at(&mut self, _k: u64, t: Ps) -> Physical {
-        let mut w = self.window.lock().unwrap_or_else(|e| e.into_inner());
         let ts = ps_to_s(t);
-        // Drop rows the device will never need again (its sample times only increase), keeping one
-        // row before `ts` to interpolate from.
-        while w.next_row().is_some_and(|(t1, _)| t1 <= ts) {
-            w.step();
+        match self.cursor.as_mut().and_then(|cursor| cursor.within_chunk(ts)) {
+            Some(p) => p,
+            None => self.at_anywhere(ts),
         }
-        let Some(first) = w.chunks.front() else {
-            w.held += 1;
+    }
+}
+
+impl Cursor {
+    /// The input at `ts` when the cursor's chunk holds a row after `ts` and the cursor's row is not
+    /// after it (the common case: no lock), the cursor moved to the last row at or before `ts`.
+    /// `None` otherwise (the cursor moved on as far as its chunk allows).
+    #[inline(always)]
+    fn within_chunk(&mut self, ts: f64) -> Option<Physical> {
+        let (t, p) = (&self.chunk.t, &self.chunk.p);
+        loop {
+            let t1 = *t.get(self.pos + 1)?;
+            if t1 > ts {
+                break;
+            }
+            self.pos += 1;
+        }
+        let pos = self.pos;
+        match value_at(ts, (t[pos], &p[pos]), Some((t[pos + 1], &p[pos + 1]))) {
+            (p, false) => Some(p),
+            (_, true) => None,
+        }
+    }
+}
+
+impl StreamStimulus {
+    /// The input at `ts` wherever it falls: before any row is fed, between chunks (moving the cursor
+    /// into the next chunk and dropping the one left), outside the fed data (held and counted).
+    #[inline(never)]
+    fn at_anywhere(&mut self, ts: f64) -> Physical {
+        if self.cursor.is_none() {
+            self.cursor = lock(&self.window).chunks.front().map(|chunk| Cursor { chunk: chunk.clone(), pos: 0 });
+        }
+        let Some(cursor) = &mut self.cursor else {
+            lock(&self.window).held += 1;
             return Physical::powered_idle();
         };
-        let (t0, p0) = (first.t[w.pos], first.p[w.pos]);
-        if ts <= t0 {
-            if ts < t0 {
-                w.held += 1;
+        // Move on to the last row at or before `ts` (the device's sample times only increase, so rows
+        // before it are never needed again): within the chunk, then into the next chunk under the
+        // lock.
+        loop {
+            let (chunk, pos) = (&cursor.chunk, cursor.pos);
+            let row = (chunk.t[pos], &chunk.p[pos]);
+            if pos + 1 < chunk.t.len() {
+                let t1 = chunk.t[pos + 1];
+                if t1 <= ts {
+                    cursor.pos += 1;
+                    continue;
+                }
+                let (p, held) = value_at(ts, row, Some((t1, &chunk.p[pos + 1])));
+                if held {
+                    lock(&self.window).held += 1;
+                }
+                return p;
             }
-            return p0;
-        }
-        match w.next_row() {
-            None => {
-                w.held += 1;
-                p0
+            let mut w = lock(&self.window);
+            match w.chunks.get(1) {
+                Some(c) if c.t[0] <= ts => {
+                    *cursor = Cursor { chunk: c.clone(), pos: 0 };
+                    w.chunks.pop_front();
+                }
+                next_chunk => {
+                    let (p, held) = value_at(ts, row, next_chunk.map(|c| (c.t[0], &c.p[0])));
+                    w.held += u64::from(held);
+                    return p;
+                }
             }
-            Some((t1, p1)) => lerp(&p0, p1, (ts - t0) / (t1 - t0)),
         }
+    }
+}
+
+fn lock(window: &Mutex<Window>) -> std::sync::MutexGuard<'_, Window> {
+    // A poisoned lock means a panic elsewhere already failed the run; the data is still valid.
+    window.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The input at `ts` from `row`, the last row at or before `ts` (or the first row fed, if `ts` is
+/// before it), and the row after it, if any: interpolated between them, or `row` held outside the
+/// fed data (the flag: the read is to be counted as held). Inline: it is most of a sample's work
+/// here, and out of line its result is copied once more.
+#[inline(always)]
+fn value_at(ts: f64, (t0, p0): (f64, &Physical), next: Option<(f64, &Physical)>) -> (Physical, bool) {
+    if ts <= t0 {
+        return (*p0, ts < t0);
+    }
+    match next {
+        None => (*p0, true),
+        Some((t1, p1)) => (lerp(p0, p1, (ts - t0) / (t1 - t0)), false),
     }
 }
 
@@ -217,6 +278,71 @@ mod tests {
         // Past the end: held and counted.
         assert_eq!(stim.at(2, s_to_ps(3.0)).gyro_dps[0], 30.0);
         assert_eq!(feed.held_reads(), 1);
+    }
+
+    /// The input at `ts` as the rows `t`, `p` define it, computed from scratch: the last row at or
+    /// before `ts` (the first row if none), interpolated towards the next; the flag: held.
+    fn reference(t: &[f64], p: &[Physical], ts: f64) -> (Physical, bool) {
+        if t.is_empty() {
+            return (Physical::powered_idle(), true);
+        }
+        let i = t.iter().rposition(|&ti| ti <= ts).unwrap_or(0);
+        if ts <= t[i] {
+            return (p[i], ts < t[i]);
+        }
+        match t.get(i + 1) {
+            None => (p[i], true),
+            Some(&t1) => (lerp(&p[i], &p[i + 1], (ts - t[i]) / (t1 - t[i])), false),
+        }
+    }
+
+    #[test]
+    fn the_cursor_reads_what_the_rows_define_across_chunks_gaps_and_ends() {
+        // Chunks of 1…6 rows at irregular times, fed between reads; reads on rows, between rows,
+        // across chunk boundaries, before the first row and past the last (held and counted), some
+        // before any row is fed. The cursor (which locks only between chunks) must give the values
+        // and the held count of the rows taken as a whole, bit for bit.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut random = move |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        for case in 0..40 {
+            let (feed, mut stim) = InputFeed::new();
+            let (mut t, mut p) = (Vec::new(), Vec::new());
+            let (mut row_t, mut read_ps, mut held) = (0.5e-3 * random(3) as f64, 0u64, 0u64);
+            for chunk in 0..30 {
+                // Reads up to a little before or past the last row fed so far (none at first).
+                let last = t.last().copied().unwrap_or(0.0);
+                let horizon = s_to_ps(last + 1e-4 * (random(5) as f64 - 2.0));
+                while read_ps <= horizon {
+                    let (want, was_held) = reference(&t, &p, ps_to_s(read_ps));
+                    let got = stim.at(0, read_ps);
+                    assert_eq!(got, want, "case {case}, chunk {chunk}, t = {read_ps} ps");
+                    held += u64::from(was_held);
+                    assert_eq!(feed.held_reads(), held, "case {case}, chunk {chunk}, t = {read_ps} ps");
+                    // Steps of 0 … 2.4 ms, or to the next row exactly.
+                    read_ps = if random(4) == 0 {
+                        t.iter().map(|&ti| s_to_ps(ti)).find(|&r| r > read_ps).unwrap_or(read_ps + 1)
+                    } else {
+                        read_ps + 1_000_000 * random(2400)
+                    };
+                }
+                let rows = 1 + random(6) as usize;
+                let (mut ct, mut cp) = (Vec::new(), Vec::new());
+                for _ in 0..rows {
+                    ct.push(row_t);
+                    cp.push(rate((random(2001) as f64 - 1000.0) * 0.37));
+                    row_t += 1e-4 * (1 + random(30)) as f64;
+                }
+                t.extend_from_slice(&ct);
+                p.extend_from_slice(&cp);
+                feed.push(&ct, cp).unwrap();
+            }
+            assert!(held > 0 && feed.held_reads() == held, "case {case}: no read was held");
+        }
     }
 
     #[test]
