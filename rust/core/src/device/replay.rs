@@ -49,6 +49,8 @@ pub struct ReplaySlave {
     frame_in_window: usize,
     frames: u64,
     last: Option<ReadRecord>,
+    /// The record of the window's second frame (its first data frame), once it has ended.
+    second_in_window: Option<ReadRecord>,
     idle_word: u16,
     burst_command: u16,
     events: EventLog,
@@ -68,6 +70,7 @@ impl ReplaySlave {
             frame_in_window: 0,
             frames: 0,
             last: None,
+            second_in_window: None,
             idle_word,
             burst_command,
             events: EventLog::default(),
@@ -128,6 +131,11 @@ impl ReplaySlave {
         self.last
     }
 
+    /// The second frame of the current (or latest) CS-low window, once it has ended.
+    pub fn second_frame_in_window(&self) -> Option<ReadRecord> {
+        self.second_in_window
+    }
+
     /// The recorded burst answering the current (or latest) CS-low window.
     pub fn last_sample(&self) -> Option<SampleStamp> {
         self.current.map(|r| SampleStamp { index: r.row, t: r.t })
@@ -143,6 +151,7 @@ impl SpiSlave for ReplaySlave {
     fn set_cs(&mut self, low: bool, t: Ps) {
         if low && !self.cs_low {
             self.frame_in_window = 0;
+            self.second_in_window = None;
             self.current = self.queue.pop_front();
             if self.current.is_none() {
                 self.events.push(Event::new(
@@ -208,6 +217,9 @@ impl SpiSlave for ReplaySlave {
         if let Some(rec) = self.last.as_mut() {
             rec.din = din;
         }
+        if self.frame_in_window == 1 {
+            self.second_in_window = self.last;
+        }
         self.frame_in_window += 1;
         self.frames += 1;
     }
@@ -253,6 +265,30 @@ mod tests {
         assert_eq!(burst(&mut s, 12_000_000_000, 2), vec![0, 0]);
         assert_eq!(s.events.count("replay_exhausted"), 1);
         assert_eq!(s.events.count("replay_unexpected_command"), 0);
+    }
+
+    /// The window's second frame (a burst's first data frame) is kept as it ended, for the read
+    /// records, and forgotten when CS falls again.
+    #[test]
+    fn the_second_frame_of_the_window_is_kept() {
+        let mut s = ReplaySlave::new(0x0000, 0x4200);
+        s.push(&[0.004, 0.008], &[[0x1111; 15], [0x2222; 15]]).unwrap();
+        s.set_cs(true, 4_000_000_000);
+        let mut after_frame_1 = None;
+        for i in 0..15 {
+            let tm = timing(4_000_100_000 + i as Ps * 22_000_000);
+            s.begin_frame(&tm);
+            s.end_frame(if i == 0 { 0x4200 } else { 0 }, &tm);
+            if i == 1 {
+                after_frame_1 = s.last_frame();
+            }
+        }
+        let second = s.second_frame_in_window();
+        assert_eq!(second, after_frame_1);
+        assert_eq!(second.map(|r| (r.t_start, r.register)), Some((4_022_100_000, Some(BURST_ORDER[0]))));
+        s.set_cs(false, 4_400_000_000);
+        s.set_cs(true, 8_000_000_000);
+        assert_eq!(s.second_frame_in_window(), None);
     }
 
     #[test]

@@ -147,6 +147,11 @@ pub(crate) struct SlaveState {
     records: [ReadRecord; 2],
     /// Frames finished since power-on.
     frames: u64,
+    /// Frames finished when CS last fell.
+    frames_at_cs_fall: u64,
+    /// The record of the second frame to end since CS last fell (a burst's first data frame) as it
+    /// ended, kept for the read records, which need that frame's sample after the whole burst has run.
+    second_in_window: Option<ReadRecord>,
     log: Option<Vec<ReadRecord>>,
 }
 
@@ -181,6 +186,11 @@ impl SlaveState {
     /// The latest finished frame.
     fn last(&self) -> Option<&ReadRecord> {
         (self.frames > 0).then(|| &self.records[self.finished()])
+    }
+
+    /// The number (counted as `frames`) of the second frame to end since CS last fell.
+    fn second_in_window_number(&self) -> u64 {
+        self.frames_at_cs_fall + 1
     }
 }
 
@@ -281,6 +291,11 @@ impl Adis16407 {
     /// The latest frame clocked at this slave.
     pub fn last_frame(&self) -> Option<ReadRecord> {
         self.spi.last().copied()
+    }
+
+    /// The second frame to end since CS last fell (a burst's first data frame), once it has ended.
+    pub fn second_frame_in_window(&self) -> Option<ReadRecord> {
+        self.spi.second_in_window
     }
 
     /// Frames clocked so far.
@@ -553,8 +568,25 @@ impl Adis16407 {
             let n = end - answered;
             let words = burst.next..burst.next + n;
             dout[answered..end].copy_from_slice(&burst.words[words.clone()]);
-            let (sample, last_word) = (burst.sample, words.end - 1);
-            let record_word = burst.words[last_word];
+            // The record of the stretch's frame `k` (`k` < n).
+            let (first_word, first_index, sample) = (burst.next, self.spi.frames, burst.sample);
+            let record_of = |k: usize| {
+                let (word, timing) = (first_word + k, &timings[answered + k]);
+                let register = Some(BURST_ORDER[word]);
+                let record = read_record(
+                    first_index + k as u64,
+                    timing,
+                    dout[answered + k],
+                    register,
+                    sample,
+                    Violations::default(),
+                    true,
+                );
+                ReadRecord { din, ..record }
+            };
+            if let Some(k) = self.spi.second_in_window_number().checked_sub(first_index).filter(|&k| k < n as u64) {
+                self.spi.second_in_window = Some(record_of(k as usize));
+            }
             self.clear_nd_after_burst(&BURST_ORDER[words], sample);
             let last = &timings[end - 1];
             self.advance_to(last.first_edge);
@@ -562,10 +594,7 @@ impl Adis16407 {
             self.spi.framed_since_cs = true;
             self.spi.frames += n as u64;
             self.spi.burst_frames_done(n);
-            let register = Some(BURST_ORDER[last_word]);
-            let record =
-                read_record(self.spi.frames - 1, last, record_word, register, sample, Violations::default(), true);
-            self.spi.records[self.spi.finished()] = ReadRecord { din, ..record };
+            self.spi.records[self.spi.finished()] = record_of(n - 1);
             answered = end;
         }
         answered
@@ -580,6 +609,9 @@ impl Adis16407 {
         if !violations.contains(Violations::NO_CHIP_SELECT) {
             self.spi.last_edge = Some(timing.last_edge);
             self.spi.framed_since_cs = true;
+        }
+        if self.spi.frames == self.spi.second_in_window_number() {
+            self.spi.second_in_window = Some(self.spi.records[slot]);
         }
         self.spi.frames += 1;
         if self.spi.log.is_some() {
@@ -637,6 +669,8 @@ impl Adis16407 {
                 self.spi.cs_low = true;
                 self.spi.cs_fall = t;
                 self.spi.framed_since_cs = false;
+                self.spi.frames_at_cs_fall = self.spi.frames;
+                self.spi.second_in_window = None;
             }
             return;
         }
@@ -742,6 +776,68 @@ mod tests {
         r.extend((0..200).map(|_| rng.gen_range(0.0..2e7)));
         r.extend((0..200).map(|_| 2f64.powf(rng.gen_range(0.0..66.0))));
         r
+    }
+
+    /// The record kept of the second frame since CS fell is the latest frame's record right after that
+    /// frame, whether the frames after the command come one by one or as a run (the emulator reads it
+    /// after a burst's run): a burst (its clean path), a register read (no burst: frame 1 holds the
+    /// register's sample, frame 14 another), a software reset between the command and frame 1 (frame 1
+    /// ignored, no sample). A new CS window forgets it.
+    #[test]
+    fn the_second_frame_since_cs_fell_is_kept_as_it_ended() {
+        use crate::device::{Constant, Physical};
+        const SCLK: Ps = 1_333_333;
+        // A frame of 16 mode-3 cycles starting at `t`.
+        let timing = |t: Ps| FrameTiming {
+            first_edge: t,
+            last_edge: t + SCLK * 31 / 2,
+            sclk_period: SCLK,
+            bits: 16,
+            cpol: true,
+        };
+        let t0: Ps = 9_800_000_000;
+        let frame_0 = timing(t0 + 100_000);
+        // Frame 1 starts 2 µs after the command; the data frames follow 2 µs apart.
+        let data: Vec<FrameTiming> =
+            (0..14).map(|i| timing(frame_0.last_edge + 2_000_000 + i * (SCLK * 31 / 2 + 2_000_000))).collect();
+        let reset_s = (frame_0.last_edge + 1_000_000) as f64 * 1e-12;
+        for (name, command, reset) in [("burst", 0x4200, false), ("read", 0x0400, false), ("reset", 0x4200, true)] {
+            let make = || {
+                let mut d = Adis16407::new(&crate::profile::Device::default()).unwrap();
+                let mut p = Physical::powered_idle();
+                p.gyro_dps = [10.0, -20.0, 30.0];
+                d.set_stimulus(Box::new(Constant(p)));
+                if reset {
+                    let ov = [format!("faults.list=[{{kind=\"sensor_reset\", start_s={reset_s:e}}}]")];
+                    d.set_faults(&crate::profile::Profile::from_toml("", "test", &ov).unwrap().faults);
+                }
+                d.set_cs(true, t0);
+                d.begin_frame(&frame_0);
+                d.end_frame(command, &frame_0);
+                assert_eq!(d.second_frame_in_window(), None, "{name}");
+                d
+            };
+            let (mut one, mut run) = (make(), make());
+            let mut after_frame_1 = None;
+            for (i, tm) in data.iter().enumerate() {
+                one.begin_frame(tm);
+                one.end_frame(0, tm);
+                if i == 0 {
+                    after_frame_1 = one.last_frame();
+                }
+            }
+            let mut dout = [0u16; 14];
+            run.run_frames(&data, 0, &mut dout);
+            let first = after_frame_1.unwrap();
+            assert_eq!(first.sample_index.is_some(), !reset, "{name}: {first:?}");
+            assert_eq!(one.second_frame_in_window(), Some(first), "{name}");
+            assert_eq!(run.second_frame_in_window(), Some(first), "{name}");
+            assert_ne!(run.last_frame(), Some(first), "{name}");
+            run.set_cs(false, data[13].last_edge + 100_000);
+            assert_eq!(run.second_frame_in_window(), Some(first), "{name}: kept until CS falls again");
+            run.set_cs(true, data[13].last_edge + 200_000);
+            assert_eq!(run.second_frame_in_window(), None, "{name}");
+        }
     }
 
     #[test]

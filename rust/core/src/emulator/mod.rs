@@ -518,24 +518,30 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     fn burst(&mut self, c: &mut u64, k: u64) -> Result<Burst> {
         *c += u64::from(self.io.gpio_write);
         let t_cs = self.ps(*c);
+        // A nested ISR's burst finds CS already low (asserted by the burst it interrupted).
+        let cs_falls = !self.link.cs_asserted();
         self.link.set_gpio57(false, t_cs)?;
         let mut glitch = if t_cs >= self.glitches.watch_from { self.glitches.take(t_cs) } else { None };
         let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
         // Nothing can come between the words (no CS glitch, no nested ISR): the word loop in whole
-        // CPU cycles, in two calls to the link: the command and the first data word, noted one by one,
-        // then the other fill words as one run of characters.
+        // CPU cycles, in two calls to the link: the command, then the fill words as one run of
+        // characters. The read record needs the first data frame: the sensor keeps the second frame
+        // since CS fell, which is that frame when CS falls here.
         match self.polled_loop {
-            Some(cpu) if glitch.is_none() && !self.may_nest() && self.link.polled_burst_applies(t_cs) => {
+            Some(cpu) if cs_falls && glitch.is_none() && !self.may_nest() && self.link.polled_burst_applies(t_cs) => {
                 let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
                 // From the write to the end of the read (the poll's length depends on the wait alone).
                 let read_after =
                     |write, wait| Ok(poll.until_cycle(write, write + wait, "INT_FLAG = 1")? + read_cost - write);
-                let head = [self.profile.device.burst_command as u16, BURST_FILL];
-                let read = self.link.polled_burst(head, c, &cpu, read_after, |i, slave| b.note_frame(i, slave))?;
-                let rest: [u16; BURST_FRAMES - 2] = self.link.polled_run(BURST_FILL, c, &cpu, read_after)?;
-                b.note_frame(BURST_FRAMES - 1, self.link.slave());
-                b.words[..2].copy_from_slice(&read);
-                b.words[2..].copy_from_slice(&rest);
+                let command = [self.profile.device.burst_command as u16];
+                let [answer] =
+                    self.link.polled_burst(command, c, &cpu, read_after, |_, slave| b.note_frame(0, slave))?;
+                let data: [u16; BURST_FRAMES - 1] = self.link.polled_run(BURST_FILL, c, &cpu, read_after)?;
+                let sensor = self.link.slave();
+                b.note(1, sensor.second_frame());
+                b.note(BURST_FRAMES - 1, sensor.last_frame());
+                b.words[0] = answer;
+                b.words[1..].copy_from_slice(&data);
             }
             _ => self.burst_word_by_word(c, k, &mut b, &mut glitch)?,
         }
@@ -766,10 +772,15 @@ impl Burst {
     /// second and last words matter, and they are noted before a nested ISR can clock frames of its own.
     #[inline(always)]
     fn note_frame<S: Sensor>(&mut self, i: usize, sensor: &S) {
-        if !(i < 2 || i == BURST_FRAMES - 1) {
-            return;
+        if i < 2 || i == BURST_FRAMES - 1 {
+            self.note(i, sensor.last_frame());
         }
-        if let Some(f) = sensor.last_frame() {
+    }
+
+    /// What the read record needs from word `i`'s frame `frame`.
+    #[inline(always)]
+    fn note(&mut self, i: usize, frame: Option<FrameSummary>) {
+        if let Some(f) = frame {
             if i == 0 {
                 self.t_start_ps = f.t_start;
             }

@@ -6,7 +6,7 @@
 use super::input::{InputFeed, StreamStimulus};
 use crate::bus::{FrameTiming, SpiSlave};
 use crate::device::replay::ReplaySlave;
-use crate::device::{Adis16407, SampleStamp};
+use crate::device::{Adis16407, ReadRecord, SampleStamp};
 use crate::events::Event;
 use crate::time::Ps;
 
@@ -45,6 +45,9 @@ pub enum Reach {
 pub trait Sensor: SpiSlave + Send {
     /// The latest frame clocked at the sensor.
     fn last_frame(&self) -> Option<FrameSummary>;
+    /// The second frame clocked since CS last fell (a burst's first data frame), once it has ended:
+    /// what [`Sensor::last_frame`] gave right after it, still there after the rest of the burst.
+    fn second_frame(&self) -> Option<FrameSummary>;
     /// Take the sensor's events out.
     fn drain_events(&mut self) -> Vec<Event>;
     /// How far the input reaches.
@@ -95,16 +98,25 @@ impl SpiSlave for StreamedDevice {
     }
 }
 
+/// What the read records need of one of the device's frames.
+fn device_frame(f: ReadRecord) -> FrameSummary {
+    FrameSummary {
+        t_start: f.t_start,
+        t_end: f.t_end,
+        sample: f
+            .sample_index
+            .map(|index| SampleStamp { index, t: f.t_start.saturating_sub(f.sample_age_ps.unwrap_or(0)) }),
+    }
+}
+
 impl Sensor for StreamedDevice {
     #[inline]
     fn last_frame(&self) -> Option<FrameSummary> {
-        self.device.last_frame().map(|f| FrameSummary {
-            t_start: f.t_start,
-            t_end: f.t_end,
-            sample: f
-                .sample_index
-                .map(|index| SampleStamp { index, t: f.t_start.saturating_sub(f.sample_age_ps.unwrap_or(0)) }),
-        })
+        self.device.last_frame().map(device_frame)
+    }
+    #[inline]
+    fn second_frame(&self) -> Option<FrameSummary> {
+        self.device.second_frame_in_window().map(device_frame)
     }
     fn drain_events(&mut self) -> Vec<Event> {
         self.device.drain_events()
@@ -114,14 +126,22 @@ impl Sensor for StreamedDevice {
     }
 }
 
+impl ReplaySlave {
+    /// What the read records need of one of the replay's frames of the current window (the sample is
+    /// the window's recorded burst).
+    fn window_frame(&self, f: ReadRecord) -> FrameSummary {
+        FrameSummary { t_start: f.t_start, t_end: f.t_end, sample: self.last_sample() }
+    }
+}
+
 impl Sensor for ReplaySlave {
     #[inline]
     fn last_frame(&self) -> Option<FrameSummary> {
-        ReplaySlave::last_frame(self).map(|f| FrameSummary {
-            t_start: f.t_start,
-            t_end: f.t_end,
-            sample: self.last_sample(),
-        })
+        ReplaySlave::last_frame(self).map(|f| self.window_frame(f))
+    }
+    #[inline]
+    fn second_frame(&self) -> Option<FrameSummary> {
+        self.second_frame_in_window().map(|f| self.window_frame(f))
     }
     fn drain_events(&mut self) -> Vec<Event> {
         ReplaySlave::drain_events(self)
