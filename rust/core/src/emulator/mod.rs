@@ -67,6 +67,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     /// The burst's word loop in CPU cycles, when SYSCLKOUT is a whole multiple of LSPCLK.
     polled_loop: Option<PolledLoop>,
     bursts_per_tick: usize,
+    /// The timer period, s (as the read rows' assumed sample times use it).
+    tick_period_s: f64,
     /// Next timer tick to service.
     tick: u64,
     /// SYSCLKOUT cycle at which the CPU finishes the ISR it is running.
@@ -164,6 +166,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let stages = stage_costs(profile, costs)?;
         let zero = T::from_f64(0.0, crate::numerics::QClass::Rate);
         let bursts_per_tick = if profile.firmware.schedule == Schedule::BackToBack { 3 } else { 1 };
+        let tick_period_s = ps_to_s(timer.tick_ps(1));
         let aligning = profile.firmware.initial_attitude == crate::profile::InitialAttitude::Level;
         let poller = Poller {
             sysclk: clocks.sysclkout,
@@ -186,6 +189,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             }),
             poller,
             bursts_per_tick,
+            tick_period_s,
             tick: 1,
             cpu_free: 0,
             next_pending: 1,
@@ -272,8 +276,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let ticks_ahead = ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(1 << 18) as usize;
         self.reserve_rows(ticks_ahead);
         loop {
-            let tick_ps = self.timer.tick_ps(self.tick);
-            let horizon_ps = if ended { tick_ps } else { self.timer.tick_ps(self.tick + 1) };
+            let horizon_ps = self.timer.tick_ps(if ended { self.tick } else { self.tick + 1 });
             if ps_to_s(horizon_ps) > last_s {
                 return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
             }
@@ -340,7 +343,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
 
         let (budget_at, reads_at, cycles_at) = (self.out.budget.len(), self.out.reads.len(), self.out.cycles.len());
         let nested_before = self.nested;
-        let end = self.isr(k, start, busy)?;
+        let end = self.isr(k, tick_ps, start, busy)?;
         self.cpu_free = end;
         if self.nested != nested_before {
             // A nested ISR wrote its rows inside this one's: put every row back in tick/time order.
@@ -388,17 +391,16 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 format!("tick {inner} preempts the ISR of tick {k}: it runs inside it (SPI-A and the firmware state are shared)"),
             ));
             self.depth += 1;
-            let end = self.isr(inner, *c, true);
+            let end = self.isr(inner, self.ps(self.timer.period_cycles() * inner), *c, true);
             self.depth -= 1;
             *c = end?;
         }
         Ok(())
     }
 
-    /// One ISR of tick `k` from cycle `start`; returns the cycle it ends at.
-    fn isr(&mut self, k: u64, start: u64, overrun: bool) -> Result<u64> {
+    /// One ISR of tick `k` (arrived at `tick_ps`) from cycle `start`; returns the cycle it ends at.
+    fn isr(&mut self, k: u64, tick_ps: Ps, start: u64, overrun: bool) -> Result<u64> {
         let tick_cycle = self.timer.period_cycles() * k;
-        let tick_ps = self.ps(tick_cycle);
         let mut c = start + self.stages.entry;
         let entry_end = c;
         let mut bursts = [Burst::default(); 3];
@@ -425,9 +427,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
 
         // Assemble the step's rate samples according to the schedule.
         let step_ready = self.schedule(&decoded, &mut c);
-        let mut attitude_end = c;
-        let mut euler_end = c;
-        let mut nav_end = c;
+        let schedule_end = c;
+        // Where the attitude, Euler and navigation stages ended, when they ran.
+        let mut stage_ends = None;
         if step_ready {
             let t_end_s = ps_to_s(tick_ps);
             if self.aligning {
@@ -440,13 +442,13 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 self.fw.update_attitude(&self.rates)?;
                 c += self.stages.attitude.cycles;
                 self.maybe_nest(&mut c, k)?;
-                attitude_end = c;
+                let attitude_end = c;
                 let e = self.fw.euler();
                 c += self.stages.euler.cycles;
-                euler_end = c;
+                let euler_end = c;
                 self.fw.navigate(&self.last_accel);
                 c += self.stages.navigation.cycles;
-                nav_end = c;
+                stage_ends = Some([attitude_end, euler_end, c]);
                 self.record_cycle(tick_ps, &e);
             }
             self.rates[0] = self.rates[2];
@@ -454,6 +456,14 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         }
         c += self.stages.exit;
         let period = self.timer.period_cycles();
+        // Stages that did not run end where the schedule did (usually the decode's end): one
+        // conversion to picoseconds serves them all.
+        let decode_end_ps = self.ps(decode_end);
+        let [attitude_end_ps, euler_end_ps, nav_end_ps] = match stage_ends {
+            Some(ends) => ends.map(|e| self.ps(e)),
+            None if schedule_end == decode_end => [decode_end_ps; 3],
+            None => [self.ps(schedule_end); 3],
+        };
         self.out.budget.push(BudgetRow {
             tick: k,
             tick_ps,
@@ -461,10 +471,10 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             entry_end_ps: self.ps(entry_end),
             spi_start_ps: bursts[0].t_start_ps,
             spi_end_ps: self.ps(spi_end),
-            decode_end_ps: self.ps(decode_end),
-            attitude_end_ps: self.ps(attitude_end),
-            euler_end_ps: self.ps(euler_end),
-            nav_end_ps: self.ps(nav_end),
+            decode_end_ps,
+            attitude_end_ps,
+            euler_end_ps,
+            nav_end_ps,
             end_ps: self.ps(c),
             deadline_ps: self.ps(tick_cycle + period),
             step: step_ready,
@@ -634,7 +644,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     }
 
     fn record_read(&mut self, tick: u64, burst: usize, b: &Burst, rate: &Vec3<T>, accel: &Vec3<T>) {
-        let period_s = ps_to_s(self.timer.tick_ps(1));
+        let period_s = self.tick_period_s;
         let assumed_s = match self.profile.firmware.schedule {
             Schedule::HalfStep | Schedule::Endpoint => tick as f64 * period_s,
             // Three bursts treated as t, t+T/2, t+T of the step ending at this tick.

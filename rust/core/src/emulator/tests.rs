@@ -384,3 +384,40 @@ fn nesting_inside_a_burst_corrupts_it() {
     assert!(out.events.iter().any(|e| e.kind == "nested_interrupt"));
     assert!(out.events.iter().any(|e| e.severity == Severity::Error && e.kind != "overrun"));
 }
+
+/// A tick whose attitude, Euler and navigation stages do not run shows them ending where the schedule
+/// did: at the decode's end, or after the endpoint interpolation of a step taken while aligning.
+#[test]
+fn stages_that_do_not_run_end_where_the_schedule_did() {
+    let mut p = reference_f64();
+    p.firmware.schedule = Schedule::Endpoint;
+    p.firmware.initial_attitude = crate::profile::InitialAttitude::Level;
+    p.firmware.alignment_s = 0.2;
+    let mut emu = Emulator::<f64>::new(&p, &costs()).unwrap();
+    let interpolation = emu.stage_costs().interpolation.cycles;
+    assert!(interpolation > 0);
+    let (t, samples) = constant_rate(0.4, [0.0; 3]);
+    emu.push_input(&t, samples).unwrap();
+    emu.end_input();
+    emu.run().unwrap();
+    let out = emu.take_output();
+    // Picoseconds back to the cycle (exact: a SYSCLKOUT period is over 1 ps, see `cycles_per_cycle_of`).
+    let cycle = |ps: Ps| emu.sysclk.ps_to_cycles_ceil(ps);
+    let solved: std::collections::BTreeSet<Ps> = out.cycles.iter().map(|r| r.t_ps).collect();
+    let (mut idle, mut aligning, mut solving) = (0, 0, 0);
+    for b in &out.budget {
+        let decode_end = cycle(b.decode_end_ps);
+        let ends = [b.attitude_end_ps, b.euler_end_ps, b.nav_end_ps].map(cycle);
+        if solved.contains(&b.tick_ps) {
+            solving += 1;
+            assert!(ends[0] > decode_end + interpolation && ends[0] < ends[1] && ends[1] < ends[2], "{b:?}");
+        } else if b.step {
+            aligning += 1;
+            assert_eq!(ends, [decode_end + interpolation; 3], "{b:?}");
+        } else {
+            idle += 1;
+            assert_eq!(ends, [decode_end; 3], "{b:?}");
+        }
+    }
+    assert!(idle == 1 && aligning > 10 && solving > 10, "{idle} {aligning} {solving}");
+}

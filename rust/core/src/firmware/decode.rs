@@ -65,6 +65,23 @@ pub struct DecodeReport {
 }
 
 impl DecodeReport {
+    /// The flags of the six 14-bit codes (X/Y/Z gyro, X/Y/Z accel); `gyro_lsb_differs`: the published
+    /// decode's gyro LSB is not the configured range's, so every nonzero gyro code decodes differently.
+    /// Each flag is one mask over the six channels (the compiler packs them together).
+    fn of_codes(codes: &[u16; 6], gyro_lsb_differs: bool) -> DecodeReport {
+        fn mask(codes: &[u16; 6], flagged: impl Fn(usize, u16) -> bool) -> u8 {
+            (0..6).fold(0, |m, i| m | u8::from(flagged(i, codes[i])) << i)
+        }
+        let range = |i: usize| if i < 3 { GYRO_RANGE } else { ACCEL_RANGE };
+        let stale = mask(codes, |i, code| code > range(i).0 && code < range(i).1);
+        let nonzero_gyro = mask(codes, |i, code| i < 3 && code != 0);
+        DecodeReport {
+            stale,
+            saturated: mask(codes, |_, code| code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE),
+            differs: stale | if gyro_lsb_differs { nonzero_gyro } else { 0 },
+        }
+    }
+
     /// True when nothing is to report.
     pub fn is_clean(&self) -> bool {
         self.stale | self.saturated | self.differs == 0
@@ -196,24 +213,13 @@ impl<T: Scalar> Decoder<T> {
 
     /// Decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (burst words 2…7).
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
-        let mut report = DecodeReport::default();
+        let codes = words.map(|w| w & VALID_BITS_MASK);
+        let report = DecodeReport::of_codes(&codes, !self.published_matches_range);
         let mut out = [self.zero; 6];
-        for (i, word) in words.iter().enumerate() {
-            let code = word & VALID_BITS_MASK;
-            let bit = 1u8 << i;
+        for (i, &code) in codes.iter().enumerate() {
             let gyro = i < 3;
             let (range, published_scale, correct_scale) =
                 if gyro { (GYRO_RANGE, self.published_gyro, self.gyro) } else { (ACCEL_RANGE, self.accel, self.accel) };
-            if code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE {
-                report.saturated |= bit;
-            }
-            let published_stale = code > range.0 && code < range.1;
-            if published_stale {
-                report.stale |= bit;
-            }
-            if published_stale || (gyro && !self.published_matches_range && code != 0) {
-                report.differs |= bit;
-            }
             // Both decodes of a channel share the unit (the same π/180 or g), so the held value of
             // either converts with `correct_scale`'s unit.
             let held = match self.mode {
@@ -351,6 +357,28 @@ mod tests {
                 let lsb = 2f64.powi(-(q as i32));
                 let constant_lsb = 2f64.powi(if i < 3 { -28 } else { -22 });
                 assert!(err.abs() < n.abs() * constant_lsb + lsb, "{mode:?} word {i}: {err:e}");
+            }
+        }
+    }
+
+    /// The flags of every 14-bit code on every channel, against the published tests written out word
+    /// by word.
+    #[test]
+    fn flags_of_every_code() {
+        for code in 0..=VALID_BITS_MASK {
+            for i in 0..6 {
+                for gyro_lsb_differs in [false, true] {
+                    let mut codes = [0u16; 6];
+                    codes[i] = code;
+                    let r = DecodeReport::of_codes(&codes, gyro_lsb_differs);
+                    let (hi, lo) = if i < 3 { (0x1770, 0x2890) } else { (0x1519, 0x2AE7) };
+                    let stale = hi < code && code < lo;
+                    let saturated = code == 0x1FFF || code == 0x2000;
+                    let differs = stale || (i < 3 && gyro_lsb_differs && code != 0);
+                    let bit = |flag: bool| u8::from(flag) << i;
+                    let want = DecodeReport { stale: bit(stale), saturated: bit(saturated), differs: bit(differs) };
+                    assert_eq!(r, want, "code 0x{code:04X} on channel {i}");
+                }
             }
         }
     }

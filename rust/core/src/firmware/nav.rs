@@ -143,7 +143,11 @@ impl<T: Scalar> EarthModel<T> {
 
     /// One navigation step of `dt` seconds with T = C_b^n and the specific force f^b (m/s²).
     pub fn step(&self, s: &mut NavState<T>, c_bn: &Mat3<T>, f_b: &Vec3<T>, dt: T) {
-        let r = self.rates(s);
+        self.step_with_rates(s, &self.rates(s), c_bn, f_b, dt);
+    }
+
+    /// [`EarthModel::step`] with the state's earth rates `r` (= `self.rates(s)`) already computed.
+    pub fn step_with_rates(&self, s: &mut NavState<T>, r: &EarthRates<T>, c_bn: &Mat3<T>, f_b: &Vec3<T>, dt: T) {
         let g = self.gravity(r.sin_lat, s.height);
         let f_n = [0, 1, 2].map(|i| c_bn[i][0] * f_b[0] + c_bn[i][1] * f_b[1] + c_bn[i][2] * f_b[2]);
         let a = [0, 1, 2].map(|i| self.two * r.w_ie[i] + r.w_en[i]);

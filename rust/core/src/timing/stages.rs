@@ -182,6 +182,9 @@ fn counted_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCost
     let (attitude, attitude_counts) = count(|| fw.update_attitude(&rates));
     attitude?;
     let (_, euler) = count(|| fw.euler());
+    // The target's navigation computes the earth rates itself (the emulated firmware reuses the
+    // attitude update's, an emulation shortcut).
+    fw.forget_earth_rates();
     let (_, navigation) = count(|| fw.navigate(&f_b));
     let (_, interpolation) = count(|| {
         if profile.firmware.schedule == Schedule::Endpoint {
