@@ -10,6 +10,7 @@
 //!   every rising edge samples DIN;
 //! - at one edge, every sample happens before every drive (outputs change after the hold time).
 
+use super::transaction::TimingOf;
 use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::{CharShape, Frame};
 use crate::time::{Clock, Ps};
@@ -65,14 +66,13 @@ impl Waveform {
     /// The timing, as the slave sees it, of a character of this waveform started on LSPCLK cycle
     /// `start_cycle`.
     pub fn timing(&self, start_cycle: u64) -> FrameTiming {
-        let at = |off: u32| self.lspclk.cycles_to_ps(start_cycle + off as u64);
-        FrameTiming {
-            first_edge: at(self.offsets[0]),
-            last_edge: at(self.offsets[self.count - 1]),
-            sclk_period: self.sclk_period,
-            bits: self.shape.bits,
-            cpol: self.shape.scheme.polarity,
-        }
+        self.timing_of().at(start_cycle)
+    }
+
+    /// The timing of characters of this waveform for any start cycle (its first and last edges).
+    pub fn timing_of(&self) -> TimingOf {
+        let edges = (self.offsets[0] as u64, self.offsets[self.count - 1] as u64);
+        TimingOf::with_edges(edges, &self.lspclk, self.sclk_period, self.shape.bits, self.shape.scheme.polarity)
     }
 }
 

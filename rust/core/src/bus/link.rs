@@ -128,18 +128,15 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         if self.log.is_some() || !lines.selected || simo_after != lines.simo_before {
             return spi::transfer_each(self, run, rx);
         }
-        self.run_timings.clear();
-        match self.level {
+        let timing = match self.level {
             BusLevel::Transaction => {
                 let period = self.sclk_period(first);
-                let timing = transaction::TimingOf::new(&first.shape, &self.lspclk, period);
-                self.run_timings.extend(run.starts.iter().map(|&s| timing.at(s)));
+                transaction::TimingOf::new(&first.shape, &self.lspclk, period)
             }
-            BusLevel::Bit => {
-                let waveform = *self.waveform_of(first);
-                self.run_timings.extend(run.starts.iter().map(|&s| waveform.timing(s)));
-            }
-        }
+            BusLevel::Bit => self.waveform_of(first).timing_of(),
+        };
+        self.run_timings.clear();
+        timing.extend_run(run.starts, &mut self.run_timings);
         self.slave.run_frames(&self.run_timings, din, rx);
         // What the master samples: each character's word through the closed form or the walk's map
         // (the walk depends on the word, the shape and the lines, not on the character's time).

@@ -53,7 +53,16 @@ impl TimingOf {
         } else {
             (0, shape.edge_cycle(shape.edges() - 1))
         };
-        TimingOf { first, last, lspclk: *lspclk, sclk_period, bits: shape.bits, cpol: shape.scheme.polarity }
+        TimingOf::with_edges((first, last), lspclk, sclk_period, shape.bits, shape.scheme.polarity)
+    }
+
+    /// The timing of characters whose first and last SCLK edges come `edges` = (first, last) LSPCLK
+    /// cycles after their start (`first ≤ last`), of `bits` SCLK cycles, SCLK idling high if `cpol`.
+    #[inline]
+    pub fn with_edges(edges: (u64, u64), lspclk: &Clock, sclk_period: Ps, bits: u8, cpol: bool) -> TimingOf {
+        let (first, last) = edges;
+        debug_assert!(first <= last);
+        TimingOf { first, last, lspclk: *lspclk, sclk_period, bits, cpol }
     }
 
     /// The timing of the character started on LSPCLK cycle `start_cycle`.
@@ -66,6 +75,28 @@ impl TimingOf {
             bits: self.bits,
             cpol: self.cpol,
         }
+    }
+
+    /// [`TimingOf::at`] of each of `starts` (in increasing order), appended to `out`. A run converts
+    /// its start cycles with the overflow test made once, and each last edge from its first edge's
+    /// conversion ([`crate::time::CyclesToPs::after`]): one division per character instead of two.
+    pub fn extend_run(&self, starts: &[u64], out: &mut Vec<FrameTiming>) {
+        let Some(&latest) = starts.last() else { return };
+        debug_assert!(starts.windows(2).all(|w| w[0] < w[1]), "a run's starts increase");
+        let Some(exact) = self.lspclk.cycles_to_ps_up_to(latest + self.first) else {
+            return out.extend(starts.iter().map(|&s| self.at(s)));
+        };
+        let edge_to_edge = exact.span(self.last - self.first);
+        out.extend(starts.iter().map(|&s| {
+            let first_edge = exact.split(s + self.first);
+            FrameTiming {
+                first_edge: first_edge.ps,
+                last_edge: exact.after(first_edge, edge_to_edge),
+                sclk_period: self.sclk_period,
+                bits: self.bits,
+                cpol: self.cpol,
+            }
+        }));
     }
 }
 
@@ -123,5 +154,40 @@ pub fn simo_after(frame: &Frame, lines: Lines) -> bool {
         frame.tx_bit(frame.shape.bits as u32 - 1)
     } else {
         lines.floating
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dsp::spi::ClockScheme;
+
+    #[test]
+    fn a_run_of_timings_is_each_start_timed_alone() {
+        let lspclks = [Clock::new(75_000_000, 2), Clock::from_hz(150_000_000 / 14), Clock::new(7, 3)];
+        let mut run = Vec::new();
+        for lspclk in lspclks {
+            for (bits, divisor, polarity, phase) in
+                [(16, 50, true, true), (16, 4, false, false), (8, 7, true, false), (1, 3, false, true)]
+            {
+                let shape = CharShape { bits, divisor, scheme: ClockScheme { polarity, phase } };
+                let timing = TimingOf::new(&shape, &lspclk, 1_333_333);
+                // A burst's spacing, from small starts to runs just inside, across and past the largest
+                // count the 64-bit conversion takes (the run then converts each start alone).
+                let (mut lo, mut hi) = (0u64, u64::MAX / 2);
+                while lo < hi {
+                    let mid = lo + (hi - lo).div_ceil(2);
+                    (lo, hi) = if lspclk.cycles_to_ps_up_to(mid).is_some() { (mid, hi) } else { (lo, mid - 1) };
+                }
+                let bound = lo - 60;
+                for first in [0, 3, 123_456_789, bound - 13_000, bound - 11_000, bound - 5_000, bound + 1] {
+                    let starts: Vec<u64> = (0..14).map(|i| first + 853 * i + i * i % 5).collect();
+                    run.clear();
+                    timing.extend_run(&starts, &mut run);
+                    let alone: Vec<FrameTiming> = starts.iter().map(|&s| timing.at(s)).collect();
+                    assert_eq!(run, alone, "{lspclk:?} {shape:?} from {first}");
+                }
+            }
+        }
     }
 }

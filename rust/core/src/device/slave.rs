@@ -206,6 +206,9 @@ fn s(t: f64) -> f64 {
     t / PS_PER_S as f64
 }
 
+/// Whole picoseconds below this are exact in f64, and so is one more.
+const EXACT_PS: Ps = 1 << 53;
+
 /// `measured` (whole ps, floored by the bus) falls short of `required` ps, with a 1 ps allowance.
 /// This is the definition of every timing rule; the per-frame checks use its integer forms
 /// [`MinPs`] and [`short_ps`], which give the same answer for every `measured`.
@@ -217,8 +220,7 @@ fn short(measured: Ps, required_ps: f64) -> bool {
 /// both values and `measured + 1` are exact in f64, so the float rule is the integer one; beyond
 /// (2.5 hours) the float rule itself decides.
 fn short_ps(measured: Ps, required: Ps) -> bool {
-    const EXACT: Ps = 1 << 53;
-    if measured < EXACT && required < EXACT {
+    if measured < EXACT_PS && required < EXACT_PS {
         measured + 1 < required
     } else {
         short(measured, required as f64)
@@ -254,6 +256,17 @@ impl MinPs {
             }
         }
         MinPs { first_ok: u128::from(lo) }
+    }
+
+    /// The bound of [`short_ps`] against the whole-ps `required`: `short(m)` equals
+    /// `short_ps(m, required)` for every `m`. Below 2^53 that rule is `m + 1 < required` for every `m`
+    /// (a larger `m` exceeds `required`), beyond it the float rule, which [`MinPs::new`] bounds.
+    pub fn whole(required: Ps) -> MinPs {
+        if required < EXACT_PS {
+            MinPs { first_ok: u128::from(required.saturating_sub(1)) }
+        } else {
+            MinPs::new(required as f64)
+        }
     }
 
     /// `measured` breaks the rule.
@@ -540,6 +553,7 @@ impl Adis16407 {
         if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(shape, true).is_empty() {
             return 0;
         }
+        let min_stall = MinPs::whole(shape.sclk_period);
         let mut answered = 0;
         while let Some(timing) = timings.get(answered) {
             // The stretch's first frame: every check, as `start_frame` makes them.
@@ -556,16 +570,13 @@ impl Adis16407 {
             // The frames after it up to the next device event (their first edges, in time order,
             // are past `now` and the end of any reset), the burst's last word, or a short stall.
             let horizon = self.next_event();
-            let words_left = burst.words.len() - burst.next;
-            let mut end = answered + 1;
-            while let Some(next) = timings.get(end) {
-                let stall = next.first_edge.saturating_sub(timings[end - 1].last_edge);
-                if end - answered == words_left || next.first_edge >= horizon || short_ps(stall, shape.sclk_period) {
-                    break;
-                }
-                end += 1;
-            }
-            let n = end - answered;
+            let last_word = timings.len().min(answered + burst.words.len() - burst.next);
+            let follows = |pair: &[FrameTiming]| {
+                let stall = pair[1].first_edge.saturating_sub(pair[0].last_edge);
+                pair[1].first_edge < horizon && !min_stall.short(stall)
+            };
+            let n = 1 + timings[answered..last_word].windows(2).take_while(|pair| follows(pair)).count();
+            let end = answered + n;
             let words = burst.next..burst.next + n;
             dout[answered..end].copy_from_slice(&burst.words[words.clone()]);
             // The record of the stretch's frame `k` (`k` < n).
@@ -863,6 +874,7 @@ mod tests {
         for &required in &special {
             for &m in &special {
                 assert_eq!(short_ps(m, required), short(m, required as f64), "{m} against {required}");
+                assert_eq!(MinPs::whole(required).short(m), short_ps(m, required), "{m} against {required}");
             }
         }
         for _ in 0..100_000 {
@@ -873,6 +885,7 @@ mod tests {
                 rng.gen::<u64>() >> rng.gen_range(0..64)
             };
             assert_eq!(short_ps(m, required), short(m, required as f64), "{m} against {required}");
+            assert_eq!(MinPs::whole(required).short(m), short_ps(m, required), "{m} against {required}");
         }
     }
 }

@@ -304,7 +304,7 @@ pub fn transfer_each<W: SpiWire>(wire: &mut W, run: &FrameRun, rx: &mut [u16]) {
 pub struct FrameRun<'a> {
     /// The first character.
     pub first: Frame,
-    /// The LSPCLK cycle each character starts on (the first is `first.start_cycle`).
+    /// The LSPCLK cycle each character starts on, in increasing order (the first is `first.start_cycle`).
     pub starts: &'a [u64],
     /// The clock the characters are timed by.
     pub lspclk: Clock,
