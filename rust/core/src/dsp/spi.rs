@@ -271,10 +271,12 @@ pub struct PolledLoop {
 /// worked out each time.
 const POLL_PHASES: usize = 16;
 
-/// What one word of a polled loop does from a write at some phase of LSPCLK: SYSCLKOUT cycles to the
-/// end of its read, and the next write's position relative to this one (whole LSPCLK cycles, new phase).
+/// What one word of a polled loop does from a write at some phase of LSPCLK: the LSPCLK cycles from
+/// the write's cycle to its character's start, the SYSCLKOUT cycles to the end of its read, and the
+/// next write's position relative to this one (whole LSPCLK cycles, new phase).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct PollStep {
+    start_after: u64,
     to_read: u64,
     lspclk_cycles: u64,
     next_phase: u64,
@@ -792,25 +794,25 @@ impl SpiA {
         let (mut q, mut phase) = k.div_rem(*c + cpu.before_write);
         let mut last_read = *c;
         for start in &mut starts {
-            let wait;
-            (*start, wait) = self.polled_word((q, phase), cpu);
             let remembered = steps.get(phase as usize).copied().flatten();
             let step = match remembered {
                 Some(step) => step,
                 None => {
+                    let (start, wait) = self.polled_word((q, phase), cpu);
                     let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
                         // A poll that fails: the word-by-word loop leaves the registers as the register
                         // path does, and returns the error (nothing has changed yet).
                         return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
                     };
                     let (lspclk_cycles, next_phase) = k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
-                    let step = PollStep { to_read, lspclk_cycles, next_phase };
+                    let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
                     if let Some(slot) = steps.get_mut(phase as usize) {
                         *slot = Some(step);
                     }
                     step
                 }
             };
+            *start = q + step.start_after;
             last_read = q * k.get() + phase + step.to_read;
             (q, phase) = (q + step.lspclk_cycles, step.next_phase);
         }
