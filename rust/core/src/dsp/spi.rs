@@ -348,6 +348,7 @@ pub struct FrameRun<'a> {
 
 impl FrameRun<'_> {
     /// Character `i` of the run.
+    #[inline]
     pub fn frame(&self, i: usize) -> Frame {
         let start_cycle = self.starts[i];
         Frame {
@@ -792,7 +793,6 @@ impl SpiA {
         let steps = steps.for_loop(made_for);
         let mut starts = [0u64; N];
         let (mut q, mut phase) = k.div_rem(*c + cpu.before_write);
-        let mut last_read = *c;
         for start in &mut starts {
             let remembered = steps.get(phase as usize).copied().flatten();
             let step = match remembered {
@@ -813,7 +813,6 @@ impl SpiA {
                 }
             };
             *start = q + step.start_after;
-            last_read = q * k.get() + phase + step.to_read;
             (q, phase) = (q + step.lspclk_cycles, step.next_phase);
         }
         if N == 0 {
@@ -829,6 +828,8 @@ impl SpiA {
         let read = rx.map(|r| spidat_after(&first, r & mask));
         self.complete(&run.frame(N - 1), rx[N - 1] & mask);
         self.read_rxbuf();
+        // The loop has stepped on to the next write: the last read is its store and BUFFULL poll before.
+        let last_read = q * k.get() + phase - cpu.before_write - cpu.after_read;
         self.now = cpu.sysclk.cycles_to_ps(last_read);
         *c = last_read + cpu.after_read;
         Ok(read)
