@@ -6,7 +6,9 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
-use crate::dsp::spi::{self, CharShape, FlagTime, Frame, FrameRun, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{
+    self, CharShape, FlagTime, Frame, FrameRun, PollSteps, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF,
+};
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -345,15 +347,16 @@ impl<S: SpiSlave> SpiLink<S> {
     }
 
     /// [`SpiLink::polled_burst`] of `N` copies of the word `tx`, the characters clocked as one run
-    /// (see [`SpiA::polled_run`]).
+    /// (see [`SpiA::polled_run`]; `steps` are kept by the caller for its `read_after`).
     pub fn polled_run<const N: usize>(
         &mut self,
         tx: u16,
         c: &mut u64,
         cpu: &PolledLoop,
         read_after: impl Fn(u64, u64) -> Result<u64>,
+        steps: &mut PollSteps,
     ) -> Result<[u16; N]> {
-        self.spi.polled_run(tx, c, cpu, read_after, &mut self.wires)
+        self.spi.polled_run(tx, c, cpu, read_after, steps, &mut self.wires)
     }
 
     /// Turn the one-step path of [`SpiLink::write_poll_read`] on or off (on by default). Off, every

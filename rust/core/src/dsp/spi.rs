@@ -267,6 +267,42 @@ pub struct PolledLoop {
     pub after_read: u64,
 }
 
+/// Phases of a polled loop's write remembered (k ≤ 14 on the F28335: 2·LOSPCP); a higher phase is
+/// worked out each time.
+const POLL_PHASES: usize = 16;
+
+/// What one word of a polled loop does from a write at some phase of LSPCLK: the LSPCLK cycles from
+/// the write's cycle to its character's start, the SYSCLKOUT cycles to the end of its read, and the
+/// next write's position relative to this one (whole LSPCLK cycles, new phase).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct PollStep {
+    start_after: u64,
+    to_read: u64,
+    lspclk_cycles: u64,
+    next_phase: u64,
+}
+
+/// The steps of [`SpiA::polled_run`] per write phase, kept from run to run by the caller for one
+/// `read_after` function (the firmware's poll and read): they depend otherwise only on the loop's
+/// costs, the clock ratio, the start latency and the character's length, and are worked out again
+/// when any of these changes.
+#[derive(Debug, Clone, Default)]
+pub struct PollSteps {
+    /// SYSCLKOUT per LSPCLK, start latency, character length (LSPCLK cycles), `before_write`, `after_read`.
+    made_for: Option<[u64; 5]>,
+    by_phase: [Option<PollStep>; POLL_PHASES],
+}
+
+impl PollSteps {
+    /// The table for `made_for`, emptied if it was made for anything else.
+    fn for_loop(&mut self, made_for: [u64; 5]) -> &mut [Option<PollStep>; POLL_PHASES] {
+        if self.made_for != Some(made_for) {
+            *self = PollSteps { made_for: Some(made_for), ..PollSteps::default() };
+        }
+        &mut self.by_phase
+    }
+}
+
 /// What the SPI pins are connected to: told about each character's start and end, in time order.
 pub trait SpiWire {
     /// The character starts (called once the peripheral has advanced to `frame.start_ps`).
@@ -312,6 +348,7 @@ pub struct FrameRun<'a> {
 
 impl FrameRun<'_> {
     /// Character `i` of the run.
+    #[inline]
     pub fn frame(&self, i: usize) -> Frame {
         let start_cycle = self.starts[i];
         Frame {
@@ -738,51 +775,44 @@ impl SpiA {
     /// the write on SYSCLKOUT cycle q·k + φ (0 ≤ φ < k) the character starts on LSPCLK cycle
     /// q + [φ > 0] + latency, INT_FLAG sets ([φ > 0] + latency + length)·k − φ cycles after the write
     /// (q cancels), so the poll's length, the next write's distance and the next phase are functions
-    /// of φ. Each is worked out once per phase (at most k of them) and reused.
+    /// of φ. Each is worked out once per phase (at most k of them) and kept in `steps` for the next
+    /// runs with the same `read_after` (see [`PollSteps`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn polled_run<W: SpiWire, const N: usize>(
         &mut self,
         tx: u16,
         c: &mut u64,
         cpu: &PolledLoop,
         read_after: impl Fn(u64, u64) -> Result<u64>,
+        steps: &mut PollSteps,
         wire: &mut W,
     ) -> Result<[u16; N]> {
-        /// Phases remembered (k ≤ 14 on the F28335: 2·LOSPCP); a higher phase is worked out each time.
-        const PHASES: usize = 16;
-        /// What one word does from a write at some phase: cycles to the end of its read, and the
-        /// next write's position relative to this one (whole LSPCLK cycles, new phase).
-        #[derive(Clone, Copy)]
-        struct Step {
-            to_read: u64,
-            lspclk_cycles: u64,
-            next_phase: u64,
-        }
         let k = cpu.sysclk_per_lspclk;
-        let mut steps = [None::<Step>; PHASES];
+        let made_for =
+            [k.get(), self.start_latency_lspclk, self.shape.length_cycles(), cpu.before_write, cpu.after_read];
+        let steps = steps.for_loop(made_for);
         let mut starts = [0u64; N];
         let (mut q, mut phase) = k.div_rem(*c + cpu.before_write);
-        let mut last_read = *c;
         for start in &mut starts {
-            let wait;
-            (*start, wait) = self.polled_word((q, phase), cpu);
             let remembered = steps.get(phase as usize).copied().flatten();
             let step = match remembered {
                 Some(step) => step,
                 None => {
+                    let (start, wait) = self.polled_word((q, phase), cpu);
                     let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
                         // A poll that fails: the word-by-word loop leaves the registers as the register
                         // path does, and returns the error (nothing has changed yet).
                         return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
                     };
                     let (lspclk_cycles, next_phase) = k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
-                    let step = Step { to_read, lspclk_cycles, next_phase };
+                    let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
                     if let Some(slot) = steps.get_mut(phase as usize) {
                         *slot = Some(step);
                     }
                     step
                 }
             };
-            last_read = q * k.get() + phase + step.to_read;
+            *start = q + step.start_after;
             (q, phase) = (q + step.lspclk_cycles, step.next_phase);
         }
         if N == 0 {
@@ -798,6 +828,8 @@ impl SpiA {
         let read = rx.map(|r| spidat_after(&first, r & mask));
         self.complete(&run.frame(N - 1), rx[N - 1] & mask);
         self.read_rxbuf();
+        // The loop has stepped on to the next write: the last read is its store and BUFFULL poll before.
+        let last_read = q * k.get() + phase - cpu.before_write - cpu.after_read;
         self.now = cpu.sysclk.cycles_to_ps(last_read);
         *c = last_read + cpu.after_read;
         Ok(read)
@@ -1455,7 +1487,8 @@ mod tests {
                     let (want, c, a, pa) = by_register(&[0x5A5A; 24]);
                     let (mut r, mut pr) = fresh();
                     let mut c_run = c0;
-                    let run: [u16; 24] = r.polled_run(0x5A5A, &mut c_run, &cpu, read_after, &mut pr).unwrap();
+                    let run: [u16; 24] =
+                        r.polled_run(0x5A5A, &mut c_run, &cpu, read_after, &mut PollSteps::default(), &mut pr).unwrap();
                     assert_eq!((run.to_vec(), c_run, &pr.finished), (want, c, &pa.finished), "{case}");
                     assert_eq!(
                         (r.now, r.frames, r.int_flag, r.rxbuf, r.spidat, r.txbuf, r.int_flag_at),
@@ -1464,6 +1497,34 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+    /// Steps kept from run to run are worked out again when the loop's costs, the start latency or
+    /// the character's length change: each run equals the same run with fresh steps.
+    #[test]
+    fn kept_poll_steps_follow_the_loop_and_the_character() {
+        let sysclk = Clock::from_hz(150_000_000);
+        let k = 4;
+        // A 5-cycle poll, then a 3-cycle read.
+        let read_after = |_write: u64, wait: u64| Ok((wait.div_ceil(5) + 1) * 5 + 3);
+        let mut kept = PollSteps::default();
+        // Each change moves the steps: the length (SPIBRR), the latency, the loop's cost, back again.
+        for (brr, latency, after_read) in [(2, 1, 4), (9, 1, 4), (9, 2, 4), (9, 2, 11), (2, 1, 4)] {
+            let cpu = PolledLoop { sysclk, sysclk_per_lspclk: Divisor::new(k), before_write: 7, after_read };
+            let spi_profile = profile::Spi { spibrr: brr, ..Default::default() };
+            let fresh = || {
+                let mut spi = SpiA::new(sysclk.divided(k), latency);
+                let mut probe = Probe { answer: 0xC7A7, ..Default::default() };
+                spi.init_from_profile(&spi_profile, 0, &mut probe).unwrap();
+                (spi, probe, 1_000_003u64)
+            };
+            let (mut a, mut pa, mut ca) = fresh();
+            let want: [u16; 13] =
+                a.polled_run(0, &mut ca, &cpu, read_after, &mut PollSteps::default(), &mut pa).unwrap();
+            let (mut b, mut pb, mut cb) = fresh();
+            let got: [u16; 13] = b.polled_run(0, &mut cb, &cpu, read_after, &mut kept, &mut pb).unwrap();
+            let case = format!("brr={brr} latency={latency} after_read={after_read}");
+            assert_eq!((got, cb, &pb.finished, b.now), (want, ca, &pa.finished, a.now), "{case}");
         }
     }
 }

@@ -30,7 +30,7 @@ use glitch::Glitches;
 
 use crate::device::{Adis16407, Physical};
 use crate::dsp::clocks::DspClocks;
-use crate::dsp::spi::{FlagTime, PolledLoop, SPIRXBUF, SPITXBUF};
+use crate::dsp::spi::{FlagTime, PollSteps, PolledLoop, SPIRXBUF, SPITXBUF};
 use crate::dsp::timer::CpuTimer;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -66,6 +66,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     poller: Poller,
     /// The burst's word loop in CPU cycles, when SYSCLKOUT is a whole multiple of LSPCLK.
     polled_loop: Option<PolledLoop>,
+    /// The fill-word runs' steps per write phase, for the burst's poll and read (fixed per emulator).
+    poll_steps: PollSteps,
     bursts_per_tick: usize,
     /// The timer period, s (as the read rows' assumed sample times use it).
     tick_period_s: f64,
@@ -188,6 +190,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 after_read: u64::from(costs.io.store_word + costs.io.frame_loop),
             }),
             poller,
+            poll_steps: PollSteps::default(),
             bursts_per_tick,
             tick_period_s,
             tick: 1,
@@ -546,7 +549,8 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 let command = [self.profile.device.burst_command as u16];
                 let [answer] =
                     self.link.polled_burst(command, c, &cpu, read_after, |_, slave| b.note_frame(0, slave))?;
-                let data: [u16; BURST_FRAMES - 1] = self.link.polled_run(BURST_FILL, c, &cpu, read_after)?;
+                let data: [u16; BURST_FRAMES - 1] =
+                    self.link.polled_run(BURST_FILL, c, &cpu, read_after, &mut self.poll_steps)?;
                 let sensor = self.link.slave();
                 b.note(1, sensor.second_frame());
                 b.note(BURST_FRAMES - 1, sensor.last_frame());
