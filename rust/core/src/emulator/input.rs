@@ -157,21 +157,35 @@ impl Stimulus for StreamStimulus {
 }
 
 impl Cursor {
+    /// Move the cursor on to the last row of its chunk at or before `ts` (never back); true when
+    /// the chunk holds a row after it.
+    #[inline(always)]
+    fn step_within_chunk(&mut self, ts: f64) -> bool {
+        while let Some(&t1) = self.chunk.t.get(self.pos + 1) {
+            if t1 > ts {
+                return true;
+            }
+            self.pos += 1;
+        }
+        false
+    }
+
+    /// [`value_at`] between the cursor's row and the next row of its chunk (which must exist).
+    #[inline(always)]
+    fn value_in_chunk(&self, ts: f64) -> (Physical, bool) {
+        let (t, p, pos) = (&self.chunk.t, &self.chunk.p, self.pos);
+        value_at(ts, (t[pos], &p[pos]), Some((t[pos + 1], &p[pos + 1])))
+    }
+
     /// The input at `ts` when the cursor's chunk holds a row after `ts` and the cursor's row is not
     /// after it (the common case: no lock), the cursor moved to the last row at or before `ts`.
     /// `None` otherwise (the cursor moved on as far as its chunk allows).
     #[inline(always)]
     fn within_chunk(&mut self, ts: f64) -> Option<Physical> {
-        let (t, p) = (&self.chunk.t, &self.chunk.p);
-        loop {
-            let t1 = *t.get(self.pos + 1)?;
-            if t1 > ts {
-                break;
-            }
-            self.pos += 1;
+        if !self.step_within_chunk(ts) {
+            return None;
         }
-        let pos = self.pos;
-        match value_at(ts, (t[pos], &p[pos]), Some((t[pos + 1], &p[pos + 1]))) {
+        match self.value_in_chunk(ts) {
             (p, false) => Some(p),
             (_, true) => None,
         }
@@ -194,20 +208,14 @@ impl StreamStimulus {
         // before it are never needed again): within the chunk, then into the next chunk under the
         // lock.
         loop {
-            let (chunk, pos) = (&cursor.chunk, cursor.pos);
-            let row = (chunk.t[pos], &chunk.p[pos]);
-            if pos + 1 < chunk.t.len() {
-                let t1 = chunk.t[pos + 1];
-                if t1 <= ts {
-                    cursor.pos += 1;
-                    continue;
-                }
-                let (p, held) = value_at(ts, row, Some((t1, &chunk.p[pos + 1])));
+            if cursor.step_within_chunk(ts) {
+                let (p, held) = cursor.value_in_chunk(ts);
                 if held {
                     lock(&self.window).held += 1;
                 }
                 return p;
             }
+            let row = (cursor.chunk.t[cursor.pos], &cursor.chunk.p[cursor.pos]);
             let mut w = lock(&self.window);
             match w.chunks.get(1) {
                 Some(c) if c.t[0] <= ts => {
