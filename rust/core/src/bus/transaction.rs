@@ -117,11 +117,7 @@ pub fn master_rx(frame: &Frame, dout: u16, lines: Lines) -> u16 {
     let rx = if frame.loopback {
         frame.tx >> drop
     } else if !lines.selected {
-        if lines.floating {
-            0xFFFF
-        } else {
-            0
-        }
+        floating_bits(lines)
     } else if scheme.polarity && !scheme.phase {
         dout >> drop
     } else {
@@ -138,13 +134,23 @@ pub fn slave_din(frame: &Frame, lines: Lines) -> u16 {
     let din = if !lines.selected {
         0
     } else if !frame.talk {
-        0xFFFF * u16::from(lines.floating)
+        floating_bits(lines)
     } else if !scheme.polarity && !scheme.phase {
         ((u16::from(lines.simo_before) << 15) | (frame.tx >> 1)) >> drop
     } else {
         frame.tx >> drop
     };
     din & frame.rx_mask()
+}
+
+/// What an undriven line reads as, all bits of a word: the floating level.
+#[inline]
+fn floating_bits(lines: Lines) -> u16 {
+    if lines.floating {
+        0xFFFF
+    } else {
+        0
+    }
 }
 
 /// The SPISIMO level after the frame: the last bit driven, or the floating level without TALK.
