@@ -292,12 +292,17 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         self.sysclk.cycles_to_ps(cycle)
     }
 
+    /// The SYSCLKOUT cycle timer tick `k` arrives on.
+    fn tick_cycle(&self, k: u64) -> u64 {
+        self.timer.period_cycles() * k
+    }
+
     /// One timer tick: the acquisition interrupt and, when the schedule completes a step, the
     /// attitude, Euler and navigation stages.
     fn run_tick(&mut self) -> Result<()> {
         let k = self.tick;
         self.next_pending = k + 1;
-        let tick_cycle = self.timer.period_cycles() * k;
+        let tick_cycle = self.tick_cycle(k);
         let tick_ps = self.ps(tick_cycle);
         let busy = tick_cycle < self.cpu_free;
         let start = if busy {
@@ -305,7 +310,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 OverrunPolicy::Queue => {
                     // The PIE latches one pending interrupt: a second tick while one is still
                     // pending is lost.
-                    if k > 1 && self.timer.period_cycles() * (k + 1) <= self.cpu_free {
+                    if k > 1 && self.tick_cycle(k + 1) <= self.cpu_free {
                         let why = "TINT0 arrived while the previous one was still pending: lost";
                         self.skip_tick(k, tick_ps, "tick_lost", why);
                         return Ok(());
@@ -383,7 +388,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         // is taken right after its IRET, so an ISR longer than the period starves the outer one for
         // ever; here the outer one runs on to its next interruptible point first (documented), so
         // every ISR ends and the starvation shows as a nested ISR at every point.
-        if self.timer.period_cycles() * self.next_pending <= *c {
+        if self.tick_cycle(self.next_pending) <= *c {
             let inner = self.next_pending;
             self.next_pending += 1;
             self.nested += 1;
@@ -394,7 +399,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 format!("tick {inner} preempts the ISR of tick {k}: it runs inside it (SPI-A and the firmware state are shared)"),
             ));
             self.depth += 1;
-            let end = self.isr(inner, self.ps(self.timer.period_cycles() * inner), *c, true);
+            let end = self.isr(inner, self.ps(self.tick_cycle(inner)), *c, true);
             self.depth -= 1;
             *c = end?;
         }
@@ -403,7 +408,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
 
     /// One ISR of tick `k` (arrived at `tick_ps`) from cycle `start`; returns the cycle it ends at.
     fn isr(&mut self, k: u64, tick_ps: Ps, start: u64, overrun: bool) -> Result<u64> {
-        let tick_cycle = self.timer.period_cycles() * k;
+        let tick_cycle = self.tick_cycle(k);
         let mut c = start + self.stages.entry;
         let entry_end = c;
         let mut bursts = [Burst::default(); 3];
