@@ -6,8 +6,14 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
+import pytest
+
 from conftest import run_cli
+from sins_fw import _core
 from sins_fw.bench import CASES
+from sins_fw.errors import ConfigError, TraceError
+from sins_fw.profile import load_profile
 
 
 def _positive(x: object) -> bool:
@@ -27,6 +33,9 @@ def test_bench_quick_reports_every_figure(tmp_path):
     for name in ("numpy_loop", "ahrs_angular_rate"):
         assert _positive(report["baselines"][name]["cycles_per_s"]), name
     assert _positive(report["lower_bound"]["cycles_per_s"])
+    # The stages ran every update of the reads: 20 s of input, one step per two 4 ms reads.
+    stages = report["firmware_stages"]
+    assert _positive(stages["cycles_per_s"]) and 2_490 <= stages["cycles"] <= 2_500, stages
     long_run = report["long_run"]
     # 120 s of input is 15 000 steps of 8 ms; the first step ends at the third 4 ms tick and the
     # last tick must lie inside the input: every step went through the sink.
@@ -34,10 +43,32 @@ def test_bench_quick_reports_every_figure(tmp_path):
     assert _positive(long_run["peak_rss_mb"]) and len(long_run["last_quat"]) == 4
     for kind in ("process", "thread"):
         assert _positive(report["monte_carlo"][kind]["scaling"]), kind
-    for name in ("full_vs_numpy_loop", "full_vs_ahrs", "full_vs_lower_bound", "lower_bound_vs_full"):
+    for name in (
+        "full_vs_numpy_loop",
+        "full_vs_ahrs",
+        "full_vs_lower_bound",
+        "lower_bound_vs_full",
+        "firmware_stages_vs_numpy_loop",
+        "lower_bound_vs_firmware_stages",
+    ):
         assert _positive(report["ratios"][name]), name
     assert {k for k, v in report["targets"].items() if len(v) == 3} == set(report["targets"])
     m = report["machine"]
     assert m["cpu"] and m["cores"] and m["commit"] and m["date"]
     text = out.read_text()
-    assert "| full_f64" in text and "lower bound" in text and "Monte Carlo" in text
+    for part in ("| full_f64", "lower bound", "firmware stages alone", "Monte Carlo"):
+        assert part in text, part
+
+
+def test_bench_entry_points_refuse_bad_input():
+    """The two Rust figures refuse arrays of the wrong shape with an error naming it, and the
+    stages a firmware they do not model."""
+    with pytest.raises(TraceError, match=r"rates: shape \[4, 2\], expected \(n, 3\)"):
+        _core.bench_rk4_lower_bound(np.zeros((4, 2)), 0.008)
+    p = load_profile("reference")
+    with pytest.raises(TraceError, match=r"reads: shape \[4, 5\], expected \(n, 6\)"):
+        _core.bench_firmware_stages(p.text, p.source, [], np.zeros((4, 5), dtype=np.uint16))
+    with pytest.raises(ConfigError, match=r"firmware\.algorithm"):
+        _core.bench_firmware_stages(
+            p.text, p.source, ['firmware.algorithm="rotation-vector"'], np.zeros((5, 6), dtype=np.uint16)
+        )

@@ -128,6 +128,28 @@ fn bench_rk4_lower_bound(
     }))
 }
 
+/// The benchmark's firmware stages alone: decode, RK4 update, Euler, navigation in f64 over
+/// recorded burst words (n×6 uint16: X/Y/Z GYRO_OUT, X/Y/Z ACCL_OUT, one row per 4 ms read) with the
+/// profile's firmware. Returns (updates, final quaternion); timed by the caller as the lower bound is.
+#[pyfunction]
+fn bench_firmware_stages(
+    py: Python<'_>,
+    text: &str,
+    source: &str,
+    overrides: Vec<String>,
+    reads: numpy::PyReadonlyArray2<'_, u16>,
+) -> PyResult<(u64, [f64; 4])> {
+    let v = reads.as_array();
+    if v.ncols() != 6 {
+        return Err(to_py(sins_core::Error::Input(format!("reads: shape {:?}, expected (n, 6)", v.shape()))));
+    }
+    let rows: Vec<[u16; 6]> = v.rows().into_iter().map(|r| std::array::from_fn(|i| r[i])).collect();
+    let profile = guard(|| Profile::from_toml(text, source, &overrides))?.map_err(to_py)?;
+    py.detach(|| guard(|| sins_core::emulator::bench::firmware_stages(&profile, &rows)))?
+        .map(|(q, steps)| (steps, q))
+        .map_err(to_py)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", sins_core::VERSION)?;
@@ -138,6 +160,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(preset_names, m)?)?;
     m.add_function(wrap_pyfunction!(_selftest_panic, m)?)?;
     m.add_function(wrap_pyfunction!(bench_rk4_lower_bound, m)?)?;
+    m.add_function(wrap_pyfunction!(bench_firmware_stages, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;
