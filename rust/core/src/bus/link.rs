@@ -232,6 +232,24 @@ impl<S: SpiSlave> Wires<S> {
 }
 
 impl<S> Wires<S> {
+    /// GPIO57 moved while frame `f` is on the wires (out of line: the CS edge is on every burst's
+    /// path, the event almost never fires).
+    #[cold]
+    #[inline(never)]
+    fn cs_changed_mid_frame(&mut self, f: &InFlight, high: bool, t: Ps) {
+        self.events.push(Event::new(
+            t,
+            "cs_changed_mid_frame",
+            Severity::Warning,
+            format!(
+                "GPIO57 (CS) went {} at {t} ps inside a frame (edges {}…{} ps)",
+                if high { "high" } else { "low" },
+                f.timing.first_edge,
+                f.timing.last_edge
+            ),
+        ));
+    }
+
     /// A frame clocked with CS high: the slave is not involved and DOUT floats.
     #[cold]
     #[inline(never)]
@@ -377,18 +395,8 @@ impl<S: SpiSlave> SpiLink<S> {
         if low == self.wires.cs_low {
             return Ok(());
         }
-        if let Some(f) = self.wires.in_flight.as_ref() {
-            self.wires.events.push(Event::new(
-                t,
-                "cs_changed_mid_frame",
-                Severity::Warning,
-                format!(
-                    "GPIO57 (CS) went {} at {t} ps inside a frame (edges {}…{} ps)",
-                    if high { "high" } else { "low" },
-                    f.timing.first_edge,
-                    f.timing.last_edge
-                ),
-            ));
+        if let Some(f) = self.wires.in_flight {
+            self.wires.cs_changed_mid_frame(&f, high, t);
         }
         self.wires.cs_low = low;
         self.wires.slave.set_cs(low, t);

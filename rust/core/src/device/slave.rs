@@ -690,33 +690,43 @@ impl Adis16407 {
         }
         self.spi.cs_low = false;
         if let (true, Some(le), Some(last)) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
-            let gap = t.saturating_sub(le);
+            let (gap, index) = (t.saturating_sub(le), last.index);
             if self.limits.min_cs_hold.short(gap) {
-                let msg = format!(
-                    "frame {}: last SCLK edge to CS↑ {:.1} ns; tSFS ≥ {:.1} ns",
-                    last.index,
-                    gap as f64 / 1e3,
-                    self.limits.t_sfs_ps / 1e3
-                );
-                self.violation(Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
-                let last = &mut self.spi.records[self.spi.finished()];
-                last.violations.insert(Violations::CS_HOLD);
-                if let Some(entry) = self.spi.log.as_mut().and_then(|l| l.last_mut()) {
-                    *entry = *last;
-                }
-                if self.limits.strict {
-                    self.spi.corrupt_next = true;
-                }
+                self.cs_hold_violated(index, gap, t);
             }
         }
         if let Some(b) = self.spi.burst.take() {
-            self.events.push(Event::new(
-                t,
-                "burst_truncated",
-                Severity::Info,
-                format!("CS↑ after {} of the 14 burst data frames", b.next),
-            ));
+            self.burst_truncated(&b, t);
         }
+    }
+
+    /// CS rose `gap` after the last SCLK edge (of frame `index`), sooner than tSFS. Out of line, as
+    /// [`Adis16407::burst_truncated`]: the CS edge is on every burst's path, the events almost never fire.
+    #[cold]
+    #[inline(never)]
+    fn cs_hold_violated(&mut self, index: u64, gap: Ps, t: Ps) {
+        let msg = format!(
+            "frame {index}: last SCLK edge to CS↑ {:.1} ns; tSFS ≥ {:.1} ns",
+            gap as f64 / 1e3,
+            self.limits.t_sfs_ps / 1e3
+        );
+        self.violation(Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
+        let last = &mut self.spi.records[self.spi.finished()];
+        last.violations.insert(Violations::CS_HOLD);
+        if let Some(entry) = self.spi.log.as_mut().and_then(|l| l.last_mut()) {
+            *entry = *last;
+        }
+        if self.limits.strict {
+            self.spi.corrupt_next = true;
+        }
+    }
+
+    /// CS rose before the burst `b` shifted all its data frames out.
+    #[cold]
+    #[inline(never)]
+    fn burst_truncated(&mut self, b: &Burst, t: Ps) {
+        let message = format!("CS↑ after {} of the 14 burst data frames", b.next);
+        self.events.push(Event::new(t, "burst_truncated", Severity::Info, message));
     }
 }
 

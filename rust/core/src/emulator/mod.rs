@@ -73,6 +73,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     tick_period_s: f64,
     /// Next timer tick to service.
     tick: u64,
+    /// A tick's arrival worked out ahead, (tick, ps): each ISR's deadline is the next tick's arrival.
+    known_tick_ps: (u64, Ps),
     /// SYSCLKOUT cycle at which the CPU finishes the ISR it is running.
     cpu_free: u64,
     /// The next tick no ISR has serviced yet (ticks serviced by a nested ISR are skipped).
@@ -194,6 +196,8 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             bursts_per_tick,
             tick_period_s,
             tick: 1,
+            // Tick 0 arrives at cycle 0.
+            known_tick_ps: (0, 0),
             cpu_free: 0,
             next_pending: 1,
             depth: 0,
@@ -297,13 +301,22 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         self.timer.period_cycles() * k
     }
 
+    /// The time tick `k` arrives at: usually the deadline the previous ISR worked out.
+    #[inline]
+    fn tick_ps(&self, k: u64) -> Ps {
+        match self.known_tick_ps {
+            (known, ps) if known == k => ps,
+            _ => self.ps(self.tick_cycle(k)),
+        }
+    }
+
     /// One timer tick: the acquisition interrupt and, when the schedule completes a step, the
     /// attitude, Euler and navigation stages.
     fn run_tick(&mut self) -> Result<()> {
         let k = self.tick;
         self.next_pending = k + 1;
         let tick_cycle = self.tick_cycle(k);
-        let tick_ps = self.ps(tick_cycle);
+        let tick_ps = self.tick_ps(k);
         let busy = tick_cycle < self.cpu_free;
         let start = if busy {
             match self.profile.firmware.overrun {
@@ -399,7 +412,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 format!("tick {inner} preempts the ISR of tick {k}: it runs inside it (SPI-A and the firmware state are shared)"),
             ));
             self.depth += 1;
-            let end = self.isr(inner, self.ps(self.tick_cycle(inner)), *c, true);
+            let end = self.isr(inner, self.tick_ps(inner), *c, true);
             self.depth -= 1;
             *c = end?;
         }
@@ -413,9 +426,10 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let entry_end = c;
         let mut bursts = [Burst::default(); 3];
         for b in bursts.iter_mut().take(self.bursts_per_tick) {
-            *b = self.burst(&mut c, k)?;
+            self.burst(&mut c, k, b)?;
         }
-        let spi_end = c;
+        // The SPI part ends where the CPU raised CS at the end of the last burst: that edge's time.
+        let spi_end_ps = bursts[self.bursts_per_tick - 1].t_cs_rise_ps;
 
         // Decode every burst of the tick.
         let mut decoded = [[T::from_f64(0.0, crate::numerics::QClass::Rate); 3]; 3];
@@ -463,7 +477,8 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             self.step += 1;
         }
         c += self.stages.exit;
-        let period = self.timer.period_cycles();
+        let deadline_ps = self.ps(tick_cycle + self.timer.period_cycles());
+        self.known_tick_ps = (k + 1, deadline_ps);
         // Stages that did not run end where the schedule did (usually the decode's end): one
         // conversion to picoseconds serves them all.
         let decode_end_ps = self.ps(decode_end);
@@ -475,16 +490,16 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         self.out.budget.push(BudgetRow {
             tick: k,
             tick_ps,
-            start_ps: self.ps(start),
+            start_ps: if start == tick_cycle { tick_ps } else { self.ps(start) },
             entry_end_ps: self.ps(entry_end),
             spi_start_ps: bursts[0].t_start_ps,
-            spi_end_ps: self.ps(spi_end),
+            spi_end_ps,
             decode_end_ps,
             attitude_end_ps,
             euler_end_ps,
             nav_end_ps,
             end_ps: self.ps(c),
-            deadline_ps: self.ps(tick_cycle + period),
+            deadline_ps,
             step: step_ready,
             overrun,
         });
@@ -531,45 +546,45 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         }
     }
 
-    /// One 15-frame burst read as the published code performs it; returns what it gave the firmware.
-    /// `c` is the CPU cycle, advanced by the code's costs.
-    fn burst(&mut self, c: &mut u64, k: u64) -> Result<Burst> {
+    /// One 15-frame burst read as the published code performs it; `b` (as [`Burst::default`]) is
+    /// filled with what it gave the firmware. `c` is the CPU cycle, advanced by the code's costs.
+    fn burst(&mut self, c: &mut u64, k: u64, b: &mut Burst) -> Result<()> {
         *c += u64::from(self.io.gpio_write);
         let t_cs = self.ps(*c);
         // A nested ISR's burst finds CS already low (asserted by the burst it interrupted).
         let cs_falls = !self.link.cs_asserted();
         self.link.set_gpio57(false, t_cs)?;
         let mut glitch = if t_cs >= self.glitches.watch_from { self.glitches.take(t_cs) } else { None };
-        let mut b = Burst { t_cs_ps: t_cs, ..Burst::default() };
+        b.t_cs_ps = t_cs;
         // Nothing can come between the words (no CS glitch, no nested ISR): the word loop in whole
         // CPU cycles, in two calls to the link: the command, then the fill words as one run of
         // characters. The read record needs the first data frame: the sensor keeps the second frame
         // since CS fell, which is that frame when CS falls here.
-        match self.polled_loop {
+        match &self.polled_loop {
             Some(cpu) if cs_falls && glitch.is_none() && !self.may_nest() && self.link.polled_burst_applies(t_cs) => {
-                let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
+                let (poll, read_cost) = (&self.poller, u64::from(self.io.peripheral_read));
                 // From the write to the end of the read (the poll's length depends on the wait alone).
                 let read_after =
                     |write, wait| Ok(poll.until_cycle(write, write + wait, "INT_FLAG = 1")? + read_cost - write);
                 let command = [self.profile.device.burst_command as u16];
                 let [answer] =
-                    self.link.polled_burst(command, c, &cpu, read_after, |_, slave| b.note_frame(0, slave))?;
+                    self.link.polled_burst(command, c, cpu, read_after, |_, slave| b.note_frame(0, slave))?;
                 let data: [u16; BURST_FRAMES - 1] =
-                    self.link.polled_run(BURST_FILL, c, &cpu, read_after, &mut self.poll_steps)?;
+                    self.link.polled_run(BURST_FILL, c, cpu, read_after, &mut self.poll_steps)?;
                 let sensor = self.link.slave();
                 b.note(1, sensor.second_frame());
                 b.note(BURST_FRAMES - 1, sensor.last_frame());
                 b.words[0] = answer;
                 b.words[1..].copy_from_slice(&data);
             }
-            _ => self.burst_word_by_word(c, k, &mut b, &mut glitch)?,
+            _ => self.burst_word_by_word(c, k, b, &mut glitch)?,
         }
         *c += u64::from(self.io.gpio_write);
+        b.t_cs_rise_ps = self.ps(*c);
         if let Some(g) = glitch.as_mut() {
-            self.end_glitch_before(g, self.ps(*c))?;
+            self.end_glitch_before(g, b.t_cs_rise_ps)?;
         }
-        self.link.set_gpio57(true, self.ps(*c))?;
-        Ok(b)
+        self.link.set_gpio57(true, b.t_cs_rise_ps)
     }
 
     /// The burst's words one at a time through the register-level steps, with a CS glitch or a
@@ -779,6 +794,8 @@ impl Poller {
 struct Burst {
     words: [u16; BURST_FRAMES],
     t_cs_ps: Ps,
+    /// CS rising at the end of the burst.
+    t_cs_rise_ps: Ps,
     t_start_ps: Ps,
     t_end_ps: Ps,
     sample_index: Option<u64>,

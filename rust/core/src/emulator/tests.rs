@@ -421,3 +421,55 @@ fn stages_that_do_not_run_end_where_the_schedule_did() {
     }
     assert!(idle == 1 && aligning > 10 && solving > 10, "{idle} {aligning} {solving}");
 }
+
+/// The budget row's times that are taken from elsewhere instead of converted afresh (a tick's arrival
+/// from the previous ISR's deadline, an on-time ISR's start from the arrival, the SPI end from the
+/// last CS rise) are the conversions of their cycles and the bus's own CS edges: with ticks on time,
+/// late (queued and nested) and three bursts per tick.
+#[test]
+fn budget_times_taken_over_equal_their_conversions() {
+    use crate::profile::OverrunPolicy;
+    let cases = [
+        (4000.0, OverrunPolicy::Queue, Schedule::HalfStep),
+        (338.0, OverrunPolicy::Queue, Schedule::HalfStep),
+        (338.0, OverrunPolicy::Nest, Schedule::HalfStep),
+        (8000.0, OverrunPolicy::Queue, Schedule::BackToBack),
+    ];
+    for (period_us, overrun, schedule) in cases {
+        let mut p = reference_f64();
+        p.timer.period_us = period_us;
+        p.firmware.overrun = overrun;
+        p.firmware.schedule = schedule;
+        let mut emu = Emulator::<f64>::new(&p, &costs()).unwrap();
+        emu.enable_bus_log();
+        let (t, samples) = constant_rate(0.1, [0.0, 0.0, 10.0]);
+        emu.push_input(&t, samples).unwrap();
+        emu.end_input();
+        emu.run().unwrap();
+        let log = emu.stop_bus_log();
+        let out = emu.take_output();
+        let (period, sysclk) = (emu.timer.period_cycles(), emu.sysclk);
+        let rises: Vec<Ps> = log
+            .iter()
+            .filter_map(|r| match r {
+                LinkRecord::Cs { t_ps, low: false } => Some(*t_ps),
+                _ => None,
+            })
+            .collect();
+        let case = format!("{period_us} µs {overrun:?} {schedule:?}");
+        assert!(out.budget.len() > 10 && out.budget.iter().any(|b| b.overrun) == (period_us < 1000.0), "{case}");
+        for b in out.budget.iter().filter(|b| b.end_ps > b.tick_ps) {
+            assert_eq!(b.tick_ps, sysclk.cycles_to_ps(b.tick * period), "{case}: {b:?}");
+            assert_eq!(b.deadline_ps, sysclk.cycles_to_ps((b.tick + 1) * period), "{case}: {b:?}");
+            if !b.overrun {
+                assert_eq!(b.start_ps, b.tick_ps, "{case}: {b:?}");
+            }
+            // The last CS rise before the decode (a nested ISR's bursts end before it, inside this one's).
+            let last_rise = rises.iter().copied().filter(|&r| r <= b.decode_end_ps).max();
+            if overrun != OverrunPolicy::Nest {
+                assert_eq!(Some(b.spi_end_ps), last_rise, "{case}: {b:?}");
+            }
+            assert!(b.spi_end_ps > b.spi_start_ps && b.spi_end_ps <= b.decode_end_ps, "{case}: {b:?}");
+        }
+    }
+}

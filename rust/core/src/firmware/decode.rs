@@ -38,6 +38,28 @@ const GYRO_RANGE: (u16, u16) = (0x1770, 0x2890);
 const ACCEL_RANGE: (u16, u16) = (0x1519, 0x2AE7);
 /// The largest magnitude of a 14-bit two's-complement code (0x2000 = −8192).
 const FULL_SCALE_CODE: f64 = 8192.0;
+/// Per channel, the published stale range hi < code < lo as `code − (hi + 1) < lo − hi − 1` (wrapping).
+const STALE_FROM: [u16; 6] = stale_ranges().0;
+const STALE_WIDTH: [u16; 6] = stale_ranges().1;
+const fn stale_ranges() -> ([u16; 6], [u16; 6]) {
+    let (mut from, mut width) = ([0; 6], [0; 6]);
+    let mut i = 0;
+    while i < 6 {
+        let (hi, lo) = if i < 3 { GYRO_RANGE } else { ACCEL_RANGE };
+        from[i] = hi + 1;
+        width[i] = lo - hi - 1;
+        i += 1;
+    }
+    (from, width)
+}
+// `DecodeReport::of_codes` tests saturation only when a code is stale: both limits must be stale codes.
+const fn inside((hi, lo): (u16, u16), code: u16) -> bool {
+    hi < code && code < lo
+}
+const _: () = {
+    assert!(inside(GYRO_RANGE, SATURATED_POSITIVE) && inside(GYRO_RANGE, SATURATED_NEGATIVE));
+    assert!(inside(ACCEL_RANGE, SATURATED_POSITIVE) && inside(ACCEL_RANGE, SATURATED_NEGATIVE));
+};
 const CHANNELS: [&str; 6] = ["XGYRO_OUT", "YGYRO_OUT", "ZGYRO_OUT", "XACCL_OUT", "YACCL_OUT", "ZACCL_OUT"];
 
 /// The gyro LSB, °/s, of the range selected by SENS_AVG bits 10:8 (100 → ±300, 010 → ±150,
@@ -72,14 +94,17 @@ impl DecodeReport {
         fn mask(codes: &[u16; 6], flagged: impl Fn(usize, u16) -> bool) -> u8 {
             (0..6).fold(0, |m, i| m | u8::from(flagged(i, codes[i])) << i)
         }
-        let range = |i: usize| if i < 3 { GYRO_RANGE } else { ACCEL_RANGE };
-        let stale = mask(codes, |i, code| code > range(i).0 && code < range(i).1);
-        let nonzero_gyro = mask(codes, |i, code| i < 3 && code != 0);
-        DecodeReport {
-            stale,
-            saturated: mask(codes, |_, code| code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE),
-            differs: stale | if gyro_lsb_differs { nonzero_gyro } else { 0 },
-        }
+        // hi < code < lo as one unsigned comparison: code − (hi + 1) < lo − hi − 1, wrapping.
+        let stale = mask(codes, |i, code| code.wrapping_sub(STALE_FROM[i]) < STALE_WIDTH[i]);
+        // Both saturated codes lie inside both stale ranges (checked at compile time below): without a
+        // stale code there is no saturated one, the usual case, and its test is skipped.
+        let saturated = if stale == 0 {
+            0
+        } else {
+            mask(codes, |_, code| code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE)
+        };
+        let differs = if gyro_lsb_differs { stale | mask(codes, |i, code| i < 3 && code != 0) } else { stale };
+        DecodeReport { stale, saturated, differs }
     }
 
     /// True when nothing is to report.
