@@ -187,6 +187,18 @@ const fn s(a: u8) -> usize {
     (a >> 1) as usize
 }
 
+/// The ND bits (`1 << slot`) of the burst's words before word `i` ([`BURST_ORDER`]), for `i` = 0…14:
+/// a run of burst words clears its flags with one mask instead of a loop over its registers.
+const ND_BITS_BEFORE_WORD: [u64; BURST_ORDER.len() + 1] = {
+    let mut bits = [0u64; BURST_ORDER.len() + 1];
+    let mut i = 0;
+    while i < BURST_ORDER.len() {
+        bits[i + 1] = bits[i] | 1 << s(BURST_ORDER[i]);
+        i += 1;
+    }
+    bits
+};
+
 /// Slots of the calibration registers XGYRO_OFF … ZMAGN_SIC (contiguous: twelve).
 const CALIBRATION_SLOTS: std::ops::Range<usize> = s(addr::XGYRO_OFF)..s(addr::ZMAGN_SIC) + 1;
 const _: () = assert!(CALIBRATION_SLOTS.end - CALIBRATION_SLOTS.start == 12);
@@ -662,12 +674,13 @@ impl Adis16407 {
         (words, self.latest)
     }
 
-    /// Clear the ND flags of the output registers `addrs` after a burst shifted them out, unless a
-    /// newer sample than the one shifted out has set them since.
+    /// Clear the ND flags of the burst's words `words` (indices into [`BURST_ORDER`]) after a burst
+    /// shifted them out, unless a newer sample than the one shifted out has set them since.
     #[inline]
-    pub(super) fn clear_nd_after_burst(&mut self, addrs: &[u8], shifted: Option<SampleStamp>) {
+    pub(super) fn clear_nd_after_burst(&mut self, words: std::ops::Range<usize>, shifted: Option<SampleStamp>) {
         if shifted == self.latest {
-            self.nd &= !addrs.iter().fold(0, |mask, &a| mask | 1 << s(a));
+            // The burst's registers are distinct: the bits of words a..b are those before b but not before a.
+            self.nd &= !(ND_BITS_BEFORE_WORD[words.end] & !ND_BITS_BEFORE_WORD[words.start]);
         }
     }
 

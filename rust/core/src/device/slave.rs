@@ -571,12 +571,15 @@ impl Adis16407 {
             // are past `now` and the end of any reset), the burst's last word, or a short stall.
             let horizon = self.next_event();
             let last_word = timings.len().min(answered + burst.words.len() - burst.next);
-            let follows = |pair: &[FrameTiming]| {
-                let stall = pair[1].first_edge.saturating_sub(pair[0].last_edge);
-                pair[1].first_edge < horizon && !min_stall.short(stall)
-            };
-            let n = 1 + timings[answered..last_word].windows(2).take_while(|pair| follows(pair)).count();
-            let end = answered + n;
+            let mut end = answered + 1;
+            let mut last_edge = timing.last_edge;
+            for next in &timings[end..last_word] {
+                if next.first_edge >= horizon || min_stall.short(next.first_edge.saturating_sub(last_edge)) {
+                    break;
+                }
+                (end, last_edge) = (end + 1, next.last_edge);
+            }
+            let n = end - answered;
             let words = burst.next..burst.next + n;
             dout[answered..end].copy_from_slice(&burst.words[words.clone()]);
             // The record of the stretch's frame `k` (`k` < n).
@@ -598,7 +601,7 @@ impl Adis16407 {
             if let Some(k) = self.spi.second_in_window_number().checked_sub(first_index).filter(|&k| k < n as u64) {
                 self.spi.second_in_window = Some(record_of(k as usize));
             }
-            self.clear_nd_after_burst(&BURST_ORDER[words], sample);
+            self.clear_nd_after_burst(words, sample);
             let last = &timings[end - 1];
             self.advance_to(last.first_edge);
             self.spi.last_edge = Some(last.last_edge);
@@ -645,8 +648,9 @@ impl Adis16407 {
     #[inline(always)]
     fn burst_word(&mut self) -> Option<(u8, u16, Option<SampleStamp>)> {
         let b = self.spi.burst.as_ref()?;
-        let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
-        self.clear_nd_after_burst(&[register], sample);
+        let (next, word, sample) = (b.next, b.words[b.next], b.sample);
+        self.clear_nd_after_burst(next..next + 1, sample);
+        let register = BURST_ORDER[next];
         Some((register, word, sample))
     }
 

@@ -291,15 +291,36 @@ pub struct PollSteps {
     /// SYSCLKOUT per LSPCLK, start latency, character length (LSPCLK cycles), `before_write`, `after_read`.
     made_for: Option<[u64; 5]>,
     by_phase: [Option<PollStep>; POLL_PHASES],
+    /// The latest run from each first-write phase: its words' steps composed, so that the next run
+    /// from that phase takes its starts at once instead of stepping word by word.
+    runs: [RunPlan; POLL_PHASES],
+}
+
+/// A run of a polled loop from a first write at some phase (see [`PollSteps`]): the LSPCLK cycle each
+/// character starts on and the next write's position (whole LSPCLK cycles, phase), counted from the
+/// first write's LSPCLK cycle q (q cancels, as in one word's step). No characters: none kept.
+#[derive(Debug, Clone, Default)]
+struct RunPlan {
+    start_after: Vec<u64>,
+    lspclk_cycles: u64,
+    next_phase: u64,
 }
 
 impl PollSteps {
-    /// The table for `made_for`, emptied if it was made for anything else.
-    fn for_loop(&mut self, made_for: [u64; 5]) -> &mut [Option<PollStep>; POLL_PHASES] {
+    /// The tables, emptied if they were made for anything but `made_for`.
+    #[inline]
+    fn for_loop(&mut self, made_for: [u64; 5]) -> &mut PollSteps {
         if self.made_for != Some(made_for) {
-            *self = PollSteps { made_for: Some(made_for), ..PollSteps::default() };
+            self.empty_for(made_for);
         }
-        &mut self.by_phase
+        self
+    }
+
+    /// Empty the tables for `made_for` (out of line: rare, and it drops the kept runs).
+    #[cold]
+    #[inline(never)]
+    fn empty_for(&mut self, made_for: [u64; 5]) {
+        *self = PollSteps { made_for: Some(made_for), ..PollSteps::default() };
     }
 }
 
@@ -790,7 +811,8 @@ impl SpiA {
     /// q + [φ > 0] + latency, INT_FLAG sets ([φ > 0] + latency + length)·k − φ cycles after the write
     /// (q cancels), so the poll's length, the next write's distance and the next phase are functions
     /// of φ. Each is worked out once per phase (at most k of them) and kept in `steps` for the next
-    /// runs with the same `read_after` (see [`PollSteps`]).
+    /// runs with the same `read_after` (see [`PollSteps`]); so is a whole run of `N` words from the
+    /// phase of its first write (its starts and end, counted from that write's LSPCLK cycle).
     #[allow(clippy::too_many_arguments)]
     pub fn polled_run<W: SpiWire, const N: usize>(
         &mut self,
@@ -801,37 +823,51 @@ impl SpiA {
         steps: &mut PollSteps,
         wire: &mut W,
     ) -> Result<[u16; N]> {
+        if N == 0 {
+            return Ok([0; N]);
+        }
         let k = cpu.sysclk_per_lspclk;
         let made_for =
             [k.get(), self.start_latency_lspclk, self.shape.length_cycles(), cpu.before_write, cpu.after_read];
         let steps = steps.for_loop(made_for);
         let mut starts = [0u64; N];
-        let (mut q, mut phase) = k.div_rem(*c + cpu.before_write);
-        for start in &mut starts {
-            let remembered = steps.get(phase as usize).copied().flatten();
-            let step = match remembered {
-                Some(step) => step,
-                None => {
-                    let (start, wait) = self.polled_word((q, phase), cpu);
-                    let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
-                        // A poll that fails: the word-by-word loop leaves the registers as the register
-                        // path does, and returns the error (nothing has changed yet).
-                        return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
-                    };
-                    let (lspclk_cycles, next_phase) = k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
-                    let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
-                    if let Some(slot) = steps.get_mut(phase as usize) {
-                        *slot = Some(step);
+        let (q0, phase0) = k.div_rem(*c + cpu.before_write);
+        let kept = steps.runs.get(phase0 as usize).filter(|run| run.start_after.len() == N);
+        let (q, phase) = if let Some(run) = kept {
+            starts.iter_mut().zip(&run.start_after).for_each(|(start, after)| *start = q0 + after);
+            (q0 + run.lspclk_cycles, run.next_phase)
+        } else {
+            let (mut q, mut phase) = (q0, phase0);
+            for start in &mut starts {
+                let remembered = steps.by_phase.get(phase as usize).copied().flatten();
+                let step = match remembered {
+                    Some(step) => step,
+                    None => {
+                        let (start, wait) = self.polled_word((q, phase), cpu);
+                        let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
+                            // A poll that fails: the word-by-word loop leaves the registers as the register
+                            // path does, and returns the error (nothing has changed yet).
+                            return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
+                        };
+                        let (lspclk_cycles, next_phase) =
+                            k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
+                        let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
+                        if let Some(slot) = steps.by_phase.get_mut(phase as usize) {
+                            *slot = Some(step);
+                        }
+                        step
                     }
-                    step
-                }
-            };
-            *start = q + step.start_after;
-            (q, phase) = (q + step.lspclk_cycles, step.next_phase);
-        }
-        if N == 0 {
-            return Ok([0; N]);
-        }
+                };
+                *start = q + step.start_after;
+                (q, phase) = (q + step.lspclk_cycles, step.next_phase);
+            }
+            if let Some(run) = steps.runs.get_mut(phase0 as usize) {
+                run.start_after.clear();
+                run.start_after.extend(starts.iter().map(|start| start - q0));
+                (run.lspclk_cycles, run.next_phase) = (q - q0, phase);
+            }
+            (q, phase)
+        };
         self.txbuf = tx;
         let first = self.next_frame(tx, starts[0]);
         self.frames += N as u64 - 1;
@@ -1470,9 +1506,9 @@ mod tests {
                         (spi, probe)
                     };
                     // The register path, word by word through picoseconds.
-                    let by_register = |words: &[u16]| {
+                    let by_register = |words: &[u16], c_start: u64| {
                         let (mut a, mut pa) = fresh();
-                        let mut c = c0;
+                        let mut c = c_start;
                         let mut got = vec![0u16; words.len()];
                         for (i, &w) in words.iter().enumerate() {
                             c += p + write; // BUFFULL clear at the first poll
@@ -1486,7 +1522,7 @@ mod tests {
                     };
                     let read_after = |w, wait| Ok(poll(w, w + wait, p, read) - w);
                     let case = format!("k={k} p={p} latency={latency} brr={brr} c0={c0}");
-                    let (want, c, a, pa) = by_register(&words);
+                    let (want, c, a, pa) = by_register(&words, c0);
                     let (mut b, mut pb) = fresh();
                     assert!(b.polled_frame_applies(sysclk.cycles_to_ps(c0)));
                     let mut c_burst = c0;
@@ -1497,18 +1533,26 @@ mod tests {
                         (a.now, a.frames, a.int_flag, a.rxbuf, a.spidat),
                         "{case}"
                     );
-                    // One word 24 times, as one run of characters (long enough to come back to a phase).
-                    let (want, c, a, pa) = by_register(&[0x5A5A; 24]);
-                    let (mut r, mut pr) = fresh();
-                    let mut c_run = c0;
-                    let run: [u16; 24] =
-                        r.polled_run(0x5A5A, &mut c_run, &cpu, read_after, &mut PollSteps::default(), &mut pr).unwrap();
-                    assert_eq!((run.to_vec(), c_run, &pr.finished), (want, c, &pa.finished), "{case}");
-                    assert_eq!(
-                        (r.now, r.frames, r.int_flag, r.rxbuf, r.spidat, r.txbuf, r.int_flag_at),
-                        (a.now, a.frames, a.int_flag, a.rxbuf, a.spidat, a.txbuf, a.int_flag_at),
-                        "{case}"
-                    );
+                    // One word 24 times, as one run of characters (long enough to come back to a phase),
+                    // with fresh steps, then with steps kept from run to run: from the same first write, a
+                    // later one of the same phase (the kept run, shifted), another phase, the first again.
+                    let mut kept = PollSteps::default();
+                    for (c_start, keep) in [(c0, false), (c0, true), (c0 + 37 * k, true), (c0 + 1, true), (c0, true)] {
+                        let (want, c, a, pa) = by_register(&[0x5A5A; 24], c_start);
+                        let (mut r, mut pr) = fresh();
+                        let mut c_run = c_start;
+                        let mut fresh_steps = PollSteps::default();
+                        let steps = if keep { &mut kept } else { &mut fresh_steps };
+                        let run: [u16; 24] =
+                            r.polled_run(0x5A5A, &mut c_run, &cpu, read_after, steps, &mut pr).unwrap();
+                        let case = format!("{case} from {c_start} kept={keep}");
+                        assert_eq!((run.to_vec(), c_run, &pr.finished), (want, c, &pa.finished), "{case}");
+                        assert_eq!(
+                            (r.now, r.frames, r.int_flag, r.rxbuf, r.spidat, r.txbuf, r.int_flag_at),
+                            (a.now, a.frames, a.int_flag, a.rxbuf, a.spidat, a.txbuf, a.int_flag_at),
+                            "{case}"
+                        );
+                    }
                 }
             }
         }
