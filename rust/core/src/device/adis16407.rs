@@ -182,6 +182,24 @@ fn word(regs: &[u16; SLOTS], nd: u64, slot: usize) -> u16 {
     value | nd | ea
 }
 
+/// ND bits of the first `i` burst words, `i` = 0…14 (a table: a run of burst words clears its ND
+/// flags with two look-ups instead of a loop over its registers).
+const BURST_ND_PREFIX: [u64; BURST_ORDER.len() + 1] = {
+    let mut prefix = [0u64; BURST_ORDER.len() + 1];
+    let mut i = 0;
+    while i < BURST_ORDER.len() {
+        prefix[i + 1] = prefix[i] | 1 << s(BURST_ORDER[i]);
+        i += 1;
+    }
+    prefix
+};
+
+/// ND bits of the output registers of burst words `words` (indices into [`BURST_ORDER`]; each
+/// register appears once in a burst, so the prefix difference is exactly theirs).
+fn burst_nd_mask(words: std::ops::Range<usize>) -> u64 {
+    BURST_ND_PREFIX[words.end] & !BURST_ND_PREFIX[words.start]
+}
+
 /// Slot of a register address, as a constant.
 const fn s(a: u8) -> usize {
     (a >> 1) as usize
@@ -662,12 +680,12 @@ impl Adis16407 {
         (words, self.latest)
     }
 
-    /// Clear the ND flags of the output registers `addrs` after a burst shifted them out, unless a
-    /// newer sample than the one shifted out has set them since.
+    /// Clear the ND flags of the burst words `words` (indices into [`BURST_ORDER`]) after a burst
+    /// shifted them out, unless a newer sample than the one shifted out has set them since.
     #[inline]
-    pub(super) fn clear_nd_after_burst(&mut self, addrs: &[u8], shifted: Option<SampleStamp>) {
+    pub(super) fn clear_nd_after_burst(&mut self, words: std::ops::Range<usize>, shifted: Option<SampleStamp>) {
         if shifted == self.latest {
-            self.nd &= !addrs.iter().fold(0, |mask, &a| mask | 1 << s(a));
+            self.nd &= !burst_nd_mask(words);
         }
     }
 
@@ -1019,6 +1037,16 @@ mod tests {
         let mut p = Physical::default();
         p.values_mut().zip(v).for_each(|(x, v)| *x = v);
         p
+    }
+
+    #[test]
+    fn a_run_of_burst_words_clears_the_nd_flags_of_exactly_its_registers() {
+        for start in 0..=BURST_ORDER.len() {
+            for end in start..=BURST_ORDER.len() {
+                let one_by_one = BURST_ORDER[start..end].iter().fold(0u64, |mask, &a| mask | 1 << s(a));
+                assert_eq!(burst_nd_mask(start..end), one_by_one, "burst words {start}..{end}");
+            }
+        }
     }
 
     #[test]

@@ -598,7 +598,7 @@ impl Adis16407 {
             if let Some(k) = self.spi.second_in_window_number().checked_sub(first_index).filter(|&k| k < n as u64) {
                 self.spi.second_in_window = Some(record_of(k as usize));
             }
-            self.clear_nd_after_burst(&BURST_ORDER[words], sample);
+            self.clear_nd_after_burst(words, sample);
             let last = &timings[end - 1];
             self.advance_to(last.first_edge);
             self.spi.last_edge = Some(last.last_edge);
@@ -646,7 +646,7 @@ impl Adis16407 {
     fn burst_word(&mut self) -> Option<(u8, u16, Option<SampleStamp>)> {
         let b = self.spi.burst.as_ref()?;
         let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
-        self.clear_nd_after_burst(&[register], sample);
+        self.clear_nd_after_burst(b.next..b.next + 1, sample);
         Some((register, word, sample))
     }
 
