@@ -298,6 +298,21 @@ impl Calibration {
         inside
     }
 
+    /// Write the output registers' codes for the sample values `f` into `regs` (in place: the
+    /// registers are not copied).
+    fn encode_outputs(&self, f: &Physical, regs: &mut [u16; SLOTS]) {
+        let range = self.range;
+        self.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field(ch, v, range).code);
+    }
+
+    /// Whether any output register clips at its field limit for the sample values `f`.
+    fn outputs_overrange(&self, f: &Physical) -> bool {
+        let range = self.range;
+        let mut over = false;
+        self.visit_outputs(f, |_, ch, v| over |= overrange(ch, v, range));
+        over
+    }
+
     /// Visit the output registers with the sample values `f` they encode: `visit(slot, channel,
     /// value)`, the value being the filtered one with the calibration applied. (Calls with literal
     /// channels, not a table, so each encoding is compiled for its channel.)
@@ -573,7 +588,7 @@ impl Adis16407 {
         }
         let mut regs = self.regs;
         if self.pending {
-            self.encode_outputs(&Calibration::of(&self.regs, self.range), &self.filtered, &mut regs);
+            Calibration::of(&self.regs, self.range).encode_outputs(&self.filtered, &mut regs);
         }
         Ok(word(&regs, self.nd, def.slot()))
     }
@@ -634,9 +649,7 @@ impl Adis16407 {
     fn encode_pending(&mut self) {
         if self.pending {
             self.refresh_calibration();
-            let mut regs = self.regs;
-            self.encode_outputs(&self.calibration, &self.filtered, &mut regs);
-            self.regs = regs;
+            self.calibration.encode_outputs(&self.filtered, &mut self.regs);
             self.pending = false;
         }
     }
@@ -752,16 +765,14 @@ impl Adis16407 {
             spike(f, sf);
         }
         self.refresh_calibration();
-        let over = !self.calibration.nothing_can_clip(f) && self.outputs_overrange(&self.calibration, f);
+        let over = !self.calibration.nothing_can_clip(f) && self.calibration.outputs_overrange(f);
         if let Some(sf) = &faults {
-            let mut regs = self.regs;
-            self.encode_outputs(&self.calibration, f, &mut regs);
+            self.calibration.encode_outputs(f, &mut self.regs);
             for (i, a) in BURST_ORDER.iter().enumerate() {
                 if sf.stuck >> i & 1 != 0 {
-                    regs[s(*a)] = sf.frozen[i];
+                    self.regs[s(*a)] = sf.frozen[i];
                 }
             }
-            self.regs = regs;
             self.pending = false;
         } else {
             self.pending = true;
@@ -802,20 +813,6 @@ impl Adis16407 {
         if self.regs[CALIBRATION_SLOTS] != self.calibration.words || self.range != self.calibration.range {
             self.calibration = Calibration::of(&self.regs, self.range);
         }
-    }
-
-    /// Write the output registers' codes for the sample values `f` into `regs`.
-    fn encode_outputs(&self, calibration: &Calibration, f: &Physical, regs: &mut [u16; SLOTS]) {
-        let range = self.range;
-        calibration.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field(ch, v, range).code);
-    }
-
-    /// Whether any output register clips at its field limit for the sample values `f`.
-    fn outputs_overrange(&self, calibration: &Calibration, f: &Physical) -> bool {
-        let range = self.range;
-        let mut over = false;
-        calibration.visit_outputs(f, |_, ch, v| over |= overrange(ch, v, range));
-        over
     }
 
     /// What the injected faults do to the sample at `t` (cold: only once a fault is due).
