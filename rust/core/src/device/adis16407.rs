@@ -371,7 +371,14 @@ pub struct Adis16407 {
     pending: bool,
     now: Ps,
     busy_until: Ps,
+    /// The latest data-ready assertion as of the last MSC_CTRL change ([`Adis16407::set_data_ready_pin`]);
+    /// the samples since then assert data ready on `data_ready_pin`, so the record is derived from
+    /// the latest sample when asked for instead of being written at every sample.
     data_ready: Option<DataReady>,
+    /// The pin and polarity data ready drives with the MSC_CTRL in force (`None`: MSC_CTRL[2] clear).
+    data_ready_pin: Option<(DataReadyLine, bool)>,
+    /// Index of the first sample taken with `data_ready_pin` in force.
+    data_ready_pin_from: u64,
     /// The last sample's physical input was beyond the rated range (events fire on entry only).
     over_rated: bool,
     /// The last sample's supply was outside the DIAG_STAT supply limits (events on entry only).
@@ -448,6 +455,8 @@ impl Adis16407 {
             now: 0,
             busy_until: 0,
             data_ready: None,
+            data_ready_pin: None,
+            data_ready_pin_from: 0,
             over_rated: false,
             supply_bad: false,
             faults: DeviceFaults::default(),
@@ -458,6 +467,7 @@ impl Adis16407 {
         dev.regs[s(addr::SENS_AVG)] = sens_avg;
         dev.flash = dev.regs;
         dev.factory = dev.regs;
+        dev.set_data_ready_pin();
         Ok(dev)
     }
 
@@ -541,7 +551,12 @@ impl Adis16407 {
 
     /// The latest data-ready assertion (none while MSC_CTRL[2] is clear).
     pub fn last_data_ready(&self) -> Option<DataReady> {
-        self.data_ready
+        match (self.data_ready_pin, self.latest) {
+            (Some((line, active_high)), Some(latest)) if latest.index >= self.data_ready_pin_from => {
+                Some(DataReady { t: latest.t, sample_index: latest.index, line, active_high })
+            }
+            _ => self.data_ready,
+        }
     }
 
     /// The gyro range in force.
@@ -798,12 +813,21 @@ impl Adis16407 {
         *diag = if clear_on_read { *diag | flags } else { flags };
 
         self.nd |= OUTPUT_SLOTS;
+        // With MSC_CTRL[2] set this sample also asserts data ready ([`Adis16407::last_data_ready`]).
         self.latest = Some(SampleStamp { index: k, t });
+    }
+
+    /// Take the data-ready pin and polarity from MSC_CTRL ([0] line, [1] polarity, [2] enable), after
+    /// keeping the record of the latest assertion under the previous setting. Called whenever a
+    /// control register may have changed (writes and resets): the samples need not look at MSC_CTRL.
+    fn set_data_ready_pin(&mut self) {
+        self.data_ready = self.last_data_ready();
         let msc = self.regs[s(addr::MSC_CTRL)];
-        if msc & 0x0004 != 0 {
+        self.data_ready_pin = (msc & 0x0004 != 0).then(|| {
             let line = if msc & 1 == 0 { DataReadyLine::Dio1 } else { DataReadyLine::Dio2 };
-            self.data_ready = Some(DataReady { t, sample_index: k, line, active_high: msc & 2 != 0 });
-        }
+            (line, msc & 2 != 0)
+        });
+        self.data_ready_pin_from = self.schedule.next_k;
     }
 
     /// Bring `calibration` up to date: recomputed only when one of the registers' words or the
@@ -928,6 +952,9 @@ impl Adis16407 {
             _ => value,
         };
         self.regs[slot] = value;
+        if def.addr == addr::MSC_CTRL {
+            self.set_data_ready_pin();
+        }
     }
 
     fn not_modelled(&mut self, t: Ps, what: &str) {
@@ -1011,6 +1038,7 @@ impl Adis16407 {
         self.schedule.restart(sample_clock(self.regs[s(addr::SMPL_PRD)], self.clock_ppb), self.busy_until);
         self.latest = None;
         self.data_ready = None;
+        self.set_data_ready_pin();
         self.spi.reset();
         self.events.push(Event::new(
             t,
