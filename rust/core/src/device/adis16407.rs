@@ -468,6 +468,7 @@ impl Adis16407 {
         dev.flash = dev.regs;
         dev.factory = dev.regs;
         dev.set_data_ready_pin();
+        dev.refresh_calibration();
         Ok(dev)
     }
 
@@ -652,6 +653,7 @@ impl Adis16407 {
                 self.set_control(def, new, t);
             }
         }
+        self.refresh_calibration();
     }
 
     /// Write a whole register as two byte writes, low byte first (what a host does in two frames).
@@ -663,7 +665,6 @@ impl Adis16407 {
     /// Encode the output registers from the latest sample if that has not been done yet.
     fn encode_pending(&mut self) {
         if self.pending {
-            self.refresh_calibration();
             self.calibration.encode_outputs(&self.filtered, &mut self.regs);
             self.pending = false;
         }
@@ -779,7 +780,6 @@ impl Adis16407 {
         if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
             spike(f, sf);
         }
-        self.refresh_calibration();
         let over = !self.calibration.nothing_can_clip(f) && self.calibration.outputs_overrange(f);
         if let Some(sf) = &faults {
             self.calibration.encode_outputs(f, &mut self.regs);
@@ -831,8 +831,8 @@ impl Adis16407 {
     }
 
     /// Bring `calibration` up to date: recomputed only when one of the registers' words or the
-    /// range changed since the last call (a comparison of 24 bytes per sample instead of twelve
-    /// conversions).
+    /// range changed since the last call. Called after every register write and every reset, the
+    /// only ways either can change, so the samples use `calibration` as it is.
     fn refresh_calibration(&mut self) {
         if self.regs[CALIBRATION_SLOTS] != self.calibration.words || self.range != self.calibration.range {
             self.calibration = Calibration::of(&self.regs, self.range);
@@ -1039,6 +1039,7 @@ impl Adis16407 {
         self.latest = None;
         self.data_ready = None;
         self.set_data_ready_pin();
+        self.refresh_calibration();
         self.spi.reset();
         self.events.push(Event::new(
             t,
@@ -1062,6 +1063,38 @@ mod tests {
         let mut p = Physical::default();
         p.values_mut().zip(v).for_each(|(x, v)| *x = v);
         p
+    }
+
+    #[test]
+    fn the_converted_calibration_follows_every_write_and_reset() {
+        // Random writes between samples to the calibration registers, SENS_AVG (range and M) and
+        // GLOB_CMD (autonull, factory restore, flash update, software reset), and resets as an injected
+        // fault makes them: after each, the device's converted calibration must be the one its
+        // registers and range give now.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16_407);
+        let mut d = Adis16407::new(&Device::default()).unwrap();
+        const PERIOD: Ps = 1_220_703_125;
+        let mut t = 0;
+        let mut changes = 0;
+        for step in 0..4000 {
+            t += rng.gen_range(0..2 * PERIOD);
+            d.advance_to(t);
+            let before = d.calibration;
+            match rng.gen_range(0..10) {
+                0..=4 => {
+                    let slot = rng.gen_range(CALIBRATION_SLOTS);
+                    d.write_byte((slot as u8) << 1 | rng.gen_range(0..2), rng.gen(), t);
+                }
+                5 | 6 => d.write_byte(addr::SENS_AVG | 1, [1, 2, 4, 3][rng.gen_range(0..4)], t),
+                7 => d.write_byte(addr::GLOB_CMD, [0x01, 0x02, 0x08][rng.gen_range(0..3)], t),
+                8 if step % 50 == 0 => d.write_byte(addr::GLOB_CMD, 0x80, t),
+                _ if step % 50 == 1 => d.software_reset(t),
+                _ => {}
+            }
+            assert_eq!(d.calibration, Calibration::of(&d.regs, d.range), "step {step}");
+            changes += u32::from(d.calibration != before);
+        }
+        assert!(changes > 1500, "{changes} changes of the calibration");
     }
 
     #[test]
