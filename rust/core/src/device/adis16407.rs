@@ -763,23 +763,27 @@ impl Adis16407 {
             p.supply_v = v;
         }
         let rated = self.check_rated_range(&p, t);
-        // From here on `f` holds the filtered values (the unfiltered ones are not needed any more).
-        let f = &mut p;
-        let [gx, gy, gz] = f.gyro_dps;
-        let [ax, ay, az] = f.accel_g;
+        let [gx, gy, gz] = p.gyro_dps;
+        let [ax, ay, az] = p.accel_g;
         let y = self.inertial_filter.push([gx, gy, gz, ax, ay, az]);
-        f.gyro_dps = [y[0], y[1], y[2]];
-        f.accel_g = [y[3], y[4], y[5]];
+        // The filter's outputs go straight to where the sample is kept (not into `p`, then copied).
+        self.filtered = Physical { gyro_dps: [y[0], y[1], y[2]], accel_g: [y[3], y[4], y[5]], ..p };
         if self.opts.filter_mag_baro {
-            let [mx, my, mz] = f.mag_gauss;
-            let y = self.mag_baro_filter.push([mx, my, mz, f.baro_mbar]);
-            f.mag_gauss = [y[0], y[1], y[2]];
-            f.baro_mbar = y[3];
+            let [mx, my, mz] = p.mag_gauss;
+            let y = self.mag_baro_filter.push([mx, my, mz, p.baro_mbar]);
+            self.filtered.mag_gauss = [y[0], y[1], y[2]];
+            self.filtered.baro_mbar = y[3];
         }
-        self.filtered = *f;
-        if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
-            spike(f, sf);
-        }
+        // What the outputs encode: the filtered values, plus any injected spikes (in `p`, whose
+        // unfiltered values are not needed any more).
+        let f = match faults.as_ref().filter(|sf| sf.any_spike) {
+            Some(sf) => {
+                p = self.filtered;
+                spike(&mut p, sf);
+                &p
+            }
+            None => &self.filtered,
+        };
         let over = !self.calibration.nothing_can_clip(f) && self.calibration.outputs_overrange(f);
         if let Some(sf) = &faults {
             self.calibration.encode_outputs(f, &mut self.regs);
