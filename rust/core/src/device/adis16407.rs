@@ -182,22 +182,28 @@ fn word(regs: &[u16; SLOTS], nd: u64, slot: usize) -> u16 {
     value | nd | ea
 }
 
+/// ND bits of the first `i` burst words, `i` = 0…14 (a table: a run of burst words clears its ND
+/// flags with two look-ups instead of a loop over its registers).
+const BURST_ND_PREFIX: [u64; BURST_ORDER.len() + 1] = {
+    let mut prefix = [0u64; BURST_ORDER.len() + 1];
+    let mut i = 0;
+    while i < BURST_ORDER.len() {
+        prefix[i + 1] = prefix[i] | 1 << s(BURST_ORDER[i]);
+        i += 1;
+    }
+    prefix
+};
+
+/// ND bits of the output registers of burst words `words` (indices into [`BURST_ORDER`]; each
+/// register appears once in a burst, so the prefix difference is exactly theirs).
+fn burst_nd_mask(words: std::ops::Range<usize>) -> u64 {
+    BURST_ND_PREFIX[words.end] & !BURST_ND_PREFIX[words.start]
+}
+
 /// Slot of a register address, as a constant.
 const fn s(a: u8) -> usize {
     (a >> 1) as usize
 }
-
-/// The ND bits (`1 << slot`) of the burst's words before word `i` ([`BURST_ORDER`]), for `i` = 0…14:
-/// a run of burst words clears its flags with one mask instead of a loop over its registers.
-const ND_BITS_BEFORE_WORD: [u64; BURST_ORDER.len() + 1] = {
-    let mut bits = [0u64; BURST_ORDER.len() + 1];
-    let mut i = 0;
-    while i < BURST_ORDER.len() {
-        bits[i + 1] = bits[i] | 1 << s(BURST_ORDER[i]);
-        i += 1;
-    }
-    bits
-};
 
 /// Slots of the calibration registers XGYRO_OFF … ZMAGN_SIC (contiguous: twelve).
 const CALIBRATION_SLOTS: std::ops::Range<usize> = s(addr::XGYRO_OFF)..s(addr::ZMAGN_SIC) + 1;
@@ -292,6 +298,21 @@ impl Calibration {
         inside
     }
 
+    /// Write the output registers' codes for the sample values `f` into `regs` (in place: the
+    /// registers are not copied).
+    fn encode_outputs(&self, f: &Physical, regs: &mut [u16; SLOTS]) {
+        let range = self.range;
+        self.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field(ch, v, range).code);
+    }
+
+    /// Whether any output register clips at its field limit for the sample values `f`.
+    fn outputs_overrange(&self, f: &Physical) -> bool {
+        let range = self.range;
+        let mut over = false;
+        self.visit_outputs(f, |_, ch, v| over |= overrange(ch, v, range));
+        over
+    }
+
     /// Visit the output registers with the sample values `f` they encode: `visit(slot, channel,
     /// value)`, the value being the filtered one with the calibration applied. (Calls with literal
     /// channels, not a table, so each encoding is compiled for its channel.)
@@ -350,7 +371,14 @@ pub struct Adis16407 {
     pending: bool,
     now: Ps,
     busy_until: Ps,
+    /// The latest data-ready assertion as of the last MSC_CTRL change ([`Adis16407::set_data_ready_pin`]);
+    /// the samples since then assert data ready on `data_ready_pin`, so the record is derived from
+    /// the latest sample when asked for instead of being written at every sample.
     data_ready: Option<DataReady>,
+    /// The pin and polarity data ready drives with the MSC_CTRL in force (`None`: MSC_CTRL[2] clear).
+    data_ready_pin: Option<(DataReadyLine, bool)>,
+    /// Index of the first sample taken with `data_ready_pin` in force.
+    data_ready_pin_from: u64,
     /// The last sample's physical input was beyond the rated range (events fire on entry only).
     over_rated: bool,
     /// The last sample's supply was outside the DIAG_STAT supply limits (events on entry only).
@@ -427,6 +455,8 @@ impl Adis16407 {
             now: 0,
             busy_until: 0,
             data_ready: None,
+            data_ready_pin: None,
+            data_ready_pin_from: 0,
             over_rated: false,
             supply_bad: false,
             faults: DeviceFaults::default(),
@@ -437,6 +467,8 @@ impl Adis16407 {
         dev.regs[s(addr::SENS_AVG)] = sens_avg;
         dev.flash = dev.regs;
         dev.factory = dev.regs;
+        dev.set_data_ready_pin();
+        dev.refresh_calibration();
         Ok(dev)
     }
 
@@ -520,7 +552,12 @@ impl Adis16407 {
 
     /// The latest data-ready assertion (none while MSC_CTRL[2] is clear).
     pub fn last_data_ready(&self) -> Option<DataReady> {
-        self.data_ready
+        match (self.data_ready_pin, self.latest) {
+            (Some((line, active_high)), Some(latest)) if latest.index >= self.data_ready_pin_from => {
+                Some(DataReady { t: latest.t, sample_index: latest.index, line, active_high })
+            }
+            _ => self.data_ready,
+        }
     }
 
     /// The gyro range in force.
@@ -567,7 +604,7 @@ impl Adis16407 {
         }
         let mut regs = self.regs;
         if self.pending {
-            self.encode_outputs(&Calibration::of(&self.regs, self.range), &self.filtered, &mut regs);
+            Calibration::of(&self.regs, self.range).encode_outputs(&self.filtered, &mut regs);
         }
         Ok(word(&regs, self.nd, def.slot()))
     }
@@ -616,6 +653,7 @@ impl Adis16407 {
                 self.set_control(def, new, t);
             }
         }
+        self.refresh_calibration();
     }
 
     /// Write a whole register as two byte writes, low byte first (what a host does in two frames).
@@ -627,10 +665,7 @@ impl Adis16407 {
     /// Encode the output registers from the latest sample if that has not been done yet.
     fn encode_pending(&mut self) {
         if self.pending {
-            self.refresh_calibration();
-            let mut regs = self.regs;
-            self.encode_outputs(&self.calibration, &self.filtered, &mut regs);
-            self.regs = regs;
+            self.calibration.encode_outputs(&self.filtered, &mut self.regs);
             self.pending = false;
         }
     }
@@ -674,13 +709,12 @@ impl Adis16407 {
         (words, self.latest)
     }
 
-    /// Clear the ND flags of the burst's words `words` (indices into [`BURST_ORDER`]) after a burst
+    /// Clear the ND flags of the burst words `words` (indices into [`BURST_ORDER`]) after a burst
     /// shifted them out, unless a newer sample than the one shifted out has set them since.
     #[inline]
     pub(super) fn clear_nd_after_burst(&mut self, words: std::ops::Range<usize>, shifted: Option<SampleStamp>) {
         if shifted == self.latest {
-            // The burst's registers are distinct: the bits of words a..b are those before b but not before a.
-            self.nd &= !(ND_BITS_BEFORE_WORD[words.end] & !ND_BITS_BEFORE_WORD[words.start]);
+            self.nd &= !burst_nd_mask(words);
         }
     }
 
@@ -729,34 +763,35 @@ impl Adis16407 {
             p.supply_v = v;
         }
         let rated = self.check_rated_range(&p, t);
-        // From here on `f` holds the filtered values (the unfiltered ones are not needed any more).
-        let f = &mut p;
-        let [gx, gy, gz] = f.gyro_dps;
-        let [ax, ay, az] = f.accel_g;
+        let [gx, gy, gz] = p.gyro_dps;
+        let [ax, ay, az] = p.accel_g;
         let y = self.inertial_filter.push([gx, gy, gz, ax, ay, az]);
-        f.gyro_dps = [y[0], y[1], y[2]];
-        f.accel_g = [y[3], y[4], y[5]];
+        // The filter's outputs go straight to where the sample is kept (not into `p`, then copied).
+        self.filtered = Physical { gyro_dps: [y[0], y[1], y[2]], accel_g: [y[3], y[4], y[5]], ..p };
         if self.opts.filter_mag_baro {
-            let [mx, my, mz] = f.mag_gauss;
-            let y = self.mag_baro_filter.push([mx, my, mz, f.baro_mbar]);
-            f.mag_gauss = [y[0], y[1], y[2]];
-            f.baro_mbar = y[3];
+            let [mx, my, mz] = p.mag_gauss;
+            let y = self.mag_baro_filter.push([mx, my, mz, p.baro_mbar]);
+            self.filtered.mag_gauss = [y[0], y[1], y[2]];
+            self.filtered.baro_mbar = y[3];
         }
-        self.filtered = *f;
-        if let Some(sf) = faults.as_ref().filter(|sf| sf.any_spike) {
-            spike(f, sf);
-        }
-        self.refresh_calibration();
-        let over = !self.calibration.nothing_can_clip(f) && self.outputs_overrange(&self.calibration, f);
+        // What the outputs encode: the filtered values, plus any injected spikes (in `p`, whose
+        // unfiltered values are not needed any more).
+        let f = match faults.as_ref().filter(|sf| sf.any_spike) {
+            Some(sf) => {
+                p = self.filtered;
+                spike(&mut p, sf);
+                &p
+            }
+            None => &self.filtered,
+        };
+        let over = !self.calibration.nothing_can_clip(f) && self.calibration.outputs_overrange(f);
         if let Some(sf) = &faults {
-            let mut regs = self.regs;
-            self.encode_outputs(&self.calibration, f, &mut regs);
+            self.calibration.encode_outputs(f, &mut self.regs);
             for (i, a) in BURST_ORDER.iter().enumerate() {
                 if sf.stuck >> i & 1 != 0 {
-                    regs[s(*a)] = sf.frozen[i];
+                    self.regs[s(*a)] = sf.frozen[i];
                 }
             }
-            self.regs = regs;
             self.pending = false;
         } else {
             self.pending = true;
@@ -782,35 +817,30 @@ impl Adis16407 {
         *diag = if clear_on_read { *diag | flags } else { flags };
 
         self.nd |= OUTPUT_SLOTS;
+        // With MSC_CTRL[2] set this sample also asserts data ready ([`Adis16407::last_data_ready`]).
         self.latest = Some(SampleStamp { index: k, t });
+    }
+
+    /// Take the data-ready pin and polarity from MSC_CTRL ([0] line, [1] polarity, [2] enable), after
+    /// keeping the record of the latest assertion under the previous setting. Called whenever a
+    /// control register may have changed (writes and resets): the samples need not look at MSC_CTRL.
+    fn set_data_ready_pin(&mut self) {
+        self.data_ready = self.last_data_ready();
         let msc = self.regs[s(addr::MSC_CTRL)];
-        if msc & 0x0004 != 0 {
+        self.data_ready_pin = (msc & 0x0004 != 0).then(|| {
             let line = if msc & 1 == 0 { DataReadyLine::Dio1 } else { DataReadyLine::Dio2 };
-            self.data_ready = Some(DataReady { t, sample_index: k, line, active_high: msc & 2 != 0 });
-        }
+            (line, msc & 2 != 0)
+        });
+        self.data_ready_pin_from = self.schedule.next_k;
     }
 
     /// Bring `calibration` up to date: recomputed only when one of the registers' words or the
-    /// range changed since the last call (a comparison of 24 bytes per sample instead of twelve
-    /// conversions).
+    /// range changed since the last call. Called after every register write and every reset, the
+    /// only ways either can change, so the samples use `calibration` as it is.
     fn refresh_calibration(&mut self) {
         if self.regs[CALIBRATION_SLOTS] != self.calibration.words || self.range != self.calibration.range {
             self.calibration = Calibration::of(&self.regs, self.range);
         }
-    }
-
-    /// Write the output registers' codes for the sample values `f` into `regs`.
-    fn encode_outputs(&self, calibration: &Calibration, f: &Physical, regs: &mut [u16; SLOTS]) {
-        let range = self.range;
-        calibration.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field(ch, v, range).code);
-    }
-
-    /// Whether any output register clips at its field limit for the sample values `f`.
-    fn outputs_overrange(&self, calibration: &Calibration, f: &Physical) -> bool {
-        let range = self.range;
-        let mut over = false;
-        calibration.visit_outputs(f, |_, ch, v| over |= overrange(ch, v, range));
-        over
     }
 
     /// What the injected faults do to the sample at `t` (cold: only once a fault is due).
@@ -926,6 +956,9 @@ impl Adis16407 {
             _ => value,
         };
         self.regs[slot] = value;
+        if def.addr == addr::MSC_CTRL {
+            self.set_data_ready_pin();
+        }
     }
 
     fn not_modelled(&mut self, t: Ps, what: &str) {
@@ -1009,6 +1042,8 @@ impl Adis16407 {
         self.schedule.restart(sample_clock(self.regs[s(addr::SMPL_PRD)], self.clock_ppb), self.busy_until);
         self.latest = None;
         self.data_ready = None;
+        self.set_data_ready_pin();
+        self.refresh_calibration();
         self.spi.reset();
         self.events.push(Event::new(
             t,
@@ -1032,6 +1067,48 @@ mod tests {
         let mut p = Physical::default();
         p.values_mut().zip(v).for_each(|(x, v)| *x = v);
         p
+    }
+
+    #[test]
+    fn the_converted_calibration_follows_every_write_and_reset() {
+        // Random writes between samples to the calibration registers, SENS_AVG (range and M) and
+        // GLOB_CMD (autonull, factory restore, flash update, software reset), and resets as an injected
+        // fault makes them: after each, the device's converted calibration must be the one its
+        // registers and range give now.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16_407);
+        let mut d = Adis16407::new(&Device::default()).unwrap();
+        const PERIOD: Ps = 1_220_703_125;
+        let mut t = 0;
+        let mut changes = 0;
+        for step in 0..4000 {
+            t += rng.gen_range(0..2 * PERIOD);
+            d.advance_to(t);
+            let before = d.calibration;
+            match rng.gen_range(0..10) {
+                0..=4 => {
+                    let slot = rng.gen_range(CALIBRATION_SLOTS);
+                    d.write_byte((slot as u8) << 1 | rng.gen_range(0..2), rng.gen(), t);
+                }
+                5 | 6 => d.write_byte(addr::SENS_AVG | 1, [1, 2, 4, 3][rng.gen_range(0..4)], t),
+                7 => d.write_byte(addr::GLOB_CMD, [0x01, 0x02, 0x08][rng.gen_range(0..3)], t),
+                8 if step % 50 == 0 => d.write_byte(addr::GLOB_CMD, 0x80, t),
+                _ if step % 50 == 1 => d.software_reset(t),
+                _ => {}
+            }
+            assert_eq!(d.calibration, Calibration::of(&d.regs, d.range), "step {step}");
+            changes += u32::from(d.calibration != before);
+        }
+        assert!(changes > 1500, "{changes} changes of the calibration");
+    }
+
+    #[test]
+    fn a_run_of_burst_words_clears_the_nd_flags_of_exactly_its_registers() {
+        for start in 0..=BURST_ORDER.len() {
+            for end in start..=BURST_ORDER.len() {
+                let one_by_one = BURST_ORDER[start..end].iter().fold(0u64, |mask, &a| mask | 1 << s(a));
+                assert_eq!(burst_nd_mask(start..end), one_by_one, "burst words {start}..{end}");
+            }
+        }
     }
 
     #[test]

@@ -648,9 +648,8 @@ impl Adis16407 {
     #[inline(always)]
     fn burst_word(&mut self) -> Option<(u8, u16, Option<SampleStamp>)> {
         let b = self.spi.burst.as_ref()?;
-        let (next, word, sample) = (b.next, b.words[b.next], b.sample);
-        self.clear_nd_after_burst(next..next + 1, sample);
-        let register = BURST_ORDER[next];
+        let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
+        self.clear_nd_after_burst(b.next..b.next + 1, sample);
         Some((register, word, sample))
     }
 

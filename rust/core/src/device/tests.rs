@@ -414,6 +414,47 @@ fn sample_clock_timing() {
 }
 
 #[test]
+fn data_ready_honours_every_msc_ctrl_write_and_reset_mid_run() {
+    // MSC_CTRL rewritten between samples (random line, polarity and enable bits), with the odd software
+    // reset: the record must always be the latest sample taken with data ready enabled, on the pin
+    // and polarity in force when it was taken (the device keeps the pin from MSC_CTRL's last write).
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16_407);
+    let mut d = device();
+    let (mut t, mut expected, mut seen) = (0, None, None);
+    let mut msc = d.peek(addr::MSC_CTRL).unwrap();
+    let (mut enabled, mut disabled, mut resets) = (0, 0, 0);
+    for step in 0..3000 {
+        t += rng.gen_range(0..3 * PERIOD);
+        d.advance_to(t);
+        let latest = d.latest_sample();
+        if latest != seen {
+            if let (Some(l), true) = (latest, msc & 4 != 0) {
+                let line = if msc & 1 == 0 { DataReadyLine::Dio1 } else { DataReadyLine::Dio2 };
+                expected = Some(DataReady { t: l.t, sample_index: l.index, line, active_high: msc & 2 != 0 });
+            }
+            seen = latest;
+        }
+        assert_eq!(d.last_data_ready(), expected, "step {step}, t = {t} ps, MSC_CTRL = 0x{msc:04X}");
+        if step % 250 == 249 {
+            d.write_byte(addr::GLOB_CMD, 0x80, t);
+            (expected, seen) = (None, None);
+            resets += 1;
+        } else {
+            d.write_byte(addr::MSC_CTRL, rng.gen_range(0..8), t);
+        }
+        msc = d.peek(addr::MSC_CTRL).unwrap();
+        assert_eq!(d.last_data_ready(), expected, "step {step}: right after the write");
+        if msc & 4 != 0 {
+            enabled += 1
+        } else {
+            disabled += 1
+        }
+    }
+    assert!(enabled > 1000 && disabled > 1000 && resets == 12, "{enabled} enabled, {disabled} disabled");
+}
+
+#[test]
 fn data_ready_follows_msc_ctrl() {
     let mut d = device();
     d.advance_to(3 * PERIOD + 7);
