@@ -299,10 +299,21 @@ impl Calibration {
     }
 
     /// Write the output registers' codes for the sample values `f` into `regs` (in place: the
-    /// registers are not copied).
-    fn encode_outputs(&self, f: &Physical, regs: &mut [u16; SLOTS]) {
+    /// registers are not copied). `unclipped`: [`Calibration::nothing_can_clip`] passed `f`, so the
+    /// clip tests can be left out (the same codes, bit for bit).
+    fn encode_outputs(&self, f: &Physical, regs: &mut [u16; SLOTS], unclipped: bool) {
+        if unclipped {
+            self.encode_outputs_as::<false>(f, regs);
+        } else {
+            self.encode_outputs_as::<true>(f, regs);
+        }
+    }
+
+    /// [`Calibration::encode_outputs`], with the clip tests compiled in or out.
+    #[inline(always)]
+    fn encode_outputs_as<const MAY_CLIP: bool>(&self, f: &Physical, regs: &mut [u16; SLOTS]) {
         let range = self.range;
-        self.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field(ch, v, range).code);
+        self.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field::<MAY_CLIP>(ch, v, range).code);
     }
 
     /// Whether any output register clips at its field limit for the sample values `f`.
@@ -334,6 +345,17 @@ impl Calibration {
         visit(s(addr::TEMP_OUT), Channel::Temp, f.temp_c);
         visit(s(addr::AUX_ADC), Channel::Aux, f.aux_v);
     }
+}
+
+/// What the output registers still need for the latest sample ([`Adis16407::encode_pending`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Pending {
+    /// Nothing: they hold its codes (or no sample was taken since the last reset).
+    Nothing,
+    /// Encoding, with the clip tests.
+    Encode,
+    /// Encoding of a sample the overrange screen passed: no field can clip, the tests are left out.
+    EncodeUnclipped,
 }
 
 /// The ADIS16407.
@@ -368,7 +390,7 @@ pub struct Adis16407 {
     /// every 1.22 ms), so encoding waits for a read or a register write
     /// ([`Adis16407::encode_pending`]); the result is the same bit for bit. (A sample with injected
     /// spikes, whose outputs differ from `filtered`, is encoded at once.)
-    pending: bool,
+    pending: Pending,
     now: Ps,
     busy_until: Ps,
     /// The latest data-ready assertion as of the last MSC_CTRL change ([`Adis16407::set_data_ready_pin`]);
@@ -451,7 +473,7 @@ impl Adis16407 {
             schedule: Schedule::new(sample_clock(regs[s(addr::SMPL_PRD)], cfg.clock_ppb), first_t, 0),
             latest: None,
             filtered: Physical::default(),
-            pending: false,
+            pending: Pending::Nothing,
             now: 0,
             busy_until: 0,
             data_ready: None,
@@ -603,8 +625,8 @@ impl Adis16407 {
             return Err(Error::Register(format!("{} (0x{addr:02X}) is write-only", def.name)));
         }
         let mut regs = self.regs;
-        if self.pending {
-            Calibration::of(&self.regs, self.range).encode_outputs(&self.filtered, &mut regs);
+        if self.pending != Pending::Nothing {
+            Calibration::of(&self.regs, self.range).encode_outputs(&self.filtered, &mut regs, false);
         }
         Ok(word(&regs, self.nd, def.slot()))
     }
@@ -664,9 +686,10 @@ impl Adis16407 {
 
     /// Encode the output registers from the latest sample if that has not been done yet.
     fn encode_pending(&mut self) {
-        if self.pending {
-            self.calibration.encode_outputs(&self.filtered, &mut self.regs);
-            self.pending = false;
+        if self.pending != Pending::Nothing {
+            let unclipped = self.pending == Pending::EncodeUnclipped;
+            self.calibration.encode_outputs(&self.filtered, &mut self.regs, unclipped);
+            self.pending = Pending::Nothing;
         }
     }
 
@@ -784,17 +807,20 @@ impl Adis16407 {
             }
             None => &self.filtered,
         };
-        let over = !self.calibration.nothing_can_clip(f) && self.calibration.outputs_overrange(f);
+        let unclipped = self.calibration.nothing_can_clip(f);
+        let over = !unclipped && self.calibration.outputs_overrange(f);
         if let Some(sf) = &faults {
-            self.calibration.encode_outputs(f, &mut self.regs);
+            self.calibration.encode_outputs(f, &mut self.regs, unclipped);
             for (i, a) in BURST_ORDER.iter().enumerate() {
                 if sf.stuck >> i & 1 != 0 {
                     self.regs[s(*a)] = sf.frozen[i];
                 }
             }
-            self.pending = false;
+            self.pending = Pending::Nothing;
         } else {
-            self.pending = true;
+            // Until the next sample or a register write (which encodes first) the calibration stays
+            // the one screened against.
+            self.pending = if unclipped { Pending::EncodeUnclipped } else { Pending::Encode };
         }
 
         let o = &self.opts;
@@ -1034,7 +1060,7 @@ impl Adis16407 {
         }
         self.regs[s(addr::DIAG_STAT)] = 0;
         self.nd = 0;
-        self.pending = false;
+        self.pending = Pending::Nothing;
         let sens_avg = self.checked_sens_avg(self.regs[s(addr::SENS_AVG)], t);
         self.regs[s(addr::SENS_AVG)] = sens_avg;
         self.inertial_filter.reset();
@@ -1111,19 +1137,26 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_overrange_screen_never_passes_a_value_the_exact_test_flags() {
-        // Random calibration words (full register widths, soft iron 0 included) and ranges; one value
-        // at a time swept across its screen interval's end (±2 % around it, so across the clip
-        // limit 1 % beyond it too) with the others at their centres. Wherever the screen passes a
-        // sample, no output may clip.
+    /// Samples swept across the ends of the overrange screen, with their calibration: random
+    /// calibration words (full register widths, soft iron 0 included, and cases with every word at
+    /// its most negative or largest value) and ranges; one value at a time swept across its screen
+    /// interval's end (±2 % around it, so across the clip limit 1 % beyond it too, and exactly at the
+    /// end and one ulp either side) with the others at their centres.
+    fn for_each_swept_sample(mut check: impl FnMut(usize, usize, &Calibration, &Physical)) {
+        const BITS: [u32; 12] = [13, 13, 13, 12, 12, 12, 14, 14, 14, 12, 12, 12];
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16407);
-        let (mut passed, mut flagged) = (0u32, 0u32);
         for case in 0..400 {
             let mut regs = [0u16; SLOTS];
             for (i, slot) in CALIBRATION_SLOTS.enumerate() {
-                let bits = [13, 13, 13, 12, 12, 12, 14, 14, 14, 12, 12, 12][i];
-                regs[slot] = rng.gen::<u16>() & ((1u32 << bits) - 1) as u16;
+                let field = ((1u32 << BITS[i]) - 1) as u16;
+                regs[slot] = match case % 20 {
+                    // The offsets' most negative words (sign bit only), the soft iron's largest.
+                    1 if i < 9 => 1 << (BITS[i] - 1),
+                    // The offsets' most positive words.
+                    2 if i < 9 => field >> 1,
+                    1 | 2 => field,
+                    _ => rng.gen::<u16>() & field,
+                };
             }
             if case % 10 == 0 {
                 regs[CALIBRATION_SLOTS.end - 1] = 0;
@@ -1131,23 +1164,54 @@ mod tests {
             let range = [GyroRange::Dps300, GyroRange::Dps150, GyroRange::Dps75][case % 3];
             let cal = Calibration::of(&regs, range);
             for i in 0..13 {
-                for _ in 0..200 {
+                for j in 0..206 {
                     let mut v = cal.unclipped_centre;
-                    let side = if rng.gen() { 1.0 } else { -1.0 };
-                    v[i] += side * cal.unclipped_half_width[i] * rng.gen_range(0.98..1.02);
-                    let f = from_screened(v);
-                    let mut over = false;
-                    cal.visit_outputs(&f, |_, ch, x| over |= overrange(ch, x, range));
-                    if cal.nothing_can_clip(&f) {
-                        passed += 1;
-                        assert!(!over, "case {case}, value {i} = {}: passed by the screen but clips", v[i]);
-                    }
-                    flagged += u32::from(over);
+                    let side = if j % 2 == 0 { 1.0 } else { -1.0 };
+                    let end = v[i] + side * cal.unclipped_half_width[i];
+                    v[i] = match j / 2 {
+                        0 => end,
+                        1 => end.next_up(),
+                        2 => end.next_down(),
+                        _ => v[i] + side * cal.unclipped_half_width[i] * rng.gen_range(0.98..1.02),
+                    };
+                    check(case, i, &cal, &from_screened(v));
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_overrange_screen_never_passes_a_value_the_exact_test_flags() {
+        // Wherever the screen passes a sample, no output may clip.
+        let (mut passed, mut flagged) = (0u32, 0u32);
+        for_each_swept_sample(|case, i, cal, f| {
+            let mut over = false;
+            cal.visit_outputs(f, |_, ch, x| over |= overrange(ch, x, cal.range));
+            if cal.nothing_can_clip(f) {
+                passed += 1;
+                assert!(!over, "case {case}, value {i}: passed by the screen but clips: {f:?}");
+            }
+            flagged += u32::from(over);
+        });
         // About half the sweep is inside the screen, and its outer quarter (past the 1 % margin)
         // clips: the test reached both the screen's ends and the clip limits.
         assert!(passed > 400_000 && flagged > 200_000, "{passed} passed, {flagged} clipped");
+    }
+
+    #[test]
+    fn an_encoding_without_the_clip_tests_equals_the_full_one_wherever_the_screen_passes() {
+        // The device leaves out the clip tests for samples the screen passed: the same codes, at the
+        // screen's ends, around every calibration offset and range.
+        let mut passed = 0u32;
+        for_each_swept_sample(|case, i, cal, f| {
+            if cal.nothing_can_clip(f) {
+                passed += 1;
+                let (mut full, mut unclipped) = ([0u16; SLOTS], [0u16; SLOTS]);
+                cal.encode_outputs(f, &mut full, false);
+                cal.encode_outputs(f, &mut unclipped, true);
+                assert_eq!(unclipped, full, "case {case}, value {i}: {f:?}");
+            }
+        });
+        assert!(passed > 400_000, "{passed} passed");
     }
 }

@@ -269,15 +269,17 @@ pub fn encode(channel: Channel, value: f64, range: GyroRange) -> Result<Encoded>
     if value.is_nan() {
         return Err(Error::Input(format!("cannot encode NaN into a {} word", channel.name())));
     }
-    Ok(encode_field(channel, value, range))
+    Ok(encode_field::<true>(channel, value, range))
 }
 
 /// [`encode`] without the NaN check (NaN encodes as code 0), for the device's per-sample path whose
-/// input is already sanitised.
+/// input is already sanitised. `MAY_CLIP = false` leaves out the clip tests, for a caller that has
+/// proved the value lies inside [`surely_unclipped`] (where they cannot fire; `overrange` is then
+/// false).
 #[inline(always)]
-pub(crate) fn encode_field(channel: Channel, value: f64, range: GyroRange) -> Encoded {
+pub(crate) fn encode_field<const MAY_CLIP: bool>(channel: Channel, value: f64, range: GyroRange) -> Encoded {
     let (x, lo, hi) = scaled(channel, value, range);
-    let (q, overrange) = quantize(x, lo, hi);
+    let (q, overrange) = quantize::<MAY_CLIP>(x, lo, hi);
     let code = match channel {
         Channel::Baro => q >> 8,
         Channel::BaroLow => q & 0xFF,
@@ -342,13 +344,14 @@ pub fn decode_baro(baro_out: u16, baro_outl: u16) -> f64 {
     f64::from(full) * BARO_FINE_LSB_MBAR
 }
 
-/// Round `x` to the nearest integer, clipped to `lo..=hi`; the flag says a clip happened.
+/// Round `x` to the nearest integer, clipped to `lo..=hi`; the flag says a clip happened. Without
+/// `MAY_CLIP` the caller guarantees `x` rounds into `lo..=hi` and the tests are compiled out.
 #[inline]
-fn quantize(x: f64, lo: i32, hi: i32) -> (i32, bool) {
+fn quantize<const MAY_CLIP: bool>(x: f64, lo: i32, hi: i32) -> (i32, bool) {
     // round(x) > hi ⟺ x ≥ hi + ½ and round(x) < lo ⟺ x ≤ lo − ½ (ties away from zero).
-    if x >= f64::from(hi) + 0.5 {
+    if MAY_CLIP && x >= f64::from(hi) + 0.5 {
         (hi, true)
-    } else if x <= f64::from(lo) - 0.5 {
+    } else if MAY_CLIP && x <= f64::from(lo) - 0.5 {
         (lo, true)
     } else {
         // NaN falls through both comparisons and casts to 0.
