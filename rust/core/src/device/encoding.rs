@@ -360,19 +360,19 @@ fn quantize<const MAY_CLIP: bool>(x: f64, lo: i32, hi: i32) -> (i32, bool) {
 }
 
 /// Round to nearest, ties away from zero (as `f64::round`), for |x| < 2⁶³, without a libm call
-/// (`f64::round` is one on baseline x86-64, and this sits on the per-sample path). `x − trunc(x)`
-/// is exact in binary floating point, so the tie test is exact.
+/// (`f64::round` is one on baseline x86-64, and this sits on the per-sample path) and without a
+/// branch: x + ±H truncated, H = ½ − 2⁻⁵⁴ (the largest double below ½).
+///
+/// Why it is exact (x > 0, n = ⌊x⌋; negative x is the mirror image): if x − n ≥ ½, x + H ≥ n + 1 −
+/// 2⁻⁵⁴, which rounds to n + 1 (the spacing below n + 1 is at least 2⁻⁵³; for n = 0 it is a tie that
+/// goes to the even 1.0), and x + H < n + 1.5, so the truncation is n + 1. If x − n < ½, x is at
+/// most n + ½ − ulp(x), so x + H ≤ n + 1 − ulp(x) − 2⁻⁵⁴ with n + 1 − ulp(x) a double (x and the
+/// doubles just below n + 1 share their spacing), so the sum rounds below n + 1: truncated, n.
+/// From 2⁵² on every double is whole and adding H changes nothing.
 #[inline]
 pub(crate) fn round_half_away(x: f64) -> i64 {
-    let i = x as i64;
-    let frac = x - i as f64;
-    if frac >= 0.5 {
-        i + 1
-    } else if frac <= -0.5 {
-        i - 1
-    } else {
-        i
-    }
+    const H: f64 = 0.499_999_999_999_999_94;
+    (x + H.copysign(x)) as i64
 }
 
 /// Mask of the low `bits` bits.
@@ -534,7 +534,21 @@ mod tests {
                 assert_eq!(round_half_away(v) as f64, v.round(), "{v}");
             }
         }
-        for v in [0.5, -0.5, 1.5, -1.5, 2.5, 0.499_999_999_999_999_94, -0.0, 4_503_599_627_370_495.5] {
+        // Every half (the ties) and the doubles either side of it, from 0.5 through 2⁵³, among them
+        // the halves next to every power of two (where the spacing changes), both signs.
+        let mut halves: Vec<f64> = (0..4096).map(|n| n as f64 + 0.5).collect();
+        for k in 1..=53 {
+            let p = 2f64.powi(k);
+            halves.extend([p - 1.5, p - 0.5, p + 0.5, p + 1.5]);
+        }
+        for h in halves {
+            for v in [h.next_down(), h, h.next_up(), h.next_down().next_down(), h.next_up().next_up()] {
+                for v in [v, -v] {
+                    assert_eq!(round_half_away(v) as f64, v.round(), "{v}");
+                }
+            }
+        }
+        for v in [0.5, -0.5, 1.5, -1.5, 2.5, 0.499_999_999_999_999_94, -0.0, 4_503_599_627_370_495.5, 1e18] {
             assert_eq!(round_half_away(v) as f64, v.round(), "{v}");
         }
     }
