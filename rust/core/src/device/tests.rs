@@ -628,6 +628,29 @@ fn overrange_and_supply_flags() {
 }
 
 #[test]
+fn every_axis_beyond_its_rated_range_sets_the_overrange_flag() {
+    // Each gyro and accel axis alone, of either sign, at its rated limit (±300 °/s, ±18 g) and just
+    // beyond it (the fields clip only further out, at 409.6 °/s and 27.3 g): beyond it DIAG_STAT
+    // bit 4 sets and one event names the value; at the limit nothing happens.
+    for axis in 0..6 {
+        let limit = if axis < 3 { 300.0 } else { 18.0 };
+        for sign in [1.0, -1.0] {
+            for (value, beyond) in [(sign * limit, false), (sign * (limit + 0.25), true)] {
+                let mut d = device();
+                d.set_stimulus(still(|p| match axis {
+                    0..=2 => p.gyro_dps[axis] = value,
+                    _ => p.accel_g[axis - 3] = value,
+                }));
+                d.advance_to(3 * PERIOD);
+                let what = format!("axis {axis} at {value}");
+                assert_eq!(d.peek(addr::DIAG_STAT).unwrap() & 0x0010 != 0, beyond, "{what}");
+                assert_eq!(d.events().count("sensor_overrange"), usize::from(beyond), "{what}");
+            }
+        }
+    }
+}
+
+#[test]
 fn burst_details() {
     // CS↑ ends a burst early; DIN during a burst is ignored.
     let mut d = device();
