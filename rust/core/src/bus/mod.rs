@@ -12,6 +12,8 @@ pub use crate::profile::BusLevel;
 pub use link::{FrameRecord, LinkRecord, SpiLink};
 
 use crate::time::Ps;
+use std::ops::Range;
+use transaction::TimingOf;
 
 /// What the wires show the slave about one frame, computed by the bus from the master's registers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,15 +41,86 @@ pub trait SpiSlave {
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16;
     /// The frame is over; `din` is the word the slave sampled on DIN.
     fn end_frame(&mut self, din: u16, timing: &FrameTiming);
-    /// Frames of one shape (the same `bits`, `cpol` and `sclk_period`) clocked one after another in
-    /// one chip select, each with DIN `din`: `dout[i]` gets the word frame `i` shifts out. The same
-    /// as `begin_frame` then `end_frame` for each, which is what the default does; a slave may
-    /// answer the run in fewer steps.
-    fn run_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) {
-        for (timing, d) in timings.iter().zip(dout) {
-            *d = self.begin_frame(timing);
-            self.end_frame(din, timing);
+    /// Frames of one shape clocked one after another in one chip select, each with DIN `din`:
+    /// `dout[i]` gets the word frame `i` of `run` shifts out. The same as `begin_frame` then
+    /// `end_frame` for each, which is what the default does; a slave may answer the run in fewer
+    /// steps, working out the timing of the frames it looks at only.
+    fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
+        for (i, d) in dout.iter_mut().enumerate().take(run.len()) {
+            let timing = run.frame(i);
+            *d = self.begin_frame(&timing);
+            self.end_frame(din, &timing);
         }
+    }
+}
+
+/// The timings of a run of frames of one shape (the same `bits`, `cpol` and `sclk_period`), given as
+/// their start cycles and the formula that times a start, not as one [`FrameTiming`] per frame: a
+/// slave works out the frames it looks at ([`RunTiming::frame`]) and bounds the stalls between all of
+/// them at once ([`RunTiming::min_stall`]).
+#[derive(Debug, Clone, Copy)]
+pub struct RunTiming<'a> {
+    timing: TimingOf,
+    starts: &'a [u64],
+    /// Every edge of the run converts exactly ([`TimingOf::exact_up_to`] its latest start).
+    exact: bool,
+}
+
+impl<'a> RunTiming<'a> {
+    /// Frames of `timing` started on the LSPCLK cycles `starts` (in increasing order).
+    #[inline]
+    pub fn new(timing: TimingOf, starts: &'a [u64]) -> RunTiming<'a> {
+        debug_assert!(starts.windows(2).all(|w| w[0] < w[1]), "a run's starts increase");
+        let exact = starts.last().is_none_or(|&latest| timing.exact_up_to(latest));
+        RunTiming { timing, starts, exact }
+    }
+
+    /// The number of frames.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.starts.len()
+    }
+
+    /// Whether the run has no frame.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.starts.is_empty()
+    }
+
+    /// The timing of frame `i`.
+    #[inline]
+    pub fn frame(&self, i: usize) -> FrameTiming {
+        self.timing.at(self.starts[i])
+    }
+
+    /// The run without its first `skip` frames.
+    #[inline]
+    pub fn skip(&self, skip: usize) -> RunTiming<'a> {
+        RunTiming { starts: &self.starts[skip..], ..*self }
+    }
+
+    /// A lower bound of every stall inside the run (a frame's first edge less the previous frame's
+    /// last edge), from the closest two starts ([`TimingOf::min_stall`]); `Ps::MAX` with fewer than
+    /// two frames, `None` when the run's edge times may pass u64 (no bound is known).
+    pub fn min_stall(&self) -> Option<Ps> {
+        match self.starts.windows(2).map(|w| w[1] - w[0]).min() {
+            None => Some(Ps::MAX),
+            Some(spacing) => self.exact.then(|| self.timing.min_stall(spacing)),
+        }
+    }
+
+    /// The end of the frames of `range` that start before `t`: the first frame of `range` whose first
+    /// edge is at or after `t`, or `range.end`. Edge times grow with the start when the run converts
+    /// exactly, so a bisection finds it; else each frame is looked at in turn.
+    pub fn end_before(&self, range: Range<usize>, t: Ps) -> usize {
+        let starts = &self.starts[range.clone()];
+        let before = |s: &u64| self.timing.first_edge(*s) < t;
+        let count = if self.exact {
+            starts.partition_point(before)
+        } else {
+            starts.iter().position(|s| !before(s)).unwrap_or(starts.len())
+        };
+        range.start + count
     }
 }
 

@@ -3,9 +3,10 @@
 use super::encoding::{decode, sign_extend, Channel, GyroRange};
 use super::registers::{addr, BURST_ORDER};
 use super::*;
-use crate::bus::{FrameTiming, SpiSlave};
+use crate::bus::transaction::TimingOf;
+use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::profile::{Device, TimingMode};
-use crate::time::Ps;
+use crate::time::{Clock, Ps, PS_PER_S};
 
 const NS: Ps = 1_000;
 const US: Ps = 1_000_000;
@@ -742,6 +743,18 @@ fn timings_from(h: &Host, gaps: &[Ps]) -> Vec<FrameTiming> {
         .collect()
 }
 
+/// Frames of one shape (first edges increasing) as a run's formula and starts: timed by a clock of
+/// 1 ps per cycle, a frame starts on the cycle of its first edge, so the run's frames are `timings`.
+pub(crate) fn ps_run(timings: &[FrameTiming]) -> (TimingOf, Vec<u64>) {
+    let first = timings[0];
+    let edges = (0, first.last_edge - first.first_edge);
+    let of = TimingOf::with_edges(edges, &Clock::from_hz(PS_PER_S), first.sclk_period, first.bits, first.cpol);
+    let starts: Vec<u64> = timings.iter().map(|t| t.first_edge).collect();
+    let run = RunTiming::new(of, &starts);
+    assert!(timings.iter().enumerate().all(|(i, t)| run.frame(i) == *t), "the run times every frame as given");
+    (of, starts)
+}
+
 /// A run of frames (`SpiSlave::run_frames`, as the link hands over a burst's data frames) leaves the
 /// device as the same frames one by one do: the words, the latest record, the counters, the events,
 /// the frame log, and what a later read and burst see. Cases: a clean burst; samples inside the run;
@@ -871,10 +884,12 @@ fn a_run_of_frames_equals_the_frames_one_by_one() {
                 w
             })
             .collect();
+        let (of, starts) = ps_run(&timings);
+        let run_timing = RunTiming::new(of, &starts);
         let mut run_words = vec![0u16; timings.len()];
-        run.run_frames(&timings, 0, &mut run_words);
+        run.run_frames(&run_timing, 0, &mut run_words);
         let mut short_words = vec![0u16; timings.len()];
-        assert_eq!(short.clean_burst_frames(&timings, 0, &mut short_words), case.clean, "{}", case.name);
+        assert_eq!(short.clean_burst_frames(&run_timing, 0, &mut short_words), case.clean, "{}", case.name);
         assert_eq!(run_words, words, "{}", case.name);
         assert_eq!(run.last_frame(), one.last_frame(), "{}", case.name);
         assert_eq!(run.frames_clocked(), one.frames_clocked(), "{}", case.name);
