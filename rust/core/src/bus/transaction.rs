@@ -83,6 +83,14 @@ impl TimingOf {
         self.lspclk.cycles_to_ps(start_cycle + self.first)
     }
 
+    /// The characters whose first edge comes before `t` are those started below the returned LSPCLK
+    /// cycle (⌈t·D/N⌉ − first, one cycle being N/D ps), for `t` no later than the first edge of a
+    /// character within [`TimingOf::exact_up_to`] (then the count fits u64 and converts exactly).
+    #[inline]
+    pub fn starts_before(&self, t: Ps) -> u64 {
+        self.lspclk.ps_to_cycles_ceil(t).saturating_sub(self.first)
+    }
+
     /// Whether every edge of the characters started up to LSPCLK cycle `latest_start` converts to ps
     /// in 64 bits ([`Clock::cycles_to_ps_up_to`]): then no edge time passes u64, edge times grow
     /// with the start, and [`TimingOf::min_stall`] holds for these characters.

@@ -550,16 +550,17 @@ impl Adis16407 {
             return 0;
         }
         // One shape for the whole run (see `SpiSlave::run_frames`): its rules are checked once.
-        let shape = run.frame(0);
-        if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(&shape, true).is_empty() {
+        let first = run.frame(0);
+        if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(&first, true).is_empty() {
             return 0;
         }
-        let min_stall = MinPs::whole(shape.sclk_period);
-        let no_short_stall = run.min_stall().is_some_and(|bound| !min_stall.short(bound));
+        let min_stall = MinPs::whole(first.sclk_period);
+        // The stall rule for the whole run at once when its bound on its stalls passes it.
+        let stalls_clear = run.min_stall().is_some_and(|bound| !min_stall.short(bound));
         let mut answered = 0;
         while answered < run.len() {
             // The stretch's first frame: every check, as `start_frame` makes them.
-            let timing = run.frame(answered);
+            let timing = if answered == 0 { first } else { run.frame(answered) };
             let t = timing.first_edge;
             if t < self.now() {
                 break;
@@ -574,7 +575,7 @@ impl Adis16407 {
             // are past `now` and the end of any reset), the burst's last word, or a short stall.
             let horizon = self.next_event();
             let last_word = run.len().min(answered + burst.words.len() - burst.next);
-            let end = if no_short_stall {
+            let end = if stalls_clear {
                 run.end_before(answered + 1..last_word, horizon)
             } else {
                 let (mut end, mut last_edge) = (answered + 1, timing.last_edge);
