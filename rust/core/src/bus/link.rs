@@ -136,7 +136,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             BusLevel::Bit => self.waveform_of(first).timing_of(),
         };
         // The slave is handed the run's timing formula: it times only the frames it looks at.
-        self.slave.run_frames(&RunTiming::new(timing, run.starts), din, rx);
+        self.slave.run_frames(&RunTiming::new(timing, run.starts, run.closest_spacing), din, rx);
         // What the master samples: each character's word through the closed form or the walk's map
         // (the walk depends on the word, the shape and the lines, not on the character's time).
         match self.level {

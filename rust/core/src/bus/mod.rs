@@ -12,6 +12,7 @@ pub use crate::profile::BusLevel;
 pub use link::{FrameRecord, LinkRecord, SpiLink};
 
 use crate::time::Ps;
+use crate::dsp::spi::closest_spacing;
 use std::ops::Range;
 use transaction::TimingOf;
 
@@ -69,18 +70,16 @@ pub struct RunTiming<'a> {
 }
 
 impl<'a> RunTiming<'a> {
-    /// Frames of `timing` started on the LSPCLK cycles `starts` (in increasing order).
+    /// Frames of `timing` started on the LSPCLK cycles `starts` (in increasing order), `closest` =
+    /// [`closest_spacing`]`(starts)` (given: the caller may keep it from run to run).
     #[inline]
-    pub fn new(timing: TimingOf, starts: &'a [u64]) -> RunTiming<'a> {
+    pub fn new(timing: TimingOf, starts: &'a [u64], closest: u64) -> RunTiming<'a> {
         debug_assert!(starts.windows(2).all(|w| w[0] < w[1]), "a run's starts increase");
+        debug_assert_eq!(closest, closest_spacing(starts));
         let exact = starts.last().is_none_or(|&latest| timing.exact_up_to(latest));
         let min_stall = match starts {
             [] | [_] => Some(Ps::MAX),
-            _ if !exact => None,
-            _ => {
-                let closest = starts.windows(2).fold(u64::MAX, |closest, w| closest.min(w[1] - w[0]));
-                Some(timing.min_stall(closest))
-            }
+            _ => exact.then(|| timing.min_stall(closest)),
         };
         RunTiming { timing, starts, exact, min_stall }
     }
@@ -198,7 +197,7 @@ mod tests {
                     starts.push(starts[starts.len() - 1] - d);
                 }
                 starts.reverse();
-                let run = RunTiming::new(timing, &starts);
+                let run = RunTiming::new(timing, &starts, closest_spacing(&starts));
                 assert_eq!(run.exact, exact, "{lspclk:?} up to {latest}");
                 let alone: Vec<FrameTiming> = starts.iter().map(|&s| timing.at(s)).collect();
                 assert!((0..run.len()).all(|i| run.frame(i) == alone[i]), "{lspclk:?} up to {latest}");
@@ -208,7 +207,7 @@ mod tests {
                     None => assert!(!exact, "{lspclk:?} up to {latest}: an exact run has a bound"),
                 }
                 assert_eq!(run.skip(1).min_stall(), run.min_stall(), "a part keeps the bound");
-                assert_eq!(RunTiming::new(timing, &starts[..1]).min_stall(), Some(Ps::MAX), "one frame: no stall");
+                assert_eq!(RunTiming::new(timing, &starts[..1], u64::MAX).min_stall(), Some(Ps::MAX), "one frame: no stall");
                 let times = alone.iter().flat_map(|t| [t.first_edge.saturating_sub(1), t.first_edge, t.first_edge + 1]);
                 for t in times.chain([0, 1, u64::MAX]) {
                     for from in 0..=run.len() {
