@@ -11,8 +11,8 @@ pub mod transaction;
 pub use crate::profile::BusLevel;
 pub use link::{FrameRecord, LinkRecord, SpiLink};
 
-use crate::time::Ps;
 use crate::dsp::spi::closest_spacing;
+use crate::time::Ps;
 use std::ops::Range;
 use transaction::TimingOf;
 
@@ -207,7 +207,11 @@ mod tests {
                     None => assert!(!exact, "{lspclk:?} up to {latest}: an exact run has a bound"),
                 }
                 assert_eq!(run.skip(1).min_stall(), run.min_stall(), "a part keeps the bound");
-                assert_eq!(RunTiming::new(timing, &starts[..1], u64::MAX).min_stall(), Some(Ps::MAX), "one frame: no stall");
+                assert_eq!(
+                    RunTiming::new(timing, &starts[..1], u64::MAX).min_stall(),
+                    Some(Ps::MAX),
+                    "one frame: no stall"
+                );
                 let times = alone.iter().flat_map(|t| [t.first_edge.saturating_sub(1), t.first_edge, t.first_edge + 1]);
                 for t in times.chain([0, 1, u64::MAX]) {
                     for from in 0..=run.len() {
