@@ -5,7 +5,7 @@
 //! slave is told about CS edges and frames in time order. Per frame it asks the slave for DOUT when
 //! the frame starts, and delivers DIN when it ends.
 
-use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, SpiSlave};
+use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, RunTiming, SpiSlave};
 use crate::dsp::spi::{
     self, CharShape, FlagTime, Frame, FrameRun, PollSteps, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF,
 };
@@ -84,8 +84,6 @@ struct Wires<S> {
     /// only when the shape changes.
     waveform: Option<bitlevel::Waveform>,
     period_cache: Option<(u32, Ps)>,
-    /// The timings of a run of frames (kept: a run is clocked every burst).
-    run_timings: Vec<FrameTiming>,
     /// The bit level's map of what a run's frames exchange, and what it was made for.
     exchange_map: Option<(ExchangeKey, Box<bitlevel::ExchangeMap>)>,
     log: Option<Vec<LinkRecord>>,
@@ -137,9 +135,8 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             }
             BusLevel::Bit => self.waveform_of(first).timing_of(),
         };
-        self.run_timings.clear();
-        timing.extend_run(run.starts, &mut self.run_timings);
-        self.slave.run_frames(&self.run_timings, din, rx);
+        // The slave is handed the run's timing formula: it times only the frames it looks at.
+        self.slave.run_frames(&RunTiming::new(timing, run.starts, run.closest_spacing), din, rx);
         // What the master samples: each character's word through the closed form or the walk's map
         // (the walk depends on the word, the shape and the lines, not on the character's time).
         match self.level {
@@ -294,7 +291,6 @@ impl<S: SpiSlave> SpiLink<S> {
                 in_flight: None,
                 waveform: None,
                 period_cache: None,
-                run_timings: Vec::new(),
                 exchange_map: None,
                 log: None,
                 events: EventLog::default(),

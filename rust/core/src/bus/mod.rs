@@ -11,7 +11,10 @@ pub mod transaction;
 pub use crate::profile::BusLevel;
 pub use link::{FrameRecord, LinkRecord, SpiLink};
 
+use crate::dsp::spi::closest_spacing;
 use crate::time::Ps;
+use std::ops::Range;
+use transaction::TimingOf;
 
 /// What the wires show the slave about one frame, computed by the bus from the master's registers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,15 +42,101 @@ pub trait SpiSlave {
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16;
     /// The frame is over; `din` is the word the slave sampled on DIN.
     fn end_frame(&mut self, din: u16, timing: &FrameTiming);
-    /// Frames of one shape (the same `bits`, `cpol` and `sclk_period`) clocked one after another in
-    /// one chip select, each with DIN `din`: `dout[i]` gets the word frame `i` shifts out. The same
-    /// as `begin_frame` then `end_frame` for each, which is what the default does; a slave may
-    /// answer the run in fewer steps.
-    fn run_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) {
-        for (timing, d) in timings.iter().zip(dout) {
-            *d = self.begin_frame(timing);
-            self.end_frame(din, timing);
+    /// Frames of one shape clocked one after another in one chip select, each with DIN `din`:
+    /// `dout[i]` gets the word frame `i` of `run` shifts out. The same as `begin_frame` then
+    /// `end_frame` for each, which is what the default does; a slave may answer the run in fewer
+    /// steps, working out the timing of the frames it looks at only.
+    fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
+        for (i, d) in dout.iter_mut().enumerate().take(run.len()) {
+            let timing = run.frame(i);
+            *d = self.begin_frame(&timing);
+            self.end_frame(din, &timing);
         }
+    }
+}
+
+/// The timings of a run of frames of one shape (the same `bits`, `cpol` and `sclk_period`), given as
+/// their start cycles and the formula that times a start, not as one [`FrameTiming`] per frame: a
+/// slave works out the frames it looks at ([`RunTiming::frame`]) and checks the stalls between all of
+/// them at once against a bound ([`RunTiming::min_stall`]).
+#[derive(Debug, Clone, Copy)]
+pub struct RunTiming<'a> {
+    timing: TimingOf,
+    starts: &'a [u64],
+    /// Every edge of the run converts exactly ([`TimingOf::exact_up_to`] its latest start).
+    exact: bool,
+    /// A lower bound of every stall inside the run (see [`RunTiming::min_stall`]).
+    min_stall: Option<Ps>,
+}
+
+impl<'a> RunTiming<'a> {
+    /// Frames of `timing` started on the LSPCLK cycles `starts` (in increasing order), `closest` =
+    /// [`closest_spacing`]`(starts)` (given: the caller may keep it from run to run).
+    #[inline]
+    pub fn new(timing: TimingOf, starts: &'a [u64], closest: u64) -> RunTiming<'a> {
+        debug_assert!(starts.windows(2).all(|w| w[0] < w[1]), "a run's starts increase");
+        debug_assert_eq!(closest, closest_spacing(starts));
+        let exact = starts.last().is_none_or(|&latest| timing.exact_up_to(latest));
+        let min_stall = match starts {
+            [] | [_] => Some(Ps::MAX),
+            _ => exact.then(|| timing.min_stall(closest)),
+        };
+        RunTiming { timing, starts, exact, min_stall }
+    }
+
+    /// The number of frames.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.starts.len()
+    }
+
+    /// Whether the run has no frame.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.starts.is_empty()
+    }
+
+    /// The timing of frame `i`.
+    #[inline]
+    pub fn frame(&self, i: usize) -> FrameTiming {
+        self.timing.at(self.starts[i])
+    }
+
+    /// The run without its first `skip` frames (its stall bound is kept: it holds for any part).
+    #[inline]
+    pub fn skip(&self, skip: usize) -> RunTiming<'a> {
+        RunTiming { starts: &self.starts[skip..], ..*self }
+    }
+
+    /// A lower bound of every stall inside the run (a frame's first edge less the previous frame's
+    /// last edge), from its closest two starts ([`TimingOf::min_stall`]); `Ps::MAX` with fewer than
+    /// two frames, `None` when the run's edge times may pass u64 (no bound is known).
+    #[inline]
+    pub fn min_stall(&self) -> Option<Ps> {
+        self.min_stall
+    }
+
+    /// The end of the frames of `range` that start before `t`: the first frame of `range` whose first
+    /// edge is at or after `t`, or `range.end`.
+    ///
+    /// Why the start cycles tell: in an exact run edge times grow with the start, and a first edge is
+    /// before `t` exactly when its start is below [`TimingOf::starts_before`]`(t)`, which is exact for
+    /// `t` no later than the range's last first edge (a later `t` follows every frame of the range).
+    /// A run that is not exact is timed frame by frame.
+    pub fn end_before(&self, range: Range<usize>, t: Ps) -> usize {
+        let starts = &self.starts[range.clone()];
+        let count = match starts.last() {
+            None => 0,
+            Some(_) if !self.exact => {
+                starts.iter().position(|&s| self.timing.first_edge(s) >= t).unwrap_or(starts.len())
+            }
+            Some(&latest) if self.timing.first_edge(latest) < t => starts.len(),
+            Some(_) => {
+                let before = self.timing.starts_before(t);
+                starts.partition_point(|&s| s < before)
+            }
+        };
+        range.start + count
     }
 }
 
@@ -79,6 +168,67 @@ mod tests {
     use crate::dsp::spi::{SPIRXBUF, SPITXBUF};
     use crate::profile::{self, Profile};
     use proptest::prelude::*;
+
+    /// A run times each frame as its start alone; its end before a time is the first frame whose
+    /// first edge is not before it, found frame by frame (times on and next to the first edges,
+    /// before and after the run, over every part of the run); its stall bound is below every stall
+    /// between its frames. Runs of small starts (exact: bisected) and runs at the largest
+    /// start whose edges convert in 64 bits and past it (edge times beyond u64 wrap: looked at in turn,
+    /// and no stall bound).
+    #[test]
+    fn a_run_is_each_frame_timed_alone() {
+        use crate::dsp::spi::{CharShape, ClockScheme};
+        use crate::time::Clock;
+        let shape = CharShape { bits: 16, divisor: 50, scheme: ClockScheme { polarity: true, phase: true } };
+        let mut inexact = 0;
+        for lspclk in [Clock::new(75_000_000, 2), Clock::new(7, 3), Clock::from_hz(3_000_000_000_000)] {
+            let timing = TimingOf::new(&shape, &lspclk, 1_333_333);
+            let (mut lo, mut hi) = (0u64, u64::MAX / 2);
+            while lo < hi {
+                let mid = lo + (hi - lo).div_ceil(2);
+                (lo, hi) = if timing.exact_up_to(mid) { (mid, hi) } else { (lo, mid - 1) };
+            }
+            let pattern = [835, 834, 834, 834, 1, 2_000];
+            for latest in [123_456_789, lo, lo + 1, u64::MAX / 2] {
+                let exact = timing.exact_up_to(latest);
+                inexact += usize::from(!exact);
+                let mut starts: Vec<u64> = vec![latest];
+                for d in pattern.iter().cycle().take(13) {
+                    starts.push(starts[starts.len() - 1] - d);
+                }
+                starts.reverse();
+                let run = RunTiming::new(timing, &starts, closest_spacing(&starts));
+                assert_eq!(run.exact, exact, "{lspclk:?} up to {latest}");
+                let alone: Vec<FrameTiming> = starts.iter().map(|&s| timing.at(s)).collect();
+                assert!((0..run.len()).all(|i| run.frame(i) == alone[i]), "{lspclk:?} up to {latest}");
+                let stalls = alone.windows(2).map(|w| w[1].first_edge.saturating_sub(w[0].last_edge));
+                match run.min_stall() {
+                    Some(bound) => assert!(stalls.clone().all(|s| bound <= s), "{lspclk:?} up to {latest}"),
+                    None => assert!(!exact, "{lspclk:?} up to {latest}: an exact run has a bound"),
+                }
+                assert_eq!(run.skip(1).min_stall(), run.min_stall(), "a part keeps the bound");
+                assert_eq!(
+                    RunTiming::new(timing, &starts[..1], u64::MAX).min_stall(),
+                    Some(Ps::MAX),
+                    "one frame: no stall"
+                );
+                let times = alone.iter().flat_map(|t| [t.first_edge.saturating_sub(1), t.first_edge, t.first_edge + 1]);
+                for t in times.chain([0, 1, u64::MAX]) {
+                    for from in 0..=run.len() {
+                        for to in from..=run.len() {
+                            let scan = (from..to).find(|&i| alone[i].first_edge >= t).unwrap_or(to);
+                            assert_eq!(
+                                run.end_before(from..to, t),
+                                scan,
+                                "{lspclk:?} up to {latest}: {from}..{to} {t}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(inexact >= 4, "runs past the exact bound: {inexact}");
+    }
 
     /// A slave that answers a fixed sequence of words and records everything it is told.
     #[derive(Debug, Default, Clone, PartialEq)]

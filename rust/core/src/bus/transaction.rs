@@ -77,26 +77,40 @@ impl TimingOf {
         }
     }
 
-    /// [`TimingOf::at`] of each of `starts` (in increasing order), appended to `out`. A run converts
-    /// its start cycles with the overflow test made once, and each last edge from its first edge's
-    /// conversion ([`crate::time::CyclesToPs::after`]): one division per character instead of two.
-    pub fn extend_run(&self, starts: &[u64], out: &mut Vec<FrameTiming>) {
-        let Some(&latest) = starts.last() else { return };
-        debug_assert!(starts.windows(2).all(|w| w[0] < w[1]), "a run's starts increase");
-        let Some(exact) = self.lspclk.cycles_to_ps_up_to(latest + self.first) else {
-            return out.extend(starts.iter().map(|&s| self.at(s)));
-        };
-        let edge_to_edge = exact.span(self.last - self.first);
-        out.extend(starts.iter().map(|&s| {
-            let first_edge = exact.split(s + self.first);
-            FrameTiming {
-                first_edge: first_edge.ps,
-                last_edge: exact.after(first_edge, edge_to_edge),
-                sclk_period: self.sclk_period,
-                bits: self.bits,
-                cpol: self.cpol,
-            }
-        }));
+    /// The first edge of the character started on LSPCLK cycle `start_cycle` (that of [`TimingOf::at`]).
+    #[inline]
+    pub fn first_edge(&self, start_cycle: u64) -> Ps {
+        self.lspclk.cycles_to_ps(start_cycle + self.first)
+    }
+
+    /// The characters whose first edge comes before `t` are those started below the returned LSPCLK
+    /// cycle (⌈t·D/N⌉ − first, one cycle being N/D ps), for `t` no later than the first edge of a
+    /// character within [`TimingOf::exact_up_to`] (then the count fits u64 and converts exactly).
+    #[inline]
+    pub fn starts_before(&self, t: Ps) -> u64 {
+        self.lspclk.ps_to_cycles_ceil(t).saturating_sub(self.first)
+    }
+
+    /// Whether every edge of the characters started up to LSPCLK cycle `latest_start` converts to ps
+    /// in 64 bits ([`Clock::cycles_to_ps_up_to`]): then no edge time passes u64, edge times grow
+    /// with the start, and [`TimingOf::min_stall`] holds for these characters.
+    pub fn exact_up_to(&self, latest_start: u64) -> bool {
+        latest_start.checked_add(self.last).and_then(|c| self.lspclk.cycles_to_ps_up_to(c)).is_some()
+    }
+
+    /// A lower bound of the stall from the last edge of a character to the first edge of a character
+    /// started `spacing` or more LSPCLK cycles later, both within [`TimingOf::exact_up_to`]:
+    /// ⌊(spacing + first − last)·N/D⌋ ps, 0 when such characters may overlap.
+    ///
+    /// Why: one LSPCLK cycle is N/D ps and an edge c cycles after power-on is at ⌊c·N/D⌋ ps. For a
+    /// character started on cycle s, x = (s + spacing + first)·N/D and y = (s + last)·N/D, the stall
+    /// is at least ⌊x⌋ − ⌊y⌋ ≥ ⌊x − y⌋ (⌊y⌋ + ⌊x − y⌋ is a whole number at most x), and a later start
+    /// only moves the first edge later.
+    pub fn min_stall(&self, spacing: u64) -> Ps {
+        match spacing.checked_add(self.first).and_then(|c| c.checked_sub(self.last)) {
+            Some(cycles) => self.lspclk.cycles_to_ps(cycles),
+            None => 0,
+        }
     }
 }
 
@@ -167,33 +181,59 @@ pub fn simo_after(frame: &Frame, lines: Lines) -> bool {
 mod tests {
     use super::*;
     use crate::dsp::spi::ClockScheme;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
+    /// The stall bound is a lower bound of every stall between characters `spacing` (or more) cycles
+    /// apart, and a tight one: each stall is the bound or one more, and the bound itself occurs. Over
+    /// clocks whose cycle is a whole or a fractional number of ps (N/D with D from 1 to large), shapes
+    /// of both schemes, spacings shorter and longer than a character, and starts from 0 to the
+    /// largest count that converts in 64 bits (where the bound stops being offered).
     #[test]
-    fn a_run_of_timings_is_each_start_timed_alone() {
-        let lspclks = [Clock::new(75_000_000, 2), Clock::from_hz(150_000_000 / 14), Clock::new(7, 3)];
-        let mut run = Vec::new();
-        for lspclk in lspclks {
-            for (bits, divisor, polarity, phase) in
-                [(16, 50, true, true), (16, 4, false, false), (8, 7, true, false), (1, 3, false, true)]
-            {
+    fn the_stall_bound_is_below_every_stall_and_reached() {
+        let mut rng = ChaCha8Rng::seed_from_u64(61);
+        let mut clocks = vec![Clock::new(75_000_000, 2), Clock::from_hz(150_000_000 / 14), Clock::new(7, 3)];
+        clocks.extend((0..20).map(|_| Clock::new(rng.gen_range(1_000_000..200_000_000), rng.gen_range(1..12))));
+        let (mut reached, mut carried) = (0, 0);
+        for lspclk in clocks {
+            // The largest start count whose conversion is exact.
+            let (mut lo, mut hi) = (0u64, u64::MAX / 2);
+            while lo < hi {
+                let mid = lo + (hi - lo).div_ceil(2);
+                (lo, hi) = if lspclk.cycles_to_ps_up_to(mid).is_some() { (mid, hi) } else { (lo, mid - 1) };
+            }
+            let exact_limit = lo;
+            for (bits, divisor, polarity, phase) in [(16, 50, true, true), (16, 4, false, false), (8, 7, true, false)] {
                 let shape = CharShape { bits, divisor, scheme: ClockScheme { polarity, phase } };
                 let timing = TimingOf::new(&shape, &lspclk, 1_333_333);
-                // A burst's spacing, from small starts to runs just inside, across and past the largest
-                // count the 64-bit conversion takes (the run then converts each start alone).
-                let (mut lo, mut hi) = (0u64, u64::MAX / 2);
-                while lo < hi {
-                    let mid = lo + (hi - lo).div_ceil(2);
-                    (lo, hi) = if lspclk.cycles_to_ps_up_to(mid).is_some() { (mid, hi) } else { (lo, mid - 1) };
-                }
-                let bound = lo - 60;
-                for first in [0, 3, 123_456_789, bound - 13_000, bound - 11_000, bound - 5_000, bound + 1] {
-                    let starts: Vec<u64> = (0..14).map(|i| first + 853 * i + i * i % 5).collect();
-                    run.clear();
-                    timing.extend_run(&starts, &mut run);
-                    let alone: Vec<FrameTiming> = starts.iter().map(|&s| timing.at(s)).collect();
-                    assert_eq!(run, alone, "{lspclk:?} {shape:?} from {first}");
+                let span = timing.last - timing.first;
+                assert!(timing.exact_up_to(exact_limit - timing.last), "{lspclk:?}");
+                assert!(!timing.exact_up_to(exact_limit - timing.last + 1), "{lspclk:?}");
+                for _ in 0..40 {
+                    let spacing = span.saturating_sub(3) + rng.gen_range(0..3 * span + 10);
+                    let bound = timing.min_stall(spacing);
+                    let mut seen_bound = false;
+                    let far = exact_limit - timing.last - spacing - 20;
+                    let low: Vec<u64> = (0..200).map(|_| rng.gen_range(0..1u64 << 40)).collect();
+                    let high: Vec<u64> = (0..20).map(|_| far - rng.gen_range(0..1u64 << 30)).chain([far]).collect();
+                    for start in low.into_iter().chain(high) {
+                        for later in [start + spacing, start + spacing + rng.gen_range(0..20)] {
+                            let (earlier, next) = (timing.at(start), timing.at(later));
+                            let stall = next.first_edge.saturating_sub(earlier.last_edge);
+                            assert!(bound <= stall, "{lspclk:?} {shape:?}: {bound} > {stall} from {start} to {later}");
+                            if later == start + spacing {
+                                if spacing + timing.first >= timing.last {
+                                    assert!(stall <= bound + 1, "{lspclk:?} {shape:?}: {stall} ≫ {bound}");
+                                    carried += usize::from(stall == bound + 1);
+                                }
+                                seen_bound |= stall == bound;
+                            }
+                        }
+                    }
+                    reached += usize::from(seen_bound);
                 }
             }
         }
+        assert!(reached > 1_000 && carried > 10_000, "the bound is reached {reached}×, exceeded by 1 {carried}×");
     }
 }

@@ -26,7 +26,7 @@
 
 use super::adis16407::{Adis16407, SampleStamp};
 use super::registers::BURST_ORDER;
-use crate::bus::{FrameTiming, SpiSlave};
+use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::events::{Event, Severity};
 use crate::time::{Ps, PS_PER_S};
 
@@ -531,32 +531,36 @@ impl Adis16407 {
         self.spi.records[slot] = record;
     }
 
-    /// Data frames of the burst in progress from the front of `timings` (each with DIN `din`), for
-    /// as long as they break no rule and need no event: what `start_frame` and `finish_frame` do
-    /// for such frames, with the record written for the last one only (a frame's record is read
-    /// only until the next frame ends). Returns how many frames it answered into `dout`; at 0 nothing
-    /// has changed but the device's time, which the first frame's own steps would move as well.
+    /// Data frames of the burst in progress from the front of `run` (each with DIN `din`), for as
+    /// long as they break no rule and need no event: what `start_frame` and `finish_frame` do for
+    /// such frames, with the record written for the last one only (a frame's record is read only
+    /// until the next frame ends). Returns how many frames it answered into `dout`; at 0 nothing has
+    /// changed but the device's time, which the first frame's own steps would move as well.
     ///
     /// The frames go in stretches that end before the device's next sample or injected reset
     /// ([`Adis16407::next_event`]): inside one, advancing the device only moves its time, so CS, the
     /// reset state, the burst's sample and the latest sample stay as they are at the stretch's first
     /// frame, whose checks are made in full. A later frame of the stretch needs only the stall rule
     /// against the frame before it (CS setup concerns the first frame after CS↓ alone), and the
-    /// stretch's words, ND flags and counters are moved on at once.
-    pub(super) fn clean_burst_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) -> usize {
-        // One shape for the whole run (see `SpiSlave::run_frames`): its rules are checked once.
-        let Some(shape) = timings.first() else { return 0 };
-        let same_shape =
-            |t: &FrameTiming| (t.bits, t.cpol, t.sclk_period) == (shape.bits, shape.cpol, shape.sclk_period);
-        debug_assert!(timings.iter().all(same_shape), "a run of frames has one shape");
-        debug_assert!(timings.windows(2).all(|w| w[0].last_edge <= w[1].first_edge), "a run is in time order");
-        if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(shape, true).is_empty() {
+    /// stretch's words, ND flags and counters are moved on at once. The stall rule is checked for the
+    /// whole run at once when the run's bound on its stalls ([`RunTiming::min_stall`]) passes it, and
+    /// frame by frame otherwise; only the frames looked at are timed.
+    pub(super) fn clean_burst_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) -> usize {
+        if run.is_empty() {
             return 0;
         }
-        let min_stall = MinPs::whole(shape.sclk_period);
+        // One shape for the whole run (see `SpiSlave::run_frames`): its rules are checked once.
+        let first = run.frame(0);
+        if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(&first, true).is_empty() {
+            return 0;
+        }
+        let min_stall = MinPs::whole(first.sclk_period);
+        // The stall rule for the whole run at once when its bound on its stalls passes it.
+        let stalls_clear = run.min_stall().is_some_and(|bound| !min_stall.short(bound));
         let mut answered = 0;
-        while let Some(timing) = timings.get(answered) {
+        while answered < run.len() {
             // The stretch's first frame: every check, as `start_frame` makes them.
+            let timing = if answered == 0 { first } else { run.frame(answered) };
             let t = timing.first_edge;
             if t < self.now() {
                 break;
@@ -564,51 +568,50 @@ impl Adis16407 {
             self.advance_to(t);
             let clean = self.spi.cs_low && t >= self.busy_until();
             let Some(burst) = self.spi.burst.as_ref().filter(|_| clean) else { break };
-            if !self.gap_violations(timing, true).is_empty() {
+            if !self.gap_violations(&timing, true).is_empty() {
                 break;
             }
             // The frames after it up to the next device event (their first edges, in time order,
             // are past `now` and the end of any reset), the burst's last word, or a short stall.
             let horizon = self.next_event();
-            let last_word = timings.len().min(answered + burst.words.len() - burst.next);
-            let mut end = answered + 1;
-            let mut last_edge = timing.last_edge;
-            for next in &timings[end..last_word] {
-                if next.first_edge >= horizon || min_stall.short(next.first_edge.saturating_sub(last_edge)) {
-                    break;
+            let last_word = run.len().min(answered + burst.words.len() - burst.next);
+            let end = if stalls_clear {
+                run.end_before(answered + 1..last_word, horizon)
+            } else {
+                let (mut end, mut last_edge) = (answered + 1, timing.last_edge);
+                while end < last_word {
+                    let next = run.frame(end);
+                    if next.first_edge >= horizon || min_stall.short(next.first_edge.saturating_sub(last_edge)) {
+                        break;
+                    }
+                    (end, last_edge) = (end + 1, next.last_edge);
                 }
-                (end, last_edge) = (end + 1, next.last_edge);
-            }
+                end
+            };
             let n = end - answered;
             let words = burst.next..burst.next + n;
             dout[answered..end].copy_from_slice(&burst.words[words.clone()]);
-            // The record of the stretch's frame `k` (`k` < n).
+            // The record of the stretch's frame `k` (`k` < n), timed by `timing`.
             let (first_word, first_index, sample) = (burst.next, self.spi.frames, burst.sample);
-            let record_of = |k: usize| {
-                let (word, timing) = (first_word + k, &timings[answered + k]);
+            let record_of = |k: usize, timing: &FrameTiming| {
+                let word = first_word + k;
                 let register = Some(BURST_ORDER[word]);
-                let record = read_record(
-                    first_index + k as u64,
-                    timing,
-                    dout[answered + k],
-                    register,
-                    sample,
-                    Violations::default(),
-                    true,
-                );
+                let dout = dout[answered + k];
+                let record =
+                    read_record(first_index + k as u64, timing, dout, register, sample, Violations::default(), true);
                 ReadRecord { din, ..record }
             };
             if let Some(k) = self.spi.second_in_window_number().checked_sub(first_index).filter(|&k| k < n as u64) {
-                self.spi.second_in_window = Some(record_of(k as usize));
+                self.spi.second_in_window = Some(record_of(k as usize, &run.frame(answered + k as usize)));
             }
             self.clear_nd_after_burst(words, sample);
-            let last = &timings[end - 1];
+            let last = if n == 1 { timing } else { run.frame(end - 1) };
             self.advance_to(last.first_edge);
             self.spi.last_edge = Some(last.last_edge);
             self.spi.framed_since_cs = true;
             self.spi.frames += n as u64;
             self.spi.burst_frames_done(n);
-            self.spi.records[self.spi.finished()] = record_of(n - 1);
+            self.spi.records[self.spi.finished()] = record_of(n - 1, &last);
             answered = end;
         }
         answered
@@ -748,13 +751,14 @@ impl SpiSlave for Adis16407 {
 
     /// A burst's data frames come as a run: the clean ones in few steps, any other frame by its
     /// own steps.
-    fn run_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) {
+    fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
         let mut i = 0;
-        while i < timings.len() {
-            let answered = self.clean_burst_frames(&timings[i..], din, &mut dout[i..]);
+        while i < run.len() {
+            let answered = self.clean_burst_frames(&run.skip(i), din, &mut dout[i..]);
             if answered == 0 {
-                dout[i] = self.start_frame(&timings[i]);
-                self.finish_frame(din, &timings[i]);
+                let timing = run.frame(i);
+                dout[i] = self.start_frame(&timing);
+                self.finish_frame(din, &timing);
                 i += 1;
             }
             i += answered;
@@ -851,7 +855,8 @@ mod tests {
                 }
             }
             let mut dout = [0u16; 14];
-            run.run_frames(&data, 0, &mut dout);
+            let (of, starts) = crate::device::tests::ps_run(&data);
+            run.run_frames(&RunTiming::new(of, &starts, crate::dsp::spi::closest_spacing(&starts)), 0, &mut dout);
             let first = after_frame_1.unwrap();
             assert_eq!(first.sample_index.is_some(), !reset, "{name}: {first:?}");
             assert_eq!(one.second_frame_in_window(), Some(first), "{name}");

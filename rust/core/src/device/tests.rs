@@ -3,9 +3,10 @@
 use super::encoding::{decode, sign_extend, Channel, GyroRange};
 use super::registers::{addr, BURST_ORDER};
 use super::*;
-use crate::bus::{FrameTiming, SpiSlave};
+use crate::bus::transaction::TimingOf;
+use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::profile::{Device, TimingMode};
-use crate::time::Ps;
+use crate::time::{Clock, Ps, PS_PER_S};
 
 const NS: Ps = 1_000;
 const US: Ps = 1_000_000;
@@ -765,6 +766,18 @@ fn timings_from(h: &Host, gaps: &[Ps]) -> Vec<FrameTiming> {
         .collect()
 }
 
+/// Frames of one shape (first edges increasing) as a run's formula and starts: timed by a clock of
+/// 1 ps per cycle, a frame starts on the cycle of its first edge, so the run's frames are `timings`.
+pub(crate) fn ps_run(timings: &[FrameTiming]) -> (TimingOf, Vec<u64>) {
+    let first = timings[0];
+    let edges = (0, first.last_edge - first.first_edge);
+    let of = TimingOf::with_edges(edges, &Clock::from_hz(PS_PER_S), first.sclk_period, first.bits, first.cpol);
+    let starts: Vec<u64> = timings.iter().map(|t| t.first_edge).collect();
+    let run = RunTiming::new(of, &starts, crate::dsp::spi::closest_spacing(&starts));
+    assert!(timings.iter().enumerate().all(|(i, t)| run.frame(i) == *t), "the run times every frame as given");
+    (of, starts)
+}
+
 /// A run of frames (`SpiSlave::run_frames`, as the link hands over a burst's data frames) leaves the
 /// device as the same frames one by one do: the words, the latest record, the counters, the events,
 /// the frame log, and what a later read and burst see. Cases: a clean burst; samples inside the run;
@@ -894,10 +907,12 @@ fn a_run_of_frames_equals_the_frames_one_by_one() {
                 w
             })
             .collect();
+        let (of, starts) = ps_run(&timings);
+        let run_timing = RunTiming::new(of, &starts, crate::dsp::spi::closest_spacing(&starts));
         let mut run_words = vec![0u16; timings.len()];
-        run.run_frames(&timings, 0, &mut run_words);
+        run.run_frames(&run_timing, 0, &mut run_words);
         let mut short_words = vec![0u16; timings.len()];
-        assert_eq!(short.clean_burst_frames(&timings, 0, &mut short_words), case.clean, "{}", case.name);
+        assert_eq!(short.clean_burst_frames(&run_timing, 0, &mut short_words), case.clean, "{}", case.name);
         assert_eq!(run_words, words, "{}", case.name);
         assert_eq!(run.last_frame(), one.last_frame(), "{}", case.name);
         assert_eq!(run.frames_clocked(), one.frames_clocked(), "{}", case.name);
@@ -916,6 +931,84 @@ fn a_run_of_frames_equals_the_frames_one_by_one() {
         assert_eq!(h2.burst(&mut run), h1.burst(&mut one), "{}", case.name);
         assert_eq!(run.drain_events(), one.drain_events(), "{}", case.name);
     }
+}
+
+/// The stall rule decides a run of frames as it decides them one by one, at its boundary: runs
+/// timed by random LSPCLKs whose closest starts leave stalls (of ⌊d·N/D⌋ or one more ps, see
+/// `TimingOf::min_stall`) right at the burst's limit of one SCLK period, strict and lenient, with
+/// samples inside some runs. The device after the run (words, records, counters, events, what a
+/// later burst sees) is the one the frames one by one leave. Seen: runs whose bound clears them at
+/// once, runs it does not clear though no stall is short, and runs with short stalls.
+#[test]
+fn a_run_checks_its_stalls_as_the_frames_one_by_one() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(62);
+    let (mut cleared, mut not_cleared_but_clean, mut short) = (0, 0, 0);
+    for trial in 0..1_000 {
+        let lenient = trial % 2 == 1;
+        let lspclk = Clock::new(rng.gen_range(20_000_000..80_000_000), rng.gen_range(1..4));
+        // SCLK phases of at least 0.52 µs (the burst's SCLK limit is 1 MHz); a character of 16 cycles.
+        let half = lspclk.ps_to_cycles_ceil(520_000) + rng.gen_range(0..20);
+        let (span, gap) = (31 * half, 2 * half + rng.gen_range(0..3));
+        let bound = lspclk.cycles_to_ps(gap);
+        // The limit a whole ps either side of the bound: short is `stall + 1 < sclk_period`.
+        let sclk_period = bound + rng.gen_range(0..4);
+        let timing = TimingOf::with_edges((0, span), &lspclk, sclk_period, 16, true);
+        let t0 = 9_800 * US + rng.gen_range(0..PERIOD);
+        let make = || {
+            let mut d = device_with(|c| {
+                if lenient {
+                    c.timing_mode = TimingMode::Lenient;
+                }
+            });
+            d.set_stimulus(still(|p| p.gyro_dps = [10.0, -20.0, 30.0]));
+            let mut h = Host::new(t0, SCLK_750K);
+            h.cs_low(&mut d);
+            h.frame_with_gap(&mut d, 0x4200, 2 * US);
+            (d, h)
+        };
+        let ((mut one, mut h1), (mut run, mut h2)) = (make(), make());
+        // The first frame a clean stall after the command.
+        let mut starts = vec![lspclk.ps_to_cycles_ceil(h1.t + sclk_period) + rng.gen_range(0..50)];
+        for _ in 1..14 {
+            let spacing = span + gap + if rng.gen_bool(0.7) { 0 } else { rng.gen_range(1..3) };
+            starts.push(starts[starts.len() - 1] + spacing);
+        }
+        let run_timing = RunTiming::new(timing, &starts, crate::dsp::spi::closest_spacing(&starts));
+        let frames: Vec<FrameTiming> = (0..14).map(|i| run_timing.frame(i)).collect();
+        let words: Vec<u16> = frames
+            .iter()
+            .map(|tm| {
+                let w = one.begin_frame(tm);
+                one.end_frame(0, tm);
+                w
+            })
+            .collect();
+        let mut run_words = [0u16; 14];
+        run.run_frames(&run_timing, 0, &mut run_words);
+        let name = format!("trial {trial}: {lspclk:?}, {half} cycles a phase, bound {bound} ps, SCLK {sclk_period} ps");
+        assert_eq!(run_words.to_vec(), words, "{name}");
+        assert_eq!(run.last_frame(), one.last_frame(), "{name}");
+        assert_eq!(format!("{run:?}"), format!("{one:?}"), "{name}");
+        let events = one.drain_events();
+        assert_eq!(run.drain_events(), events, "{name}");
+        let min_stall = run_timing.min_stall();
+        let short_stalls = events.iter().filter(|e| e.kind == "stall_too_short");
+        match (min_stall.is_some_and(|b| b + 1 >= sclk_period), short_stalls.count()) {
+            (true, 0) => cleared += 1,
+            (true, _) => panic!("{name}: the bound {min_stall:?} cleared a run with a short stall"),
+            (false, 0) => not_cleared_but_clean += 1,
+            (false, _) => short += 1,
+        }
+        for (d, h) in [(&mut one, &mut h1), (&mut run, &mut h2)] {
+            let last = frames[13].last_edge;
+            (h.t, h.last_edge) = (last + 2 * US, last);
+            h.cs_high(d);
+            h.t += 50 * US;
+        }
+        assert_eq!(h2.burst(&mut run), h1.burst(&mut one), "{name}");
+    }
+    assert!(cleared > 300 && not_cleared_but_clean > 20 && short > 300, "{cleared} {not_cleared_but_clean} {short}");
 }
 
 #[test]

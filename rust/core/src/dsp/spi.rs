@@ -304,6 +304,8 @@ struct RunPlan {
     start_after: Vec<u64>,
     lspclk_cycles: u64,
     next_phase: u64,
+    /// [`closest_spacing`] of the starts.
+    closest_spacing: u64,
 }
 
 impl PollSteps {
@@ -365,6 +367,13 @@ pub struct FrameRun<'a> {
     pub starts: &'a [u64],
     /// The clock the characters are timed by.
     pub lspclk: Clock,
+    /// [`closest_spacing`] of `starts` (kept with the loop's plan: not worked out per run).
+    pub closest_spacing: u64,
+}
+
+/// The fewest LSPCLK cycles between two consecutive `starts` (increasing); `u64::MAX` for fewer than two.
+pub fn closest_spacing(starts: &[u64]) -> u64 {
+    starts.windows(2).map(|w| w[1] - w[0]).min().unwrap_or(u64::MAX)
 }
 
 impl FrameRun<'_> {
@@ -833,9 +842,9 @@ impl SpiA {
         let mut starts = [0u64; N];
         let (q0, phase0) = k.div_rem(*c + cpu.before_write);
         let kept = steps.runs.get(phase0 as usize).filter(|run| run.start_after.len() == N);
-        let (q, phase) = if let Some(run) = kept {
+        let (q, phase, closest) = if let Some(run) = kept {
             starts.iter_mut().zip(&run.start_after).for_each(|(start, after)| *start = q0 + after);
-            (q0 + run.lspclk_cycles, run.next_phase)
+            (q0 + run.lspclk_cycles, run.next_phase, run.closest_spacing)
         } else {
             let (mut q, mut phase) = (q0, phase0);
             for start in &mut starts {
@@ -861,17 +870,18 @@ impl SpiA {
                 *start = q + step.start_after;
                 (q, phase) = (q + step.lspclk_cycles, step.next_phase);
             }
+            let closest = closest_spacing(&starts);
             if let Some(run) = steps.runs.get_mut(phase0 as usize) {
                 run.start_after.clear();
                 run.start_after.extend(starts.iter().map(|start| start - q0));
-                (run.lspclk_cycles, run.next_phase) = (q - q0, phase);
+                (run.lspclk_cycles, run.next_phase, run.closest_spacing) = (q - q0, phase, closest);
             }
-            (q, phase)
+            (q, phase, closest)
         };
         self.txbuf = tx;
         let first = self.next_frame(tx, starts[0]);
         self.frames += N as u64 - 1;
-        let run = FrameRun { first, starts: &starts, lspclk: self.lspclk };
+        let run = FrameRun { first, starts: &starts, lspclk: self.lspclk, closest_spacing: closest };
         let mut rx = [0u16; N];
         wire.transfer_run(&run, &mut rx);
         let mask = first.rx_mask();
@@ -1205,6 +1215,10 @@ mod tests {
         fn finish(&mut self, frame: &Frame) -> u16 {
             self.finished.push(*frame);
             self.answer >> (16 - frame.shape.bits as u32)
+        }
+        fn transfer_run(&mut self, run: &FrameRun, rx: &mut [u16]) {
+            assert_eq!(run.closest_spacing, closest_spacing(run.starts), "the plan's closest spacing is the run's");
+            transfer_each(self, run, rx);
         }
     }
 

@@ -4,7 +4,7 @@
 //! the default), and the replay of recorded burst words ([`ReplaySlave`]), which bypasses the device.
 
 use super::input::{InputFeed, StreamStimulus};
-use crate::bus::{FrameTiming, SpiSlave};
+use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::device::replay::ReplaySlave;
 use crate::device::{Adis16407, ReadRecord, SampleStamp};
 use crate::events::Event;
@@ -93,8 +93,8 @@ impl SpiSlave for StreamedDevice {
         self.device.end_frame(din, timing);
     }
     #[inline]
-    fn run_frames(&mut self, timings: &[FrameTiming], din: u16, dout: &mut [u16]) {
-        self.device.run_frames(timings, din, dout);
+    fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
+        self.device.run_frames(run, din, dout);
     }
 }
 
