@@ -188,67 +188,12 @@ impl Clock {
     }
 }
 
-/// [`Clock::cycles_to_ps`] for cycle counts up to a bound checked once ([`Clock::cycles_to_ps_up_to`]),
-/// for loops over many counts: the overflow test leaves the loop, and a fixed span of cycles is added
-/// to a converted count without a second division ([`CyclesToPs::after`]).
-#[derive(Debug, Clone, Copy)]
-pub struct CyclesToPs {
-    ps_num: u64,
-    ps_den: Divisor,
-}
-
-/// A whole number of cycles prepared for [`CyclesToPs::after`]: its length `span·N` split as
-/// `whole·D + part` (one cycle is N/D ps, `0 ≤ part < D`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CycleSpan {
-    whole: Ps,
-    part: u64,
-}
-
-/// A converted count of cycles `c`: `⌊c·N/D⌋` ps and the remainder `c·N mod D` that the floor dropped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PsAndRemainder {
-    /// `cycles_to_ps(c)`.
-    pub ps: Ps,
-    remainder: u64,
-}
-
 impl Clock {
-    /// Exact conversions of every count `c ≤ max_cycles` ([`CyclesToPs::split`] equals
-    /// [`Clock::cycles_to_ps`] there), or `None` when such a count may take the 128-bit path.
+    /// Whether every count `c ≤ max_cycles` converts on [`Clock::cycles_to_ps`]'s 64-bit path: then
+    /// no such time passes u64 and the times grow with the count.
     #[inline]
-    pub fn cycles_to_ps_up_to(self, max_cycles: u64) -> Option<CyclesToPs> {
-        let fits = self.ps_num.get() != u64::MAX && max_cycles.checked_mul(self.ps_num.get()).is_some();
-        fits.then_some(CyclesToPs { ps_num: self.ps_num.get(), ps_den: self.ps_den })
-    }
-}
-
-impl CyclesToPs {
-    /// `cycles` (at most the bound given to [`Clock::cycles_to_ps_up_to`]) converted, with the remainder.
-    #[inline]
-    pub fn split(&self, cycles: u64) -> PsAndRemainder {
-        debug_assert!(cycles.checked_mul(self.ps_num).is_some(), "{cycles} cycles exceed the bound");
-        let (ps, remainder) = self.ps_den.div_rem(cycles.wrapping_mul(self.ps_num));
-        PsAndRemainder { ps, remainder }
-    }
-
-    /// `span` cycles prepared for [`CyclesToPs::after`] (any span: worked out in 128 bits, once).
-    pub fn span(&self, span: u64) -> CycleSpan {
-        let (n, d) = (span as u128 * self.ps_num as u128, self.ps_den.get() as u128);
-        // The whole part is kept modulo 2⁶⁴, as `cycles_to_ps` keeps a result beyond u64.
-        CycleSpan { whole: (n / d) as Ps, part: (n % d) as u64 }
-    }
-
-    /// `cycles_to_ps(c + span)` from `converted = split(c)`, exactly, without a division.
-    ///
-    /// Why: with `c·N = ps·D + r` (`0 ≤ r < D`) and `span·N = whole·D + part` (`0 ≤ part < D`),
-    /// `(c + span)·N = (ps + whole)·D + (r + part)` with `0 ≤ r + part < 2·D`, so the floor of its
-    /// quotient by D is `ps + whole + [r + part ≥ D]`, and `r + part ≥ D` is `r ≥ D − part` (no
-    /// overflow). The sum is taken modulo 2⁶⁴, as `cycles_to_ps` truncates a result beyond u64.
-    #[inline]
-    pub fn after(&self, converted: PsAndRemainder, span: CycleSpan) -> Ps {
-        let carry = u64::from(converted.remainder >= self.ps_den.get() - span.part);
-        converted.ps.wrapping_add(span.whole).wrapping_add(carry)
+    pub fn converts_in_64_bits_up_to(self, max_cycles: u64) -> bool {
+        self.ps_num.get() != u64::MAX && max_cycles.checked_mul(self.ps_num.get()).is_some()
     }
 }
 
@@ -355,45 +300,27 @@ mod tests {
     }
 
     #[test]
-    fn a_span_added_to_a_converted_count_is_the_conversion_of_the_sum() {
+    fn the_64_bit_bound_is_where_the_product_stops_fitting() {
         let clocks = [
             Clock::new(75_000_000, 2),
             Clock::from_hz(150_000_000),
-            Clock::new(8192, 10),
             Clock::new(8192, 10).skewed_ppb(-12_345),
             Clock::new(7, 3),
             Clock::new(999_999_937, 13),
             Clock::from_hz(3 * PS_PER_S),
         ];
-        let mut carries = [0usize; 2];
         for clock in clocks {
-            let (n, d) = (clock.ps_num.get(), clock.ps_den.get());
-            let max = u64::MAX / n;
-            let exact = clock.cycles_to_ps_up_to(max).expect("the largest count whose product fits");
+            let max = u64::MAX / clock.ps_num.get();
+            assert!(clock.converts_in_64_bits_up_to(max), "{clock:?}");
             if let Some(past) = max.checked_add(1) {
-                assert!(clock.cycles_to_ps_up_to(past).is_none(), "{clock:?}: one cycle past the bound");
+                assert!(!clock.converts_in_64_bits_up_to(past), "{clock:?}: one cycle past the bound");
             }
-            // Spans whose remainder is 0, 1 and D − 1 (when D allows), and a few others.
-            let inverse = (1..d.min(1_000_000)).find(|&s| (s as u128 * (n % d) as u128) % d as u128 == 1);
-            let spans = [0, 1, 2, 25, 775, d, inverse.unwrap_or(3), d - 1, (1 << 40) + 7, u64::MAX / 2];
-            let remainder_spans =
-                inverse.map(|i| [i, ((d - 1) as u128 * i as u128 % d as u128) as u64]).unwrap_or([4, 5]);
-            for span in spans.into_iter().chain(remainder_spans) {
-                let prepared = exact.span(span);
-                // Every remainder of small counts, and counts at the bound (where c + span may need
-                // the 128-bit path).
-                let reach = 3 * d.min(2_000);
-                let counts = (0..=reach.min(max)).chain(max.saturating_sub(reach)..=max);
-                for c in counts.filter(|c| c.checked_add(span).is_some()) {
-                    let converted = exact.split(c);
-                    assert_eq!(converted.ps, clock.cycles_to_ps(c), "{clock:?} {c}");
-                    assert_eq!(exact.after(converted, prepared), clock.cycles_to_ps(c + span), "{clock:?} {c}+{span}");
-                    carries[usize::from(converted.remainder >= d - prepared.part)] += 1;
-                }
+            // Both paths floor the same exact quotient: the bound changes the arithmetic, not the time.
+            for c in max - 2..=max.saturating_add(2) {
+                assert_eq!(clock.cycles_to_ps(c), clock.cycles_to_ps_wide(c), "{clock:?} {c}");
             }
         }
-        assert!(carries[0] > 0 && carries[1] > 0, "both sides of the carry were tested: {carries:?}");
-        assert!(Clock::new(1, 100_000_000).cycles_to_ps_up_to(0).is_none(), "a period beyond u64 ps: the 128-bit path");
+        assert!(!Clock::new(1, 100_000_000).converts_in_64_bits_up_to(0), "a period beyond u64 ps: the 128-bit path");
     }
 
     #[test]

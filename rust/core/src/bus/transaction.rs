@@ -92,10 +92,10 @@ impl TimingOf {
     }
 
     /// Whether every edge of the characters started up to LSPCLK cycle `latest_start` converts to ps
-    /// in 64 bits ([`Clock::cycles_to_ps_up_to`]): then no edge time passes u64, edge times grow
+    /// in 64 bits ([`Clock::converts_in_64_bits_up_to`]): then no edge time passes u64, edge times grow
     /// with the start, and [`TimingOf::min_stall`] holds for these characters.
     pub fn exact_up_to(&self, latest_start: u64) -> bool {
-        latest_start.checked_add(self.last).and_then(|c| self.lspclk.cycles_to_ps_up_to(c)).is_some()
+        latest_start.checked_add(self.last).is_some_and(|c| self.lspclk.converts_in_64_bits_up_to(c))
     }
 
     /// A lower bound of the stall from the last edge of a character to the first edge of a character
@@ -200,7 +200,7 @@ mod tests {
             let (mut lo, mut hi) = (0u64, u64::MAX / 2);
             while lo < hi {
                 let mid = lo + (hi - lo).div_ceil(2);
-                (lo, hi) = if lspclk.cycles_to_ps_up_to(mid).is_some() { (mid, hi) } else { (lo, mid - 1) };
+                (lo, hi) = if lspclk.converts_in_64_bits_up_to(mid) { (mid, hi) } else { (lo, mid - 1) };
             }
             let exact_limit = lo;
             for (bits, divisor, polarity, phase) in [(16, 50, true, true), (16, 4, false, false), (8, 7, true, false)] {
