@@ -789,6 +789,9 @@ struct Triad {
     next_update: u64,
     /// log₂ of the bank's shortest update interval (None: no term).
     shortest_shift: Option<u32>,
+    /// True when the terms' shifts never decrease in bank order (the flicker bank's: τ ascending):
+    /// the due terms of a move are then a prefix of the bank.
+    shifts_ascending: bool,
     rate_random_walk: f64,
     rate_walk_step: f64,
     rate_walk: [f64; 3],
@@ -920,6 +923,7 @@ impl Triad {
             white_rng: s(SOURCE_WHITE_NOISE),
             gauss_markov_sum: sum_states(&gauss_markov),
             shortest_shift: gauss_markov.iter().map(|term| term.shift).min(),
+            shifts_ascending: gauss_markov.windows(2).all(|pair| pair[0].shift <= pair[1].shift),
             gauss_markov,
             next_update: 0,
             rate_random_walk: e.rate_random_walk,
@@ -957,20 +961,27 @@ impl Triad {
     #[inline(never)]
     fn update_gauss_markov(&mut self, from: u64, to: u64, dt_s: f64) {
         let mut updated = false;
+        // The move passes a multiple of 2^shift exactly when `from` and `to` (from < to) differ in a
+        // bit at or above `shift`, i.e. when shift ≤ the highest bit in which they differ.
+        let highest_changed_bit = u64::BITS - 1 - (from ^ to).leading_zeros();
         for term in &mut self.gauss_markov {
-            let updates = (to >> term.shift) - (from >> term.shift);
-            if updates > 0 {
-                let (decay, drive) = if updates == 1 {
-                    (term.decay, term.drive)
-                } else {
-                    gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
-                };
-                let w = self.gaussian.draw3(&mut term.rng);
-                for (x, w) in term.state.iter_mut().zip(w) {
-                    *x = decay * *x + drive * w;
+            if term.shift > highest_changed_bit {
+                if self.shifts_ascending {
+                    break; // every later term has a shift at least as large: none is due
                 }
-                updated = true;
+                continue;
             }
+            let updates = (to >> term.shift) - (from >> term.shift);
+            let (decay, drive) = if updates == 1 {
+                (term.decay, term.drive)
+            } else {
+                gauss_markov_step(&term.params, dt_s * updates as f64 * (1u64 << term.shift) as f64)
+            };
+            let w = self.gaussian.draw3(&mut term.rng);
+            for (x, w) in term.state.iter_mut().zip(w) {
+                *x = decay * *x + drive * w;
+            }
+            updated = true;
         }
         // Every term's update instants are multiples of the shortest interval, so the next one of
         // those is the bank's next update.
@@ -1450,6 +1461,76 @@ mod tests {
         }
         // The bank moves at every update of its fastest term (k % 8 == 0), and only then.
         assert_eq!(changes, (n as usize - 1) / 8);
+    }
+
+    /// The bank's update by the definition: every term, due when the move passes a multiple of its
+    /// interval, then the sum afresh (the reference for the due-term shortcut).
+    fn update_every_term(triad: &mut Triad, from: u64, to: u64) {
+        for term in &mut triad.gauss_markov {
+            let updates = (to >> term.shift) - (from >> term.shift);
+            if updates > 0 {
+                let (decay, drive) = gauss_markov_step(&term.params, DT * updates as f64 * (1u64 << term.shift) as f64);
+                let w = [(); 3].map(|()| standard_normal(&mut term.rng));
+                for (x, w) in term.state.iter_mut().zip(w) {
+                    *x = decay * *x + drive * w;
+                }
+            }
+        }
+        triad.gauss_markov_sum = sum_states(&triad.gauss_markov);
+    }
+
+    #[test]
+    fn due_terms_are_those_of_the_plain_loop_over_every_term() {
+        // Banks: the adis16407 flicker bank (shifts ascending: the loop stops at the first term not
+        // due) and a shuffled one with repeated shifts (not ascending: every term is looked at).
+        // Moves: mostly single samples, gaps of up to 1000 samples, jumps of up to 2^21 (past
+        // every interval), and restarts (k goes back, as `ErrorModel::apply` allows).
+        let flicker = ErrorParams::adis16407().gyro.bias_instability;
+        let shuffled = BiasInstability::GaussMarkov {
+            terms: [1e3, 0.1, 50.0, 0.1, 1e5, 2e-3, 50.0]
+                .map(|tau_s: f64| GaussMarkov { sigma: 0.01 * tau_s.sqrt(), tau_s })
+                .to_vec(),
+        };
+        for (bank, ascending) in [(flicker, true), (shuffled, false)] {
+            let mut errors = InertialErrors::ideal(300.0);
+            errors.bias_instability = bank;
+            for update_ratio in [DEFAULT_GAUSS_MARKOV_UPDATE_RATIO, 1.0] {
+                let mut fast = Triad::new(&errors, 11, SENSOR_GYRO, DT, update_ratio);
+                assert_eq!(fast.shifts_ascending, ascending);
+                let mut plain = fast.clone();
+                let mut steps = Xoshiro256PlusPlus::seed_from_u64(5);
+                let (mut last, mut restarts, mut multi_updates) = (0u64, 0, 0);
+                for _ in 0..200_000 {
+                    let k = match steps.gen_range(0..1000) {
+                        0..=979 => last + 1,
+                        980..=994 => last + steps.gen_range(2..1000),
+                        995..=997 => last + steps.gen_range(1000..1 << 21),
+                        _ => {
+                            restarts += 1;
+                            fast.next_update = 0;
+                            steps.gen_range(0..=last)
+                        }
+                    };
+                    if k > last {
+                        multi_updates += usize::from(
+                            (k >> fast.shortest_shift.unwrap_or(0)) - (last >> fast.shortest_shift.unwrap_or(0)) > 1,
+                        );
+                        fast.advance(last, k, DT);
+                        update_every_term(&mut plain, last, k);
+                        let states = |t: &Triad| {
+                            t.gauss_markov.iter().flat_map(|g| g.state.map(f64::to_bits)).collect::<Vec<_>>()
+                        };
+                        assert_eq!(states(&fast), states(&plain), "move {last} -> {k}");
+                        assert_eq!(fast.gauss_markov_sum.map(f64::to_bits), plain.gauss_markov_sum.map(f64::to_bits));
+                    }
+                    last = k;
+                }
+                assert!(
+                    restarts > 100 && multi_updates > 1000,
+                    "{restarts} restarts, {multi_updates} multi-update moves"
+                );
+            }
+        }
     }
 
     #[test]
