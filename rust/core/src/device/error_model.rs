@@ -781,6 +781,8 @@ struct Triad {
     gaussian: Gaussian,
     unit: InertialUnit,
     white_sigma: f64,
+    /// `white_sigma > 0`, decided once (a flag test is cheaper than a float comparison per sample).
+    has_white_noise: bool,
     white_rng: StreamRng,
     gauss_markov: Vec<GaussMarkovState>,
     /// Σ of the terms' states per axis, refreshed when a term updates (most samples update none).
@@ -920,6 +922,7 @@ impl Triad {
             fixed_bias: [0.0; 3],
             unit,
             white_sigma: e.noise_density / dt_s.sqrt(),
+            has_white_noise: e.noise_density / dt_s.sqrt() > 0.0,
             white_rng: s(SOURCE_WHITE_NOISE),
             gauss_markov_sum: sum_states(&gauss_markov),
             shortest_shift: gauss_markov.iter().map(|term| term.shift).min(),
@@ -1009,7 +1012,7 @@ impl Triad {
         if delta_temp_c.to_bits() != self.cached_delta_temp {
             self.set_temperature(delta_temp_c);
         }
-        let white = if self.white_sigma > 0.0 {
+        let white = if self.has_white_noise {
             let [a, b, c] = self.gaussian.draw3(&mut self.white_rng);
             [self.white_sigma * a, self.white_sigma * b, self.white_sigma * c]
         } else {
@@ -1048,6 +1051,9 @@ pub struct ErrorModel {
     mag_map_by_column: [[f64; 3]; 3],
     mag_hard_iron: [f64; 3],
     mag_sigma: f64,
+    /// `mag_sigma > 0` and `baro_sigma > 0`, decided once.
+    has_mag_noise: bool,
+    has_baro_noise: bool,
     mag_rng: StreamRng,
     baro_sigma: f64,
     baro_rng: StreamRng,
@@ -1078,6 +1084,8 @@ impl ErrorModel {
             mag_map_by_column: transpose(&mag_map),
             mag_hard_iron: params.mag.hard_iron_gauss,
             mag_sigma: params.mag.noise_rms_gauss,
+            has_mag_noise: params.mag.noise_rms_gauss > 0.0,
+            has_baro_noise: params.baro.noise_rms_mbar > 0.0,
             mag_rng: stream(seed, SENSOR_MAG, SOURCE_WHITE_NOISE, 0),
             baro_sigma: params.baro.noise_rms_mbar,
             baro_rng: stream(seed, SENSOR_BARO, SOURCE_WHITE_NOISE, 0),
@@ -1143,13 +1151,13 @@ impl ErrorModel {
         // As in `Triad::apply`: step by step for the three axes together.
         let (m, c, h) = (p.mag_gauss, &self.mag_map_by_column, &self.mag_hard_iron);
         p.mag_gauss = std::array::from_fn(|i| c[0][i] * m[0] + c[1][i] * m[1] + c[2][i] * m[2] + h[i]);
-        if self.mag_sigma > 0.0 {
+        if self.has_mag_noise {
             let w = self.gaussian.draw3(&mut self.mag_rng);
             for (out, w) in p.mag_gauss.iter_mut().zip(w) {
                 *out += self.mag_sigma * w;
             }
         }
-        if self.baro_sigma > 0.0 {
+        if self.has_baro_noise {
             let w = self.gaussian.draw(&mut self.baro_rng);
             p.baro_mbar += self.baro_sigma * w;
         }
@@ -1749,6 +1757,23 @@ mod tests {
         let rms = (power / n as f64).sqrt();
         // 1000 mbar carries ~1e-13 mbar rounding, far below the 5σ bound 0.027·5/√(2n).
         assert!((rms / 0.027 - 1.0).abs() < 5.0 / (2.0 * n as f64).sqrt(), "baro rms {rms}");
+        // Magnetometer white noise, per axis, with the same 5σ bound on the relative rms.
+        let mut params = ErrorParams::ideal();
+        params.mag.noise_rms_gauss = 1.15e-3;
+        let mut m = model(&params, 3);
+        let truth = [0.2, 0.4, -0.6];
+        let mut power = [0.0; 3];
+        for k in 0..n {
+            let mut p = Physical { mag_gauss: truth, ..Physical::default() };
+            m.apply(k, 0, &mut p);
+            for axis in 0..3 {
+                power[axis] += (p.mag_gauss[axis] - truth[axis]).powi(2);
+            }
+        }
+        for power in power {
+            let rms = (power / n as f64).sqrt();
+            assert!((rms / 1.15e-3 - 1.0).abs() < 5.0 / (2.0 * n as f64).sqrt(), "magnetometer rms {rms}");
+        }
     }
 
     #[test]
