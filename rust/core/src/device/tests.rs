@@ -766,6 +766,18 @@ fn timings_from(h: &Host, gaps: &[Ps]) -> Vec<FrameTiming> {
         .collect()
 }
 
+/// The words the device answers to `timings`, one frame at a time (DIN 0): what a run must equal.
+fn frames_one_by_one(device: &mut Adis16407, timings: &[FrameTiming]) -> Vec<u16> {
+    timings
+        .iter()
+        .map(|tm| {
+            let w = device.begin_frame(tm);
+            device.end_frame(0, tm);
+            w
+        })
+        .collect()
+}
+
 /// Frames of one shape (first edges increasing) as a run's formula and starts: timed by a clock of
 /// 1 ps per cycle, a frame starts on the cycle of its first edge, so the run's frames are `timings`.
 pub(crate) fn ps_run(timings: &[FrameTiming]) -> (TimingOf, Vec<u64>) {
@@ -899,14 +911,7 @@ fn a_run_of_frames_equals_the_frames_one_by_one() {
         };
         let ((mut one, mut h1), (mut run, mut h2), (mut short, _)) = (make(), make(), make());
         let timings = timings_from(&h1, &case.gaps);
-        let words: Vec<u16> = timings
-            .iter()
-            .map(|tm| {
-                let w = one.begin_frame(tm);
-                one.end_frame(0, tm);
-                w
-            })
-            .collect();
+        let words = frames_one_by_one(&mut one, &timings);
         let (of, starts) = ps_run(&timings);
         let run_timing = RunTiming::new(of, &starts, crate::dsp::spi::closest_spacing(&starts));
         let mut run_words = vec![0u16; timings.len()];
@@ -976,14 +981,7 @@ fn a_run_checks_its_stalls_as_the_frames_one_by_one() {
         }
         let run_timing = RunTiming::new(timing, &starts, crate::dsp::spi::closest_spacing(&starts));
         let frames: Vec<FrameTiming> = (0..14).map(|i| run_timing.frame(i)).collect();
-        let words: Vec<u16> = frames
-            .iter()
-            .map(|tm| {
-                let w = one.begin_frame(tm);
-                one.end_frame(0, tm);
-                w
-            })
-            .collect();
+        let words = frames_one_by_one(&mut one, &frames);
         let mut run_words = [0u16; 14];
         run.run_frames(&run_timing, 0, &mut run_words);
         let name = format!("trial {trial}: {lspclk:?}, {half} cycles a phase, bound {bound} ps, SCLK {sclk_period} ps");
