@@ -69,7 +69,7 @@ impl TimingOf {
     #[inline]
     pub fn at(&self, start_cycle: u64) -> FrameTiming {
         FrameTiming {
-            first_edge: self.lspclk.cycles_to_ps(start_cycle + self.first),
+            first_edge: self.first_edge(start_cycle),
             last_edge: self.lspclk.cycles_to_ps(start_cycle + self.last),
             sclk_period: self.sclk_period,
             bits: self.bits,

@@ -912,6 +912,7 @@ impl Triad {
                 GaussMarkovState { params, shift, decay, drive, state, rng }
             })
             .collect();
+        let white_sigma = e.noise_density / dt_s.sqrt();
         let mut triad = Triad {
             gaussian: Gaussian::new(),
             has_g_sensitivity: unit.g_sensitivity.iter().flatten().any(|g| *g != 0.0),
@@ -921,8 +922,8 @@ impl Triad {
             gain: [0.0; 3],
             fixed_bias: [0.0; 3],
             unit,
-            white_sigma: e.noise_density / dt_s.sqrt(),
-            has_white_noise: e.noise_density / dt_s.sqrt() > 0.0,
+            white_sigma,
+            has_white_noise: white_sigma > 0.0,
             white_rng: s(SOURCE_WHITE_NOISE),
             gauss_markov_sum: sum_states(&gauss_markov),
             shortest_shift: gauss_markov.iter().map(|term| term.shift).min(),
