@@ -30,7 +30,6 @@ from sins_fw import _core, synth
 from sins_fw.harness import emulate
 from sins_fw.profile import load_profile
 from sins_fw.traces import PhysicalTrace
-from sins_fw.worker_memory import keep_freed_memory
 
 #: The firmware's attitude step, s (two 4 ms reads per step).
 STEP_S = 0.008
@@ -281,10 +280,7 @@ def monte_carlo(overrides: tuple[str, ...], duration_s: float, runs: int, rounds
         try:
             for workers in (1, 2):
                 if kind == "process":
-                    # As the package's own Monte Carlo workers: they keep freed memory (worker_memory).
-                    pools[workers] = cf.ProcessPoolExecutor(
-                        max_workers=workers, mp_context=_spawn(), initializer=keep_freed_memory
-                    )
+                    pools[workers] = cf.ProcessPoolExecutor(max_workers=workers, mp_context=_spawn())
                 else:
                     pools[workers] = cf.ThreadPoolExecutor(max_workers=workers)
                 list(pools[workers].map(_seeded_run, [(overrides, duration_s, 0)] * workers))

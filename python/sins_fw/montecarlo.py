@@ -20,7 +20,6 @@ from numpy.typing import NDArray
 from sins_fw import quaternion, synth
 from sins_fw.harness import emulate
 from sins_fw.profile import Profile, load_profile
-from sins_fw.worker_memory import keep_freed_memory
 
 PERCENTILES = (5.0, 25.0, 50.0, 75.0, 95.0)
 
@@ -133,8 +132,7 @@ def run_cases(
             if progress:
                 progress(n, len(jobs))
     else:
-        # The workers only run emulations: they keep freed memory for the next run (worker_memory).
-        with ProcessPoolExecutor(max_workers=workers, initializer=keep_freed_memory) as pool:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
             for n, r in enumerate(pool.map(_one, jobs), 1):
                 results.append(r)
                 if progress:

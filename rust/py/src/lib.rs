@@ -9,6 +9,11 @@ use sins_core::profile::Profile;
 use sins_core::time::ps_to_s;
 use sins_core::timing::CostTable;
 
+/// The allocator of this extension's memory, output columns included: see `Cargo.toml` for why.
+#[cfg(target_os = "linux")]
+#[global_allocator]
+static ALLOC: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
+
 mod board;
 mod emulate;
 mod errors;
