@@ -1,8 +1,9 @@
-"""CPU time of warm `emulate()` calls in one process, split into user and system time (page faults
-show as system time): the benchmark's 240 s coning trace, f64, adis16407 errors, as `sins-fw bench`.
+"""CPU time of `emulate()` calls in one process, split into user and system time (page faults show
+as system time): the benchmark's coning trace (240 s unless told), f64, adis16407 errors, as
+`sins-fw bench`. Prints the first (cold) call, then the sum of the warm ones.
 
-Usage: python benchmarks/warm_calls.py [CALLS]   (default 21; the first, cold call is not counted)
-getrusage ticks in 4 ms steps on this machine, so the times are summed over the calls.
+Usage: python benchmarks/warm_calls.py [CALLS [SECONDS]]   (defaults 21 calls, 240 s)
+getrusage ticks in 4 ms steps on this machine, so the warm calls' times are summed.
 """
 
 from __future__ import annotations
@@ -14,15 +15,21 @@ from sins_fw import bench
 from sins_fw.harness import emulate
 
 
-def main(calls: int) -> None:
-    trace = bench.coning_trace(240.0)
+def main(calls: int, seconds: float) -> None:
+    trace = bench.coning_trace(seconds)
     user = system = 0.0
     faults = cycles = 0
     for i in range(calls):
         r0 = resource.getrusage(resource.RUSAGE_THREAD)
         cycles = emulate(trace, overrides=bench.CASES["full_f64"], keep_truth=False).cycles
         r1 = resource.getrusage(resource.RUSAGE_THREAD)
-        if i:
+        if i == 0:
+            print(
+                f"cold call of {cycles} cycles: user {(r1.ru_utime - r0.ru_utime) * 1e3:.0f} ms, "
+                f"system {(r1.ru_stime - r0.ru_stime) * 1e3:.0f} ms, "
+                f"{r1.ru_minflt - r0.ru_minflt} minor faults"
+            )
+        else:
             user += r1.ru_utime - r0.ru_utime
             system += r1.ru_stime - r0.ru_stime
             faults += r1.ru_minflt - r0.ru_minflt
@@ -34,4 +41,4 @@ def main(calls: int) -> None:
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 21)
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 21, float(sys.argv[2]) if len(sys.argv) > 2 else 240.0)
