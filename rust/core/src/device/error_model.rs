@@ -811,6 +811,10 @@ struct Triad {
     gain: [f64; 3],
     /// b_i + c_i ΔT per axis.
     fixed_bias: [f64; 3],
+    /// fixed_bias + gauss_markov_sum + rate_walk per axis, in that order: its parts change only at a
+    /// temperature change, a Gauss–Markov update or a walk step, which refresh it
+    /// ([`Triad::refresh_slow_bias`]).
+    slow_bias: [f64; 3],
 }
 
 const SOURCE_INITIAL_BIAS: u64 = 1;
@@ -921,6 +925,7 @@ impl Triad {
             cached_delta_temp: 0,
             gain: [0.0; 3],
             fixed_bias: [0.0; 3],
+            slow_bias: [0.0; 3],
             unit,
             white_sigma,
             has_white_noise: white_sigma > 0.0,
@@ -945,6 +950,12 @@ impl Triad {
         self.cached_delta_temp = delta_temp_c.to_bits();
         self.gain = std::array::from_fn(|i| 1.0 + u.scale_factor[i] + u.scale_tempco[i] * delta_temp_c);
         self.fixed_bias = std::array::from_fn(|i| u.bias[i] + u.bias_tempco[i] * delta_temp_c);
+        self.refresh_slow_bias();
+    }
+
+    /// Recompute `slow_bias` from its parts.
+    fn refresh_slow_bias(&mut self) {
+        self.slow_bias = std::array::from_fn(|i| self.fixed_bias[i] + self.gauss_markov_sum[i] + self.rate_walk[i]);
     }
 
     /// Move the bias processes on from sample `from` to sample `to` > `from` (samples of `dt_s`):
@@ -991,6 +1002,7 @@ impl Triad {
         self.next_update = self.shortest_shift.map_or(u64::MAX, |s| ((to >> s) + 1).saturating_mul(1 << s));
         if updated {
             self.gauss_markov_sum = sum_states(&self.gauss_markov);
+            self.refresh_slow_bias();
         }
     }
 
@@ -1003,6 +1015,7 @@ impl Triad {
         for (r, w) in self.rate_walk.iter_mut().zip(w) {
             *r += step * w;
         }
+        self.refresh_slow_bias();
     }
 
     /// Corrupt the true values `x` of the triad's three axes (`force_g`: the true specific force).
@@ -1025,8 +1038,7 @@ impl Triad {
         let (a, q) = (&self.axes_by_column, &self.unit.quadratic);
         let mut y: [f64; 3] = std::array::from_fn(|i| a[0][i] * truth[0] + a[1][i] * truth[1] + a[2][i] * truth[2]);
         y = std::array::from_fn(|i| y[i] * self.gain[i] + q[i] * y[i] * y[i]);
-        let mut bias: [f64; 3] =
-            std::array::from_fn(|i| self.fixed_bias[i] + self.gauss_markov_sum[i] + self.rate_walk[i]);
+        let mut bias = self.slow_bias;
         if self.has_g_sensitivity {
             let g = &self.g_sensitivity_by_column;
             for (i, bias) in bias.iter_mut().enumerate() {
@@ -1481,6 +1493,36 @@ mod tests {
         }
         // The bank moves at every update of its fastest term (k % 8 == 0), and only then.
         assert_eq!(changes, (n as usize - 1) / 8);
+    }
+
+    #[test]
+    fn the_slow_bias_is_its_parts_sum_after_every_change() {
+        // A gyro whose slow parts move (Gauss–Markov bank, a tempco and a temperature that changes
+        // every 7th sample; with and without a rate random walk, which moves at every sample and would
+        // hide the others), moved by single samples and gaps: after each sample the cached sum must be
+        // the sum of the parts now, bit for bit.
+        for rate_random_walk in [0.0, 0.01] {
+            let mut params = ErrorParams::adis16407();
+            params.gyro.rate_random_walk = rate_random_walk;
+            let mut model = ErrorModel::new(&params, 5, DT).unwrap();
+            let (mut k, mut moves) = (0, 0);
+            for n in 0..5000u64 {
+                k += if n % 97 == 0 { 1000 } else { 1 };
+                let mut p = Physical { temp_c: 25.0 + (n / 7) as f64 * 0.01, ..Physical::powered_idle() };
+                let before = model.gyro.slow_bias;
+                model.apply(k, 0, &mut p);
+                let g = &model.gyro;
+                let parts: [f64; 3] = std::array::from_fn(|i| g.fixed_bias[i] + g.gauss_markov_sum[i] + g.rate_walk[i]);
+                assert_eq!(
+                    g.slow_bias.map(f64::to_bits),
+                    parts.map(f64::to_bits),
+                    "walk {rate_random_walk}, sample {k}"
+                );
+                moves += usize::from(g.slow_bias != before);
+            }
+            // Without the walk: a temperature change every 7 samples, an update every 8.
+            assert!(moves > 1200, "walk {rate_random_walk}: the slow bias moved at only {moves} samples");
+        }
     }
 
     /// The bank's update by the definition: every term, due when the move passes a multiple of its
