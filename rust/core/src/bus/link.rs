@@ -140,6 +140,8 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
         // What the master samples: each character's word through the closed form or the walk's map
         // (the walk depends on the word, the shape and the lines, not on the character's time).
         match self.level {
+            // In the slave's own mode the master reads its words as they are: no pass over them.
+            BusLevel::Transaction if transaction::master_rx_is_dout(first, lines) => {}
             BusLevel::Transaction => rx.iter_mut().for_each(|r| *r = transaction::master_rx(first, *r, lines)),
             BusLevel::Bit => {
                 let map = self.exchange_map(first, lines);

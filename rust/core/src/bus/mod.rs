@@ -102,12 +102,6 @@ impl<'a> RunTiming<'a> {
         self.timing.at(self.starts[i])
     }
 
-    /// The run without its first `skip` frames (its stall bound is kept: it holds for any part).
-    #[inline]
-    pub fn skip(&self, skip: usize) -> RunTiming<'a> {
-        RunTiming { starts: &self.starts[skip..], ..*self }
-    }
-
     /// A lower bound of every stall inside the run (a frame's first edge less the previous frame's
     /// last edge), from its closest two starts ([`TimingOf::min_stall`]); `Ps::MAX` with fewer than
     /// two frames, `None` when the run's edge times may pass u64 (no bound is known).
@@ -206,7 +200,6 @@ mod tests {
                     Some(bound) => assert!(stalls.clone().all(|s| bound <= s), "{lspclk:?} up to {latest}"),
                     None => assert!(!exact, "{lspclk:?} up to {latest}: an exact run has a bound"),
                 }
-                assert_eq!(run.skip(1).min_stall(), run.min_stall(), "a part keeps the bound");
                 assert_eq!(
                     RunTiming::new(timing, &starts[..1], u64::MAX).min_stall(),
                     Some(Ps::MAX),

@@ -140,6 +140,15 @@ pub fn master_rx(frame: &Frame, dout: u16, lines: Lines) -> u16 {
     rx & frame.rx_mask()
 }
 
+/// Whether the master samples the slave's word unchanged ([`master_rx`] is the identity): a selected
+/// 16-bit character in the slave's own mode (SPICLK idles high, no delay), not looped back. A run of
+/// such characters needs no pass over its words.
+#[inline]
+pub fn master_rx_is_dout(frame: &Frame, lines: Lines) -> bool {
+    let scheme = frame.shape.scheme;
+    lines.selected && !frame.loopback && frame.shape.bits == 16 && scheme.polarity && !scheme.phase
+}
+
 /// The bits the slave samples on DIN, right-justified (0 when it is not selected).
 #[inline]
 pub fn slave_din(frame: &Frame, lines: Lines) -> u16 {
@@ -235,5 +244,43 @@ mod tests {
             }
         }
         assert!(reached > 1_000 && carried > 10_000, "the bound is reached {reached}×, exceeded by 1 {carried}×");
+    }
+
+    /// Where `master_rx_is_dout` says so, the master reads every word the slave shifts out as it is:
+    /// over every character length, scheme, loopback, TALK and state of the lines; and it says so for
+    /// the reference setup (16 bits, mode 3, selected), where a run skips the pass over its words.
+    #[test]
+    fn the_master_reads_the_word_unchanged_where_said() {
+        let mut rng = ChaCha8Rng::seed_from_u64(63);
+        let frame_of = |shape, tx, talk, loopback| Frame {
+            index: 0,
+            start_cycle: 0,
+            start_ps: 0,
+            end_ps: 0,
+            tx,
+            shape,
+            talk,
+            loopback,
+        };
+        let mut said = 0;
+        for bits in 1..=16u8 {
+            for flags in 0..64u32 {
+                let bit = |i: u32| flags >> i & 1 == 1;
+                let shape = CharShape { bits, divisor: 4, scheme: ClockScheme { polarity: bit(0), phase: bit(1) } };
+                let frame = frame_of(shape, rng.gen(), bit(2), bit(3));
+                let lines = Lines { selected: bit(4), simo_before: bit(5), floating: rng.gen() };
+                if !master_rx_is_dout(&frame, lines) {
+                    continue;
+                }
+                said += 1;
+                for dout in (0..=u16::MAX).step_by(7).chain([u16::MAX]) {
+                    assert_eq!(master_rx(&frame, dout, lines), dout, "{frame:?} {lines:?}");
+                }
+            }
+        }
+        assert_eq!(said, 4, "TALK and SPISIMO's level do not matter");
+        let reference = CharShape { bits: 16, divisor: 50, scheme: ClockScheme { polarity: true, phase: false } };
+        let lines = Lines { selected: true, simo_before: false, floating: true };
+        assert!(master_rx_is_dout(&frame_of(reference, 0, true, false), lines));
     }
 }

@@ -531,11 +531,12 @@ impl Adis16407 {
         self.spi.records[slot] = record;
     }
 
-    /// Data frames of the burst in progress from the front of `run` (each with DIN `din`), for as
+    /// Data frames of the burst in progress from frame `from` of `run` (each with DIN `din`), for as
     /// long as they break no rule and need no event: what `start_frame` and `finish_frame` do for
     /// such frames, with the record written for the last one only (a frame's record is read only
-    /// until the next frame ends). Returns how many frames it answered into `dout`; at 0 nothing has
-    /// changed but the device's time, which the first frame's own steps would move as well.
+    /// until the next frame ends). Returns the end of the frames it answered into `dout` (indexed
+    /// as `run`); at `from` nothing has changed but the device's time, which the frame's own steps
+    /// would move as well. (An index rather than a shorter run: a run is not copied per call.)
     ///
     /// The frames go in stretches that end before the device's next sample or injected reset
     /// ([`Adis16407::next_event`]): inside one, advancing the device only moves its time, so CS, the
@@ -545,22 +546,22 @@ impl Adis16407 {
     /// stretch's words, ND flags and counters are moved on at once. The stall rule is checked for the
     /// whole run at once when the run's bound on its stalls ([`RunTiming::min_stall`]) passes it, and
     /// frame by frame otherwise; only the frames looked at are timed.
-    pub(super) fn clean_burst_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) -> usize {
-        if run.is_empty() {
-            return 0;
+    pub(super) fn clean_burst_frames(&mut self, run: &RunTiming, from: usize, din: u16, dout: &mut [u16]) -> usize {
+        if from >= run.len() {
+            return from;
         }
         // One shape for the whole run (see `SpiSlave::run_frames`): its rules are checked once.
-        let first = run.frame(0);
+        let first = run.frame(from);
         if self.spi.log.is_some() || self.spi.corrupt_next || !self.shape_violations(&first, true).is_empty() {
-            return 0;
+            return from;
         }
         let min_stall = MinPs::whole(first.sclk_period);
         // The stall rule for the whole run at once when its bound on its stalls passes it.
         let stalls_clear = run.min_stall().is_some_and(|bound| !min_stall.short(bound));
-        let mut answered = 0;
+        let mut answered = from;
         while answered < run.len() {
             // The stretch's first frame: every check, as `start_frame` makes them.
-            let timing = if answered == 0 { first } else { run.frame(answered) };
+            let timing = if answered == from { first } else { run.frame(answered) };
             let t = timing.first_edge;
             if t < self.now() {
                 break;
@@ -602,7 +603,9 @@ impl Adis16407 {
                 ReadRecord { din, ..record }
             };
             if let Some(k) = self.spi.second_in_window_number().checked_sub(first_index).filter(|&k| k < n as u64) {
-                self.spi.second_in_window = Some(record_of(k as usize, &run.frame(answered + k as usize)));
+                // Usually the stretch's first frame (the burst's first data frame), already timed.
+                let second = if k == 0 { timing } else { run.frame(answered + k as usize) };
+                self.spi.second_in_window = Some(record_of(k as usize, &second));
             }
             self.clear_nd_after_burst(words, sample);
             let last = if n == 1 { timing } else { run.frame(end - 1) };
@@ -754,14 +757,15 @@ impl SpiSlave for Adis16407 {
     fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
         let mut i = 0;
         while i < run.len() {
-            let answered = self.clean_burst_frames(&run.skip(i), din, &mut dout[i..]);
-            if answered == 0 {
+            let end = self.clean_burst_frames(run, i, din, dout);
+            if end == i {
                 let timing = run.frame(i);
                 dout[i] = self.start_frame(&timing);
                 self.finish_frame(din, &timing);
                 i += 1;
+            } else {
+                i = end;
             }
-            i += answered;
         }
     }
 }

@@ -917,7 +917,7 @@ fn a_run_of_frames_equals_the_frames_one_by_one() {
         let mut run_words = vec![0u16; timings.len()];
         run.run_frames(&run_timing, 0, &mut run_words);
         let mut short_words = vec![0u16; timings.len()];
-        assert_eq!(short.clean_burst_frames(&run_timing, 0, &mut short_words), case.clean, "{}", case.name);
+        assert_eq!(short.clean_burst_frames(&run_timing, 0, 0, &mut short_words), case.clean, "{}", case.name);
         assert_eq!(run_words, words, "{}", case.name);
         assert_eq!(run.last_frame(), one.last_frame(), "{}", case.name);
         assert_eq!(run.frames_clocked(), one.frames_clocked(), "{}", case.name);

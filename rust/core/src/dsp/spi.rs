@@ -885,7 +885,8 @@ impl SpiA {
         let mut rx = [0u16; N];
         wire.transfer_run(&run, &mut rx);
         let mask = first.rx_mask();
-        let read = rx.map(|r| spidat_after(&first, r & mask));
+        // A 16-bit character leaves SPIDAT holding the word received as it is: no pass over the words.
+        let read = if first.shape.bits == 16 { rx } else { rx.map(|r| spidat_after(&first, r & mask)) };
         self.complete(&run.frame(N - 1), rx[N - 1] & mask);
         self.read_rxbuf();
         // The loop has stepped on to the next write: the last read is its store and BUFFULL poll before.
@@ -1507,12 +1508,13 @@ mod tests {
                     before_write: p + write,
                     after_read: after,
                 };
-                for brr in [2u32, 9, 30] {
+                // SPICCR 0xC7: 8-bit characters (SPIDAT keeps the word sent above the word received).
+                for (brr, spiccr) in [(2u32, 0xCF), (9, 0xC7), (30, 0xCF)] {
                     x ^= x << 13;
                     x ^= x >> 7;
                     x ^= x << 17;
                     let c0 = 1_000_000 + x % 10_000;
-                    let spi_profile = profile::Spi { spibrr: brr, ..Default::default() };
+                    let spi_profile = profile::Spi { spibrr: brr, spiccr, ..Default::default() };
                     let fresh = || {
                         let mut spi = SpiA::new(lsp, latency);
                         let mut probe = Probe { answer: 0xC7A7, ..Default::default() };
@@ -1535,7 +1537,7 @@ mod tests {
                         (got, c, a, pa)
                     };
                     let read_after = |w, wait| Ok(poll(w, w + wait, p, read) - w);
-                    let case = format!("k={k} p={p} latency={latency} brr={brr} c0={c0}");
+                    let case = format!("k={k} p={p} latency={latency} brr={brr} spiccr={spiccr:#X} c0={c0}");
                     let (want, c, a, pa) = by_register(&words, c0);
                     let (mut b, mut pb) = fresh();
                     assert!(b.polled_frame_applies(sysclk.cycles_to_ps(c0)));
