@@ -34,11 +34,23 @@ def main(calls: int, seconds: float) -> None:
             system += r1.ru_stime - r0.ru_stime
             faults += r1.ru_minflt - r0.ru_minflt
     n = calls - 1
-    print(
-        f"{n} warm calls of {cycles} cycles: user {user / n * 1e3:.1f} ms, system {system / n * 1e3:.1f} ms, "
-        f"{faults / n:.0f} minor faults per call; {cycles * n / (user + system) / 1e3:.1f} k cycles/s"
-    )
+    if n:
+        # getrusage counts in ticks: a short enough input can take none.
+        rate = (
+            f"{cycles * n / (user + system) / 1e3:.1f} k cycles/s" if user + system else "too short to time"
+        )
+        print(
+            f"{n} warm calls of {cycles} cycles: user {user / n * 1e3:.1f} ms, "
+            f"system {system / n * 1e3:.1f} ms, {faults / n:.0f} minor faults per call; {rate}"
+        )
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 21, float(sys.argv[2]) if len(sys.argv) > 2 else 240.0)
+    try:
+        calls = int(sys.argv[1]) if len(sys.argv) > 1 else 21
+        seconds = float(sys.argv[2]) if len(sys.argv) > 2 else 240.0
+    except ValueError as e:
+        sys.exit(f"warm_calls.py: {e}; usage: warm_calls.py [CALLS [SECONDS]]")
+    if calls < 1 or not seconds > 0:
+        sys.exit("warm_calls.py: expected CALLS >= 1 and SECONDS > 0")
+    main(calls, seconds)
