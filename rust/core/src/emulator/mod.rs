@@ -432,7 +432,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             &mut one
         } else {
             three = [Burst::EMPTY; 3];
-            &mut three
+            &mut three[..self.bursts_per_tick]
         };
         for b in bursts.iter_mut() {
             self.burst(&mut c, k, b)?;
