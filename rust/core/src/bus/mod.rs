@@ -84,6 +84,12 @@ impl<'a> RunTiming<'a> {
         RunTiming { timing, starts, exact, min_stall }
     }
 
+    /// [`RunTiming::new`] with the closest spacing worked out here (for tests: the link keeps it).
+    #[cfg(test)]
+    pub(crate) fn of_starts(timing: TimingOf, starts: &'a [u64]) -> RunTiming<'a> {
+        RunTiming::new(timing, starts, closest_spacing(starts))
+    }
+
     /// The number of frames.
     #[inline]
     pub fn len(&self) -> usize {
@@ -191,7 +197,7 @@ mod tests {
                     starts.push(starts[starts.len() - 1] - d);
                 }
                 starts.reverse();
-                let run = RunTiming::new(timing, &starts, closest_spacing(&starts));
+                let run = RunTiming::of_starts(timing, &starts);
                 assert_eq!(run.exact, exact, "{lspclk:?} up to {latest}");
                 let alone: Vec<FrameTiming> = starts.iter().map(|&s| timing.at(s)).collect();
                 assert!((0..run.len()).all(|i| run.frame(i) == alone[i]), "{lspclk:?} up to {latest}");

@@ -626,7 +626,8 @@ impl Adis16407 {
         }
         let mut regs = self.regs;
         if self.pending != Pending::Nothing {
-            Calibration::of(&self.regs, self.range).encode_outputs(&self.filtered, &mut regs, false);
+            // The kept calibration is the registers' own (refreshed at every write and reset).
+            self.calibration.encode_outputs(&self.filtered, &mut regs, self.pending == Pending::EncodeUnclipped);
         }
         Ok(word(&regs, self.nd, def.slot()))
     }

@@ -860,7 +860,7 @@ mod tests {
             }
             let mut dout = [0u16; 14];
             let (of, starts) = crate::device::tests::ps_run(&data);
-            run.run_frames(&RunTiming::new(of, &starts, crate::dsp::spi::closest_spacing(&starts)), 0, &mut dout);
+            run.run_frames(&RunTiming::of_starts(of, &starts), 0, &mut dout);
             let first = after_frame_1.unwrap();
             assert_eq!(first.sample_index.is_some(), !reset, "{name}: {first:?}");
             assert_eq!(one.second_frame_in_window(), Some(first), "{name}");

@@ -785,7 +785,7 @@ pub(crate) fn ps_run(timings: &[FrameTiming]) -> (TimingOf, Vec<u64>) {
     let edges = (0, first.last_edge - first.first_edge);
     let of = TimingOf::with_edges(edges, &Clock::from_hz(PS_PER_S), first.sclk_period, first.bits, first.cpol);
     let starts: Vec<u64> = timings.iter().map(|t| t.first_edge).collect();
-    let run = RunTiming::new(of, &starts, crate::dsp::spi::closest_spacing(&starts));
+    let run = RunTiming::of_starts(of, &starts);
     assert!(timings.iter().enumerate().all(|(i, t)| run.frame(i) == *t), "the run times every frame as given");
     (of, starts)
 }
@@ -913,7 +913,7 @@ fn a_run_of_frames_equals_the_frames_one_by_one() {
         let timings = timings_from(&h1, &case.gaps);
         let words = frames_one_by_one(&mut one, &timings);
         let (of, starts) = ps_run(&timings);
-        let run_timing = RunTiming::new(of, &starts, crate::dsp::spi::closest_spacing(&starts));
+        let run_timing = RunTiming::of_starts(of, &starts);
         let mut run_words = vec![0u16; timings.len()];
         run.run_frames(&run_timing, 0, &mut run_words);
         let mut short_words = vec![0u16; timings.len()];
@@ -979,7 +979,7 @@ fn a_run_checks_its_stalls_as_the_frames_one_by_one() {
             let spacing = span + gap + if rng.gen_bool(0.7) { 0 } else { rng.gen_range(1..3) };
             starts.push(starts[starts.len() - 1] + spacing);
         }
-        let run_timing = RunTiming::new(timing, &starts, crate::dsp::spi::closest_spacing(&starts));
+        let run_timing = RunTiming::of_starts(timing, &starts);
         let frames: Vec<FrameTiming> = (0..14).map(|i| run_timing.frame(i)).collect();
         let words = frames_one_by_one(&mut one, &frames);
         let mut run_words = [0u16; 14];

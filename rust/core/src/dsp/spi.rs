@@ -230,9 +230,15 @@ impl Frame {
 /// received bits at the bottom.
 #[inline]
 fn spidat_after(frame: &Frame, rx: u16) -> u16 {
-    let bits = frame.shape.bits as u32;
-    let shifted = if bits >= 16 { 0 } else { frame.tx << bits };
+    let shifted = if spidat_is_rx(frame) { 0 } else { frame.tx << frame.shape.bits };
     shifted | rx
+}
+
+/// Whether SPIDAT after `frame` is the word received as it is ([`spidat_after`]): a 16-bit
+/// character shifts the whole word out.
+#[inline]
+fn spidat_is_rx(frame: &Frame) -> bool {
+    frame.shape.bits >= 16
 }
 
 /// When a status flag sets, as SPI-A knows it: the time, and the LSPCLK cycle when the flag sets on
@@ -885,8 +891,8 @@ impl SpiA {
         let mut rx = [0u16; N];
         wire.transfer_run(&run, &mut rx);
         let mask = first.rx_mask();
-        // A 16-bit character leaves SPIDAT holding the word received as it is: no pass over the words.
-        let read = if first.shape.bits == 16 { rx } else { rx.map(|r| spidat_after(&first, r & mask)) };
+        // Where SPIDAT holds the word received as it is, no pass over the words.
+        let read = if spidat_is_rx(&first) { rx } else { rx.map(|r| spidat_after(&first, r & mask)) };
         self.complete(&run.frame(N - 1), rx[N - 1] & mask);
         self.read_rxbuf();
         // The loop has stepped on to the next write: the last read is its store and BUFFULL poll before.
