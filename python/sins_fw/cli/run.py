@@ -199,7 +199,9 @@ def run(args: argparse.Namespace) -> int:
             check_stop()
 
         try:
-            result = emulate(trace, profile, on_chunk=on_chunk, until_s=args.until_s)
+            result = emulate(
+                trace, profile, on_chunk=on_chunk, until_s=args.until_s, allow_gaps=args.allow_gaps
+            )
             check_stop()
         except KeyboardInterrupt as e:
             how_far = reached.text(_first_time(args.trace) if reached.t is not None else None)
