@@ -2,9 +2,10 @@
 compared step by step with the f64 golden reference.
 
 Only ``firmware.numeric`` differs between the runs, so every difference in the attitude is the
-arithmetic's. Per step the difference is the rotation angle of ``q_backend ⊗ q_f64⁻¹``, computed as
-``2·atan2(|v|, |w|)`` (not ``2·acos(|w|)``, which loses every digit below ~1e-8 rad because ``w`` is
-within 1e-16 of 1 there; the atan2 form is also insensitive to the quaternion's norm). Reported per
+arithmetic's. Per step the difference is the rotation angle of ``q_backend ⊗ q_f64⁻¹``,
+``2·atan2(|v|, |w|)`` (:func:`sins_fw.quaternion.rotation_angle`; not ``2·acos(|w|)``, which loses
+every digit below ~1e-8 rad because ``w`` is within 1e-16 of 1 there; the atan2 form is also
+insensitive to the quaternion's norm). Reported per
 backend: the maximum, the RMS and the final difference (degrees) and the drift rate, the
 least-squares slope of the difference over time (degrees per hour).
 
@@ -48,9 +49,7 @@ def attitude_difference_deg(q: ArrayLike, q_ref: ArrayLike) -> Array:
     b = np.asarray(q_ref, dtype=np.float64)
     if a.shape != b.shape or a.ndim != 2 or a.shape[1] != 4:
         raise InputError(f"quaternions {a.shape} and {b.shape}: expected two (N, 4) arrays")
-    # q_ref⁻¹ = q_ref* / |q_ref|²; the angle does not depend on the scale, so the conjugate does.
-    d = quat.multiply(a, quat.conjugate(b))
-    return np.degrees(2.0 * np.arctan2(np.linalg.norm(d[:, 1:], axis=1), np.abs(d[:, 0])))
+    return np.degrees(quat.rotation_angle(a, b))
 
 
 def drift_rate_deg_per_h(t_s: ArrayLike, angle_deg: ArrayLike) -> float:
