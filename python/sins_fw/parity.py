@@ -59,10 +59,12 @@ def drift_rate_deg_per_h(t_s: ArrayLike, angle_deg: ArrayLike) -> float:
     if len(t) < 2:
         return 0.0
     tc = t - t.mean()
-    denom = float(np.dot(tc, tc))
+    # np.sum, not np.dot: a BLAS dot splits the sum between its threads (OMP_NUM_THREADS changes
+    # the last digits); numpy's own pairwise summation has one fixed order.
+    denom = float(np.sum(tc * tc))
     if denom == 0.0:
         return 0.0
-    return float(np.dot(tc, a - a.mean()) / denom) * _SECONDS_PER_HOUR
+    return float(np.sum(tc * (a - a.mean())) / denom) * _SECONDS_PER_HOUR
 
 
 @dataclass(frozen=True)
