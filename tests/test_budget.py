@@ -9,9 +9,9 @@ from __future__ import annotations
 import copy
 import itertools
 import json
-from fractions import Fraction
 import math
 import re
+from fractions import Fraction
 from functools import cache
 
 import numpy as np
