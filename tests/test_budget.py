@@ -11,6 +11,7 @@ import itertools
 import json
 import math
 import re
+from fractions import Fraction
 from functools import cache
 
 import numpy as np
@@ -50,6 +51,8 @@ def still_trace(seconds: float, gyro_dps=(0.0, 0.0, 0.0)) -> PhysicalTrace:
         t_s=t,
         gyro_dps=np.tile(np.array(gyro_dps, dtype=float), (len(t), 1)),
         accel_g=np.tile([0.0, 0.0, 1.0], (len(t), 1)),
+        # 11 samples evenly over `seconds`: the trace is validated like a file (one sample period).
+        metadata={"sample_rate_hz": str(Fraction(len(t) - 1) / Fraction(str(seconds)))},
     )
 
 

@@ -86,3 +86,55 @@ def test_heading_alignment_removes_a_constant_heading_offset_once():
     assert report.rmse_total_deg == pytest.approx(2.0, abs=TOL)
     assert "heading aligned to the truth once, by 25.000° at row 4" in report.summary()
     assert accuracy(est, truth, mask).rmse_heading_deg == pytest.approx(25.0, abs=TOL)
+
+
+def test_total_error_is_well_conditioned_on_unnormalised_single_precision_estimates():
+    """Issue 24, item 6. A firmware estimate in single precision has norm 1 ± a few 1e-8 (one ulp
+    of 1 in f32 is 1.19e-7). With the truth at the identity and the estimate (1 − δ)·identity, the
+    true error is 0 but 2·acos(|w|) gives 2·acos(1 − δ) ≈ 2·√(2δ): 0.0512° for δ = 1e-7. With the
+    estimate (1 + δ)·R_x(0.01°), w = (1 + δ)·cos(0.005°) = (1 + 1e-7)(1 − 3.81e-9) > 1 is clipped to
+    1 and 2·acos gives 0 where the error is 0.01°. The atan2 form gives 0 and 0.01° (to rounding,
+    a few 1e-16 relative: the norm divides out)."""
+    delta = 1e-7
+    truth = np.array([[1.0, 0.0, 0.0, 0.0]] * 2)
+    est = np.stack([(1 - delta) * truth[0], (1 + delta) * _rot([1.0, 0.0, 0.0], 0.01)])
+    old = np.degrees(2.0 * np.arccos(np.clip(np.abs(quat.multiply(est, quat.conjugate(truth))[:, 0]), 0, 1)))
+    assert old[0] == pytest.approx(math.degrees(2 * math.acos(1 - delta)), rel=1e-6)  # 0.0512°
+    assert old[0] > 0.05 and old[1] == 0.0, "the old formula is wrong by the derived amounts"
+    e = attitude_errors(est, truth)
+    assert e.total[0] == 0.0
+    assert e.total[1] == pytest.approx(0.01, rel=1e-12)
+    assert e.inclination[1] == pytest.approx(0.01, rel=1e-12)
+    # The float32 estimate the firmware holds, converted exactly: same answer.
+    e32 = attitude_errors(est.astype(np.float32), truth)
+    assert e32.total[0] < 1e-6 and e32.total[1] == pytest.approx(0.01, rel=1e-5)
+    assert accuracy(est, truth).max_total_deg == pytest.approx(0.01, rel=1e-12)
+
+
+def test_every_total_error_is_the_one_function(monkeypatch):
+    """The run summary, the report page, the BROAD metrics and parity all take the total rotation
+    angle from sins_fw.quaternion.rotation_angle (and nothing else computes one)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from sins_fw import parity, report, report_page, synth
+    from sins_fw.harness import emulate
+
+    run = emulate(synth.generate("static", duration_s=2.0))
+    calls: list[str] = []
+    real = quat.rotation_angle
+
+    def counted(q, q_ref):
+        calls.append("called")
+        return real(q, q_ref)
+
+    monkeypatch.setattr(quat, "rotation_angle", counted)
+    for name, use in {
+        "run summary": lambda: report.summarise(run),
+        "report page": lambda: report_page.report_figure(run),
+        "BROAD metrics": lambda: accuracy(run.quat, run.quat),
+        "parity": lambda: parity.attitude_difference_deg(run.quat, run.quat),
+    }.items():
+        calls.clear()
+        use()
+        assert calls, f"{name} does not use quaternion.rotation_angle"

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import shutil
 from pathlib import Path
 
@@ -198,3 +199,31 @@ def test_same_input_gives_identical_bytes(numeric):
     # The chunking of the input must not matter either (the emulator streams).
     chunked = emulate(trace, overrides=profile, chunk_rows=4093)
     assert _all_bytes(first) == _all_bytes(again) == _all_bytes(chunked)
+
+
+_DRIFT_SCRIPT = """
+import numpy as np
+from sins_fw.parity import drift_rate_deg_per_h
+rng = np.random.default_rng(3)
+t = np.arange(2_000_000) * 0.008
+a = np.cumsum(rng.normal(scale=1e-6, size=t.size)) + 1e-9 * t
+print(repr(drift_rate_deg_per_h(t, a)))
+"""
+
+
+def test_drift_rate_does_not_depend_on_the_blas_thread_count():
+    """Issue 24, item 12: `parity --json` differed in its last digits between OMP_NUM_THREADS=1 and
+    2. The drift's sums were BLAS dot products, which OpenBLAS splits between its threads for long
+    vectors (a different summation order per thread count); numpy's pairwise sum has one order."""
+    import subprocess
+    import sys
+
+    outs = []
+    for threads in ("1", "2"):
+        env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+        env["OMP_NUM_THREADS"] = threads
+        proc = subprocess.run(
+            [sys.executable, "-c", _DRIFT_SCRIPT], capture_output=True, text=True, env=env, check=True
+        )
+        outs.append(proc.stdout)
+    assert outs[0] == outs[1]

@@ -253,3 +253,81 @@ def test_path_objects_and_strings_both_work(tmp_path):
     trace = _full_trace(n=5)
     trace.save(str(tmp_path / "s.h5"))
     assert len(PhysicalTrace.load(Path(tmp_path / "s.h5"))) == 5
+
+
+def _h5_by_hand(path: Path, cols: dict[str, np.ndarray], attrs: dict[str, str]) -> None:
+    """A trace file written without `save` (which would refuse it): what another tool could write."""
+    import h5py
+
+    with h5py.File(path, "w") as f:
+        for k, v in attrs.items():
+            f.attrs[k] = v
+        for name, arr in cols.items():
+            f.create_dataset(name, data=arr)
+
+
+def _bad_in_memory(case: str) -> PhysicalTrace:
+    n = 200
+    t = np.arange(n) / 100.0
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    meta = {"sample_rate_hz": "100"}
+    if case == "truth norm 2":
+        q[57] = [2.0, 0.0, 0.0, 0.0]
+    elif case == "no sample rate":
+        meta = {}
+    elif case == "gap":
+        t[120:] += 0.5
+    elif case == "time backwards":
+        t[90] = t[88]
+    elif case == "inf gyro":
+        pass
+    gyro = np.zeros((n, 3))
+    if case == "inf gyro":
+        gyro[33, 1] = np.inf
+    return PhysicalTrace(t, gyro, np.tile([0.0, 0.0, 1.0], (n, 1)), truth_q=q, metadata=meta)
+
+
+def _message_body(text: str) -> str:
+    """The message without the source's name (a file path, or `<physical trace in memory>`) and
+    the metadata's location (`metadata (file attributes)` in a file, `metadata` in memory)."""
+    return re.sub(r"^.*?: (metadata[^:]*: )?", "", str(text))
+
+
+@pytest.mark.parametrize("case", ["truth norm 2", "no sample rate", "gap", "time backwards", "inf gyro"])
+def test_in_memory_traces_are_refused_like_files(tmp_path, case):
+    """The file loaders and emulate() on a trace in memory (whole or in chunks) go through the same
+    checks and refuse the same data with the same message (issue 24, item 5: emulate() accepted a
+    truth of norm 2, a trace without a sample rate, and gaps)."""
+    from sins_fw.harness import emulate
+
+    trace = _bad_in_memory(case)
+    path = tmp_path / "bad.h5"
+    _h5_by_hand(path, trace.columns(), trace.metadata)
+    with pytest.raises(TraceError) as from_file:
+        emulate(path)
+    with pytest.raises(TraceError) as loaded:
+        PhysicalTrace.load(path)
+    with pytest.raises(TraceError) as in_memory:
+        emulate(trace)
+    # Consecutive chunks (a generator) are checked across their boundaries too.
+    halves = (
+        PhysicalTrace.from_columns({k: v[s] for k, v in trace.columns().items()}, trace.metadata)
+        for s in (slice(0, 100), slice(100, None))
+    )
+    with pytest.raises(TraceError) as chunked:
+        emulate(halves, chunk_rows=64)
+    with pytest.raises(TraceError) as validated:
+        trace.validate()
+    assert str(from_file.value).startswith(str(path))
+    assert str(in_memory.value).startswith("<physical trace in memory>")
+    body = _message_body(from_file.value)
+    assert body and body != str(from_file.value)
+    for other in (loaded, in_memory, chunked, validated):
+        assert _message_body(other.value) == body
+
+
+def test_gaps_in_memory_are_accepted_when_allowed():
+    from sins_fw.harness import emulate
+
+    run = emulate(_bad_in_memory("gap"), allow_gaps=True)
+    assert run.cycles > 0

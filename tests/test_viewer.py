@@ -333,3 +333,23 @@ def test_report_cli_writes_a_png(short_trace, tmp_path):
     assert r.code == 0, r.err
     assert png_size(out) == (1100, 850)
     assert '"overrun"' in r.out
+
+
+def test_the_same_run_saves_the_same_recording(run, trace, tmp_path):
+    """Issue 24, item 12: a .rrd differed on every save (a random recording id and a start time).
+    The recording id is derived from the run and no start time is sent; what still differs is
+    what docs/traces.md ("Determinism") exempts: Rerun's row and chunk ids (TUIDs: a clock reading
+    and a counter, made inside the Rerun SDK) and the blueprint's store id. Everything else, every
+    value on every timeline, is the same."""
+    paths_ = [tmp_path / "a.rrd", tmp_path / "b.rrd"]
+    for p in paths_:
+        save_recording(run, p, trace=trace, name="static_60s.h5")
+    readers = [rr.chunk.RrdReader(p) for p in paths_]
+    ids = [[e.recording_id for e in r.recordings()] for r in readers]
+    assert ids[0] == ids[1] and len(ids[0]) == 1
+    contents = [[c.format(redact=True) for c in r.stream().collect().stream()] for r in readers]
+    assert contents[0] and contents[0] == contents[1]
+    # Another run (another profile override) gets another id.
+    other = emulate(trace, until_s=2.0)
+    save_recording(other, tmp_path / "c.rrd", name="static_60s.h5")
+    assert [e.recording_id for e in rr.chunk.RrdReader(tmp_path / "c.rrd").recordings()] != ids[0]

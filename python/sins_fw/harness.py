@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from sins_fw import _core
 from sins_fw.errors import InputError, ProfileError
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
-from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace
+from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace, validated
 
 PS = 1e-12
 #: Rows per chunk read from a trace (file): big enough to amortise the reading, small enough for memory.
@@ -161,26 +161,34 @@ def _raw_chunks(trace: RawRegisterTrace | str | os.PathLike[str], rows: int) -> 
         yield from RawRegisterTrace.iter_chunks(trace, rows, allow_gaps=True)
 
 
-def _chunks(trace: TraceInput, rows: int) -> Iterator[PhysicalTrace]:
-    if not isinstance(trace, PhysicalTrace | str | os.PathLike):
-        for chunk in trace:
-            yield from _chunks(chunk, rows)
-    elif isinstance(trace, PhysicalTrace):
-        for i in range(0, len(trace), rows):
-            s = slice(i, i + rows)
-            yield PhysicalTrace(
-                t_s=trace.t_s[s],
-                gyro_dps=trace.gyro_dps[s],
-                accel_g=trace.accel_g[s],
-                mag_gauss=None if trace.mag_gauss is None else trace.mag_gauss[s],
-                baro_mbar=None if trace.baro_mbar is None else trace.baro_mbar[s],
-                temp_c=None if trace.temp_c is None else trace.temp_c[s],
-                truth_q=None if trace.truth_q is None else trace.truth_q[s],
-                moving=None if trace.moving is None else trace.moving[s],
-                metadata=trace.metadata,
-            )
+def _chunks(trace: TraceInput, rows: int, allow_gaps: bool = False) -> Iterator[PhysicalTrace]:
+    """The trace in chunks of at most ``rows`` rows, validated as a file is on load (a file by its
+    loader, a trace or chunks in memory by :func:`sins_fw.traces.validated`, the same checks)."""
+    if isinstance(trace, str | os.PathLike):
+        yield from PhysicalTrace.iter_chunks(trace, rows, allow_gaps=allow_gaps)
     else:
-        yield from PhysicalTrace.iter_chunks(trace, rows)
+        yield from validated(_slices(trace, rows), allow_gaps=allow_gaps)
+
+
+def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterator[PhysicalTrace]:
+    """A trace in memory (or consecutive chunks of one) as slices of at most ``rows`` rows."""
+    if not isinstance(trace, PhysicalTrace):
+        for chunk in trace:
+            yield from _slices(chunk, rows)
+        return
+    for i in range(0, len(trace), rows):
+        s = slice(i, i + rows)
+        yield PhysicalTrace(
+            t_s=trace.t_s[s],
+            gyro_dps=trace.gyro_dps[s],
+            accel_g=trace.accel_g[s],
+            mag_gauss=None if trace.mag_gauss is None else trace.mag_gauss[s],
+            baro_mbar=None if trace.baro_mbar is None else trace.baro_mbar[s],
+            temp_c=None if trace.temp_c is None else trace.temp_c[s],
+            truth_q=None if trace.truth_q is None else trace.truth_q[s],
+            moving=None if trace.moving is None else trace.moving[s],
+            metadata=trace.metadata,
+        )
 
 
 def cost_table_text(profile: Profile) -> tuple[str, str]:
@@ -244,6 +252,7 @@ def emulate(
     bus_window: tuple[int, int] | None = None,
     sink: Callable[[dict[str, Any]], None] | None = None,
     until_s: float | None = None,
+    allow_gaps: bool = False,
     **settings: Any,
 ) -> Run:
     """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace, a trace file, or an iterable of
@@ -263,6 +272,10 @@ def emulate(
 
     ``until_s`` emulates only the trace's first ``until_s`` seconds (rows at most that long after the
     first one; for a raw-register trace, bursts recorded up to that virtual time).
+
+    A physical trace is validated as it streams in, the same way whether it is a file or in memory
+    (:class:`~sins_fw.errors.TraceError` naming the row and column): ``allow_gaps`` accepts time steps
+    longer than 1.5 sample periods (the device sees the input interpolated across them).
 
     A :class:`RawRegisterTrace` or a raw-register trace file is replayed through the firmware (the
     device model is bypassed; its recorded timestamps are the reads' sample times); profile faults
@@ -291,7 +304,7 @@ def emulate(
     truth_t: list[Array] = []
     t0: float | None = None
     truth_q0: Array | None = None
-    for chunk in _chunks(trace, chunk_rows):
+    for chunk in _chunks(trace, chunk_rows, allow_gaps):
         if len(chunk) == 0:
             continue
         if t0 is None:
@@ -300,7 +313,7 @@ def emulate(
             n = int(np.searchsorted(chunk.t_s - t0, until_s, side="right"))
             if n == 0:
                 break
-            chunk = next(_chunks(chunk, n))
+            chunk = next(_slices(chunk, n))
         t = np.ascontiguousarray(chunk.t_s - t0)
         for s in _pieces(t, bus):
             emu.push(

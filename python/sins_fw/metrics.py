@@ -7,7 +7,10 @@ Two families, both from quaternions ``[w, x, y, z]`` that are C_b^n (navigation 
   are their errors: prefer the BROAD errors there.
 * BROAD's errors (its example code): q_err = q_est ⊗ q_truth⁻¹ (an earth-frame error), total =
   2·acos(|w|), heading = 2·atan(|z/w|), inclination = 2·acos(√(w² + z²)). RMSE over the movement
-  mask, skipping rows whose truth is NaN (lost markers).
+  mask, skipping rows whose truth is NaN (lost markers). Computed in float64 in the equivalent
+  well-conditioned forms total = 2·atan2(|v|, |w|) (:func:`sins_fw.quaternion.rotation_angle`, the
+  one "total" everywhere) and inclination = 2·atan2(√(x² + y²), √(w² + z²)): acos loses the small
+  angles (and clipping |w| at 1 hides them when the estimate's norm exceeds 1).
 
 Heading alignment (optional): a method without a magnetometer has no heading reference, so its
 estimate is rotated about the navigation z axis once, by the heading error at the first valid
@@ -61,10 +64,11 @@ def attitude_errors(q_est: ArrayLike, q_truth: ArrayLike) -> AttitudeErrors:
             f"estimate {est.shape} and truth {truth.shape}: expected two (N, 4) quaternion arrays"
         )
     err = quat.multiply(est, quat.conjugate(truth))
-    w, z = np.abs(err[:, 0]), np.abs(err[:, 3])
-    total = 2.0 * np.arccos(np.clip(w, 0.0, 1.0))
+    w, x, y, z = np.abs(err.T)
+    total = quat.rotation_angle(est, truth)
     heading = 2.0 * np.arctan2(z, w)  # = 2·atan(|z/w|), defined at w = 0 too
-    inclination = 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
+    # = 2·acos(√(w² + z²)) for a unit error, without acos's ill conditioning near 1 or the norm.
+    inclination = 2.0 * np.arctan2(np.hypot(x, y), np.hypot(w, z))
     est_euler = quat.to_euler(est)
     truth_euler = quat.to_euler(truth)
     roll, pitch, yaw = (wrap_deg(np.degrees(e - t)) for e, t in zip(est_euler, truth_euler, strict=True))

@@ -2,9 +2,10 @@
 compared step by step with the f64 golden reference.
 
 Only ``firmware.numeric`` differs between the runs, so every difference in the attitude is the
-arithmetic's. Per step the difference is the rotation angle of ``q_backend ⊗ q_f64⁻¹``, computed as
-``2·atan2(|v|, |w|)`` (not ``2·acos(|w|)``, which loses every digit below ~1e-8 rad because ``w`` is
-within 1e-16 of 1 there; the atan2 form is also insensitive to the quaternion's norm). Reported per
+arithmetic's. Per step the difference is the rotation angle of ``q_backend ⊗ q_f64⁻¹``,
+``2·atan2(|v|, |w|)`` (:func:`sins_fw.quaternion.rotation_angle`; not ``2·acos(|w|)``, which loses
+every digit below ~1e-8 rad because ``w`` is within 1e-16 of 1 there; the atan2 form is also
+insensitive to the quaternion's norm). Reported per
 backend: the maximum, the RMS and the final difference (degrees) and the drift rate, the
 least-squares slope of the difference over time (degrees per hour).
 
@@ -14,9 +15,12 @@ Thresholds per backend live in ``firmware_model/parity.toml`` (``max_deg``, ``rm
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
-from collections.abc import Callable, Iterable, Sequence
+import queue
+import threading
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -48,9 +52,7 @@ def attitude_difference_deg(q: ArrayLike, q_ref: ArrayLike) -> Array:
     b = np.asarray(q_ref, dtype=np.float64)
     if a.shape != b.shape or a.ndim != 2 or a.shape[1] != 4:
         raise InputError(f"quaternions {a.shape} and {b.shape}: expected two (N, 4) arrays")
-    # q_ref⁻¹ = q_ref* / |q_ref|²; the angle does not depend on the scale, so the conjugate does.
-    d = quat.multiply(a, quat.conjugate(b))
-    return np.degrees(2.0 * np.arctan2(np.linalg.norm(d[:, 1:], axis=1), np.abs(d[:, 0])))
+    return np.degrees(quat.rotation_angle(a, b))
 
 
 def drift_rate_deg_per_h(t_s: ArrayLike, angle_deg: ArrayLike) -> float:
@@ -60,10 +62,12 @@ def drift_rate_deg_per_h(t_s: ArrayLike, angle_deg: ArrayLike) -> float:
     if len(t) < 2:
         return 0.0
     tc = t - t.mean()
-    denom = float(np.dot(tc, tc))
+    # np.sum, not np.dot: a BLAS dot splits the sum between its threads (OMP_NUM_THREADS changes
+    # the last digits); numpy's own pairwise summation has one fixed order.
+    denom = float(np.sum(tc * tc))
     if denom == 0.0:
         return 0.0
-    return float(np.dot(tc, a - a.mean()) / denom) * _SECONDS_PER_HOUR
+    return float(np.sum(tc * (a - a.mean())) / denom) * _SECONDS_PER_HOUR
 
 
 @dataclass(frozen=True)
@@ -158,18 +162,7 @@ def compare(run: Run, reference: Run, backend: str, threshold: Threshold | None 
         drift_deg_per_h=drift_rate_deg_per_h(run.time_s, angle),
         threshold=threshold,
     )
-    if threshold is not None:
-        measured = {
-            "max_deg": diff.max_deg,
-            "rms_deg": diff.rms_deg,
-            "drift_deg_per_h": abs(diff.drift_deg_per_h),
-        }
-        for key in _LIMITS:
-            limit = getattr(threshold, key)
-            # NaN compares False: count it as exceeded explicitly.
-            if not measured[key] <= limit:
-                diff.exceeded.append(f"{key}: {measured[key]:.3g} > {limit:.3g}")
-    return diff
+    return _checked(diff)
 
 
 @dataclass
@@ -229,6 +222,137 @@ def run_backends(
     return runs
 
 
+@dataclass
+class _Stats:
+    """Running statistics of one backend's difference, merged chunk by chunk in a fixed order (so
+    the result does not depend on how the work was scheduled): count, sum of squares, maximum and
+    where, the last value, and the least-squares line of the angle against time (Chan et al.'s
+    pairwise update of the means, the sum of squares of t and the co-moment of t and the angle)."""
+
+    n: int = 0
+    sum_sq: float = 0.0
+    max_deg: float = -math.inf
+    max_at_s: float = math.nan
+    final_deg: float = math.nan
+    mean_t: float = 0.0
+    mean_a: float = 0.0
+    m2_t: float = 0.0
+    c_ta: float = 0.0
+
+    def add(self, t: Array, angle: Array) -> None:
+        if not len(t):
+            return
+        k = int(np.argmax(angle))
+        if not angle[k] <= self.max_deg:  # NaN counts as the largest, as np.argmax does
+            self.max_deg, self.max_at_s = float(angle[k]), float(t[k])
+        self.final_deg = float(angle[-1])
+        self.sum_sq += float(np.sum(angle * angle))
+        nb, mt, ma = len(t), float(np.mean(t)), float(np.mean(angle))
+        tc = t - mt
+        m2, c = float(np.sum(tc * tc)), float(np.sum(tc * (angle - ma)))
+        n = self.n + nb
+        dt, da = mt - self.mean_t, ma - self.mean_a
+        w = self.n * nb / n
+        self.mean_t += dt * nb / n
+        self.mean_a += da * nb / n
+        self.m2_t += m2 + dt * dt * w
+        self.c_ta += c + dt * da * w
+        self.n = n
+
+    def diff(self, backend: str, threshold: Threshold | None) -> BackendDiff:
+        drift = self.c_ta / self.m2_t * _SECONDS_PER_HOUR if self.n >= 2 and self.m2_t > 0 else 0.0
+        return _checked(
+            BackendDiff(
+                backend=backend,
+                steps=self.n,
+                max_deg=self.max_deg,
+                max_at_s=self.max_at_s,
+                rms_deg=math.sqrt(self.sum_sq / self.n),
+                final_deg=self.final_deg,
+                drift_deg_per_h=drift,
+                threshold=threshold,
+            )
+        )
+
+
+def _checked(diff: BackendDiff) -> BackendDiff:
+    """``diff`` with the limits it exceeds listed."""
+    if diff.threshold is not None:
+        measured = {
+            "max_deg": diff.max_deg,
+            "rms_deg": diff.rms_deg,
+            "drift_deg_per_h": abs(diff.drift_deg_per_h),
+        }
+        for key in _LIMITS:
+            limit = getattr(diff.threshold, key)
+            # NaN compares False: count it as exceeded explicitly.
+            if not measured[key] <= limit:
+                diff.exceeded.append(f"{key}: {measured[key]:.3g} > {limit:.3g}")
+    return diff
+
+
+_DONE = object()
+
+
+def _streamed(
+    trace: PhysicalTrace | str | os.PathLike[str],
+    profiles: dict[str, Profile],
+    on_chunk: Callable[[str, float], None] | None,
+) -> Iterator[dict[str, dict[str, Any] | None]]:
+    """Emulate every backend at once, each in a thread streaming its output (``emulate(...,
+    sink=...)``) through a queue of a few chunks: memory is bounded by the chunk, not the trace.
+    Yields one output chunk per backend per round (None for a backend that has finished)."""
+    queues: dict[str, queue.Queue[Any]] = {n: queue.Queue(maxsize=2) for n in profiles}
+    stop = threading.Event()
+
+    def work(name: str) -> None:
+        q = queues[name]
+
+        def put(item: Any) -> None:
+            while not stop.is_set():
+                try:
+                    q.put(item, timeout=0.1)
+                    return
+                except queue.Full:
+                    continue
+            raise _StoppedError
+
+        try:
+            report = None if on_chunk is None else (lambda t: on_chunk(name, t))
+            emulate(trace, profiles[name], on_chunk=report, sink=put)
+            put(_DONE)
+        except _StoppedError:
+            pass
+        except BaseException as e:  # handed to the main thread, which raises it
+            with contextlib.suppress(_StoppedError):
+                put(e)
+
+    threads = [threading.Thread(target=work, args=(n,), daemon=True) for n in profiles]
+    for th in threads:
+        th.start()
+    done: set[str] = set()
+    try:
+        while len(done) < len(profiles):
+            row: dict[str, dict[str, Any] | None] = {}
+            for name, q in queues.items():
+                item = None if name in done else q.get()
+                if item is _DONE:
+                    done.add(name)
+                    item = None
+                elif isinstance(item, BaseException):
+                    raise item
+                row[name] = item
+            yield row
+    finally:
+        stop.set()
+        for th in threads:
+            th.join()
+
+
+class _StoppedError(Exception):
+    """The consumer has gone: a backend's thread stops."""
+
+
 def parity(
     trace: PhysicalTrace | str | os.PathLike[str],
     profile: Profile | str = "reference",
@@ -239,20 +363,53 @@ def parity(
     on_chunk: Callable[[str, float], None] | None = None,
 ) -> TraceParity:
     """Run every backend on ``trace`` and compare each with f64 against ``thresholds`` (default: the
-    table in firmware_model/parity.toml). A backend without a threshold is measured, not checked."""
+    table in firmware_model/parity.toml). A backend without a threshold is measured, not checked.
+
+    The backends run side by side and are compared chunk by chunk as their output streams out, so
+    memory does not grow with the trace's length (a trace file is read by each backend, in chunks)."""
     limits = load_thresholds() if thresholds is None else thresholds
     names = parse_backends(backends)
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     prof = prof.with_overrides(*overrides)
-    runs = run_backends(trace, prof, backends=names, on_chunk=on_chunk)
-    ref = runs[REFERENCE]
-    diffs = [compare(runs[n], ref, n, limits.get(n)) for n in names if n != REFERENCE]
-    duration = float(ref.budget["tick_ps"][-1]) * 1e-12 if len(ref.budget["tick_ps"]) else 0.0
+    profiles = {n: prof.with_overrides(f"firmware.numeric={n}") for n in names}
+    stats = {n: _Stats() for n in names if n != REFERENCE}
+    pending: dict[str, tuple[Array, Array]] = {n: (np.empty(0, np.uint64), np.empty((0, 4))) for n in names}
+    last_tick_ps: int | None = None
+    for row in _streamed(trace, profiles, on_chunk):
+        for n, part in row.items():
+            if part is None:
+                continue
+            t, q = pending[n]
+            pending[n] = (np.concatenate([t, part["cycle_t_ps"]]), np.concatenate([q, part["cycle_quat"]]))
+            if n == REFERENCE and len(part["budget_tick_ps"]):
+                last_tick_ps = int(part["budget_tick_ps"][-1])
+        common = min(len(t) for t, _ in pending.values())
+        ref_t, ref_q = pending[REFERENCE]
+        for n, st in stats.items():
+            t, q = pending[n]
+            if not np.array_equal(t[:common], ref_t[:common]):
+                raise InputError(
+                    f"backend {n}: its attitude steps are not at the reference's times; the runs must "
+                    "produce the same steps at the same times to be compared"
+                )
+            st.add(
+                ref_t[:common].astype(np.float64) * 1e-12, attitude_difference_deg(q[:common], ref_q[:common])
+            )
+        pending = {n: (t[common:], q[common:]) for n, (t, q) in pending.items()}
+    counts = {n: len(t) for n, (t, _) in pending.items()}
+    if any(counts.values()):
+        raise InputError(
+            f"backends produced different numbers of attitude steps (left over: {counts}); the runs must "
+            "produce the same steps at the same times to be compared"
+        )
+    steps = next(iter(stats.values())).n if stats else 0
+    if stats and steps == 0:
+        raise InputError("no attitude step to compare: the trace is shorter than one update period")
     return TraceParity(
         trace=str(trace) if not isinstance(trace, PhysicalTrace) else trace.metadata.get("source", "<trace>"),
         profile=prof.source,
         overrides=prof.overrides,
-        duration_s=duration,
-        steps=ref.cycles,
-        backends=diffs,
+        duration_s=last_tick_ps * 1e-12 if last_tick_ps is not None else 0.0,
+        steps=steps,
+        backends=[st.diff(n, limits.get(n)) for n, st in stats.items()],
     )

@@ -77,6 +77,20 @@ def from_euler(roll: ArrayLike, pitch: ArrayLike, yaw: ArrayLike) -> Array:
     return multiply(multiply(z, y), x)
 
 
+def rotation_angle(q: ArrayLike, q_ref: ArrayLike) -> Array:
+    """The rotation angle (radians, in [0, π]) of ``q ⊗ q_ref⁻¹``, per row, in float64:
+    ``2·atan2(|v|, |w|)`` of the error quaternion ``[w, v]``.
+
+    The one formula for every "total" attitude error (run summary, report page, BROAD metrics,
+    parity). Unlike ``2·acos(|w|)`` it is well conditioned at small angles (acos has an infinite
+    slope at 1: a rounding of ``w`` by ε moves it by ~2·√(2ε)) and does not depend on the
+    quaternions' norms, so an un-normalised single-precision estimate (norm 1 ± 1e-7) neither shows
+    a false error of 2·acos(1 − 1e-7) ≈ 0.051° nor hides a real one behind ``w`` clipped at 1.
+    """
+    d = multiply(q, conjugate(q_ref))  # q_ref⁻¹ = q_ref* / |q_ref|²: the scale does not change the angle
+    return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+
+
 def to_dcm(q: ArrayLike) -> Array:
     """The matrix C_b^n of unit ``q`` (shape ``(..., 3, 3)``), elements T_ij of the reference design."""
     q0, q1, q2, q3 = np.moveaxis(np.asarray(q, dtype=np.float64), -1, 0)

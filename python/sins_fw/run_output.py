@@ -5,9 +5,11 @@ shortest round-trip float text, one dataset per column, written atomically and b
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 from fractions import Fraction
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -86,6 +88,53 @@ def save_run(run: Run, path: str | os.PathLike[str], metadata: dict[str, str] | 
     _write(path, RUN_SCHEMA, meta, run_columns(run))
 
 
+def trace_reference(trace: str | os.PathLike[str], out: str | os.PathLike[str]) -> dict[str, str]:
+    """How a run output records its trace so that it is found again from any working directory
+    (docs/traces.md, "Run output"): ``trace``, the path relative to the output's folder (POSIX
+    separators; it survives moving the two together), ``trace_abs``, the absolute path (it survives
+    moving the output alone), and ``trace_sha256``, the trace file's content hash, which tells the
+    right file from another one at either place."""
+    t = Path(trace).absolute()
+    folder = Path(out).absolute().parent
+    return {
+        "trace": Path(os.path.relpath(t, folder)).as_posix(),
+        "trace_abs": str(t),
+        "trace_sha256": file_sha256(t),
+    }
+
+
+def file_sha256(path: str | os.PathLike[str]) -> str:
+    """The SHA-256 of a file's bytes (hex), read in blocks."""
+    with open(path, "rb") as fh:
+        return hashlib.file_digest(fh, "sha256").hexdigest()
+
+
+def resolve_trace(path: str | os.PathLike[str], meta: dict[str, str]) -> Path:
+    """The trace a run output was made from, found in order: relative to the output's folder
+    (``trace``), at its absolute path (``trace_abs``), then as written relative to the working
+    directory (outputs written before the absolute path and hash were recorded). With a recorded
+    ``trace_sha256`` the first candidate with that content is taken; none: an InputError naming
+    every place tried."""
+    out = Path(path)
+    written = meta.get("trace")
+    if not written:
+        raise InputError(f"{path}: run output without a `trace` entry in its metadata: cannot replay it")
+    candidates = [out.absolute().parent / written]
+    if meta.get("trace_abs"):
+        candidates.append(Path(meta["trace_abs"]))
+    candidates.append(Path(written))
+    want = meta.get("trace_sha256")
+    tried: list[str] = []
+    for c in dict.fromkeys(candidates):
+        if not c.is_file():
+            tried.append(f"{c} (no such file)")
+        elif want and file_sha256(c) != want:
+            tried.append(f"{c} (another file: its SHA-256 is not the recorded {want[:12]}…)")
+        else:
+            return c
+    raise InputError(f"{path}: cannot find its trace `{written}`; tried {'; '.join(tried)}")
+
+
 def _step_s(run: Run) -> Fraction:
     """The attitude update period T in exact seconds: the spacing of the first two ticks that
     completed a step (integer picoseconds); the tick period when the run has fewer steps."""
@@ -111,11 +160,11 @@ def replay_check(
 ) -> tuple[Run, dict[str, str]]:
     """Re-emulate a saved run from what its metadata records (trace, profile, overrides) and check
     that every per-step value comes out bit for bit the same, like ArduPilot's replay checker. Returns
-    the new Run and the metadata; raises CheckFailed naming the first differing column and row."""
+    the new Run and the metadata (``trace`` is where the trace was found: :func:`resolve_trace`);
+    raises CheckFailed naming the first differing column and row."""
     meta, saved = load_run(path)
-    trace = meta.get("trace")
-    if not trace:
-        raise InputError(f"{path}: run output without a `trace` entry in its metadata: cannot replay it")
+    trace = resolve_trace(path, meta)
+    meta = {**meta, "trace": str(trace)}  # the trace as found
     try:
         overrides = [str(o) for o in json.loads(meta.get("overrides") or "[]")]
     except (json.JSONDecodeError, TypeError):

@@ -13,7 +13,7 @@ import io
 import itertools
 import os
 import re
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -714,7 +714,8 @@ class _TraceFile:
 
     def validate(self, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS) -> None:
         """The checks a file gets on load, for a trace built in memory."""
-        _validate_memory(self.schema, self.columns(), self.metadata, allow_gaps, max_gap_periods)
+        for _ in validated([self], allow_gaps=allow_gaps, max_gap_periods=max_gap_periods):
+            pass
 
     def save(self, path: PathLike, *, allow_gaps: bool = False) -> None:
         """Write as CSV (``.csv``; raw words as ``0xABCD``) or HDF5 (``.h5``), validated, atomically."""
@@ -923,21 +924,32 @@ def iter_chunks(
     return PhysicalTrace.iter_chunks(path, rows, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
 
 
-def _validate_memory(
-    schema: _Schema,
-    cols: dict[str, np.ndarray],
-    metadata: Mapping[str, str],
-    allow_gaps: bool,
-    max_gap_periods: float,
-) -> None:
-    src = f"<{schema.title} in memory>"
-    rate = _check_metadata(metadata, schema, f"{src}: metadata")
-    lengths = {n: len(a) for n, a in cols.items()}
-    if len(set(lengths.values())) > 1:
-        raise TraceError(f"{src}: columns have different lengths: {lengths}")
-    if not lengths["t_s"]:
-        raise TraceError(f"{src}: no data rows")
-    _Checker(schema, src, float(1 / rate), allow_gaps, max_gap_periods, lambda r: f"row {r}").check(cols)
+_C = TypeVar("_C", bound=_TraceFile)
+
+
+def validated(
+    chunks: Iterable[_C], *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+) -> Iterator[_C]:
+    """The consecutive chunks of a trace built in memory, each checked as it passes exactly as a
+    file's rows are on load (the same metadata check, the same :class:`_Checker`, carried across
+    chunks): the one validation path for files and memory. The metadata is the first chunk's."""
+    checker: _Checker | None = None
+    src = ""
+    for chunk in chunks:
+        if checker is None:
+            src = f"<{chunk.schema.title} in memory>"
+            rate = _check_metadata(chunk.metadata, chunk.schema, f"{src}: metadata")
+            checker = _Checker(
+                chunk.schema, src, float(1 / rate), allow_gaps, max_gap_periods, lambda r: f"row {r}"
+            )
+        cols = chunk.columns()
+        lengths = {n: len(a) for n, a in cols.items()}
+        if len(set(lengths.values())) > 1:
+            raise TraceError(f"{src}: columns have different lengths: {lengths}")
+        checker.check(cols)
+        yield chunk
+    if checker is None or checker.rows_seen == 0:
+        raise TraceError(f"{src or '<trace in memory>'}: no data rows")
 
 
 _T = TypeVar("_T", PhysicalTrace, RawRegisterTrace)

@@ -19,7 +19,7 @@ from sins_fw.cli.stop import check_stop
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import emulate
 from sins_fw.report import ALIGNMENTS, render, summarise
-from sins_fw.run_output import save_run
+from sins_fw.run_output import save_run, trace_reference
 from sins_fw.traces import DEFAULT_MAX_GAP_PERIODS, PhysicalTrace, check_output_path, is_raw_register_trace
 
 
@@ -199,7 +199,9 @@ def run(args: argparse.Namespace) -> int:
             check_stop()
 
         try:
-            result = emulate(trace, profile, on_chunk=on_chunk, until_s=args.until_s)
+            result = emulate(
+                trace, profile, on_chunk=on_chunk, until_s=args.until_s, allow_gaps=args.allow_gaps
+            )
             check_stop()
         except KeyboardInterrupt as e:
             how_far = reached.text(_first_time(args.trace) if reached.t is not None else None)
@@ -211,7 +213,7 @@ def run(args: argparse.Namespace) -> int:
     summary["replayed"] = replayed
     if args.out is not None:
         try:
-            recorded = {"trace": str(args.trace)}
+            recorded = trace_reference(args.trace, args.out)
             if args.until_s is not None:
                 recorded["until_s"] = repr(args.until_s)
             save_run(result, args.out, recorded)

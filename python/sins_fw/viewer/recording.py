@@ -9,7 +9,9 @@ Paths and timeline names are in :mod:`sins_fw.viewer.paths`.
 
 from __future__ import annotations
 
+import hashlib
 import os
+import uuid
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -412,6 +414,17 @@ def log_run(
         _log_parity(rec, run, parity)
 
 
+def derived_recording_id(run: Run, name: str | None = None) -> str:
+    """A recording id that is a function of the run (its profile, overrides and attitude output)
+    and the recording's name: a UUID (version 5) of their SHA-256, the same on every save."""
+    h = hashlib.sha256()
+    for part in (run.profile.text, "\n".join(run.profile.overrides), name or ""):
+        h.update(part.encode("utf-8") + b"\0")
+    h.update(np.ascontiguousarray(run.time_s).tobytes())
+    h.update(np.ascontiguousarray(run.quat).tobytes())
+    return str(uuid.uuid5(uuid.NAMESPACE_URL, "sins-fw:" + h.hexdigest()))
+
+
 def save_recording(
     run: Run,
     path: str | os.PathLike[str],
@@ -420,6 +433,7 @@ def save_recording(
     parity: Mapping[str, Run] | None = None,
     name: str | None = None,
     blueprint: Any | None = None,
+    recording_id: str | None = None,
 ) -> Path:
     """Write the recording of ``run`` to ``path`` (.rrd) with the default layout, atomically: a
     temporary file beside it is renamed over ``path`` once complete, so a failed save leaves any
@@ -428,7 +442,10 @@ def save_recording(
 
     out = Path(path)
     with atomic_path(out) as tmp:
-        rec = rr.RecordingStream("sins-fw", recording_id=None, send_properties=True)
+        # No start time (send_properties=False) and an id derived from what is recorded: the same
+        # run gives the same recording id (docs/traces.md, "Determinism").
+        rid = recording_id if recording_id is not None else derived_recording_id(run, name)
+        rec = rr.RecordingStream("sins-fw", recording_id=rid, send_properties=False)
         bp = blueprint if blueprint is not None else default_blueprint(run, parity=parity)
         rec.save(str(tmp), default_blueprint=bp)
         if name:
