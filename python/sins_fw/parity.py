@@ -242,6 +242,11 @@ def parity(
     table in firmware_model/parity.toml). A backend without a threshold is measured, not checked."""
     limits = load_thresholds() if thresholds is None else thresholds
     names = parse_backends(backends)
+    if len(names) < 2:
+        raise InputError(
+            f"backends {backends!r}: nothing to compare; name at least one backend besides the "
+            f"reference {REFERENCE} (known: {', '.join(b for b in BACKENDS if b != REFERENCE)})"
+        )
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     prof = prof.with_overrides(*overrides)
     runs = run_backends(trace, prof, backends=names, on_chunk=on_chunk)
