@@ -698,8 +698,8 @@ def _write_h5(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: di
     # once h5py has closed cleanly: a write failing inside HDF5 crashes the interpreter on close.
     with (
         atomic_path(path) as tmp,
-        kept_error_file(tmp) as sink,
-        h5py.File(sink, "w", libver=("earliest", "v110"), track_order=True) as f,
+        kept_error_file(tmp) as tmp_file,
+        h5py.File(tmp_file, "w", libver=("earliest", "v110"), track_order=True) as f,
     ):
         for k, v in metadata.items():
             f.attrs[k] = v
