@@ -157,7 +157,10 @@ def _check_cli(capsys, *args: str) -> None:
     code = main(list(args))
     _, err = capsys.readouterr()
     assert "Traceback" not in err and "panicked" not in err, err
-    assert code in (0, 2), (code, args, err)
+    # 1: a check failed (an error-severity event, a broken rule), said in one line after the summary.
+    assert code in (0, 1, 2), (code, args, err)
+    if code == 1:
+        assert err.startswith("sins-fw: check failed: "), err
     if code == 2:
         assert err.startswith("sins-fw: error: ") or "usage:" in err, err
 

@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import io
 import os
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
+
+from sins_fw.errors import InputError
 
 #: Temporary files are named ``.NAME.<random>.tmp`` beside the destination (hidden, recognisable).
 TEMP_SUFFIX = ".tmp"
@@ -44,15 +47,121 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
         # Name the file the user asked for, not the temporary one.
         raise OSError(e.errno, e.strerror, str(dest)) from None
     os.close(fd)
+    existed = dest.exists()
     try:
         yield Path(tmp)
         # mkstemp creates the file private (0600); give it the permissions a plain open() would.
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, dest)
-    except BaseException:
+    except BaseException as e:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
+        if isinstance(e, OSError) and e.filename in (None, tmp):
+            # A failed write (a full disk, a file size limit): name the file the user asked for.
+            kept = f"{dest} left as it was" if existed else f"{dest} not written"
+            raise OSError(e.errno, f"{e.strerror or e} ({kept})", str(dest)) from None
         raise
+
+
+class _KeptErrorFile(io.RawIOBase):
+    """A binary file whose first failed write (or flush, truncate) is kept instead of raised: the
+    writes after it are skipped as if done. For writers that cannot survive a failed write: HDF5
+    leaves a dataset half-closed after one, and h5py's File.close then closes it a second time and
+    crashes the interpreter (a segfault, exit 139)."""
+
+    def __init__(self, raw: io.FileIO) -> None:
+        super().__init__()
+        self.raw = raw
+        self.error: OSError | None = None
+
+    def readable(self) -> bool:
+        return True
+
+    def writable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def seek(self, pos: int, whence: int = os.SEEK_SET) -> int:
+        return self.raw.seek(pos, whence)
+
+    def tell(self) -> int:
+        return self.raw.tell()
+
+    def readinto(self, buffer: bytearray | memoryview) -> int:  # type: ignore[override]
+        return self.raw.readinto(buffer) or 0
+
+    def write(self, data: bytes | bytearray | memoryview) -> int:  # type: ignore[override]
+        n = memoryview(data).nbytes
+        if self.error is None:
+            try:
+                return self.raw.write(data) or 0
+            except OSError as e:
+                self.error = e
+        self.raw.seek(n, os.SEEK_CUR)
+        return n
+
+    def truncate(self, size: int | None = None) -> int:
+        if self.error is None:
+            try:
+                return self.raw.truncate(size)
+            except OSError as e:
+                self.error = e
+        return self.raw.tell() if size is None else size
+
+    def flush(self) -> None:
+        if self.error is None and not self.raw.closed:
+            try:
+                self.raw.flush()
+            except OSError as e:
+                self.error = e
+
+
+@contextlib.contextmanager
+def kept_error_file(path: str | os.PathLike[str]) -> Iterator[io.RawIOBase]:
+    """Open ``path`` (a temporary path of :func:`atomic_path`) for writing and reading through
+    :class:`_KeptErrorFile`: the writer never sees a failed write; the first one is raised here,
+    once the writer has closed cleanly (give the file to a library such as h5py)."""
+    with open(path, "w+b", buffering=0) as raw:
+        sink = _KeptErrorFile(raw)
+        yield sink
+        if sink.error is not None:
+            raise sink.error
+
+
+def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
+    """Whether two paths name one file: the same device and inode when both exist (so hard links,
+    symlinks and ``..`` are seen through), else the same fully resolved path (symlinks followed as
+    far as they lead)."""
+    try:
+        sa, sb = os.stat(a), os.stat(b)
+    except OSError:
+        return os.path.realpath(a) == os.path.realpath(b)
+    return (sa.st_dev, sa.st_ino) == (sb.st_dev, sb.st_ino)
+
+
+def check_distinct(
+    inputs: Mapping[str, str | os.PathLike[str] | None], outputs: Mapping[str, str | os.PathLike[str] | None]
+) -> None:
+    """Refuse, before any work, an output that is one of the command's inputs or another of its
+    outputs (InputError naming both). Keys are what the user typed to give each path (``--out``,
+    ``TRACE``); None values (options not given) are skipped."""
+    ins = [(k, v) for k, v in inputs.items() if v is not None]
+    outs = [(k, v) for k, v in outputs.items() if v is not None]
+    for i, (name, path) in enumerate(outs):
+        for other, other_path in ins:
+            if same_file(path, other_path):
+                raise InputError(
+                    f"{name} {path} is the input {other} {other_path}: writing it would destroy the "
+                    "input; choose another output file"
+                )
+        for other, other_path in outs[:i]:
+            if same_file(path, other_path):
+                raise InputError(
+                    f"{name} {path} and {other} {other_path} are the same file: one output would "
+                    "overwrite the other; choose two different files"
+                )
 
 
 def write_text(path: str | os.PathLike[str], text: str) -> Path:

@@ -369,6 +369,11 @@ def parity(
     memory does not grow with the trace's length (a trace file is read by each backend, in chunks)."""
     limits = load_thresholds() if thresholds is None else thresholds
     names = parse_backends(backends)
+    if len(names) < 2:
+        raise InputError(
+            f"backends {backends!r}: nothing to compare; name at least one backend besides the "
+            f"reference {REFERENCE} (known: {', '.join(b for b in BACKENDS if b != REFERENCE)})"
+        )
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     prof = prof.with_overrides(*overrides)
     profiles = {n: prof.with_overrides(f"firmware.numeric={n}") for n in names}

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 from fractions import Fraction
 from pathlib import Path
@@ -155,6 +156,19 @@ def load_run(path: str | os.PathLike[str]) -> tuple[dict[str, str], dict[str, np
     return src.metadata, cols
 
 
+def _until_s(path: str | os.PathLike[str], text: str | None) -> float | None:
+    """The `until_s` a run output records (None when absent), checked as `run --until-s` checks it."""
+    if not text:
+        return None
+    try:
+        until = float(text)
+    except ValueError:
+        until = math.nan
+    if not (math.isfinite(until) and until > 0):
+        raise InputError(f"{path}: metadata `until_s` is `{text}`; expected a number of seconds > 0")
+    return until
+
+
 def replay_check(
     path: str | os.PathLike[str], bus_window: tuple[int, int] | None = None
 ) -> tuple[Run, dict[str, str]]:
@@ -169,9 +183,9 @@ def replay_check(
         overrides = [str(o) for o in json.loads(meta.get("overrides") or "[]")]
     except (json.JSONDecodeError, TypeError):
         raise InputError(f"{path}: metadata `overrides` is not a JSON list of key=value texts") from None
-    until = meta.get("until_s")
+    until = _until_s(path, meta.get("until_s"))
     profile = load_profile(meta.get("profile", "reference"), overrides)
-    run = emulate(trace, profile, bus_window=bus_window, until_s=float(until) if until else None)
+    run = emulate(trace, profile, bus_window=bus_window, until_s=until)
     fresh = run_columns(run)
     for name, column in saved.items():
         if name not in fresh:

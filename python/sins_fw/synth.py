@@ -28,9 +28,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from sins_fw import earth
+from sins_fw import _core, earth
 from sins_fw import quaternion as quat
-from sins_fw.errors import ConfigError, TraceError
+from sins_fw.errors import ConfigError, ProfileError, TraceError
 from sins_fw.traces import PhysicalTrace, parse_rate
 
 Array = NDArray[np.float64]
@@ -677,11 +677,36 @@ def resolve(name: str, preset: str | None = None, **params: Any) -> dict[str, An
         values.update(INDEXING_PRESETS[preset])
         if preset == "sweep":
             values["angles_deg"] = sweep_angles(params.get("axis", values["axis"]))
+    by_name = {p.name: p for p in scenario.params}
     for key, value in params.items():
         if key not in values:
             raise ConfigError(f"scenario `{name}` has no parameter `{key}`; known: {', '.join(values)}")
+        if isinstance(value, str):
+            # Text (montecarlo --param key=value, a script): parsed exactly as the CLI option is.
+            try:
+                value = by_name[key].parse(value)
+            except ValueError as e:
+                raise ConfigError(f"scenario `{name}`, parameter `{key}` = {value!r}: {e}") from None
         values[key] = value
+    _check_place(name, values["latitude_deg"], values["height_m"])
     return values
+
+
+def _check_place(name: str, latitude_deg: Any, height_m: Any) -> None:
+    """Latitude and height through the profile's own validation of ``navigation.latitude_deg`` and
+    ``navigation.height_m`` (one rule for both: the ranges where the navigation frame and the
+    gravity model hold)."""
+    for key, value in (("latitude_deg", latitude_deg), ("height_m", height_m)):
+        try:
+            _core.resolve_profile("", f"scenario `{name}`", [f"navigation.{key}={float(value)!r}"])
+        except (TypeError, ValueError):
+            raise ConfigError(
+                f"scenario `{name}`, parameter `{key}` = {value!r}: expected a number"
+            ) from None
+        except ProfileError as e:
+            raise ConfigError(
+                f"scenario `{name}`, parameter `{key}` (--{key.replace('_', '-')}): {e}"
+            ) from None
 
 
 def command_line(name: str, values: dict[str, Any]) -> str:

@@ -23,7 +23,7 @@ import h5py
 import numpy as np
 from numpy.typing import NDArray
 
-from sins_fw.atomic import atomic_path
+from sins_fw.atomic import atomic_path, kept_error_file
 from sins_fw.errors import TraceError
 
 Array = NDArray[np.float64]
@@ -370,6 +370,7 @@ def _open_csv(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_per
     try:
         _sniff(p, fh)
         metadata: dict[str, str] = {}
+        key_lines: dict[str, int] = {}
         line_no = 0
         header: str | None = None
         for raw in fh:
@@ -378,6 +379,12 @@ def _open_csv(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_per
             if text.startswith("#"):
                 key, sep, value = text[1:].partition(":")
                 if sep and _KEY_RE.match(key.strip()):
+                    if key.strip() in key_lines:
+                        raise TraceError(
+                            f"{p}: line {line_no}: metadata `{key.strip()}` given twice (first on line "
+                            f"{key_lines[key.strip()]}); expected each key once"
+                        )
+                    key_lines[key.strip()] = line_no
                     metadata[key.strip()] = value.strip()
                 continue
             if not text.strip():
@@ -560,8 +567,8 @@ def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_peri
         names = schema.order(names)
         length: int | None = None
         for n in names:
-            ds = f[n]
-            if not isinstance(ds, h5py.Dataset) or ds.ndim != 1:
+            ds = _h5_dataset(p, f, n)
+            if ds.ndim != 1:
                 raise TraceError(f"{p}: column `{n}`: expected a one-dimensional dataset")
             c = schema.column(n)
             kind = ds.dtype.kind
@@ -585,6 +592,25 @@ def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_peri
 
     checker = _Checker(schema, str(p), float(1 / rate), allow_gaps, max_gap_periods, where)
     return _Source(metadata, names, _h5_blocks(p, f, names, schema, int(length), rows, checker))
+
+
+def _h5_dataset(p: Path, f: h5py.File, name: str) -> h5py.Dataset:
+    """The dataset of column ``name``, stored in this file (an external link, a dangling or looping
+    soft link and a group are refused, naming the column)."""
+    link = f.get(name, getlink=True)
+    if isinstance(link, h5py.ExternalLink):
+        raise TraceError(
+            f"{p}: column `{name}` is an external link to {link.filename}:{link.path}; expected the "
+            "dataset in this file"
+        )
+    try:
+        ds = f[name]
+    except (KeyError, RuntimeError, OSError) as e:
+        target = f" to {link.path}" if isinstance(link, h5py.SoftLink) else ""
+        raise TraceError(f"{p}: column `{name}`: the link{target} does not lead to a dataset ({e})") from None
+    if not isinstance(ds, h5py.Dataset):
+        raise TraceError(f"{p}: column `{name}`: expected a one-dimensional dataset, found a group")
+    return ds
 
 
 def _h5_blocks(
@@ -668,7 +694,13 @@ def _write_h5(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: di
     dtypes = {"float": np.float64, "flag": np.uint8, "word": np.uint16}
     # track_times off: the same content gives the same bytes (no timestamps); track_order keeps the
     # metadata in the order it was written (as in CSV).
-    with atomic_path(path) as tmp, h5py.File(tmp, "w", libver=("earliest", "v110"), track_order=True) as f:
+    # HDF5 writes through a file that keeps the first failed write (a full disk) and raises it
+    # once h5py has closed cleanly: a write failing inside HDF5 crashes the interpreter on close.
+    with (
+        atomic_path(path) as tmp,
+        kept_error_file(tmp) as tmp_file,
+        h5py.File(tmp_file, "w", libver=("earliest", "v110"), track_order=True) as f,
+    ):
         for k, v in metadata.items():
             f.attrs[k] = v
         for name, arr in cols.items():

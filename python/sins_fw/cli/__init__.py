@@ -1,6 +1,8 @@
 """The `sins-fw` command line. Each subcommand is a module of this package with `register(sub)`.
 
-Exit codes: 0 success, 1 a check failed (parity, deadline), 2 bad input or usage, 3 a bug in sins-fw
+Exit codes: 0 success, 1 a check the command performs failed (the outputs are still written and the
+summary printed: an event of severity error in a run, a rule broken, a parity threshold exceeded;
+README "Exit codes", each command's --help), 2 bad input or usage, 3 a bug in sins-fw
 (reported in one line; ``--debug`` shows the traceback), 130 interrupted (Ctrl-C, SIGINT), 143
 terminated (SIGTERM). User errors print one message on stderr, never a traceback (``--debug`` shows
 one). An interrupted command leaves every output file either as it was or complete (sins_fw.atomic)
@@ -124,7 +126,8 @@ def _run(args: argparse.Namespace) -> int:
 def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseException | None = None) -> int:
     if getattr(args, "debug", False):
         traceback.print_exception(cause or e)
-    print(f"sins-fw: error: {e}", file=sys.stderr)
+    what = "check failed" if code == EXIT_CHECK_FAILED else "error"
+    print(f"sins-fw: {what}: {e}", file=sys.stderr)
     return code
 
 

@@ -8,11 +8,15 @@ from pathlib import Path
 
 from sins_fw import atomic
 from sins_fw.bench import render, run_suite
-from sins_fw.cli.common import add_json_option, emit
+from sins_fw.cli.common import add_json_option, emit, exit_epilog
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("bench", help="measure emulated cycles per second and memory against baselines")
+    p = sub.add_parser(
+        "bench",
+        help="measure emulated cycles per second and memory against baselines",
+        epilog=exit_epilog(None),
+    )
     p.add_argument(
         "--quick", action="store_true", help="short inputs (seconds, rough figures; for the smoke test)"
     )

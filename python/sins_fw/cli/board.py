@@ -3,15 +3,19 @@
 from __future__ import annotations
 
 import argparse
+from collections import Counter
 
 from sins_fw import _core
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.cli.common import add_json_option, add_profile_options, emit, exit_epilog, profile_from_args
+from sins_fw.errors import CheckFailed
 from sins_fw.harness import cost_table_text
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "board", help="show the clocks, SPI baud and mode, frame and burst times the profile's registers give"
+        "board",
+        help="show the clocks, SPI baud and mode, frame and burst times the profile's registers give",
+        epilog=exit_epilog("when the configuration breaks a rule of the hardware (as `budget` does)"),
     )
     add_profile_options(p)
     add_json_option(p)
@@ -41,4 +45,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         lines.append("rules broken:  none")
     emit(args, report, "\n".join(lines))
+    if s["violations"]:
+        kinds = Counter(str(v["kind"]) for v in s["violations"])
+        raise CheckFailed(
+            "the configuration breaks rules: " + ", ".join(f"{k} ×{n}" for k, n in kinds.items())
+        )
     return 0

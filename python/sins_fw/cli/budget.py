@@ -8,8 +8,16 @@ from pathlib import Path
 from typing import Any
 
 from sins_fw import budget
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
-from sins_fw.errors import InputError
+from sins_fw.atomic import check_distinct
+from sins_fw.cli.common import (
+    add_json_option,
+    add_profile_options,
+    emit,
+    exit_epilog,
+    profile_file,
+    profile_from_args,
+)
+from sins_fw.errors import CheckFailed, InputError
 
 #: Overruns listed in the text output (the JSON lists every one).
 LISTED_OVERRUNS = 20
@@ -25,6 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "published 0.35 ms, the op counts × unit cycles of every compute stage, read jitter and sample "
         "age, overruns and rules broken. Exit code 1 when a tick overran or a rule was broken. "
         "The model and the JSON keys: docs/budget.md.",
+        epilog=exit_epilog("when a tick overran its period or the configuration breaks a rule"),
     )
     add_profile_options(p)
     add_json_option(p)
@@ -46,13 +55,17 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--seconds {args.seconds}: expected a finite duration > 0")
     if args.plot is not None and (args.plot.suffix.lower() != ".png" or args.plot.is_dir()):
         raise InputError(f"--plot {args.plot}: expected a file name ending in .png")
+    check_distinct({"--profile": profile_file(args)}, {"--plot": args.plot})
     report = budget.budget_report(profile_from_args(args), seconds=args.seconds)
     if args.plot is not None:
         budget.plot_report(report, args.plot)
         report["plot"] = str(args.plot)
     emit(args, report, render(report))
-    failed = report["summary"]["overruns"]["count"] > 0 or bool(report["rules_broken"])
-    return 1 if failed else 0
+    overruns, broken = report["summary"]["overruns"]["count"], report["rules_broken"]
+    if overruns or broken:
+        kinds = ", ".join(v["kind"] for v in broken) or "none"
+        raise CheckFailed(f"{overruns} tick(s) overran; rules broken: {kinds}")
+    return 0
 
 
 def _us(x: float | None) -> str:

@@ -5,9 +5,45 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from collections import Counter
+from collections.abc import Iterable, Mapping
+from pathlib import Path
 from typing import Any
 
-from sins_fw.profile import Profile, load_profile
+from sins_fw.errors import CheckFailed, ProfileError
+from sins_fw.profile import Profile, load_profile, resolve_profile_path
+
+#: What exit status 1 means for a command that emulates a run (`run`, `replay`, `report`, `demo`).
+EVENTS_CHECK = (
+    "when the run logged any event of severity `error` (a missed deadline, a broken SPI rule, a "
+    "non-finite state, ...)"
+)
+
+
+def exit_epilog(check: str | None) -> str:
+    """The exit-status paragraph of a command's --help (the policy of the README, 'Exit codes'):
+    ``check`` says when the command exits 1, None when it has no check."""
+    one = (
+        f"1 {check}: the output files are still written and the summary still printed"
+        if check
+        else "1 is not used (this command checks nothing)"
+    )
+    return (
+        f"Exit status: 0 success; {one}; 2 bad input or usage (one message naming the file, line, "
+        "key or register); 3 an internal error; 130 interrupted (Ctrl-C); 143 terminated (SIGTERM)."
+    )
+
+
+def check_events(events: Iterable[Mapping[str, Any]], what: str = "the run") -> None:
+    """Raise CheckFailed (exit 1) when any event has severity ``error``, whatever its kind."""
+    errors = [e for e in events if e.get("severity") == "error"]
+    if errors:
+        kinds = ", ".join(f"{k} ×{n}" for k, n in Counter(str(e["kind"]) for e in errors).items())
+        first = errors[0]
+        raise CheckFailed(
+            f"{what} logged {len(errors)} error event{'s' if len(errors) > 1 else ''} ({kinds}); the "
+            f"first at {float(first['t_s']):.6g} s: {first['message']}"
+        )
 
 
 def add_profile_options(p: argparse.ArgumentParser) -> None:
@@ -30,6 +66,15 @@ def add_json_option(p: argparse.ArgumentParser) -> None:
 
 def profile_from_args(args: argparse.Namespace) -> Profile:
     return load_profile(args.profile, args.overrides)
+
+
+def profile_file(args: argparse.Namespace) -> Path | None:
+    """The profile file the command reads (an input no output may overwrite); None when the
+    profile does not resolve (loading it reports why)."""
+    try:
+        return resolve_profile_path(args.profile)
+    except ProfileError:
+        return None
 
 
 def _jsonable(x: Any) -> Any:

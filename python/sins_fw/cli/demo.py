@@ -13,7 +13,8 @@ from pathlib import Path
 from typing import Any
 
 from sins_fw import __version__, budget, parity, report
-from sins_fw.cli.common import add_json_option, emit
+from sins_fw.atomic import check_distinct
+from sins_fw.cli.common import EVENTS_CHECK, add_json_option, check_events, emit, exit_epilog
 from sins_fw.errors import CheckFailed
 from sins_fw.harness import emulate
 from sins_fw.profile import load_profile
@@ -25,7 +26,13 @@ PARITY_BACKENDS = ("f64", "c28x-f32", "c28x-f32-rz")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("demo", help="emulate the reference board on the bundled traces and summarise")
+    p = sub.add_parser(
+        "demo",
+        help="emulate the reference board on the bundled traces and summarise",
+        epilog=exit_epilog(
+            f"{EVENTS_CHECK.replace('the run', 'a run')}, or a backend exceeds its parity threshold"
+        ),
+    )
     p.add_argument("--out-dir", default="out/demo", help="where the Rerun recording goes (default: out/demo)")
     p.add_argument("--no-recording", action="store_true", help="skip the Rerun recording")
     add_json_option(p)
@@ -35,6 +42,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     profile = load_profile("reference")
     traces = [TRACE_DIR / name for name in TRACES]
+    recording = None if args.no_recording else Path(args.out_dir) / "pitch_sweep.rrd"
+    check_distinct({f"bundled trace {t.name}": t for t in traces}, {"the recording": recording})
     result: dict[str, Any] = {
         "version": __version__,
         "profile": profile.source,
@@ -104,10 +113,10 @@ def run(args: argparse.Namespace) -> int:
                 f"drift {d.drift_deg_per_h:+.4f} °/h  {verdict if d.checked else 'not checked'}"
             )
 
-    if not args.no_recording:
+    if recording is not None:
         from sins_fw.viewer import save_recording
 
-        out = Path(args.out_dir) / "pitch_sweep.rrd"
+        out = recording
         out.parent.mkdir(parents=True, exist_ok=True)
         save_recording(runs["pitch_sweep.h5"], out, name="sins-fw demo: pitch sweep")
         result["recording"] = str(out)
@@ -116,4 +125,6 @@ def run(args: argparse.Namespace) -> int:
     emit(args, result, "\n".join(lines))
     if failed:
         raise CheckFailed("a backend exceeded its parity threshold (see above)")
+    for name, r in runs.items():
+        check_events(r.events, f"the run on {name}")
     return 0

@@ -9,8 +9,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from sins_fw.atomic import check_distinct
 from sins_fw.broad import import_broad
-from sins_fw.cli.common import add_json_option, emit
+from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
     RAW_FORMAT,
@@ -22,15 +23,25 @@ from sins_fw.traces import (
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("import", help="convert a BROAD trial or a trace file into a sins-fw trace (.csv/.h5)")
+    p = sub.add_parser(
+        "import",
+        help="convert a BROAD trial or a trace file into a sins-fw trace (.csv/.h5)",
+        epilog=exit_epilog(None),
+    )
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
-    b = kinds.add_parser("broad", help="a BROAD trial (.hdf5) → physical trace with truth and movement mask")
+    b = kinds.add_parser(
+        "broad",
+        help="a BROAD trial (.hdf5) → physical trace with truth and movement mask",
+        epilog=exit_epilog(None),
+    )
     b.add_argument("file", type=Path, help="BROAD trial, e.g. 01_undisturbed_slow_rotation_A.hdf5")
     b.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
     add_json_option(b)
     b.set_defaults(func=run)
     t = kinds.add_parser(
-        "trace", help="validate a physical or raw-register trace and write it as .csv or .h5"
+        "trace",
+        help="validate a physical or raw-register trace and write it as .csv or .h5",
+        epilog=exit_epilog(None),
     )
     t.add_argument("file", type=Path, help="input trace, .csv or .h5")
     t.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
@@ -47,6 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.out)
+    check_distinct({"FILE": args.file}, {"--out": args.out})
     trace: PhysicalTrace | RawRegisterTrace
     if args.kind == "broad":
         trace = import_broad(args.file)

@@ -15,13 +15,15 @@ from tqdm import tqdm
 
 from sins_fw import montecarlo as mc
 from sins_fw import synth
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.cli.common import add_json_option, add_profile_options, emit, exit_epilog, profile_from_args
 from sins_fw.errors import InputError
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "montecarlo", help="attitude-error distributions over seeded sensor-error realisations"
+        "montecarlo",
+        help="attitude-error distributions over seeded sensor-error realisations",
+        epilog=exit_epilog(None),
     )
     p.add_argument("scenario", help=f"`published` or a synth scenario: {', '.join(synth.SCENARIOS)}")
     p.add_argument("--runs", type=int, default=20, help="realisations per case (default 20)")

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
-from sins_fw.errors import TraceError
+from sins_fw.cli.common import add_json_option, add_profile_options, emit, exit_epilog, profile_from_args
+from sins_fw.errors import CheckFailed, TraceError
 from sins_fw.parity import BACKENDS, REFERENCE, THRESHOLDS_FILE, load_thresholds, parity
 
 
@@ -19,6 +18,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "backend against f64, the attitude difference (rotation angle of q_backend ⊗ q_f64⁻¹ per step): "
         f"max, RMS, final and drift rate. Exit 1 when a backend exceeds its threshold in "
         f"firmware_model/{THRESHOLDS_FILE}.",
+        epilog=exit_epilog(f"when a backend exceeds its threshold in firmware_model/{THRESHOLDS_FILE}"),
     )
     p.add_argument("traces", nargs="+", type=Path, metavar="TRACE", help="physical traces, .csv or .h5")
     add_profile_options(p)
@@ -79,8 +79,5 @@ def run(args: argparse.Namespace) -> int:
     }
     emit(args, report, "\n".join(lines))
     if not passed:
-        print(
-            "sins-fw: parity: a backend exceeds its threshold (firmware_model/parity.toml)", file=sys.stderr
-        )
-        return 1
+        raise CheckFailed(f"parity: a backend exceeds its threshold (firmware_model/{THRESHOLDS_FILE})")
     return 0

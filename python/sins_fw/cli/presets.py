@@ -5,12 +5,14 @@ from __future__ import annotations
 import argparse
 
 from sins_fw import _core
-from sins_fw.cli.common import add_json_option, emit
+from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.errors import ProfileError
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("presets", help="print a sensor error-model preset as a table with sources")
+    p = sub.add_parser(
+        "presets", help="print a sensor error-model preset as a table with sources", epilog=exit_epilog(None)
+    )
     p.add_argument("name", nargs="?", default="adis16407", help="preset name (default: adis16407)")
     add_json_option(p)
     p.set_defaults(func=run)

@@ -14,7 +14,17 @@ import shutil
 import sys
 from pathlib import Path
 
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.atomic import check_distinct
+from sins_fw.cli.common import (
+    EVENTS_CHECK,
+    add_json_option,
+    add_profile_options,
+    check_events,
+    emit,
+    exit_epilog,
+    profile_file,
+    profile_from_args,
+)
 from sins_fw.errors import InputError
 from sins_fw.harness import emulate
 from sins_fw.run_output import RUN_FORMAT, replay_check
@@ -35,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "attitude (and its truth), roll/pitch/yaw and their errors, decoded vs physical IMU data, raw "
         "register words with ND/EA, sample age, the ISR budget per tick, events, and the SPI bus "
         "(CS, frames with DIN/DOUT, stalls) for a window of ticks. Open it with `rerun FILE.rrd`.",
+        epilog=exit_epilog(f"{EVENTS_CHECK}, or a saved run does not replay bit for bit"),
     )
     p.add_argument(
         "trace",
@@ -114,7 +125,13 @@ def run(args: argparse.Namespace) -> int:
             f"cannot open the Rerun viewer: {problem}; use --save FILE.rrd and open it "
             "with `rerun FILE.rrd` where a display is available"
         )
-    if read_metadata(args.trace).get("format") == RUN_FORMAT:
+    meta = read_metadata(args.trace)
+    recorded = meta.get("trace") if meta.get("format") == RUN_FORMAT else None
+    check_distinct(
+        {"TRACE_OR_RUN": args.trace, "its recorded trace": recorded, "--profile": profile_file(args)},
+        {"--save": args.save},
+    )
+    if meta.get("format") == RUN_FORMAT:
         # A saved run: replay it from its recorded inputs and check it before showing it.
         run_, meta = replay_check(args.trace, bus_window=window)
         profile = run_.profile
@@ -171,4 +188,5 @@ def run(args: argparse.Namespace) -> int:
         rec.flush()
         lines.append("sent to the Rerun viewer")
     emit(args, report, "\n".join(lines))
+    check_events(run_.events)
     return 0

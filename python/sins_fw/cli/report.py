@@ -6,7 +6,17 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.atomic import check_distinct
+from sins_fw.cli.common import (
+    EVENTS_CHECK,
+    add_json_option,
+    add_profile_options,
+    check_events,
+    emit,
+    exit_epilog,
+    profile_file,
+    profile_from_args,
+)
 from sins_fw.errors import InputError
 from sins_fw.harness import emulate
 
@@ -15,6 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "report",
         help="emulate a trace and draw a one-page PNG report (attitude error, ISR budget, events)",
+        epilog=exit_epilog(EVENTS_CHECK),
     )
     p.add_argument("trace", type=Path, metavar="TRACE", help="physical trace (.h5 or .csv)")
     p.add_argument("--png", type=Path, required=True, metavar="FILE", help="output image (.png)")
@@ -28,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--png {args.png}: expected a file name ending in .png")
     if not args.png.parent.is_dir() and str(args.png.parent):
         raise InputError(f"--png {args.png}: directory {args.png.parent} does not exist")
+    check_distinct({"TRACE": args.trace, "--profile": profile_file(args)}, {"--png": args.png})
     profile = profile_from_args(args)
     run_ = emulate(args.trace, profile)
     from sins_fw.report_page import save_report  # matplotlib is a heavy import
@@ -46,4 +58,5 @@ def run(args: argparse.Namespace) -> int:
         report,
         f"report of {args.trace} ({run_.cycles} cycles, {len(run_.events)} events) written to {args.png}",
     )
+    check_events(run_.events)
     return 0

@@ -14,7 +14,17 @@ from typing import Any
 import h5py
 import numpy as np
 
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, profile_from_args
+from sins_fw.atomic import check_distinct
+from sins_fw.cli.common import (
+    EVENTS_CHECK,
+    add_json_option,
+    add_profile_options,
+    check_events,
+    emit,
+    exit_epilog,
+    profile_file,
+    profile_from_args,
+)
 from sins_fw.cli.stop import check_stop
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import emulate
@@ -31,6 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "summarise: steps, virtual time, events by kind (first occurrence of each), attitude error "
         "against the trace's truth (alignment stated), ISR budget. --out writes the per-step output "
         "(docs/traces.md, 'Run output').",
+        epilog=exit_epilog(EVENTS_CHECK),
     )
     p.add_argument("trace", type=Path, help="physical or raw-register trace, .csv or .h5")
     add_profile_options(p)
@@ -75,8 +86,8 @@ def _trace_span_s(path: Path) -> float | None:
         with h5py.File(path, "r") as f:
             t = f["t_s"]
             return float(t[-1] - t[0]) if len(t) else None
-    except (OSError, KeyError, ValueError):
-        return None
+    except (OSError, KeyError, ValueError, TypeError, RuntimeError):
+        return None  # a link, a compound dtype...: loading the trace reports it
 
 
 @contextmanager
@@ -176,6 +187,9 @@ def run(args: argparse.Namespace) -> int:
     for out in (args.out, args.raw_out):
         if out is not None:
             check_output_path(out)
+    check_distinct(
+        {"TRACE": args.trace, "--profile": profile_file(args)}, {"--out": args.out, "--raw-out": args.raw_out}
+    )
     if args.until_s is not None and not (math.isfinite(args.until_s) and args.until_s > 0):
         raise InputError(f"--until-s {args.until_s}: expected a number of seconds > 0")
     if not args.trace.is_file():
@@ -235,6 +249,7 @@ def run(args: argparse.Namespace) -> int:
     if args.raw_out is not None:
         text += f"\nwrote          {args.raw_out} ({len(result.read_words)} bursts)"
     emit(args, summary, text)
+    check_events(result.events)
     return 0
 
 

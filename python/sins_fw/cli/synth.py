@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from sins_fw import synth
-from sins_fw.cli.common import add_json_option, emit
+from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.traces import check_output_path
 
 
@@ -16,10 +16,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="generate a synthetic trace with exact truth",
         description="Generate a synthetic physical trace (CSV or .h5 by extension). Units, frames, models: "
         "docs/traces.md. The canonical command (all parameters resolved) is recorded in the trace.",
+        epilog=exit_epilog(None),
     )
     scenarios = p.add_subparsers(dest="scenario", metavar="NAME", required=True)
     for scenario in synth.SCENARIOS.values():
-        s = scenarios.add_parser(scenario.name, help=scenario.summary, description=scenario.summary)
+        s = scenarios.add_parser(
+            scenario.name, help=scenario.summary, description=scenario.summary, epilog=exit_epilog(None)
+        )
         for param in scenario.params:
             s.add_argument(
                 param.option,

@@ -441,16 +441,19 @@ def save_recording(
     from sins_fw.viewer.layout import default_blueprint
 
     out = Path(path)
-    with atomic_path(out) as tmp:
+    with atomic_path(out) as tmp, tmp.open("wb") as fh:
         # No start time (send_properties=False) and an id derived from what is recorded: the same
         # run gives the same recording id (docs/traces.md, "Determinism").
         rid = recording_id if recording_id is not None else derived_recording_id(run, name)
         rec = rr.RecordingStream("sins-fw", recording_id=rid, send_properties=False)
         bp = blueprint if blueprint is not None else default_blueprint(run, parity=parity)
-        rec.save(str(tmp), default_blueprint=bp)
+        # Encoded in memory and written here (not by Rerun's file-writer thread, whose failures
+        # are only logged): a full disk is an OSError naming the file.
+        stream = rec.binary_stream()
+        rec.send_blueprint(bp, make_active=False, make_default=True)
         if name:
             rec.send_recording_name(name)
         log_run(rec, run, trace=trace, parity=parity)
-        rec.flush()
+        fh.write(stream.read() or b"")
         rec.disconnect()
     return out

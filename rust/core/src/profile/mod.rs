@@ -143,7 +143,13 @@ pub fn apply_override(table: &mut toml::Table, ov: &str) -> Result<()> {
     if key.is_empty() {
         return Err(Error::Profile(format!("override `{ov}`: empty key")));
     }
-    let value = parse_value(raw);
+    let value = parse_value(raw).ok_or_else(|| {
+        Error::Profile(format!(
+            "override `{}`: the value runs over a line break into more text; expected one value \
+             (give each override its own key=value)",
+            ov.escape_debug()
+        ))
+    })?;
     let parts: Vec<&str> = key.split('.').collect();
     let mut cur = table;
     for p in &parts[..parts.len() - 1] {
@@ -157,11 +163,21 @@ pub fn apply_override(table: &mut toml::Table, ov: &str) -> Result<()> {
     Ok(())
 }
 
-fn parse_value(raw: &str) -> toml::Value {
+/// The TOML value of an override (a bare word is a string); None when the text is more than one
+/// value: a line break followed by more (`9\nkey = 1`), which TOML would read as further keys.
+fn parse_value(raw: &str) -> Option<toml::Value> {
     let doc = format!("v = {raw}");
     match doc.parse::<toml::Table>() {
-        Ok(mut t) => t.remove("v").unwrap_or(toml::Value::String(raw.to_string())),
-        Err(_) => toml::Value::String(raw.to_string()),
+        Ok(mut t) => {
+            let v = t.remove("v");
+            if t.is_empty() {
+                v
+            } else {
+                None
+            }
+        }
+        Err(_) if raw.contains(['\n', '\r']) => None,
+        Err(_) => Some(toml::Value::String(raw.to_string())),
     }
 }
 
@@ -215,6 +231,17 @@ mod tests {
     fn rejected(overrides: &[&str]) -> String {
         let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
         Profile::from_toml("", "x.toml", &ov).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn an_override_running_over_a_line_break_is_refused_not_cut() {
+        for ov in ["spi.spibrr=9\nspi.spibrr=300", "firmware.numeric=iq\nrest", "timer.period_us=8000\r\nx=1"] {
+            let m = rejected(&[ov]);
+            assert!(m.contains("line break") && m.contains("override `"), "{m}");
+        }
+        // One value written over several lines is still one value.
+        let p = Profile::from_toml("", "x", &["navigation.velocity_enu=[0.0,\n 0.0,\n 0.0]".into()]).unwrap();
+        assert_eq!(p.navigation.velocity_enu, [0.0; 3]);
     }
 
     #[test]

@@ -1,0 +1,121 @@
+"""Hostile input that used to crash (exit 3) or pass silently: HDF5 links and compound columns, bad
+scenario parameters, a damaged run output, a repeated metadata key, an override over a line break."""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from sins_fw import synth
+from sins_fw.cli import main
+from sins_fw.errors import ConfigError, ProfileError
+from sins_fw.profile import load_profile
+
+STATIC = ROOT / "traces" / "static_60s.h5"
+
+
+def _cli(capsys, *args: object) -> tuple[int, str, str]:
+    code = main([str(a) for a in args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def _copy_h5(src, dst, change):
+    with h5py.File(src, "r") as f, h5py.File(dst, "w") as g:
+        for k, v in f.attrs.items():
+            g.attrs[k] = v
+        for name in f:
+            g.create_dataset(name, data=f[name][:])
+        change(g)
+
+
+def _external(g):
+    del g["gyro_x_dps"]
+    g["gyro_x_dps"] = h5py.ExternalLink("elsewhere.h5", "/gyro_x_dps")
+
+
+def _loop(g):
+    del g["gyro_x_dps"]
+    g["gyro_x_dps"] = h5py.SoftLink("/gyro_x_dps")  # a link to itself
+
+
+def _compound(g):
+    t = g["t_s"][:]
+    del g["t_s"]
+    g.create_dataset("t_s", data=np.array([(x, 0) for x in t], dtype=[("t", "f8"), ("n", "i4")]))
+
+
+@pytest.mark.parametrize(
+    ("change", "fragment"),
+    [
+        (_external, "column `gyro_x_dps` is an external link to elsewhere.h5"),
+        (_loop, "column `gyro_x_dps`: the link to /gyro_x_dps does not lead to a dataset"),
+        (_compound, "column `t_s`: dataset type"),
+    ],
+    ids=["external_link", "soft_link_loop", "compound_dtype"],
+)
+def test_hdf5_links_and_compound_columns_are_exit_2_naming_file_and_column(
+    capsys, tmp_path, change, fragment
+):
+    bad = tmp_path / "bad.h5"
+    _copy_h5(STATIC, bad, change)
+    for args in (["run", bad], ["import", "trace", bad, "--out", tmp_path / "o.csv"]):
+        code, _, err = _cli(capsys, *args)
+        assert code == 2, err
+        assert str(bad) in err and fragment in err and "Traceback" not in err, err
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_montecarlo_param_that_is_not_a_number_is_exit_2(capsys):
+    code, _, err = _cli(capsys, "montecarlo", "static", "--param", "duration_s=abc", "--runs", "1")
+    assert code == 2 and "duration_s" in err and "abc" in err and "Traceback" not in err, err
+
+
+def test_run_output_with_a_bad_until_s_is_exit_2_naming_the_field(capsys, tmp_path):
+    out = tmp_path / "o.h5"
+    trace = tmp_path / "t.csv"
+    synth.generate("static", duration_s=0.3).save(trace)
+    assert _cli(capsys, "run", trace, "--out", out, "--until-s", "0.2")[0] == 0
+    with h5py.File(out, "r+") as f:
+        f.attrs["until_s"] = "abc"
+    code, _, err = _cli(capsys, "replay", out, "--save", tmp_path / "r.rrd")
+    assert code == 2 and "metadata `until_s` is `abc`" in err and str(out) in err, err
+
+
+@pytest.mark.parametrize(
+    ("param", "value", "key"),
+    [
+        ("latitude_deg", 95.0, "navigation.latitude_deg"),
+        ("latitude_deg", 1e6, "navigation.latitude_deg"),
+        ("height_m", 1e9, "navigation.height_m"),
+    ],
+)
+def test_synth_place_is_checked_by_the_profile_rule(capsys, tmp_path, param, value, key):
+    # The same rule (and message) as the profile's key: one place.
+    with pytest.raises(ProfileError) as rule:
+        load_profile("reference", [f"{key}={value!r}"])
+    with pytest.raises(ConfigError, match=param):
+        synth.generate("static", duration_s=0.1, **{param: value})
+    code, _, err = _cli(
+        capsys, "synth", "static", f"--{param.replace('_', '-')}", value, "--out", tmp_path / "s.h5"
+    )
+    assert code == 2 and key in err and "Traceback" not in err, err
+    assert str(rule.value).split("`", 2)[1] in err  # the profile's own wording of the key
+    assert not (tmp_path / "s.h5").exists()
+
+
+def test_a_csv_metadata_key_given_twice_is_refused_naming_it(capsys, tmp_path):
+    good = tmp_path / "g.csv"
+    synth.generate("static", duration_s=0.1).save(good)
+    lines = good.read_text().splitlines(keepends=True)
+    bad = tmp_path / "twice.csv"
+    bad.write_text(lines[0] + "# sample_rate_hz: 100\n" + "".join(lines[1:]))
+    code, _, err = _cli(capsys, "run", bad)
+    assert code == 2 and "`sample_rate_hz` given twice" in err and str(bad) in err, err
+
+
+def test_an_override_running_over_a_line_break_is_refused(capsys):
+    code, _, err = _cli(capsys, "board", "--set", "spi.spibrr=49\nspi.spibrr=9")
+    assert code == 2 and "line break" in err, err
