@@ -445,7 +445,9 @@ def save_recording(
         # No start time (send_properties=False) and an id derived from what is recorded: the same
         # run gives the same recording id (docs/traces.md, "Determinism").
         rid = recording_id if recording_id is not None else derived_recording_id(run, name)
-        rec = rr.RecordingStream("sins-fw", recording_id=rid, send_properties=False)
+        rec = rr.RecordingStream(
+            "sins-fw", recording_id=rid, send_properties=False, batcher_config=rr.ChunkBatcherConfig.NEVER()
+        )
         bp = blueprint if blueprint is not None else default_blueprint(run, parity=parity)
         # Encoded in memory and written here (not by Rerun's file-writer thread, whose failures
         # are only logged): a full disk is an OSError naming the file.
