@@ -49,6 +49,13 @@ const FIRST_INERTIAL: usize = 2;
 const BURST_FILL: u16 = 0x0000;
 /// A poll that has not seen its flag after this many SYSCLKOUT cycles is a hung firmware.
 const POLL_WATCHDOG_CYCLES: u64 = 150_000_000;
+/// Timer ticks one call to [`Emulator::run`] runs at most before it returns
+/// [`Progress::BlockFull`]: the output it holds is then at most this many budget rows (one per tick,
+/// plus one per nested ISR), three read rows and one step row per tick, and the events of these
+/// ticks, whatever the input (a long gap, a tiny timer period). 2^15 ticks: 131 s at the reference
+/// period, 3.4 MB of budget rows; a chunk of a trace at 819.2 SPS fed as the harness feeds it
+/// (8 192 rows, 10 s) never fills a block.
+pub const BLOCK_TICKS: u64 = 1 << 15;
 
 /// The emulated board running its firmware in the numeric backend `T`, reading the sensor `S`: the
 /// ADIS16407 model fed a physical input (the default), or a [`ReplaySlave`] answering recorded words.
@@ -100,6 +107,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
 pub enum Progress {
     /// Every tick the input covers has run; feed more input.
     NeedInput,
+    /// [`BLOCK_TICKS`] ticks have run: take the output, then run again (the input may cover more).
+    BlockFull,
     /// The input has ended and every tick it covers has run.
     Finished,
 }
@@ -240,10 +249,12 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         std::mem::take(&mut self.out)
     }
 
-    /// Run every timer tick the input covers. A physical input: a tick runs when the input reaches
-    /// past the end of the tick's period (its reads happen within it), or, after the end of the
-    /// input, when the tick itself is inside the input. A recording: a tick runs while the bursts it
-    /// reads are queued (after the end, the bursts left over for a partial tick are not read).
+    /// Run the timer ticks the input covers, at most [`BLOCK_TICKS`] of them per call (then
+    /// [`Progress::BlockFull`]: take the output and call again), so the output held stays bounded.
+    /// A physical input: a tick runs when the input reaches past the end of the tick's period (its
+    /// reads happen within it), or, after the end of the input, when the tick itself is inside the
+    /// input. A recording: a tick runs while the bursts it reads are queued (after the end, the
+    /// bursts left over for a partial tick are not read).
     pub fn run(&mut self) -> Result<Progress> {
         match self.link.slave().reach() {
             Reach::Time { last_s, ended } => self.run_to_time(last_s, ended),
@@ -252,9 +263,8 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     }
 
     fn run_bursts(&mut self, queued: usize, ended: bool) -> Result<Progress> {
-        let ticks_ahead = (queued / self.bursts_per_tick).min(1 << 18);
-        self.reserve_rows(ticks_ahead);
-        loop {
+        self.reserve_rows(queued / self.bursts_per_tick);
+        for _ in 0..BLOCK_TICKS {
             let queued = match self.link.slave().reach() {
                 Reach::Bursts { queued, .. } => queued,
                 Reach::Time { .. } => 0,
@@ -265,9 +275,13 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             self.run_tick()?;
             self.tick = self.next_pending;
         }
+        Ok(Progress::BlockFull)
     }
 
+    /// Room for the rows of the ticks ahead (at most a block), at once: growing by doubling copies
+    /// them again and again.
     fn reserve_rows(&mut self, ticks_ahead: usize) {
+        let ticks_ahead = ticks_ahead.min(BLOCK_TICKS as usize);
         self.out.budget.reserve(ticks_ahead);
         self.out.reads.reserve(ticks_ahead * self.bursts_per_tick);
         self.out.cycles.reserve(ticks_ahead);
@@ -277,12 +291,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let Some(last_s) = last_s else {
             return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
         };
-        // Room for the rows this call will add, at once (growing by doubling copies them again and
-        // again); capped, so a sparse input cannot make it reserve more than a few tens of MB.
         let ticks_ahead = (last_s / ps_to_s(self.timer.tick_ps(1))) as u64;
-        let ticks_ahead = ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(1 << 18) as usize;
-        self.reserve_rows(ticks_ahead);
-        loop {
+        self.reserve_rows(ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(BLOCK_TICKS) as usize);
+        for _ in 0..BLOCK_TICKS {
             let horizon_ps = self.timer.tick_ps(if ended { self.tick } else { self.tick + 1 });
             if ps_to_s(horizon_ps) > last_s {
                 return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
@@ -290,6 +301,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             self.run_tick()?;
             self.tick = self.next_pending;
         }
+        Ok(Progress::BlockFull)
     }
 
     fn ps(&self, cycle: u64) -> Ps {
