@@ -17,6 +17,7 @@ mod glitch;
 pub mod input;
 mod output;
 pub mod sensor;
+pub mod state_check;
 
 pub use board::BoardReport;
 pub use input::{InputFeed, StreamStimulus};
@@ -98,6 +99,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     last_accel: Vec3<T>,
     aligning: bool,
     align_until_s: f64,
+    /// No step's state has been out of range yet (checked until the first one is: see `state_check`).
+    state_in_range: bool,
     out: Output,
     events: EventLog,
 }
@@ -217,6 +220,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             last_accel: [zero; 3],
             aligning,
             align_until_s: profile.firmware.alignment_s,
+            state_in_range: true,
             out: Output::default(),
             events: EventLog::default(),
             profile: profile.clone(),
@@ -713,14 +717,40 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     fn record_cycle(&mut self, t_ps: Ps, e: &crate::firmware::EulerAngles<T>) {
         let q = self.fw.quat();
         let nav = self.fw.nav_state();
-        self.out.cycles.push(CycleRow {
+        let row = CycleRow {
             step: self.step,
             t_ps,
             quat: q.map(|x| x.to_f64()),
             euler_deg: [e.roll.to_f64().to_degrees(), e.pitch.to_f64().to_degrees(), e.yaw.to_f64().to_degrees()],
             vel_enu: nav.vel.map(|x| x.to_f64()),
             pos: [nav.lat.to_f64().to_degrees(), nav.lon.to_f64().to_degrees(), nav.height.to_f64()],
-        });
+        };
+        if self.state_in_range && !state_check::in_range(&row) {
+            self.report_state_out_of_range(&row);
+        }
+        self.out.cycles.push(row);
+    }
+
+    /// The first step whose firmware state is out of range: one error event naming what (later
+    /// steps are not checked: the state does not come back from there on its own).
+    #[cold]
+    #[inline(never)]
+    fn report_state_out_of_range(&mut self, row: &CycleRow) {
+        self.state_in_range = false;
+        let (value, limit, what) = state_check::describe(row);
+        self.events.push(Event::rule(
+            row.t_ps,
+            "state_out_of_range",
+            Severity::Error,
+            format!(
+                "step {} at {:.3} s: the firmware state is out of range: {what}; the output is no navigation \
+                 solution from here",
+                row.step,
+                ps_to_s(row.t_ps)
+            ),
+            value,
+            limit,
+        ));
     }
 
     /// Move the models' events into the output, in time order.

@@ -520,3 +520,30 @@ fn a_call_to_run_holds_at_most_a_block_of_rows_whatever_the_input_covers() {
         assert!(next_tick > min_ticks, "{t_end} s: {next_tick} ticks");
     }
 }
+
+/// A firmware state forced out of range (a zero quaternion: the next normalisation divides by zero,
+/// and NaN spreads to the Euler angles, the velocity and the position) raises one
+/// `state_out_of_range` error at the first step that carries it, naming the variable and its value;
+/// the steps before raise nothing.
+#[test]
+fn a_state_out_of_range_is_an_error_event_at_its_first_step() {
+    let mut emu = Emulator::<f64>::new(&reference_f64(), &costs()).unwrap();
+    let (t, p) = constant_rate(2.0, [0.0, 0.0, 10.0]);
+    let half = t.len() / 2;
+    emu.push_input(&t[..half], p[..half].to_vec()).unwrap();
+    assert_eq!(emu.run().unwrap(), Progress::NeedInput);
+    let before = emu.take_output();
+    assert!(before.events.is_empty() && !before.cycles.is_empty());
+    emu.fw.set_attitude([0.0; 4]);
+    emu.push_input(&t[half..], p[half..].to_vec()).unwrap();
+    emu.end_input();
+    assert_eq!(emu.run().unwrap(), Progress::Finished);
+    let out = emu.take_output();
+    let first = &out.cycles[0];
+    assert!(first.quat[0].is_nan(), "{first:?}");
+    let bad: Vec<_> = out.events.iter().filter(|e| e.kind == "state_out_of_range").collect();
+    assert_eq!(bad.len(), 1, "{:?}", out.events);
+    assert_eq!((bad[0].severity, bad[0].t_ps), (Severity::Error, first.t_ps));
+    assert!(bad[0].message.contains(&format!("step {}", first.step)), "{}", bad[0].message);
+    assert!(bad[0].message.contains("quaternion [NaN, NaN, NaN, NaN]"), "{}", bad[0].message);
+}
