@@ -324,7 +324,7 @@ def emulate(
                 None if chunk.baro_mbar is None else np.ascontiguousarray(chunk.baro_mbar[s]),
                 None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c[s]),
             )
-            emu.run()
+            _run(emu, parts, sink, bus)
             # The emulator holds the output (in columns) until `take`: one take at the end gives the
             # Run without concatenating, unless the bus window watches the ticks or a sink streams.
             if bus is not None:
@@ -374,7 +374,7 @@ def _replay(
             t, words = t[:n], words[:n]
         for s in _pieces(t, bus):
             emu.push_words(t[s], np.ascontiguousarray(words[s]))
-            emu.run()
+            _run(emu, parts, sink, bus)
             if bus is not None:
                 _take(emu, parts, sink, bus)
         if sink is not None and bus is None:
@@ -405,12 +405,26 @@ def _finish(
 ) -> Run:
     """End the input, run the ticks it still covers and assemble the Run (with the bus window)."""
     emu.end()
-    emu.run()
+    _run(emu, parts, sink, bus)
     _take(emu, parts, sink, bus)
     run = _assemble(prof, t0, parts, dict(emu.stage_cycles()))
     if bus is not None:
         run.bus = bus.finish()
     return run
+
+
+def _run(
+    emu: Any,
+    parts: list[dict[str, Any]],
+    sink: Callable[[dict[str, Any]], None] | None,
+    bus: _BusWindow | None,
+) -> None:
+    """Run the ticks the input pushed so far covers, a block at a time: a sink or the bus window
+    takes each block's output as it comes, so what is held stays bounded whatever the input covers
+    (a long gap, a tiny timer period). Without them the Run keeps every row anyway."""
+    while emu.run_block() == "block_full":
+        if sink is not None or bus is not None:
+            _take(emu, parts, sink, bus)
 
 
 def _take(

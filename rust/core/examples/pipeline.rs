@@ -3,7 +3,7 @@
 //! Prints emulated 8 ms cycles per second of CPU time.
 
 use sins_core::device::Physical;
-use sins_core::emulator::Emulator;
+use sins_core::emulator::{Emulator, Progress};
 use sins_core::numerics;
 use sins_core::profile::{Numeric, Profile};
 use sins_core::timing::costs::CostTable;
@@ -50,6 +50,7 @@ fn run<T: numerics::Scalar>(profile: &Profile, costs: &CostTable, t: &[f64], p: 
     let mut emu = Emulator::<T>::new(profile, costs).unwrap();
     emu.push_input(t, p).unwrap();
     emu.end_input();
-    emu.run().unwrap();
+    // A run longer than a block (131 s) comes in several calls; the output is taken at the end.
+    while emu.run().unwrap() != Progress::Finished {}
     emu.take_output().cycles.len()
 }

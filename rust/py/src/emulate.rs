@@ -303,6 +303,18 @@ impl Emulator {
     /// Run every tick the input covers; True when the input has ended and everything ran. The
     /// output of the call is held (its events sorted by time) until `take`.
     fn run(&mut self, py: Python<'_>) -> PyResult<bool> {
+        loop {
+            match self.run_block(py)? {
+                "block_full" => continue,
+                progress => return Ok(progress == "finished"),
+            }
+        }
+    }
+
+    /// Run the ticks the input covers, a block of them at most (`_core.BLOCK_TICKS`), and hold their output until `take`. Returns `"block_full"` (take the output
+    /// if it is to stay bounded, then call again: the input may cover more), `"need_input"` or
+    /// `"finished"` (the input has ended and everything ran).
+    fn run_block(&mut self, py: Python<'_>) -> PyResult<&'static str> {
         // The GIL is released while the emulator runs: other Python threads (a progress bar, a
         // second emulator in a thread pool) keep going.
         // Output rows are uniform in input time: the whole run's are the first output's times
@@ -331,7 +343,11 @@ impl Emulator {
         if sized {
             self.expected_end_s = None;
         }
-        Ok(progress == Progress::Finished)
+        Ok(match progress {
+            Progress::NeedInput => "need_input",
+            Progress::BlockFull => "block_full",
+            Progress::Finished => "finished",
+        })
     }
 
     /// SYSCLKOUT cycles of each compute stage, from the op counts and the cost table.

@@ -158,6 +158,7 @@ fn bench_firmware_stages(
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", sins_core::VERSION)?;
+    m.add("BLOCK_TICKS", sins_core::emulator::BLOCK_TICKS)?;
     m.add_function(wrap_pyfunction!(resolve_profile, m)?)?;
     m.add_function(wrap_pyfunction!(profile_keys, m)?)?;
     m.add_function(wrap_pyfunction!(board_summary, m)?)?;

@@ -17,6 +17,7 @@ mod glitch;
 pub mod input;
 mod output;
 pub mod sensor;
+pub mod state_check;
 
 pub use board::BoardReport;
 pub use input::{InputFeed, StreamStimulus};
@@ -49,6 +50,13 @@ const FIRST_INERTIAL: usize = 2;
 const BURST_FILL: u16 = 0x0000;
 /// A poll that has not seen its flag after this many SYSCLKOUT cycles is a hung firmware.
 const POLL_WATCHDOG_CYCLES: u64 = 150_000_000;
+/// Timer ticks one call to [`Emulator::run`] runs at most before it returns
+/// [`Progress::BlockFull`]: the output it holds is then at most this many budget rows (one per tick,
+/// plus one per nested ISR), three read rows and one step row per tick, and the events of these
+/// ticks, whatever the input (a long gap, a tiny timer period). 2^15 ticks: 131 s at the reference
+/// period, 3.4 MB of budget rows; a chunk of a trace at 819.2 SPS fed as the harness feeds it
+/// (8 192 rows, 10 s) never fills a block.
+pub const BLOCK_TICKS: u64 = 1 << 15;
 
 /// The emulated board running its firmware in the numeric backend `T`, reading the sensor `S`: the
 /// ADIS16407 model fed a physical input (the default), or a [`ReplaySlave`] answering recorded words.
@@ -91,6 +99,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
     last_accel: Vec3<T>,
     aligning: bool,
     align_until_s: f64,
+    /// No step's state has been out of range yet (checked until the first one is: see `state_check`).
+    state_in_range: bool,
     out: Output,
     events: EventLog,
 }
@@ -100,6 +110,8 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
 pub enum Progress {
     /// Every tick the input covers has run; feed more input.
     NeedInput,
+    /// [`BLOCK_TICKS`] ticks have run: take the output, then run again (the input may cover more).
+    BlockFull,
     /// The input has ended and every tick it covers has run.
     Finished,
 }
@@ -208,6 +220,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             last_accel: [zero; 3],
             aligning,
             align_until_s: profile.firmware.alignment_s,
+            state_in_range: true,
             out: Output::default(),
             events: EventLog::default(),
             profile: profile.clone(),
@@ -240,10 +253,12 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         std::mem::take(&mut self.out)
     }
 
-    /// Run every timer tick the input covers. A physical input: a tick runs when the input reaches
-    /// past the end of the tick's period (its reads happen within it), or, after the end of the
-    /// input, when the tick itself is inside the input. A recording: a tick runs while the bursts it
-    /// reads are queued (after the end, the bursts left over for a partial tick are not read).
+    /// Run the timer ticks the input covers, at most [`BLOCK_TICKS`] of them per call (then
+    /// [`Progress::BlockFull`]: take the output and call again), so the output held stays bounded.
+    /// A physical input: a tick runs when the input reaches past the end of the tick's period (its
+    /// reads happen within it), or, after the end of the input, when the tick itself is inside the
+    /// input. A recording: a tick runs while the bursts it reads are queued (after the end, the
+    /// bursts left over for a partial tick are not read).
     pub fn run(&mut self) -> Result<Progress> {
         match self.link.slave().reach() {
             Reach::Time { last_s, ended } => self.run_to_time(last_s, ended),
@@ -252,9 +267,8 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     }
 
     fn run_bursts(&mut self, queued: usize, ended: bool) -> Result<Progress> {
-        let ticks_ahead = (queued / self.bursts_per_tick).min(1 << 18);
-        self.reserve_rows(ticks_ahead);
-        loop {
+        self.reserve_rows(queued / self.bursts_per_tick);
+        for _ in 0..BLOCK_TICKS {
             let queued = match self.link.slave().reach() {
                 Reach::Bursts { queued, .. } => queued,
                 Reach::Time { .. } => 0,
@@ -265,9 +279,13 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             self.run_tick()?;
             self.tick = self.next_pending;
         }
+        Ok(Progress::BlockFull)
     }
 
+    /// Room for the rows of the ticks ahead (at most a block), at once: growing by doubling copies
+    /// them again and again.
     fn reserve_rows(&mut self, ticks_ahead: usize) {
+        let ticks_ahead = ticks_ahead.min(BLOCK_TICKS as usize);
         self.out.budget.reserve(ticks_ahead);
         self.out.reads.reserve(ticks_ahead * self.bursts_per_tick);
         self.out.cycles.reserve(ticks_ahead);
@@ -277,12 +295,9 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let Some(last_s) = last_s else {
             return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
         };
-        // Room for the rows this call will add, at once (growing by doubling copies them again and
-        // again); capped, so a sparse input cannot make it reserve more than a few tens of MB.
         let ticks_ahead = (last_s / ps_to_s(self.timer.tick_ps(1))) as u64;
-        let ticks_ahead = ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(1 << 18) as usize;
-        self.reserve_rows(ticks_ahead);
-        loop {
+        self.reserve_rows(ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(BLOCK_TICKS) as usize);
+        for _ in 0..BLOCK_TICKS {
             let horizon_ps = self.timer.tick_ps(if ended { self.tick } else { self.tick + 1 });
             if ps_to_s(horizon_ps) > last_s {
                 return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
@@ -290,6 +305,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
             self.run_tick()?;
             self.tick = self.next_pending;
         }
+        Ok(Progress::BlockFull)
     }
 
     fn ps(&self, cycle: u64) -> Ps {
@@ -701,14 +717,40 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     fn record_cycle(&mut self, t_ps: Ps, e: &crate::firmware::EulerAngles<T>) {
         let q = self.fw.quat();
         let nav = self.fw.nav_state();
-        self.out.cycles.push(CycleRow {
+        let row = CycleRow {
             step: self.step,
             t_ps,
             quat: q.map(|x| x.to_f64()),
             euler_deg: [e.roll.to_f64().to_degrees(), e.pitch.to_f64().to_degrees(), e.yaw.to_f64().to_degrees()],
             vel_enu: nav.vel.map(|x| x.to_f64()),
             pos: [nav.lat.to_f64().to_degrees(), nav.lon.to_f64().to_degrees(), nav.height.to_f64()],
-        });
+        };
+        if self.state_in_range && !state_check::in_range(&row) {
+            self.report_state_out_of_range(&row);
+        }
+        self.out.cycles.push(row);
+    }
+
+    /// The first step whose firmware state is out of range: one error event naming what (later
+    /// steps are not checked: the state does not come back from there on its own).
+    #[cold]
+    #[inline(never)]
+    fn report_state_out_of_range(&mut self, row: &CycleRow) {
+        self.state_in_range = false;
+        let (value, limit, what) = state_check::describe(row);
+        self.events.push(Event::rule(
+            row.t_ps,
+            "state_out_of_range",
+            Severity::Error,
+            format!(
+                "step {} at {:.3} s: the firmware state is out of range: {what}; the output is no navigation \
+                 solution from here",
+                row.step,
+                ps_to_s(row.t_ps)
+            ),
+            value,
+            limit,
+        ));
     }
 
     /// Move the models' events into the output, in time order.

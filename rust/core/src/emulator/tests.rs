@@ -473,3 +473,77 @@ fn budget_times_taken_over_equal_their_conversions() {
         }
     }
 }
+
+/// Runs `emu` to the end, taking the output after every call to `run` as a sink would: the rows
+/// and events each call held, and whether a call stopped on a full block.
+fn run_in_blocks<T: Scalar, S: Sensor>(emu: &mut Emulator<T, S>) -> (Vec<Output>, bool) {
+    let (mut blocks, mut filled) = (Vec::new(), false);
+    loop {
+        let progress = emu.run().unwrap();
+        blocks.push(emu.take_output());
+        match progress {
+            Progress::BlockFull => filled = true,
+            Progress::NeedInput => unreachable!("the input has ended"),
+            Progress::Finished => return (blocks, filled),
+        }
+    }
+}
+
+/// Memory is bounded by the block whatever one chunk of input covers (issue: a 1e5 s gap and a
+/// 1 µs timer period aborted on an allocation of 872 MB of budget rows): a call to `run` holds the
+/// rows of at most BLOCK_TICKS ticks (one budget row, one read and at most one step per tick on the
+/// reference schedule, no nesting under `queue`), and the events of these ticks (here one per tick,
+/// `tick_lost` or `overrun`, and the SPI rule broken by the one ISR in ~350 that runs). Nothing is lost between blocks: the ticks follow one another.
+#[test]
+fn a_call_to_run_holds_at_most_a_block_of_rows_whatever_the_input_covers() {
+    let block = BLOCK_TICKS as usize;
+    let still = Physical { accel_g: [0.0, 0.0, 1.0], ..Physical::powered_idle() };
+    // A 600 s gap between two rows (150 000 ticks of 4 ms), and a 1 µs timer on 0.2 s of input
+    // (200 000 ticks, all but a few lost: the ISR takes over 320 µs).
+    let mut fast = reference_f64();
+    fast.timer.period_us = 1.0;
+    for (profile, t_end, min_ticks) in [(reference_f64(), 600.0, 150_000), (fast, 0.2, 200_000)] {
+        let mut emu = Emulator::<f64>::new(&profile, &costs()).unwrap();
+        emu.push_input(&[0.0, t_end], vec![still; 2]).unwrap();
+        emu.end_input();
+        let (blocks, filled) = run_in_blocks(&mut emu);
+        assert!(filled, "{t_end} s: no call stopped on a full block");
+        let mut next_tick = 1;
+        for out in &blocks {
+            assert!(out.budget.len() <= block && out.reads.len() <= block && out.cycles.len() <= block);
+            assert!(out.events.len() <= 2 * block, "{} events held at once", out.events.len());
+            for row in &out.budget {
+                assert_eq!(row.tick, next_tick, "{t_end} s: a tick lost between blocks");
+                next_tick += 1;
+            }
+        }
+        assert!(next_tick > min_ticks, "{t_end} s: {next_tick} ticks");
+    }
+}
+
+/// A firmware state forced out of range (a zero quaternion: the next normalisation divides by zero,
+/// and NaN spreads to the Euler angles, the velocity and the position) raises one
+/// `state_out_of_range` error at the first step that carries it, naming the variable and its value;
+/// the steps before raise nothing.
+#[test]
+fn a_state_out_of_range_is_an_error_event_at_its_first_step() {
+    let mut emu = Emulator::<f64>::new(&reference_f64(), &costs()).unwrap();
+    let (t, p) = constant_rate(2.0, [0.0, 0.0, 10.0]);
+    let half = t.len() / 2;
+    emu.push_input(&t[..half], p[..half].to_vec()).unwrap();
+    assert_eq!(emu.run().unwrap(), Progress::NeedInput);
+    let before = emu.take_output();
+    assert!(before.events.is_empty() && !before.cycles.is_empty());
+    emu.fw.set_attitude([0.0; 4]);
+    emu.push_input(&t[half..], p[half..].to_vec()).unwrap();
+    emu.end_input();
+    assert_eq!(emu.run().unwrap(), Progress::Finished);
+    let out = emu.take_output();
+    let first = &out.cycles[0];
+    assert!(first.quat[0].is_nan(), "{first:?}");
+    let bad: Vec<_> = out.events.iter().filter(|e| e.kind == "state_out_of_range").collect();
+    assert_eq!(bad.len(), 1, "{:?}", out.events);
+    assert_eq!((bad[0].severity, bad[0].t_ps), (Severity::Error, first.t_ps));
+    assert!(bad[0].message.contains(&format!("step {}", first.step)), "{}", bad[0].message);
+    assert!(bad[0].message.contains("quaternion [NaN, NaN, NaN, NaN]"), "{}", bad[0].message);
+}
