@@ -724,9 +724,10 @@ impl Adis {
 
     /// [`Adis::peek`] by register name.
     pub fn peek_name(&self, name: &str) -> Result<u16> {
-        let def = self.layout.part.by_name(name).ok_or_else(|| {
-            Error::Register(format!("no register named `{name}` on the {}", self.layout.part.name))
-        })?;
+        let def =
+            self.layout.part.by_name(name).ok_or_else(|| {
+                Error::Register(format!("no register named `{name}` on the {}", self.layout.part.name))
+            })?;
         self.peek(def.addr)
     }
 
@@ -964,7 +965,11 @@ impl Adis {
     fn sample_faults(&mut self, t: Ps) -> SampleFaults {
         let regs = self.regs;
         let layout = &self.layout;
-        self.faults.at_sample(t, |i| if i < layout.burst_len { regs[layout.burst_slot(i)] } else { 0 }, &mut self.events)
+        self.faults.at_sample(
+            t,
+            |i| if i < layout.burst_len { regs[layout.burst_slot(i)] } else { 0 },
+            &mut self.events,
+        )
     }
 
     /// The supply left or re-entered the DIAG_STAT limits: an event on leaving (one per episode).

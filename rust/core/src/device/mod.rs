@@ -12,9 +12,9 @@
 mod adis;
 pub mod encoding;
 mod faults;
+pub mod filter;
 pub mod part;
 pub mod parts;
-pub mod filter;
 pub mod registers;
 pub mod replay;
 pub mod sampler;

@@ -421,11 +421,15 @@ impl Adis {
         let t = timing.first_edge;
         let n = self.spi.frames;
         if found.contains(Violations::FRAME_LENGTH) {
-            let msg = format!("frame {n}: {} SCLK cycles; the {} needs 16-bit frames", timing.bits, self.layout.part.name);
+            let msg =
+                format!("frame {n}: {} SCLK cycles; the {} needs 16-bit frames", timing.bits, self.layout.part.name);
             self.violation(Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
         }
         if found.contains(Violations::CLOCK_POLARITY) {
-            let msg = format!("frame {n}: SCLK idles low; the {} needs SPI mode 3 (CPOL = 1, CPHA = 1)", self.layout.part.name);
+            let msg = format!(
+                "frame {n}: SCLK idles low; the {} needs SPI mode 3 (CPOL = 1, CPHA = 1)",
+                self.layout.part.name
+            );
             self.violation(Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
         }
         if found.contains(Violations::SCLK_TOO_FAST) {
@@ -483,7 +487,11 @@ impl Adis {
             Violations::NO_CHIP_SELECT
         } else {
             let left = self.busy_until() - t;
-            let msg = format!("frame {n}: the {} is resetting for another {:.3} ms", self.layout.part.name, left as f64 / 1e9);
+            let msg = format!(
+                "frame {n}: the {} is resetting for another {:.3} ms",
+                self.layout.part.name,
+                left as f64 / 1e9
+            );
             self.violation(Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
             self.spi.reset();
             Violations::DEVICE_BUSY

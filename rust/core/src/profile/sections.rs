@@ -325,6 +325,21 @@ impl Default for Device {
     }
 }
 
+impl Device {
+    /// The defaults with the part's declared values (what a profile naming only `part` gives).
+    pub fn of_part(part: &Part) -> Device {
+        Device {
+            part: part.name.into(),
+            prod_id: u32::from(part.prod_id),
+            burst_command: u32::from(part.burst_command),
+            reset_time_ms: part.reset_ms,
+            sclk_max_hz: part.sclk_max_hz,
+            sclk_burst_max_hz: part.sclk_burst_max_hz,
+            ..Device::default()
+        }
+    }
+}
+
 /// The `[device]` keys whose defaults a part declares, with the part's values.
 fn part_defaults(part: &Part) -> [(&'static str, toml::Value); 5] {
     [
