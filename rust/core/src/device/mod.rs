@@ -9,16 +9,18 @@
 //!   `[faults]`) act inside it (`faults.rs`).
 //! - [`replay`]: a slave answering recorded burst words instead of the device (raw-register traces).
 
-mod adis16407;
+mod adis;
 pub mod encoding;
 mod faults;
 pub mod filter;
+pub mod part;
+pub mod parts;
 pub mod registers;
 pub mod replay;
 pub mod sampler;
 mod slave;
 
-pub use adis16407::{Adis16407, DataReady, DataReadyLine, ModelOptions, SampleStamp};
+pub use adis::{Adis, Adis16407, DataReady, DataReadyLine, ModelOptions, SampleStamp};
 pub use encoding::{decode, decode_baro, encode, Channel, DecodedWord, Encoded, GyroRange};
 pub use faults::describe as describe_fault;
 pub use sampler::{Constant, FnStimulus, Ideal, SensorErrors, SliceStimulus, Stimulus};

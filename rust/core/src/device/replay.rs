@@ -15,7 +15,7 @@
 
 use std::collections::VecDeque;
 
-use super::adis16407::SampleStamp;
+use super::adis::SampleStamp;
 use super::registers::BURST_ORDER;
 use super::slave::ReadRecord;
 use crate::bus::{FrameTiming, SpiSlave};

@@ -1,9 +1,9 @@
-//! The ADIS16407's SPI slave: SPI mode 3, 16-bit frames, MSB first.
+//! The ADIS16xxx family's SPI slave (written once for every part): SPI mode 3, 16-bit frames, MSB first.
 //!
 //! - A read frame's register comes out on DOUT in the *next* frame; the pipeline holds across
 //!   CS-high gaps. After a write frame, and in the very first frame, DOUT is the profile's
 //!   `dout_after_write` (the part's DOUT is undefined there).
-//! - A frame whose DIN equals `burst_command` starts a burst: the next 14 frames carry 0x02…0x1C,
+//! - A frame whose DIN equals `burst_command` starts a burst: the next frames carry the part's burst words (14 for the ADIS16407),
 //!   all taken from the latest sample at the start of the command frame; DIN is ignored during them.
 //!   CS high ends a burst early.
 //! - The data a frame carries is taken at the frame's first SCLK edge (the slave loads its shift
@@ -24,8 +24,8 @@
 //! `frame_without_cs` (CS high: DOUT floats, read as `corrupt_word`) and `device_busy` (during a
 //! software reset).
 
-use super::adis16407::{Adis16407, SampleStamp};
-use super::registers::BURST_ORDER;
+use super::adis::{Adis, SampleStamp};
+use super::part::MAX_BURST_WORDS;
 use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::events::{Event, Severity};
 use crate::time::{Ps, PS_PER_S};
@@ -123,7 +123,8 @@ pub struct ReadRecord {
 /// The output words of a burst in progress.
 #[derive(Debug, Clone, Copy)]
 struct Burst {
-    words: [u16; 14],
+    words: [u16; MAX_BURST_WORDS],
+    len: usize,
     sample: Option<SampleStamp>,
     next: usize,
 }
@@ -167,7 +168,7 @@ impl SlaveState {
     fn burst_frames_done(&mut self, n: usize) {
         if let Some(b) = &mut self.burst {
             b.next += n;
-            if b.next == b.words.len() {
+            if b.next == b.len {
                 self.burst = None;
             }
         }
@@ -300,7 +301,7 @@ fn read_record(
     }
 }
 
-impl Adis16407 {
+impl Adis {
     /// The latest frame clocked at this slave.
     pub fn last_frame(&self) -> Option<ReadRecord> {
         self.spi.last().copied()
@@ -359,7 +360,7 @@ impl Adis16407 {
         }
     }
 
-    /// The timing rules the frame breaks, with their events ([`Adis16407::report_timing`]) when
+    /// The timing rules the frame breaks, with their events ([`Adis::report_timing`]) when
     /// there is one.
     fn check_timing(&mut self, timing: &FrameTiming, in_burst: bool) -> Violations {
         let found = self.timing_violations(timing, in_burst);
@@ -420,11 +421,15 @@ impl Adis16407 {
         let t = timing.first_edge;
         let n = self.spi.frames;
         if found.contains(Violations::FRAME_LENGTH) {
-            let msg = format!("frame {n}: {} SCLK cycles; the ADIS16407 needs 16-bit frames", timing.bits);
+            let msg =
+                format!("frame {n}: {} SCLK cycles; the {} needs 16-bit frames", timing.bits, self.layout.part.name);
             self.violation(Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
         }
         if found.contains(Violations::CLOCK_POLARITY) {
-            let msg = format!("frame {n}: SCLK idles low; the ADIS16407 needs SPI mode 3 (CPOL = 1, CPHA = 1)");
+            let msg = format!(
+                "frame {n}: SCLK idles low; the {} needs SPI mode 3 (CPOL = 1, CPHA = 1)",
+                self.layout.part.name
+            );
             self.violation(Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
         }
         if found.contains(Violations::SCLK_TOO_FAST) {
@@ -477,12 +482,16 @@ impl Adis16407 {
     fn ignored_frame(&mut self, timing: &FrameTiming) -> u16 {
         let (t, n) = (timing.first_edge, self.spi.frames);
         let violation = if !self.spi.cs_low {
-            let msg = format!("frame {n}: clocked with CS high; the ADIS16407 ignores it");
+            let msg = format!("frame {n}: clocked with CS high; the {} ignores it", self.layout.part.name);
             self.violation(Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
             Violations::NO_CHIP_SELECT
         } else {
             let left = self.busy_until() - t;
-            let msg = format!("frame {n}: the ADIS16407 is resetting for another {:.3} ms", left as f64 / 1e9);
+            let msg = format!(
+                "frame {n}: the {} is resetting for another {:.3} ms",
+                self.layout.part.name,
+                left as f64 / 1e9
+            );
             self.violation(Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
             self.spi.reset();
             Violations::DEVICE_BUSY
@@ -539,7 +548,7 @@ impl Adis16407 {
     /// would move as well. (An index rather than a shorter run: a run is not copied per call.)
     ///
     /// The frames go in stretches that end before the device's next sample or injected reset
-    /// ([`Adis16407::next_event`]): inside one, advancing the device only moves its time, so CS, the
+    /// ([`Adis::next_event`]): inside one, advancing the device only moves its time, so CS, the
     /// reset state, the burst's sample and the latest sample stay as they are at the stretch's first
     /// frame, whose checks are made in full. A later frame of the stretch needs only the stall rule
     /// against the frame before it (CS setup concerns the first frame after CS↓ alone), and the
@@ -575,7 +584,7 @@ impl Adis16407 {
             // The frames after it up to the next device event (their first edges, in time order,
             // are past `now` and the end of any reset), the burst's last word, or a short stall.
             let horizon = self.next_event();
-            let last_word = run.len().min(answered + burst.words.len() - burst.next);
+            let last_word = run.len().min(answered + burst.len - burst.next);
             let end = if stalls_clear {
                 run.end_before(answered + 1..last_word, horizon)
             } else {
@@ -594,9 +603,10 @@ impl Adis16407 {
             dout[answered..end].copy_from_slice(&burst.words[words.clone()]);
             // The record of the stretch's frame `k` (`k` < n), timed by `timing`.
             let (first_word, first_index, sample) = (burst.next, self.spi.frames, burst.sample);
+            let burst_registers = self.layout.part.burst;
             let record_of = |k: usize, timing: &FrameTiming| {
                 let word = first_word + k;
-                let register = Some(BURST_ORDER[word]);
+                let register = Some(burst_registers[word]);
                 let dout = dout[answered + k];
                 let record =
                     read_record(first_index + k as u64, timing, dout, register, sample, Violations::default(), true);
@@ -654,7 +664,7 @@ impl Adis16407 {
     #[inline(always)]
     fn burst_word(&mut self) -> Option<(u8, u16, Option<SampleStamp>)> {
         let b = self.spi.burst.as_ref()?;
-        let (register, word, sample) = (BURST_ORDER[b.next], b.words[b.next], b.sample);
+        let (register, word, sample) = (self.layout.burst_register(b.next), b.words[b.next], b.sample);
         self.clear_nd_after_burst(b.next..b.next + 1, sample);
         Some((register, word, sample))
     }
@@ -677,7 +687,7 @@ impl Adis16407 {
             self.write_byte(addr, din as u8, t);
         } else if din == self.limits.burst_command {
             let (words, sample) = self.burst_snapshot();
-            self.spi.burst = Some(Burst { words, sample, next: 0 });
+            self.spi.burst = Some(Burst { words, len: self.layout.burst_len, sample, next: 0 });
         } else {
             self.spi.pending_read = Some(addr);
         }
@@ -710,7 +720,7 @@ impl Adis16407 {
     }
 
     /// CS rose `gap` after the last SCLK edge (of frame `index`), sooner than tSFS. Out of line, as
-    /// [`Adis16407::burst_truncated`]: the CS edge is on every burst's path, the events almost never fire.
+    /// [`Adis::burst_truncated`]: the CS edge is on every burst's path, the events almost never fire.
     #[cold]
     #[inline(never)]
     fn cs_hold_violated(&mut self, index: u64, gap: Ps, t: Ps) {
@@ -734,12 +744,12 @@ impl Adis16407 {
     #[cold]
     #[inline(never)]
     fn burst_truncated(&mut self, b: &Burst, t: Ps) {
-        let message = format!("CS↑ after {} of the 14 burst data frames", b.next);
+        let message = format!("CS↑ after {} of the {} burst data frames", b.next, b.len);
         self.events.push(Event::new(t, "burst_truncated", Severity::Info, message));
     }
 }
 
-impl SpiSlave for Adis16407 {
+impl SpiSlave for Adis {
     fn set_cs(&mut self, low: bool, t: Ps) {
         self.chip_select(low, t);
     }
@@ -835,7 +845,7 @@ mod tests {
         let reset_s = (frame_0.last_edge + 1_000_000) as f64 * 1e-12;
         for (name, command, reset) in [("burst", 0x4200, false), ("read", 0x0400, false), ("reset", 0x4200, true)] {
             let make = || {
-                let mut d = Adis16407::new(&crate::profile::Device::default()).unwrap();
+                let mut d = Adis::new(&crate::profile::Device::default()).unwrap();
                 let mut p = Physical::powered_idle();
                 p.gyro_dps = [10.0, -20.0, 30.0];
                 d.set_stimulus(Box::new(Constant(p)));

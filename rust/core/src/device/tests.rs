@@ -1024,3 +1024,64 @@ fn is_finite_finds_any_non_finite_value_and_passes_the_largest_finite_ones() {
         }
     }
 }
+
+/// The ADIS16362 on the family protocol, as its declaration says: PROD_ID 0x3FEA; the burst command
+/// 0x3E00 shifts out the 11 words SUPPLY_OUT … AUX_ADC (X/Y/ZTEMP_OUT where the ADIS16407 has its
+/// magnetometer), the accelerometers in 0.333 mg; the frame after the burst is a command frame again;
+/// 0x4200 is a plain read there (of ALM_MAG2), not a burst.
+#[test]
+fn the_adis16362_answers_its_own_map_and_burst() {
+    let part = &super::parts::adis16362::PART;
+    let cfg = Device { timing_mode: TimingMode::Strict, ..Device::of_part(part) };
+    let mut d = Adis::new(&cfg).unwrap();
+    d.set_stimulus(still(|p| {
+        p.accel_g = [0.0, -0.5, 1.0];
+        p.gyro_dps = [10.0, 0.0, 0.0];
+        p.temp_c = 25.0 + 0.136 * 10.0;
+    }));
+    let mut h = Host::new(10 * MS, SCLK_750K);
+    h.burst_cmd = 0x3E00;
+    assert_eq!(h.read(&mut d, 0x56), 0x3FEA);
+    h.cs_low(&mut d);
+    let gap = h.burst_gap;
+    let mut words = [0u16; 13];
+    words[0] = h.frame_with_gap(&mut d, 0x3E00, gap);
+    for w in words.iter_mut().skip(1) {
+        *w = h.frame_with_gap(&mut d, 0x0000, 10 * US);
+    }
+    h.cs_high(&mut d);
+    let code = |w: u16, bits| sign_extend(w & super::encoding::field_mask(bits), bits);
+    assert_eq!(code(words[2], 14), 200, "XGYRO: 10 °/s at 0.05");
+    assert_eq!(code(words[5], 14), 0, "XACCL");
+    assert_eq!(code(words[6], 14), -1502, "YACCL: −0.5 g at 0.333 mg");
+    assert_eq!(code(words[7], 14), 3003, "ZACCL: 1 g at 0.333 mg");
+    for (i, w) in words[8..11].iter().enumerate() {
+        assert_eq!(code(*w, 12), 10, "TEMP axis {i}: 1.36 °C above 25 °C at 0.136");
+    }
+    assert_eq!(words[12], cfg.dout_after_write as u16, "frame 12 follows the 11-word burst: a command frame");
+    let records: Vec<_> = d.last_frame().into_iter().collect();
+    assert!(!records[0].in_burst);
+    assert_eq!(d.events().count("burst_truncated"), 0);
+    // 0x4200 reads ALM_MAG2 (0x42) on this part: its next frame answers with the register.
+    h.write(&mut d, 0x42, 0x1234);
+    assert_eq!(h.read(&mut d, 0x42), 0x1234);
+}
+
+/// The three identity registers are mapped (they read the profile's unit values, not 0 with an
+/// event) and a read of an unmapped address names the part's register addresses.
+#[test]
+fn lot_and_serial_numbers_read_back_and_peek_names_the_map() {
+    let mut d = device_with(|c| {
+        c.lot_id1 = 0x1111;
+        c.lot_id2 = 0x2222;
+        c.serial_num = 0x0345;
+    });
+    let mut h = Host::new(10 * MS, SCLK_750K);
+    assert_eq!(h.read(&mut d, 0x52), 0x1111);
+    assert_eq!(h.read(&mut d, 0x54), 0x2222);
+    assert_eq!(h.read(&mut d, 0x58), 0x0345);
+    assert_eq!(d.events().count("read_unreadable"), 0);
+    assert_eq!(d.peek(0x52).unwrap(), 0x1111);
+    let e = d.peek(0x50).unwrap_err().to_string();
+    assert!(e.contains("no ADIS16407 register at address 0x50") && e.contains("0x52") && e.contains("0x58"), "{e}");
+}

@@ -1,5 +1,5 @@
 //! What a profile's register values produce on the board: clocks, SPI baud and mode, frame time,
-//! and the ADIS16407 rules the configuration breaks. The burst time comes from running the firmware's
+//! and the rules of the profile's part (`device.part`) the configuration breaks. The burst time comes from running the firmware's
 //! own acquisition on the emulated board (`emulator::BoardReport`), not from a second burst model.
 
 use super::clocks::DspClocks;
@@ -10,14 +10,15 @@ use crate::events::{Event, Severity};
 use crate::profile::Profile;
 use crate::time::Ps;
 
-/// Frames of one ADIS16407 burst read: the command and 14 data words.
+/// Frames of one ADIS16407 burst read: the command and 14 data words (other parts:
+/// [`crate::device::part::Part::burst_frames`]).
 pub const BURST_FRAMES: u32 = 15;
 
-/// The SPI mode the ADIS16407 requires.
-pub const DEVICE_SPI_MODE: u8 = 3;
+/// The SPI mode the ADIS16xxx family requires.
+pub const DEVICE_SPI_MODE: u8 = crate::device::part::family::SPI_MODE;
 
-/// The character length the ADIS16407 uses.
-pub const DEVICE_FRAME_BITS: u8 = 16;
+/// The character length the ADIS16xxx family uses.
+pub const DEVICE_FRAME_BITS: u8 = crate::device::part::family::FRAME_BITS;
 
 /// What the registers of a profile produce.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,7 +42,7 @@ pub struct BoardSummary {
     pub char_bits: u8,
     /// One character: bits / baud, ps.
     pub frame_ps: Ps,
-    /// 15 characters back to back with no gap (the clocking alone), ps.
+    /// The part's burst (15 characters for the ADIS16407) back to back with no gap (the clocking alone), ps.
     pub burst_clocking_ps: Ps,
     /// CPU timer 0 interrupt period, ps.
     pub timer_period_ps: Ps,
@@ -72,17 +73,19 @@ impl BoardSummary {
         let spi_baud_hz = lsp.hz() / shape.divisor as f64;
         let sclk_max_hz = lsp.hz() / (2 * shape.active_cycles()) as f64;
         let frame_ps = lsp.cycles_to_ps(shape.length_cycles());
-        let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * BURST_FRAMES as u64);
+        let dev = &profile.device;
+        let part = dev.part_decl()?;
+        let name = part.name;
+        let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * part.burst_frames() as u64);
 
         let mut violations = Vec::new();
-        let dev = &profile.device;
         if sclk_max_hz > dev.sclk_burst_max_hz {
             violations.push(Event::rule(
                 0,
                 "sclk_burst_too_fast",
                 Severity::Error,
                 format!(
-                    "SPI clock {:.0} Hz (SPIBRR = {}, LSPCLK {:.0} Hz) exceeds the ADIS16407 burst-read limit {:.0} Hz",
+                    "SPI clock {:.0} Hz (SPIBRR = {}, LSPCLK {:.0} Hz) exceeds the {name} burst-read limit {:.0} Hz",
                     sclk_max_hz,
                     profile.spi.spibrr,
                     lsp.hz(),
@@ -98,7 +101,7 @@ impl BoardSummary {
                 "sclk_too_fast",
                 Severity::Error,
                 format!(
-                    "SPI clock {:.0} Hz exceeds the ADIS16407 normal-mode limit {:.0} Hz",
+                    "SPI clock {:.0} Hz exceeds the {name} normal-mode limit {:.0} Hz",
                     sclk_max_hz, dev.sclk_max_hz
                 ),
                 sclk_max_hz,
@@ -112,7 +115,7 @@ impl BoardSummary {
                 "spi_mode_mismatch",
                 Severity::Error,
                 format!(
-                    "CLKPOLARITY = {}, CLK_PHASE = {} is TI's \"{}\" = SPI mode {}; the ADIS16407 needs mode 3 \
+                    "CLKPOLARITY = {}, CLK_PHASE = {} is TI's \"{}\" = SPI mode {}; the {name} needs mode 3 \
                      (CLKPOLARITY = 1, CLK_PHASE = 0)",
                     u8::from(scheme.polarity),
                     u8::from(scheme.phase),
@@ -128,7 +131,7 @@ impl BoardSummary {
                 0,
                 "spi_char_length",
                 Severity::Error,
-                format!("SPICHAR gives {}-bit characters; the ADIS16407 uses 16-bit frames", shape.bits),
+                format!("SPICHAR gives {}-bit characters; the {name} uses 16-bit frames", shape.bits),
                 shape.bits as f64,
                 DEVICE_FRAME_BITS as f64,
             ));

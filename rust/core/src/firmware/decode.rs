@@ -19,6 +19,7 @@
 //! values are the fine products.
 
 use super::{lit, Vec3};
+use crate::device::part::Part;
 use crate::events::{Event, EventLog, Severity};
 use crate::numerics::{QClass, Scalar};
 use crate::profile::{Decode, Device, Firmware as FirmwareProfile};
@@ -27,39 +28,42 @@ use crate::{Error, Result};
 
 /// The gyro LSB the published code uses for every range, °/s.
 pub const PUBLISHED_GYRO_LSB_DPS: f64 = 0.05;
-/// The accelerometer LSB, g (data sheet: 3.333 mg; the published literal `3.333e-003`).
+/// The ADIS16407's accelerometer LSB, g (data sheet: 3.333 mg; the published literal `3.333e-003`).
+/// The decoder takes the LSB of the profile's part (`device.part`, 0.333 mg for the ADIS16362).
 pub const ACCEL_LSB_G: f64 = 3.333e-3;
 
 const VALID_BITS_MASK: u16 = 0x3FFF;
 const SATURATED_POSITIVE: u16 = 0x1FFF;
 const SATURATED_NEGATIVE: u16 = 0x2000;
-/// Published range tests: (positive upper bound, negative lower bound) of the 14-bit code.
+/// Published range tests: (positive upper bound, negative lower bound) of the 14-bit code: ±300 °/s
+/// (±6000 codes) for the gyros; the accelerometers' rated range in codes of the part's LSB
+/// ([`accel_range`]: ±18 g = ±5401 codes, 0x1519 / 0x2AE7, on the ADIS16407).
 const GYRO_RANGE: (u16, u16) = (0x1770, 0x2890);
-const ACCEL_RANGE: (u16, u16) = (0x1519, 0x2AE7);
 /// The largest magnitude of a 14-bit two's-complement code (0x2000 = −8192).
 const FULL_SCALE_CODE: f64 = 8192.0;
+
+/// The published accelerometer range test for a part: ± its rated range in its LSBs, rounded (the
+/// published literals are the ADIS16407's, 5401 = 18 g / 3.333 mg), as 14-bit codes.
+pub fn accel_range(part: &Part) -> (u16, u16) {
+    let n = (part.accel_rated_g / part.accel_lsb_g).round().clamp(1.0, 8190.0) as u16;
+    (n, 0x4000 - n)
+}
+
 /// Per channel, the published stale range hi < code < lo as `code − (hi + 1) < lo − hi − 1` (wrapping).
-const STALE_FROM: [u16; 6] = stale_ranges().0;
-const STALE_WIDTH: [u16; 6] = stale_ranges().1;
-const fn stale_ranges() -> ([u16; 6], [u16; 6]) {
-    let (mut from, mut width) = ([0; 6], [0; 6]);
-    let mut i = 0;
-    while i < 6 {
-        let (hi, lo) = if i < 3 { GYRO_RANGE } else { ACCEL_RANGE };
-        from[i] = hi + 1;
-        width[i] = lo - hi - 1;
-        i += 1;
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct StaleRanges {
+    from: [u16; 6],
+    width: [u16; 6],
+}
+
+impl StaleRanges {
+    /// Both saturated codes (0x1FFF, 0x2000) lie inside every stale range (`of_codes` relies on it):
+    /// the ranges are at most ±8190 codes wide.
+    fn new(accel: (u16, u16)) -> StaleRanges {
+        let ranges: [(u16, u16); 6] = std::array::from_fn(|i| if i < 3 { GYRO_RANGE } else { accel });
+        StaleRanges { from: ranges.map(|(hi, _)| hi + 1), width: ranges.map(|(hi, lo)| lo - hi - 1) }
     }
-    (from, width)
 }
-// `DecodeReport::of_codes` tests saturation only when a code is stale: both limits must be stale codes.
-const fn inside((hi, lo): (u16, u16), code: u16) -> bool {
-    hi < code && code < lo
-}
-const _: () = {
-    assert!(inside(GYRO_RANGE, SATURATED_POSITIVE) && inside(GYRO_RANGE, SATURATED_NEGATIVE));
-    assert!(inside(ACCEL_RANGE, SATURATED_POSITIVE) && inside(ACCEL_RANGE, SATURATED_NEGATIVE));
-};
 const CHANNELS: [&str; 6] = ["XGYRO_OUT", "YGYRO_OUT", "ZGYRO_OUT", "XACCL_OUT", "YACCL_OUT", "ZACCL_OUT"];
 
 /// The gyro LSB, °/s, of the range selected by SENS_AVG bits 10:8 (100 → ±300, 010 → ±150,
@@ -90,13 +94,13 @@ impl DecodeReport {
     /// The flags of the six 14-bit codes (X/Y/Z gyro, X/Y/Z accel); `gyro_lsb_differs`: the published
     /// decode's gyro LSB is not the configured range's, so every nonzero gyro code decodes differently.
     /// Each flag is one mask over the six channels (the compiler packs them together).
-    fn of_codes(codes: &[u16; 6], gyro_lsb_differs: bool) -> DecodeReport {
+    fn of_codes(codes: &[u16; 6], ranges: &StaleRanges, gyro_lsb_differs: bool) -> DecodeReport {
         fn mask(codes: &[u16; 6], flagged: impl Fn(usize, u16) -> bool) -> u8 {
             (0..6).fold(0, |m, i| m | u8::from(flagged(i, codes[i])) << i)
         }
         // hi < code < lo as one unsigned comparison: code − (hi + 1) < lo − hi − 1, wrapping.
-        let stale = mask(codes, |i, code| code.wrapping_sub(STALE_FROM[i]) < STALE_WIDTH[i]);
-        // Both saturated codes lie inside both stale ranges (checked at compile time below): without a
+        let stale = mask(codes, |i, code| code.wrapping_sub(ranges.from[i]) < ranges.width[i]);
+        // Both saturated codes lie inside both stale ranges ([`StaleRanges::new`]): without a
         // stale code there is no saturated one, the usual case, and its test is skipped.
         let saturated = if stale == 0 {
             0
@@ -198,6 +202,8 @@ pub struct Decoder<T> {
     accel: Scale<T>,
     zero: T,
     published_matches_range: bool,
+    accel_range: (u16, u16),
+    stale: StaleRanges,
     previous: [T; 6],
 }
 
@@ -210,15 +216,19 @@ impl<T: Scalar> Decoder<T> {
     /// A decoder for the device's SENS_AVG range and the firmware's decode choice.
     pub fn new(device: &Device, firmware: &FirmwareProfile) -> Result<Self> {
         let lsb = gyro_lsb_dps(device.sens_avg)?;
+        let part = device.part_decl()?;
+        let accel_range = accel_range(part);
         let zero = lit(0.0);
         let deg_to_rad = std::f64::consts::PI / 180.0;
         Ok(Decoder {
             mode: firmware.decode,
             gyro: Scale::new(lsb, deg_to_rad, QClass::Rate),
             published_gyro: Scale::new(PUBLISHED_GYRO_LSB_DPS, deg_to_rad, QClass::Rate),
-            accel: Scale::new(ACCEL_LSB_G, firmware.accel_g_m_s2, QClass::Accel),
+            accel: Scale::new(part.accel_lsb_g, firmware.accel_g_m_s2, QClass::Accel),
             zero,
             published_matches_range: lsb == PUBLISHED_GYRO_LSB_DPS,
+            accel_range,
+            stale: StaleRanges::new(accel_range),
             previous: [zero; 6],
         })
     }
@@ -239,12 +249,15 @@ impl<T: Scalar> Decoder<T> {
     /// Decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (burst words 2…7).
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
         let codes = words.map(|w| w & VALID_BITS_MASK);
-        let report = DecodeReport::of_codes(&codes, !self.published_matches_range);
+        let report = DecodeReport::of_codes(&codes, &self.stale, !self.published_matches_range);
         let mut out = [self.zero; 6];
         for (i, &code) in codes.iter().enumerate() {
             let gyro = i < 3;
-            let (range, published_scale, correct_scale) =
-                if gyro { (GYRO_RANGE, self.published_gyro, self.gyro) } else { (ACCEL_RANGE, self.accel, self.accel) };
+            let (range, published_scale, correct_scale) = if gyro {
+                (GYRO_RANGE, self.published_gyro, self.gyro)
+            } else {
+                (self.accel_range, self.accel, self.accel)
+            };
             // Both decodes of a channel share the unit (the same π/180 or g), so the held value of
             // either converts with `correct_scale`'s unit.
             let held = match self.mode {
@@ -390,12 +403,13 @@ mod tests {
     /// by word.
     #[test]
     fn flags_of_every_code() {
+        let ranges = StaleRanges::new(accel_range(&crate::device::parts::adis16407::PART));
         for code in 0..=VALID_BITS_MASK {
             for i in 0..6 {
                 for gyro_lsb_differs in [false, true] {
                     let mut codes = [0u16; 6];
                     codes[i] = code;
-                    let r = DecodeReport::of_codes(&codes, gyro_lsb_differs);
+                    let r = DecodeReport::of_codes(&codes, &ranges, gyro_lsb_differs);
                     let (hi, lo) = if i < 3 { (0x1770, 0x2890) } else { (0x1519, 0x2AE7) };
                     let stale = hi < code && code < lo;
                     let saturated = code == 0x1FFF || code == 0x2000;
@@ -406,6 +420,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The published range literals are the ADIS16407's rated ranges in its LSBs; the ADIS16362's
+    /// accelerometer test is its ±1.7 g in 0.333 mg codes, and its decode scales by 0.333 mg.
+    #[test]
+    fn the_accelerometer_range_and_scale_come_from_the_part() {
+        use crate::device::parts::{adis16362, adis16407};
+        assert_eq!(accel_range(&adis16407::PART), (0x1519, 0x2AE7));
+        assert_eq!(accel_range(&adis16362::PART), (5105, 0x4000 - 5105));
+        let device = Device { part: "ADIS16362".into(), ..Device::default() };
+        let mut d = Decoder::<f64>::new(&device, &FirmwareProfile::default()).unwrap();
+        let out = d.decode(&[0, 0, 0, 3003, 0x4000 - 3003, 5106]);
+        let g = FirmwareProfile::default().accel_g_m_s2;
+        assert!((out.accel[0] / g - 3003.0 * 0.333e-3).abs() < 1e-12, "1 g is 3003 codes");
+        assert!((out.accel[1] / g + 3003.0 * 0.333e-3).abs() < 1e-12);
+        assert_eq!(out.report.stale, 1 << 5, "5106 codes is beyond ±1.7 g");
     }
 
     #[test]

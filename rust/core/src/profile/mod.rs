@@ -50,6 +50,7 @@ impl Profile {
         for ov in overrides {
             apply_override(&mut table, ov)?;
         }
+        fill_part_defaults(&mut table);
         check_keys(&table, source)?;
         let de = toml::Value::Table(table);
         let profile: Profile = serde_path_to_error::deserialize(de).map_err(|e| {

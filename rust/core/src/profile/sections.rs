@@ -1,7 +1,7 @@
 //! The sections of a profile. Defaults are the reference design as published; values marked
 //! [unconfirmed] in the spec are parameters here, documented in `firmware_model/SCHEMA.md`.
 
-use crate::device::registers::{self, addr};
+use crate::device::part::{self as parts, Part, Role};
 use crate::device::{GyroRange, ModelOptions};
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -249,11 +249,14 @@ pub enum TimingMode {
     Lenient,
 }
 
-/// The ADIS16407: register defaults at power-on and the timing rules of its SPI slave.
+/// The IMU part (`part` selects its declaration, `device/parts/`): register defaults at power-on and
+/// the timing rules of its SPI slave. The keys a part declares (PROD_ID, burst command, reset time,
+/// SCLK limits) default to that part's values ([`fill_part_defaults`]); `Device::default()` is the
+/// ADIS16407's.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Device {
-    /// Part name.
+    /// Part name: one of the parts in `device/parts/` (ADIS16407, ADIS16362).
     pub part: String,
     /// PROD_ID value.
     pub prod_id: u32,
@@ -283,6 +286,12 @@ pub struct Device {
     pub t_cs_ns: f64,
     /// Minimum last SCLK edge to CS↑, ns [unconfirmed].
     pub t_sfs_ns: f64,
+    /// LOT_ID1 (unit-specific; 0 unless a unit's value is given).
+    pub lot_id1: u32,
+    /// LOT_ID2 (unit-specific).
+    pub lot_id2: u32,
+    /// SERIAL_NUM (unit-specific).
+    pub serial_num: u32,
     /// DOUT in the frame after a write frame (undefined on the part; this model's fixed pattern).
     pub dout_after_write: u32,
     /// The word a frame reads as under `strict` when a timing rule is broken.
@@ -307,6 +316,9 @@ impl Default for Device {
             t_stall_us: 9.0,
             t_cs_ns: 48.8,
             t_sfs_ns: 48.8,
+            lot_id1: 0,
+            lot_id2: 0,
+            serial_num: 0,
             dout_after_write: 0x0000,
             corrupt_word: 0xFFFF,
         }
@@ -314,7 +326,52 @@ impl Default for Device {
 }
 
 impl Device {
+    /// The defaults with the part's declared values (what a profile naming only `part` gives).
+    pub fn of_part(part: &Part) -> Device {
+        Device {
+            part: part.name.into(),
+            prod_id: u32::from(part.prod_id),
+            burst_command: u32::from(part.burst_command),
+            reset_time_ms: part.reset_ms,
+            sclk_max_hz: part.sclk_max_hz,
+            sclk_burst_max_hz: part.sclk_burst_max_hz,
+            ..Device::default()
+        }
+    }
+}
+
+/// The `[device]` keys whose defaults a part declares, with the part's values.
+fn part_defaults(part: &Part) -> [(&'static str, toml::Value); 5] {
+    [
+        ("prod_id", toml::Value::Integer(i64::from(part.prod_id))),
+        ("burst_command", toml::Value::Integer(i64::from(part.burst_command))),
+        ("reset_time_ms", toml::Value::Float(part.reset_ms)),
+        ("sclk_max_hz", toml::Value::Float(part.sclk_max_hz)),
+        ("sclk_burst_max_hz", toml::Value::Float(part.sclk_burst_max_hz)),
+    ]
+}
+
+/// Give the `[device]` keys a profile leaves out the values its part declares (a profile table
+/// before it is read; an unknown part is left to [`Device::validate`]).
+pub(crate) fn fill_part_defaults(table: &mut toml::Table) {
+    let Some(toml::Value::Table(device)) = table.get_mut("device") else { return };
+    let Some(part) = device.get("part").and_then(|p| p.as_str()).and_then(parts::by_name) else { return };
+    for (key, value) in part_defaults(part) {
+        device.entry(key).or_insert(value);
+    }
+}
+
+impl Device {
+    /// The declaration of the part `part` names.
+    pub fn part_decl(&self) -> Result<&'static Part> {
+        parts::by_name(&self.part).ok_or_else(|| bad("device.part", &self.part, &format!("one of {}", parts::names())))
+    }
+
     pub(crate) fn validate(&self) -> Result<()> {
+        let part = self.part_decl()?;
+        check_reg("device.lot_id1", self.lot_id1, 16)?;
+        check_reg("device.lot_id2", self.lot_id2, 16)?;
+        check_reg("device.serial_num", self.serial_num, 16)?;
         check_reg("device.prod_id", self.prod_id, 16)?;
         check_reg("device.burst_command", self.burst_command, 16)?;
         check_reg("device.smpl_prd", self.smpl_prd, 16)?;
@@ -330,12 +387,12 @@ impl Device {
             ));
         }
         // A power-on value is what the part holds: bits the register does not have cannot be set.
-        for (key, value, a) in [
-            ("device.smpl_prd", self.smpl_prd, addr::SMPL_PRD),
-            ("device.sens_avg", self.sens_avg, addr::SENS_AVG),
-            ("device.msc_ctrl", self.msc_ctrl, addr::MSC_CTRL),
+        for (key, value, role) in [
+            ("device.smpl_prd", self.smpl_prd, Role::SmplPrd),
+            ("device.sens_avg", self.sens_avg, Role::SensAvg),
+            ("device.msc_ctrl", self.msc_ctrl, Role::MscCtrl),
         ] {
-            let mask = registers::lookup(a).map_or(0xFFFF, |r| u32::from(r.mask));
+            let mask = part.with_role(role).map_or(0xFFFF, |r| u32::from(r.mask));
             if value & !mask != 0 {
                 return Err(bad(key, format!("0x{value:04X}"), &format!("only the register's bits 0x{mask:04X} set")));
             }
