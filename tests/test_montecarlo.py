@@ -40,7 +40,16 @@ def test_montecarlo_cli_json():
     assert r.code == 0, r.err
     rep = json.loads(r.out)
     assert rep["runs"] == 2 and rep["errors_preset"] == "adis16407"
-    assert set(rep["cases"]["static"]["error_deg"]) == {"pitch", "roll", "yaw"}
+    assert set(rep["cases"]["static"]["error_deg"]) == {
+        "pitch",
+        "roll",
+        "yaw",
+        "total",
+        "heading",
+        "inclination",
+    }
+    # Two runs: the percentiles rest on too few, and the report says so.
+    assert rep["warnings"] and "extremes" in rep["warnings"][0] and "warning" in r.err
 
 
 def test_montecarlo_bad_input_exit_2():
