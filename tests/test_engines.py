@@ -120,6 +120,23 @@ def test_results_from_different_software_are_refused(dask_engine):
         dask_engine.client.run(exec, "import sins_fw.montecarlo as m; m._fingerprint = None")
 
 
+def test_an_interruption_cancels_the_outstanding_dask_tasks(dask_engine):
+    def interrupt(done: int, failed: int, total: int) -> None:
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        mc.collect(dask_engine, JOBS, _traces(), progress=interrupt)
+
+    def tasks(dask_scheduler) -> int:
+        return len(dask_scheduler.tasks)
+
+    # The scheduler forgets every job and the scattered traces (none left queued, running or held).
+    deadline = time.monotonic() + 30
+    while (left := dask_engine.client.run_on_scheduler(tasks)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert left == 0
+
+
 def test_admit_checks_fingerprint_and_repeats(reference):
     results: dict = {}
     first = reference[0]

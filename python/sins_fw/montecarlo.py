@@ -363,13 +363,13 @@ class DaskEngine:
         distributed = import_distributed()
         client = self.client
         # Every worker gets each trace once; a copy on every worker survives the loss of any one.
-        scattered = {
-            name: client.scatter(traces[name], broadcast=True, hash=False)
-            for name in dict.fromkeys(job.case for job in jobs)
-        }
-        futures = [client.submit(attempt, fn, job, scattered[job.case], pure=False) for job in jobs]
-        job_of = {future.key: job for future, job in zip(futures, jobs, strict=True)}
+        scattered: dict[str, Any] = {}
+        futures: list[Any] = []
         try:
+            for name in dict.fromkeys(job.case for job in jobs):
+                scattered[name] = client.scatter(traces[name], broadcast=True, hash=False)
+            futures = [client.submit(attempt, fn, job, scattered[job.case], pure=False) for job in jobs]
+            job_of = {future.key: job for future, job in zip(futures, jobs, strict=True)}
             for future in distributed.as_completed(futures):
                 try:
                     yield future.result()
@@ -380,11 +380,22 @@ class DaskEngine:
             client.cancel([*futures, *scattered.values()])
 
     def close(self) -> None:
-        with contextlib.suppress(Exception):
-            self.client.close()
-        if self._cluster is not None:
+        if self._cluster is None:
+            with contextlib.suppress(Exception):
+                self.client.close()
+            return
+        # Our own scheduler logs every message it can no longer send to the departing client (after an
+        # interruption, as CRITICAL with a traceback): the cluster is going away, they say nothing.
+        logger = logging.getLogger("distributed")
+        level = logger.level
+        logger.setLevel(logging.CRITICAL + 1)
+        try:
+            with contextlib.suppress(Exception):
+                self.client.close()
             with contextlib.suppress(Exception):
                 self._cluster.close()
+        finally:
+            logger.setLevel(level)
 
     def __enter__(self) -> DaskEngine:
         return self
