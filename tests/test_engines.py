@@ -4,6 +4,7 @@ middle of a run, mixed software refused, the optional extra missing, Ctrl-C, and
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import os
@@ -171,6 +172,15 @@ def test_engine_options_are_checked():
     assert r.code == 2 and ".parquet" in r.err
 
 
+def _pool_started(pid: int) -> bool:
+    cmdline = Path(f"/proc/{pid}/cmdline").read_bytes()
+    for child in Path(f"/proc/{pid}/task/{pid}/children").read_text().split():
+        with contextlib.suppress(OSError):
+            if Path(f"/proc/{child}/cmdline").read_bytes() == cmdline:
+                return True
+    return False
+
+
 def test_ctrl_c_cancels_writes_nothing_and_exits_130(tmp_path):
     out = tmp_path / "runs.csv"
     args = ["montecarlo", "static", "--param", "duration_s=300", "--runs", "400", "--workers", "2"]
@@ -181,10 +191,10 @@ def test_ctrl_c_cancels_writes_nothing_and_exits_130(tmp_path):
         stderr=subprocess.PIPE,
         text=True,
     )
-    # The runs have started once the pool's worker processes exist (about 20 s of work remain).
-    children = Path(f"/proc/{proc.pid}/task/{proc.pid}/children")
+    # The runs have started once the pool's worker processes exist (about 20 s of work remain): forked
+    # children with the same command line (not a helper some import may run, such as `uname`).
     deadline = time.monotonic() + 60
-    while not children.read_text().split() and time.monotonic() < deadline:
+    while not _pool_started(proc.pid) and time.monotonic() < deadline:
         time.sleep(0.1)
     time.sleep(0.5)
     proc.send_signal(signal.SIGINT)
