@@ -51,8 +51,11 @@ def reference() -> list[mc.Outcome]:
 @pytest.fixture(scope="module")
 def dask_engine(reference):
     pytest.importorskip("distributed")
+    environ = dict(os.environ)
     with mc.DaskEngine(local_workers=2) as engine:
         yield engine
+    # The nannies' variables (MALLOC_TRIM_THRESHOLD_ ...) do not stay behind for later subprocesses.
+    assert dict(os.environ) == environ
 
 
 def _workers(engine: mc.DaskEngine) -> dict[str, int]:
@@ -111,6 +114,7 @@ def test_a_worker_killed_mid_run_gives_the_identical_result_set(dask_engine):
 
 
 def test_results_from_different_software_are_refused(dask_engine):
+    dask_engine.client.wait_for_workers(2, timeout=120)  # the one killed above is back
     workers = list(_workers(dask_engine))
     fake = "import sins_fw.montecarlo as m; m._fingerprint = m.Fingerprint('0.0.0', 'other', 'elsewhere')"
     dask_engine.client.run(exec, fake, workers=workers[:1])

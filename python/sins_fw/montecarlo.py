@@ -339,6 +339,10 @@ class DaskEngine:
             raise InputError(f"--local-workers {local_workers}: expected at least 1")
         distributed = import_distributed()
         self._cluster: Any = None
+        # A nanny sets its workers' variables (MALLOC_TRIM_THRESHOLD_, OMP_NUM_THREADS, ...) in the
+        # environment of the process that starts it, and so of every later subprocess: close() puts
+        # ours back.
+        self._environ = dict(os.environ)
         if local_workers is not None:
             self._cluster = distributed.LocalCluster(
                 n_workers=local_workers,
@@ -396,6 +400,9 @@ class DaskEngine:
                 self._cluster.close()
         finally:
             logger.setLevel(level)
+            for key in set(os.environ) - set(self._environ):
+                del os.environ[key]
+            os.environ.update(self._environ)
 
     def __enter__(self) -> DaskEngine:
         return self
