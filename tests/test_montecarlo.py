@@ -40,7 +40,16 @@ def test_montecarlo_cli_json():
     assert r.code == 0, r.err
     rep = json.loads(r.out)
     assert rep["runs"] == 2 and rep["errors_preset"] == "adis16407"
-    assert set(rep["cases"]["static"]["error_deg"]) == {"pitch", "roll", "yaw"}
+    assert set(rep["cases"]["static"]["error_deg"]) == {
+        "pitch",
+        "roll",
+        "yaw",
+        "total",
+        "heading",
+        "inclination",
+    }
+    # Two runs: the percentiles rest on too few, and the report says so.
+    assert rep["warnings"] and "extremes" in rep["warnings"][0] and "warning" in r.err
 
 
 def test_montecarlo_bad_input_exit_2():
@@ -74,3 +83,30 @@ def test_allan_arw_of_the_preset_through_the_device_within_10_percent():
     curve = allan.overlapping_adev(rate_dps, 250.0)
     arw = allan.per_sqrt_hour(allan.random_walk(curve, 0.1, 1.0).coefficient)
     assert abs(arw - 2.0) / 2.0 < 0.10, arw
+
+
+def test_montecarlo_per_run_table_plot_and_help(tmp_path):
+    r = run_cli(
+        "montecarlo", "static", "--param", "duration_s=2", "--runs", "3", "--workers", "1",
+        "--out", str(tmp_path / "mc.csv"), "--plot", str(tmp_path / "mc.png"),
+    )  # fmt: skip
+    assert r.code == 0, r.err
+    import csv
+
+    with open(tmp_path / "mc.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    assert [int(x["seed"]) for x in rows] == [1, 2, 3]
+    assert all(float(x["error_total_deg"]) >= float(x["error_inclination_deg"]) for x in rows)
+    with open(tmp_path / "mc-percentiles.csv", encoding="utf-8") as f:
+        assert [x["error"] for x in csv.DictReader(f)] == list(montecarlo.ERRORS)
+    assert (tmp_path / "mc.png").stat().st_size > 10_000
+    r = run_cli("montecarlo", "--help")
+    assert "rank" in r.out and "inclination" in r.out and "fewer than 20 runs" in r.out
+
+
+def test_error_series_ends_with_the_final_error():
+    d = montecarlo.run_cases([SHORT], 2, overrides=["errors.preset=adis16407"])[SHORT.name]
+    assert d.error_series_deg.shape == (2, montecarlo.SERIES_POINTS, len(montecarlo.ERRORS))
+    assert np.array_equal(d.error_series_deg[:, -1, :], d.final_error_deg)
+    # Evenly spaced steps from the first attitude step to the last.
+    assert d.t_s[0] < 0.05 and d.t_s[-1] > 3.9 and np.all(np.diff(d.t_s) > 0)

@@ -2,4 +2,6 @@
 
 from sins_fw.cli import entry
 
-entry()
+# Guarded: a worker process started with `spawn` (Dask's LocalCluster) imports the main module again.
+if __name__ == "__main__":
+    entry()

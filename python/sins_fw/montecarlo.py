@@ -1,5 +1,14 @@
 """Monte Carlo over sensor-error realisations: the same scenario and board, N seeds of the error
-model, processed in parallel on local cores; the result is a distribution of attitude errors.
+model; the result is a distribution of attitude errors.
+
+The work is cut into **jobs**, pure data (:class:`Job`: case, profile text, overrides, seed), and one
+pure function runs a job on its case's trace (:func:`run_job`). An **engine** runs jobs and yields
+their results as they complete: ``local`` (a process pool on this machine, the default) or ``dask``
+(a Dask distributed cluster: one machine or many). Traces are generated once, on the client, and
+handed to the workers once (the pool's initializer, Dask's scatter), never regenerated per job. The
+engine changes nothing in a result: every result carries the :class:`Fingerprint` of the software
+that computed it, results of different fingerprints are refused, and a job seen twice must give the
+same result (:func:`collect`).
 
 ``published_experiment`` reproduces the reference design's indexing-table table (±30° about each
 axis) and its 30 s drift after a fast rotation to yaw 25.8° as distributions, and says where each
@@ -8,20 +17,37 @@ published value falls in them.
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
+import logging
 import os
-from collections.abc import Callable, Sequence
+import platform
+import sys
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import as_completed as pool_completed
 from dataclasses import dataclass
-from typing import Any
+from pathlib import Path
+from types import ModuleType
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
-from sins_fw import quaternion, synth
-from sins_fw.harness import emulate
+from sins_fw import _core, metrics, quaternion, synth
+from sins_fw.errors import InputError, InternalError, SinsError
+from sins_fw.harness import Run, emulate
 from sins_fw.profile import Profile, load_profile
+from sins_fw.report import aligned_estimate
+from sins_fw.traces import PhysicalTrace
 
 PERCENTILES = (5.0, 25.0, 50.0, 75.0, 95.0)
+#: The attitude errors of a run, degrees, in this order (see :func:`run_job`).
+ERRORS = ("pitch", "roll", "yaw", "total", "heading", "inclination")
+#: Error samples kept per run for the error-over-time bands (evenly spaced steps, the last included).
+SERIES_POINTS = 200
+#: Below this many runs the 5th and 95th percentiles are the extremes of the sample (1/0.05 = 20).
+FEW_RUNS = 20
 
 #: The published ±30° table: true (pitch, roll, yaw) → solved (pitch, roll, yaw), degrees.
 PUBLISHED_PM30: dict[tuple[float, float, float], tuple[float, float, float]] = {
@@ -46,21 +72,108 @@ class Case:
     params: tuple[tuple[str, Any], ...]
     truth_deg: tuple[float, float, float]  # pitch, roll, yaw at the end
 
-    def trace(self) -> Any:
+    def trace(self) -> PhysicalTrace:
         return synth.generate(self.scenario, self.preset, **dict(self.params))
+
+
+# ---------------------------------------------------------------------------------------------------
+# Jobs, results and the one function that runs a job
+# ---------------------------------------------------------------------------------------------------
+
+#: What identifies a job's result: (case, grid point, seed).
+JobKey = tuple[str, tuple[str, ...], int]
+
+
+@dataclass(frozen=True)
+class Fingerprint:
+    """The software that computed a result. Results of different fingerprints are never mixed."""
+
+    version: str  # sins-fw
+    core: str  # SHA-256 (first 16 hex digits) of the compiled core extension
+    platform: str  # OS and machine, Python and numpy versions
+
+    def __str__(self) -> str:
+        return f"sins-fw {self.version}, core {self.core}, {self.platform}"
+
+
+_fingerprint: Fingerprint | None = None
+
+
+def fingerprint() -> Fingerprint:
+    """This process's fingerprint (computed once)."""
+    global _fingerprint
+    if _fingerprint is None:
+        core = hashlib.sha256(Path(_core.__file__).read_bytes()).hexdigest()[:16]
+        v = sys.version_info
+        python = f"Python {v.major}.{v.minor}.{v.micro}"
+        where = f"{sys.platform}-{platform.machine()}, {python}, numpy {np.__version__}"
+        _fingerprint = Fingerprint(_core.__version__, core, where)
+    return _fingerprint
+
+
+@dataclass(frozen=True)
+class Job:
+    """One realisation, as pure data: the case (the name of its trace), the profile (text and
+    overrides), the grid point (more overrides; empty for a plain Monte Carlo) and the error seed."""
+
+    case: str
+    seed: int
+    profile_source: str
+    profile_text: str
+    overrides: tuple[str, ...] = ()
+    point: tuple[str, ...] = ()
+
+    @property
+    def key(self) -> JobKey:
+        return (self.case, self.point, self.seed)
+
+    def profile(self) -> Profile:
+        base = Profile(source=self.profile_source, text=self.profile_text)
+        return base.with_overrides(*self.overrides, *self.point, f"errors.seed={self.seed}")
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """The result of one job. Errors are the estimate against the truth after the alignment every
+    report uses (:func:`sins_fw.report.aligned_estimate`), degrees, in :data:`ERRORS` order."""
+
+    key: JobKey
+    solved_deg: tuple[float, float, float]  # the firmware's pitch, roll, yaw at the last step
+    truth_deg: tuple[float, float, float]  # the truth's, same conventions (NaN without truth)
+    final_error_deg: tuple[float, ...]  # at the last step with a truth
+    t_s: NDArray[np.float64]  # (SERIES_POINTS,) times of the error samples
+    error_deg: NDArray[np.float64]  # (SERIES_POINTS, 6)
+    fingerprint: Fingerprint
+
+    def same_as(self, other: Outcome) -> bool:
+        """Bit for bit the same result (NaN equal to NaN)."""
+        return (
+            self.key == other.key
+            and self.fingerprint == other.fingerprint
+            and all(
+                np.array_equal(np.asarray(a), np.asarray(b), equal_nan=True)
+                for a, b in (
+                    (self.solved_deg, other.solved_deg),
+                    (self.truth_deg, other.truth_deg),
+                    (self.final_error_deg, other.final_error_deg),
+                    (self.t_s, other.t_s),
+                    (self.error_deg, other.error_deg),
+                )
+            )
+        )
 
 
 def _wrap180(x: NDArray[np.float64]) -> NDArray[np.float64]:
     return (x + 180.0) % 360.0 - 180.0
 
 
-def _final_angles(run: Any) -> tuple[float, float, float]:
+def _final_angles(run: Run) -> tuple[float, float, float]:
     """Pitch, roll, yaw (wrapped to ±180°) of the last step."""
     roll, pitch, yaw = run.euler_deg[-1]
     return float(pitch), float(roll), float(_wrap180(np.array(yaw)))
 
 
-def _truth_angles(run: Any) -> tuple[float, float, float]:
+def _truth_angles(run: Run) -> tuple[float, float, float]:
     """Pitch, roll, yaw of the truth at the last step (the firmware's conventions)."""
     if run.truth_q is None or not np.all(np.isfinite(run.truth_q[-1])):
         return (float("nan"),) * 3
@@ -68,45 +181,388 @@ def _truth_angles(run: Any) -> tuple[float, float, float]:
     return float(np.degrees(pitch)), float(np.degrees(roll)), float(_wrap180(np.degrees(np.asarray(yaw))))
 
 
-Result = tuple[str, int, tuple[float, float, float], tuple[float, float, float]]
+def _errors(est: NDArray[np.float64], truth: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(rows, 6) errors in ERRORS order."""
+    e = metrics.attitude_errors(est, truth)
+    return np.column_stack([getattr(e, name) for name in ERRORS])
 
 
-def _one(job: tuple[Case, str, str, tuple[str, ...], int]) -> Result:
-    case, source, text, overrides, seed = job
-    profile = Profile(source=source, text=text).with_overrides(*overrides, f"errors.seed={seed}")
-    run = emulate(case.trace(), profile)
-    return case.name, seed, _final_angles(run), _truth_angles(run)
+def _error_series(run: Run) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[float, ...]]:
+    """Times and errors at SERIES_POINTS evenly spaced steps, and the error at the last step with a
+    truth (NaN where there is no truth)."""
+    n = run.cycles
+    rows = np.unique(np.linspace(0, n - 1, min(n, SERIES_POINTS)).round().astype(np.int64))
+    series = np.full((len(rows), len(ERRORS)), np.nan)
+    final = (float("nan"),) * len(ERRORS)
+    if run.truth_q is not None and n:
+        est, _ = aligned_estimate(run)
+        valid = metrics.valid_mask(run.truth_q)
+        ok = rows[valid[rows]]
+        if len(ok):
+            series[valid[rows]] = _errors(est[ok], run.truth_q[ok])
+        if valid.any():
+            last = int(np.flatnonzero(valid)[-1])
+            final = tuple(float(x) for x in _errors(est[[last]], run.truth_q[[last]])[0])
+    return run.time_s[rows].astype(np.float64), series, final
+
+
+def run_job(job: Job, trace: PhysicalTrace) -> Outcome:
+    """Run one job on its case's trace: the pure function every engine calls."""
+    run = emulate(trace, job.profile())
+    t_s, series, final = _error_series(run)
+    return Outcome(
+        key=job.key,
+        solved_deg=_final_angles(run),
+        truth_deg=_truth_angles(run),
+        final_error_deg=final,
+        t_s=t_s,
+        error_deg=series,
+        fingerprint=fingerprint(),
+    )
+
+
+# ---------------------------------------------------------------------------------------------------
+# Engines: run jobs, yield results as they complete
+# ---------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Failure:
+    """A job that raised: its key and the error (``input_error``: a sins-fw InputError)."""
+
+    key: Any
+    error: str
+    input_error: bool = False
+
+
+#: The function an engine applies: (job, its trace) → result. Jobs have ``case`` and ``key``.
+JobFunction = Callable[[Any, Any], Any]
+
+
+def attempt(fn: JobFunction, job: Any, trace: Any) -> Any:
+    """``fn(job, trace)``, or a :class:`Failure` saying why it raised."""
+    try:
+        return fn(job, trace)
+    except SinsError as e:
+        return Failure(job.key, str(e), isinstance(e, InputError))
+    except Exception as e:
+        return Failure(job.key, f"{type(e).__name__}: {e}")
+
+
+class Engine(Protocol):
+    """Runs jobs somewhere and yields each result (or Failure) as it completes, in any order.
+    Closing the iterator early (an error, Ctrl-C) cancels the jobs not yet run."""
+
+    name: str
+
+    def run(self, fn: JobFunction, jobs: Sequence[Any], traces: Mapping[str, Any]) -> Iterator[Any]: ...
+
+    def describe(self) -> str: ...
+
+    def close(self) -> None: ...
+
+
+#: A pool worker's traces, installed once by the pool's initializer.
+_worker_traces: Mapping[str, Any] = {}
+
+
+def _install_traces(traces: Mapping[str, Any]) -> None:
+    global _worker_traces
+    _worker_traces = traces
+
+
+def _attempt_here(fn: JobFunction, job: Any) -> Any:
+    return attempt(fn, job, _worker_traces[job.case])
+
+
+class LocalEngine:
+    """Processes on this machine (``workers`` ≤ 1: in this process)."""
+
+    name = "local"
+
+    def __init__(self, workers: int = 1) -> None:
+        if workers < 1:
+            raise InputError(f"--workers {workers}: expected at least 1")
+        self.workers = workers
+
+    def describe(self) -> str:
+        return f"local, {self.workers} process{'es' if self.workers > 1 else ''}"
+
+    def run(self, fn: JobFunction, jobs: Sequence[Any], traces: Mapping[str, Any]) -> Iterator[Any]:
+        if self.workers <= 1 or len(jobs) <= 1:
+            for job in jobs:
+                yield attempt(fn, job, traces[job.case])
+            return
+        pool = ProcessPoolExecutor(
+            max_workers=min(self.workers, len(jobs)), initializer=_install_traces, initargs=(traces,)
+        )
+        try:
+            futures = [pool.submit(_attempt_here, fn, job) for job in jobs]
+            for future in pool_completed(futures):
+                yield future.result()
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self) -> LocalEngine:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+DASK_EXTRA = 'the dask engine needs the optional extra: pip install "sins-fw[dask]"'
+
+
+def import_distributed() -> ModuleType:
+    """``dask.distributed``, or an InputError saying how to install it."""
+    try:
+        import distributed
+    except ImportError:
+        raise InputError(DASK_EXTRA) from None
+    return distributed
+
+
+class DaskEngine:
+    """A Dask distributed cluster: an existing scheduler (``scheduler="tcp://HOST:PORT"``) or a
+    ``LocalCluster`` of ``local_workers`` single-threaded processes bound to 127.0.0.1. A worker
+    lost in the middle of a job has its jobs rescheduled by Dask on the others."""
+
+    name = "dask"
+
+    def __init__(self, scheduler: str | None = None, local_workers: int | None = None) -> None:
+        if (scheduler is None) == (local_workers is None):
+            raise InputError("--engine dask: give either --scheduler tcp://HOST:PORT or --local-workers N")
+        if local_workers is not None and local_workers < 1:
+            raise InputError(f"--local-workers {local_workers}: expected at least 1")
+        distributed = import_distributed()
+        self._cluster: Any = None
+        # A nanny sets its workers' variables (MALLOC_TRIM_THRESHOLD_, OMP_NUM_THREADS, ...) in the
+        # environment of the process that starts it, and so of every later subprocess: close() puts
+        # ours back.
+        self._environ = dict(os.environ)
+        if local_workers is not None:
+            self._cluster = distributed.LocalCluster(
+                n_workers=local_workers,
+                threads_per_worker=1,
+                processes=True,
+                host="127.0.0.1",
+                dashboard_address=None,
+                silence_logs=logging.ERROR,
+            )
+            self.client: Any = distributed.Client(self._cluster)
+        else:
+            try:
+                self.client = distributed.Client(scheduler, timeout="20s")
+            except (OSError, TimeoutError, ValueError) as e:
+                raise InputError(f"--scheduler {scheduler}: cannot connect ({e})") from None
+
+    def describe(self) -> str:
+        workers = len(self.client.scheduler_info()["workers"])
+        return f"dask at {self.client.scheduler.address}, {workers} worker{'s' if workers != 1 else ''}"
+
+    def run(self, fn: JobFunction, jobs: Sequence[Any], traces: Mapping[str, Any]) -> Iterator[Any]:
+        distributed = import_distributed()
+        client = self.client
+        # Every worker gets each trace once; a copy on every worker survives the loss of any one.
+        scattered: dict[str, Any] = {}
+        futures: list[Any] = []
+        try:
+            for name in dict.fromkeys(job.case for job in jobs):
+                scattered[name] = client.scatter(traces[name], broadcast=True, hash=False)
+            futures = [client.submit(attempt, fn, job, scattered[job.case], pure=False) for job in jobs]
+            job_of = {future.key: job for future, job in zip(futures, jobs, strict=True)}
+            for future in distributed.as_completed(futures):
+                try:
+                    yield future.result()
+                except Exception as e:
+                    # The scheduler gave up on it (e.g. it killed worker after worker).
+                    yield Failure(job_of[future.key].key, f"{type(e).__name__}: {e}")
+        finally:
+            client.cancel([*futures, *scattered.values()])
+
+    def close(self) -> None:
+        if self._cluster is None:
+            with contextlib.suppress(Exception):
+                self.client.close()
+            return
+        # Our own scheduler logs every message it can no longer send to the departing client (after an
+        # interruption, as CRITICAL with a traceback): the cluster is going away, they say nothing.
+        logger = logging.getLogger("distributed")
+        level = logger.level
+        logger.setLevel(logging.CRITICAL + 1)
+        try:
+            with contextlib.suppress(Exception):
+                self.client.close()
+            with contextlib.suppress(Exception):
+                self._cluster.close()
+        finally:
+            logger.setLevel(level)
+            for key in set(os.environ) - set(self._environ):
+                del os.environ[key]
+            os.environ.update(self._environ)
+
+    def __enter__(self) -> DaskEngine:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def make_engine(
+    name: str = "local",
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    local_workers: int | None = None,
+) -> LocalEngine | DaskEngine:
+    """An engine by name: ``local`` (``workers`` processes) or ``dask`` (``scheduler`` or
+    ``local_workers``)."""
+    if name == "local":
+        if scheduler is not None or local_workers is not None:
+            raise InputError("--scheduler and --local-workers go with --engine dask")
+        return LocalEngine(default_workers() if workers is None else workers)
+    if name == "dask":
+        return DaskEngine(scheduler, local_workers)
+    raise InputError(f"--engine {name}: expected local or dask")
+
+
+# ---------------------------------------------------------------------------------------------------
+# Collecting: same bits everywhere
+# ---------------------------------------------------------------------------------------------------
+
+#: Called after each result with (completed, failed, total).
+Progress = Callable[[int, int, int], None]
+
+
+def admit(results: dict[JobKey, Outcome], outcome: Outcome) -> None:
+    """Add one result: its fingerprint must be that of the results so far, and a job already seen
+    must have given the same bits."""
+    if results:
+        first = next(iter(results.values()))
+        if outcome.fingerprint != first.fingerprint:
+            raise InputError(
+                f"results from different software: job {outcome.key} was computed by "
+                f"[{outcome.fingerprint}], earlier ones by [{first.fingerprint}]; install the same "
+                "sins-fw build on every worker"
+            )
+    seen = results.get(outcome.key)
+    if seen is None:
+        results[outcome.key] = outcome
+    elif not seen.same_as(outcome):
+        raise InternalError(f"job {outcome.key} gave two different results: the emulation is not repeatable")
+
+
+def collect(
+    engine: Engine,
+    jobs: Sequence[Job],
+    traces: Mapping[str, PhysicalTrace],
+    *,
+    progress: Progress | None = None,
+) -> list[Outcome]:
+    """Run the jobs on the engine; the results in the order of the jobs, whatever order they
+    completed in (a job listed twice gives one result).
+    Raises if any job failed (after all have run), naming it; closing early cancels the rest."""
+    results: dict[JobKey, Outcome] = {}
+    failures: list[Failure] = []
+    with contextlib.closing(engine.run(run_job, jobs, traces)) as stream:
+        for item in stream:
+            if isinstance(item, Failure):
+                failures.append(item)
+            else:
+                admit(results, item)
+            if progress is not None:
+                progress(len(results), len(failures), len(jobs))
+    if failures:
+        first = failures[0]
+        text = f"{len(failures)} of {len(jobs)} runs failed; the first, {first.key}: {first.error}"
+        raise InputError(text) if first.input_error else InternalError(text)
+    return [results[k] for k in dict.fromkeys(job.key for job in jobs)]
+
+
+def few_runs_warning(n: int) -> str | None:
+    """The warning for percentiles that rest on n runs, or None."""
+    if n >= FEW_RUNS:
+        return None
+    return (
+        f"percentiles over {n} run{'s' if n != 1 else ''}: p5 and p95 are then the sample's extremes "
+        f"and move a lot from one set of seeds to another; use at least {FEW_RUNS} runs (hundreds for "
+        "stable tails)"
+    )
+
+
+# ---------------------------------------------------------------------------------------------------
+# Monte Carlo over seeds
+# ---------------------------------------------------------------------------------------------------
 
 
 @dataclass
 class Distribution:
-    """Solved angles of one case over the seeds."""
+    """Results of one case over the seeds."""
 
     case: Case
     seeds: list[int]
     solved_deg: NDArray[np.float64]  # (runs, 3): pitch, roll, yaw
     truth_deg: NDArray[np.float64]  # (runs, 3)
+    final_error_deg: NDArray[np.float64]  # (runs, 6): ERRORS
+    t_s: NDArray[np.float64]  # (points,)
+    error_series_deg: NDArray[np.float64]  # (runs, points, 6)
+    outcomes: list[Outcome]  # the results themselves, by seed
+
+    @classmethod
+    def of(cls, case: Case, outcomes: Sequence[Outcome]) -> Distribution:
+        """The distribution of one case's outcomes (sorted by seed)."""
+        rows = sorted((o for o in outcomes if o.key[0] == case.name), key=lambda o: o.key[2])
+        return cls(
+            case,
+            [o.key[2] for o in rows],
+            np.array([o.solved_deg for o in rows], dtype=np.float64).reshape(-1, 3),
+            np.array([o.truth_deg for o in rows], dtype=np.float64).reshape(-1, 3),
+            np.array([o.final_error_deg for o in rows], dtype=np.float64).reshape(-1, len(ERRORS)),
+            rows[0].t_s if rows else np.zeros(0),
+            np.array([o.error_deg for o in rows], dtype=np.float64),
+            rows,
+        )
 
     @property
     def error_deg(self) -> NDArray[np.float64]:
-        """Solved minus truth, yaw wrapped to ±180°."""
-        e = self.solved_deg - self.truth_deg
-        e[:, 2] = _wrap180(e[:, 2])
-        return e
+        """Pitch, roll and yaw errors at the end (runs, 3), yaw wrapped to ±180°."""
+        return self.final_error_deg[:, :3]
+
+    def errors(self, name: str) -> NDArray[np.float64]:
+        """One error at the end over the runs (a name of :data:`ERRORS`)."""
+        return self.final_error_deg[:, ERRORS.index(name)]
 
     def percentiles(self, of: str = "solved") -> dict[str, dict[str, float]]:
-        """Percentiles of the solved angles (``of="solved"``) or of the errors (``"error"``)."""
-        data = self.solved_deg if of == "solved" else self.error_deg
-        out: dict[str, dict[str, float]] = {}
-        for i, name in enumerate(("pitch", "roll", "yaw")):
-            values = np.percentile(data[:, i], PERCENTILES)
-            out[name] = {f"p{p:g}": float(v) for p, v in zip(PERCENTILES, values, strict=True)}
-        return out
+        """Percentiles of the solved angles (``of="solved"``: pitch, roll, yaw) or of the errors at
+        the end (``"error"``: every name of :data:`ERRORS`)."""
+        data, names = (self.solved_deg, ERRORS[:3]) if of == "solved" else (self.final_error_deg, ERRORS)
+        return {name: _percentiles(data[:, i]) for i, name in enumerate(names)}
 
     def rank(self, value: float, axis: int) -> float:
-        """Percentile rank (0–100) of a value among the solved values of one angle."""
+        """Percentile rank (0–100) of a value among the solved values of one angle: the share of runs
+        below it, ties counting half."""
         col = self.solved_deg[:, axis]
         return float(100.0 * (np.sum(col < value) + 0.5 * np.sum(col == value)) / len(col))
+
+
+def _percentiles(x: NDArray[np.float64]) -> dict[str, float]:
+    values = np.percentile(x, PERCENTILES)
+    return {f"p{p:g}": float(v) for p, v in zip(PERCENTILES, values, strict=True)}
+
+
+def jobs_for(
+    cases: Sequence[Case], seeds: Sequence[int], profile: Profile, points: Sequence[tuple[str, ...]] = ((),)
+) -> list[Job]:
+    """Every case × grid point × seed as jobs (the profile's overrides carried along)."""
+    return [
+        Job(c.name, seed, profile.source, profile.text, profile.overrides, point)
+        for c in cases
+        for point in points
+        for seed in seeds
+    ]
 
 
 def run_cases(
@@ -117,36 +573,18 @@ def run_cases(
     overrides: Sequence[str] = (),
     workers: int = 1,
     first_seed: int = 1,
-    progress: Callable[[int, int], None] | None = None,
+    engine: Engine | None = None,
+    progress: Progress | None = None,
 ) -> dict[str, Distribution]:
-    """Run every case with seeds first_seed … first_seed+runs−1 in ``workers`` processes. The error
-    model is the profile's (`errors.preset`); only `errors.seed` changes between runs."""
+    """Run every case with seeds first_seed … first_seed+runs−1 on ``engine`` (default: ``workers``
+    local processes). The error model is the profile's (`errors.preset`); only `errors.seed` changes
+    between runs."""
     prof = profile if isinstance(profile, Profile) else load_profile(profile)
     prof = prof.with_overrides(*overrides) if overrides else prof
-    all_overrides = (*prof.overrides,)
-    jobs = [(c, prof.source, prof.text, all_overrides, first_seed + i) for c in cases for i in range(runs)]
-    results: list[Result] = []
-    if workers <= 1:
-        for n, job in enumerate(jobs, 1):
-            results.append(_one(job))
-            if progress:
-                progress(n, len(jobs))
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            for n, r in enumerate(pool.map(_one, jobs), 1):
-                results.append(r)
-                if progress:
-                    progress(n, len(jobs))
-    out: dict[str, Distribution] = {}
-    for c in cases:
-        rows = sorted((seed, solved, truth) for name, seed, solved, truth in results if name == c.name)
-        out[c.name] = Distribution(
-            c,
-            [r[0] for r in rows],
-            np.array([r[1] for r in rows], dtype=np.float64),
-            np.array([r[2] for r in rows], dtype=np.float64),
-        )
-    return out
+    jobs = jobs_for(cases, range(first_seed, first_seed + runs), prof)
+    traces = {c.name: c.trace() for c in cases}
+    outcomes = collect(engine or LocalEngine(workers), jobs, traces, progress=progress)
+    return {c.name: Distribution.of(c, outcomes) for c in cases}
 
 
 def published_cases() -> list[Case]:

@@ -32,12 +32,27 @@ from sins_fw.cli import (
     report,
     run,
     stop,
+    sweep,
     synth,
 )
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated
 
 #: The subcommands, in the order `--help` lists them.
-COMMANDS = (demo, run, board, budget, parity, replay, report, synth, importer, presets, montecarlo, bench)
+COMMANDS = (
+    demo,
+    run,
+    board,
+    budget,
+    parity,
+    replay,
+    report,
+    synth,
+    importer,
+    presets,
+    montecarlo,
+    sweep,
+    bench,
+)
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_BUG = 0, 1, 2, 3
 #: 128 + the signal number, as a shell reports a process its signal ended.

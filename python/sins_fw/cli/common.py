@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
+import sys
 from collections import Counter
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -95,3 +97,76 @@ def emit(args: argparse.Namespace, report: dict[str, Any], text: str) -> None:
         print(json.dumps(_jsonable(report), indent=None, sort_keys=False, allow_nan=False))
     else:
         print(text)
+
+
+def add_engine_options(p: argparse.ArgumentParser) -> None:
+    """Where the runs execute: `--engine local|dask`, `--workers`, `--scheduler`, `--local-workers`."""
+    from sins_fw.montecarlo import default_workers
+
+    g = p.add_argument_group("engine (where the runs execute; the results are the same bits on any)")
+    g.add_argument(
+        "--engine",
+        choices=("local", "dask"),
+        default="local",
+        help="local: processes on this machine (default); dask: a Dask distributed cluster "
+        '(needs pip install "sins-fw[dask]")',
+    )
+    g.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help=f"local engine: processes (default: the cores, at most 8; here {default_workers()})",
+    )
+    g.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="tcp://HOST:PORT",
+        help="dask engine: an existing cluster's scheduler",
+    )
+    g.add_argument(
+        "--local-workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="dask engine: start a cluster of N worker processes on this machine (bound to 127.0.0.1)",
+    )
+
+
+def engine_from_args(args: argparse.Namespace) -> Any:
+    """The engine the options ask for (a context manager; closing it stops a cluster it started)."""
+    from sins_fw.errors import InputError
+    from sins_fw.montecarlo import make_engine
+
+    if args.engine == "dask" and args.workers is not None:
+        raise InputError(
+            "--workers is the local engine's; with --engine dask the cluster's workers run the jobs"
+        )
+    return make_engine(
+        args.engine, workers=args.workers, scheduler=args.scheduler, local_workers=args.local_workers
+    )
+
+
+@contextlib.contextmanager
+def run_progress(total: int, show: bool) -> Iterator[Callable[[int, int, int], None]]:
+    """A progress bar on stderr (when ``show``) with completed and failed counts and an ETA; yields
+    the callback the Monte Carlo collector calls. An interruption says how far the runs got."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, disable=not show, unit="run", file=sys.stderr, dynamic_ncols=True)
+    counts = [0, 0]
+
+    def update(done: int, failed: int, _total: int) -> None:
+        counts[:] = [done, failed]
+        bar.set_postfix(completed=done, failed=failed, refresh=False)
+        bar.update(done + failed - bar.n)
+
+    try:
+        yield update
+    except KeyboardInterrupt as e:
+        raise type(e)(
+            f"{counts[0]} of {total} runs completed ({counts[1]} failed); the others were cancelled "
+            "and nothing was written"
+        ) from None
+    finally:
+        bar.close()

@@ -9,37 +9,67 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 from typing import Any
-
-from tqdm import tqdm
 
 from sins_fw import montecarlo as mc
 from sins_fw import synth
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, exit_epilog, profile_from_args
+from sins_fw.cli.common import (
+    add_engine_options,
+    add_json_option,
+    add_profile_options,
+    emit,
+    engine_from_args,
+    exit_epilog,
+    profile_from_args,
+    run_progress,
+)
 from sins_fw.errors import InputError
+
+#: What the numbers mean, shown by `--help`.
+EXPLAINED = """\
+error: the board's attitude estimate against the scenario's truth at the last attitude step, in
+  degrees, after the alignment every report uses (a board that starts from Q = [1, 0, 0, 0] is
+  compared relative to the attitude it was switched on at). pitch, roll and yaw are the differences
+  of the Euler angles (yaw wrapped to ±180°); total is the angle of the rotation between estimate and
+  truth, heading its part about the vertical, inclination its tilt part (the BROAD definitions).
+percentiles: p5 … p95 over the runs; with fewer than 20 runs p5 and p95 are the sample's extremes
+  (a warning says so).
+rank (published only): where the published value falls among the emulated solved angles, in percent
+  of the runs below it (ties count half): 50 % is the median run, 2 % or 98 % means the published value
+  is outside almost every emulated realisation.
+--out writes one row per run (Parquet, HDF5 or CSV by suffix, always with a CSV copy) and the
+percentiles beside it; --plot draws the error over time as percentile bands and the errors at the end
+as histograms."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "montecarlo",
         help="attitude-error distributions over seeded sensor-error realisations",
-        epilog=exit_epilog(None),
+        description="Attitude-error distributions over seeded sensor-error realisations: the same "
+        "scenario and board, one run per seed of the error model.",
+        epilog=EXPLAINED + "\n\n" + exit_epilog(None),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("scenario", help=f"`published` or a synth scenario: {', '.join(synth.SCENARIOS)}")
     p.add_argument("--runs", type=int, default=20, help="realisations per case (default 20)")
-    p.add_argument("--workers", type=int, default=mc.default_workers(), help="processes (default: cores)")
     p.add_argument("--first-seed", type=int, default=1, help="seed of the first realisation (default 1)")
     p.add_argument("--preset", default=None, help="scenario preset (indexing-table: sweep, pm30, yaw25.8)")
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE", help="scenario parameter")
     p.add_argument(
         "--errors", default="adis16407", help="error-model preset (errors.preset; default adis16407)"
     )
+    p.add_argument("--out", default=None, metavar="FILE", help="per-run table: .parquet, .h5 or .csv")
+    p.add_argument("--plot", default=None, metavar="PNG", help="error bands over time and histograms")
     add_profile_options(p)
+    add_engine_options(p)
     add_json_option(p)
     p.set_defaults(func=run)
 
 
-def _params(items: list[str]) -> dict[str, Any]:
+def scenario_params(items: list[str]) -> dict[str, Any]:
+    """`--param key=value` options as a dict."""
     out: dict[str, Any] = {}
     for item in items:
         key, sep, value = item.partition("=")
@@ -49,51 +79,57 @@ def _params(items: list[str]) -> dict[str, Any]:
     return out
 
 
+def scenario_case(name: str, preset: str | None, params: list[str]) -> mc.Case:
+    """A synth scenario as a Monte Carlo case (a clear error for an unknown one)."""
+    if name not in synth.SCENARIOS:
+        raise InputError(f"unknown scenario `{name}`; known: published, {', '.join(synth.SCENARIOS)}")
+    values = synth.resolve(name, preset, **scenario_params(params))
+    return mc.Case(name, name, None, tuple(values.items()), (0.0, 0.0, 0.0))
+
+
+def check_plot(path: str | None) -> None:
+    if path is not None and Path(path).suffix.lower() != ".png":
+        raise InputError(f"--plot {path}: expected a .png file")
+    if path is not None and Path(path).is_dir():
+        raise InputError(f"--plot {path}: is a folder; expected a file name")
+
+
 def run(args: argparse.Namespace) -> int:
+    from sins_fw import sweep
+
     if args.runs < 1:
         raise InputError(f"--runs {args.runs}: expected at least 1")
-    if args.workers < 1:
-        raise InputError(f"--workers {args.workers}: expected at least 1")
+    if args.out is not None:
+        sweep.check_output(args.out)
+    check_plot(args.plot)
     profile = profile_from_args(args).with_overrides(f"errors.preset={args.errors}")
     if args.scenario == "published":
         cases = mc.published_cases()
     else:
-        if args.scenario not in synth.SCENARIOS:
-            raise InputError(
-                f"unknown scenario `{args.scenario}`; known: published, {', '.join(synth.SCENARIOS)}"
-            )
-        params = synth.resolve(args.scenario, args.preset, **_params(args.param))
-        cases = [mc.Case(args.scenario, args.scenario, None, tuple(params.items()), (0.0, 0.0, 0.0))]
+        cases = [scenario_case(args.scenario, args.preset, args.param)]
     show = sys.stderr.isatty() and not args.json
-    bar = tqdm(total=len(cases) * args.runs, disable=not show, unit="run", file=sys.stderr)
-
-    def progress(done: int, total: int) -> None:
-        bar.update(done - bar.n)
-
-    try:
+    with engine_from_args(args) as engine, run_progress(len(cases) * args.runs, show) as progress:
         dists = mc.run_cases(
-            cases,
-            args.runs,
-            profile=profile,
-            workers=args.workers,
-            first_seed=args.first_seed,
-            progress=progress,
+            cases, args.runs, profile=profile, first_seed=args.first_seed, engine=engine, progress=progress
         )
-    finally:
-        bar.close()
+        where = engine.describe()
+    warning = mc.few_runs_warning(args.runs)
     report: dict[str, Any] = {
         "scenario": args.scenario,
         "runs": args.runs,
         "errors_preset": args.errors,
         "seeds": [args.first_seed, args.first_seed + args.runs - 1],
+        "engine": where,
         "percentiles": list(mc.PERCENTILES),
+        "warnings": [warning] if warning else [],
         "cases": {
             name: {"solved_deg": d.percentiles("solved"), "error_deg": d.percentiles("error")}
             for name, d in dists.items()
         },
     }
     lines = [
-        f"{args.scenario}: {args.runs} realisations of `{args.errors}` per case (seeds {report['seeds']})"
+        f"{args.scenario}: {args.runs} realisations of `{args.errors}` per case "
+        f"(seeds {report['seeds']}; {where})"
     ]
     if args.scenario == "published":
         rows = mc.published_report(dists)
@@ -108,8 +144,21 @@ def run(args: argparse.Namespace) -> int:
     else:
         for name, d in dists.items():
             for angle, p in d.percentiles("error").items():
+                sign = "+" if angle in mc.ERRORS[:3] else ""  # total, heading, inclination are ≥ 0
                 lines.append(
-                    f"{name} {angle:<6} error °: p5 {p['p5']:+.4f}  p50 {p['p50']:+.4f}  p95 {p['p95']:+.4f}"
+                    f"{name} {angle:<11} error at the end °: "
+                    f"p5 {p['p5']:{sign}.4f}  p50 {p['p50']:{sign}.4f}  p95 {p['p95']:{sign}.4f}"
                 )
+    outcomes = [o for d in dists.values() for o in d.outcomes]
+    written = []
+    if args.out is not None:
+        written += sweep.write_tables(args.out, outcomes)
+    if args.plot is not None:
+        title = f"sins-fw montecarlo {args.scenario}: {args.runs} realisations of `{args.errors}` per case"
+        written.append(sweep.plot_bands(dists, args.plot, title))
+    report["written"] = [str(p) for p in written]
+    lines += [f"wrote {p}" for p in written]
+    if warning:
+        print(f"sins-fw: warning: {warning}", file=sys.stderr)
     emit(args, report, "\n".join(lines))
     return 0

@@ -1,0 +1,140 @@
+"""Monte Carlo realisations per second on the local and Dask engines, 1 and 2 workers, in one run,
+and the per-task overhead of each engine (an empty job). Target: ≥ 1.8× from one worker to two.
+
+Each configuration runs the same seeded realisations (``static`` scenario, ``errors.preset=adis16407``,
+the reference profile); the trace is generated once. The engines are started (and warmed with one
+round) before timing: local 1 runs in this process, local 2 starts its process pool inside each
+timed round (as every ``sins-fw montecarlo`` does), dask N is a LocalCluster of N single-threaded
+worker processes bound to 127.0.0.1 that stays up. The configurations are timed in turns for
+``--rounds`` rounds, so that a slow spell of a shared machine falls on all of them: figures are
+medians. The load average before and after is recorded: on a loaded machine two workers cannot
+scale by two.
+
+    python benchmarks/montecarlo_engines.py [--duration-s 240] [--runs 32] [--rounds 3] [--output F]
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import platform
+import statistics
+import subprocess
+import time
+from pathlib import Path
+from typing import Any
+
+from sins_fw import montecarlo as mc
+from sins_fw.atomic import write_text
+from sins_fw.profile import load_profile
+
+HERE = Path(__file__).resolve().parent
+TARGET_SCALING = 1.8
+
+
+def empty_job(job: mc.Job, trace: Any) -> None:
+    """A job that does nothing: what is left is the engine's own cost per task."""
+
+
+def cpu_model() -> str:
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown"
+
+
+def commit() -> str:
+    r = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False)
+    return r.stdout.strip() or "unknown"
+
+
+def timed(engine: Any, fn: Any, jobs: list[mc.Job], traces: dict[str, Any]) -> float:
+    t0 = time.perf_counter()
+    for item in engine.run(fn, jobs, traces):
+        if isinstance(item, mc.Failure):
+            raise RuntimeError(f"{item.key}: {item.error}")
+    return time.perf_counter() - t0
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--duration-s", type=float, default=240.0, help="trace length per realisation")
+    ap.add_argument("--runs", type=int, default=32, help="realisations per round")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--empty", type=int, default=400, help="empty jobs for the overhead")
+    ap.add_argument("--output", type=Path, default=HERE / "montecarlo_engines.md")
+    args = ap.parse_args()
+
+    load_before = os.getloadavg()
+    case = mc.Case("static", "static", None, (("duration_s", args.duration_s),), (0.0, 0.0, 0.0))
+    traces = {case.name: case.trace()}
+    profile = load_profile("reference", ["errors.preset=adis16407"])
+    jobs = mc.jobs_for([case], range(1, args.runs + 1), profile)
+    empties = mc.jobs_for([case], range(1, args.empty + 1), profile)
+    engines = {
+        "local 1": mc.LocalEngine(1),
+        "local 2": mc.LocalEngine(2),
+        "dask 1": mc.DaskEngine(local_workers=1),
+        "dask 2": mc.DaskEngine(local_workers=2),
+    }
+    walls: dict[str, list[float]] = {name: [] for name in engines}
+    overhead: dict[str, float] = {}
+    try:
+        for engine in engines.values():  # warm-up: imports, the scattered trace, the workers' caches
+            timed(engine, mc.run_job, jobs[:4], traces)
+        for _ in range(args.rounds):
+            for name, engine in engines.items():
+                walls[name].append(timed(engine, mc.run_job, jobs, traces))
+        for name in ("local 2", "dask 1", "dask 2"):
+            overhead[name] = timed(engines[name], empty_job, empties, traces) / len(empties)
+    finally:
+        for engine in engines.values():
+            engine.close()
+    load_after = os.getloadavg()
+
+    rate = {name: args.runs / statistics.median(w) for name, w in walls.items()}
+    scaling = {kind: rate[f"{kind} 2"] / rate[f"{kind} 1"] for kind in ("local", "dask")}
+    lines = [
+        "# Monte Carlo engines: realisations per second, 1 and 2 workers",
+        "",
+        f"`python benchmarks/montecarlo_engines.py --duration-s {args.duration_s:g} --runs {args.runs} "
+        f"--rounds {args.rounds} --empty {args.empty}` at {commit()}, "
+        f"{datetime.date.today().isoformat()}, on {cpu_model()} ({os.cpu_count()} cores), "
+        f"Python {platform.python_version()}.",
+        "",
+        f"Load average (1, 5, 15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; "
+        f"after: {', '.join(f'{x:.2f}' for x in load_after)}. On {os.cpu_count()} cores a load above "
+        f"{os.cpu_count()} means other processes competed for them and two workers cannot double the rate.",
+        "",
+        f"Each realisation: `static` {args.duration_s:g} s, `errors.preset=adis16407`, reference profile; "
+        f"{args.runs} realisations per round, medians of {args.rounds} rounds taken in turns.",
+        "",
+        "| engine | workers | wall per round (median), s | rounds, s | realisations/s |",
+        "|---|---:|---:|---|---:|",
+    ]
+    for name, w in walls.items():
+        kind, n = name.split()
+        samples = ", ".join(f"{x:.2f}" for x in w)
+        lines.append(f"| {kind} | {n} | {statistics.median(w):.3f} | {samples} | {rate[name]:.1f} |")
+    lines += [
+        "",
+        "| engine | scaling 1 → 2 workers | target | met |",
+        "|---|---:|---:|---|",
+    ]
+    for kind, s in scaling.items():
+        lines.append(f"| {kind} | {s:.2f}× | {TARGET_SCALING}× | {'yes' if s >= TARGET_SCALING else 'no'} |")
+    lines += [
+        "",
+        f"Per-task overhead (an empty job, {args.empty} of them; wall time per job, workers sharing them):",
+        "",
+        *(f"- {name}: {1e3 * t:.2f} ms" for name, t in overhead.items()),
+        "",
+    ]
+    text = "\n".join(lines)
+    print(text)
+    write_text(args.output, text)
+
+
+if __name__ == "__main__":
+    main()
