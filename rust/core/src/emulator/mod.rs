@@ -13,20 +13,16 @@
 
 pub mod bench;
 mod board;
-mod glitch;
-pub mod input;
-mod output;
-pub mod sensor;
 
+pub use crate::board::{input, sensor};
+pub use crate::board::{FrameSummary, InputFeed, Reach, Sensor, StreamStimulus, StreamedDevice};
+pub use crate::output::{BudgetRow, CycleRow, Output, ReadRow};
 pub use board::BoardReport;
-pub use input::{InputFeed, StreamStimulus};
-pub use output::{BudgetRow, CycleRow, Output, ReadRow};
-pub use sensor::{FrameSummary, Reach, Sensor, StreamedDevice};
 
 use crate::bus::link::SpiLink;
 use crate::device::error_model::ErrorModel;
 use crate::device::replay::{ReplaySlave, RECORDED_WORDS};
-use glitch::Glitches;
+use crate::board::glitch::{self, Glitches};
 
 use crate::device::{Adis16407, Physical};
 use crate::dsp::clocks::DspClocks;
