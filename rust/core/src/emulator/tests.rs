@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::bus::link::LinkRecord;
+use crate::profile::Schedule;
 use crate::time::{s_to_ps, PS_PER_S};
 
 pub(super) fn costs() -> CostTable {
@@ -214,7 +215,7 @@ fn digest_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool, polled
     let profile = Profile::from_toml("", "pinned", &ov)?;
     let run = || -> Result<u64> {
         let mut emu = Emulator::<T>::new(&profile, &costs())?;
-        emu.link.set_polled_fast_path(polled_fast_path);
+        emu.board.link.set_polled_fast_path(polled_fast_path);
         if bus_log {
             emu.enable_bus_log();
         }
@@ -402,7 +403,7 @@ fn stages_that_do_not_run_end_where_the_schedule_did() {
     emu.run().unwrap();
     let out = emu.take_output();
     // Picoseconds back to the cycle (exact: a SYSCLKOUT period is over 1 ps, see `cycles_per_cycle_of`).
-    let cycle = |ps: Ps| emu.sysclk.ps_to_cycles_ceil(ps);
+    let cycle = |ps: Ps| emu.board.sysclk().ps_to_cycles_ceil(ps);
     let solved: std::collections::BTreeSet<Ps> = out.cycles.iter().map(|r| r.t_ps).collect();
     let (mut idle, mut aligning, mut solving) = (0, 0, 0);
     for b in &out.budget {
@@ -448,7 +449,7 @@ fn budget_times_taken_over_equal_their_conversions() {
         emu.run().unwrap();
         let log = emu.stop_bus_log();
         let out = emu.take_output();
-        let (period, sysclk) = (emu.timer.period_cycles(), emu.sysclk);
+        let (period, sysclk) = (emu.board.timer.period_cycles(), emu.board.sysclk());
         let rises: Vec<Ps> = log
             .iter()
             .filter_map(|r| match r {
