@@ -65,6 +65,41 @@ fn half_step_schedule_integrates_a_constant_rate() {
     assert!((last.euler_deg[2] - want).abs() < 1e-9, "yaw {} want {want}", last.euler_deg[2]);
 }
 
+/// The rotation vector with 1, 2 and 3 coning samples runs under every schedule (it failed for 1 and
+/// 3 with "3 rate samples, the RotationVector update takes 2/4": the schedule always gave three): a
+/// constant 10 °/s about z for 2.4 s, the updates the schedule makes, and the yaw they integrate.
+#[test]
+fn rotation_vector_runs_with_every_coning_order_and_schedule() {
+    for n in 1..=3u32 {
+        for schedule in [Schedule::HalfStep, Schedule::Endpoint, Schedule::BackToBack] {
+            let mut p = reference_f64();
+            p.firmware.algorithm = crate::profile::Algorithm::RotationVector;
+            p.firmware.coning_samples = n;
+            p.firmware.schedule = schedule;
+            if schedule == Schedule::BackToBack {
+                // n + 1 bursts of ~0.4 ms in a tick.
+                p.timer.period_us = 8000.0;
+            }
+            let out = run::<f64>(&p, 2.4, [0.0, 0.0, 10.0]);
+            let ticks = out.budget.len() as u64;
+            let bursts = if schedule == Schedule::BackToBack { n as u64 + 1 } else { 1 };
+            assert_eq!(out.reads.len() as u64, ticks * bursts, "{n} {schedule:?}");
+            // Half-step: an update every n ticks from tick n + 1; otherwise one per tick (endpoint from
+            // the second tick).
+            let updates = match schedule {
+                Schedule::HalfStep => (ticks - 1) / n as u64,
+                Schedule::Endpoint => ticks - 1,
+                Schedule::BackToBack => ticks,
+            };
+            assert_eq!(out.cycles.len() as u64, updates, "{n} {schedule:?}");
+            let step_s = crate::firmware::update_period_s(&p);
+            let want = updates as f64 * step_s * 10.0;
+            let yaw = out.cycles.last().unwrap().euler_deg[2];
+            assert!((yaw - want).abs() < 1e-9, "{n} {schedule:?}: yaw {yaw} want {want}");
+        }
+    }
+}
+
 #[test]
 fn sample_age_varies_and_is_bounded_by_the_sample_period() {
     let out = run::<f64>(&reference_f64(), 2.0, [0.0; 3]);
