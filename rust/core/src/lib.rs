@@ -11,6 +11,7 @@
 //! - [`time`] and [`events`]: integer virtual time and the event log shared by every model.
 #![forbid(unsafe_code)]
 
+pub mod board;
 pub mod bus;
 pub mod device;
 pub mod dsp;
@@ -19,6 +20,7 @@ pub mod error;
 pub mod events;
 pub mod firmware;
 pub mod numerics;
+pub mod output;
 pub mod profile;
 pub mod time;
 pub mod timing;

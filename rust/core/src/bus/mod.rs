@@ -1,12 +1,19 @@
-//! The SPI link between the F28335 (master) and the ADIS16407 (slave).
+//! The links between the MCU and its devices, one kind per file: SPI (here, `link.rs`, with the
+//! transaction and bit levels), I²C (`i2c.rs`) and UART (`uart.rs`), the last two declared for the
+//! boards that need them and not emulated yet. A device implements its kind's narrow trait
+//! ([`SpiSlave`], [`i2c::I2cTarget`], [`uart::UartPeer`]); which device sits on which link is the
+//! profile's `[[board.devices]]`.
 //!
+//! The SPI link between the F28335 (master) and the ADIS16407 (slave):
 //! The bus computes, from the master's configuration, what the wires show in each frame and hands the
 //! slave a [`FrameTiming`]; the slave answers with the word it shifts out. Two levels must agree:
 //! a transaction level (one computation per frame, the fast path) and a bit level (every SCLK edge).
 
 pub mod bitlevel;
+pub mod i2c;
 pub mod link;
 pub mod transaction;
+pub mod uart;
 
 pub use crate::profile::BusLevel;
 pub use link::{FrameRecord, LinkRecord, SpiLink};

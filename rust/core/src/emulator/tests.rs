@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::bus::link::LinkRecord;
+use crate::profile::Schedule;
 use crate::time::{s_to_ps, PS_PER_S};
 
 pub(super) fn costs() -> CostTable {
@@ -62,6 +63,41 @@ fn half_step_schedule_integrates_a_constant_rate() {
     // 1249 steps × 8 ms × 10 °/s.
     let want = 1249.0 * 0.008 * 10.0;
     assert!((last.euler_deg[2] - want).abs() < 1e-9, "yaw {} want {want}", last.euler_deg[2]);
+}
+
+/// The rotation vector with 1, 2 and 3 coning samples runs under every schedule (it failed for 1 and
+/// 3 with "3 rate samples, the RotationVector update takes 2/4": the schedule always gave three): a
+/// constant 10 °/s about z for 2.4 s, the updates the schedule makes, and the yaw they integrate.
+#[test]
+fn rotation_vector_runs_with_every_coning_order_and_schedule() {
+    for n in 1..=3u32 {
+        for schedule in [Schedule::HalfStep, Schedule::Endpoint, Schedule::BackToBack] {
+            let mut p = reference_f64();
+            p.firmware.algorithm = crate::profile::Algorithm::RotationVector;
+            p.firmware.coning_samples = n;
+            p.firmware.schedule = schedule;
+            if schedule == Schedule::BackToBack {
+                // n + 1 bursts of ~0.4 ms in a tick.
+                p.timer.period_us = 8000.0;
+            }
+            let out = run::<f64>(&p, 2.4, [0.0, 0.0, 10.0]);
+            let ticks = out.budget.len() as u64;
+            let bursts = if schedule == Schedule::BackToBack { n as u64 + 1 } else { 1 };
+            assert_eq!(out.reads.len() as u64, ticks * bursts, "{n} {schedule:?}");
+            // Half-step: an update every n ticks from tick n + 1; otherwise one per tick (endpoint from
+            // the second tick).
+            let updates = match schedule {
+                Schedule::HalfStep => (ticks - 1) / n as u64,
+                Schedule::Endpoint => ticks - 1,
+                Schedule::BackToBack => ticks,
+            };
+            assert_eq!(out.cycles.len() as u64, updates, "{n} {schedule:?}");
+            let step_s = crate::firmware::update_period_s(&p);
+            let want = updates as f64 * step_s * 10.0;
+            let yaw = out.cycles.last().unwrap().euler_deg[2];
+            assert!((yaw - want).abs() < 1e-9, "{n} {schedule:?}: yaw {yaw} want {want}");
+        }
+    }
 }
 
 #[test]
@@ -214,7 +250,7 @@ fn digest_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool, polled
     let profile = Profile::from_toml("", "pinned", &ov)?;
     let run = || -> Result<u64> {
         let mut emu = Emulator::<T>::new(&profile, &costs())?;
-        emu.link.set_polled_fast_path(polled_fast_path);
+        emu.board.link.set_polled_fast_path(polled_fast_path);
         if bus_log {
             emu.enable_bus_log();
         }
@@ -402,7 +438,7 @@ fn stages_that_do_not_run_end_where_the_schedule_did() {
     emu.run().unwrap();
     let out = emu.take_output();
     // Picoseconds back to the cycle (exact: a SYSCLKOUT period is over 1 ps, see `cycles_per_cycle_of`).
-    let cycle = |ps: Ps| emu.sysclk.ps_to_cycles_ceil(ps);
+    let cycle = |ps: Ps| emu.board.sysclk().ps_to_cycles_ceil(ps);
     let solved: std::collections::BTreeSet<Ps> = out.cycles.iter().map(|r| r.t_ps).collect();
     let (mut idle, mut aligning, mut solving) = (0, 0, 0);
     for b in &out.budget {
@@ -448,7 +484,7 @@ fn budget_times_taken_over_equal_their_conversions() {
         emu.run().unwrap();
         let log = emu.stop_bus_log();
         let out = emu.take_output();
-        let (period, sysclk) = (emu.timer.period_cycles(), emu.sysclk);
+        let (period, sysclk) = (emu.board.timer.period_cycles(), emu.board.sysclk());
         let rises: Vec<Ps> = log
             .iter()
             .filter_map(|r| match r {
@@ -534,7 +570,7 @@ fn a_state_out_of_range_is_an_error_event_at_its_first_step() {
     assert_eq!(emu.run().unwrap(), Progress::NeedInput);
     let before = emu.take_output();
     assert!(before.events.is_empty() && !before.cycles.is_empty());
-    emu.fw.set_attitude([0.0; 4]);
+    emu.fw.firmware_mut().set_attitude([0.0; 4]);
     emu.push_input(&t[half..], p[half..].to_vec()).unwrap();
     emu.end_input();
     assert_eq!(emu.run().unwrap(), Progress::Finished);

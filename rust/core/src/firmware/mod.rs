@@ -12,19 +12,24 @@
 #[cfg(test)]
 mod acceptance;
 mod align;
+pub mod attitude;
 mod decode;
 mod euler;
+pub mod isr;
 mod nav;
 mod quat;
 mod rotvec;
+pub mod schedule;
 mod state;
+pub mod state_check;
 
 pub use align::{level_attitude, LevelAligner};
+pub use attitude::{attitude_update, samples_per_update, AttitudeUpdate, StepInputs};
 pub use decode::{gyro_lsb_dps, DecodeReport, Decoded, Decoder, ACCEL_LSB_G, PUBLISHED_GYRO_LSB_DPS};
 pub use euler::{euler_to_quat, EulerAngles, EulerExtractor};
 pub use nav::{EarthModel, EarthRates, NavState, SOMIGLIANA_K};
 pub use quat::{body_rate_nav, dcm, midpoint, normalise, quat_mul, Rk4};
-pub use rotvec::{coning_vector, increments, quat_from_rotvec};
+pub use rotvec::{coning_vector, increments, quat_from_rotvec, RotationVector};
 pub use state::{update_period_s, Firmware};
 
 use crate::numerics::{QClass, Scalar};

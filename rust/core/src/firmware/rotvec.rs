@@ -9,10 +9,83 @@
 //!
 //! and Q ← Q ⊗ q(Φ), q(Φ) = [cos(φ/2), (Φ/φ) sin(φ/2)].
 
-use super::{lit, Quat, Vec3};
+use super::attitude::{wrong_count, AttitudeUpdate, StepInputs};
+use super::quat::{normalise, quat_mul};
+use super::{lit, Mat3, Quat, Vec3};
 use crate::numerics::{QClass, Scalar};
 use crate::profile::IncrementRule;
 use crate::{Error, Result};
+
+/// The rotation-vector update with N coning samples over a step of T seconds: N+1 rate samples
+/// t, t+T/N, …, t+T per update.
+#[derive(Debug, Clone)]
+pub struct RotationVector<T> {
+    coning_samples: usize,
+    increment_rule: IncrementRule,
+    /// The step T as the firmware holds it (the earth-rate correction's ζ = ω_in·T).
+    t1: T,
+    /// The sub-interval h = T/N.
+    sub_interval: T,
+    /// Δθₖ₋₁, the previous step's last increment (the 1-sample correction).
+    previous_increment: Option<Vec3<T>>,
+}
+
+impl<T: Scalar> RotationVector<T> {
+    /// The update with `coning_samples` (1, 2 or 3) sub-intervals of a `step_s` step.
+    pub fn new(coning_samples: usize, increment_rule: IncrementRule, step_s: f64) -> Self {
+        RotationVector {
+            coning_samples,
+            increment_rule,
+            t1: lit(step_s),
+            sub_interval: lit(step_s / coning_samples as f64),
+            previous_increment: None,
+        }
+    }
+
+    /// The update from angle increments (rad) over the N sub-intervals: Q ← q(−ζ) ⊗ Q ⊗ q(Φ). The
+    /// earth-rate correction is the navigation frame's own rotation over the step, ζ = ω_in^n·T,
+    /// applied on the navigation side (C_{n(k)}^{n(k+1)} ≈ I − [ζ×]).
+    pub fn step_increments(&mut self, q: &mut Quat<T>, dtheta: &[Vec3<T>], nav_rate: Option<Vec3<T>>) -> Result<()> {
+        if dtheta.len() != self.coning_samples {
+            return Err(Error::Config(format!(
+                "rotation vector: {} angle increments, firmware.coning_samples = {}",
+                dtheta.len(),
+                self.coning_samples
+            )));
+        }
+        let previous = if self.coning_samples == 1 { self.previous_increment.as_ref() } else { None };
+        let phi = coning_vector(dtheta, previous)?;
+        self.previous_increment = Some(dtheta[dtheta.len() - 1]);
+        let mut next = quat_mul(q, &quat_from_rotvec(&phi));
+        if let Some(w_in) = nav_rate {
+            let zeta = w_in.map(|w| (-(w * self.t1)).to_class(QClass::Rate));
+            next = quat_mul(&quat_from_rotvec(&zeta), &next);
+        }
+        normalise(&mut next);
+        *q = next;
+        Ok(())
+    }
+}
+
+impl<T: Scalar> AttitudeUpdate<T> for RotationVector<T> {
+    fn samples_per_update(&self) -> usize {
+        self.coning_samples + 1
+    }
+
+    fn step(&mut self, q: &mut Quat<T>, _c_bn: &Mat3<T>, inputs: &StepInputs<'_, T>) -> Result<()> {
+        let takes = self.samples_per_update();
+        if inputs.rates.len() != takes {
+            return Err(wrong_count(inputs.rates.len(), takes, "RotationVector"));
+        }
+        let mut d = [[lit::<T>(0.0); 3]; 3];
+        increments(self.increment_rule, inputs.rates, self.sub_interval, &mut d)?;
+        self.step_increments(q, &d[..self.coning_samples], inputs.nav_rate)
+    }
+
+    fn restart(&mut self) {
+        self.previous_increment = None;
+    }
+}
 
 /// Below this φ² (rad²) q(Φ) uses its series (cos φ/2 = 1 − φ²/8 + φ⁴/384, sin(φ/2)/φ =
 /// ½ − φ²/48 + φ⁴/3840; truncation ≤ φ⁶/46080 = 2e-23 here), which avoids 0/0 and a sqrt.

@@ -4,39 +4,36 @@
 //! allocates.
 
 use super::align::{level_attitude, LevelAligner};
+use super::attitude::{attitude_update, samples_per_update, AttitudeUpdate, StepInputs};
 use super::decode::{Decoded, Decoder};
 use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
-use super::quat::{body_rate_nav, dcm, normalise, quat_mul, Rk4};
-use super::rotvec::{coning_vector, increments, quat_from_rotvec};
+use super::quat::dcm;
 use super::{lit, Mat3, Quat, Vec3};
 use crate::numerics::{QClass, Scalar};
-use crate::profile::{Algorithm, IncrementRule, InitialAttitude, Profile, Schedule};
+use crate::profile::{InitialAttitude, Profile, Schedule};
 use crate::{Error, Result};
 
-/// The attitude update period T of a profile, s: two timer ticks for `half-step` (rates at t, t+T/2,
-/// t+T from a read every tick), one tick otherwise.
+/// The attitude update period T of a profile, s: for `half-step` one timer tick per interval between
+/// the update's samples (a read every tick; RK4's t, t+T/2, t+T span two ticks), one tick otherwise.
 pub fn update_period_s(profile: &Profile) -> f64 {
     let tick = profile.timer.period_us * 1e-6;
     match profile.firmware.schedule {
-        Schedule::HalfStep => 2.0 * tick,
+        Schedule::HalfStep => (samples_per_update(&profile.firmware) - 1) as f64 * tick,
         Schedule::Endpoint | Schedule::BackToBack => tick,
     }
 }
 
 /// The firmware's variables and constants in the numeric type `T`.
-#[derive(Debug, Clone)]
-pub struct Firmware<T> {
-    algorithm: Algorithm,
-    coning_samples: usize,
-    increment_rule: IncrementRule,
+#[derive(Debug)]
+pub struct Firmware<T: Scalar> {
+    /// The attitude update of `firmware.algorithm`.
+    attitude: Box<dyn AttitudeUpdate<T>>,
     earth_rate: bool,
     navigation: bool,
     initial_attitude: InitialAttitude,
     step_s: f64,
     t1: T,
-    sub_interval: T,
-    rk4: Rk4<T>,
     decoder: Decoder<T>,
     euler: EulerExtractor<T>,
     earth: EarthModel<T>,
@@ -44,14 +41,7 @@ pub struct Firmware<T> {
     q: Quat<T>,
     c_bn: Mat3<T>,
     nav: NavState<T>,
-    previous_increment: Option<Vec3<T>>,
     aligner: LevelAligner<T>,
-    /// The earth rates the attitude update computed from the current navigation state, which the
-    /// navigation step of the same update reuses instead of computing them again (they are a pure
-    /// function of that state, and only the navigation step changes it: it takes them). An
-    /// emulation shortcut, not the target's code: the timing model counts the navigation stage
-    /// computing them itself (see `timing::stages`).
-    earth_rates_of_state: Option<EarthRates<T>>,
 }
 
 impl<T: Scalar> Firmware<T> {
@@ -59,29 +49,24 @@ impl<T: Scalar> Firmware<T> {
     /// `level`, until [`Firmware::finish_alignment`]), V and position from `navigation`.
     pub fn new(profile: &Profile) -> Result<Self> {
         let fw = &profile.firmware;
-        let step_s = update_period_s(profile);
-        if !(step_s.is_finite() && step_s > 0.0) {
-            return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
-        }
-        let coning_samples = fw.coning_samples as usize;
-        if !(1..=3).contains(&coning_samples) {
+        if !(1..=3).contains(&fw.coning_samples) {
             return Err(Error::Profile(format!(
                 "key `firmware.coning_samples` = {}: expected 1, 2 or 3",
                 fw.coning_samples
             )));
         }
+        let step_s = update_period_s(profile);
+        if !(step_s.is_finite() && step_s > 0.0) {
+            return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
+        }
         let q: Quat<T> = [lit(1.0), lit(0.0), lit(0.0), lit(0.0)];
         Ok(Firmware {
-            algorithm: fw.algorithm,
-            coning_samples,
-            increment_rule: fw.increment_rule,
+            attitude: attitude_update(fw, step_s),
             earth_rate: fw.earth_rate,
             navigation: fw.navigation,
             initial_attitude: fw.initial_attitude,
             step_s,
             t1: lit(step_s),
-            sub_interval: lit(step_s / coning_samples as f64),
-            rk4: Rk4::new(step_s, fw.quat_derivative),
             decoder: Decoder::new(&profile.device, fw)?,
             euler: EulerExtractor::new(fw.euler, fw.euler_zero_eps),
             earth: EarthModel::new(&profile.navigation),
@@ -89,9 +74,7 @@ impl<T: Scalar> Firmware<T> {
             q,
             c_bn: dcm(&q),
             nav: NavState::from_profile(&profile.navigation),
-            previous_increment: None,
             aligner: LevelAligner::default(),
-            earth_rates_of_state: None,
         })
     }
 
@@ -103,10 +86,7 @@ impl<T: Scalar> Firmware<T> {
     /// Rate samples one attitude update takes: 3 for RK4 (t, t+T/2, t+T), N+1 for the rotation
     /// vector with N coning samples (the sub-interval boundaries t, t+T/N, …, t+T).
     pub fn rates_per_update(&self) -> usize {
-        match self.algorithm {
-            Algorithm::Rk4 => 3,
-            Algorithm::RotationVector => self.coning_samples + 1,
-        }
+        self.attitude.samples_per_update()
     }
 
     /// Stage 1: decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT.
@@ -119,72 +99,11 @@ impl<T: Scalar> Firmware<T> {
         self.earth.rates(&self.nav)
     }
 
-    /// [`Firmware::earth_rates`], kept for the navigation step of this update.
-    fn earth_rates_kept(&mut self) -> EarthRates<T> {
-        let r = self.earth_rates_of_state.unwrap_or_else(|| self.earth.rates(&self.nav));
-        self.earth_rates_of_state = Some(r);
-        r
-    }
-
-    /// Forget the kept earth rates, so that the next navigation step computes them (the timing
-    /// model counts the navigation stage as the target runs it).
-    pub(crate) fn forget_earth_rates(&mut self) {
-        self.earth_rates_of_state = None;
-    }
-
-    /// Stage 2: attitude update from `rates_per_update()` samples of ω_ib^b (rad/s).
+    /// Stage 2: attitude update from `rates_per_update()` samples of ω_ib^b (rad/s), with the
+    /// navigation frame's rate when the profile corrects for it.
     pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
-        let expected = self.rates_per_update();
-        if rates.len() != expected {
-            return Err(Error::Config(format!(
-                "attitude update: {} rate samples, the {:?} update takes {expected}",
-                rates.len(),
-                self.algorithm
-            )));
-        }
-        match self.algorithm {
-            Algorithm::Rk4 => {
-                let mut w = [rates[0], rates[1], rates[2]];
-                if self.earth_rate {
-                    let w_in = self.earth_rates_kept().w_in();
-                    for wi in w.iter_mut() {
-                        *wi = body_rate_nav(&self.c_bn, wi, &w_in);
-                    }
-                }
-                self.rk4.step_quat(&mut self.q, &w);
-            }
-            Algorithm::RotationVector => {
-                let mut d = [[lit::<T>(0.0); 3]; 3];
-                increments(self.increment_rule, rates, self.sub_interval, &mut d)?;
-                return self.update_attitude_increments(&d[..self.coning_samples]);
-            }
-        }
-        self.c_bn = dcm(&self.q);
-        Ok(())
-    }
-
-    /// Stage 2 of the rotation-vector update from angle increments (rad) over the N sub-intervals:
-    /// Q ← q(−ζ) ⊗ Q ⊗ q(Φ). The earth-rate correction is the navigation frame's own rotation over
-    /// the step, ζ = ω_in^n·T, applied on the navigation side (C_{n(k)}^{n(k+1)} ≈ I − [ζ×]).
-    pub fn update_attitude_increments(&mut self, dtheta: &[Vec3<T>]) -> Result<()> {
-        if dtheta.len() != self.coning_samples {
-            return Err(Error::Config(format!(
-                "rotation vector: {} angle increments, firmware.coning_samples = {}",
-                dtheta.len(),
-                self.coning_samples
-            )));
-        }
-        let previous = if self.coning_samples == 1 { self.previous_increment.as_ref() } else { None };
-        let phi = coning_vector(dtheta, previous)?;
-        self.previous_increment = Some(dtheta[dtheta.len() - 1]);
-        let mut q = quat_mul(&self.q, &quat_from_rotvec(&phi));
-        if self.earth_rate {
-            let w_in = self.earth_rates_kept().w_in();
-            let zeta = w_in.map(|w| (-(w * self.t1)).to_class(QClass::Rate));
-            q = quat_mul(&quat_from_rotvec(&zeta), &q);
-        }
-        normalise(&mut q);
-        self.q = q;
+        let nav_rate = if self.earth_rate { Some(self.earth_rates().w_in()) } else { None };
+        self.attitude.step(&mut self.q, &self.c_bn, &StepInputs { rates, nav_rate })?;
         self.c_bn = dcm(&self.q);
         Ok(())
     }
@@ -198,7 +117,7 @@ impl<T: Scalar> Firmware<T> {
     /// turns navigation off.
     pub fn navigate(&mut self, f_b: &Vec3<T>) {
         if self.navigation {
-            let rates = self.earth_rates_of_state.take().unwrap_or_else(|| self.earth.rates(&self.nav));
+            let rates = self.earth.rates(&self.nav);
             self.earth.step_with_rates(&mut self.nav, &rates, &self.c_bn, f_b, self.t1);
         }
     }
@@ -223,7 +142,7 @@ impl<T: Scalar> Firmware<T> {
     pub fn set_attitude(&mut self, q: Quat<T>) {
         self.q = q;
         self.c_bn = dcm(&q);
-        self.previous_increment = None;
+        self.attitude.restart();
     }
 
     /// The quaternion Q (body to navigation).
@@ -255,7 +174,7 @@ impl<T: Scalar> Firmware<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::Decode;
+    use crate::profile::{Algorithm, Decode};
 
     #[test]
     fn update_period_follows_the_schedule() {
@@ -263,39 +182,6 @@ mod tests {
         assert_eq!(update_period_s(&p), 0.008);
         p.firmware.schedule = Schedule::Endpoint;
         assert_eq!(update_period_s(&p), 0.004);
-    }
-
-    /// The navigation step that reuses the attitude update's earth rates ends where one computing
-    /// them itself does, bit for bit, in every backend (moving north-east, with the earth-rate correction).
-    #[test]
-    fn kept_earth_rates_equal_fresh_ones() {
-        fn run<T: Scalar>(p: &Profile, forget: bool) -> Vec<f64> {
-            let mut fw = Firmware::<T>::new(p).unwrap();
-            let words = [0x0014, 0x3FF6, 0x0008, 0x0003, 0x3FFD, 0x012C];
-            for _ in 0..50 {
-                let d = fw.decode(&words);
-                fw.update_attitude(&[d.rate; 3]).unwrap();
-                if forget {
-                    fw.forget_earth_rates();
-                }
-                fw.navigate(&d.accel);
-            }
-            let n = fw.nav_state();
-            [n.lat, n.lon, n.height, n.vel[0], n.vel[1], n.vel[2]].iter().chain(fw.quat()).map(|x| x.to_f64()).collect()
-        }
-        let mut p = Profile::default();
-        p.navigation.velocity_enu = [30.0, 40.0, 1.0];
-        p.navigation.latitude_deg = 45.0;
-        for (kept, fresh) in [
-            (run::<f64>(&p, false), run::<f64>(&p, true)),
-            (run::<crate::numerics::C28xF32Rn>(&p, false), run::<crate::numerics::C28xF32Rn>(&p, true)),
-            (run::<crate::numerics::Iq>(&p, false), run::<crate::numerics::Iq>(&p, true)),
-        ] {
-            assert_eq!(
-                kept.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
-                fresh.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
-            );
-        }
     }
 
     #[test]
@@ -309,7 +195,14 @@ mod tests {
         let mut fw = Firmware::<f64>::new(&p).unwrap();
         assert_eq!(fw.rates_per_update(), 4);
         assert!(fw.update_attitude(&[[0.0; 3]; 4]).is_ok());
-        assert!(fw.update_attitude_increments(&[[0.0; 3]; 2]).is_err());
+        let mut rv =
+            super::super::rotvec::RotationVector::<f64>::new(3, crate::profile::IncrementRule::Trapezoid, 0.008);
+        assert!(rv.step_increments(&mut [1.0, 0.0, 0.0, 0.0], &[[0.0; 3]; 2], None).is_err());
+        p.firmware.coning_samples = 1;
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        assert_eq!(fw.rates_per_update(), 2);
+        let e = fw.update_attitude(&[[0.0; 3]; 3]).unwrap_err();
+        assert!(e.to_string().contains("3 rate samples, the RotationVector update takes 2"), "{e}");
     }
 
     #[test]

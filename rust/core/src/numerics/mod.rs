@@ -126,6 +126,8 @@ pub enum QClass {
 /// methods are its library calls (fastRTS or IQmath on the target).
 pub trait Scalar:
     Copy
+    + Send
+    + 'static
     + Debug
     + PartialEq
     + PartialOrd

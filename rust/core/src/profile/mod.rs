@@ -3,9 +3,11 @@
 //! numeric backend). Every key is documented in `firmware_model/SCHEMA.md`; `key=value` overrides
 //! change one field for one run. Unknown keys are errors with a "did you mean".
 
+mod board;
 mod faults;
 mod sections;
 
+pub use board::{Board, BoardDevice, LinkKind, LINKS};
 pub use faults::*;
 pub use sections::*;
 
@@ -23,6 +25,8 @@ pub struct Profile {
     pub clocks: Clocks,
     /// F28335 SPI-A register values and bus level.
     pub spi: Spi,
+    /// Which part sits on which link (`[[board.devices]]`).
+    pub board: Board,
     /// CPU timer 0.
     pub timer: Timer,
     /// The ADIS16407.
@@ -84,6 +88,7 @@ impl Profile {
     pub fn validate(&self) -> Result<()> {
         self.clocks.validate()?;
         self.spi.validate()?;
+        self.board.validate(self)?;
         self.timer.validate()?;
         self.device.validate()?;
         self.device.validate_power_on_sens_avg()?;

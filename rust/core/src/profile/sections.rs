@@ -6,7 +6,7 @@ use crate::device::{GyroRange, ModelOptions};
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
-fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> Error {
+pub(super) fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> Error {
     Error::Profile(format!("key `{key}` = {value}: expected {expected}"))
 }
 
@@ -157,8 +157,6 @@ pub struct Spi {
     pub spiffrx: u32,
     /// SPIFFCT (7:0 TXDLY).
     pub spiffct: u32,
-    /// The GPIO driven as chip select.
-    pub chip_select: String,
     /// Emulation level of the link.
     pub level: BusLevel,
     /// LSPCLK cycles from a SPITXBUF write (shifter idle) to the first SCLK edge [unconfirmed].
@@ -175,7 +173,6 @@ impl Default for Spi {
             spifftx: 0xA000,
             spiffrx: 0x201F,
             spiffct: 0,
-            chip_select: "GPIO57".into(),
             level: BusLevel::Transaction,
             start_latency_lspclk: 1,
         }
@@ -204,9 +201,6 @@ impl Spi {
                 format!("0x{:X} (SPICHAR = {})", self.spiccr, self.spiccr & 0xF),
                 "SPICHAR = 15 (16-bit characters): the ADIS16407 uses 16-bit frames",
             ));
-        }
-        if self.chip_select != "GPIO57" {
-            return Err(bad("spi.chip_select", &self.chip_select, "\"GPIO57\" (the board's wiring)"));
         }
         if self.start_latency_lspclk > 64 {
             return Err(bad("spi.start_latency_lspclk", self.start_latency_lspclk, "0…64 LSPCLK cycles"));

@@ -3,9 +3,9 @@
 //! backend and code location. Nothing here is a hand tally: change the algorithm and the counts follow.
 
 use crate::error::Result;
+use crate::firmware::schedule::{interpolate, MAX_SAMPLES};
 use crate::firmware::{Firmware, Vec3};
 use crate::numerics::counter::{count, count_as, Counted, OpCounts};
-use crate::numerics::Scalar;
 use crate::profile::{CodeLocation, Numeric, Profile, Schedule};
 use crate::timing::costs::{ArithCosts, CostTable, InterruptCosts};
 
@@ -182,16 +182,13 @@ fn counted_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCost
     let (attitude, attitude_counts) = count(|| fw.update_attitude(&rates));
     attitude?;
     let (_, euler) = count(|| fw.euler());
-    // The target's navigation computes the earth rates itself (the emulated firmware reuses the
-    // attitude update's, an emulation shortcut).
-    fw.forget_earth_rates();
     let (_, navigation) = count(|| fw.navigate(&f_b));
+    // The `endpoint` schedule's interpolation of the samples between an update's two ends.
     let (_, interpolation) = count(|| {
         if profile.firmware.schedule == Schedule::Endpoint {
-            let half = Counted::from_f64(0.5, crate::numerics::QClass::Generic);
-            let a = RATES[0].map(lit);
-            let b = RATES[2].map(lit);
-            let _ = [0, 1, 2].map(|i| (a[i] + b[i]) * half);
+            let mut inner = [[lit(0.0); 3]; MAX_SAMPLES - 2];
+            let interior = &mut inner[..fw.rates_per_update() - 2];
+            interpolate(&RATES[0].map(lit), &RATES[2].map(lit), interior);
         }
     });
 

@@ -22,7 +22,7 @@ struct Entry {
 
 /// The CS glitches of a run.
 #[derive(Debug, Clone, Default)]
-pub(super) struct Glitches {
+pub(crate) struct Glitches {
     entries: Vec<Entry>,
     /// Bursts whose CS falls at or after this time may be glitched (`Ps::MAX`: none left).
     pub watch_from: Ps,
@@ -30,7 +30,7 @@ pub(super) struct Glitches {
 
 /// The glitch of one burst.
 #[derive(Debug, Clone)]
-pub(super) struct BurstGlitch {
+pub(crate) struct BurstGlitch {
     /// CS rises after this burst frame.
     pub after_frame: usize,
     /// How long it stays high (`None`: until the firmware raises it).

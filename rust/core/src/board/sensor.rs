@@ -3,7 +3,7 @@
 //! emulator's horizon). Two sensors: the ADIS16407 model fed a physical input ([`StreamedDevice`],
 //! the default), and the replay of recorded burst words ([`ReplaySlave`]), which bypasses the device.
 
-use super::input::{InputFeed, StreamStimulus};
+use crate::board::input::{InputFeed, StreamStimulus};
 use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::device::replay::ReplaySlave;
 use crate::device::{Adis16407, ReadRecord, SampleStamp};

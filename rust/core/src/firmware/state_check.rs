@@ -16,7 +16,7 @@
 //!   free-inertial vertical channel leaves it first: gravity falls off as γ(1 − 2h/R), so a height
 //!   error grows as e^(t/τ) with τ = √(R/2γ) ≈ 571 s, until it runs away.
 
-use super::output::CycleRow;
+use crate::output::CycleRow;
 
 /// |‖Q‖² − 1| above this is a quaternion out of range.
 pub const QUAT_NORM2_TOLERANCE: f64 = 1e-3;

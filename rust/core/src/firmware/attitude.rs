@@ -1,0 +1,79 @@
+//! The attitude update as a trait, and the one place the algorithms are registered.
+//!
+//! An algorithm says how many samples one update takes ([`AttitudeUpdate::samples_per_update`]:
+//! the acquisition schedule gathers that many, see `schedule.rs`) and steps the attitude from that
+//! update's inputs ([`StepInputs`]). Adding one: a file with a type implementing the trait, a variant
+//! of `profile::Algorithm` (the profile key `firmware.algorithm`) and one line in [`attitude_update`].
+//!
+//! Registered: RK4 on the quaternion equation (the reference design, `quat.rs`) and the rotation
+//! vector with 1-, 2- or 3-sample coning correction (`rotvec.rs`).
+
+use super::quat::{body_rate_nav, Rk4};
+use super::rotvec::RotationVector;
+use super::{Mat3, Quat, Vec3};
+use crate::numerics::Scalar;
+use crate::profile::{self, Algorithm};
+use crate::Result;
+
+/// What one attitude update takes. Rates now; the algorithms coming (DCM with drift cancellation,
+/// the wing-angle filter) add their fields here — specific force, magnetic field, aiding (GPS course
+/// and speed) — and the schedule fills the ones the profile's board provides.
+#[derive(Debug, Clone, Copy)]
+pub struct StepInputs<'a, T> {
+    /// ω_ib^b (rad/s) at the update's sample times t, t+T/(n−1), …, t+T (n = `samples_per_update`).
+    pub rates: &'a [Vec3<T>],
+    /// ω_in^n (rad/s), the navigation frame's rotation (earth and transport rate), when the firmware
+    /// corrects for it (`firmware.earth_rate`).
+    pub nav_rate: Option<Vec3<T>>,
+}
+
+/// One attitude algorithm of the firmware.
+pub trait AttitudeUpdate<T: Scalar>: std::fmt::Debug + Send {
+    /// Samples one update takes (at the update's sample times, both ends included).
+    fn samples_per_update(&self) -> usize;
+    /// One update of the attitude `q` (body to navigation), whose matrix C_b^n is `c_bn`.
+    fn step(&mut self, q: &mut Quat<T>, c_bn: &Mat3<T>, inputs: &StepInputs<'_, T>) -> Result<()>;
+    /// The attitude was overwritten: forget what the update carries from step to step.
+    fn restart(&mut self) {}
+}
+
+/// The registry: the update of `firmware.algorithm`, for an update period of `step_s` seconds.
+pub fn attitude_update<T: Scalar>(fw: &profile::Firmware, step_s: f64) -> Box<dyn AttitudeUpdate<T>> {
+    match fw.algorithm {
+        Algorithm::Rk4 => Box::new(Rk4::<T>::new(step_s, fw.quat_derivative)),
+        Algorithm::RotationVector => {
+            Box::new(RotationVector::<T>::new(fw.coning_samples as usize, fw.increment_rule, step_s))
+        }
+    }
+}
+
+/// Samples one update of the profile's algorithm takes (what the schedule gathers).
+pub fn samples_per_update(fw: &profile::Firmware) -> usize {
+    attitude_update::<f64>(fw, 1.0).samples_per_update()
+}
+
+/// RK4 on Q̇ = ½ M(ω_nb^b) Q from the rates at t, t+T/2, t+T, with ω_nb^b = ω_ib^b − C_n^b ω_in^n.
+impl<T: Scalar> AttitudeUpdate<T> for Rk4<T> {
+    fn samples_per_update(&self) -> usize {
+        3
+    }
+
+    fn step(&mut self, q: &mut Quat<T>, c_bn: &Mat3<T>, inputs: &StepInputs<'_, T>) -> Result<()> {
+        let mut w = match inputs.rates {
+            [a, b, c] => [*a, *b, *c],
+            other => return Err(wrong_count(other.len(), 3, "RK4")),
+        };
+        if let Some(w_in) = inputs.nav_rate {
+            for wi in w.iter_mut() {
+                *wi = body_rate_nav(c_bn, wi, &w_in);
+            }
+        }
+        self.step_quat(q, &w);
+        Ok(())
+    }
+}
+
+/// The error of an update handed the wrong number of samples.
+pub(crate) fn wrong_count(got: usize, takes: usize, name: &str) -> crate::Error {
+    crate::Error::Config(format!("attitude update: {got} rate samples, the {name} update takes {takes}"))
+}
