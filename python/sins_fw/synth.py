@@ -20,7 +20,7 @@ from __future__ import annotations
 import itertools
 import math
 import shlex
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -50,16 +50,17 @@ _AXES = {"x": _X, "y": _Y, "z": _Z}
 # ---------------------------------------------------------------------------------------------------
 
 
-def sample_times(duration_s: float, rate_hz: str | Fraction) -> Array:
+def sample_times(duration_s: float, rate_hz: str | Fraction, rows: slice | None = None) -> Array:
     """t_i = i / rate for i = 0 … floor(duration·rate) − 1, each correctly rounded from the exact ratio
-    (exact binary fractions for 819.2 Hz: the period 5/4096 s is a dyadic rational)."""
+    (exact binary fractions for 819.2 Hz: the period 5/4096 s is a dyadic rational); ``rows`` takes
+    a slice of the grid without making the rest (each t_i is the same either way)."""
     rate = parse_rate(str(rate_hz), "synth") if not isinstance(rate_hz, Fraction) else rate_hz
     n = math.floor(Fraction(str(duration_s)) * rate)
     if n < 2:
         raise ConfigError(f"duration {duration_s} s at {rate_hz} Hz gives {n} samples; expected at least 2")
     if n * rate.denominator >= 2**53:
         raise ConfigError(f"{n} samples at {rate_hz} Hz: too many for exact float64 times")
-    i = np.arange(n, dtype=np.int64)
+    i = np.arange(*(rows or slice(None)).indices(n), dtype=np.int64)
     return (i * rate.denominator).astype(np.float64) / float(rate.numerator)
 
 
@@ -167,6 +168,10 @@ class Motion:
     height_m: Array
     w_en_n: Array
 
+    def rows(self, rows: slice) -> Motion:
+        """These rows of the motion."""
+        return Motion(**{k: v[rows] for k, v in vars(self).items()})
+
     @property
     def w_ie_n(self) -> Array:
         """Earth rate in the navigation frame (rad/s)."""
@@ -234,9 +239,11 @@ def static_motion(
     latitude_deg: float = DEFAULT_LATITUDE_DEG,
     height_m: float = DEFAULT_HEIGHT_M,
     rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
 ) -> Motion:
-    """A board at rest on the earth at a fixed attitude (roll, pitch, yaw in degrees)."""
-    t = sample_times(duration_s, rate_hz)
+    """A board at rest on the earth at a fixed attitude (roll, pitch, yaw in degrees). ``rows`` (every
+    scenario has it): only those rows of the sample grid, each the same as in the whole motion."""
+    t = sample_times(duration_s, rate_hz, rows)
     q = np.tile(_attitude(attitude_deg), (len(t), 1))
     return _ground(t, q, np.zeros((len(t), 3)), latitude_deg, height_m)
 
@@ -328,10 +335,11 @@ def indexing_table_motion(
     latitude_deg: float = DEFAULT_LATITUDE_DEG,
     height_m: float = DEFAULT_HEIGHT_M,
     rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
 ) -> Motion:
     """A single-axis indexing table: dwell ``dwell_s`` at each angle (the first included), smooth moves."""
     profile, end = indexing_profile(angles_deg, max_rate_dps, max_accel_dps2, dwell_s)
-    return _axis_motion(sample_times(end, rate_hz), profile, axis, attitude_deg, latitude_deg, height_m)
+    return _axis_motion(sample_times(end, rate_hz, rows), profile, axis, attitude_deg, latitude_deg, height_m)
 
 
 def turntable_motion(
@@ -345,6 +353,7 @@ def turntable_motion(
     latitude_deg: float = DEFAULT_LATITUDE_DEG,
     height_m: float = DEFAULT_HEIGHT_M,
     rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
 ) -> Motion:
     """A rate table: at rest for ``lead_s``, then each rate held ``hold_s``, smooth changes, back to rest
     and at rest for ``lead_s`` again."""
@@ -362,7 +371,7 @@ def turntable_motion(
             r = target
         t += hold_s if k < len(targets) else lead_s
     profile = Profile.build(0.0, 0.0, ramps)
-    return _axis_motion(sample_times(t, rate_hz), profile, axis, attitude_deg, latitude_deg, height_m)
+    return _axis_motion(sample_times(t, rate_hz, rows), profile, axis, attitude_deg, latitude_deg, height_m)
 
 
 def coning_motion(
@@ -374,12 +383,13 @@ def coning_motion(
     latitude_deg: float = DEFAULT_LATITUDE_DEG,
     height_m: float = DEFAULT_HEIGHT_M,
     rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
 ) -> Motion:
     """Classical coning about the mount's x axis (validation.md): relative to the mount frame R
     (at ``attitude_deg``), q_Rb(t) = [cos α/2, 0, sin α/2 cos Ωt, sin α/2 sin Ωt] and
     ω_nb^b = [−Ω(1 − cos α), −Ω sin α sin Ωt, Ω sin α cos Ωt], with q̇ = ½ q ⊗ ω (derived in
     docs/traces.md). The phase Ωt is reduced as 2π·frac(f·t) so equal phases give equal samples."""
-    t = sample_times(duration_s, rate_hz)
+    t = sample_times(duration_s, rate_hz, rows)
     alpha = math.radians(half_angle_deg)
     omega = 2.0 * math.pi * frequency_hz
     phase = 2.0 * math.pi * np.mod(frequency_hz * t, 1.0)
@@ -464,6 +474,7 @@ def flight_motion(
     latitude_deg: float = DEFAULT_LATITUDE_DEG,
     height_m: float = DEFAULT_HEIGHT_M,
     rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
 ) -> Motion:
     """A fixed-wing flight (body axes x forward, y left, z up; zero angle of attack and sideslip).
 
@@ -472,6 +483,9 @@ def flight_motion(
     sample interval; latitude and transport rate use the radii of curvature of the start point
     (R_N(φ0) + h0, R_E(φ0) + h0), which keeps ω_en^n exactly the rotation rate of the local-level
     frame along the trajectory (docs/traces.md).
+
+    The position sums the whole trajectory, so ``rows`` slices the whole motion (its length is fixed
+    by the plan: 318 s).
     """
     plan = flight_plan(
         heading_deg=heading_deg, speed_mps=speed_mps, turn_rate_dps=turn_rate_dps, climb_deg=climb_deg
@@ -515,7 +529,8 @@ def flight_motion(
         ],
         axis=1,
     )
-    return Motion(t_s=t, q_nb=q, w_nb_b=w_nb, v_n=v_n, a_n=a_n, lat_rad=lat, height_m=height, w_en_n=w_en)
+    whole = Motion(t_s=t, q_nb=q, w_nb_b=w_nb, v_n=v_n, a_n=a_n, lat_rad=lat, height_m=height, w_en_n=w_en)
+    return whole if rows is None else whole.rows(rows)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -596,6 +611,8 @@ class Scenario:
     params: tuple[Param, ...]
     summary: str
     transport_rate: bool = False
+    #: Whether the motion is made chunk by chunk (``rows``); else whole, once, then cut into chunks.
+    chunked: bool = True
 
 
 SCENARIOS: dict[str, Scenario] = {
@@ -659,6 +676,7 @@ SCENARIOS: dict[str, Scenario] = {
             ),
             "fixed-wing flight: take-off roll, climb, turns, level, descent (with transport rate)",
             transport_rate=True,
+            chunked=False,  # its position sums the whole trajectory (a fixed 318 s plan)
         ),
     )
 }
@@ -718,12 +736,37 @@ def command_line(name: str, values: dict[str, Any]) -> str:
     return shlex.join(args)
 
 
+#: Rows generated at a time by :func:`generate_chunks` (the trace writer's block).
+CHUNK_ROWS = 1 << 16
+
+
 def generate(name: str, preset: str | None = None, **params: Any) -> PhysicalTrace:
     """A scenario as a physical trace (truth quaternion and movement mask included)."""
     values = resolve(name, preset, **params)
+    return to_trace(SCENARIOS[name].motion(**values), _metadata(name, values))
+
+
+def generate_chunks(
+    name: str, preset: str | None = None, *, rows: int = CHUNK_ROWS, **params: Any
+) -> Iterator[PhysicalTrace]:
+    """The trace of :func:`generate` as consecutive chunks of ``rows`` rows, made one at a time (memory
+    bounded by the chunk, whatever the duration); concatenated, they are that trace value for value."""
+    values = resolve(name, preset, **params)
     scenario = SCENARIOS[name]
-    motion = scenario.motion(**values)
-    metadata = {
+    metadata = _metadata(name, values)
+    whole = None if scenario.chunked else scenario.motion(**values)
+    for start in itertools.count(0, rows):
+        cut = slice(start, start + rows)
+        motion = scenario.motion(**values, rows=cut) if whole is None else whole.rows(cut)
+        if len(motion.t_s):
+            yield to_trace(motion, metadata)
+        if len(motion.t_s) < rows:
+            return
+
+
+def _metadata(name: str, values: dict[str, Any]) -> dict[str, str]:
+    scenario = SCENARIOS[name]
+    return {
         "sample_rate_hz": str(values["rate_hz"]),
         "source": f"sins-fw synth {name}",  # no preset: the generator command alone reproduces the file
         "generator": command_line(name, values),
@@ -736,7 +779,6 @@ def generate(name: str, preset: str | None = None, **params: Any) -> PhysicalTra
         "latitude_deg": _num(values["latitude_deg"]),
         "height_m": _num(values["height_m"]),
     }
-    return to_trace(motion, metadata)
 
 
 def to_trace(motion: Motion, metadata: dict[str, str]) -> PhysicalTrace:

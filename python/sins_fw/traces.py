@@ -9,6 +9,7 @@ from 0 (the first data row is row 0); CSV line numbers from 1.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import itertools
 import os
@@ -38,6 +39,8 @@ DEFAULT_MAX_GAP_PERIODS = 1.5
 TRUTH_NORM_TOLERANCE = 1e-6
 #: Rows per HDF5 chunk and per block when writing CSV.
 _BLOCK_ROWS = 65536
+#: Rows formatted at a time when writing CSV (the bytes do not depend on it).
+_CSV_ROWS = 8192
 _HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 _KEY_RE = re.compile(r"^[A-Za-z0-9_.\-]+$")
 _EXTENSIONS = (".csv", ".h5")
@@ -670,6 +673,24 @@ def _format_column(c: Column, arr: np.ndarray) -> NDArray[np.str_]:
     return np.strings.add("0x", np.ascontiguousarray(digits[nibbles]).view("<U4").reshape(len(arr)))
 
 
+def _csv_lines(schema: _Schema, cols: Mapping[str, np.ndarray]) -> str:
+    """The CSV data lines of a block of rows (each line depends on its row only)."""
+    names = list(cols)
+    n = len(cols[names[0]])
+    out = []
+    # Formatted _CSV_ROWS at a time: each step makes a fixed-width UTF-32 array of whole lines
+    # (≈ 700 B a row), so a block of 65 536 rows alone would take ~150 MB.
+    for start in range(0, n, _CSV_ROWS):
+        stop = min(start + _CSV_ROWS, n)
+        line = _format_column(schema.column(names[0]), cols[names[0]][start:stop])
+        for name in names[1:]:
+            line = np.strings.add(
+                np.strings.add(line, ","), _format_column(schema.column(name), cols[name][start:stop])
+            )
+        out.append("\n".join(line.tolist()) + "\n")
+    return "".join(out)
+
+
 def _write_csv(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
     names = list(cols)
     n = len(cols["t_s"])
@@ -679,42 +700,57 @@ def _write_csv(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: d
             out.write(f"# {k}: {v}\n")
         out.write(",".join(names) + "\n")
         for start in range(0, n, _BLOCK_ROWS):
-            stop = min(start + _BLOCK_ROWS, n)
-            line = _format_column(schema.column(names[0]), cols[names[0]][start:stop])
-            for name in names[1:]:
-                line = np.strings.add(
-                    np.strings.add(line, ","), _format_column(schema.column(name), cols[name][start:stop])
-                )
-            out.write("\n".join(line.tolist()))
-            out.write("\n")
+            out.write(_csv_lines(schema, {k: a[start : start + _BLOCK_ROWS] for k, a in cols.items()}))
 
 
-def _write_h5(path: Path, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
+_H5_DTYPES = {"float": np.float64, "flag": np.uint8, "word": np.uint16}
+
+
+def _h5_create(f: h5py.File, c: Column, arr: np.ndarray, chunk_rows: int) -> h5py.Dataset:
+    """One column's dataset: ``arr`` as it is, or, when ``arr`` is empty, a resizable one to append
+    to (gzip 9 with shuffle, chunks of ``chunk_rows``, no timestamps, the unit as an attribute)."""
+    data = arr.astype(_H5_DTYPES[c.kind])
+    extra: dict[str, Any] = (
+        {"data": data} if len(data) else {"shape": (0,), "maxshape": (None,), "dtype": data.dtype}
+    )
+    ds = f.create_dataset(
+        c.name,
+        chunks=(chunk_rows,),
+        compression="gzip",
+        compression_opts=9,
+        shuffle=True,
+        track_times=False,
+        **extra,
+    )
+    ds.attrs["unit"] = c.unit
+    return ds
+
+
+def _write_h5(
+    path: Path,
+    schema: _Schema,
+    metadata: Mapping[str, str],
+    cols: dict[str, np.ndarray],
+    *,
+    atomic: bool = True,
+) -> None:
     n = len(cols["t_s"])
-    dtypes = {"float": np.float64, "flag": np.uint8, "word": np.uint16}
     # track_times off: the same content gives the same bytes (no timestamps); track_order keeps the
     # metadata in the order it was written (as in CSV).
     # HDF5 writes through a file that keeps the first failed write (a full disk) and raises it
     # once h5py has closed cleanly: a write failing inside HDF5 crashes the interpreter on close.
-    with (
-        atomic_path(path) as tmp,
-        kept_error_file(tmp) as tmp_file,
-        h5py.File(tmp_file, "w", libver=("earliest", "v110"), track_order=True) as f,
-    ):
+    with contextlib.ExitStack() as stack:
+        tmp = stack.enter_context(atomic_path(path)) if atomic else path
+        tmp_file = stack.enter_context(kept_error_file(tmp))
+        f = stack.enter_context(h5py.File(tmp_file, "w", libver=("earliest", "v110"), track_order=True))
         for k, v in metadata.items():
             f.attrs[k] = v
+        # Each dataset stays open until the next one exists (as the file layout has always been: HDF5
+        # places the next object's metadata according to what is still open).
+        ds = None
         for name, arr in cols.items():
-            c = schema.column(name)
-            ds = f.create_dataset(
-                name,
-                data=arr.astype(dtypes[c.kind]),
-                chunks=(min(n, _BLOCK_ROWS),),
-                compression="gzip",
-                compression_opts=9,
-                shuffle=True,
-                track_times=False,
-            )
-            ds.attrs["unit"] = c.unit
+            ds = _h5_create(f, schema.column(name), arr, min(n, _BLOCK_ROWS))
+        del ds
 
 
 def _write(path: PathLike, schema: _Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from sins_fw import synth
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.stream import save_chunks
 from sins_fw.traces import check_output_path
 
 
@@ -60,18 +61,20 @@ def run(args: argparse.Namespace) -> int:
     check_output_path(args.out)
     scenario = synth.SCENARIOS[args.scenario]
     given = {p.name: getattr(args, p.name) for p in scenario.params if getattr(args, p.name) is not None}
-    trace = synth.generate(args.scenario, getattr(args, "preset", None), **given)
-    trace.save(args.out)
+    # Generated and written chunk by chunk: memory does not grow with the duration.
+    trace = save_chunks(
+        args.out, synth.generate_chunks(args.scenario, getattr(args, "preset", None), **given)
+    )
     report = {
         "out": str(args.out),
         "scenario": args.scenario,
-        "rows": len(trace),
+        "rows": trace.rows,
         "duration_s": trace.duration_s,
         "sample_rate_hz": trace.metadata["sample_rate_hz"],
         "generator": trace.metadata["generator"],
     }
     text = (
-        f"wrote {args.out}: {args.scenario}, {len(trace)} samples, {trace.duration_s:.3f} s at "
+        f"wrote {args.out}: {args.scenario}, {trace.rows} samples, {trace.duration_s:.3f} s at "
         f"{trace.metadata['sample_rate_hz']} Hz\n  {trace.metadata['generator']}"
     )
     emit(args, report, text)

@@ -1,0 +1,243 @@
+"""Streamed trace and run-output files: rows written block by block, so that memory is bounded by a
+block whatever the length (issue 24, item 11).
+
+:class:`TableWriter` writes the formats of :mod:`sins_fw.traces` (a physical or raw-register trace,
+a run output) from consecutive column blocks, validated as they pass exactly as
+:meth:`~sins_fw.traces.PhysicalTrace.save` validates a whole trace, atomically (a temporary file
+beside the destination, renamed when complete: :mod:`sins_fw.atomic`).
+
+Bytes: a CSV file is the same bytes as the whole-array writer wrote (each line depends on its row
+only). An HDF5 file of at most :data:`WHOLE_ROWS` rows is written by the whole-array writer once
+the stream has ended, so it too is the same bytes (every bundled trace and test file). A longer
+HDF5 file has the same datasets, values, dtypes, chunk size, filters and attributes, resizable, but
+its chunks lie interleaved in the file (each block writes one chunk of every column) where the
+whole-array writer wrote one column after the other: HDF5 places a dataset's chunk index before
+its chunks only when the whole column is written by one call, which a stream cannot do. Its bytes
+therefore differ from that writer's; the same rows still give the same bytes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import IO, Any
+
+import h5py
+import numpy as np
+
+from sins_fw.atomic import atomic_path, kept_error_file
+from sins_fw.errors import TraceError
+from sins_fw.traces import (
+    _BLOCK_ROWS,
+    DEFAULT_MAX_GAP_PERIODS,
+    PathLike,
+    _check_metadata,
+    _Checker,
+    _csv_lines,
+    _extension,
+    _h5_create,
+    _Schema,
+    _TraceFile,
+    _write_h5,
+    parse_rate,
+)
+
+#: Rows held before an HDF5 file is streamed: up to five chunks (6.7 min at 819.2 SPS, ≈ 45 MB for
+#: the 17 columns of a physical trace) are written whole, with the whole-array writer's bytes.
+WHOLE_ROWS = 5 * _BLOCK_ROWS
+
+
+class TableWriter:
+    """Write a table file (``.csv`` or ``.h5``) from consecutive blocks of named columns.
+
+    Use as a context manager: ``with TableWriter(path, schema, metadata) as w: w.write(cols)``. The
+    file appears at ``path`` only when the block ends without an exception (else ``path`` is left as
+    it was). The first block fixes the columns; every block is checked like a file's rows on load
+    (finite values, flags, truth norms, increasing time, gaps unless ``allow_gaps``).
+    """
+
+    def __init__(
+        self,
+        path: PathLike,
+        schema: _Schema,
+        metadata: Mapping[str, str],
+        *,
+        allow_gaps: bool = False,
+        max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+    ) -> None:
+        self.path = Path(path)
+        self.schema = schema
+        self._ext = _extension(self.path)
+        self.metadata = {"format": schema.format, **{k: v for k, v in metadata.items() if k != "format"}}
+        rate = _check_metadata(self.metadata, schema, f"{self.path}: metadata")
+        src = f"<{schema.title} written to {self.path}>"
+        self._checker = _Checker(
+            schema, src, float(1 / rate), allow_gaps, max_gap_periods, lambda r: f"row {r}"
+        )
+        self.rows = 0
+        self._names: list[str] | None = None
+        self._pending: list[dict[str, np.ndarray]] = []  # HDF5: rows not yet a whole chunk
+        self._pending_rows = 0
+        self._stack = contextlib.ExitStack()
+        self._tmp: Path | None = None
+        self._csv: IO[str] | None = None
+        self._h5: h5py.File | None = None
+        self._datasets: dict[str, Any] = {}
+
+    def __enter__(self) -> TableWriter:
+        self._tmp = self._stack.enter_context(atomic_path(self.path))
+        return self
+
+    def __exit__(
+        self, kind: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        try:
+            if kind is None:
+                self._finish()
+        except BaseException as e:
+            self._close_files()
+            self._stack.__exit__(type(e), e, e.__traceback__)
+            raise
+        self._close_files()
+        self._stack.__exit__(kind, exc, tb)
+
+    def write(self, cols: Mapping[str, np.ndarray]) -> None:
+        """Append a block of rows (every column the same length; the first block's columns)."""
+        block = {n: np.asarray(a) for n, a in cols.items()}
+        if self._names is None:
+            self.schema.check_header(list(block), f"{self.path}")
+            self._names = self.schema.order(list(block))
+        if set(block) != set(self._names):
+            raise TraceError(f"{self.path}: a block has columns {sorted(block)}; expected {self._names}")
+        lengths = {len(a) for a in block.values()}
+        if len(lengths) != 1:
+            raise TraceError(f"{self.path}: columns of one block have different lengths")
+        n = lengths.pop()
+        if n == 0:
+            return
+        block = {name: block[name] for name in self._names}
+        self._checker.check(block)
+        self.rows += n
+        if self._ext == ".csv":
+            self._write_csv(block)
+            return
+        self._pending.append(block)
+        self._pending_rows += n
+        if self._h5 is None and self._pending_rows <= WHOLE_ROWS:
+            return
+        while self._pending_rows >= _BLOCK_ROWS:
+            self._flush_chunk(_BLOCK_ROWS)
+
+    # CSV ------------------------------------------------------------------------------------------
+
+    def _write_csv(self, block: dict[str, np.ndarray]) -> None:
+        if self._csv is None:
+            assert self._tmp is not None and self._names is not None
+            self._csv = self._tmp.open("w", encoding="utf-8", newline="\n")
+            self._csv.write(f"# sins-fw {self.schema.title} (format described in docs/traces.md)\n")
+            for k, v in self.metadata.items():
+                self._csv.write(f"# {k}: {v}\n")
+            self._csv.write(",".join(self._names) + "\n")
+        self._csv.write(_csv_lines(self.schema, block))
+
+    # HDF5 -----------------------------------------------------------------------------------------
+
+    def _take(self, rows: int) -> dict[str, np.ndarray]:
+        """The first ``rows`` pending rows, as one block (the rest stays pending)."""
+        assert self._names is not None
+        joined = {n: np.concatenate([b[n] for b in self._pending]) for n in self._names}
+        rest = {n: a[rows:] for n, a in joined.items()}
+        self._pending = [rest] if len(rest[self._names[0]]) else []
+        self._pending_rows -= rows
+        return {n: a[:rows] for n, a in joined.items()}
+
+    def _flush_chunk(self, rows: int) -> None:
+        """Write one chunk of every column (resizable datasets of the whole-array writer's chunking)."""
+        block = self._take(rows)
+        if self._h5 is None:
+            assert self._tmp is not None
+            # Through a file that keeps a failed write (a full disk) until h5py has closed cleanly.
+            raw = self._stack.enter_context(kept_error_file(self._tmp))
+            self._h5 = h5py.File(raw, "w", libver=("earliest", "v110"), track_order=True)
+            for k, v in self.metadata.items():
+                self._h5.attrs[k] = v
+            for name, arr in block.items():
+                self._datasets[name] = _h5_create(self._h5, self.schema.column(name), arr[:0], _BLOCK_ROWS)
+        start = self.rows - self._pending_rows - rows
+        for name, arr in block.items():
+            ds = self._datasets[name]
+            ds.resize((start + rows,))
+            ds[start : start + rows] = arr
+
+    def _finish(self) -> None:
+        if self._names is None or self.rows == 0:
+            raise TraceError(f"{self.path}: no data rows to write")
+        if self._ext == ".csv":
+            return
+        if self._h5 is None:  # short: the whole-array writer, the same bytes as ever
+            assert self._tmp is not None
+            _write_h5(self._tmp, self.schema, self.metadata, self._take(self._pending_rows), atomic=False)
+            return
+        if self._pending_rows:
+            self._flush_chunk(self._pending_rows)
+
+    def _close_files(self) -> None:
+        if self._csv is not None:
+            self._csv.close()
+            self._csv = None
+        if self._h5 is not None:
+            self._h5.close()
+            self._h5 = None
+
+
+@dataclass
+class Written:
+    """What :func:`save_chunks` wrote: the rows, the first chunk's metadata, the first and last time."""
+
+    rows: int
+    metadata: dict[str, str]
+    t_first: float
+    t_last: float
+
+    @property
+    def duration_s(self) -> float:
+        """Last minus first time plus one nominal period (as ``PhysicalTrace.duration_s``)."""
+        return self.t_last - self.t_first + float(1 / parse_rate(self.metadata["sample_rate_hz"]))
+
+
+def save_chunks(path: PathLike, chunks: Iterable[_TraceFile], *, allow_gaps: bool = False) -> Written:
+    """Write consecutive chunks of a trace (PhysicalTrace or RawRegisterTrace) to ``path`` as
+    ``save`` writes the whole trace, one chunk in memory at a time; the metadata is the first chunk's."""
+    writer: TableWriter | None = None
+    t_first = t_last = 0.0
+    with contextlib.ExitStack() as stack:
+        for chunk in chunks:
+            if writer is None:
+                writer = stack.enter_context(
+                    TableWriter(path, chunk.schema, chunk.metadata, allow_gaps=allow_gaps)
+                )
+                t_first = float(chunk.t_s[0]) if len(chunk.t_s) else 0.0
+            writer.write(chunk.columns())
+            if len(chunk.t_s):
+                t_last = float(chunk.t_s[-1])
+        if writer is None:
+            raise TraceError(f"{path}: no data rows to write")
+    return Written(writer.rows, writer.metadata, t_first, t_last)
+
+
+def write_blocks(
+    path: PathLike,
+    schema: _Schema,
+    metadata: Mapping[str, str],
+    blocks: Iterator[Mapping[str, np.ndarray]],
+    *,
+    allow_gaps: bool = False,
+) -> int:
+    """Write every block of ``blocks`` to ``path`` (see :class:`TableWriter`); returns the row count."""
+    with TableWriter(path, schema, metadata, allow_gaps=allow_gaps) as w:
+        for block in blocks:
+            w.write(block)
+    return w.rows
