@@ -229,3 +229,117 @@ def test_random_hdf5_content_is_a_trace_error_or_a_sound_trace(content):
             f.create_dataset(name, data=arr)
     for kind in (PhysicalTrace, RawRegisterTrace):
         _load_checked(kind, path)
+
+
+# The Python API's arguments: whatever a user passes, the answer is a Run or a SinsError (never a raw
+# TypeError/ValueError), and a PhysicalTrace holds native float64 of the documented shapes.
+TRACE_ARGS = st.sampled_from(
+    ["tiny", "tiny-chunks", "None", "numbers", "ndarray", "missing-file", "dict", "junk-chunk"]
+)
+PROFILE_ARGS = st.sampled_from(["reference", None, 3, "no-such-profile", ["reference"]])
+OVERRIDE_ARGS = st.one_of(
+    st.just(()),
+    st.just("spi.spibrr=9"),
+    st.lists(st.sampled_from(["spi.spibrr=9", "x=1", 9, None, "spi.spibrr=9\nspi.spibrr=1"]), max_size=2),
+    st.sampled_from([None, 5]),
+)
+UNTIL_ARGS = st.one_of(
+    st.none(),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(-5, 5),
+    st.sampled_from(["1", True, [0.1]]),
+)
+
+
+@pytest.fixture(scope="module")
+def tiny_in_memory() -> PhysicalTrace:
+    return synth.generate("static", duration_s=0.05)
+
+
+def _trace_arg(kind: str, tiny: PhysicalTrace):
+    return {
+        "tiny": tiny,
+        "tiny-chunks": [tiny],
+        "None": None,
+        "numbers": [0.0, 1.0],
+        "ndarray": np.zeros((3, 7)),
+        "missing-file": str(_DIR / "no-such-trace.h5"),
+        "dict": {"t_s": [0.0]},
+        "junk-chunk": [tiny, "more"],
+    }[kind]
+
+
+@fuzz(60)
+@given(trace=TRACE_ARGS, profile=PROFILE_ARGS, overrides=OVERRIDE_ARGS, until_s=UNTIL_ARGS)
+def test_random_api_arguments_give_a_run_or_a_sins_error(tiny_in_memory, trace, profile, overrides, until_s):
+    from sins_fw.errors import SinsError
+    from sins_fw.harness import emulate
+
+    try:
+        run = emulate(_trace_arg(trace, tiny_in_memory), profile, overrides=overrides, until_s=until_s)
+    except SinsError:
+        return
+    assert np.isfinite(run.quat).all()
+
+
+ARRAY_DTYPES = st.sampled_from(
+    ["f2", "f4", "f8", ">f8", "<f4", ">i4", "i1", "i8", "u2", "b1", "c8", "U3", "O"]
+)
+
+
+@st.composite
+def trace_fields(draw):
+    n = draw(st.integers(0, 4))
+
+    def field(width: int | None):
+        rows = draw(st.sampled_from([n, n, n, n + 1]))
+        shape = (rows,) if width is None else draw(st.sampled_from([(rows, width), (rows, width), (rows,)]))
+        values = np.array(
+            draw(st.lists(st.integers(0, 100), min_size=int(np.prod(shape)), max_size=int(np.prod(shape)))),
+            dtype="f8",
+        ).reshape(shape)
+        arr = values.astype(draw(ARRAY_DTYPES))
+        return arr.tolist() if draw(st.booleans()) else arr
+
+    return {"t_s": field(None), "gyro_dps": field(3), "accel_g": field(3), "temp_c": field(None)}
+
+
+@fuzz(150)
+@given(fields=trace_fields())
+def test_random_trace_arrays_are_converted_exactly_or_refused_naming_the_field(fields):
+    try:
+        trace = PhysicalTrace(**fields, metadata={"sample_rate_hz": "100"})
+    except TraceError as e:
+        assert str(e).startswith("PhysicalTrace."), str(e)
+        return
+    n = len(trace.t_s)
+    for name, width in (("t_s", None), ("gyro_dps", 3), ("accel_g", 3), ("temp_c", None)):
+        arr = getattr(trace, name)
+        assert arr.dtype == np.float64 and arr.dtype.isnative, name
+        assert arr.shape == ((n,) if width is None else (n, width)), name
+        given = np.asarray(fields[name])
+        assert given.dtype.kind in "fiu", name
+        assert np.array_equal(arr, given.astype(np.float64), equal_nan=True), name
+
+
+# `run` with its newer options: --raw-out, --allow-gaps and --until-s, on a sound trace and on one
+# with a gap; the answer is exit 0/1, or 2 with one message.
+@fuzz(40)
+@given(
+    gap=st.booleans(),
+    raw_out=st.sampled_from([None, ".csv", ".h5", ".txt"]),
+    allow_gaps=st.booleans(),
+    until=st.one_of(st.none(), st.sampled_from(["0.1", "1", "nan", "-1", "inf", "1e300", "abc"])),
+)
+def test_random_run_options_never_crash(capsys, tiny_trace, gap, raw_out, allow_gaps, until):
+    from conftest import ROOT
+
+    trace = ROOT / "tests" / "data" / "bad" / "handled" / "time_gap_2s.csv" if gap else tiny_trace
+    args = ["run", str(trace), "--out", str(_DIR / "run_out.h5")]
+    if raw_out is not None:
+        args += ["--raw-out", str(_DIR / f"raw{raw_out}")]
+    if allow_gaps:
+        args.append("--allow-gaps")
+    if until is not None:
+        args += ["--until-s", until]
+    _check_cli(capsys, *args)

@@ -130,6 +130,74 @@ def test_gap_is_an_error_or_with_allow_gaps_an_event(capsys, tmp_path):
     assert all(np.isfinite(v).all() for v in cols.values())
 
 
+@pytest.mark.parametrize(("name", "fragment"), TRACE_CASES[::4], ids=[c[0] for c in TRACE_CASES[::4]])
+def test_an_output_aliasing_a_corpus_input_is_refused_before_the_input_is_read(
+    capsys, tmp_path, name, fragment
+):
+    """The aliasing refusal comes first, whatever the input holds: the file itself, a symlink, a hard
+    link and a `..` path to it as --out or --raw-out; the corpus file is left byte for byte."""
+    trace = tmp_path / name
+    trace.write_bytes((BAD / name).read_bytes())
+    (tmp_path / "sub").mkdir()
+    (tmp_path / f"sym{trace.suffix}").symlink_to(trace)
+    os.link(trace, tmp_path / f"hard{trace.suffix}")
+    for option, alias in [
+        ("--out", trace),
+        ("--out", tmp_path / f"sym{trace.suffix}"),
+        ("--raw-out", tmp_path / f"hard{trace.suffix}"),
+        ("--raw-out", tmp_path / "sub" / ".." / name),
+    ]:
+        code, _, err = _cli(capsys, "run", str(trace), option, str(alias))
+        assert code == 2 and option in err and "TRACE" in err and "Traceback" not in err, (option, err)
+        assert trace.read_bytes() == (BAD / name).read_bytes()
+
+
+#: Hostile commands beyond one bad file: (arguments, the fragment of the one error line).
+HOSTILE_COMMANDS = {
+    "synth latitude 95": (["synth", "static", "--latitude-deg", "95"], "latitude"),
+    "synth latitude 1e6": (["synth", "static", "--latitude-deg", "1e6"], "latitude"),
+    "synth height 1e9": (["synth", "static", "--height-m", "1e9"], "height"),
+    "override over a line break": (["board", "--set", "spi.spibrr=49\nspi.spibrr=9"], "line break"),
+    "run --until-s nan": (
+        ["run", str(STATIC), "--until-s", "nan"],
+        "--until-s = nan: expected a finite number",
+    ),
+    "run --until-s -1": (
+        ["run", str(STATIC), "--until-s", "-1"],
+        "--until-s = -1.0: expected a finite number",
+    ),
+    "montecarlo --param abc": (["montecarlo", "static", "--param", "duration_s=abc"], "duration_s"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOSTILE_COMMANDS))
+def test_hostile_command_is_exit_2_with_one_message(capsys, tmp_path, case):
+    args, fragment = HOSTILE_COMMANDS[case]
+    if args[0] == "synth":
+        args = [*args, "--out", str(tmp_path / "s.h5")]
+    code, out, err = _cli(capsys, *args)
+    assert code == 2, (out, err)
+    assert err.startswith("sins-fw: error: ") and fragment in err and "Traceback" not in err, err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("until", ["abc", "nan", "inf", "-1", "0"])
+def test_a_run_output_with_a_bad_until_s_is_exit_2_naming_it(capsys, tmp_path, until):
+    import h5py
+
+    trace, out = tmp_path / "t.csv", tmp_path / "o.h5"
+    synth.generate("static", duration_s=0.3).save(trace)
+    assert _cli(capsys, "run", str(trace), "--out", str(out), "--until-s", "0.2")[0] == 0
+    with h5py.File(out, "r+") as f:
+        f.attrs["until_s"] = until
+    code, _, err = _cli(capsys, "replay", str(out), "--save", str(tmp_path / "r.rrd"))
+    assert (
+        code == 2
+        and f"{out}: metadata `until_s` = " in err
+        and "expected a finite number of seconds > 0" in err
+    ), err
+
+
 # ---------------------------------------------------------------------------------------------------
 # Interrupted runs
 # ---------------------------------------------------------------------------------------------------

@@ -14,6 +14,7 @@ trace"). Its timestamps are taken as virtual time since power-on, unshifted (``R
 from __future__ import annotations
 
 import json
+import math
 import os
 import tomllib
 from collections import Counter
@@ -28,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw import _core
-from sins_fw.errors import InputError, ProfileError
+from sins_fw.errors import InputError, ProfileError, TraceError
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
 from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace, validated
 
@@ -151,6 +152,54 @@ def _rate_text(rate: Fraction) -> str:
 TraceInput = PhysicalTrace | RawRegisterTrace | str | os.PathLike[str] | Iterable[PhysicalTrace]
 
 
+def check_until_s(value: Any, name: str = "until_s") -> float | None:
+    """``until_s`` (the API's argument, ``run --until-s``, a run output's ``until_s``) as seconds:
+    None, or a finite number > 0 (an int or float, numpy's included). Anything else is an
+    :class:`~sins_fw.errors.InputError` naming ``name`` and what was expected."""
+    if value is None:
+        return None
+    number = isinstance(value, int | float | np.integer | np.floating) and not isinstance(
+        value, bool | np.bool_
+    )
+    if not (number and math.isfinite(value) and value > 0):
+        raise InputError(f"{name} = {value!r}: expected a finite number of seconds > 0")
+    return float(value)
+
+
+def _check_trace_argument(trace: Any) -> None:
+    """Refuse, before any work, a ``trace`` that is none of what :data:`TraceInput` lists."""
+    if isinstance(trace, PhysicalTrace | RawRegisterTrace | str | os.PathLike):
+        return
+    if isinstance(trace, Iterable) and not isinstance(trace, bytes | bytearray | np.ndarray | Mapping):
+        return  # chunks: each is checked as it comes (_slices)
+    hint = " (wrap arrays in a PhysicalTrace)" if isinstance(trace, np.ndarray) else ""
+    raise TraceError(
+        f"trace = {_short(trace)}: expected a PhysicalTrace, a RawRegisterTrace, a trace file path "
+        f"(str or Path), or an iterable of PhysicalTrace chunks{hint}"
+    )
+
+
+def _check_overrides(overrides: Any) -> list[str]:
+    """``overrides`` as a list of ``key=value`` texts; one text (not in a list) or non-text items
+    are a ProfileError (a lone text would otherwise be iterated character by character)."""
+    if isinstance(overrides, str | bytes) or not isinstance(overrides, Iterable):
+        raise ProfileError(
+            f"overrides = {_short(overrides)}: expected a list of 'key=value' texts"
+            + (f" (write overrides=[{overrides!r}])" if isinstance(overrides, str) else "")
+        )
+    out = list(overrides)
+    for i, o in enumerate(out):
+        if not isinstance(o, str):
+            raise ProfileError(f"overrides[{i}] = {_short(o)}: expected a 'key=value' text")
+    return out
+
+
+def _short(value: Any) -> str:
+    """A value for an error message: its repr, cut to a line."""
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:57]}... ({type(value).__name__})"
+
+
 def _raw_chunks(trace: RawRegisterTrace | str | os.PathLike[str], rows: int) -> Iterator[RawRegisterTrace]:
     if isinstance(trace, RawRegisterTrace):
         trace.validate(allow_gaps=True)
@@ -173,7 +222,12 @@ def _chunks(trace: TraceInput, rows: int, allow_gaps: bool = False) -> Iterator[
 def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterator[PhysicalTrace]:
     """A trace in memory (or consecutive chunks of one) as slices of at most ``rows`` rows."""
     if not isinstance(trace, PhysicalTrace):
-        for chunk in trace:
+        for i, chunk in enumerate(trace):
+            if not isinstance(chunk, PhysicalTrace):
+                raise TraceError(
+                    f"trace chunk {i} = {_short(chunk)}: expected a PhysicalTrace (an iterable of traces "
+                    "is taken as consecutive chunks of one trace)"
+                )
             yield from _slices(chunk, rows)
         return
     for i in range(0, len(trace), rows):
@@ -273,6 +327,16 @@ def emulate(
     ``until_s`` emulates only the trace's first ``until_s`` seconds (rows at most that long after the
     first one; for a raw-register trace, bursts recorded up to that virtual time).
 
+    Accepted types, checked before any work (each refusal names the argument and what was expected):
+    ``trace`` as above (a :class:`~sins_fw.errors.TraceError` otherwise, e.g. for ``None``, a list of
+    numbers or a bare numpy array; the arrays of a PhysicalTrace are converted as its docstring says);
+    ``profile`` a :class:`~sins_fw.profile.Profile`, a profile name or a path
+    (:class:`~sins_fw.errors.ProfileError` otherwise); ``overrides`` a list (any iterable) of
+    ``key=value`` texts, never one bare text (ProfileError); ``until_s`` None or a finite number > 0,
+    ``chunk_rows`` a whole number >= 1, ``on_chunk`` and ``sink`` functions or None
+    (:class:`~sins_fw.errors.InputError`). ``until_s`` is checked by :func:`check_until_s`, as
+    ``run --until-s`` and a run output's ``until_s`` are.
+
     A physical trace is validated as it streams in, the same way whether it is a file or in memory
     (:class:`~sins_fw.errors.TraceError` naming the row and column): ``allow_gaps`` accepts time steps
     longer than 1.5 sample periods (the device sees the input interpolated across them).
@@ -281,11 +345,23 @@ def emulate(
     device model is bypassed; its recorded timestamps are the reads' sample times); profile faults
     cannot apply to it (they act on the device model) and are refused.
     """
-    every = [*overrides, *keyword_overrides(settings)]
+    _check_trace_argument(trace)
+    until_s = check_until_s(until_s)
+    if isinstance(chunk_rows, bool) or not isinstance(chunk_rows, int | np.integer) or chunk_rows < 1:
+        raise InputError(f"chunk_rows = {_short(chunk_rows)}: expected a whole number of rows >= 1")
+    for name, fn in (("on_chunk", on_chunk), ("sink", sink)):
+        if fn is not None and not callable(fn):
+            raise InputError(f"{name} = {_short(fn)}: expected a function or None")
+    every = [*_check_overrides(overrides), *keyword_overrides(settings)]
     if isinstance(profile, Profile):
         prof = profile.with_overrides(*every) if every else profile
-    else:
+    elif isinstance(profile, str | os.PathLike):
         prof = load_profile(profile, every)  # validated once, overrides included
+    else:
+        raise ProfileError(
+            f"profile = {_short(profile)}: expected a Profile, a profile name (e.g. 'reference') or the "
+            "path of a profile TOML file"
+        )
     replay = isinstance(trace, RawRegisterTrace) or (
         isinstance(trace, str | os.PathLike) and is_raw_register_trace(trace)
     )

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import os
 from fractions import Fraction
 from pathlib import Path
@@ -16,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import Run, emulate
+from sins_fw.harness import Run, check_until_s, emulate
 from sins_fw.profile import load_profile
 from sins_fw.traces import Column, _open, _Schema, _write
 
@@ -161,12 +160,10 @@ def _until_s(path: str | os.PathLike[str], text: str | None) -> float | None:
     if not text:
         return None
     try:
-        until = float(text)
+        until: Any = float(text)
     except ValueError:
-        until = math.nan
-    if not (math.isfinite(until) and until > 0):
-        raise InputError(f"{path}: metadata `until_s` is `{text}`; expected a number of seconds > 0")
-    return until
+        until = text  # refused below, as text
+    return check_until_s(until, f"{path}: metadata `until_s`")
 
 
 def replay_check(

@@ -814,6 +814,63 @@ class _TraceFile:
             yield cls.from_columns(block, src.metadata)
 
 
+def _number_array(value: Any, name: str, shape: tuple[int, ...], expected: str, kinds: str) -> np.ndarray:
+    """``value`` (an array of any real dtype and byte order, or a (nested) list of numbers) as an array
+    of ``shape`` (-1: any length), or a TraceError naming the field and what was expected. ``kinds`` are the
+    accepted numpy dtype kinds (``"fiu"``: float, signed, unsigned integers)."""
+    where = f"{name}: expected {expected}"
+    try:
+        arr = np.asarray(value)
+    except (ValueError, TypeError) as e:  # a ragged list, an object numpy cannot take
+        raise TraceError(f"{where}; got {type(value).__name__} ({e})") from None
+    if arr.dtype.kind not in kinds:
+        got = "" if arr.dtype.kind == "O" else f" of dtype {arr.dtype}"
+        raise TraceError(f"{where}; got {'None' if value is None else type(value).__name__}{got}")
+    if len(arr.shape) != len(shape) or any(g != e and e != -1 for g, e in zip(arr.shape, shape, strict=True)):
+        raise TraceError(f"{where}; got shape {arr.shape}")
+    if arr.dtype.kind in "iu" and arr.size and "f" in kinds:
+        # float64 holds every integer up to 2^53 exactly; beyond that the conversion would round.
+        big = (arr > 2**53) | (arr < -(2**53))
+        if big.any():
+            i = np.unravel_index(int(np.argmax(big)), arr.shape)
+            raise TraceError(f"{where}; element {i} = {arr[i]} is beyond 2^53, not exact as float64")
+    return arr
+
+
+def _float_field(value: Any, name: str, shape: tuple[int, ...], expected: str) -> Array:
+    """A float64 field in native byte order (float32, integers, big-endian, lists converted exactly)."""
+    arr = _number_array(value, name, shape, f"{expected} of numbers (float or integer)", "fiu")
+    return arr if arr.dtype == np.float64 and arr.dtype.isnative else arr.astype(np.float64)
+
+
+def _shape_text(shape: tuple[int, ...]) -> str:
+    return f"shape ({shape[0]},)" if len(shape) == 1 else f"shape {shape}"
+
+
+def _metadata(value: Any, owner: str) -> dict[str, str]:
+    """Trace metadata as ``{str: str}``: numbers (``100``, ``819.2``, a Fraction) are written as text
+    exactly (a float by its shortest round-trip repr); anything else is a TraceError."""
+    if not isinstance(value, Mapping):
+        raise TraceError(
+            f"{owner}.metadata: expected a dict of text keys and values; got {type(value).__name__}"
+        )
+    out: dict[str, str] = {}
+    for k, v in value.items():
+        if not isinstance(k, str):
+            raise TraceError(f"{owner}.metadata: key {k!r} is {type(k).__name__}; expected text")
+        if isinstance(v, str):
+            out[k] = v
+        elif isinstance(v, int | float | Fraction | np.integer | np.floating) and not isinstance(v, bool):
+            out[k] = (
+                repr(v.item() if isinstance(v, np.generic) else v) if not isinstance(v, Fraction) else str(v)
+            )
+        else:
+            raise TraceError(
+                f"{owner}.metadata: `{k}` = {v!r} is {type(v).__name__}; expected text or a number"
+            )
+    return out
+
+
 @dataclass
 class PhysicalTrace(_TraceFile):
     """What the sensor sees, sample by sample (units and frames: docs/traces.md).
@@ -821,6 +878,15 @@ class PhysicalTrace(_TraceFile):
     ``gyro_dps`` is ω_ib in the sensor frame (°/s), ``accel_g`` the specific force (g = 9.80665 m/s²),
     ``truth_q`` the attitude C_b^n as a unit quaternion ``[w, x, y, z]`` (navigation frame ENU), NaN
     rows where the truth is missing. Optional fields are ``None`` when absent.
+
+    Shapes for n samples: ``t_s``, ``baro_mbar``, ``temp_c`` and ``moving`` (n,); ``gyro_dps``,
+    ``accel_g`` and ``mag_gauss`` (n, 3); ``truth_q`` (n, 4). The numeric fields take numpy arrays of
+    any float or integer dtype and either byte order, or (nested) lists of numbers, and hold them as
+    native float64 (an exact conversion; integers beyond 2^53 are refused); ``moving`` takes bools,
+    or numbers 0/1. ``metadata`` maps text keys to text (numbers are written as text exactly). Anything
+    else (text, a wrong shape, complex numbers, …) is a :class:`~sins_fw.errors.TraceError` naming
+    the field and what was expected. The values themselves (finite, increasing time, unit truth) are
+    checked by :meth:`validate`, and by ``emulate`` as the trace streams in.
     """
 
     t_s: Array
@@ -843,6 +909,31 @@ class PhysicalTrace(_TraceFile):
         "truth_q": tuple(f"truth_q{c}" for c in "wxyz"),
         "moving": ("moving",),
     }
+
+    def __post_init__(self) -> None:
+        self.t_s = _float_field(self.t_s, "PhysicalTrace.t_s", (-1,), "shape (n,) (times, s)")
+        n = len(self.t_s)
+        for attr, names in self._GROUPS.items():
+            value = getattr(self, attr)
+            if value is None and attr not in ("gyro_dps", "accel_g"):
+                continue
+            shape = (n, len(names)) if len(names) > 1 else (n,)
+            name = f"PhysicalTrace.{attr}"
+            expected = f"{_shape_text(shape)} ({', '.join(names)}; n = len(t_s))"
+            if attr == "moving":
+                arr = _number_array(value, name, shape, f"{expected} of bools or 0/1", "biuf")
+                if arr.dtype.kind != "b":
+                    bad = (arr != 0) & (arr != 1)
+                    if bad.any():
+                        i = int(np.argmax(bad))
+                        raise TraceError(
+                            f"{name}: element {i} = {arr[i]}; expected {expected} of bools or 0/1"
+                        )
+                    arr = arr.astype(bool)
+                setattr(self, attr, arr)
+            else:
+                setattr(self, attr, _float_field(value, name, shape, expected))
+        self.metadata = _metadata(self.metadata, "PhysicalTrace")
 
     def __len__(self) -> int:
         return len(self.t_s)
@@ -904,6 +995,19 @@ class RawRegisterTrace(_TraceFile):
     metadata: dict[str, str] = field(default_factory=dict)
 
     schema: ClassVar[_Schema] = RAW_SCHEMA
+
+    def __post_init__(self) -> None:
+        # The same conversions as PhysicalTrace: t_s any real numbers, words any integers in 0…0xFFFF.
+        self.t_s = _float_field(self.t_s, "RawRegisterTrace.t_s", (-1,), "shape (n,) (times, s)")
+        shape = (len(self.t_s), len(RAW_WORD_COLUMNS))
+        expected = f"shape {shape} of 16-bit words (0…0xFFFF; n = len(t_s))"
+        words = _number_array(self.words, "RawRegisterTrace.words", shape, expected, "iu")
+        bad = (words < 0) | (words > 0xFFFF)
+        if bad.any():
+            i = np.unravel_index(int(np.argmax(bad)), shape)
+            raise TraceError(f"RawRegisterTrace.words: element {i} = {words[i]}; expected {expected}")
+        self.words = words.astype(np.uint16, copy=False)
+        self.metadata = _metadata(self.metadata, "RawRegisterTrace")
 
     def __len__(self) -> int:
         return len(self.t_s)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 import signal
 import sys
 from collections.abc import Callable, Iterator
@@ -27,7 +26,7 @@ from sins_fw.cli.common import (
 )
 from sins_fw.cli.stop import check_stop
 from sins_fw.errors import InputError, TraceError
-from sins_fw.harness import emulate
+from sins_fw.harness import check_until_s, emulate
 from sins_fw.report import ALIGNMENTS, render, summarise
 from sins_fw.run_output import save_run, trace_reference
 from sins_fw.traces import DEFAULT_MAX_GAP_PERIODS, PhysicalTrace, check_output_path, is_raw_register_trace
@@ -190,8 +189,7 @@ def run(args: argparse.Namespace) -> int:
     check_distinct(
         {"TRACE": args.trace, "--profile": profile_file(args)}, {"--out": args.out, "--raw-out": args.raw_out}
     )
-    if args.until_s is not None and not (math.isfinite(args.until_s) and args.until_s > 0):
-        raise InputError(f"--until-s {args.until_s}: expected a number of seconds > 0")
+    check_until_s(args.until_s, "--until-s")
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
     profile = profile_from_args(args)

@@ -32,12 +32,18 @@ def csv(name: str, header: str = COLS, rows: list[str] = ROWS, meta: str = META,
     text(name, meta + header + "\n" + "\n".join(rows) + end)
 
 
-def h5(name: str, columns: dict[str, np.ndarray], rate: str = "100") -> None:
+def h5(
+    name: str, columns: dict[str, np.ndarray | h5py.SoftLink | h5py.ExternalLink], rate: str = "100"
+) -> None:
+    """An HDF5 trace; a column given as a link is written as that link instead of a dataset."""
     with h5py.File(HERE / name, "w", track_order=False) as f:
         f.attrs["format"] = "sins-fw-physical-trace/1"
         f.attrs["sample_rate_hz"] = rate
         for k, v in columns.items():
-            f.create_dataset(k, data=v, track_times=False)
+            if isinstance(v, h5py.SoftLink | h5py.ExternalLink):
+                f[k] = v
+            else:
+                f.create_dataset(k, data=v, track_times=False)
 
 
 def main() -> None:
@@ -108,6 +114,15 @@ def main() -> None:
     (HERE / "garbage.h5").write_bytes(b"\x00\x01garbage" * 50)
     (HERE / "text_named_h5.h5").write_text(META + COLS + "\n" + "\n".join(ROWS) + "\n")
     csv("time_goes_back.csv", rows=[ROWS[0], ROWS[1], "0.005,0,0,0,0,0,1"])
+    # HDF5 structures a loader must not follow or cast: a column that is an external link (to a file
+    # that is not there), a soft link to itself, a compound (record) dtype.
+    h5("h5_external_link.h5", {**base, "gyro_x_dps": h5py.ExternalLink("elsewhere.h5", "/gyro_x_dps")})
+    h5("h5_soft_link_loop.h5", {**base, "gyro_x_dps": h5py.SoftLink("/gyro_x_dps")})
+    h5(
+        "h5_compound_column.h5",
+        {**base, "t_s": np.array([(t, 0) for t in base["t_s"]], dtype=[("t", "f8"), ("n", "i4")])},
+    )
+    csv("duplicate_metadata_key.csv", meta=META + "# sample_rate_hz: 200\n")
     handled()
 
 
