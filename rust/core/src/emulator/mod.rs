@@ -21,7 +21,7 @@ pub mod state_check;
 
 pub use board::BoardReport;
 pub use input::{InputFeed, StreamStimulus};
-pub use output::{BudgetRow, CycleRow, Output, ReadRow};
+pub use output::{is_column_list, BudgetRow, Column, CycleRow, Output, ReadRow, COLUMNS, READ_WORDS};
 pub use sensor::{FrameSummary, Reach, Sensor, StreamedDevice};
 
 use crate::bus::link::SpiLink;
