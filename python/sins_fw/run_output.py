@@ -25,7 +25,9 @@ RUN_FORMAT = "sins-fw-run-output/1"
 
 #: The core's output columns that the file holds (`_core.OUTPUT_COLUMNS`, the ones with file
 #: columns): core column name → its file columns, one per component.
-CORE_FILE_COLUMNS: dict[str, list[tuple[str, str]]] = {c["name"]: c["file"] for c in _core.OUTPUT_COLUMNS if c["file"]}
+CORE_FILE_COLUMNS: dict[str, list[tuple[str, str]]] = {
+    c["name"]: c["file"] for c in _core.OUTPUT_COLUMNS if c["file"]
+}
 
 RUN_COLUMNS: tuple[Column, ...] = (
     *(
