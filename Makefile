@@ -11,7 +11,7 @@ RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find ru
 # CI has two cores: keep pytest serial and cargo at its default.
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test test-rust test-python lint fmt bench clean golden
+.PHONY: demo test test-rust test-python lint fmt bench clean golden docs
 
 demo: $(BUILT)
 	$(BIN)/sins-fw demo
@@ -41,6 +41,10 @@ bench: $(BUILT)
 # Regenerate tests/golden/hashes.toml (f64 output hashes on the bundled traces), printing old → new.
 golden: $(BUILT)
 	$(BIN)/python -m sins_fw.golden tests/golden/hashes.toml
+
+# Regenerate docs/events.md from the core's event and output-column tables.
+docs: $(BUILT)
+	$(BIN)/python -m sins_fw.docs
 
 clean:
 	cargo clean

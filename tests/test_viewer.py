@@ -14,7 +14,7 @@ import pytest
 import rerun as rr
 
 from conftest import ROOT, run_cli
-from sins_fw import synth
+from sins_fw import _core, synth
 from sins_fw.harness import emulate
 from sins_fw.metrics import attitude_errors, wrap_deg
 from sins_fw.traces import PhysicalTrace
@@ -23,8 +23,8 @@ from sins_fw.viewer.recording import save_recording
 
 STATIC = ROOT / "traces" / "static_60s.h5"
 WINDOW = (100, 103)
-#: Frames per burst read (the command and 14 output registers) and CS edges per burst.
-BURST_FRAMES = 15
+#: Frames per burst read on the reference board (the command and 14 output registers).
+BURST_FRAMES = _core.READ_WORDS
 
 
 @pytest.fixture(scope="module")

@@ -53,8 +53,6 @@ SOLUTION_STAGES = ("cs_setup", "spi", "decode", "attitude", "euler")
 #: acceptance criterion allows.
 PUBLISHED_SOLUTION_S = 0.35e-3
 PUBLISHED_TOLERANCE = 0.15
-#: Frames and bits of one burst read (command + 14 registers, 16-bit characters).
-BURST_FRAMES = 15
 #: Default length of the synthetic input of `budget_report`: the 4 ms read period against the
 #: 1/819.2 s sample clock repeats after 2.5 s (625 reads), so the sample ages cover every phase.
 DEFAULT_SECONDS = 2.5

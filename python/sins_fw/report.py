@@ -24,33 +24,20 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw import budget, metrics
+from sins_fw import _core, budget, metrics
 from sins_fw import quaternion as quat
 from sins_fw.harness import PS, Run
 
 ALIGNMENTS = ("auto", "initial", "heading", "none")
 
-#: Event kinds that are broken SPI rules: the device's frame rules (slave), the link's chip-select
-#: rules and the F28335 SPI-A's own (every `spi_*` kind).
-SPI_RULE_KINDS = frozenset(
-    {
-        "sclk_too_fast",
-        "stall_too_short",
-        "cs_setup",
-        "cs_hold",
-        "clock_polarity",
-        "frame_length",
-        "frame_without_cs",
-        "device_busy",
-        "burst_truncated",
-        "cs_changed_mid_frame",
-    }
-)
+#: Event kinds that are broken SPI rules (the core's event table marks them): the device's frame
+#: rules, the link's chip-select rules and the F28335 SPI-A's own.
+SPI_RULE_KINDS = frozenset(k["name"] for k in _core.EVENT_KINDS if k["spi_rule"])
 
 
 def is_spi_violation(kind: str) -> bool:
     """True for the event kinds counted as SPI violations."""
-    return kind in SPI_RULE_KINDS or kind.startswith("spi_")
+    return kind in SPI_RULE_KINDS
 
 
 def events_summary(run: Run) -> dict[str, Any]:

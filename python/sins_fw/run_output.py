@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from sins_fw import _core
 from sins_fw.errors import CheckFailed, InputError
 from sins_fw.harness import Run, check_until_s, emulate
 from sins_fw.profile import load_profile
@@ -21,20 +22,18 @@ from sins_fw.traces import Column, _open, _Schema, _write
 
 RUN_FORMAT = "sins-fw-run-output/1"
 
+#: The core's output columns that the file holds (`_core.OUTPUT_COLUMNS`, the ones with file
+#: columns): core column name → its file columns, one per component.
+CORE_FILE_COLUMNS: dict[str, list[tuple[str, str]]] = {
+    c["name"]: c["file"] for c in _core.OUTPUT_COLUMNS if c["file"]
+}
+
 RUN_COLUMNS: tuple[Column, ...] = (
-    Column(
-        "t_s", "s", "virtual time of the tick that completed the step (0 = power-on = first trace sample)"
+    *(
+        Column(name, unit, c["meaning"] if len(c["file"]) == 1 else f"{c['meaning']}: component {i}")
+        for c in _core.OUTPUT_COLUMNS
+        for i, (name, unit) in enumerate(c["file"])
     ),
-    *(Column(f"q{i}", "1", f"firmware quaternion component q{i} (C_b^n, ENU)") for i in range(4)),
-    Column("roll_deg", "°", "roll, the firmware's Euler extraction"),
-    Column("pitch_deg", "°", "pitch, the firmware's Euler extraction"),
-    Column("yaw_deg", "°", "yaw, the firmware's Euler extraction"),
-    Column("vel_e_mps", "m/s", "velocity east"),
-    Column("vel_n_mps", "m/s", "velocity north"),
-    Column("vel_u_mps", "m/s", "velocity up"),
-    Column("lat_deg", "°", "latitude"),
-    Column("lon_deg", "°", "longitude"),
-    Column("height_m", "m", "height"),
     *(
         Column(
             f"truth_q{c}",
@@ -53,15 +52,17 @@ RUN_SCHEMA = _Schema("run output", RUN_FORMAT, RUN_COLUMNS)
 
 def run_columns(run: Run) -> dict[str, np.ndarray]:
     """The per-step columns of a run, in file order."""
-    cols: dict[str, np.ndarray] = {"t_s": run.time_s}
-    for i in range(4):
-        cols[f"q{i}"] = run.quat[:, i]
-    for i, name in enumerate(("roll_deg", "pitch_deg", "yaw_deg")):
-        cols[name] = run.euler_deg[:, i]
-    for i, name in enumerate(("vel_e_mps", "vel_n_mps", "vel_u_mps")):
-        cols[name] = run.velocity_enu[:, i]
-    for i, name in enumerate(("lat_deg", "lon_deg", "height_m")):
-        cols[name] = run.position[:, i]
+    values = {
+        "cycle_t_ps": run.time_s[:, None],
+        "cycle_quat": run.quat,
+        "cycle_euler_deg": run.euler_deg,
+        "cycle_vel_enu": run.velocity_enu,
+        "cycle_pos": run.position,
+    }
+    cols: dict[str, np.ndarray] = {}
+    for core_name, file_columns in CORE_FILE_COLUMNS.items():
+        for i, (name, _unit) in enumerate(file_columns):
+            cols[name] = values[core_name][:, i]
     if run.truth_q is not None:
         for i, c in enumerate("wxyz"):
             cols[f"truth_q{c}"] = run.truth_q[:, i]

@@ -25,7 +25,196 @@ impl Severity {
     }
 }
 
-/// One event. `kind` is a stable snake_case identifier (documented in docs/events.md);
+/// One kind of event: its stable name, the severity it is always reported with and one line of
+/// meaning. [`KINDS`] lists every kind; `docs/events.md` is generated from it
+/// (`python -m sins_fw.docs`) and Python reads it through the binding (`sins_fw._core.EVENT_KINDS`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EventKind {
+    /// Stable snake_case identifier.
+    pub name: &'static str,
+    /// The severity every event of this kind carries.
+    pub severity: Severity,
+    /// Who reports it: `device`, `link`, `mcu` (the F28335's SPI-A and static checks), `firmware`,
+    /// `emulator` or `harness` (the Python side).
+    pub source: &'static str,
+    /// A broken SPI rule: counted as an SPI violation in run reports.
+    pub spi_rule: bool,
+    /// One line of meaning.
+    pub meaning: &'static str,
+}
+
+const fn kind(name: &'static str, severity: Severity, source: &'static str, meaning: &'static str) -> EventKind {
+    EventKind { name, severity, source, spi_rule: false, meaning }
+}
+
+const fn spi_rule(name: &'static str, severity: Severity, source: &'static str, meaning: &'static str) -> EventKind {
+    EventKind { name, severity, source, spi_rule: true, meaning }
+}
+
+use Severity::{Error, Info, Warning};
+
+/// Every event kind a run, a board check or the harness can report, grouped by the layer that
+/// reports it. An event of a kind not listed here fails the core's tests (see [`Event::new`]).
+pub const KINDS: &[EventKind] = &[
+    // The device's SPI frame rules (data-sheet timing): each breaks one bit of `slave::Violations`.
+    spi_rule(
+        "sclk_too_fast",
+        Error,
+        "device",
+        "SCLK faster than the data sheet's f_SCLK limit (static check or one frame)",
+    ),
+    spi_rule(
+        "sclk_burst_too_fast",
+        Error,
+        "mcu",
+        "SCLK faster than the burst-mode f_SCLK limit (static check of the SPI-A registers)",
+    ),
+    spi_rule("stall_too_short", Error, "device", "too little time between two frames (t_STALL)"),
+    spi_rule("cs_setup", Error, "device", "CS fell too close to the first SCLK edge (t_CS)"),
+    spi_rule("cs_hold", Error, "device", "CS rose too close to the last SCLK edge (t_SFS)"),
+    spi_rule("clock_polarity", Error, "device", "SCLK idles low: not the device's SPI mode"),
+    spi_rule("frame_length", Error, "device", "a frame of other than 16 SCLK cycles: DIN ignored, DOUT corrupt"),
+    spi_rule("frame_without_cs", Error, "device", "SCLK clocked at the device with its chip select high"),
+    spi_rule("device_busy", Error, "device", "a frame clocked while the device is in a software reset"),
+    spi_rule("burst_truncated", Info, "device", "CS rose before the burst shifted all its data frames out"),
+    // The link between the MCU and the device.
+    spi_rule("cs_changed_mid_frame", Warning, "link", "the chip-select GPIO changed while a character was shifting"),
+    spi_rule(
+        "spi_frame_without_cs",
+        Warning,
+        "link",
+        "an SPI character clocked with the chip select high: the slave ignores it",
+    ),
+    // The F28335's SPI-A peripheral and the static checks of its registers.
+    spi_rule("spi_mode_mismatch", Error, "mcu", "CLKPOLARITY/CLK_PHASE give an SPI mode other than the device's"),
+    spi_rule("spi_char_length", Error, "mcu", "SPICHAR gives characters of other than the device's 16 bits"),
+    spi_rule(
+        "spi_rx_overrun",
+        Warning,
+        "mcu",
+        "a character ended before SPIRXBUF was read: a word is lost, OVERRUN_FLAG set",
+    ),
+    spi_rule(
+        "spi_rx_fifo_overflow",
+        Warning,
+        "mcu",
+        "the receive FIFO was full at the end of a character: a word is lost",
+    ),
+    spi_rule(
+        "spi_tx_fifo_overflow",
+        Warning,
+        "mcu",
+        "the transmit FIFO was full: a written word replaces a waiting one",
+    ),
+    spi_rule(
+        "spi_txbuf_overwrite",
+        Warning,
+        "mcu",
+        "SPITXBUF written while BUFFULL_FLAG = 1: a waiting word is replaced",
+    ),
+    spi_rule(
+        "spi_spidat_write_during_transfer",
+        Warning,
+        "mcu",
+        "SPIDAT written while a character is scheduled or shifting: ignored",
+    ),
+    spi_rule(
+        "spi_reset_during_transfer",
+        Warning,
+        "mcu",
+        "SPISWRESET cleared while a character was shifting: it is abandoned",
+    ),
+    spi_rule("spi_reset_word_lost", Warning, "mcu", "SPISWRESET cleared with a received word not yet read: it is lost"),
+    spi_rule(
+        "spi_not_master",
+        Warning,
+        "mcu",
+        "SPITXBUF written with SPICTL.MASTER_SLAVE = 0: no clock, the word waits",
+    ),
+    spi_rule("spi_write_read_only", Info, "mcu", "a write to a read-only SPI-A register, ignored"),
+    // The device's registers, commands and inputs.
+    kind("write_unmapped", Warning, "device", "a write to an address with no register: ignored"),
+    kind("read_only_write", Info, "device", "a write to a read-only register: ignored"),
+    kind("read_unreadable", Warning, "device", "a read of an address with no readable register: DOUT reads 0x0000"),
+    kind(
+        "invalid_register_value",
+        Warning,
+        "device",
+        "a register written with a value the part does not accept: the old setting stays",
+    ),
+    kind("sens_avg_raised", Info, "device", "SENS_AVG's filter taps below the range's minimum: raised to it"),
+    kind("command_not_modelled", Warning, "device", "a command the model does not carry out (e.g. precision autonull)"),
+    kind("autonull_without_data", Warning, "device", "autonull commanded before the first sample: offsets unchanged"),
+    kind("autonull_saturated", Warning, "device", "autonull: a gyro bias exceeds the offset register's range"),
+    kind(
+        "software_reset",
+        Info,
+        "device",
+        "the device was reset by command or fault: registers back to their reset values",
+    ),
+    kind(
+        "sensor_overrange",
+        Warning,
+        "device",
+        "an input beyond the rated range: outputs clip, DIAG_STAT overrange set",
+    ),
+    kind("supply_out_of_range", Warning, "device", "the supply voltage outside the data sheet's operating range"),
+    kind("non_finite_input", Error, "device", "the stimulus or error model gave a non-finite value; NaN taken as 0"),
+    kind(
+        "time_reversal",
+        Warning,
+        "device",
+        "a frame starts before the device's time: it would see samples from its future",
+    ),
+    kind("fault_injected", Warning, "device", "a fault of the profile's fault list started or ended"),
+    // A replay of recorded burst words in place of the device model.
+    kind(
+        "replay_exhausted",
+        Error,
+        "device",
+        "a burst read after every recorded burst was replayed: frames read the idle word",
+    ),
+    kind(
+        "replay_extra_frame",
+        Warning,
+        "device",
+        "a CS-low window longer than the recorded burst: the extra frames read the idle word",
+    ),
+    kind(
+        "replay_unexpected_command",
+        Warning,
+        "device",
+        "a frame other than the recorded burst command during a replay",
+    ),
+    // The firmware.
+    kind("stale_decode", Warning, "firmware", "a gyro word outside both published ranges: the previous value kept"),
+    kind("decode_mismatch", Warning, "firmware", "the published decode's scale differs from the configured gyro range"),
+    kind("saturated_reading", Warning, "firmware", "a decoded code at the 14-bit limit"),
+    kind(
+        "state_out_of_range",
+        Error,
+        "firmware",
+        "the firmware state (quaternion norm, velocity, position) left its valid range",
+    ),
+    // The emulator's scheduling of the timer interrupt.
+    kind("overrun", Error, "emulator", "a timer tick arrived while the previous ISR was still running"),
+    kind("tick_lost", Error, "emulator", "a timer tick arrived while the previous one was still pending: lost"),
+    kind("nested_interrupt", Warning, "emulator", "a timer tick preempted the running ISR and ran inside it"),
+    // The Python harness.
+    kind(
+        "input_gap",
+        Warning,
+        "harness",
+        "the trace has a gap longer than the allowed sample periods: interpolated across",
+    ),
+];
+
+/// The table entry of `name`, if it is a known kind.
+pub fn kind_of(name: &str) -> Option<&'static EventKind> {
+    KINDS.iter().find(|k| k.name == name)
+}
+
+/// One event. `kind` is a stable snake_case identifier listed in [`KINDS`] (and docs/events.md);
 /// `measured`/`required` carry the numbers of a timing rule (SI units: seconds, hertz).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Event {
@@ -44,8 +233,10 @@ pub struct Event {
 }
 
 impl Event {
-    /// An event with no rule figures.
+    /// An event with no rule figures. In tests and debug builds, a kind missing from [`KINDS`] or a
+    /// severity other than the table's panics: the table stays the one list of what can be reported.
     pub fn new(t_ps: Ps, kind: &'static str, severity: Severity, message: impl Into<String>) -> Self {
+        check_kind(kind, severity);
         Event { t_ps, kind, severity, message: message.into(), measured: None, required: None }
     }
 
@@ -58,7 +249,19 @@ impl Event {
         measured: f64,
         required: f64,
     ) -> Self {
+        check_kind(kind, severity);
         Event { t_ps, kind, severity, message: message.into(), measured: Some(measured), required: Some(required) }
+    }
+}
+
+/// Panics (tests and debug builds only) when `kind` is not in [`KINDS`] or `severity` is not its.
+#[inline]
+fn check_kind(kind: &str, severity: Severity) {
+    if cfg!(any(test, debug_assertions)) {
+        match kind_of(kind) {
+            None => panic!("event kind `{kind}` is not in events::KINDS: add it there (with its meaning)"),
+            Some(k) => assert_eq!(k.severity, severity, "event kind `{kind}` is reported with the table's severity"),
+        }
     }
 }
 
@@ -84,5 +287,72 @@ impl EventLog {
     /// Number of events of one kind.
     pub fn count(&self, kind: &str) -> usize {
         self.events.iter().filter(|e| e.kind == kind).count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::{Path, PathBuf};
+
+    #[test]
+    fn kinds_are_unique_snake_case_with_a_meaning() {
+        for (i, k) in KINDS.iter().enumerate() {
+            assert!(k.name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_'), "{}", k.name);
+            assert!(!k.meaning.is_empty() && !k.meaning.ends_with('.'), "{}: one line, no full stop", k.name);
+            assert!(["device", "link", "mcu", "firmware", "emulator", "harness"].contains(&k.source), "{}", k.name);
+            assert!(KINDS[..i].iter().all(|o| o.name != k.name), "{} twice", k.name);
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "not in events::KINDS")]
+    fn an_unlisted_kind_panics_in_tests() {
+        let _ = Event::new(0, "no_such_kind", Severity::Info, "");
+    }
+
+    #[test]
+    #[should_panic(expected = "the table's severity")]
+    fn a_kind_with_another_severity_panics_in_tests() {
+        let _ = Event::new(0, "overrun", Severity::Info, "");
+    }
+
+    fn sources(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                sources(&p, ext, out);
+            } else if p.extension().is_some_and(|x| x == ext) && !p.ends_with("events.rs") {
+                out.push(p);
+            }
+        }
+    }
+
+    /// Every kind of the table is reported somewhere: its name appears as a string literal in the
+    /// core's sources (Rust kinds) or the Python package's (`harness` kinds), outside this file and
+    /// outside test modules. The other direction (nothing reports an unlisted kind) is `Event::new`'s check.
+    #[test]
+    fn every_listed_kind_is_reported_somewhere() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let (mut rust, mut python) = (Vec::new(), Vec::new());
+        sources(&root.join("src"), "rs", &mut rust);
+        sources(&root.join("../../python/sins_fw"), "py", &mut python);
+        let text = |files: &[PathBuf]| -> String {
+            files
+                .iter()
+                .filter(|p| !p.file_name().unwrap().to_string_lossy().starts_with("tests"))
+                .map(|p| {
+                    let t = std::fs::read_to_string(p).unwrap();
+                    // Drop the file's test module (it may name kinds without reporting them).
+                    t.split("#[cfg(test)]").next().unwrap().to_string()
+                })
+                .collect()
+        };
+        let (rust, python) = (text(&rust), text(&python));
+        for k in KINDS {
+            let quoted = format!("\"{}\"", k.name);
+            let code = if k.source == "harness" { &python } else { &rust };
+            assert!(code.contains(&quoted), "event kind {} is in KINDS but nothing reports it", k.name);
+        }
     }
 }

@@ -32,8 +32,8 @@ pub struct ReadRow {
     pub t_start_ps: Ps,
     /// Last SCLK edge of the burst.
     pub t_end_ps: Ps,
-    /// The 15 words SPIRXBUF gave (frame 0: the command frame's don't-care word).
-    pub words: [u16; 15],
+    /// The words SPIRXBUF gave (frame 0: the command frame's don't-care word).
+    pub words: [u16; READ_WORDS],
     /// Decoded ω_ib^b, rad/s (the firmware's values as f64).
     pub rate: [f64; 3],
     /// Decoded f^b, m/s².
@@ -125,4 +125,120 @@ impl Output {
         self.budget.extend(other.budget);
         self.events.extend(other.events);
     }
+}
+
+/// The SPIRXBUF words a read row holds: the burst command's frame and the ADIS16407's 14 data words.
+pub const READ_WORDS: usize = 15;
+
+/// One output column as the binding hands it to Python (`sins_fw._core.OUTPUT_COLUMNS`): a field of
+/// [`CycleRow`], [`ReadRow`] or [`BudgetRow`] under its table's prefix, in the order `Emulator.take`
+/// returns them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Column {
+    /// Key in `Emulator.take`'s dict: `cycle_`, `read_` or `budget_` and the row's field.
+    pub name: &'static str,
+    /// Unit of its values.
+    pub unit: &'static str,
+    /// One line of meaning.
+    pub meaning: &'static str,
+    /// Its columns in the run output file (`sins-fw run --out`), one per component, with their
+    /// units; empty when the file does not hold it.
+    pub file: &'static [(&'static str, &'static str)],
+}
+
+const fn col(name: &'static str, unit: &'static str, meaning: &'static str) -> Column {
+    Column { name, unit, meaning, file: &[] }
+}
+
+const fn filed(
+    name: &'static str,
+    unit: &'static str,
+    meaning: &'static str,
+    file: &'static [(&'static str, &'static str)],
+) -> Column {
+    Column { name, unit, meaning, file }
+}
+
+/// Every output column, in the binding's order.
+pub const COLUMNS: &[Column] = &[
+    col("cycle_step", "1", "attitude step index (0 = first step after alignment)"),
+    filed(
+        "cycle_t_ps",
+        "ps",
+        "virtual time of the tick that completed the step (0 = power-on = first trace sample)",
+        &[("t_s", "s")],
+    ),
+    filed(
+        "cycle_quat",
+        "1",
+        "firmware quaternion Q = [q0, q1, q2, q3] (C_b^n, ENU)",
+        &[("q0", "1"), ("q1", "1"), ("q2", "1"), ("q3", "1")],
+    ),
+    filed(
+        "cycle_euler_deg",
+        "°",
+        "roll, pitch, yaw: the firmware's Euler extraction",
+        &[("roll_deg", "°"), ("pitch_deg", "°"), ("yaw_deg", "°")],
+    ),
+    filed(
+        "cycle_vel_enu",
+        "m/s",
+        "velocity east, north, up",
+        &[("vel_e_mps", "m/s"), ("vel_n_mps", "m/s"), ("vel_u_mps", "m/s")],
+    ),
+    filed(
+        "cycle_pos",
+        "°, °, m",
+        "latitude, longitude, height",
+        &[("lat_deg", "°"), ("lon_deg", "°"), ("height_m", "m")],
+    ),
+    col("read_tick", "1", "timer tick of the burst read"),
+    col("read_t_cs_ps", "ps", "CS falling edge of the burst: what a raw-register trace records"),
+    col("read_t_start_ps", "ps", "first SCLK edge of the burst"),
+    col("read_t_end_ps", "ps", "last SCLK edge of the burst"),
+    col("read_words", "16-bit word", "the READ_WORDS words SPIRXBUF gave (frame 0: the command frame's answer)"),
+    col("read_rate", "rad/s", "decoded ω_ib^b (the firmware's values as f64)"),
+    col("read_accel", "m/s²", "decoded f^b (the firmware's values as f64)"),
+    col("read_sample_index", "1", "device sample the burst carried (−1: none); in a replay, the recorded burst's row"),
+    col("read_sample_ps", "ps", "true time of that sample (device clock); in a replay, the recorded timestamp"),
+    col("read_assumed_s", "s", "the time the firmware assumes the sample belongs to"),
+    col("read_age_ps", "ps", "age of the sample at the burst's first data frame"),
+    col("budget_tick", "1", "timer tick index (tick k arrives at k × period)"),
+    col("budget_tick_ps", "ps", "arrival of the tick"),
+    col("budget_start_ps", "ps", "first ISR cycle (later than the tick after an overrun)"),
+    col("budget_entry_end_ps", "ps", "end of the interrupt entry (context save and prologue)"),
+    col("budget_spi_start_ps", "ps", "first SCLK edge of the first burst"),
+    col("budget_spi_end_ps", "ps", "CS high after the last burst"),
+    col("budget_decode_end_ps", "ps", "end of the decode"),
+    col("budget_attitude_end_ps", "ps", "end of the attitude update (= decode end when no step ran)"),
+    col("budget_euler_end_ps", "ps", "end of the Euler extraction"),
+    col("budget_nav_end_ps", "ps", "end of the navigation"),
+    col("budget_end_ps", "ps", "end of the ISR (after the exit)"),
+    col("budget_deadline_ps", "ps", "the next tick: the deadline of this one"),
+    col("budget_step", "0/1", "this tick completed an attitude step"),
+    col("budget_overrun", "0/1", "this tick arrived while the previous ISR was running"),
+];
+
+/// Whether `names` are the names of [`COLUMNS`], in order: lets the binding check its column list
+/// against this table at compile time.
+pub const fn is_column_list(names: &[&str]) -> bool {
+    if names.len() != COLUMNS.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < names.len() {
+        let (a, b) = (names[i].as_bytes(), COLUMNS[i].name.as_bytes());
+        if a.len() != b.len() {
+            return false;
+        }
+        let mut j = 0;
+        while j < a.len() {
+            if a[j] != b[j] {
+                return false;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    true
 }

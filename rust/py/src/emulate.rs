@@ -485,6 +485,12 @@ macro_rules! output_columns {
             events: Vec<Event>,
         }
 
+        // The columns are the core's output table (`sins_core::emulator::COLUMNS`), in order.
+        const _: () = assert!(
+            sins_core::emulator::is_column_list(&[$(stringify!($name)),*]),
+            "output_columns! differs from sins_core's output::COLUMNS"
+        );
+
         impl Columns {
             /// Append one run's output (rows in order; events after the ones already held). With
             /// `scale`, first make room for `scale` times this output's rows (see `expect_input_until`).
@@ -520,7 +526,7 @@ output_columns! {
     read_t_cs_ps: u64 = reads.t_cs_ps,
     read_t_start_ps: u64 = reads.t_start_ps,
     read_t_end_ps: u64 = reads.t_end_ps,
-    read_words: [u16; 15] = reads.words,
+    read_words: [u16; sins_core::emulator::READ_WORDS] = reads.words,
     read_rate: [f64; 3] = reads.rate,
     read_accel: [f64; 3] = reads.accel,
     read_sample_index: i64 = reads.sample_index,

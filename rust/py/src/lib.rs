@@ -155,8 +155,43 @@ fn bench_firmware_stages(
         .map_err(to_py)
 }
 
+/// The event kinds (`sins_core::events::KINDS`) as dicts: name, severity, source, spi_rule, meaning.
+fn event_kinds(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    sins_core::events::KINDS
+        .iter()
+        .map(|k| {
+            let d = PyDict::new(py);
+            d.set_item("name", k.name)?;
+            d.set_item("severity", k.severity.as_str())?;
+            d.set_item("source", k.source)?;
+            d.set_item("spi_rule", k.spi_rule)?;
+            d.set_item("meaning", k.meaning)?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// The output columns (`sins_core::emulator::COLUMNS`) as dicts: name, unit, meaning, file (the
+/// run output file's (name, unit) per component).
+fn output_columns(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    sins_core::emulator::COLUMNS
+        .iter()
+        .map(|c| {
+            let d = PyDict::new(py);
+            d.set_item("name", c.name)?;
+            d.set_item("unit", c.unit)?;
+            d.set_item("meaning", c.meaning)?;
+            d.set_item("file", c.file.to_vec())?;
+            Ok(d)
+        })
+        .collect()
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("EVENT_KINDS", event_kinds(m.py())?)?;
+    m.add("OUTPUT_COLUMNS", output_columns(m.py())?)?;
+    m.add("READ_WORDS", sins_core::emulator::READ_WORDS)?;
     m.add("__version__", sins_core::VERSION)?;
     m.add("BLOCK_TICKS", sins_core::emulator::BLOCK_TICKS)?;
     m.add_function(wrap_pyfunction!(resolve_profile, m)?)?;

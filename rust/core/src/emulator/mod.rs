@@ -17,7 +17,7 @@ mod board;
 pub use crate::board::{input, sensor};
 pub use crate::board::{FrameSummary, InputFeed, Reach, Sensor, StreamStimulus, StreamedDevice};
 pub use crate::firmware::isr::BURST_FRAMES;
-pub use crate::output::{BudgetRow, CycleRow, Output, ReadRow};
+pub use crate::output::{is_column_list, BudgetRow, Column, CycleRow, Output, ReadRow, COLUMNS, READ_WORDS};
 pub use board::BoardReport;
 
 /// Timer ticks one call to [`Emulator::run`] runs at most before it returns

@@ -23,8 +23,9 @@ use crate::time::{ps_to_s, Clock, Divisor, Ps};
 use crate::timing::costs::IoCosts;
 use crate::timing::stages::StageCosts;
 
-/// Frames of one burst read: the command and the 14 output registers.
-pub const BURST_FRAMES: usize = 15;
+/// Frames of one burst read: the command and the 14 output registers (the read row keeps them all:
+/// one declaration, [`crate::output::READ_WORDS`]).
+pub const BURST_FRAMES: usize = crate::output::READ_WORDS;
 /// Index in the burst of X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (frame 0 is the command).
 const FIRST_INERTIAL: usize = 2;
 /// DIN the firmware sends in the 14 data frames of a burst (don't care for the device).
@@ -121,7 +122,7 @@ impl<T: Scalar> Isr<T> {
     }
 
     /// The firmware's variables, for tests that force a state.
-    #[cfg(test)]
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn firmware_mut(&mut self) -> &mut Firmware<T> {
         &mut self.fw
     }
