@@ -57,6 +57,11 @@ impl<S: Sensor> Board<S> {
         self.timer.period_cycles() * k
     }
 
+    /// The time timer tick `k` arrives at.
+    pub fn tick_ps(&self, k: u64) -> Ps {
+        self.ps(self.tick_cycle(k))
+    }
+
     /// A `dropped_burst` fault: the CS line goes high at `t`, in the middle of the burst of `tick`.
     #[cold]
     pub(crate) fn raise_glitch(&mut self, events: &mut EventLog, tick: u64, g: &mut BurstGlitch, t: Ps) -> Result<()> {

@@ -226,19 +226,12 @@ impl Frame {
     }
 }
 
-/// SPIDAT at the end of `frame`, which shifted in `rx`: the character shifted out at the top, the
-/// received bits at the bottom.
+/// SPIDAT at the end of `frame`, which shifted in `rx`: the character shifted out at the top (none
+/// left of a 16-bit character), the received bits at the bottom.
 #[inline]
 fn spidat_after(frame: &Frame, rx: u16) -> u16 {
-    let shifted = if spidat_is_rx(frame) { 0 } else { frame.tx << frame.shape.bits };
+    let shifted = if frame.shape.bits >= 16 { 0 } else { frame.tx << frame.shape.bits };
     shifted | rx
-}
-
-/// Whether SPIDAT after `frame` is the word received as it is ([`spidat_after`]): a 16-bit
-/// character shifts the whole word out.
-#[inline]
-fn spidat_is_rx(frame: &Frame) -> bool {
-    frame.shape.bits >= 16
 }
 
 /// When a status flag sets, as SPI-A knows it: the time, and the LSPCLK cycle when the flag sets on
@@ -297,21 +290,6 @@ pub struct PollSteps {
     /// SYSCLKOUT per LSPCLK, start latency, character length (LSPCLK cycles), `before_write`, `after_read`.
     made_for: Option<[u64; 5]>,
     by_phase: [Option<PollStep>; POLL_PHASES],
-    /// The latest run from each first-write phase: its words' steps composed, so that the next run
-    /// from that phase takes its starts at once instead of stepping word by word.
-    runs: [RunPlan; POLL_PHASES],
-}
-
-/// A run of a polled loop from a first write at some phase (see [`PollSteps`]): the LSPCLK cycle each
-/// character starts on and the next write's position (whole LSPCLK cycles, phase), counted from the
-/// first write's LSPCLK cycle q (q cancels, as in one word's step). No characters: none kept.
-#[derive(Debug, Clone, Default)]
-struct RunPlan {
-    start_after: Vec<u64>,
-    lspclk_cycles: u64,
-    next_phase: u64,
-    /// [`closest_spacing`] of the starts.
-    closest_spacing: u64,
 }
 
 impl PollSteps {
@@ -324,7 +302,7 @@ impl PollSteps {
         self
     }
 
-    /// Empty the tables for `made_for` (out of line: rare, and it drops the kept runs).
+    /// Empty the tables for `made_for` (out of line: rare).
     #[cold]
     #[inline(never)]
     fn empty_for(&mut self, made_for: [u64; 5]) {
@@ -826,8 +804,7 @@ impl SpiA {
     /// q + [φ > 0] + latency, INT_FLAG sets ([φ > 0] + latency + length)·k − φ cycles after the write
     /// (q cancels), so the poll's length, the next write's distance and the next phase are functions
     /// of φ. Each is worked out once per phase (at most k of them) and kept in `steps` for the next
-    /// runs with the same `read_after` (see [`PollSteps`]); so is a whole run of `N` words from the
-    /// phase of its first write (its starts and end, counted from that write's LSPCLK cycle).
+    /// runs with the same `read_after` (see [`PollSteps`]).
     #[allow(clippy::too_many_arguments)]
     pub fn polled_run<W: SpiWire, const N: usize>(
         &mut self,
@@ -846,44 +823,30 @@ impl SpiA {
             [k.get(), self.start_latency_lspclk, self.shape.length_cycles(), cpu.before_write, cpu.after_read];
         let steps = steps.for_loop(made_for);
         let mut starts = [0u64; N];
-        let (q0, phase0) = k.div_rem(*c + cpu.before_write);
-        let kept = steps.runs.get(phase0 as usize).filter(|run| run.start_after.len() == N);
-        let (q, phase, closest) = if let Some(run) = kept {
-            starts.iter_mut().zip(&run.start_after).for_each(|(start, after)| *start = q0 + after);
-            (q0 + run.lspclk_cycles, run.next_phase, run.closest_spacing)
-        } else {
-            let (mut q, mut phase) = (q0, phase0);
-            for start in &mut starts {
-                let remembered = steps.by_phase.get(phase as usize).copied().flatten();
-                let step = match remembered {
-                    Some(step) => step,
-                    None => {
-                        let (start, wait) = self.polled_word((q, phase), cpu);
-                        let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
-                            // A poll that fails: the word-by-word loop leaves the registers as the register
-                            // path does, and returns the error (nothing has changed yet).
-                            return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
-                        };
-                        let (lspclk_cycles, next_phase) =
-                            k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
-                        let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
-                        if let Some(slot) = steps.by_phase.get_mut(phase as usize) {
-                            *slot = Some(step);
-                        }
-                        step
+        let (mut q, mut phase) = k.div_rem(*c + cpu.before_write);
+        for start in &mut starts {
+            let remembered = steps.by_phase.get(phase as usize).copied().flatten();
+            let step = match remembered {
+                Some(step) => step,
+                None => {
+                    let (start, wait) = self.polled_word((q, phase), cpu);
+                    let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
+                        // A poll that fails: the word-by-word loop leaves the registers as the register
+                        // path does, and returns the error (nothing has changed yet).
+                        return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
+                    };
+                    let (lspclk_cycles, next_phase) = k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
+                    let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
+                    if let Some(slot) = steps.by_phase.get_mut(phase as usize) {
+                        *slot = Some(step);
                     }
-                };
-                *start = q + step.start_after;
-                (q, phase) = (q + step.lspclk_cycles, step.next_phase);
-            }
-            let closest = closest_spacing(&starts);
-            if let Some(run) = steps.runs.get_mut(phase0 as usize) {
-                run.start_after.clear();
-                run.start_after.extend(starts.iter().map(|start| start - q0));
-                (run.lspclk_cycles, run.next_phase, run.closest_spacing) = (q - q0, phase, closest);
-            }
-            (q, phase, closest)
-        };
+                    step
+                }
+            };
+            *start = q + step.start_after;
+            (q, phase) = (q + step.lspclk_cycles, step.next_phase);
+        }
+        let closest = closest_spacing(&starts);
         self.txbuf = tx;
         let first = self.next_frame(tx, starts[0]);
         self.frames += N as u64 - 1;
@@ -891,8 +854,7 @@ impl SpiA {
         let mut rx = [0u16; N];
         wire.transfer_run(&run, &mut rx);
         let mask = first.rx_mask();
-        // Where SPIDAT holds the word received as it is, no pass over the words.
-        let read = if spidat_is_rx(&first) { rx } else { rx.map(|r| spidat_after(&first, r & mask)) };
+        let read = rx.map(|r| spidat_after(&first, r & mask));
         self.complete(&run.frame(N - 1), rx[N - 1] & mask);
         self.read_rxbuf();
         // The loop has stepped on to the next write: the last read is its store and BUFFULL poll before.

@@ -199,7 +199,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         let k = self.tick;
         self.fw.next_pending = k + 1;
         let tick_cycle = self.board.tick_cycle(k);
-        let tick_ps = self.fw.tick_ps(&self.board, k);
+        let tick_ps = self.board.tick_ps(k);
         let busy = tick_cycle < self.cpu_free;
         let start = if busy {
             match self.fw.overrun() {

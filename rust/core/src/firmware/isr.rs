@@ -50,8 +50,6 @@ pub struct Isr<T: Scalar> {
     bursts_per_tick: usize,
     /// The timer period, s (as the read rows' assumed sample times use it).
     tick_period_s: f64,
-    /// A tick's arrival worked out ahead, (tick, ps): each ISR's deadline is the next tick's arrival.
-    known_tick_ps: (u64, Ps),
     /// The next tick no ISR has serviced yet (ticks serviced by a nested ISR are skipped).
     pub(crate) next_pending: u64,
     /// The tick of the outermost ISR running.
@@ -100,8 +98,6 @@ impl<T: Scalar> Isr<T> {
             bursts_per_tick: schedule.bursts_per_tick(),
             schedule,
             tick_period_s: ps_to_s(board.timer.tick_ps(1)),
-            // Tick 0 arrives at cycle 0.
-            known_tick_ps: (0, 0),
             next_pending: 1,
             outer_tick: 0,
             depth: 0,
@@ -128,15 +124,6 @@ impl<T: Scalar> Isr<T> {
     /// What a tick arriving while the ISR runs does (`firmware.overrun`).
     pub fn overrun(&self) -> OverrunPolicy {
         self.overrun
-    }
-
-    /// The time tick `k` arrives at: usually the deadline the previous ISR worked out.
-    #[inline]
-    pub fn tick_ps<S: Sensor>(&self, board: &Board<S>, k: u64) -> Ps {
-        match self.known_tick_ps {
-            (known, ps) if known == k => ps,
-            _ => board.ps(board.tick_cycle(k)),
-        }
     }
 
     /// Under `firmware.overrun = "nest"` the ISR re-enables interrupts (EINT) after its entry: a tick
@@ -176,7 +163,7 @@ impl<T: Scalar> Isr<T> {
                 format!("tick {inner} preempts the ISR of tick {k}: it runs inside it (SPI-A and the firmware state are shared)"),
             ));
             self.depth += 1;
-            let end = self.isr(board, inner, self.tick_ps(board, inner), *c, true);
+            let end = self.isr(board, inner, board.tick_ps(inner), *c, true);
             self.depth -= 1;
             *c = end?;
         }
@@ -198,16 +185,8 @@ impl<T: Scalar> Isr<T> {
         let tick_cycle = board.tick_cycle(k);
         let mut c = start + self.stages.entry;
         let entry_end = c;
-        // Only as many bursts as the schedule reads are set up (zeroing three on every tick cost as
-        // much as the rest of the ISR's bookkeeping, measured with callgrind).
-        let (mut one, mut more);
-        let bursts: &mut [Burst] = if self.bursts_per_tick == 1 {
-            one = [Burst::EMPTY];
-            &mut one
-        } else {
-            more = [Burst::EMPTY; MAX_SAMPLES];
-            &mut more[..self.bursts_per_tick]
-        };
+        let mut all = [Burst::default(); MAX_SAMPLES];
+        let bursts = &mut all[..self.bursts_per_tick];
         for b in bursts.iter_mut() {
             self.burst(board, &mut c, k, b)?;
         }
@@ -264,7 +243,6 @@ impl<T: Scalar> Isr<T> {
         }
         c += self.stages.exit;
         let deadline_ps = board.ps(tick_cycle + board.timer.period_cycles());
-        self.known_tick_ps = (k + 1, deadline_ps);
         // Stages that did not run end where the schedule did (usually the decode's end): one
         // conversion to picoseconds serves them all.
         let decode_end_ps = board.ps(decode_end);
@@ -292,7 +270,7 @@ impl<T: Scalar> Isr<T> {
         Ok(c)
     }
 
-    /// One 15-frame burst read as the published code performs it; `b` (as [`Burst::EMPTY`]) is
+    /// One 15-frame burst read as the published code performs it; `b` (nothing read yet) is
     /// filled with what it gave the firmware. `c` is the CPU cycle, advanced by the code's costs.
     fn burst<S: Sensor>(&mut self, board: &mut Board<S>, c: &mut u64, k: u64, b: &mut Burst) -> Result<()> {
         *c += u64::from(self.io.gpio_write);
@@ -492,7 +470,7 @@ impl Poller {
 }
 
 /// What one burst read gave the firmware.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 struct Burst {
     words: [u16; BURST_FRAMES],
     t_cs_ps: Ps,
@@ -506,18 +484,6 @@ struct Burst {
 }
 
 impl Burst {
-    /// Nothing read yet.
-    const EMPTY: Burst = Burst {
-        words: [0; BURST_FRAMES],
-        t_cs_ps: 0,
-        t_cs_rise_ps: 0,
-        t_start_ps: 0,
-        t_end_ps: 0,
-        sample_index: None,
-        sample_ps: 0,
-        age_ps: 0,
-    };
-
     /// What the read record needs from the sensor's latest frame after word `i`. Only the first,
     /// second and last words matter, and they are noted before a nested ISR can clock frames of its own.
     #[inline(always)]
