@@ -23,8 +23,10 @@ use crate::time::{ps_to_s, Clock, Divisor, Ps};
 use crate::timing::costs::IoCosts;
 use crate::timing::stages::StageCosts;
 
-/// Frames of one burst read: the command and the 14 output registers (the read row keeps them all:
-/// one declaration, [`crate::output::READ_WORDS`]).
+/// Frames of the longest burst read: the command and the 14 output registers of the ADIS16407 (the
+/// read row keeps them all: one declaration, [`crate::output::READ_WORDS`]). A part with a shorter
+/// burst (the ADIS16362: the command and 11 registers) is read in its own number of frames, the
+/// words past them left 0.
 pub const BURST_FRAMES: usize = crate::output::READ_WORDS;
 /// Index in the burst of X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (frame 0 is the command).
 const FIRST_INERTIAL: usize = 2;
@@ -41,6 +43,8 @@ pub struct Isr<T: Scalar> {
     io: IoCosts,
     overrun: OverrunPolicy,
     burst_command: u16,
+    /// Frames of one burst read: the command and the part's burst words (`Part::burst_frames`).
+    burst_frames: usize,
     /// The firmware's status-polling loops.
     poller: Poller,
     /// The burst's word loop in CPU cycles, when SYSCLKOUT is a whole multiple of LSPCLK.
@@ -85,12 +89,20 @@ impl<T: Scalar> Isr<T> {
             poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
             sysclk_per_lspclk: clocks.sysclkout.cycles_per_cycle_of(clocks.lspclk),
         };
+        let burst_frames = profile.device.part_decl()?.burst_frames();
+        if !(FIRST_INERTIAL + 6..=BURST_FRAMES).contains(&burst_frames) {
+            return Err(Error::Profile(format!(
+                "device.part: a burst of {burst_frames} frames; the firmware reads {}…{BURST_FRAMES}",
+                FIRST_INERTIAL + 6
+            )));
+        }
         Ok(Isr {
             fw,
             stages,
             io: io.clone(),
             overrun: profile.firmware.overrun,
             burst_command: profile.device.burst_command as u16,
+            burst_frames,
             polled_loop: poller.sysclk_per_lspclk.map(|k| PolledLoop {
                 sysclk: clocks.sysclkout,
                 sysclk_per_lspclk: Divisor::new(k),
@@ -296,21 +308,35 @@ impl<T: Scalar> Isr<T> {
         // characters. The read record needs the first data frame: the sensor keeps the second frame
         // since CS fell, which is that frame when CS falls here.
         match &self.polled_loop {
-            Some(cpu) if cs_falls && glitch.is_none() && !self.may_nest() && board.link.polled_burst_applies(t_cs) => {
+            Some(cpu)
+                if cs_falls
+                    && glitch.is_none()
+                    && !self.may_nest()
+                    && matches!(self.burst_frames, 12 | BURST_FRAMES)
+                    && board.link.polled_burst_applies(t_cs) =>
+            {
                 let (poll, read_cost) = (&self.poller, u64::from(self.io.peripheral_read));
                 // From the write to the end of the read (the poll's length depends on the wait alone).
                 let read_after =
                     |write, wait| Ok(poll.until_cycle(write, write + wait, "INT_FLAG = 1")? + read_cost - write);
                 let command = [self.burst_command];
                 let [answer] =
-                    board.link.polled_burst(command, c, cpu, read_after, |_, slave| b.note_frame(0, slave))?;
-                let data: [u16; BURST_FRAMES - 1] =
-                    board.link.polled_run(BURST_FILL, c, cpu, read_after, &mut self.poll_steps)?;
+                    board.link.polled_burst(command, c, cpu, read_after, |_, slave| b.note_frame(0, 0, slave))?;
+                // The fill words as one run, of the part's length (the run's length is a constant of
+                // the fast path: the two burst lengths of the parts declared today).
+                let n = self.burst_frames;
+                let steps = &mut self.poll_steps;
+                if n == BURST_FRAMES {
+                    let data: [u16; BURST_FRAMES - 1] = board.link.polled_run(BURST_FILL, c, cpu, read_after, steps)?;
+                    b.words[1..n].copy_from_slice(&data);
+                } else {
+                    let data: [u16; 11] = board.link.polled_run(BURST_FILL, c, cpu, read_after, steps)?;
+                    b.words[1..n].copy_from_slice(&data);
+                }
                 let sensor = board.link.slave();
                 b.note(1, sensor.second_frame());
-                b.note(BURST_FRAMES - 1, sensor.last_frame());
+                b.note(n - 1, sensor.last_frame());
                 b.words[0] = answer;
-                b.words[1..].copy_from_slice(&data);
             }
             _ => self.burst_word_by_word(board, c, k, b, &mut glitch)?,
         }
@@ -337,7 +363,7 @@ impl<T: Scalar> Isr<T> {
         let (poll, read_cost) = (self.poller, u64::from(self.io.peripheral_read));
         // The latest CPU cycle whose time is known (CS↓, then each fast-path read): see `until_seen`.
         let mut seen = (*c, b.t_cs_ps);
-        for i in 0..BURST_FRAMES {
+        for i in 0..self.burst_frames {
             // if (Spi_TxReady() == 1) SPITXBUF = sdata;  — wait for BUFFULL_FLAG = 0
             let ready = board.link.buffull_clear_time();
             *c = poll.until_seen(*c, ready, seen, "BUFFULL_FLAG = 0")?;
@@ -363,7 +389,7 @@ impl<T: Scalar> Isr<T> {
                 *c = read_cycle;
             }
             *c += u64::from(self.io.store_word + self.io.frame_loop);
-            b.note_frame(i, board.link.slave());
+            b.note_frame(i, self.burst_frames - 1, board.link.slave());
             if let Some(g) = glitch.as_mut().filter(|g| g.after_frame == i) {
                 board.raise_glitch(&mut self.events, self.outer_tick, g, board.ps(*c))?;
             }
@@ -524,8 +550,8 @@ impl Burst {
     /// What the read record needs from the sensor's latest frame after word `i`. Only the first,
     /// second and last words matter, and they are noted before a nested ISR can clock frames of its own.
     #[inline(always)]
-    fn note_frame<S: Sensor>(&mut self, i: usize, sensor: &S) {
-        if i < 2 || i == BURST_FRAMES - 1 {
+    fn note_frame<S: Sensor>(&mut self, i: usize, last: usize, sensor: &S) {
+        if i < 2 || i == last {
             self.note(i, sensor.last_frame());
         }
     }
