@@ -154,7 +154,10 @@ VALUE = st.one_of(
 
 
 def _check_cli(capsys, *args: str) -> None:
-    code = main(list(args))
+    try:
+        code = main(list(args))
+    except SystemExit as e:  # argparse's usage errors exit from inside the parser
+        code = e.code
     _, err = capsys.readouterr()
     assert "Traceback" not in err and "panicked" not in err, err
     # 1: a check failed (an error-severity event, a broken rule), said in one line after the summary.

@@ -150,7 +150,9 @@ def test_complete_last_row_without_newline_is_accepted(tmp_path):
 
 
 def test_in_memory_validation_names_the_field():
-    with pytest.raises(TraceError, match=r"PhysicalTrace.gyro_dps: shape \(3, 2\)"):
+    with pytest.raises(
+        TraceError, match=r"PhysicalTrace.gyro_dps: expected shape \(3, 3\).*got shape \(3, 2\)"
+    ):
         PhysicalTrace(
             np.arange(3.0), np.zeros((3, 2)), np.zeros((3, 3)), metadata={"sample_rate_hz": "1"}
         ).validate()

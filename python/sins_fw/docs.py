@@ -8,7 +8,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from sins_fw import _core
+from sins_fw import _core, atomic
 
 EVENTS_MD = Path(__file__).resolve().parents[2] / "docs" / "events.md"
 
@@ -64,7 +64,7 @@ def events_md() -> str:
 
 
 def main() -> int:
-    EVENTS_MD.write_text(events_md(), encoding="utf-8")
+    atomic.write_text(EVENTS_MD, events_md())
     print(f"wrote {EVENTS_MD}")
     return 0
 

@@ -160,8 +160,8 @@ class TableWriter:
         if self._h5 is None:
             assert self._tmp is not None
             # Through a file that keeps a failed write (a full disk) until h5py has closed cleanly.
-            raw = self._stack.enter_context(kept_error_file(self._tmp))
-            self._h5 = h5py.File(raw, "w", libver=("earliest", "v110"), track_order=True)
+            tmp_file = self._stack.enter_context(kept_error_file(self._tmp))
+            self._h5 = h5py.File(tmp_file, "w", libver=("earliest", "v110"), track_order=True)
             for k, v in self.metadata.items():
                 self._h5.attrs[k] = v
             for name, arr in block.items():

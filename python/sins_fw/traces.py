@@ -66,6 +66,11 @@ class Column:
         return self.name.rsplit("_", 1)[0]
 
 
+def _index(i: tuple[Any, ...]) -> tuple[int, ...]:
+    """A numpy index as plain integers, for messages: (1, 3), not (np.int64(1), np.int64(3))."""
+    return tuple(int(k) for k in i)
+
+
 def _axes(prefix: str, suffix: str, unit: str, what: str, required: bool) -> list[Column]:
     return [
         Column(f"{prefix}_{a}_{suffix}", unit, f"{what}, sensor {a} axis", group=prefix, required=required)
@@ -833,7 +838,7 @@ def _number_array(value: Any, name: str, shape: tuple[int, ...], expected: str, 
         big = (arr > 2**53) | (arr < -(2**53))
         if big.any():
             i = np.unravel_index(int(np.argmax(big)), arr.shape)
-            raise TraceError(f"{where}; element {i} = {arr[i]} is beyond 2^53, not exact as float64")
+            raise TraceError(f"{where}; element {_index(i)} = {arr[i]} is beyond 2^53, not exact as float64")
     return arr
 
 
@@ -927,7 +932,7 @@ class PhysicalTrace(_TraceFile):
                     if bad.any():
                         i = int(np.argmax(bad))
                         raise TraceError(
-                            f"{name}: element {i} = {arr[i]}; expected {expected} of bools or 0/1"
+                            f"{name}: element {_index(i)} = {arr[i]}; expected {expected} of bools or 0/1"
                         )
                     arr = arr.astype(bool)
                 setattr(self, attr, arr)
@@ -1005,7 +1010,7 @@ class RawRegisterTrace(_TraceFile):
         bad = (words < 0) | (words > 0xFFFF)
         if bad.any():
             i = np.unravel_index(int(np.argmax(bad)), shape)
-            raise TraceError(f"RawRegisterTrace.words: element {i} = {words[i]}; expected {expected}")
+            raise TraceError(f"RawRegisterTrace.words: element {_index(i)} = {words[i]}; expected {expected}")
         self.words = words.astype(np.uint16, copy=False)
         self.metadata = _metadata(self.metadata, "RawRegisterTrace")
 

@@ -27,7 +27,7 @@ from sins_fw.cli.common import (
 )
 from sins_fw.errors import InputError
 from sins_fw.harness import emulate
-from sins_fw.run_output import RUN_FORMAT, replay_check
+from sins_fw.run_output import RUN_FORMAT, replay_check, resolve_trace
 from sins_fw.traces import PhysicalTrace, read_metadata
 
 NUMERICS = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
@@ -126,7 +126,8 @@ def run(args: argparse.Namespace) -> int:
             "with `rerun FILE.rrd` where a display is available"
         )
     meta = read_metadata(args.trace)
-    recorded = meta.get("trace") if meta.get("format") == RUN_FORMAT else None
+    # The trace a saved run records, found where the replay will find it (run_output.resolve_trace).
+    recorded = resolve_trace(args.trace, meta) if meta.get("format") == RUN_FORMAT else None
     check_distinct(
         {"TRACE_OR_RUN": args.trace, "its recorded trace": recorded, "--profile": profile_file(args)},
         {"--save": args.save},
@@ -135,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
         # A saved run: replay it from its recorded inputs and check it before showing it.
         run_, meta = replay_check(args.trace, bus_window=window)
         profile = run_.profile
-        trace = PhysicalTrace.load(meta["trace"])
+        trace = PhysicalTrace.load(resolve_trace(args.trace, meta))
     else:
         profile = profile_from_args(args)
         trace = PhysicalTrace.load(args.trace)
