@@ -66,9 +66,9 @@ class Column:
         return self.name.rsplit("_", 1)[0]
 
 
-def _index(i: tuple[Any, ...]) -> tuple[int, ...]:
+def _index(i: Any) -> int | tuple[int, ...]:
     """A numpy index as plain integers, for messages: (1, 3), not (np.int64(1), np.int64(3))."""
-    return tuple(int(k) for k in i)
+    return tuple(int(k) for k in i) if isinstance(i, tuple) else int(i)
 
 
 def _axes(prefix: str, suffix: str, unit: str, what: str, required: bool) -> list[Column]:
