@@ -55,17 +55,23 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("scenario", help=f"`published` or a synth scenario: {', '.join(synth.SCENARIOS)}")
     p.add_argument("--runs", type=int, default=20, help="realisations per case (default 20)")
     p.add_argument("--first-seed", type=int, default=1, help="seed of the first realisation (default 1)")
+    add_realisation_options(p, plot_help="error bands over time and histograms")
+    p.set_defaults(func=run)
+
+
+def add_realisation_options(p: argparse.ArgumentParser, plot_help: str) -> None:
+    """The options `montecarlo` and `sweep` share: the scenario's preset and parameters, the error
+    model, the output table and plot, the profile, the engine and --json."""
     p.add_argument("--preset", default=None, help="scenario preset (indexing-table: sweep, pm30, yaw25.8)")
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE", help="scenario parameter")
     p.add_argument(
         "--errors", default="adis16407", help="error-model preset (errors.preset; default adis16407)"
     )
     p.add_argument("--out", default=None, metavar="FILE", help="per-run table: .parquet, .h5 or .csv")
-    p.add_argument("--plot", default=None, metavar="PNG", help="error bands over time and histograms")
+    p.add_argument("--plot", default=None, metavar="PNG", help=plot_help)
     add_profile_options(p)
     add_engine_options(p)
     add_json_option(p)
-    p.set_defaults(func=run)
 
 
 def scenario_params(items: list[str]) -> dict[str, Any]:

@@ -13,16 +13,13 @@ from typing import Any
 from sins_fw import montecarlo as mc
 from sins_fw import sweep, synth
 from sins_fw.cli.common import (
-    add_engine_options,
-    add_json_option,
-    add_profile_options,
     emit,
     engine_from_args,
     exit_epilog,
     profile_from_args,
     run_progress,
 )
-from sins_fw.cli.montecarlo import EXPLAINED, check_plot, scenario_case
+from sins_fw.cli.montecarlo import EXPLAINED, add_realisation_options, check_plot, scenario_case
 from sins_fw.errors import InputError
 
 EXAMPLES = """\
@@ -65,16 +62,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--runs", type=int, default=20, help="seeds per grid point without errors.seed in --grid (20)"
     )
     p.add_argument("--first-seed", type=int, default=1, help="first seed with --runs (default 1)")
-    p.add_argument("--preset", default=None, help="scenario preset (indexing-table: sweep, pm30, yaw25.8)")
-    p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE", help="scenario parameter")
-    p.add_argument(
-        "--errors", default="adis16407", help="error-model preset (errors.preset; default adis16407)"
-    )
-    p.add_argument("--out", default=None, metavar="FILE", help="per-run table: .parquet, .h5 or .csv")
-    p.add_argument("--plot", default=None, metavar="PNG", help="percentiles at each grid point")
-    add_profile_options(p)
-    add_engine_options(p)
-    add_json_option(p)
+    add_realisation_options(p, plot_help="percentiles at each grid point")
     p.set_defaults(func=run)
 
 
