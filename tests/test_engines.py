@@ -77,6 +77,16 @@ def test_cluster_binds_to_loopback_only(dask_engine):
     assert len(workers) == 2 and all(a.startswith("tcp://127.0.0.1:") for a in workers)
 
 
+def _trim_threshold() -> str | None:
+    return os.environ.get("MALLOC_TRIM_THRESHOLD_")
+
+
+def test_local_workers_keep_glibcs_adaptive_mmap_threshold(dask_engine):
+    # Dask's default sets MALLOC_TRIM_THRESHOLD_=65536 in its workers, which pins glibc's mmap
+    # threshold: every large numpy array is then mapped afresh (5x the page faults per realisation).
+    assert set(dask_engine.client.run(_trim_threshold).values()) == {None}
+
+
 def test_dask_gives_the_local_arrays(dask_engine, reference):
     got = mc.collect(dask_engine, JOBS, _traces())
     assert _same(got, reference)
