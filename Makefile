@@ -11,7 +11,7 @@ RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find ru
 # CI has two cores: keep pytest serial and cargo at its default.
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test test-rust test-python lint fmt bench clean golden docs
+.PHONY: demo test test-rust test-python lint fmt bench clean golden docs wheel
 
 demo: $(BUILT)
 	$(BIN)/sins-fw demo
@@ -37,6 +37,12 @@ fmt: $(DEPS)
 
 bench: $(BUILT)
 	$(BIN)/sins-fw bench --output benchmarks/results.md
+
+# The abi3 wheel (one file for every CPython >= 3.11 on this platform; the bundled profiles and
+# traces inside): `pip install dist/sins_fw-*.whl` needs no Rust toolchain.
+WHEEL_DIR ?= dist
+wheel: $(DEPS)
+	$(BIN)/maturin build --profile dist --quiet --out $(WHEEL_DIR)
 
 # Regenerate tests/golden/hashes.toml (f64 output hashes on the bundled traces), printing old → new.
 golden: $(BUILT)

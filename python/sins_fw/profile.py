@@ -16,8 +16,9 @@ from typing import Any
 from sins_fw import _core
 from sins_fw.errors import ProfileError
 
-#: Where named profiles live: $SINS_FW_MODEL_DIR, else the repository's firmware_model/.
-MODEL_DIR = Path(os.environ.get("SINS_FW_MODEL_DIR", Path(__file__).resolve().parents[2] / "firmware_model"))
+#: Where named profiles and data tables live: the folder $SINS_FW_MODEL_DIR names if set, else the
+#: package's ``firmware_model`` (a link to the repository's folder in a checkout, a copy in a wheel).
+MODEL_DIR = Path(os.environ.get("SINS_FW_MODEL_DIR") or Path(__file__).resolve().parent / "firmware_model")
 
 
 def resolve_profile_path(name_or_path: str | os.PathLike[str]) -> Path:

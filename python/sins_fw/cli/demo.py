@@ -21,7 +21,8 @@ from sins_fw.profile import load_profile
 
 #: The bundled traces, in the order the demo runs them.
 TRACES = ("static_60s.h5", "pitch_sweep.h5", "coning_10hz.h5")
-TRACE_DIR = Path(__file__).resolve().parents[3] / "traces"
+#: The package's ``bundled_traces`` (a link to the repository's traces/ in a checkout, a copy in a wheel).
+TRACE_DIR = Path(__file__).resolve().parents[1] / "bundled_traces"
 PARITY_BACKENDS = ("f64", "c28x-f32", "c28x-f32-rz")
 
 
