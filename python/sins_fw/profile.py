@@ -18,7 +18,7 @@ from sins_fw.errors import ProfileError
 
 #: Where named profiles and data tables live: the folder $SINS_FW_MODEL_DIR names if set, else the
 #: package's ``firmware_model`` (a link to the repository's folder in a checkout, a copy in a wheel).
-MODEL_DIR = Path(os.environ.get("SINS_FW_MODEL_DIR") or Path(__file__).resolve().parent / "firmware_model")
+MODEL_DIR = Path(os.environ.get("SINS_FW_MODEL_DIR") or (Path(__file__).parent / "firmware_model").resolve())
 
 
 def resolve_profile_path(name_or_path: str | os.PathLike[str]) -> Path:

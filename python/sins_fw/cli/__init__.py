@@ -35,6 +35,7 @@ from sins_fw.cli import (
     sweep,
     synth,
 )
+from sins_fw.cli.common import emit_error
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated
 
 #: The subcommands, in the order `--help` lists them.
@@ -64,6 +65,8 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.print_usage(sys.stderr)
+        if "--json" in sys.argv[1:]:
+            emit_error(argparse.Namespace(json=True), "usage", EXIT_USAGE, f"{self.prog}: {message}")
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
 
 
@@ -112,8 +115,10 @@ def _run(args: argparse.Namespace) -> int:
         # Terminated is a KeyboardInterrupt; the message (if any) says how far the command got.
         what = "terminated" if isinstance(e, Terminated) else "interrupted"
         detail = f": {e}" if str(e) else ""
+        code = EXIT_TERMINATED if isinstance(e, Terminated) else EXIT_INTERRUPTED
+        emit_error(args, what, code, f"{what}{detail}")
         print(f"sins-fw: {what}{detail}", file=sys.stderr)
-        return EXIT_TERMINATED if isinstance(e, Terminated) else EXIT_INTERRUPTED
+        return code
     except InternalError as e:
         return _fail(args, e, EXIT_BUG)
     except SinsError as e:
@@ -142,6 +147,8 @@ def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseExce
     if getattr(args, "debug", False):
         traceback.print_exception(cause or e)
     what = "check failed" if code == EXIT_CHECK_FAILED else "error"
+    kind = {EXIT_CHECK_FAILED: "check_failed", EXIT_USAGE: "input", EXIT_BUG: "internal"}[code]
+    emit_error(args, kind, code, str(e))
     print(f"sins-fw: {what}: {e}", file=sys.stderr)
     return code
 

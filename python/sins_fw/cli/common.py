@@ -91,12 +91,26 @@ def _jsonable(x: Any) -> Any:
     return x
 
 
+#: Whether this process has printed a command's report (so an error after it adds no second object).
+_emitted = False
+
+
 def emit(args: argparse.Namespace, report: dict[str, Any], text: str) -> None:
     """Print the report as JSON (with --json) or as human-readable text."""
+    global _emitted
+    _emitted = True
     if getattr(args, "json", False):
         print(json.dumps(_jsonable(report), indent=None, sort_keys=False, allow_nan=False))
     else:
         print(text)
+
+
+def emit_error(args: argparse.Namespace | None, kind: str, code: int, message: str) -> None:
+    """With --json and nothing printed yet, the error as one JSON object on stdout (the message also
+    goes to stderr as always): ``{"error": {"kind", "exit", "message"}}``."""
+    if _emitted or not getattr(args, "json", False):
+        return
+    print(json.dumps({"error": {"kind": kind, "exit": code, "message": message}}))
 
 
 def add_engine_options(p: argparse.ArgumentParser) -> None:

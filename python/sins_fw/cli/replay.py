@@ -12,6 +12,7 @@ import argparse
 import os
 import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 from sins_fw.atomic import check_distinct
@@ -29,6 +30,7 @@ from sins_fw.errors import InputError
 from sins_fw.harness import emulate
 from sins_fw.run_output import RUN_FORMAT, replay_check, resolve_trace
 from sins_fw.traces import PhysicalTrace, read_metadata
+from sins_fw.viewer import serve
 
 NUMERICS = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
 
@@ -58,6 +60,32 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--save", type=Path, metavar="FILE.rrd", help="write the recording to this file")
     p.add_argument(
         "--spawn", action="store_true", help="open the recording in the Rerun viewer (needs a display)"
+    )
+    p.add_argument(
+        "--serve",
+        action="store_true",
+        help="serve the recording in Rerun's web viewer (no display needed) and print its address; "
+        "Ctrl-C stops it",
+    )
+    p.add_argument(
+        "--bind",
+        default="127.0.0.1",
+        metavar="ADDRESS",
+        help="address --serve listens on (default 127.0.0.1, this machine only: Rerun's servers have no "
+        "authentication)",
+    )
+    p.add_argument(
+        "--port",
+        type=int,
+        default=serve.WEB_PORT,
+        help=f"--serve: the web viewer's HTTP port (default {serve.WEB_PORT}; 0 for a free one)",
+    )
+    p.add_argument(
+        "--grpc-port",
+        type=int,
+        default=serve.GRPC_PORT,
+        help=f"--serve: the port the viewer fetches the recording from (default {serve.GRPC_PORT}; 0 for a "
+        "free one)",
     )
     p.add_argument(
         "--bus-ticks",
@@ -113,8 +141,14 @@ def _bundled_viewer() -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.save is None and not args.spawn:
-        raise InputError("nothing to do: give --save FILE.rrd and/or --spawn")
+    if args.save is None and not args.spawn and not args.serve:
+        raise InputError("nothing to do: give --save FILE.rrd, --spawn or --serve")
+    if args.serve:
+        # Refused before any work: a port in use or the viewer missing.
+        serve.viewer_binary()
+        for option, port in (("--port", args.port), ("--grpc-port", args.grpc_port)):
+            if port != 0:
+                serve.free_port(args.bind, port, option)
     if args.save is not None and (args.save.is_dir() or args.save.suffix != ".rrd"):
         raise InputError(f"--save {args.save}: expected a file name ending in .rrd")
     window = parse_ticks(args.bus_ticks)
@@ -188,6 +222,23 @@ def run(args: argparse.Namespace) -> int:
         log_run(rec, run_, trace=trace, parity=parity)
         rec.flush()
         lines.append("sent to the Rerun viewer")
+    if args.serve:
+        with tempfile.TemporaryDirectory(prefix="sins-fw-serve-") as tmp:
+            served = args.save
+            if served is None:
+                served = Path(tmp) / f"{args.trace.stem}.rrd"
+                save_recording(run_, served, trace=trace, parity=parity, name=args.trace.name)
+            emit(args, report, "\n".join(lines))
+
+            def ready(url: str) -> None:
+                print(f"serving {served.name} in Rerun's web viewer at {url} (Ctrl-C stops it)", flush=True)
+
+            code = serve.serve(
+                served, bind=args.bind, web_port=args.port, grpc_port=args.grpc_port, on_ready=ready
+            )
+        if code == 0:
+            check_events(run_.events)  # the recording is shown first, whatever its events
+        return code
     emit(args, report, "\n".join(lines))
     check_events(run_.events)
     return 0

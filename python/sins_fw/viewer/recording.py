@@ -452,7 +452,9 @@ def save_recording(
         # Encoded in memory and written here (not by Rerun's file-writer thread, whose failures
         # are only logged): a full disk is an OSError naming the file.
         stream = rec.binary_stream()
-        rec.send_blueprint(bp, make_active=False, make_default=True)
+        # Active as well as default: a web viewer that receives the recording as it streams in
+        # otherwise keeps the layout it made up from the first entities it saw.
+        rec.send_blueprint(bp, make_active=True, make_default=True)
         if name:
             rec.send_recording_name(name)
         log_run(rec, run, trace=trace, parity=parity)
