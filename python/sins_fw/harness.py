@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from sins_fw import _core
 from sins_fw.errors import InputError, ProfileError, TraceError
+from sins_fw.metrics import AttitudeErrors
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
 from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace, validated
 
@@ -93,6 +94,30 @@ class Run:
 
     def events_by_kind(self) -> dict[str, int]:
         return dict(sorted(Counter(e["kind"] for e in self.events).items()))
+
+    def errors(self, align: str = "auto") -> AttitudeErrors:
+        """The attitude errors against the trace's truth, in degrees, one per step (NaN where the
+        truth is unknown): ``roll``, ``pitch``, ``yaw`` (estimate − truth, wrapped to (−180, 180]),
+        ``total`` (the rotation angle between them) and BROAD's ``heading`` and ``inclination``.
+        The estimate is first aligned to the truth as every report aligns it (``align``: auto,
+        initial, heading or none; :func:`sins_fw.report.aligned_estimate`). InputError when the
+        trace has no truth."""
+        from sins_fw.metrics import attitude_errors, valid_mask
+        from sins_fw.report import ALIGNMENTS, aligned_estimate
+
+        if self.truth_q is None:
+            raise InputError("Run.errors(): the trace has no truth attitude to compare with")
+        if align not in ALIGNMENTS:
+            raise InputError(f"Run.errors(align={align!r}): expected one of {', '.join(ALIGNMENTS)}")
+        est, _ = aligned_estimate(self, align)
+        valid = valid_mask(self.truth_q)
+        e = attitude_errors(est[valid], self.truth_q[valid])
+        out = {}
+        for name in ("total", "heading", "inclination", "roll", "pitch", "yaw"):
+            full = np.full(len(valid), np.nan)
+            full[valid] = getattr(e, name)
+            out[name] = full
+        return AttitudeErrors(**out)
 
     @property
     def busy_s(self) -> Array:

@@ -102,8 +102,15 @@ def to_dcm(q: ArrayLike) -> Array:
     return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
 
 
+def to_euler_deg(q: ArrayLike) -> Array:
+    """Roll, pitch, yaw in degrees as one ``(..., 3)`` array, like ``Run.euler_deg``: roll in
+    (−180, 180], pitch in [−90, 90], yaw in [0, 360)."""
+    return np.degrees(np.stack(to_euler(q), axis=-1))
+
+
 def to_euler(q: ArrayLike) -> tuple[Array, Array, Array]:
-    """(roll, pitch, yaw) in radians: roll in (−π, π], pitch in [−π/2, π/2], yaw in [0, 2π)."""
+    """(roll, pitch, yaw) in radians, as a tuple of arrays: roll in (−π, π], pitch in [−π/2, π/2],
+    yaw in [0, 2π). :func:`to_euler_deg` gives degrees as one array."""
     t = to_dcm(q)
     roll = np.arctan2(t[..., 2, 1], t[..., 2, 2])
     pitch = -np.arcsin(np.clip(t[..., 2, 0], -1.0, 1.0))
