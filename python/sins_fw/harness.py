@@ -402,11 +402,10 @@ def emulate(
             )
             _run(emu, parts, sink, bus)
             # The emulator holds the output (in columns) until `take`: one take at the end gives the
-            # Run without concatenating, unless the bus window watches the ticks or a sink streams.
-            if bus is not None:
+            # Run without concatenating, unless the bus window watches the ticks or a sink streams
+            # (then each piece's output is taken: what a sink receives is bounded by FEED_ROWS).
+            if bus is not None or sink is not None:
                 _take(emu, parts, sink, bus)
-        if sink is not None and bus is None:
-            _take(emu, parts, sink, bus)
         if keep_truth and sink is None and chunk.truth_q is not None:
             if not truth:
                 truth_q0 = chunk.truth_q[0].copy()
@@ -451,10 +450,8 @@ def _replay(
         for s in _pieces(t, bus):
             emu.push_words(t[s], np.ascontiguousarray(words[s]))
             _run(emu, parts, sink, bus)
-            if bus is not None:
+            if bus is not None or sink is not None:
                 _take(emu, parts, sink, bus)
-        if sink is not None and bus is None:
-            _take(emu, parts, sink, bus)
         if on_chunk is not None and len(t):
             on_chunk(float(t[-1]))
         if until_s is not None and len(t) < len(chunk):
