@@ -55,8 +55,17 @@ def traces(tmp_path_factory: pytest.TempPathFactory) -> Path:
     d = tmp_path_factory.mktemp("streamed")
     for name, seconds in (("short", SHORT_S), ("long", LONG_S)):
         subprocess.run(
-            [sys.executable, "-m", "sins_fw", "synth", "static", "--duration-s", f"{seconds:g}"]
-            + ["--out", str(d / f"{name}.h5")],
+            [
+                sys.executable,
+                "-m",
+                "sins_fw",
+                "synth",
+                "static",
+                "--duration-s",
+                f"{seconds:g}",
+                "--out",
+                str(d / f"{name}.h5"),
+            ],
             check=True,
             capture_output=True,
         )
@@ -93,4 +102,29 @@ def test_parity_memory_does_not_grow_with_the_duration(traces):
     short, long = peaks_mb(runs, traces, PARITY)  # type: ignore[arg-type]
     bound = 2 * 4 * chunk * TRACE_DOUBLES * 8 / 1e6
     assert bound < 2 * per_step_growth_mb(40)
+    assert long - short < bound, (short, long, bound)
+
+
+#: Mean and deviation accumulators of the run summary (report_stream.Moments), each holding fewer
+#: than one block of doubles: busy, margin, solution, utilisation, cycle utilisation, read offset,
+#: interval, sample age, timestamp error; four Euler errors; three BROAD errors twice (masked, not).
+SUMMARY_MOMENTS = 9 + 4 + 3 + 3
+
+
+def test_run_memory_does_not_grow_with_the_duration(traces):
+    """`run --out` (CSV: each block of lines is written as it comes) summarises and writes each
+    part of the output as it comes. What it holds besides a chunk of input and a part of output
+    (the same for either trace) is the summary's accumulators, fewer than BLOCK doubles each (all
+    but empty on the short trace, full on the long one). Between the two runs the allocator's
+    slack adds up to one chunk of the per-chunk input state, as for `synth` (tests/test_stream.py):
+    C = 65 536 rows of 17 doubles and two copies (validated, pushed). Keeping the run instead (≈ 650
+    bytes a step: its own row, two reads and two ticks) adds 73 MB; before streaming the peak rose
+    by 135 MB between these two traces (89 → 111 MB now, 134 → 269 MB before)."""
+    from sins_fw.report_stream import BLOCK
+
+    runs = [["run", str(traces / f"{n}.h5"), "--out", str(traces / f"{n}.csv")] for n in ("short", "long")]
+    short, long = peaks_mb(runs, traces)
+    chunk = 65536 * TRACE_DOUBLES * 8 * 3 / 1e6
+    bound = SUMMARY_MOMENTS * BLOCK * 8 / 1e6 + chunk
+    assert bound < per_step_growth_mb(650) / 2
     assert long - short < bound, (short, long, bound)
