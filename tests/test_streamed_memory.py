@@ -128,3 +128,20 @@ def test_run_memory_does_not_grow_with_the_duration(traces):
     bound = SUMMARY_MOMENTS * BLOCK * 8 / 1e6 + chunk
     assert bound < per_step_growth_mb(650) / 2
     assert long - short < bound, (short, long, bound)
+
+
+def test_import_memory_does_not_grow_with_the_duration(traces):
+    """`import trace` reads and writes a chunk (C = 65 536 rows) at a time; to CSV (each block of
+    lines written as it comes; the HDF5 writer holds up to stream.WHOLE_ROWS rows by design) it
+    holds a chunk of 17 doubles a row and two copies (read, validated, formatted): the bound.
+    Loading the trace whole and saving it (the trace and its column copies) would add 2 × 737 280
+    rows × 17 doubles = 200 MB."""
+    chunk = 65536
+    runs = [
+        ["import", "trace", str(traces / f"{n}.h5"), "--out", str(traces / f"{n}_copy.csv")]
+        for n in ("short", "long")
+    ]
+    short, long = peaks_mb(runs, traces)
+    bound = 3 * chunk * TRACE_DOUBLES * 8 / 1e6
+    assert bound < (819_200 - 81_920) * TRACE_DOUBLES * 8 / 1e6
+    assert long - short < bound, (short, long, bound)
