@@ -87,3 +87,25 @@ def test_run_out_streamed_is_the_whole_writers_file(tmp_path, ext):
     meta = {**trace_reference(trace, out), "until_s": repr(30.0)}
     save_run(emulate(trace, until_s=30.0), tmp_path / f"w{ext}", meta)
     assert out.read_bytes() == (tmp_path / f"w{ext}").read_bytes()
+
+
+def test_a_long_series_is_plotted_as_its_envelope_in_at_most_max_points():
+    """Past MAX_POINTS rows a page series keeps, per time bin, its smallest and largest value at
+    their own times: at most MAX_POINTS points, every extreme kept (here a spike and a dip)."""
+    import numpy as np
+
+    from sins_fw.report_page import MAX_POINTS, Series
+
+    t = np.arange(1_000_000) * 1e-3
+    v = np.sin(t)
+    v[123_457], v[876_543] = 50.0, -40.0
+    s = Series()
+    for i in range(0, len(t), 8192):
+        s.add(t[i : i + 8192], v[i : i + 8192])
+    pt, pv = s.points()
+    assert len(pt) <= MAX_POINTS and np.all(np.diff(pt) >= 0)
+    assert pv.max() == 50.0 and pt[np.argmax(pv)] == t[123_457]
+    assert pv.min() == -40.0 and pt[np.argmin(pv)] == t[876_543]
+    short = Series()
+    short.add(t[:1000], v[:1000])
+    assert np.array_equal(short.points()[1], v[:1000])  # short: the rows themselves

@@ -145,3 +145,19 @@ def test_import_memory_does_not_grow_with_the_duration(traces):
     bound = 3 * chunk * TRACE_DOUBLES * 8 / 1e6
     assert bound < (819_200 - 81_920) * TRACE_DOUBLES * 8 / 1e6
     assert long - short < bound, (short, long, bound)
+
+
+def test_report_memory_does_not_grow_with_the_duration(traces):
+    """`report` gathers the page's series part by part, each at most report_page.MAX_POINTS points
+    (a time and a value: 16 bytes) — 4 error or attitude lines, 3 budget lines, the late and lost
+    markers — and the run summary's accumulators: the bound, with the allocator's slack of one
+    chunk of input as for `run`. Keeping the run (≈ 650 bytes a step) would add 73 MB."""
+    from sins_fw.report_page import MAX_POINTS
+    from sins_fw.report_stream import BLOCK
+
+    runs = [["report", str(traces / f"{n}.h5"), "--png", str(traces / f"{n}.png")] for n in ("short", "long")]
+    short, long = peaks_mb(runs, traces)
+    chunk = 65536 * TRACE_DOUBLES * 8 * 3 / 1e6
+    bound = (3 + 4 + 3 + 2) * MAX_POINTS * 16 / 1e6 + SUMMARY_MOMENTS * BLOCK * 8 / 1e6 + chunk
+    assert bound < per_step_growth_mb(650) / 2
+    assert long - short < bound, (short, long, bound)

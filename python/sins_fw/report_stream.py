@@ -347,6 +347,8 @@ class _Attitude:
         self.masked_rows = 0
         self.unmasked_rows = 0
         self.has_moving = False
+        #: Called with each batch of rows with truth: (rows, valid mask, errors of the valid rows).
+        self.listener: Any = None
 
     def add(self, part: dict[str, Any]) -> None:
         if "truth_q" not in part:
@@ -359,6 +361,7 @@ class _Attitude:
             "truth": part["truth_q"],
             "moving": part.get("moving"),
             "q0": part.get("truth_q0"),
+            "step": part.get("cycle_step"),
             "row0": self.rows,
         }
         self.rows += n
@@ -431,6 +434,8 @@ class _Attitude:
             return
         self.any_truth = True
         e = metrics.attitude_errors(est[valid], truth[valid])
+        if self.listener is not None:
+            self.listener(rows, valid, e)
         for name, st in self.euler.items():
             st.add(getattr(e, name))
         self.steps_with_truth += int(valid.sum())
@@ -579,7 +584,9 @@ def run_part(run: Any) -> dict[str, Any]:
     """A whole :class:`~sins_fw.harness.Run` as one part for :meth:`RunSummary.add`."""
     part: dict[str, Any] = {
         "cycle_t_s": run.time_s,
+        "cycle_step": run.step,
         "cycle_quat": run.quat,
+        "cycle_euler_deg": run.euler_deg,
         "read_tick": run.read_tick,
         "read_t_start_ps": run.read_t_start_ps,
         "read_sample_index": run.read_sample_index,
