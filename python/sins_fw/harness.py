@@ -319,9 +319,12 @@ def emulate(
     last_tick)`` records the SPI bus (CS edges and frames) of the ISRs of those timer ticks into
     ``Run.bus``; the log is on only around the window, so a long run stays fast and small.
 
-    ``sink`` streams the output instead of keeping it (a Run keeps about 100 bytes per timer tick
-    and 200 per step: a 24-hour trace at 819.2 SPS, 70 M ticks and 10.8 M steps, would hold about
-    9 GB): it is called with the output of each piece of input pushed (at most FEED_ROWS rows) or
+    ``sink`` streams the output instead of keeping it. A Run keeps about 630 bytes per attitude
+    step (its row, and the two timer ticks and two burst reads of the reference's 4 ms timer):
+    measured on a 1000 s trace at 819.2 SPS, 79 MB of arrays and a peak 190 MB above the
+    process's baseline, so a 24-hour trace (10.8 M steps) would keep about 6.8 GB and peak near
+    16 GB. With a sink, a 24-hour `sins-fw run` peaks under 300 MB (benchmarks/peak_rss.md). It is
+    called with the output of each piece of input pushed (at most FEED_ROWS rows) or
     block of ticks run, a dict of numpy arrays keyed ``cycle_*``, ``read_*``, ``budget_*`` (the
     columns of :class:`Run`, times in integer ps) plus ``events``, and, when the trace has a truth
     and ``keep_truth``, ``truth_q`` and ``moving`` at the steps' times (the values ``Run.truth_q``
