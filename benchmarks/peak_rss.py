@@ -2,6 +2,7 @@
 that reads or writes a trace should stay under 300 MB on a 24-hour trace at 819.2 SPS).
 
     python benchmarks/peak_rss.py --duration-s 86400 --output benchmarks/peak_rss.md
+    python benchmarks/peak_rss.py --trace day.h5 --commands 'run --out,report'   # an existing trace
 
 Each command runs as its own process; its peak RSS is the child's ``ru_maxrss`` from
 ``resource.getrusage(RUSAGE_CHILDREN)`` read through ``os.wait4``. The trace is made by the first
@@ -36,23 +37,25 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration-s", type=float, default=86400.0)
     ap.add_argument("--output", type=Path, default=None, help="write the results table here (.md)")
+    ap.add_argument("--trace", type=Path, default=None, help="measure on this trace instead of making one")
     ap.add_argument(
         "--commands",
-        default="synth,run --out,parity,replay,report",
-        help="comma-separated commands to measure (synth always runs: it makes the trace)",
+        default="synth,run --out,parity,replay,report,import",
+        help="comma-separated commands to measure (synth always runs without --trace: it makes the trace)",
     )
     args = ap.parse_args()
-    wanted = {c.strip() for c in args.commands.split(",")} | {"synth"}
+    wanted = {c.strip() for c in args.commands.split(",")} | ({"synth"} if args.trace is None else set())
     sins = [sys.executable, "-m", "sins_fw"]
     with tempfile.TemporaryDirectory(dir=Path(args.output or ".").absolute().parent) as tmp:
         d = Path(tmp)
-        trace = d / "trace.h5"
+        trace = args.trace.absolute() if args.trace is not None else d / "trace.h5"
         commands = {
             "synth": [*sins, "synth", "static", "--duration-s", f"{args.duration_s:g}", "--out", str(trace)],
             "run --out": [*sins, "run", str(trace), "--out", str(d / "run.h5")],
             "parity": [*sins, "parity", str(trace), "--json"],
             "replay": [*sins, "replay", str(trace), "--save", str(d / "r.rrd")],
             "report": [*sins, "report", str(trace), "--png", str(d / "r.png")],
+            "import": [*sins, "import", "trace", str(trace), "--out", str(d / "copy.h5")],
         }
         rows = []
         for name, cmd in commands.items():
@@ -66,9 +69,13 @@ def main() -> int:
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout
     text = "\n".join(
         [
-            f"# Peak RSS per command: {args.duration_s:g} s static trace at 819.2 SPS",
+            f"# Peak RSS per command: {args.duration_s:g} s static trace at 819.2 SPS"
+            if args.trace is None
+            else f"# Peak RSS per command: {args.trace.name}",
             "",
-            f"`python benchmarks/peak_rss.py --duration-s {args.duration_s:g} --commands '{args.commands}'`",
+            f"`python benchmarks/peak_rss.py --duration-s {args.duration_s:g} --commands '{args.commands}'`"
+            if args.trace is None
+            else f"`python benchmarks/peak_rss.py --trace {args.trace.name} --commands '{args.commands}'`",
             "",
             f"| command | peak RSS | wall time | exit | under {LIMIT_MB:g} MB |",
             "|---|---|---|---|---|",

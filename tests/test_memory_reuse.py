@@ -38,9 +38,9 @@ def test_a_warm_emulation_reuses_the_freed_output_memory():
     # With glibc's malloc each warm call faulted in about every output page (4 372 faults for ≈ 4 400
     # pages, measured at 5912f70). jemalloc purges its dirty pages gradually over its decay time
     # (10 s), so the first warm call still faulted ≈ 13 % of them (390-397 of 2 958 here) and later
-    # ones 0-14, with
-    # a rare purge of up to 1 161 in one of them (2 in 40 processes): the median of the later calls
-    # is the steady state. Half the pages and a tenth of them separate the two allocators with margin.
+    # ones 0-14, with a rare purge of up to 1 161 in one of them (2 in 40 processes): the median of
+    # the later calls is the steady state. Half the pages and a tenth of them separate the two
+    # allocators with margin.
     first, *later = r["warm_faults"]
     assert first < pages // 2, r
     assert sorted(later)[len(later) // 2] < pages // 10, r

@@ -344,10 +344,17 @@ def emulate(
     last_tick)`` records the SPI bus (CS edges and frames) of the ISRs of those timer ticks into
     ``Run.bus``; the log is on only around the window, so a long run stays fast and small.
 
-    ``sink`` streams the output instead of keeping it (for runs of hours: 24 h keep ~1.7 GB): it is
-    called with each chunk's output, a dict of numpy arrays keyed ``cycle_*``, ``read_*``,
-    ``budget_*`` (the columns of :class:`Run`, times in integer ps) plus ``events``; the returned
-    Run then holds no rows (every array empty, no truth) and memory stays flat.
+    ``sink`` streams the output instead of keeping it. A Run keeps about 630 bytes per attitude
+    step (its row, and the two timer ticks and two burst reads of the reference's 4 ms timer):
+    measured on a 1000 s trace at 819.2 SPS, 79 MB of arrays and a peak 190 MB above the
+    process's baseline, so a 24-hour trace (10.8 M steps) would keep about 6.8 GB and peak near
+    16 GB. With a sink, a 24-hour `sins-fw run` peaks under 300 MB (benchmarks/peak_rss.md). It is
+    called with the output of each piece of input pushed (at most FEED_ROWS rows) or
+    block of ticks run, a dict of numpy arrays keyed ``cycle_*``, ``read_*``, ``budget_*`` (the
+    columns of :class:`Run`, times in integer ps) plus ``events``, and, when the trace has a truth
+    and ``keep_truth``, ``truth_q`` and ``moving`` at the steps' times (the values ``Run.truth_q``
+    and ``Run.moving`` would hold) and ``truth_q0``; the returned Run then holds no rows (every
+    array empty, no truth) and memory stays flat.
 
     ``until_s`` emulates only the trace's first ``until_s`` seconds (rows at most that long after the
     first one; for a raw-register trace, bursts recorded up to that virtual time).
@@ -400,6 +407,7 @@ def emulate(
         end = float(trace.t_s[-1] - trace.t_s[0])
         emu.expect_input_until(end if until_s is None else min(end, until_s))
     parts: list[dict[str, Any]] = []
+    window = _TruthWindow() if sink is not None and keep_truth else None
     truth: list[Array] = []
     moving: list[NDArray[np.bool_]] = []
     truth_t: list[Array] = []
@@ -417,6 +425,8 @@ def emulate(
             chunk = next(_slices(chunk, n))
         t = np.ascontiguousarray(chunk.t_s - t0)
         for s in _pieces(t, bus):
+            if window is not None and chunk.truth_q is not None:
+                window.feed(t[s], chunk.truth_q[s], None if chunk.moving is None else chunk.moving[s])
             emu.push(
                 t[s],
                 np.ascontiguousarray(chunk.gyro_dps[s]),
@@ -425,13 +435,12 @@ def emulate(
                 None if chunk.baro_mbar is None else np.ascontiguousarray(chunk.baro_mbar[s]),
                 None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c[s]),
             )
-            _run(emu, parts, sink, bus)
+            _run(emu, parts, sink, bus, window)
             # The emulator holds the output (in columns) until `take`: one take at the end gives the
-            # Run without concatenating, unless the bus window watches the ticks or a sink streams.
-            if bus is not None:
-                _take(emu, parts, sink, bus)
-        if sink is not None and bus is None:
-            _take(emu, parts, sink, bus)
+            # Run without concatenating, unless the bus window watches the ticks or a sink streams
+            # (then each piece's output is taken: what a sink receives is bounded by FEED_ROWS).
+            if bus is not None or sink is not None:
+                _take(emu, parts, sink, bus, window)
         if keep_truth and sink is None and chunk.truth_q is not None:
             if not truth:
                 truth_q0 = chunk.truth_q[0].copy()
@@ -443,7 +452,7 @@ def emulate(
             on_chunk(float(chunk.t_s[-1]))
         if until_s is not None and chunk.t_s[-1] - t0 >= until_s:
             break
-    run = _finish(emu, prof, t0 or 0.0, parts, sink, bus)
+    run = _finish(emu, prof, t0 or 0.0, parts, sink, bus, window)
     run.truth_q0 = truth_q0
     if truth:
         tt = np.concatenate(truth_t)
@@ -476,10 +485,8 @@ def _replay(
         for s in _pieces(t, bus):
             emu.push_words(t[s], np.ascontiguousarray(words[s]))
             _run(emu, parts, sink, bus)
-            if bus is not None:
+            if bus is not None or sink is not None:
                 _take(emu, parts, sink, bus)
-        if sink is not None and bus is None:
-            _take(emu, parts, sink, bus)
         if on_chunk is not None and len(t):
             on_chunk(float(t[-1]))
         if until_s is not None and len(t) < len(chunk):
@@ -503,11 +510,12 @@ def _finish(
     parts: list[dict[str, Any]],
     sink: Callable[[dict[str, Any]], None] | None,
     bus: _BusWindow | None,
+    window: _TruthWindow | None = None,
 ) -> Run:
     """End the input, run the ticks it still covers and assemble the Run (with the bus window)."""
     emu.end()
-    _run(emu, parts, sink, bus)
-    _take(emu, parts, sink, bus)
+    _run(emu, parts, sink, bus, window)
+    _take(emu, parts, sink, bus, window)
     run = _assemble(prof, t0, parts, dict(emu.stage_cycles()))
     if bus is not None:
         run.bus = bus.finish()
@@ -519,13 +527,14 @@ def _run(
     parts: list[dict[str, Any]],
     sink: Callable[[dict[str, Any]], None] | None,
     bus: _BusWindow | None,
+    window: _TruthWindow | None = None,
 ) -> None:
     """Run the ticks the input pushed so far covers, a block at a time: a sink or the bus window
     takes each block's output as it comes, so what is held stays bounded whatever the input covers
     (a long gap, a tiny timer period). Without them the Run keeps every row anyway."""
     while emu.run_block() == "block_full":
         if sink is not None or bus is not None:
-            _take(emu, parts, sink, bus)
+            _take(emu, parts, sink, bus, window)
 
 
 def _take(
@@ -533,11 +542,15 @@ def _take(
     parts: list[dict[str, Any]],
     sink: Callable[[dict[str, Any]], None] | None,
     bus: _BusWindow | None,
+    window: _TruthWindow | None = None,
 ) -> None:
-    """Take the output so far: the bus window sees it, then it is kept or handed to the sink."""
+    """Take the output so far: the bus window sees it, then it is kept or handed to the sink (with
+    the truth at its steps when ``window`` holds the input's truth)."""
     part = emu.take()
     if bus is not None:
         bus.after(part)
+    if window is not None and window.t is not None:
+        window.attach(part)
     _collect(part, parts, sink)
 
 
@@ -551,6 +564,40 @@ def _collect(
     sink(part)
     if not parts:
         parts.append({k: v[:0] if hasattr(v, "shape") else [] for k, v in part.items()})
+
+
+class _TruthWindow:
+    """The truth of the piece of input just pushed and of the FEED_ROWS rows before it, for a
+    sink's output: the truth at a step's time is interpolated between the trace's rows around it
+    (:func:`_truth_at`), and a step runs once the input covers its timer period, so its rows are in
+    the piece just pushed or in the FEED_ROWS rows before (10 s at 819.2 SPS, far longer than a
+    timer period). Interpolating in this window gives the values the whole trace gives, bit for
+    bit: the same two rows, the same arithmetic; after the trace's last row both clamp to its last
+    two rows."""
+
+    def __init__(self) -> None:
+        self.t: Array | None = None
+        self.q: Array = np.empty((0, 4))
+        self.moving: NDArray[np.bool_] | None = None
+        self.q0: Array | None = None
+
+    def feed(self, t: Array, q: Array, moving: NDArray[np.bool_] | None) -> None:
+        if self.t is None:
+            self.q0 = q[0].copy()
+        keep = slice(max(len(self.q) - FEED_ROWS, 0), None)
+        self.t = t if self.t is None else np.concatenate([self.t[keep], t])
+        self.q = np.concatenate([self.q[keep], q])
+        if moving is not None:
+            self.moving = moving if self.moving is None else np.concatenate([self.moving[keep], moving])
+
+    def attach(self, part: dict[str, Any]) -> None:
+        assert self.t is not None
+        at = part["cycle_t_ps"].astype(np.float64) * PS
+        part["truth_q"] = _truth_at(self.t, self.q, at)
+        part["truth_q0"] = self.q0
+        if self.moving is not None:
+            idx = np.clip(np.searchsorted(self.t, at, side="right") - 1, 0, len(self.t) - 1)
+            part["moving"] = self.moving[idx]
 
 
 def _truth_at(t: Array, q: Array, at: Array) -> Array:

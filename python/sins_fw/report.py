@@ -26,7 +26,7 @@ import numpy as np
 
 from sins_fw import _core, budget, metrics
 from sins_fw import quaternion as quat
-from sins_fw.harness import PS, Run
+from sins_fw.harness import Run
 
 ALIGNMENTS = ("auto", "initial", "heading", "none")
 
@@ -152,21 +152,17 @@ def attitude_summary(run: Run, align: str = "auto") -> dict[str, Any] | None:
 
 
 def summarise(run: Run, *, trace: str = "", align: str = "auto") -> dict[str, Any]:
-    """Everything `sins-fw run` reports, as a JSON-ready dictionary."""
-    b = run.budget
-    return {
-        "trace": trace,
-        "profile": run.profile.source,
-        "overrides": list(run.profile.overrides),
-        "numeric": run.profile.get("firmware.numeric"),
-        "cycles": run.cycles,
-        "duration_s": float(b["tick_ps"][-1]) * PS if len(b["tick_ps"]) else 0.0,
-        "trace_t0_s": run.t0_s,
-        "events": events_summary(run),
-        "attitude_error": attitude_summary(run, align),
-        "budget": budget_summary(run),
-        "stage_cycles": dict(run.stage_cycles),
-    }
+    """Everything `sins-fw run` reports, as a JSON-ready dictionary: the figures of
+    :func:`events_summary`, :func:`attitude_summary` and :func:`budget_summary`, computed as `sins-fw
+    run` computes them chunk by chunk (:class:`sins_fw.report_stream.RunSummary`, fed the whole run
+    as one chunk), so that a streamed run and a whole one summarise alike, bit for bit."""
+    from sins_fw.report_stream import RunSummary, run_part
+
+    if align not in ALIGNMENTS:
+        raise ValueError(f"alignment `{align}`: expected one of {', '.join(ALIGNMENTS)}")
+    acc = RunSummary(run.profile, align=align)
+    acc.add(run_part(run))
+    return acc.result(trace=trace, t0_s=run.t0_s, stage_cycles=run.stage_cycles)
 
 
 def _fmt(x: float | None, scale: float = 1.0, spec: str = ".3f") -> str:

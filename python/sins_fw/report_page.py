@@ -3,7 +3,8 @@ the attitude error against truth (or the attitude itself when the trace has no t
 per timer tick against its deadline, and the events in time.
 
 :func:`report_figure` returns the figure and its axes (the tests read the plotted data back);
-:func:`save_report` writes the PNG atomically.
+:func:`save_report` writes the PNG atomically. Both take a Run or the :class:`PageData` gathered
+from a streamed run (`sins-fw report`), whose series hold at most :data:`MAX_POINTS` points each.
 """
 
 from __future__ import annotations
@@ -15,16 +16,19 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")  # no display needed; set before pyplot is imported anywhere in this process
+from typing import Any
+
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from numpy.typing import NDArray
 
 from sins_fw import quaternion
 from sins_fw.atomic import atomic_path
 from sins_fw.harness import PS, Run
-from sins_fw.metrics import attitude_errors
-from sins_fw.report import aligned_estimate
+from sins_fw.profile import Profile
+from sins_fw.report_stream import RunSummary, run_part
 
 #: Page size in inches and resolution: 1100 × 850 pixels.
 FIGSIZE = (11.0, 8.5)
@@ -44,76 +48,205 @@ class ReportAxes:
     events: Axes
 
 
-def _truth_rows(run: Run) -> np.ndarray | None:
-    if run.truth_q is None:
-        return None
-    ok = np.isfinite(run.truth_q).all(axis=1)
-    return ok if ok.any() else None
+#: Points of one plotted series at most. Up to this many rows a series is plotted as it is; beyond,
+#: as its min-max envelope over time bins (each bin's smallest and largest value at their own
+#: times: every peak and dip stays visible), at most MAX_POINTS points whatever the run's length.
+MAX_POINTS = 20_000
 
 
-def _attitude_panel(ax: Axes, run: Run) -> None:
-    ok = _truth_rows(run)
-    if ok is None:
+class Series:
+    """One plotted line, taken in pieces, held in at most MAX_POINTS points (see MAX_POINTS)."""
+
+    def __init__(self) -> None:
+        self._t: list[NDArray[np.float64]] = []
+        self._v: list[NDArray[np.float64]] = []
+        self.rows = 0
+        self._t0 = 0.0
+        self._width = 0.0
+        self._lo: NDArray[np.float64] | None = None  # per bin: smallest value, its time, largest, its time
+        self._lo_t = self._hi = self._hi_t = np.zeros(0)
+
+    def add(self, t: NDArray[Any], v: NDArray[Any]) -> None:
+        t, v = np.asarray(t, dtype=np.float64), np.asarray(v, dtype=np.float64)
+        if not len(t):
+            return
+        self.rows += len(t)
+        if self._lo is None:
+            self._t.append(t)
+            self._v.append(v)
+            if self.rows > MAX_POINTS:
+                tt, vv = np.concatenate(self._t), np.concatenate(self._v)
+                self._t, self._v = [], []
+                self._t0 = float(tt[0])
+                self._width = max(float(tt[-1] - tt[0]), 1e-9) / (MAX_POINTS // 4)
+                self._lo = np.zeros(0)
+                self._bin(tt, vv)
+            return
+        self._bin(t, v)
+
+    def _bin(self, t: NDArray[np.float64], v: NDArray[np.float64]) -> None:
+        ok = ~np.isnan(v)
+        t, v = t[ok], v[ok]
+        if not len(t):
+            return
+        idx = ((t - self._t0) // self._width).astype(np.int64)
+        while int(idx.max()) >= MAX_POINTS // 2:  # too many bins: twice as wide
+            self._merge()
+            idx = ((t - self._t0) // self._width).astype(np.int64)
+        assert self._lo is not None
+        nb = int(idx.max()) + 1
+        if nb > len(self._lo):
+            grow = nb - len(self._lo)
+            self._lo = np.r_[self._lo, np.full(grow, np.inf)]
+            self._hi = np.r_[self._hi, np.full(grow, -np.inf)]
+            self._lo_t = np.r_[self._lo_t, np.zeros(grow)]
+            self._hi_t = np.r_[self._hi_t, np.zeros(grow)]
+        for sign, val, at in ((1.0, self._lo, self._lo_t), (-1.0, self._hi, self._hi_t)):
+            order = np.lexsort((sign * v, idx))
+            first = np.r_[True, idx[order][1:] != idx[order][:-1]]
+            k = order[first]
+            b = idx[k]
+            better = sign * v[k] < sign * val[b]
+            val[b[better]] = v[k][better]
+            at[b[better]] = t[k][better]
+
+    def _merge(self) -> None:
+        assert self._lo is not None
+        n = len(self._lo) + len(self._lo) % 2
+        pad = n - len(self._lo)
+        lo, lo_t = np.r_[self._lo, np.full(pad, np.inf)], np.r_[self._lo_t, np.zeros(pad)]
+        hi, hi_t = np.r_[self._hi, np.full(pad, -np.inf)], np.r_[self._hi_t, np.zeros(pad)]
+        a = lo[1::2] < lo[0::2]
+        self._lo, self._lo_t = np.where(a, lo[1::2], lo[0::2]), np.where(a, lo_t[1::2], lo_t[0::2])
+        b = hi[1::2] > hi[0::2]
+        self._hi, self._hi_t = np.where(b, hi[1::2], hi[0::2]), np.where(b, hi_t[1::2], hi_t[0::2])
+        self._width *= 2
+
+    def points(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The (time, value) points to plot: the rows themselves, or the envelope (time order)."""
+        if self._lo is None:
+            if not self._t:
+                return np.zeros(0), np.zeros(0)
+            return np.concatenate(self._t), np.concatenate(self._v)
+        has = np.isfinite(self._lo)
+        t = np.r_[self._lo_t[has], self._hi_t[has]]
+        v = np.r_[self._lo[has], self._hi[has]]
+        order = np.argsort(t, kind="stable")
+        return t[order], v[order]
+
+
+class PageData:
+    """What the page plots, gathered part by part from a run's output (``emulate(..., sink=...)``
+    or a whole Run as one part): bounded series, counts and the worst values."""
+
+    def __init__(self, profile: Profile) -> None:
+        self.profile = profile
+        self.summary = RunSummary(profile)
+        self.summary.attitude.listener = self._errors
+        self.errors = {name: Series() for name in ("roll", "pitch", "yaw", "total")}
+        self.gimbal = False
+        self.worst: tuple[float, float, int] | None = None  # total error, time, cycle
+        self.euler = [Series() for _ in range(3)]
+        self.busy, self.finish, self.deadline = Series(), Series(), Series()
+        self.late, self.lost = Series(), Series()
+        self.late_count = self.lost_count = 0
+        self.margin_min: tuple[float, int] | None = None
+        self.ticks = 0
+        self.events: dict[tuple[str, str], Series] = {}
+
+    def add(self, part: dict[str, Any]) -> None:
+        if "cycle_t_s" not in part:
+            part = {**part, "cycle_t_s": part["cycle_t_ps"].astype(np.float64) * PS}
+        self.summary.add(part)
+        t = part["cycle_t_s"]
+        for k in range(3):
+            self.euler[k].add(t, part["cycle_euler_deg"][:, k])
+        self._budget({k.removeprefix("budget_"): v for k, v in part.items() if k.startswith("budget_")})
+        for e in part["events"]:
+            key = (e["severity"], e["kind"])
+            self.events.setdefault(key, Series()).add(np.array([e["t_s"]]), np.zeros(1))
+
+    def _errors(self, rows: dict[str, Any], valid: NDArray[np.bool_], err: Any) -> None:
+        t = rows["t"][valid]
+        # Roll and yaw are undefined at pitch ±90°: their errors are left out near it.
+        truth_pitch = np.degrees(quaternion.to_euler(np.asarray(rows["truth"])[valid])[1])
+        gimbal = np.abs(truth_pitch) > GIMBAL_MARGIN_DEG
+        self.gimbal |= bool(gimbal.any())
+        for name in ("roll", "pitch", "yaw"):
+            self.errors[name].add(t, np.where(gimbal, np.nan, getattr(err, name)))
+        self.errors["total"].add(t, err.total)
+        k = int(np.argmax(err.total))
+        if self.worst is None or err.total[k] > self.worst[0]:
+            step = rows["step"][valid][k] if rows["step"] is not None else 0
+            self.worst = (float(err.total[k]), float(t[k]), int(step))
+
+    def _budget(self, b: dict[str, NDArray[Any]]) -> None:
+        if not len(b["tick"]):
+            return
+        self.ticks += len(b["tick"])
+        ran = b["deadline_ps"] > b["tick_ps"]
+        tick_s = b["tick_ps"].astype(np.float64) * PS
+        us = PS * 1e6
+        busy = (b["end_ps"].astype(np.float64) - b["start_ps"]) * us
+        finish = (b["end_ps"].astype(np.float64) - b["tick_ps"]) * us
+        deadline = (b["deadline_ps"].astype(np.float64) - b["tick_ps"]) * us
+        self.busy.add(tick_s[ran], busy[ran])
+        self.finish.add(tick_s[ran], finish[ran])
+        self.deadline.add(tick_s[ran], deadline[ran])
+        late = ran & (finish > deadline)
+        self.late.add(tick_s[late], finish[late])
+        self.late_count += int(late.sum())
+        self.lost.add(tick_s[~ran], np.zeros(int((~ran).sum())))
+        self.lost_count += int((~ran).sum())
+        if ran.any():
+            margin = (deadline - finish)[ran]
+            k = int(np.argmin(margin))
+            if self.margin_min is None or margin[k] < self.margin_min[0]:
+                self.margin_min = (float(margin[k]), int(b["tick"][ran][k]))
+
+    @classmethod
+    def of_run(cls, run: Run) -> PageData:
+        data = cls(run.profile)
+        data.add(run_part(run))
+        return data
+
+
+def _attitude_panel(ax: Axes, data: PageData) -> None:
+    if data.worst is None:
         for k, name in enumerate(("roll", "pitch", "yaw")):
-            ax.plot(run.time_s, run.euler_deg[:, k], color=ANGLE_COLORS[k], lw=0.8, label=name)
+            ax.plot(*data.euler[k].points(), color=ANGLE_COLORS[k], lw=0.8, label=name)
         ax.set_ylabel("attitude (°)")
         ax.set_title("Attitude estimate (the trace has no truth)", loc="left", fontsize=10)
     else:
-        err = attitude_errors(aligned_estimate(run)[0][ok], run.truth_q[ok])
-        t = run.time_s[ok]
-        # Roll and yaw are undefined at pitch ±90°: their errors are left out near it.
-        truth_pitch = np.degrees(quaternion.to_euler(run.truth_q[ok])[1])
-        gimbal = np.abs(truth_pitch) > GIMBAL_MARGIN_DEG
         for k, name in enumerate(("roll", "pitch", "yaw")):
-            e = np.where(gimbal, np.nan, getattr(err, name))
-            ax.plot(t, e, color=ANGLE_COLORS[k], lw=0.8, label=f"{name} error")
-        ax.plot(t, err.total, color="black", lw=0.8, ls="--", label="total (rotation angle)")
-        if gimbal.any():
+            ax.plot(*data.errors[name].points(), color=ANGLE_COLORS[k], lw=0.8, label=f"{name} error")
+        ax.plot(
+            *data.errors["total"].points(), color="black", lw=0.8, ls="--", label="total (rotation angle)"
+        )
+        if data.gimbal:
             ax.plot([], [], " ", label=f"Euler errors hidden where |pitch| > {GIMBAL_MARGIN_DEG:g}°")
         ax.set_ylabel("estimate − truth (°)")
-        worst = int(np.argmax(err.total))
-        cycle = int(run.step[ok][worst])
-        title = f"Attitude error: largest {err.total[worst]:.3g}° at {t[worst]:.3f} s (cycle {cycle})"
+        worst, at, cycle = data.worst
+        title = f"Attitude error: largest {worst:.3g}° at {at:.3f} s (cycle {cycle})"
         ax.set_title(title, loc="left", fontsize=10)
     ax.legend(loc="upper left", fontsize=8, ncol=4)
     ax.grid(alpha=0.3)
 
 
-def _budget_panel(ax: Axes, run: Run) -> None:
-    b = run.budget
-    ran = run.isr_ran
-    tick_s = b["tick_ps"].astype(np.float64) * PS
-    us = PS * 1e6
-    busy = (b["end_ps"].astype(np.float64) - b["start_ps"]) * us
-    finish = (b["end_ps"].astype(np.float64) - b["tick_ps"]) * us
-    deadline = (b["deadline_ps"].astype(np.float64) - b["tick_ps"]) * us
-    ax.plot(tick_s[ran], busy[ran], color="tab:blue", lw=0.8, label="ISR busy")
-    ax.plot(tick_s[ran], finish[ran], color="tab:orange", lw=0.8, label="ISR end after its tick")
-    ax.plot(tick_s[ran], deadline[ran], color="tab:red", lw=1.0, label="deadline (next tick)")
-    late = ran & (finish > deadline)
-    if late.any():
+def _budget_panel(ax: Axes, data: PageData) -> None:
+    ax.plot(*data.busy.points(), color="tab:blue", lw=0.8, label="ISR busy")
+    ax.plot(*data.finish.points(), color="tab:orange", lw=0.8, label="ISR end after its tick")
+    ax.plot(*data.deadline.points(), color="tab:red", lw=1.0, label="deadline (next tick)")
+    if data.late_count:
+        ax.plot(*data.late.points(), "x", color="tab:red", ms=4, label=f"missed deadline ({data.late_count})")
+    if data.lost_count:
         ax.plot(
-            tick_s[late],
-            finish[late],
-            "x",
-            color="tab:red",
-            ms=4,
-            label=f"missed deadline ({int(late.sum())})",
-        )
-    if (~ran).any():
-        ax.plot(
-            tick_s[~ran],
-            np.zeros(int((~ran).sum())),
-            "v",
-            color="black",
-            ms=4,
-            label=f"tick lost or dropped ({int((~ran).sum())})",
+            *data.lost.points(), "v", color="black", ms=4, label=f"tick lost or dropped ({data.lost_count})"
         )
     ax.set_ylabel("µs after the tick")
-    margin = deadline - finish
     worst = (
-        f"smallest margin {margin[ran].min():.1f} µs at tick {int(b['tick'][ran][np.argmin(margin[ran])])}"
-        if ran.any()
+        f"smallest margin {data.margin_min[0]:.1f} µs at tick {data.margin_min[1]}"
+        if data.margin_min is not None
         else "no ISR ran"
     )
     ax.set_title(f"ISR budget per timer tick: {worst}", loc="left", fontsize=10)
@@ -122,25 +255,21 @@ def _budget_panel(ax: Axes, run: Run) -> None:
     ax.grid(alpha=0.3)
 
 
-def _events_panel(ax: Axes, run: Run) -> None:
-    kinds = sorted({e["kind"] for e in run.events})
+def _events_panel(ax: Axes, data: PageData) -> None:
+    counts = {k: v["count"] for k, v in data.summary.kinds.items()}
+    kinds = sorted(counts)
     if not kinds:
         ax.text(0.5, 0.5, "no events", ha="center", va="center", transform=ax.transAxes, fontsize=12)
         ax.set_yticks([])
     else:
         row = {k: i for i, k in enumerate(kinds)}
         for severity, color in SEVERITY_COLORS.items():
-            sel = [e for e in run.events if e["severity"] == severity]
-            if sel:
-                ax.plot(
-                    [e["t_s"] for e in sel],
-                    [row[e["kind"]] for e in sel],
-                    "|",
-                    color=color,
-                    ms=10,
-                    label=f"{severity} ({len(sel)})",
-                )
-        counts = run.events_by_kind()
+            mine = {kind: s for (sev, kind), s in data.events.items() if sev == severity}
+            if mine:
+                t = np.concatenate([s.points()[0] for s in mine.values()])
+                y = np.concatenate([np.full(len(s.points()[0]), row[k]) for k, s in mine.items()])
+                n = sum(s.rows for s in mine.values())
+                ax.plot(t, y, "|", color=color, ms=10, label=f"{severity} ({n})")
         ax.set_yticks(range(len(kinds)), [f"{k} ({counts[k]})" for k in kinds], fontsize=8)
         ax.set_ylim(-0.7, len(kinds) - 0.3)
         ax.legend(loc="upper right", fontsize=8)
@@ -149,26 +278,30 @@ def _events_panel(ax: Axes, run: Run) -> None:
     ax.grid(alpha=0.3, axis="x")
 
 
-def report_figure(run: Run, *, title: str = "") -> tuple[Figure, ReportAxes]:
-    """The one-page report of ``run`` as a matplotlib figure (time axes shared)."""
+def report_figure(run: Run | PageData, *, title: str = "") -> tuple[Figure, ReportAxes]:
+    """The one-page report of ``run`` (a Run, or the PageData gathered from its streamed output) as
+    a matplotlib figure (time axes shared)."""
+    data = run if isinstance(run, PageData) else PageData.of_run(run)
     fig, (a1, a2, a3) = plt.subplots(
         3, 1, figsize=FIGSIZE, dpi=DPI, sharex=True, gridspec_kw={"height_ratios": [3, 2, 1.4]}
     )
-    _attitude_panel(a1, run)
-    _budget_panel(a2, run)
-    _events_panel(a3, run)
-    overrides = " ".join(run.profile.overrides)
+    _attitude_panel(a1, data)
+    _budget_panel(a2, data)
+    _events_panel(a3, data)
+    overrides = " ".join(data.profile.overrides)
     head = title or "sins-fw run"
     fig.suptitle(
-        f"{head} — profile {Path(run.profile.source).name} {overrides}".rstrip()
-        + f" — {run.cycles} cycles, {len(run.budget['tick'])} ticks, {len(run.events)} events",
+        f"{head} — profile {Path(data.profile.source).name} {overrides}".rstrip()
+        + f" — {data.summary.cycles} cycles, {data.ticks} ticks, {data.summary.events_total} events",
         fontsize=11,
     )
     fig.tight_layout()
     return fig, ReportAxes(a1, a2, a3)
 
 
-def save_report(run: Run, path: str | os.PathLike[str], *, title: str = "") -> tuple[Path, ReportAxes]:
+def save_report(
+    run: Run | PageData, path: str | os.PathLike[str], *, title: str = ""
+) -> tuple[Path, ReportAxes]:
     """Render the report of ``run`` to a PNG at ``path`` (temporary file + rename)."""
     out = Path(path)
     fig, axes = report_figure(run, title=title)

@@ -5,6 +5,7 @@ shortest round-trip float text, one dataset per column, written atomically and b
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -16,9 +17,10 @@ import numpy as np
 
 from sins_fw import _core
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import Run, check_until_s, emulate
-from sins_fw.profile import load_profile
-from sins_fw.traces import Column, _open, _Schema, _write
+from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate
+from sins_fw.profile import Profile, load_profile
+from sins_fw.stream import TableWriter
+from sins_fw.traces import Column, RawRegisterTrace, _open, _Schema, _write
 
 RUN_FORMAT = "sins-fw-run-output/1"
 
@@ -74,19 +76,172 @@ def run_columns(run: Run) -> dict[str, np.ndarray]:
 def save_run(run: Run, path: str | os.PathLike[str], metadata: dict[str, str] | None = None) -> None:
     """Write the per-step output (``.csv`` or ``.h5``) atomically. ``metadata`` adds one-line
     ``key: value`` entries to the ones recorded always (trace, profile, overrides, numeric, rate)."""
-    step_s = _step_s(run)
-    meta = {
+    meta = _run_metadata(run.profile, _step_s(run), run.t0_s, metadata or {})
+    _write(path, RUN_SCHEMA, meta, run_columns(run))
+
+
+def _run_metadata(profile: Profile, step_s: Fraction, t0_s: float, extra: dict[str, str]) -> dict[str, str]:
+    return {
         "format": RUN_FORMAT,
         "sample_rate_hz": str(1 / step_s),
-        "profile": run.profile.source,
+        "profile": profile.source,
         # JSON: an override may hold spaces (`faults.list=[{kind = "spike", …}]`).
-        "overrides": json.dumps(list(run.profile.overrides), ensure_ascii=False),
-        "numeric": str(run.profile.get("firmware.numeric")),
-        "trace_t0_s": repr(run.t0_s),
+        "overrides": json.dumps(list(profile.overrides), ensure_ascii=False),
+        "numeric": str(profile.get("firmware.numeric")),
+        "trace_t0_s": repr(t0_s),
         "created_by": "sins-fw run",
-        **(metadata or {}),
+        **extra,
     }
-    _write(path, RUN_SCHEMA, meta, run_columns(run))
+
+
+def _step_columns(part: dict[str, Any]) -> dict[str, np.ndarray]:
+    """The file columns of one part of streamed output (as :func:`run_columns` of a whole run)."""
+    values = {
+        "cycle_t_ps": (part["cycle_t_ps"].astype(np.float64) * PS)[:, None],
+        "cycle_quat": part["cycle_quat"],
+        "cycle_euler_deg": part["cycle_euler_deg"],
+        "cycle_vel_enu": part["cycle_vel_enu"],
+        "cycle_pos": part["cycle_pos"],
+    }
+    cols: dict[str, np.ndarray] = {}
+    for core_name, file_columns in CORE_FILE_COLUMNS.items():
+        for i, (name, _unit) in enumerate(file_columns):
+            cols[name] = values[core_name][:, i]
+    if "truth_q" in part:
+        for i, c in enumerate("wxyz"):
+            cols[f"truth_q{c}"] = part["truth_q"][:, i]
+        if "moving" in part:
+            cols["moving"] = part["moving"].astype(np.uint8)
+    return cols
+
+
+class _Deferred:
+    """A streamed table whose metadata needs the first ticks of the run (the update or tick
+    period): the parts are held until they tell, then written as they come (:class:`TableWriter`,
+    atomic: nothing appears at the path unless :meth:`close` completes)."""
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        self.rows = 0
+        self._held: list[dict[str, Any]] = []
+        self._writer: TableWriter | None = None
+        self._stack = contextlib.ExitStack()
+        self._ticks: list[int] = []  # the first two tick times (ps)
+        self._steps: list[int] = []  # the first two step-tick times (ps)
+
+    def __enter__(self) -> _Deferred:
+        return self
+
+    def __exit__(self, kind: Any, exc: Any, tb: Any) -> None:
+        self._stack.__exit__(kind, exc, tb)
+
+    def add(self, part: dict[str, Any]) -> None:
+        b_ps, b_step = part["budget_tick_ps"], part["budget_step"].astype(bool)
+        if len(self._ticks) < 2:
+            self._ticks += [int(t) for t in b_ps[: 2 - len(self._ticks)]]
+        if len(self._steps) < 2:
+            self._steps += [int(t) for t in b_ps[b_step][: 2 - len(self._steps)]]
+        if self._writer is None:
+            self._held.append(part)
+            if self._ready(final=False):
+                self._open()
+            return
+        self._write(part)
+
+    def close(self) -> None:
+        """Write what is held and complete the file (the rename happens when the block ends)."""
+        if self._writer is None:
+            self._ready(final=True)
+            self._open()
+
+    def _open(self) -> None:
+        schema, meta = self._header()
+        self._writer = self._stack.enter_context(TableWriter(self.path, schema, meta, allow_gaps=self._gaps))
+        held, self._held = self._held, []
+        for p in held:
+            self._write(p)
+
+    def _write(self, part: dict[str, Any]) -> None:
+        assert self._writer is not None
+        cols = self._columns(part)
+        self._writer.write(cols)
+        self.rows = self._writer.rows
+
+    _gaps = False
+
+    def _ready(self, final: bool) -> bool:
+        raise NotImplementedError
+
+    def _header(self) -> tuple[_Schema, dict[str, str]]:
+        raise NotImplementedError
+
+    def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
+        raise NotImplementedError
+
+
+class RunWriter(_Deferred):
+    """`run --out` written as the run streams (the file :func:`save_run` writes of the whole run:
+    the same bytes for CSV and for HDF5 files of up to ``stream.WHOLE_ROWS`` steps). Steps may be
+    missing (an overrun drops one): gaps are allowed, as :func:`load_run` allows them."""
+
+    _gaps = True
+
+    def __init__(
+        self, path: str | os.PathLike[str], profile: Profile, t0_s: float, metadata: dict[str, str]
+    ) -> None:
+        super().__init__(path)
+        self.profile, self.t0_s, self.metadata = profile, t0_s, metadata
+
+    def _ready(self, final: bool) -> bool:
+        if len(self._steps) >= 2:
+            return True
+        if final and len(self._ticks) < 2:
+            raise InputError(
+                "run output: the run is too short to have an update period (fewer than two ticks)"
+            )
+        return final
+
+    def _header(self) -> tuple[_Schema, dict[str, str]]:
+        ticks = self._steps if len(self._steps) >= 2 else self._ticks
+        step_s = Fraction(ticks[1] - ticks[0], 10**12)
+        return RUN_SCHEMA, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
+
+    def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
+        return _step_columns(part)
+
+
+class RawWriter(_Deferred):
+    """`run --raw-out` written as the run streams (:meth:`Run.raw_register_trace` saved)."""
+
+    _gaps = True
+
+    def __init__(self, path: str | os.PathLike[str], metadata: dict[str, str]) -> None:
+        super().__init__(path)
+        self.metadata = metadata
+
+    def _ready(self, final: bool) -> bool:
+        if len(self._ticks) >= 2:
+            return True
+        if final:
+            raise InputError("raw-register trace: the run is too short (fewer than two timer ticks)")
+        return False
+
+    def _header(self) -> tuple[_Schema, dict[str, str]]:
+        rate = Fraction(10**12, self._ticks[1] - self._ticks[0])
+        meta = {"sample_rate_hz": _rate_text(rate), **self.metadata}
+        empty = RawRegisterTrace(
+            t_s=np.zeros(0), words=np.zeros((0, _core.READ_WORDS), np.uint16), metadata=meta
+        )
+        self._meta = empty.metadata
+        return RawRegisterTrace.schema, self._meta
+
+    def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
+        raw = RawRegisterTrace(
+            t_s=part["read_t_cs_ps"].astype(np.float64) / 1e12,
+            words=np.ascontiguousarray(part["read_words"], dtype=np.uint16),
+            metadata=self._meta,
+        )
+        return raw.columns()
 
 
 def trace_reference(trace: str | os.PathLike[str], out: str | os.PathLike[str]) -> dict[str, str]:

@@ -148,11 +148,23 @@ class TableWriter:
     def _take(self, rows: int) -> dict[str, np.ndarray]:
         """The first ``rows`` pending rows, as one block (the rest stays pending)."""
         assert self._names is not None
-        joined = {n: np.concatenate([b[n] for b in self._pending]) for n in self._names}
-        rest = {n: a[rows:] for n, a in joined.items()}
-        self._pending = [rest] if len(rest[self._names[0]]) else []
+        first = self._names[0]
+        taken: list[dict[str, np.ndarray]] = []
+        need = rows
+        while need:  # only the blocks the rows are in are joined (not every pending row)
+            block = self._pending[0]
+            n = len(block[first])
+            if n <= need:
+                taken.append(self._pending.pop(0))
+                need -= n
+            else:
+                taken.append({k: a[:need] for k, a in block.items()})
+                self._pending[0] = {k: a[need:] for k, a in block.items()}
+                need = 0
         self._pending_rows -= rows
-        return {n: a[:rows] for n, a in joined.items()}
+        if len(taken) == 1:
+            return taken[0]
+        return {n: np.concatenate([b[n] for b in taken]) for n in self._names}
 
     def _flush_chunk(self, rows: int) -> None:
         """Write one chunk of every column (resizable datasets of the whole-array writer's chunking)."""

@@ -39,11 +39,19 @@ def exit_epilog(check: str | None) -> str:
 def check_events(events: Iterable[Mapping[str, Any]], what: str = "the run") -> None:
     """Raise CheckFailed (exit 1) when any event has severity ``error``, whatever its kind."""
     errors = [e for e in events if e.get("severity") == "error"]
-    if errors:
-        kinds = ", ".join(f"{k} ×{n}" for k, n in Counter(str(e["kind"]) for e in errors).items())
-        first = errors[0]
+    check_error_counts(Counter(str(e["kind"]) for e in errors), errors[0] if errors else None, what)
+
+
+def check_error_counts(
+    counts: Mapping[str, int], first: Mapping[str, Any] | None, what: str = "the run"
+) -> None:
+    """:func:`check_events` from the error events counted per kind (in the order each kind first
+    occurred) and the first of them, as a streamed run keeps them."""
+    total = sum(counts.values())
+    if total and first is not None:
+        kinds = ", ".join(f"{k} ×{n}" for k, n in counts.items())
         raise CheckFailed(
-            f"{what} logged {len(errors)} error event{'s' if len(errors) > 1 else ''} ({kinds}); the "
+            f"{what} logged {total} error event{'s' if total > 1 else ''} ({kinds}); the "
             f"first at {float(first['t_s']):.6g} s: {first['message']}"
         )
 

@@ -12,6 +12,7 @@ from pathlib import Path
 from sins_fw.atomic import check_distinct
 from sins_fw.broad import import_broad
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
     RAW_FORMAT,
@@ -20,6 +21,9 @@ from sins_fw.traces import (
     check_output_path,
     read_metadata,
 )
+
+#: Rows read and written at a time by `import trace` (the HDF5 chunk of the trace formats).
+IMPORT_CHUNK_ROWS = 1 << 16
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -59,20 +63,25 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.out)
     check_distinct({"FILE": args.file}, {"--out": args.out})
-    trace: PhysicalTrace | RawRegisterTrace
     if args.kind == "broad":
         trace = import_broad(args.file)
+        trace.save(args.out)
+        kind_name, rows, metadata = type(trace).__name__, len(trace), trace.metadata
     else:
+        # Read and written a chunk at a time: memory is bounded by the chunk (issue 24, item 11).
         kind = RawRegisterTrace if read_metadata(args.file).get("format") == RAW_FORMAT else PhysicalTrace
-        trace = kind.load(args.file, allow_gaps=args.allow_gaps, max_gap_periods=args.max_gap_periods)
-    trace.save(args.out, allow_gaps=getattr(args, "allow_gaps", False))
+        chunks = kind.iter_chunks(
+            args.file, IMPORT_CHUNK_ROWS, allow_gaps=args.allow_gaps, max_gap_periods=args.max_gap_periods
+        )
+        written = save_chunks(args.out, chunks, allow_gaps=args.allow_gaps)
+        kind_name, rows, metadata = kind.__name__, written.rows, written.metadata
     report = {
         "in": str(args.file),
         "out": str(args.out),
-        "kind": type(trace).__name__,
-        "rows": len(trace),
-        "sample_rate_hz": trace.metadata["sample_rate_hz"],
-        "source": trace.metadata.get("source", ""),
+        "kind": kind_name,
+        "rows": rows,
+        "sample_rate_hz": metadata["sample_rate_hz"],
+        "source": metadata.get("source", ""),
     }
-    emit(args, report, f"wrote {args.out}: {report['kind']}, {len(trace)} rows from {args.file}")
+    emit(args, report, f"wrote {args.out}: {report['kind']}, {rows} rows from {args.file}")
     return 0

@@ -11,7 +11,7 @@ from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
     add_profile_options,
-    check_events,
+    check_error_counts,
     emit,
     exit_epilog,
     profile_file,
@@ -41,22 +41,26 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--png {args.png}: directory {args.png.parent} does not exist")
     check_distinct({"TRACE": args.trace, "--profile": profile_file(args)}, {"--png": args.png})
     profile = profile_from_args(args)
-    run_ = emulate(args.trace, profile)
-    from sins_fw.report_page import save_report  # matplotlib is a heavy import
+    from sins_fw.report_page import PageData, save_report  # matplotlib is a heavy import
 
-    save_report(run_, args.png, title=args.trace.name)
+    # Streamed: the page's series are gathered part by part, each bounded (report_page.MAX_POINTS).
+    data = PageData(profile)
+    emulate(args.trace, profile, sink=data.add)
+    save_report(data, args.png, title=args.trace.name)
+    s = data.summary
+    counts = {k: v["count"] for k, v in sorted(s.kinds.items())}
     report = {
         "trace": str(args.trace),
         "profile": profile.source,
         "overrides": list(profile.overrides),
-        "cycles": run_.cycles,
-        "events": run_.events_by_kind(),
+        "cycles": s.cycles,
+        "events": counts,
         "png": str(args.png),
     }
     emit(
         args,
         report,
-        f"report of {args.trace} ({run_.cycles} cycles, {len(run_.events)} events) written to {args.png}",
+        f"report of {args.trace} ({s.cycles} cycles, {s.events_total} events) written to {args.png}",
     )
-    check_events(run_.events)
+    check_error_counts(s.error_counts(), s.first_error())
     return 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import signal
 import sys
 from collections.abc import Callable, Iterator
@@ -18,7 +19,7 @@ from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
     add_profile_options,
-    check_events,
+    check_error_counts,
     emit,
     exit_epilog,
     profile_file,
@@ -27,8 +28,9 @@ from sins_fw.cli.common import (
 from sins_fw.cli.stop import check_stop
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import check_until_s, emulate
-from sins_fw.report import ALIGNMENTS, render, summarise
-from sins_fw.run_output import save_run, trace_reference
+from sins_fw.report import ALIGNMENTS, render
+from sins_fw.report_stream import RunSummary
+from sins_fw.run_output import RawWriter, RunWriter, trace_reference
 from sins_fw.traces import DEFAULT_MAX_GAP_PERIODS, PhysicalTrace, check_output_path, is_raw_register_trace
 
 
@@ -202,7 +204,23 @@ def run(args: argparse.Namespace) -> int:
     if args.allow_gaps and not replayed:  # raw-register traces load with gaps allowed anyway
         trace = PhysicalTrace.load(args.trace, allow_gaps=True)
         gaps = gap_events(trace)
-    with _progress(args, span) as bar:
+    t0 = (
+        0.0
+        if replayed
+        else float(trace.t_s[0])
+        if isinstance(trace, PhysicalTrace)
+        else _first_time(args.trace)
+    )
+    summary_acc = RunSummary(profile, align=args.align)
+    with contextlib.ExitStack() as files, _progress(args, span) as bar:
+        writers: list[Any] = []
+        if args.out is not None:
+            recorded = trace_reference(args.trace, args.out)
+            if args.until_s is not None:
+                recorded["until_s"] = repr(args.until_s)
+            writers.append(files.enter_context(RunWriter(args.out, profile, t0 or 0.0, recorded)))
+        if args.raw_out is not None:
+            writers.append(files.enter_context(RawWriter(args.raw_out, _raw_metadata(args))))
 
         def on_chunk(t: float) -> None:
             reached(t)
@@ -210,44 +228,41 @@ def run(args: argparse.Namespace) -> int:
                 bar(t)
             check_stop()
 
+        def sink(part: dict[str, Any]) -> None:
+            summary_acc.add(part)
+            for w in writers:
+                w.add(part)
+
         try:
+            # Streamed: the summary and the files take each part of the output as it comes, so
+            # memory is bounded by a part whatever the trace's length (issue 24, item 11).
             result = emulate(
-                trace, profile, on_chunk=on_chunk, until_s=args.until_s, allow_gaps=args.allow_gaps
+                trace, profile, on_chunk=on_chunk, until_s=args.until_s, allow_gaps=args.allow_gaps, sink=sink
             )
             check_stop()
+            for w in writers:
+                w.close()
         except KeyboardInterrupt as e:
             how_far = reached.text(_first_time(args.trace) if reached.t is not None else None)
             raise type(e)(f"stopped {how_far}{_out_state(args.out, out_existed)}") from None
-    if gaps:
-        # Stable sort: the core's events keep their order; each gap goes where its time puts it.
-        result.events = sorted([*result.events, *gaps], key=lambda e: e["t_s"])
-    summary = summarise(result, trace=str(args.trace), align=args.align)
+    # Stable order: the core's events keep theirs; the gaps come after them in the counts (each
+    # kind's first occurrence is the same either way: a gap is its own kind).
+    summary_acc.add_events(gaps)
+    summary = summary_acc.result(trace=str(args.trace), t0_s=result.t0_s, stage_cycles=result.stage_cycles)
     summary["replayed"] = replayed
     if args.out is not None:
-        try:
-            recorded = trace_reference(args.trace, args.out)
-            if args.until_s is not None:
-                recorded["until_s"] = repr(args.until_s)
-            save_run(result, args.out, recorded)
-        except KeyboardInterrupt as e:
-            done = f"after emulating all {result.time_s[-1] if result.cycles else 0:.6g} s"
-            raise type(e)(
-                f"stopped while writing {args.out} {done}{_out_state(args.out, out_existed)}"
-            ) from None
         summary["out"] = str(args.out)
     if args.raw_out is not None:
-        raw = result.raw_register_trace(_raw_metadata(args))
-        raw.save(args.raw_out, allow_gaps=True)
         summary["raw_out"] = str(args.raw_out)
     text = render(summary)
     if replayed:
         text = "replayed       raw-register trace: recorded words, no device model\n" + text
     if args.out is not None:
-        text += f"\nwrote          {args.out} ({result.cycles} steps)"
+        text += f"\nwrote          {args.out} ({summary['cycles']} steps)"
     if args.raw_out is not None:
-        text += f"\nwrote          {args.raw_out} ({len(result.read_words)} bursts)"
+        text += f"\nwrote          {args.raw_out} ({writers[-1].rows} bursts)"
     emit(args, summary, text)
-    check_events(result.events)
+    check_error_counts(summary_acc.error_counts(), summary_acc.first_error())
     return 0
 
 

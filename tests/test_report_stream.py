@@ -1,0 +1,111 @@
+"""The summary `sins-fw run` prints, accumulated chunk by chunk as the run streams (issue 24, item
+11): the same figures, bit for bit, as the summary of the whole run, and as the whole-array
+functions (numpy over every row) for runs of up to one block of values."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import pytest
+
+from conftest import ROOT, run_cli
+from sins_fw import report_stream
+from sins_fw.harness import emulate
+from sins_fw.report import attitude_summary, budget_summary, events_summary, summarise
+from sins_fw.run_output import save_run
+
+TRACES = ROOT / "traces"
+CASES = [
+    ("static_60s.h5", [], "auto"),
+    ("pitch_sweep.h5", [], "auto"),
+    ("pitch_sweep.h5", [], "none"),
+    # Overruns (66 665 ticks dropped), error events, and the heading alignment.
+    ("coning_10hz.h5", ["timer.period_us=300"], "heading"),
+]
+
+
+def same(a: Any, b: Any, path: str = "") -> None:
+    """Equal values of equal types, NaN equal to NaN, recursively."""
+    if isinstance(a, dict):
+        assert a.keys() == b.keys(), path
+        for k in a:
+            same(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            same(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) and math.isnan(a):
+        assert isinstance(b, float) and math.isnan(b), path
+    else:
+        assert a == b and type(a) is type(b), (path, a, b)
+
+
+@pytest.mark.parametrize("name, overrides, align", CASES)
+def test_the_streamed_summary_is_the_whole_runs_bit_for_bit(monkeypatch, name, overrides, align):
+    """20 s of each case (2 500 steps, up to 66 667 ticks) with blocks of 1 000 values, so that every
+    mean and deviation merges blocks; the streamed parts (a sink's, a few thousand ticks each) cut
+    the run elsewhere than the blocks do."""
+    monkeypatch.setattr(report_stream, "BLOCK", 1000)
+    run = emulate(TRACES / name, overrides=overrides, until_s=20.0)
+    whole = summarise(run, align=align)
+    acc = report_stream.RunSummary(run.profile, align=align)
+    parts: list[int] = []
+
+    def sink(part: dict[str, Any]) -> None:
+        parts.append(len(part["budget_tick"]))
+        acc.add(part)
+
+    streamed_run = emulate(TRACES / name, overrides=overrides, until_s=20.0, sink=sink)
+    streamed = acc.result(t0_s=streamed_run.t0_s, stage_cycles=streamed_run.stage_cycles)
+    assert len(parts) > 2 and whole["budget"]["ticks"] > 2 * report_stream.BLOCK
+    same(whole, streamed)
+
+
+@pytest.mark.parametrize("name, overrides, align", CASES)
+def test_up_to_a_block_the_summary_is_numpys_over_the_whole_arrays(name, overrides, align):
+    """Within one block (16 384 values) every figure is the whole-array one: the functions the
+    summary was computed with before it streamed."""
+    run = emulate(TRACES / name, overrides=overrides, until_s=4.0)
+    assert len(run.budget["tick"]) <= report_stream.BLOCK
+    s = summarise(run, align=align)
+    same(s["events"], events_summary(run))
+    same(s["attitude_error"], attitude_summary(run, align))
+    same(s["budget"], budget_summary(run))
+
+
+@pytest.mark.parametrize("ext", [".csv", ".h5"])
+def test_run_out_streamed_is_the_whole_writers_file(tmp_path, ext):
+    """`run --out` writes as the run streams: the bytes `save_run` writes of the whole run (the
+    metadata the CLI records added)."""
+    trace = TRACES / "pitch_sweep.h5"
+    out = tmp_path / f"o{ext}"
+    r = run_cli("run", str(trace), "--out", str(out), "--until-s", "30")
+    assert r.code == 0, r.err
+    from sins_fw.run_output import trace_reference
+
+    meta = {**trace_reference(trace, out), "until_s": repr(30.0)}
+    save_run(emulate(trace, until_s=30.0), tmp_path / f"w{ext}", meta)
+    assert out.read_bytes() == (tmp_path / f"w{ext}").read_bytes()
+
+
+def test_a_long_series_is_plotted_as_its_envelope_in_at_most_max_points():
+    """Past MAX_POINTS rows a page series keeps, per time bin, its smallest and largest value at
+    their own times: at most MAX_POINTS points, every extreme kept (here a spike and a dip)."""
+    import numpy as np
+
+    from sins_fw.report_page import MAX_POINTS, Series
+
+    t = np.arange(1_000_000) * 1e-3
+    v = np.sin(t)
+    v[123_457], v[876_543] = 50.0, -40.0
+    s = Series()
+    for i in range(0, len(t), 8192):
+        s.add(t[i : i + 8192], v[i : i + 8192])
+    pt, pv = s.points()
+    assert len(pt) <= MAX_POINTS and np.all(np.diff(pt) >= 0)
+    assert pv.max() == 50.0 and pt[np.argmax(pv)] == t[123_457]
+    assert pv.min() == -40.0 and pt[np.argmin(pv)] == t[876_543]
+    short = Series()
+    short.add(t[:1000], v[:1000])
+    assert np.array_equal(short.points()[1], v[:1000])  # short: the rows themselves
