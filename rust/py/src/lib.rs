@@ -67,7 +67,6 @@ fn board_summary<'py>(
     d.set_item("lspclk_hz", s.clocks.lspclk.hz())?;
     d.set_item("spi_divisor", s.spi_divisor)?;
     d.set_item("spi_baud_hz", s.spi_baud_hz)?;
-    d.set_item("sclk_max_hz", s.sclk_max_hz)?;
     d.set_item("clock_scheme", s.scheme.ti_name())?;
     d.set_item("spi_mode", s.spi_mode)?;
     d.set_item("mode_matches_device", s.mode_matches_device)?;

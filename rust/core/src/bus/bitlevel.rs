@@ -23,7 +23,7 @@ pub struct Waveform {
     count: usize,
     shape: CharShape,
     lspclk: Clock,
-    /// Twice the shortest phase, in ps: the same for every character of the shape.
+    /// The full SCLK period (an active and an idle phase), in ps: the same for every character.
     sclk_period: Ps,
 }
 
@@ -38,7 +38,6 @@ impl Waveform {
         let mut offsets = [0u32; 32];
         let mut t = if frame.shape.scheme.phase { idle } else { 0 };
         let mut count = 0;
-        let mut shortest_phase = u32::MAX;
         for _ in 0..frame.shape.bits {
             offsets[count] = t;
             t += active;
@@ -46,10 +45,7 @@ impl Waveform {
             t += idle;
             count += 2;
         }
-        for pair in offsets[..count].windows(2) {
-            shortest_phase = shortest_phase.min(pair[1] - pair[0]);
-        }
-        let sclk_period = lspclk.cycles_to_ps(2 * shortest_phase as u64);
+        let sclk_period = lspclk.cycles_to_ps(u64::from(active + idle));
         Waveform { offsets, count, shape: frame.shape, lspclk: *lspclk, sclk_period }
     }
 
@@ -72,7 +68,7 @@ impl Waveform {
     /// The timing of characters of this waveform for any start cycle (its first and last edges).
     pub fn timing_of(&self) -> TimingOf {
         let edges = (self.offsets[0] as u64, self.offsets[self.count - 1] as u64);
-        TimingOf::with_edges(edges, &self.lspclk, self.sclk_period, self.shape.bits, self.shape.scheme.polarity)
+        TimingOf::with_edges(edges, &self.lspclk, self.sclk_period, self.shape.bits, self.shape.scheme.standard_mode())
     }
 }
 

@@ -30,13 +30,21 @@ pub struct FrameTiming {
     pub first_edge: Ps,
     /// Time of the last SCLK edge of the frame.
     pub last_edge: Ps,
-    /// Shortest full SCLK period in the frame (the asymmetric clock of an odd SPIBRR+1 counts its
-    /// shorter phase twice, which is what the slave's SCLK limit is about).
+    /// The full SCLK period: SPIBRR+1 LSPCLK cycles, one active and one idle phase (what the data
+    /// sheet's f_SCLK limit is about; an odd SPIBRR+1 splits it into unequal phases).
     pub sclk_period: Ps,
     /// Number of SCLK cycles in the frame (the master's character length).
     pub bits: u8,
-    /// Clock polarity on the wire: `true` when SCLK idles high.
-    pub cpol: bool,
+    /// The standard SPI mode of the master's clock scheme (f28335.md: CLKPOLARITY 1 with
+    /// CLK_PHASE 0, TI's "falling edge without delay", is mode 3; see `ClockScheme::standard_mode`).
+    pub mode: u8,
+}
+
+impl FrameTiming {
+    /// SCLK idles high (CPOL = 1: modes 2 and 3).
+    pub fn cpol(&self) -> bool {
+        self.mode >= 2
+    }
 }
 
 /// The slave side of the link, at word level. The slave is told about chip select and frames; it
@@ -62,7 +70,7 @@ pub trait SpiSlave {
     }
 }
 
-/// The timings of a run of frames of one shape (the same `bits`, `cpol` and `sclk_period`), given as
+/// The timings of a run of frames of one shape (the same `bits`, `mode` and `sclk_period`), given as
 /// their start cycles and the formula that times a start, not as one [`FrameTiming`] per frame: a
 /// slave works out the frames it looks at ([`RunTiming::frame`]) and checks the stalls between all of
 /// them at once against a bound ([`RunTiming::min_stall`]).
@@ -338,7 +346,7 @@ mod tests {
             assert_eq!(t.first_edge, lsp.cycles_to_ps(3));
             assert_eq!(t.last_edge, lsp.cycles_to_ps(3 + 15 * 50 + 25));
             assert_eq!(t.sclk_period, 1_333_333);
-            assert_eq!((t.bits, t.cpol), (16, true));
+            assert_eq!((t.bits, t.mode), (16, 3));
             let LinkRecord::Frame(second) = o.log[2] else { panic!("log: {:?}", o.log) };
             assert_eq!(o.slave.cs, vec![(true, 0), (false, second.end_ps + 1_000_000)]);
             assert_eq!(o.log[0], LinkRecord::Cs { t_ps: 0, low: true });
@@ -363,7 +371,7 @@ mod tests {
             assert_ne!(o.rx, dout.to_vec());
             assert_eq!(o.rx[1], 0xE3D3); // the published 0xC7A7 frame: ND/EA and the voltage corrupted
                                          // The slave sees the polarity on the wire.
-            assert!(o.slave.timings.iter().all(|t| t.cpol == polarity));
+            assert!(o.slave.timings.iter().all(|t| t.cpol() == polarity));
             // Rising edge without delay (mode 1): the slave samples DIN as the master changes it: it
             // reads the previous SPISIMO level first (0 after reset, then each frame's last bit).
             let din = if (polarity, phase) == (false, false) {

@@ -16,9 +16,9 @@ use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::{CharShape, Frame};
 use crate::time::{Clock, Ps};
 
-/// Shortest full SCLK period of the frame's clock: twice its active (shorter) phase.
+/// The full SCLK period of the frame's clock: SPIBRR+1 LSPCLK cycles (an active and an idle phase).
 pub fn sclk_period(frame: &Frame, lspclk: &Clock) -> Ps {
-    lspclk.cycles_to_ps(2 * frame.shape.active_cycles() as u64)
+    lspclk.cycles_to_ps(u64::from(frame.shape.divisor))
 }
 
 /// The timing of a character of `shape` started on LSPCLK cycle `start_cycle`, as the slave sees it
@@ -39,7 +39,7 @@ pub struct TimingOf {
     lspclk: Clock,
     sclk_period: Ps,
     bits: u8,
-    cpol: bool,
+    mode: u8,
 }
 
 impl TimingOf {
@@ -53,16 +53,16 @@ impl TimingOf {
         } else {
             (0, shape.edge_cycle(shape.edges() - 1))
         };
-        TimingOf::with_edges((first, last), lspclk, sclk_period, shape.bits, shape.scheme.polarity)
+        TimingOf::with_edges((first, last), lspclk, sclk_period, shape.bits, shape.scheme.standard_mode())
     }
 
     /// The timing of characters whose first and last SCLK edges come `edges` = (first, last) LSPCLK
-    /// cycles after their start (`first ≤ last`), of `bits` SCLK cycles, SCLK idling high if `cpol`.
+    /// cycles after their start (`first ≤ last`), of `bits` SCLK cycles, in standard SPI mode `mode`.
     #[inline]
-    pub fn with_edges(edges: (u64, u64), lspclk: &Clock, sclk_period: Ps, bits: u8, cpol: bool) -> TimingOf {
+    pub fn with_edges(edges: (u64, u64), lspclk: &Clock, sclk_period: Ps, bits: u8, mode: u8) -> TimingOf {
         let (first, last) = edges;
         debug_assert!(first <= last);
-        TimingOf { first, last, lspclk: *lspclk, sclk_period, bits, cpol }
+        TimingOf { first, last, lspclk: *lspclk, sclk_period, bits, mode }
     }
 
     /// The timing of the character started on LSPCLK cycle `start_cycle`.
@@ -73,7 +73,7 @@ impl TimingOf {
             last_edge: self.lspclk.cycles_to_ps(start_cycle + self.last),
             sclk_period: self.sclk_period,
             bits: self.bits,
-            cpol: self.cpol,
+            mode: self.mode,
         }
     }
 

@@ -136,6 +136,8 @@ pub(crate) struct Limits {
     pub sclk_max_hz: f64,
     pub sclk_burst_max_hz: f64,
     pub t_stall_ps: f64,
+    pub t_stall_slow_ps: f64,
+    pub t_datarate_ps: f64,
     pub t_cs_ps: f64,
     pub t_sfs_ps: f64,
     /// The same rules as whole-ps bounds, for the per-frame checks: shortest SCLK period (1/sclk_max_hz),
@@ -143,6 +145,8 @@ pub(crate) struct Limits {
     pub min_sclk_period: MinPs,
     pub min_burst_sclk_period: MinPs,
     pub min_stall: MinPs,
+    pub min_stall_slow: MinPs,
+    pub min_datarate: MinPs,
     pub min_cs_setup: MinPs,
     pub min_cs_hold: MinPs,
     pub strict: bool,
@@ -525,11 +529,15 @@ impl Adis {
             sclk_max_hz: cfg.sclk_max_hz,
             sclk_burst_max_hz: cfg.sclk_burst_max_hz,
             t_stall_ps,
+            t_stall_slow_ps: cfg.t_stall_slow_us * 1e6,
+            t_datarate_ps: cfg.t_datarate_us * 1e6,
             t_cs_ps,
             t_sfs_ps,
             min_sclk_period: MinPs::new(PS_PER_S as f64 / cfg.sclk_max_hz),
             min_burst_sclk_period: MinPs::new(PS_PER_S as f64 / cfg.sclk_burst_max_hz),
             min_stall: MinPs::new(t_stall_ps),
+            min_stall_slow: MinPs::new(cfg.t_stall_slow_us * 1e6),
+            min_datarate: MinPs::new(cfg.t_datarate_us * 1e6),
             min_cs_setup: MinPs::new(t_cs_ps),
             min_cs_hold: MinPs::new(t_sfs_ps),
             strict: cfg.timing_mode == TimingMode::Strict,
@@ -636,6 +644,11 @@ impl Adis {
             self.schedule.step();
         }
         self.now = self.now.max(t);
+    }
+
+    /// SMPL_PRD as the part holds it (it decides the slow sample mode's tSTALL).
+    pub(super) fn smpl_prd(&self) -> u16 {
+        self.regs[self.layout.smpl]
     }
 
     /// The time the device has been advanced to.

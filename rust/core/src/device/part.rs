@@ -197,19 +197,20 @@ pub fn slot(addr: u8) -> usize {
     usize::from(addr >> 1) & (SLOTS - 1)
 }
 
-/// The family's SPI facts and timing rules (ADIS16407 data sheet; the sibling ADIS16405 timing
-/// table, [unconfirmed] for each part: see `adis16407.md`, `adis16362.md`).
+/// The family's SPI facts (ADIS16407 data sheet; the sibling ADIS16405 timing table, [unconfirmed]
+/// for each part: see `adis16407.md`, `adis16362.md`). The timing values a part may differ in are
+/// fields of [`Part`].
 pub mod family {
     /// SPI mode (CPOL = 1, CPHA = 1).
     pub const SPI_MODE: u8 = 3;
     /// Frame length, bits.
     pub const FRAME_BITS: u8 = 16;
-    /// tSTALL, normal mode, µs (ADIS16405 table).
-    pub const T_STALL_US: f64 = 9.0;
-    /// tSTALL in the slow (low-power) sample modes, µs (ADIS16405 table).
-    pub const T_STALL_SLOW_US: f64 = 75.0;
-    /// tDATARATE: first edge of a frame to first edge of the next outside a burst, µs (ADIS16405 table).
-    pub const T_DATARATE_US: f64 = 40.0;
+    /// The part runs in its slow (low-power) sample mode with this SMPL_PRD: the 18.921 ms time base
+    /// (bit 7) or NS = SMPL_PRD[6:0] ≥ 0x0A (`adis16362.md`: Linux `adis16400_set_freq`, flag
+    /// `ADIS16400_HAS_SLOW_MODE`); tSTALL is then the longer [`super::Part::t_stall_slow_us`].
+    pub const fn slow_mode(smpl_prd: u16) -> bool {
+        smpl_prd & 0x80 != 0 || smpl_prd & 0x7F >= 0x0A
+    }
     /// tCS, ns.
     pub const T_CS_NS: f64 = 48.8;
     /// tSFS, ns.
@@ -237,6 +238,14 @@ pub struct Part {
     pub startup_ms: f64,
     /// Software-reset time, ms.
     pub reset_ms: f64,
+    /// tSTALL: shortest time from the last SCLK edge of a frame to the first of the next, outside a
+    /// burst, µs.
+    pub t_stall_us: f64,
+    /// tSTALL in the slow (low-power) sample mode ([`family::slow_mode`]), µs.
+    pub t_stall_slow_us: f64,
+    /// tDATARATE: shortest period of frames outside a burst (the data sheet's chip-select period of
+    /// one-word reads; measured from a frame's first SCLK edge to the next one's), µs.
+    pub t_datarate_us: f64,
     /// SCLK limit in normal mode, Hz.
     pub sclk_max_hz: f64,
     /// SCLK limit during a burst read, Hz.

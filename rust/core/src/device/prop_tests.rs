@@ -22,7 +22,7 @@ enum Op {
     /// Move CS `gap_ps` after the current time.
     Cs { low: bool, gap_ps: i64 },
     /// Clock one frame whose first edge is `gap_ps` after the current time (negative: before it).
-    Frame { din: u16, gap_ps: i64, sclk_ps: Ps, bits: u8, cpol: bool },
+    Frame { din: u16, gap_ps: i64, sclk_ps: Ps, bits: u8, mode: u8 },
 }
 
 /// Words a host sends: any word, reads and writes of real registers, the burst command, commands.
@@ -52,9 +52,9 @@ fn op() -> impl Strategy<Value = Op> {
             gap,
             prop_oneof![3 => 250_000u64..3_000_000, 1 => 0u64..250_000, 1 => 3_000_000u64..50_000_000],
             prop_oneof![4 => Just(16u8), 1 => 1u8..=16],
-            prop_oneof![4 => Just(true), 1 => Just(false)],
+            prop_oneof![4 => Just(3u8), 1 => 0u8..3],
         )
-            .prop_map(|(din, gap_ps, sclk_ps, bits, cpol)| Op::Frame { din, gap_ps, sclk_ps, bits, cpol }),
+            .prop_map(|(din, gap_ps, sclk_ps, bits, mode)| Op::Frame { din, gap_ps, sclk_ps, bits, mode }),
     ]
 }
 
@@ -136,10 +136,10 @@ proptest! {
                     d.set_cs(low, t);
                     cs_low = low;
                 }
-                Op::Frame { din, gap_ps, sclk_ps, bits, cpol } => {
+                Op::Frame { din, gap_ps, sclk_ps, bits, mode } => {
                     t = shift(t, gap_ps);
                     let last_edge = t.saturating_add(sclk_ps.saturating_mul(2 * u64::from(bits) - 1) / 2);
-                    let timing = FrameTiming { first_edge: t, last_edge, sclk_period: sclk_ps, bits, cpol };
+                    let timing = FrameTiming { first_edge: t, last_edge, sclk_period: sclk_ps, bits, mode };
                     let dout = d.begin_frame(&timing);
                     d.end_frame(din, &timing);
                     frames += 1;

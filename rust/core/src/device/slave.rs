@@ -11,10 +11,15 @@
 //!
 //! Timing rules (profile `device.*`), checked on every frame; each violation is an event:
 //! `sclk_too_fast` (SCLK above `sclk_max_hz`, or `sclk_burst_max_hz` in a burst's data frames),
-//! `stall_too_short` (last edge of a frame to first edge of the next below `t_stall_us`, or below one
-//! SCLK period inside a burst), `cs_setup` (CS↓ to first edge below `t_cs_ns`), `cs_hold` (last edge
-//! to CS↑ below `t_sfs_ns`), `clock_polarity` (SCLK idles low: not mode 3). Measured and required
-//! figures are in seconds or hertz; a 1 ps allowance absorbs the bus's flooring to whole picoseconds.
+//! `stall_too_short` (last edge of a frame to first edge of the next below `t_stall_us`, or
+//! `t_stall_slow_us` in the slow sample mode, or below one SCLK period inside a burst),
+//! `datarate_too_short` (first edge to first edge of two frames outside a burst below
+//! `t_datarate_us`; a burst is one chip-select window and is not held to it), `cs_setup` (CS↓ to first edge below `t_cs_ns`), `cs_hold` (last edge
+//! to CS↑ below `t_sfs_ns`), `spi_mode` (the frame is clocked in another SPI mode than the family's
+//! mode 3; the link has already shifted the words as the wires do). SCLK is judged by its full period
+//! (the data sheet limits f_SCLK; no minimum SCLK pulse width is modelled: none of the sources at hand
+//! gives one). Measured and required figures are in seconds or hertz; a 1 ps allowance absorbs the
+//! bus's flooring to whole picoseconds.
 //!
 //! Consequences: under `strict` a violating frame's DOUT reads as `corrupt_word`; a `cs_hold`
 //! violation corrupts the next frame's DOUT (the command it would answer may have been mis-latched).
@@ -25,6 +30,7 @@
 //! software reset).
 
 use super::adis::{Adis, SampleStamp};
+use super::part::family::{slow_mode, SPI_MODE};
 use super::part::MAX_BURST_WORDS;
 use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::events::{Event, Severity};
@@ -43,28 +49,31 @@ impl Violations {
     pub const CS_SETUP: Violations = Violations(1 << 2);
     /// CS↑ too close to the last SCLK edge.
     pub const CS_HOLD: Violations = Violations(1 << 3);
-    /// SCLK idles low (not SPI mode 3).
-    pub const CLOCK_POLARITY: Violations = Violations(1 << 4);
+    /// Clocked in another SPI mode than the part's (mode 3).
+    pub const SPI_MODE: Violations = Violations(1 << 4);
     /// Not 16 SCLK cycles.
     pub const FRAME_LENGTH: Violations = Violations(1 << 5);
     /// Clocked with CS high.
     pub const NO_CHIP_SELECT: Violations = Violations(1 << 6);
     /// Clocked during a software reset.
     pub const DEVICE_BUSY: Violations = Violations(1 << 7);
+    /// Too little time since the previous frame outside a burst started (tDATARATE).
+    pub const DATARATE_TOO_SHORT: Violations = Violations(1 << 8);
 
     /// The rules whose breach makes the slave ignore DIN (and corrupt DOUT) in either timing mode.
     const IGNORE_DIN: Violations =
         Violations(Violations::FRAME_LENGTH.0 | Violations::NO_CHIP_SELECT.0 | Violations::DEVICE_BUSY.0);
 
-    const NAMES: [(Violations, &'static str); 8] = [
+    const NAMES: [(Violations, &'static str); 9] = [
         (Violations::SCLK_TOO_FAST, "sclk_too_fast"),
         (Violations::STALL_TOO_SHORT, "stall_too_short"),
         (Violations::CS_SETUP, "cs_setup"),
         (Violations::CS_HOLD, "cs_hold"),
-        (Violations::CLOCK_POLARITY, "clock_polarity"),
+        (Violations::SPI_MODE, "spi_mode"),
         (Violations::FRAME_LENGTH, "frame_length"),
         (Violations::NO_CHIP_SELECT, "frame_without_cs"),
         (Violations::DEVICE_BUSY, "device_busy"),
+        (Violations::DATARATE_TOO_SHORT, "datarate_too_short"),
     ];
 
     /// No rule broken.
@@ -138,6 +147,8 @@ pub(crate) struct SlaveState {
     framed_since_cs: bool,
     /// Last SCLK edge of the previous frame.
     last_edge: Option<Ps>,
+    /// First SCLK edge of the previous frame when it was outside a burst (tDATARATE counts from it).
+    last_plain_start: Option<Ps>,
     /// Register asked for by the previous read frame.
     pending_read: Option<u8>,
     /// A cs_hold violation under strict corrupts the next DOUT.
@@ -355,6 +366,8 @@ impl Adis {
     fn stall_limit(&self, timing: &FrameTiming, in_burst: bool) -> (f64, &'static str) {
         if in_burst {
             (timing.sclk_period as f64, "one SCLK period inside a burst")
+        } else if slow_mode(self.smpl_prd()) {
+            (self.limits.t_stall_slow_ps, "the stall time in the slow sample mode")
         } else {
             (self.limits.t_stall_ps, "the stall time between frames")
         }
@@ -386,8 +399,8 @@ impl Adis {
         if timing.bits != 16 {
             found.insert(Violations::FRAME_LENGTH);
         }
-        if !timing.cpol {
-            found.insert(Violations::CLOCK_POLARITY);
+        if timing.mode != SPI_MODE {
+            found.insert(Violations::SPI_MODE);
         }
         if self.sclk_limit(in_burst).1.short(timing.sclk_period) {
             found.insert(Violations::SCLK_TOO_FAST);
@@ -402,10 +415,20 @@ impl Adis {
         let mut found = Violations::default();
         if let Some(le) = self.spi.last_edge {
             let gap = t.saturating_sub(le);
-            let stall_short =
-                if in_burst { short_ps(gap, timing.sclk_period) } else { self.limits.min_stall.short(gap) };
+            let stall_short = if in_burst {
+                short_ps(gap, timing.sclk_period)
+            } else if slow_mode(self.smpl_prd()) {
+                self.limits.min_stall_slow.short(gap)
+            } else {
+                self.limits.min_stall.short(gap)
+            };
             if stall_short {
                 found.insert(Violations::STALL_TOO_SHORT);
+            }
+        }
+        if let (false, Some(start)) = (in_burst, self.spi.last_plain_start) {
+            if self.limits.min_datarate.short(t.saturating_sub(start)) {
+                found.insert(Violations::DATARATE_TOO_SHORT);
             }
         }
         if !self.spi.framed_since_cs && self.limits.min_cs_setup.short(t.saturating_sub(self.spi.cs_fall)) {
@@ -425,12 +448,16 @@ impl Adis {
                 format!("frame {n}: {} SCLK cycles; the {} needs 16-bit frames", timing.bits, self.layout.part.name);
             self.violation(Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
         }
-        if found.contains(Violations::CLOCK_POLARITY) {
+        if found.contains(Violations::SPI_MODE) {
+            let m = timing.mode;
             let msg = format!(
-                "frame {n}: SCLK idles low; the {} needs SPI mode 3 (CPOL = 1, CPHA = 1)",
+                "frame {n}: clocked in SPI mode {m} (CPOL = {}, CPHA = {}); the {} needs mode {SPI_MODE} \
+                 (CPOL = 1, CPHA = 1), so each word is read one bit late",
+                m >> 1,
+                m & 1,
                 self.layout.part.name
             );
-            self.violation(Violations::CLOCK_POLARITY, t, msg, 0.0, 1.0);
+            self.violation(Violations::SPI_MODE, t, msg, f64::from(m), f64::from(SPI_MODE));
         }
         if found.contains(Violations::SCLK_TOO_FAST) {
             let (max_hz, _, which) = self.sclk_limit(in_burst);
@@ -447,6 +474,17 @@ impl Adis {
                 required / 1e6
             );
             self.violation(Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
+        }
+        if let (true, Some(start)) = (found.contains(Violations::DATARATE_TOO_SHORT), self.spi.last_plain_start) {
+            let period = t.saturating_sub(start);
+            let required = self.limits.t_datarate_ps;
+            let msg = format!(
+                "frame {n}: {:.3} µs since the previous frame started; tDATARATE is {:.3} µs between frames \
+                 outside a burst",
+                period as f64 / 1e6,
+                required / 1e6
+            );
+            self.violation(Violations::DATARATE_TOO_SHORT, t, msg, s(period as f64), s(required));
         }
         if found.contains(Violations::CS_SETUP) {
             let gap = t.saturating_sub(self.spi.cs_fall);
@@ -621,6 +659,7 @@ impl Adis {
             let last = if n == 1 { timing } else { run.frame(end - 1) };
             self.advance_to(last.first_edge);
             self.spi.last_edge = Some(last.last_edge);
+            self.spi.last_plain_start = None;
             self.spi.framed_since_cs = true;
             self.spi.frames += n as u64;
             self.spi.burst_frames_done(n);
@@ -638,6 +677,7 @@ impl Adis {
         let (violations, in_burst) = (rec.violations, rec.in_burst);
         if !violations.contains(Violations::NO_CHIP_SELECT) {
             self.spi.last_edge = Some(timing.last_edge);
+            self.spi.last_plain_start = (!in_burst).then_some(timing.first_edge);
             self.spi.framed_since_cs = true;
         }
         if self.spi.frames == self.spi.second_in_window_number() {
@@ -830,13 +870,8 @@ mod tests {
         use crate::device::{Constant, Physical};
         const SCLK: Ps = 1_333_333;
         // A frame of 16 mode-3 cycles starting at `t`.
-        let timing = |t: Ps| FrameTiming {
-            first_edge: t,
-            last_edge: t + SCLK * 31 / 2,
-            sclk_period: SCLK,
-            bits: 16,
-            cpol: true,
-        };
+        let timing =
+            |t: Ps| FrameTiming { first_edge: t, last_edge: t + SCLK * 31 / 2, sclk_period: SCLK, bits: 16, mode: 3 };
         let t0: Ps = 9_800_000_000;
         let frame_0 = timing(t0 + 100_000);
         // Frame 1 starts 2 µs after the command; the data frames follow 2 µs apart.

@@ -19,19 +19,25 @@ const SCLK_3M75: Ps = 266_666;
 const SCLK_1M5: Ps = 666_666;
 
 /// A hand-driven SPI master: frames of 16 mode-3 cycles, fixed gaps, CS margins of 100 ns.
+///
+/// The gap between frames outside a burst keeps both rules of the (sibling) timing table: the stall
+/// (last edge to next first edge) ≥ tSTALL = 9 µs and the frame period (first edge to next first
+/// edge) ≥ tDATARATE = 40 µs: 41 µs less the frame's span, at least 16 µs (ADI's evaluation tool's
+/// gap). Burst frames are 2 µs apart (inside a burst only one SCLK period is required).
 struct Host {
     t: Ps,
     sclk: Ps,
     gap: Ps,
     burst_gap: Ps,
-    cpol: bool,
+    mode: u8,
     burst_cmd: u16,
     last_edge: Ps,
 }
 
 impl Host {
     fn new(t: Ps, sclk: Ps) -> Host {
-        Host { t, sclk, gap: 16 * US, burst_gap: 2 * US, cpol: true, burst_cmd: 0x4200, last_edge: 0 }
+        let gap = (41 * US).saturating_sub(sclk * 31 / 2).max(16 * US);
+        Host { t, sclk, gap, burst_gap: 2 * US, mode: 3, burst_cmd: 0x4200, last_edge: 0 }
     }
 
     fn timing(&self) -> FrameTiming {
@@ -41,7 +47,7 @@ impl Host {
             last_edge: self.t + self.sclk * 31 / 2,
             sclk_period: self.sclk,
             bits: 16,
-            cpol: self.cpol,
+            mode: self.mode,
         }
     }
 
@@ -125,7 +131,7 @@ fn still(f: impl FnOnce(&mut Physical)) -> Box<Constant> {
 }
 
 fn timing_events(d: &Adis16407) -> usize {
-    ["sclk_too_fast", "stall_too_short", "cs_setup", "cs_hold", "clock_polarity", "frame_length"]
+    ["sclk_too_fast", "stall_too_short", "cs_setup", "cs_hold", "spi_mode", "frame_length"]
         .iter()
         .map(|k| d.events().count(k))
         .sum()
@@ -314,7 +320,51 @@ fn stall_rules() {
     assert_eq!(timing_events(&d), 0);
     h.burst_gap = 1000 * NS;
     h.burst(&mut d);
-    assert_eq!(d.events().count("stall_too_short"), 14, "every data frame; the command frame had 16 µs");
+    assert_eq!(d.events().count("stall_too_short"), 14, "every data frame; the command frame had a legal gap");
+}
+
+/// tDATARATE (40 µs, the sibling ADIS16405's, from the part's declaration): frames outside a burst
+/// must start at least that far apart, whatever their stall. ADI's evaluation tool's pattern (1 MHz,
+/// 16 µs gaps: a 31.5 µs period) keeps tSTALL but breaks it; a 41 µs period passes; the reference
+/// board's burst (one CS window, 2 µs between frames) is not held to it, nor is its command frame
+/// after the previous burst. In the slow sample mode (SMPL_PRD NS ≥ 0x0A) tSTALL is 75 µs.
+#[test]
+fn data_rate_and_slow_mode_stall() {
+    const SCLK_1M: Ps = 1_000_000;
+    let mut d = device();
+    assert_eq!(d.layout.part.t_datarate_us, 40.0);
+    let mut h = Host::new(MS, SCLK_1M);
+    h.gap = 16 * US;
+    let w = h.read(&mut d, addr::PROD_ID);
+    assert_eq!(w, 0xFFFF, "strict: the frame 31.5 µs after the previous one reads corrupt");
+    let e = &d.events().events()[0];
+    assert_eq!((e.kind, d.events().events().len()), ("datarate_too_short", 1));
+    assert!((e.measured.unwrap() - 31.5e-6).abs() < 1e-12 && (e.required.unwrap() - 40e-6).abs() < 1e-12);
+    assert!(e.message.contains("31.500 µs") && e.message.contains("tDATARATE is 40.000 µs"), "{}", e.message);
+
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_1M);
+    h.gap = 41 * US - SCLK_1M * 31 / 2;
+    assert_eq!(h.read(&mut d, addr::PROD_ID), 0x4017);
+    h.burst(&mut d);
+    h.burst(&mut d);
+    assert_eq!(h.read(&mut d, addr::PROD_ID), 0x4017);
+    assert!(d.events().events().is_empty(), "{:?}", d.events().events());
+
+    // Slow sample mode: the 41 µs period keeps tDATARATE, but its 25.5 µs stall breaks tSTALL = 75 µs.
+    let mut d = device();
+    let mut h = Host::new(MS, SCLK_1M);
+    h.gap = 100 * US;
+    h.write(&mut d, addr::SMPL_PRD, 0x000A);
+    h.gap = 41 * US - SCLK_1M * 31 / 2;
+    assert_eq!(h.read(&mut d, addr::PROD_ID), 0xFFFF);
+    let kinds: Vec<&str> = d.events().events().iter().map(|e| e.kind).collect();
+    assert_eq!(kinds, ["stall_too_short"]);
+    assert_eq!(d.events().events()[0].required, Some(75e-6));
+    h.gap = 76 * US;
+    h.t += 51 * US; // the next frame 76.5 µs after the last
+    assert_eq!(h.read(&mut d, addr::PROD_ID), 0x4017);
+    assert_eq!(d.events().events().len(), 1);
 }
 
 #[test]
@@ -336,16 +386,19 @@ fn cs_setup_hold_and_polarity() {
     h.cs_high(&mut d);
     assert_eq!((d.events().count("cs_setup"), d.events().count("cs_hold")), (1, 1));
 
-    for mode in [TimingMode::Strict, TimingMode::Lenient] {
-        let mut d = device_with(|c| c.timing_mode = mode);
-        let mut h = Host::new(MS, SCLK_750K);
-        h.cpol = false;
-        h.cs_low(&mut d);
-        h.frame(&mut d, 0x5600);
-        let w = h.frame(&mut d, 0x0000);
-        h.cs_high(&mut d);
-        assert_eq!(d.events().count("clock_polarity"), 2);
-        assert_eq!(w, if mode == TimingMode::Strict { 0xFFFF } else { 0x4017 });
+    // Every mode but 3 is reported per frame (mode 2 = CPOL 1, CPHA 0 idles high like mode 3).
+    for spi_mode in [0, 1, 2] {
+        for mode in [TimingMode::Strict, TimingMode::Lenient] {
+            let mut d = device_with(|c| c.timing_mode = mode);
+            let mut h = Host::new(MS, SCLK_750K);
+            h.mode = spi_mode;
+            h.cs_low(&mut d);
+            h.frame(&mut d, 0x5600);
+            let w = h.frame(&mut d, 0x0000);
+            h.cs_high(&mut d);
+            assert_eq!(d.events().count("spi_mode"), 2, "mode {spi_mode}");
+            assert_eq!(w, if mode == TimingMode::Strict { 0xFFFF } else { 0x4017 });
+        }
     }
 }
 
@@ -783,7 +836,7 @@ fn frames_one_by_one(device: &mut Adis16407, timings: &[FrameTiming]) -> Vec<u16
 pub(crate) fn ps_run(timings: &[FrameTiming]) -> (TimingOf, Vec<u64>) {
     let first = timings[0];
     let edges = (0, first.last_edge - first.first_edge);
-    let of = TimingOf::with_edges(edges, &Clock::from_hz(PS_PER_S), first.sclk_period, first.bits, first.cpol);
+    let of = TimingOf::with_edges(edges, &Clock::from_hz(PS_PER_S), first.sclk_period, first.bits, first.mode);
     let starts: Vec<u64> = timings.iter().map(|t| t.first_edge).collect();
     let run = RunTiming::of_starts(of, &starts);
     assert!(timings.iter().enumerate().all(|(i, t)| run.frame(i) == *t), "the run times every frame as given");
@@ -958,7 +1011,7 @@ fn a_run_checks_its_stalls_as_the_frames_one_by_one() {
         let bound = lspclk.cycles_to_ps(gap);
         // The limit a whole ps either side of the bound: short is `stall + 1 < sclk_period`.
         let sclk_period = bound + rng.gen_range(0..4);
-        let timing = TimingOf::with_edges((0, span), &lspclk, sclk_period, 16, true);
+        let timing = TimingOf::with_edges((0, span), &lspclk, sclk_period, 16, 3);
         let t0 = 9_800 * US + rng.gen_range(0..PERIOD);
         let make = || {
             let mut d = device_with(|c| {
@@ -1084,4 +1137,78 @@ fn lot_and_serial_numbers_read_back_and_peek_names_the_map() {
     assert_eq!(d.peek(0x52).unwrap(), 0x1111);
     let e = d.peek(0x50).unwrap_err().to_string();
     assert!(e.contains("no ADIS16407 register at address 0x50") && e.contains("0x52") && e.contains("0x58"), "{e}");
+}
+
+/// Read PROD_ID through the F28335's SPI-A at `level` with the profile overrides `ov` (lenient timing,
+/// so that the words are what the wires carry): the two words the master receives and the device's
+/// events. Frames 50 µs apart, each in its own CS window.
+fn prod_id_through_the_link(ov: &[&str], level: crate::profile::BusLevel) -> (Vec<u16>, Vec<crate::events::Event>) {
+    use crate::bus::SpiLink;
+    use crate::dsp::spi::{SPIRXBUF, SPITXBUF};
+    let mut ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+    ov.push("device.timing_mode=\"lenient\"".into());
+    let mut p = crate::profile::Profile::from_toml("", "test", &ov).unwrap();
+    p.spi.level = level;
+    let mut link = SpiLink::from_profile(&p, Adis16407::new(&p.device).unwrap()).unwrap();
+    link.init_from_profile(&p.spi, 0).unwrap();
+    let mut t = MS;
+    let mut rx = Vec::new();
+    for din in [0x5600, 0x0000] {
+        link.set_gpio57(false, t).unwrap();
+        link.write(SPITXBUF, din, t + US).unwrap();
+        let flag = link.int_flag_time().unwrap();
+        rx.push(link.read(SPIRXBUF, flag).unwrap());
+        link.set_gpio57(true, flag + US).unwrap();
+        t = flag + 50 * US;
+    }
+    (rx, link.slave_mut().drain_events())
+}
+
+/// A master clocking in another SPI mode than the part's mode 3 gets shifted words, and the part
+/// reports every such frame at run time, at both link levels. The mapping follows f28335.md's table
+/// (TI's SPI guide): CLKPOLARITY 1 with CLK_PHASE 0 ("falling edge without delay", SPICTL 0x07) is
+/// mode 3, the reference board's; CLKPOLARITY 1 with CLK_PHASE 1 (SPICTL 0x0F) is mode 2, which
+/// idles high like mode 3 and so passed the old polarity-only check unreported.
+#[test]
+fn a_wrong_spi_mode_is_reported_per_frame_at_both_link_levels() {
+    use crate::profile::BusLevel;
+    for level in [BusLevel::Transaction, BusLevel::Bit] {
+        let (rx, events) = prod_id_through_the_link(&[], level);
+        assert_eq!(rx[1], 0x4017, "{level:?}: mode 3 reads PROD_ID");
+        assert!(events.is_empty(), "{level:?}: {events:?}");
+        for (spiccr, spictl, mode) in [(0xCF, 0x0F, 2), (0x8F, 0x07, 1), (0x8F, 0x0F, 0)] {
+            let ov = [format!("spi.spiccr={spiccr}"), format!("spi.spictl={spictl}")];
+            let (rx, events) = prod_id_through_the_link(&[&ov[0], &ov[1]], level);
+            // (In mode 1 the part also samples DIN one bit late: it reads another register.)
+            if mode != 1 {
+                assert_eq!(rx[1], 0x4017 >> 1, "{level:?} mode {mode}: shifted by one bit");
+            }
+            let kinds: Vec<&str> = events.iter().map(|e| e.kind).collect();
+            assert_eq!(kinds, ["spi_mode", "spi_mode"], "{level:?} mode {mode}");
+            assert_eq!((events[0].measured, events[0].required), (Some(f64::from(mode)), Some(3.0)));
+            assert!(events[0].message.contains(&format!("SPI mode {mode}")), "{}", events[0].message);
+        }
+    }
+}
+
+/// SCLK is judged by its full period (SPIBRR+1 LSPCLK cycles), at both link levels: SPIBRR 18 at
+/// LSPCLK 37.5 MHz is 1.974 MHz (phases of 9 and 10 cycles; twice the short phase would say
+/// 2.083 MHz) and passes the 2 MHz limit; 150 MHz / 75 is exactly 2 MHz and passes; SPIBRR 17 is
+/// 2.083 MHz and is reported with that frequency.
+#[test]
+fn sclk_is_judged_by_its_full_period_at_both_link_levels() {
+    use crate::profile::BusLevel;
+    for level in [BusLevel::Transaction, BusLevel::Bit] {
+        for ov in [&["spi.spibrr=18"][..], &["clocks.lospcp=0", "spi.spibrr=74"]] {
+            let (rx, events) = prod_id_through_the_link(ov, level);
+            assert_eq!(rx[1], 0x4017, "{level:?} {ov:?}");
+            assert!(events.is_empty(), "{level:?} {ov:?}: {events:?}");
+        }
+        let (_, events) = prod_id_through_the_link(&["spi.spibrr=17"], level);
+        let kinds: Vec<&str> = events.iter().map(|e| e.kind).collect();
+        assert_eq!(kinds, ["sclk_too_fast", "sclk_too_fast"], "{level:?}");
+        let f = events[0].measured.unwrap();
+        assert!((f - 37.5e6 / 18.0).abs() < 1.0, "{level:?}: {f} Hz");
+        assert!(events[0].message.contains("SCLK 2.083333 MHz"), "{}", events[0].message);
+    }
 }

@@ -27,11 +27,9 @@ pub struct BoardSummary {
     pub clocks: DspClocks,
     /// LSPCLK cycles per SPI clock.
     pub spi_divisor: u32,
-    /// SPI clock (LSPCLK / divisor), Hz.
+    /// SPI clock (LSPCLK / divisor), Hz: the f_SCLK the part's limits judge (its full period is
+    /// SPIBRR+1 LSPCLK cycles, whether or not the two phases are equal).
     pub spi_baud_hz: f64,
-    /// Fastest instantaneous SCLK (twice the shorter phase as a period), Hz: differs from
-    /// `spi_baud_hz` when SPIBRR+1 is odd.
-    pub sclk_max_hz: f64,
     /// The clock scheme.
     pub scheme: ClockScheme,
     /// Standard SPI mode of the scheme.
@@ -71,7 +69,6 @@ impl BoardSummary {
         let scheme = shape.scheme;
         let lsp = clocks.lspclk;
         let spi_baud_hz = lsp.hz() / shape.divisor as f64;
-        let sclk_max_hz = lsp.hz() / (2 * shape.active_cycles()) as f64;
         let frame_ps = lsp.cycles_to_ps(shape.length_cycles());
         let dev = &profile.device;
         let part = dev.part_decl()?;
@@ -79,32 +76,32 @@ impl BoardSummary {
         let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * part.burst_frames() as u64);
 
         let mut violations = Vec::new();
-        if sclk_max_hz > dev.sclk_burst_max_hz {
+        if spi_baud_hz > dev.sclk_burst_max_hz {
             violations.push(Event::rule(
                 0,
                 "sclk_burst_too_fast",
                 Severity::Error,
                 format!(
                     "SPI clock {:.0} Hz (SPIBRR = {}, LSPCLK {:.0} Hz) exceeds the {name} burst-read limit {:.0} Hz",
-                    sclk_max_hz,
+                    spi_baud_hz,
                     profile.spi.spibrr,
                     lsp.hz(),
                     dev.sclk_burst_max_hz
                 ),
-                sclk_max_hz,
+                spi_baud_hz,
                 dev.sclk_burst_max_hz,
             ));
         }
-        if sclk_max_hz > dev.sclk_max_hz {
+        if spi_baud_hz > dev.sclk_max_hz {
             violations.push(Event::rule(
                 0,
                 "sclk_too_fast",
                 Severity::Error,
                 format!(
                     "SPI clock {:.0} Hz exceeds the {name} normal-mode limit {:.0} Hz",
-                    sclk_max_hz, dev.sclk_max_hz
+                    spi_baud_hz, dev.sclk_max_hz
                 ),
-                sclk_max_hz,
+                spi_baud_hz,
                 dev.sclk_max_hz,
             ));
         }
@@ -140,7 +137,6 @@ impl BoardSummary {
             clocks,
             spi_divisor: shape.divisor,
             spi_baud_hz,
-            sclk_max_hz,
             scheme,
             spi_mode,
             mode_matches_device: spi_mode == DEVICE_SPI_MODE,
@@ -171,7 +167,7 @@ mod tests {
         let s = with(&[]);
         assert_eq!(s.clocks.sysclkout.hz(), 150e6);
         assert_eq!(s.clocks.lspclk.hz(), 37.5e6);
-        assert_eq!((s.spi_divisor, s.spi_baud_hz, s.sclk_max_hz), (50, 750_000.0, 750_000.0));
+        assert_eq!((s.spi_divisor, s.spi_baud_hz), (50, 750_000.0));
         assert_eq!((s.spi_mode, s.mode_matches_device, s.char_bits), (3, true, 16));
         assert_eq!(s.frame_ps, 21_333_333);
         assert_eq!(s.burst_clocking_ps, 320_000_000);
@@ -204,16 +200,25 @@ mod tests {
         assert_eq!(kinds(&with(&["spi.spibrr=36"])), vec!["sclk_burst_too_fast"]);
     }
 
+    /// The data sheet limits f_SCLK, the frequency of the full period: an odd SPIBRR+1 (unequal
+    /// phases) is judged by its frequency, not by twice its shorter phase. SPIBRR = 18 at 37.5 MHz is
+    /// 1.974 MHz (phases 9 + 10; twice the short phase would say 2.083 MHz): within the 2 MHz
+    /// normal-mode limit, over the 1 MHz burst limit, reported as what it is. 150 MHz / 75 is exactly
+    /// 2 MHz (phases 37 + 38): allowed. SPIBRR = 17 is 2.083 MHz: over both.
     #[test]
-    fn odd_divisor_is_judged_by_its_short_phase() {
-        // SPIBRR = 38: 39 cycles per bit, phases 19 + 20: the average 961.5 kHz is within 1 MHz,
-        // but the short phase makes a 38-cycle period, 986.8 kHz: still fine; SPIBRR = 36 → 37
-        // cycles, 18 + 19: 1.0417 MHz instantaneous.
-        let s = with(&["spi.spibrr=38"]);
-        assert_eq!(s.sclk_max_hz, 37.5e6 / 38.0);
-        let s = with(&["spi.spibrr=36"]);
-        assert!((s.spi_baud_hz - 37.5e6 / 37.0).abs() < 1e-6);
-        assert_eq!(s.sclk_max_hz, 37.5e6 / 36.0);
+    fn odd_divisor_is_judged_by_its_full_period() {
+        let s = with(&["spi.spibrr=18"]);
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast"]);
+        assert_eq!(s.violations[0].measured, Some(37.5e6 / 19.0));
+        assert!(s.violations[0].message.contains("1973684 Hz"), "{}", s.violations[0].message);
+        let s = with(&["clocks.lospcp=0", "spi.spibrr=74"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz), (150e6, 2e6));
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast"]);
+        let s = with(&["spi.spibrr=17"]);
+        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast", "sclk_too_fast"]);
+        assert_eq!(s.violations[1].measured, Some(37.5e6 / 18.0));
+        // SPIBRR = 37 is 37.5 MHz / 38 = 986.8 kHz: within the burst limit.
+        assert!(with(&["spi.spibrr=37"]).violations.is_empty());
     }
 
     #[test]
@@ -237,13 +242,12 @@ mod tests {
 
     #[test]
     fn lospcp_and_pll_change_everything() {
-        // 75 MHz / 75 = 1 MHz on average, but 75 is odd: phases of 37 and 38 cycles, so the
-        // short-phase period is 74 cycles (1.0135 MHz): over the burst limit.
+        // 75 MHz / 75 = 1 MHz (phases of 37 and 38 cycles): exactly the burst limit, allowed.
         let s = with(&["clocks.lospcp=1", "spi.spibrr=74"]);
-        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz, s.sclk_max_hz), (75e6, 1e6, 75e6 / 74.0));
-        assert_eq!(kinds(&s), vec!["sclk_burst_too_fast"]);
+        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz), (75e6, 1e6));
+        assert!(s.violations.is_empty(), "{:?}", s.violations);
         let s = with(&["clocks.crystal_hz=20000000", "clocks.lospcp=1", "spi.spibrr=49"]);
-        assert_eq!((s.clocks.lspclk.hz(), s.sclk_max_hz), (50e6, 1e6));
+        assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz), (50e6, 1e6));
         assert!(s.violations.is_empty(), "exactly at the 1 MHz limit is allowed");
         let s = with(&["clocks.lospcp=0", "spi.spibrr=127"]);
         assert_eq!((s.clocks.lspclk.hz(), s.spi_baud_hz), (150e6, 150e6 / 128.0));

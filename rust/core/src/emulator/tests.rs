@@ -372,12 +372,12 @@ fn outputs_are_pinned_bit_for_bit() {
         ("c28x-f32", 0x3dc46306a0df6947),
         ("c28x-f32-rz", 0x3f0bfd2872701dec),
         ("iq", 0xc4193d8829a6ade2),
-        ("bit", 0x7bd6c6fe62164aa5),
+        ("bit", 0x4dcb7345c898da5f),
         ("endpoint", 0xf8f7d2cbb6d69426),
         ("back-to-back-level", 0xd16ec5455ac63714),
         ("overrun-drop", 0x153ef5e6f7035e57),
         ("overrun-queue", 0xada9072c98b84575),
-        ("spibrr-9", 0x16a894d71a2bdd34),
+        ("spibrr-9", 0x061253dfd77aaed8),
         ("spibrr-9-strict", 0xc36eb556409cd505),
     ];
     for ((name, h), (pinned_name, want)) in got.iter().zip(pinned) {

@@ -276,6 +276,10 @@ pub struct Device {
     pub sclk_burst_max_hz: f64,
     /// Minimum stall between normal frames (CS high or low), µs [unconfirmed: sibling ADIS16405].
     pub t_stall_us: f64,
+    /// Minimum stall in the slow (low-power) sample mode, µs [unconfirmed: sibling ADIS16405].
+    pub t_stall_slow_us: f64,
+    /// Minimum period of frames outside a burst (tDATARATE), µs [unconfirmed: sibling ADIS16405].
+    pub t_datarate_us: f64,
     /// Minimum CS↓ to first SCLK edge, ns [unconfirmed].
     pub t_cs_ns: f64,
     /// Minimum last SCLK edge to CS↑, ns [unconfirmed].
@@ -308,6 +312,8 @@ impl Default for Device {
             sclk_max_hz: 2.0e6,
             sclk_burst_max_hz: 1.0e6,
             t_stall_us: 9.0,
+            t_stall_slow_us: 75.0,
+            t_datarate_us: 40.0,
             t_cs_ns: 48.8,
             t_sfs_ns: 48.8,
             lot_id1: 0,
@@ -329,19 +335,25 @@ impl Device {
             reset_time_ms: part.reset_ms,
             sclk_max_hz: part.sclk_max_hz,
             sclk_burst_max_hz: part.sclk_burst_max_hz,
+            t_stall_us: part.t_stall_us,
+            t_stall_slow_us: part.t_stall_slow_us,
+            t_datarate_us: part.t_datarate_us,
             ..Device::default()
         }
     }
 }
 
 /// The `[device]` keys whose defaults a part declares, with the part's values.
-fn part_defaults(part: &Part) -> [(&'static str, toml::Value); 5] {
+fn part_defaults(part: &Part) -> [(&'static str, toml::Value); 8] {
     [
         ("prod_id", toml::Value::Integer(i64::from(part.prod_id))),
         ("burst_command", toml::Value::Integer(i64::from(part.burst_command))),
         ("reset_time_ms", toml::Value::Float(part.reset_ms)),
         ("sclk_max_hz", toml::Value::Float(part.sclk_max_hz)),
         ("sclk_burst_max_hz", toml::Value::Float(part.sclk_burst_max_hz)),
+        ("t_stall_us", toml::Value::Float(part.t_stall_us)),
+        ("t_stall_slow_us", toml::Value::Float(part.t_stall_slow_us)),
+        ("t_datarate_us", toml::Value::Float(part.t_datarate_us)),
     ]
 }
 
@@ -414,6 +426,8 @@ impl Device {
             )));
         }
         check_nonneg("device.t_stall_us", self.t_stall_us)?;
+        check_nonneg("device.t_stall_slow_us", self.t_stall_slow_us)?;
+        check_nonneg("device.t_datarate_us", self.t_datarate_us)?;
         check_nonneg("device.t_cs_ns", self.t_cs_ns)?;
         check_nonneg("device.t_sfs_ns", self.t_sfs_ns)?;
         Ok(())
