@@ -122,18 +122,23 @@ mod tests {
     use crate::time::Ps;
     use std::sync::{Arc, Mutex};
 
+    /// The registers of a register file, shared with the test.
+    type Regs = Arc<Mutex<[u8; 128]>>;
+    /// Each register file built, by part name.
+    type Handles = Vec<(String, Regs)>;
+
     /// A register file, the test part: `name` answers on SPI (a frame `0x80 | reg` reads `reg` in
     /// the next frame's answer, `reg << 8 | value` writes it) and on I²C (a write of `reg` then reads
     /// from `reg` on). Every register starts at its part's `tag`, so an answer says who gave it.
     struct RegisterFile {
-        regs: Arc<Mutex<[u8; 128]>>,
+        regs: Regs,
         pending: u16,
         pointer: u8,
         first_after_start: bool,
     }
 
     impl RegisterFile {
-        fn new(tag: u8) -> (RegisterFile, Arc<Mutex<[u8; 128]>>) {
+        fn new(tag: u8) -> (RegisterFile, Regs) {
             let regs = Arc::new(Mutex::new([tag; 128]));
             (RegisterFile { regs: Arc::clone(&regs), pending: 0, pointer: 0, first_after_start: false }, regs)
         }
@@ -199,11 +204,7 @@ address = 0x1E
 
     /// The test's catalogue: the crate's parts plus three register files tagged 0xA1, 0xB2, 0xC3;
     /// the register handles are kept so the test can look inside each device.
-    fn catalogue(
-        handles: &Mutex<Vec<(String, Arc<Mutex<[u8; 128]>>)>>,
-        name: &str,
-        kind: LinkKind,
-    ) -> Option<Result<Built>> {
+    fn catalogue(handles: &Mutex<Handles>, name: &str, kind: LinkKind) -> Option<Result<Built>> {
         let tag = match name {
             "REGFILE-A" => 0xA1,
             "REGFILE-B" => 0xB2,
@@ -219,7 +220,7 @@ address = 0x1E
         }))
     }
 
-    fn build(text: &str) -> Result<(BoardLinks, Vec<(String, Arc<Mutex<[u8; 128]>>)>)> {
+    fn build(text: &str) -> Result<(BoardLinks, Handles)> {
         let profile = Profile::from_toml(text, "board.toml", &[])?;
         let handles = Mutex::new(Vec::new());
         let links = BoardLinks::from_profile(&profile, &|n, k| catalogue(&handles, n, k), false)?;
