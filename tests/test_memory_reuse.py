@@ -36,8 +36,8 @@ def test_a_warm_emulation_reuses_the_freed_output_memory():
     pages = r["output_pages"]
     assert pages > 1000, r  # 240 s of output: ≈ 4 400 pages, enough for the ratio below to mean something
     # With glibc's malloc each warm call faulted in about every output page (4 372 faults for ≈ 4 400
-    # pages, measured at 5912f70). jemalloc purges its dirty pages gradually over its decay time (10 s), so the
-    # first warm call still faulted ≈ 13 % of them (390-397 of 2 958 here) and later ones 0-14, with
+    # pages, measured at 5912f70). jemalloc purges its dirty pages gradually over its decay time (10 s), so
+    # the first warm call still faulted ≈ 13 % of them (390-397 of 2 958 here) and later ones 0-14, with
     # a rare purge of up to 1 161 in one of them (2 in 40 processes): the median of the later calls
     # is the steady state. Half the pages and a tenth of them separate the two allocators with margin.
     first, *later = r["warm_faults"]
