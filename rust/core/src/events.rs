@@ -96,6 +96,8 @@ pub const KINDS: &[EventKind] = &[
         "link",
         "an SPI character clocked with the chip select high: the slave ignores it",
     ),
+    kind("i2c_nack", Warning, "link", "an I²C byte was not acknowledged (no device at the address, or a refused byte)"),
+    kind("i2c_scl_too_fast", Warning, "link", "an I²C SCL phase shorter than its mode's minimum (tLOW, tHIGH)"),
     // The F28335's SPI-A peripheral and the static checks of its registers.
     spi_rule("spi_mode_mismatch", Error, "mcu", "CLKPOLARITY/CLK_PHASE give an SPI mode other than the device's"),
     spi_rule("spi_char_length", Error, "mcu", "SPICHAR gives characters of other than the device's 16 bits"),

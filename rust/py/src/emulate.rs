@@ -12,14 +12,10 @@ use pyo3::types::PyDict;
 use sins_core::bus::link::{FrameRecord, LinkRecord};
 use sins_core::device::replay::{ReplaySlave, RECORDED_WORDS};
 use sins_core::device::Physical;
-use sins_core::emulator::{Emulator as Core, Output, Progress, Sensor};
+use sins_core::emulator::{price_list, CostTerm, Emulator as Core, Output, Progress, Sensor};
 use sins_core::events::Event;
-use sins_core::firmware::update_period_s;
 use sins_core::numerics::{iq, Scalar};
 use sins_core::profile::{IqFormats, Numeric, Profile};
-use sins_core::timing::stages::{
-    arith_for, arith_section, arith_terms, entry_terms, exit_terms, location_factor, ArithSection, CostTerm,
-};
 use sins_core::timing::{CostTable, StageCosts};
 use sins_core::Error;
 
@@ -124,9 +120,8 @@ pub struct Emulator {
     formats: IqFormats,
     /// What prices the stages: the table, the backend's section and the code-location factor.
     costs: CostTable,
-    numeric: Numeric,
-    location_factor: f64,
-    update_period_s: f64,
+    /// The profile (its prices are worked out from it when asked for).
+    profile: Profile,
     /// The output since the last `take`, already in columns: each `run` call moves its rows (and
     /// its events, time-sorted per call) out of the core into them, and `take` hands them to numpy
     /// without a copy.
@@ -218,9 +213,7 @@ impl Emulator {
         Ok(Emulator {
             inner: Mutex::new(inner),
             formats: profile.iq.clone(),
-            numeric: profile.firmware.numeric,
-            location_factor: location_factor(&profile, &costs),
-            update_period_s: update_period_s(&profile),
+            profile,
             costs,
             held: Columns::default(),
             input_reach_s: None,
@@ -361,32 +354,15 @@ impl Emulator {
     /// (op kind → count; empty for entry and exit) and `terms`: a list of dicts `op`, `count`, `key`
     /// (the cost-table entry), `unit_cycles`, `scaled` (whether the code-location factor applies).
     fn stage_costs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = self.inner().stage_costs();
-        let section = arith_section(self.numeric);
-        let arith = arith_for(self.numeric, &self.costs);
+        let prices = price_list(&self.profile, &self.costs, &self.inner().stage_costs());
         let d = PyDict::new(py);
-        d.set_item("update_period_s", self.update_period_s)?;
-        d.set_item("code_location_factor", self.location_factor)?;
-        d.set_item(
-            "arith_section",
-            match section {
-                ArithSection::Float => "float",
-                ArithSection::Iq => "iq",
-            },
-        )?;
-        let interrupt = &self.costs.interrupt;
-        d.set_item("entry", stage_dict(py, s.entry, None, &entry_terms(interrupt))?)?;
-        for (name, stage) in [
-            ("decode", s.decode),
-            ("attitude", s.attitude),
-            ("euler", s.euler),
-            ("navigation", s.navigation),
-            ("interpolation", s.interpolation),
-        ] {
-            let terms = arith_terms(&stage.counts, section, arith);
-            d.set_item(name, stage_dict(py, stage.cycles, Some(&terms), &terms)?)?;
+        d.set_item("update_period_s", prices.update_period_s)?;
+        d.set_item("code_location_factor", prices.code_location_factor)?;
+        d.set_item("arith_section", prices.arith_section)?;
+        for stage in &prices.stages {
+            let counted = stage.counts.map(|_| stage.terms.as_slice());
+            d.set_item(stage.name, stage_dict(py, stage.cycles, counted, &stage.terms)?)?;
         }
-        d.set_item("exit", stage_dict(py, s.exit, None, &exit_terms(interrupt))?)?;
         Ok(d)
     }
 

@@ -1,9 +1,11 @@
 //! The board the firmware runs on, below the firmware: the sensor at the other end of SPI-A (the
 //! device model fed a physical input, or a replay of recorded words), that input's feed, and the
-//! faults of the wiring (`dropped_burst`: CS glitches).
+//! faults of the wiring (`dropped_burst`: CS glitches), and the other devices `[[board.devices]]`
+//! declares, on their links (`links.rs`).
 
 pub(crate) mod glitch;
 pub mod input;
+pub mod links;
 pub mod sensor;
 
 pub use input::{InputFeed, StreamStimulus};
@@ -17,6 +19,7 @@ use crate::events::{Event, EventLog, Severity};
 use crate::profile::Profile;
 use crate::time::{Clock, Ps};
 use glitch::{BurstGlitch, Glitches};
+use links::BoardLinks;
 
 /// The board as the firmware reaches it: the F28335's clocks and CPU timer 0, SPI-A with its chip
 /// select (GPIO57) wired to the sensor `S`, and the faults of that wiring.
@@ -29,6 +32,8 @@ pub struct Board<S> {
     pub link: SpiLink<S>,
     /// Injected CS glitches (`dropped_burst` faults).
     pub(crate) glitches: Glitches,
+    /// The other devices of `[[board.devices]]` on their links (none on the reference board).
+    pub links: BoardLinks,
 }
 
 impl<S: Sensor> Board<S> {
@@ -39,7 +44,8 @@ impl<S: Sensor> Board<S> {
         let mut link = SpiLink::from_profile(profile, sensor)?;
         // InitSpi runs at power-on (t = 0) in the published order.
         link.init_from_profile(&profile.spi, 0)?;
-        Ok(Board { clocks, timer, link, glitches: Glitches::from_profile(&profile.faults) })
+        let links = BoardLinks::from_profile(profile, &links::known_parts, true)?;
+        Ok(Board { clocks, timer, link, glitches: Glitches::from_profile(&profile.faults), links })
     }
 
     /// SYSCLKOUT, the CPU's clock.

@@ -1,25 +1,264 @@
-//! The I²C link kind: its place in the bus layer, for the boards that need it (the HMC6343 compass
-//! of the gyro-free board, at 100 kbit/s). Not emulated yet: a profile that puts a device on
-//! `i2c-a` is refused (`profile::Board`).
+//! The I²C link kind: I2C-A (the master) and its targets, each at its 7-bit address; for the boards
+//! that need it (the HMC6343 compass of the gyro-free board, at 100 kHz).
 //!
-//! Shape, the SPI link's counterpart ([`super::SpiSlave`]): the master (the MCU's I2C-A) computes
-//! what the wires show — START, the address byte, data bytes with their ACK bits, STOP, clock
-//! stretching — and the target answers at byte level with the times of the bits it sees, checking
-//! its own timing rules (setup/hold, bus free time) against them.
+//! The master times the wires from its SCL phases (`[board.i2c]`) and the protocol of i2c.md:
+//! START, the address byte, data bytes with their ACK clock, a repeated START before a read, STOP,
+//! and the bus-free time tBUF before the next START. Each byte takes nine SCL periods. The target
+//! answers at byte level with the time of the bits it sees. An address no target answers is NACKed
+//! (an `i2c_nack` event; the read bytes are the idle bus's 0xFF); SCL phases below the mode's
+//! minimums (standard mode up to 100 kHz, fast mode up to 400 kHz) are reported once per
+//! transaction (`i2c_scl_too_fast`, the lenient consequence of i2c.md). Not modelled: clock
+//! stretching, arbitration, bus clear.
 
+use super::{Address, Link, Transfer};
+use crate::error::{Error, Result};
+use crate::events::{Event, EventLog, Severity};
+use crate::profile::I2cBus;
 use crate::time::Ps;
 
 /// The target (slave) side of an I²C link, at byte level.
 pub trait I2cTarget {
-    /// The target's 7-bit address.
-    fn address(&self) -> u8;
     /// A START (or repeated START) at `t`.
     fn start(&mut self, t: Ps);
-    /// The master wrote `byte` (the address byte after a START, then data) whose ninth clock is at
-    /// `t`: whether the target ACKs it.
+    /// The master wrote `byte` (the address byte after a START, then data) whose ninth clock rises
+    /// at `t`: whether the target ACKs it.
     fn write(&mut self, byte: u8, t: Ps) -> bool;
-    /// The master reads a byte whose first clock is at `t`; `ack` is what the master answers after it.
+    /// The master reads a byte whose first clock rises at `t`; `ack` is what the master answers after it.
     fn read(&mut self, t: Ps, ack: bool) -> u8;
     /// A STOP at `t`.
     fn stop(&mut self, t: Ps);
+}
+
+/// The minimum phases of one I²C mode (i2c.md, Table 10 as reproduced), ps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Mode {
+    name: &'static str,
+    t_low: Ps,
+    t_high: Ps,
+    t_buf: Ps,
+}
+
+const STANDARD: Mode = Mode { name: "standard mode", t_low: 4_700_000, t_high: 4_000_000, t_buf: 4_700_000 };
+const FAST: Mode = Mode { name: "fast mode", t_low: 1_300_000, t_high: 600_000, t_buf: 1_300_000 };
+
+/// I2C-A and its targets.
+pub struct I2cLink {
+    targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
+    /// SCL low and high phases, ps.
+    low: Ps,
+    high: Ps,
+    mode: Mode,
+    /// The last STOP (the bus is free tBUF after it).
+    last_stop: Option<Ps>,
+    events: EventLog,
+}
+
+impl std::fmt::Debug for I2cLink {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let addresses: Vec<u8> = self.targets.iter().map(|(a, _)| *a).collect();
+        f.debug_struct("I2cLink").field("addresses", &addresses).field("low", &self.low).finish()
+    }
+}
+
+impl I2cLink {
+    /// I2C-A with `targets` at their addresses, its SCL phases from `bus`.
+    pub fn new(bus: &I2cBus, targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> I2cLink {
+        let (low, high) = (Ps::from(bus.scl_low_ns) * 1_000, Ps::from(bus.scl_high_ns) * 1_000);
+        // Up to 100 kHz the standard mode's rules apply, above it the fast mode's.
+        let mode = if low + high >= 10_000_000 { STANDARD } else { FAST };
+        I2cLink { targets, low, high, mode, last_stop: None, events: EventLog::default() }
+    }
+
+    /// One SCL period.
+    pub fn period(&self) -> Ps {
+        self.low + self.high
+    }
+
+    /// The target at `address`.
+    pub fn target(&self, address: u8) -> Option<&(dyn I2cTarget + Send)> {
+        self.targets.iter().find(|(a, _)| *a == address).map(|(_, t)| t.as_ref())
+    }
+
+    #[cold]
+    fn nack(&mut self, t: Ps, what: String) {
+        self.events.push(Event::new(t, "i2c_nack", Severity::Warning, what));
+    }
+}
+
+impl Link for I2cLink {
+    fn transfer(&mut self, to: Address, tx: &[u16], rx: &mut [u16], t: Ps) -> Result<Transfer> {
+        let Address::I2c(address) = to else {
+            return Err(Error::Config(format!("I2C-A addresses a device by its 7-bit address, not by {to}")));
+        };
+        if address > 0x7F || tx.iter().any(|&w| w > 0xFF) {
+            return Err(Error::Config(format!("I2C-A: address 0x{address:X} or a byte of {tx:X?} does not fit")));
+        }
+        let (low, high, period) = (self.low, self.high, self.period());
+        // The master waits for the bus to be free (tBUF after the last STOP).
+        let start = self.last_stop.map_or(t, |stop| t.max(stop + self.mode.t_buf));
+        if low < self.mode.t_low || high < self.mode.t_high {
+            let (mode, ll, hh) = (self.mode, self.mode.t_low, self.mode.t_high);
+            self.events.push(Event::new(
+                start,
+                "i2c_scl_too_fast",
+                Severity::Warning,
+                format!(
+                    "I2C-A SCL low {low} ps, high {high} ps: {} needs at least {ll} ps low and {hh} ps high",
+                    mode.name
+                ),
+            ));
+        }
+        let target = self.targets.iter().position(|(a, _)| *a == address);
+        // START, then tHD;STA (one high phase) before SCL first falls; a byte is nine SCL periods.
+        let mut now = start + high;
+        let mut complete = true;
+        let byte_out = |link: &mut I2cLink, byte: u8, now: &mut Ps| -> bool {
+            let ninth_rise = *now + 8 * period + low;
+            *now += 9 * period;
+            match target {
+                Some(i) => link.targets[i].1.write(byte, ninth_rise),
+                None => false,
+            }
+        };
+        if let Some(i) = target {
+            self.targets[i].1.start(start);
+        }
+        let phases: [(bool, usize); 2] = [(false, tx.len()), (true, rx.len())];
+        for (reading, count) in phases {
+            if count == 0 && (reading || !rx.is_empty()) {
+                continue;
+            }
+            if reading && !tx.is_empty() {
+                // Repeated START: SCL rises after its low phase, tSU;STA and tHD;STA of one high phase each.
+                let restart = now + low + high;
+                if let Some(i) = target {
+                    self.targets[i].1.start(restart);
+                }
+                now = restart + high;
+            }
+            let rw = u8::from(reading);
+            if !byte_out(self, (address << 1) | rw, &mut now) {
+                complete = false;
+                let what = format!(
+                    "I2C-A: no device acknowledged address 0x{address:02X} ({})",
+                    if reading { "read" } else { "write" }
+                );
+                self.nack(now, what);
+                break;
+            }
+            if reading {
+                for (k, r) in rx.iter_mut().enumerate() {
+                    let ack = k + 1 < count;
+                    let first_rise = now + low;
+                    *r = u16::from(target.map_or(0xFF, |i| self.targets[i].1.read(first_rise, ack)));
+                    now += 9 * period;
+                }
+            } else {
+                for (k, &w) in tx.iter().enumerate() {
+                    if !byte_out(self, w as u8, &mut now) {
+                        complete = false;
+                        self.nack(
+                            now,
+                            format!("I2C-A: device 0x{address:02X} refused byte {k} (0x{w:02X}) of a write"),
+                        );
+                        break;
+                    }
+                }
+                if !complete {
+                    break;
+                }
+            }
+        }
+        if !complete {
+            rx.iter_mut().for_each(|r| *r = 0xFF);
+        }
+        // STOP: SCL rises after its low phase, SDA after tSU;STO (one high phase).
+        let stop = now + low + high;
+        if let Some(i) = target {
+            self.targets[i].1.stop(stop);
+        }
+        self.last_stop = Some(stop);
+        Ok(Transfer { start, end: stop, complete })
+    }
+
+    fn drain_events(&mut self) -> Vec<Event> {
+        self.events.drain()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records what it sees; answers reads with a counter.
+    #[derive(Default)]
+    struct Probe {
+        seen: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+        next: u8,
+    }
+
+    impl I2cTarget for Probe {
+        fn start(&mut self, t: Ps) {
+            self.seen.lock().unwrap().push(format!("S@{t}"));
+        }
+        fn write(&mut self, byte: u8, t: Ps) -> bool {
+            self.seen.lock().unwrap().push(format!("W{byte:02X}@{t}"));
+            true
+        }
+        fn read(&mut self, t: Ps, ack: bool) -> u8 {
+            self.seen.lock().unwrap().push(format!("R{}@{t}", if ack { "A" } else { "N" }));
+            self.next += 1;
+            self.next
+        }
+        fn stop(&mut self, t: Ps) {
+            self.seen.lock().unwrap().push(format!("P@{t}"));
+        }
+    }
+
+    /// At 100 kHz (5 µs + 5 µs) a write of one register address then a read of two bytes takes:
+    /// START + 5 µs hold, address+W and one byte (2 × 90 µs), repeated START (10 µs + 5 µs hold),
+    /// address+R and two bytes (3 × 90 µs), STOP (10 µs): 480 µs; the master NACKs the last byte.
+    /// i2c.md: "At 100 kHz one byte + ACK = 90 µs".
+    #[test]
+    fn a_register_read_is_timed_by_the_protocol() {
+        let seen = std::sync::Arc::default();
+        let probe = Probe { seen: std::sync::Arc::clone(&seen), next: 0 };
+        let mut link = I2cLink::new(&I2cBus::default(), vec![(0x19, Box::new(probe))]);
+        let mut rx = [0u16; 2];
+        let tr = link.transfer(Address::I2c(0x19), &[0x42], &mut rx, 1_000).unwrap();
+        assert_eq!(rx, [1, 2]);
+        assert_eq!((tr.start, tr.end, tr.complete), (1_000, 1_000 + 480_000_000, true));
+        let us = 1_000_000;
+        let ninth = |byte_start: Ps| 1_000 + byte_start + 8 * 10 * us + 5 * us;
+        let expect = [
+            "S@1000".to_string(),
+            format!("W32@{}", ninth(5 * us)),
+            format!("W42@{}", ninth(95 * us)),
+            format!("S@{}", 1_000 + 195 * us),
+            format!("W33@{}", ninth(200 * us)),
+            format!("RA@{}", 1_000 + 290 * us + 5 * us),
+            format!("RN@{}", 1_000 + 380 * us + 5 * us),
+            format!("P@{}", 1_000 + 480 * us),
+        ];
+        assert_eq!(*seen.lock().unwrap(), expect);
+        assert!(link.drain_events().is_empty());
+        // The next START waits for the bus-free time after the STOP (standard mode: 4.7 µs).
+        let tr = link.transfer(Address::I2c(0x19), &[1], &mut [], 0).unwrap();
+        assert_eq!(tr.start, 1_000 + 480 * us + 4_700_000);
+    }
+
+    #[test]
+    fn an_absent_address_is_nacked_and_a_fast_clock_reported() {
+        let mut link = I2cLink::new(&I2cBus { scl_low_ns: 1_250, scl_high_ns: 1_250 }, vec![]);
+        let mut rx = [0u16; 1];
+        let tr = link.transfer(Address::I2c(0x1E), &[0x50], &mut rx, 0).unwrap();
+        assert!(!tr.complete);
+        assert_eq!(rx, [0xFF]);
+        let events = link.drain_events();
+        let kinds: Vec<&str> = events.iter().map(|e| e.kind).collect();
+        // 400 kHz with equal halves: 1.25 µs low is under fast mode's 1.3 µs (i2c.md, "Derived").
+        assert_eq!(kinds, ["i2c_scl_too_fast", "i2c_nack"]);
+        assert!(events[1].message.contains("0x1E"), "{}", events[1].message);
+        assert!(link.transfer(Address::ChipSelect(57), &[], &mut [], 0).is_err());
+    }
 }

@@ -5,7 +5,9 @@
 //! slave is told about CS edges and frames in time order. Per frame it asks the slave for DOUT when
 //! the frame starts, and delivers DIN when it ends.
 
-use super::{bitlevel, transaction, BusLevel, Exchange, FrameTiming, Lines, RunTiming, SpiSlave};
+use super::{
+    bitlevel, transaction, Address, BusLevel, Exchange, FrameTiming, Lines, Link, RunTiming, SpiSlave, Transfer,
+};
 use crate::dsp::spi::{
     self, CharShape, FlagTime, Frame, FrameRun, PollSteps, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF,
 };
@@ -481,5 +483,113 @@ impl<S: SpiSlave> SpiLink<S> {
         let mut e = self.wires.events.drain();
         e.extend(self.spi.drain_events());
         e
+    }
+}
+
+/// Several SPI slaves on one SPI-A, each on its own chip select: the slave the link talks to is the
+/// one whose chip select the driver asserts ([`ChipSelects::select`] before the link's CS falls).
+pub struct ChipSelects {
+    devices: Vec<(u8, Box<dyn SpiSlave + Send>)>,
+    selected: Option<usize>,
+}
+
+impl std::fmt::Debug for ChipSelects {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ChipSelects").field("gpios", &self.gpios()).field("selected", &self.selected).finish()
+    }
+}
+
+impl ChipSelects {
+    /// The slaves and their chip-select GPIO numbers (unique: the profile checks it).
+    pub fn new(devices: Vec<(u8, Box<dyn SpiSlave + Send>)>) -> ChipSelects {
+        ChipSelects { devices, selected: None }
+    }
+
+    /// The chip-select GPIO numbers, in declaration order.
+    pub fn gpios(&self) -> Vec<u8> {
+        self.devices.iter().map(|(g, _)| *g).collect()
+    }
+
+    /// Route the next chip-select edge and frames to the slave on `gpio`; an error naming the
+    /// wired chip selects when none is on it.
+    pub fn select(&mut self, gpio: u8) -> Result<()> {
+        let Some(i) = self.devices.iter().position(|(g, _)| *g == gpio) else {
+            let wired: Vec<String> = self.gpios().iter().map(|g| format!("GPIO{g}")).collect();
+            return Err(Error::Config(format!(
+                "SPI-A: no device on chip select GPIO{gpio} (devices on {})",
+                if wired.is_empty() { "no chip select".to_string() } else { wired.join(", ") }
+            )));
+        };
+        self.selected = Some(i);
+        Ok(())
+    }
+
+    /// The slave on `gpio`.
+    pub fn device(&self, gpio: u8) -> Option<&(dyn SpiSlave + Send)> {
+        self.devices.iter().find(|(g, _)| *g == gpio).map(|(_, d)| d.as_ref())
+    }
+
+    fn current(&mut self) -> &mut (dyn SpiSlave + Send) {
+        let i = self.selected.expect("the link selects a device before it asserts CS");
+        self.devices[i].1.as_mut()
+    }
+}
+
+impl SpiSlave for ChipSelects {
+    fn set_cs(&mut self, low: bool, t: Ps) {
+        self.current().set_cs(low, t);
+    }
+    fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
+        self.current().begin_frame(timing)
+    }
+    fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
+        self.current().end_frame(din, timing);
+    }
+}
+
+/// The wait of [`Link::transfer`]'s SPI driver after CS↓, between a frame's INT_FLAG and the next
+/// write, and before CS↑: 10 µs, above the ADIS16xxx family's t_STALL (9 µs) and its CS set-up
+/// and hold times. A choice of this generic driver, not a hardware figure: the acquisition ISR,
+/// which counts its own CPU cycles, drives SPI-A through its registers instead.
+pub const DRIVER_WAIT_PS: Ps = 10_000_000;
+
+/// SPI-A as a [`Link`]: CS↓ at `t`, each word written to SPITXBUF [`DRIVER_WAIT_PS`] after the
+/// previous step, read at its INT_FLAG time, CS↑ [`DRIVER_WAIT_PS`] after the last read.
+impl Link for SpiLink<ChipSelects> {
+    fn transfer(&mut self, to: Address, tx: &[u16], rx: &mut [u16], t: Ps) -> Result<Transfer> {
+        let Address::ChipSelect(gpio) = to else {
+            return Err(Error::Config(format!("SPI-A addresses a device by chip select, not by {to}")));
+        };
+        if rx.len() != tx.len() {
+            return Err(Error::Config(format!(
+                "SPI-A: {} words to send and {} to receive: one word comes back per frame",
+                tx.len(),
+                rx.len()
+            )));
+        }
+        if self.cs_asserted() {
+            return Err(Error::Config(format!("SPI-A: chip select GPIO{gpio} asserted while another is")));
+        }
+        self.wires.slave.select(gpio)?;
+        self.set_gpio57(false, t)?;
+        let mut now = t;
+        for (w, r) in tx.iter().zip(rx.iter_mut()) {
+            now += DRIVER_WAIT_PS;
+            let mut read_at = now;
+            *r = self.write_poll_read(*w, now, |flag| {
+                read_at = flag
+                    .ok_or_else(|| Error::Config("SPI-A is not enabled (SPICCR.SPISWRESET = 0): no frame".into()))?
+                    .ps;
+                Ok(read_at)
+            })?;
+            now = read_at;
+        }
+        now += DRIVER_WAIT_PS;
+        self.set_gpio57(true, now)?;
+        Ok(Transfer { start: t, end: now, complete: true })
+    }
+
+    fn drain_events(&mut self) -> Vec<Event> {
+        SpiLink::drain_events(self)
     }
 }

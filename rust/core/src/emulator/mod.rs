@@ -13,12 +13,15 @@
 
 pub mod bench;
 mod board;
+mod prices;
 
 pub use crate::board::{input, sensor};
 pub use crate::board::{FrameSummary, InputFeed, Reach, Sensor, StreamStimulus, StreamedDevice};
 pub use crate::firmware::isr::BURST_FRAMES;
 pub use crate::output::{is_column_list, BudgetRow, Column, CycleRow, Output, ReadRow, COLUMNS, READ_WORDS};
+pub use crate::timing::stages::CostTerm;
 pub use board::BoardReport;
+pub use prices::{price_list, PriceList, StagePrice};
 
 /// Timer ticks one call to [`Emulator::run`] runs at most before it returns
 /// [`Progress::BlockFull`]: the output it holds is then at most this many budget rows (one per tick,
@@ -35,11 +38,12 @@ use crate::device::{Adis16407, Physical};
 use crate::error::{Error, Result};
 use crate::events::{Event, Severity};
 use crate::firmware::isr::Isr;
+use crate::firmware::isr::StageCosts;
 use crate::numerics::Scalar;
 use crate::profile::{OverrunPolicy, Profile};
 use crate::time::{ps_to_s, Ps};
 use crate::timing::costs::CostTable;
-use crate::timing::stages::{stage_costs, StageCosts};
+use crate::timing::stages::stage_costs;
 
 /// The emulated board running its firmware in the numeric backend `T`, reading the sensor `S`: the
 /// ADIS16407 model fed a physical input (the default), or a [`ReplaySlave`] answering recorded words.

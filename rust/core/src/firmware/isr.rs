@@ -16,12 +16,12 @@ use crate::board::{Board, FrameSummary, Sensor};
 use crate::dsp::spi::{FlagTime, PollSteps, PolledLoop, SPIRXBUF, SPITXBUF};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
+use crate::numerics::counter::OpCounts;
 use crate::numerics::Scalar;
 use crate::output::{BudgetRow, CycleRow, Output, ReadRow};
 use crate::profile::{InitialAttitude, OverrunPolicy, Profile};
 use crate::time::{ps_to_s, Clock, Divisor, Ps};
 use crate::timing::costs::IoCosts;
-use crate::timing::stages::StageCosts;
 
 /// Frames of the longest burst read: the command and the 14 output registers of the ADIS16407 (the
 /// read row keeps them all: one declaration, [`crate::output::READ_WORDS`]). A part with a shorter
@@ -573,6 +573,34 @@ impl Burst {
             self.t_end_ps = f.t_end;
         }
     }
+}
+
+/// Operation counts and cycles of one stage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StageCost {
+    /// Operations the stage executes.
+    pub counts: OpCounts,
+    /// SYSCLKOUT cycles they cost.
+    pub cycles: u64,
+}
+
+/// Cycles of every part of the ISR that is not SPI traffic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StageCosts {
+    /// Hardware context save and the C prologue.
+    pub entry: u64,
+    /// Epilogue, PIE acknowledge and IRET.
+    pub exit: u64,
+    /// Decode of one burst (three gyro and three accel words).
+    pub decode: StageCost,
+    /// One attitude update (rate correction, RK4 or rotation vector, normalisation, DCM).
+    pub attitude: StageCost,
+    /// Euler extraction.
+    pub euler: StageCost,
+    /// One navigation step.
+    pub navigation: StageCost,
+    /// Midpoint interpolation of the `endpoint` schedule.
+    pub interpolation: StageCost,
 }
 
 #[cfg(test)]

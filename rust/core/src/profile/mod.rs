@@ -7,7 +7,7 @@ mod board;
 mod faults;
 mod sections;
 
-pub use board::{Board, BoardDevice, LinkKind, LINKS};
+pub use board::{Board, BoardDevice, I2cBus, LinkKind, SciPort, LINKS, SENSOR_CHIP_SELECT};
 pub use faults::*;
 pub use sections::*;
 
@@ -81,6 +81,13 @@ impl Profile {
         let value = toml::Value::try_from(Profile::default()).unwrap_or(toml::Value::Table(Default::default()));
         let mut keys = Vec::new();
         flatten_keys(&value, "", &mut keys);
+        // Optional tables, absent from the defaults' text (the reference profile stays as it is).
+        let optional = Board { i2c: Some(I2cBus::default()), sci: Some(SciPort::default()), devices: vec![] };
+        if let Ok(v) = toml::Value::try_from(optional) {
+            let mut more = Vec::new();
+            flatten_keys(&v, "board", &mut more);
+            keys.extend(more.into_iter().filter(|k| !k.starts_with("board.devices")));
+        }
         keys
     }
 

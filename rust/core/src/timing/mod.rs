@@ -4,4 +4,5 @@ pub mod costs;
 
 pub use costs::CostTable;
 pub mod stages;
-pub use stages::{stage_costs, StageCost, StageCosts};
+pub use crate::firmware::isr::{StageCost, StageCosts};
+pub use stages::stage_costs;

@@ -1,41 +1,16 @@
 //! Compute time of each firmware stage: the firmware's own generic code is run once with the
 //! operation-counting numeric type, and the counts are priced with the cost table of the profile's
 //! backend and code location. Nothing here is a hand tally: change the algorithm and the counts follow.
+//! This layer sits above the firmware (it runs the firmware's code); the ISR takes the result as
+//! plain data ([`StageCosts`], declared beside it in `firmware::isr`).
 
 use crate::error::Result;
+use crate::firmware::isr::{StageCost, StageCosts};
 use crate::firmware::schedule::{interpolate, MAX_SAMPLES};
 use crate::firmware::{Firmware, Vec3};
 use crate::numerics::counter::{count, count_as, Counted, OpCounts};
 use crate::profile::{CodeLocation, Numeric, Profile, Schedule};
 use crate::timing::costs::{ArithCosts, CostTable, InterruptCosts};
-
-/// Operation counts and cycles of one stage.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct StageCost {
-    /// Operations the stage executes.
-    pub counts: OpCounts,
-    /// SYSCLKOUT cycles they cost.
-    pub cycles: u64,
-}
-
-/// Cycles of every part of the ISR that is not SPI traffic.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct StageCosts {
-    /// Hardware context save and the C prologue.
-    pub entry: u64,
-    /// Epilogue, PIE acknowledge and IRET.
-    pub exit: u64,
-    /// Decode of one burst (three gyro and three accel words).
-    pub decode: StageCost,
-    /// One attitude update (rate correction, RK4 or rotation vector, normalisation, DCM).
-    pub attitude: StageCost,
-    /// Euler extraction.
-    pub euler: StageCost,
-    /// One navigation step.
-    pub navigation: StageCost,
-    /// Midpoint interpolation of the `endpoint` schedule.
-    pub interpolation: StageCost,
-}
 
 /// One line of a stage's price: a number of operations of one kind at the unit cost of one entry of
 /// the cost table. The budget report shows these lines so that every cycle can be traced to a count

@@ -1,0 +1,329 @@
+//! The board's links and the devices on them, built from the profile's `[[board.devices]]`: SPI-A
+//! with a device per chip select, I2C-A with a device per address, SCI-A with its peer. Each is
+//! reached through [`Link`]. Which part a name builds is a [`Catalogue`]'s answer: [`known_parts`]
+//! for the parts of `device::part`, or any other (a test declares its own).
+
+use crate::bus::i2c::{I2cLink, I2cTarget};
+use crate::bus::uart::{UartLink, UartPeer};
+use crate::bus::{Address, ChipSelects, Link, SpiLink, SpiSlave};
+use crate::device::{part, Adis};
+use crate::error::{Error, Result};
+use crate::profile::{self, BoardDevice, LinkKind, Profile, SENSOR_CHIP_SELECT};
+
+/// A device built for the kind of link it sits on.
+pub enum Built {
+    /// An SPI slave.
+    Spi(Box<dyn SpiSlave + Send>),
+    /// An I²C target.
+    I2c(Box<dyn I2cTarget + Send>),
+    /// A UART peer.
+    Uart(Box<dyn UartPeer + Send>),
+}
+
+/// What builds a part for a link kind: `None` for a part it does not know, an error for a part
+/// that cannot sit on that kind of link.
+pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
+
+/// The parts the crate declares (`device::part`): the ADIS16xxx family, on SPI.
+pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
+    let p = part::by_name(name)?;
+    Some(match kind {
+        LinkKind::Spi => Adis::new(&profile::Device::of_part(p)).map(|d| Built::Spi(Box::new(d))),
+        _ => Err(Error::Profile(format!("{}: an SPI part", p.name))),
+    })
+}
+
+/// The devices of `[[board.devices]]` on their links.
+#[derive(Debug, Default)]
+pub struct BoardLinks {
+    /// SPI-A with its devices by chip select (none: no SPI device here).
+    pub spi: Option<SpiLink<ChipSelects>>,
+    /// I2C-A with its devices by address.
+    pub i2c: Option<I2cLink>,
+    /// SCI-A with its peer.
+    pub sci: Option<UartLink>,
+    /// Each device built: its part, link name and address, in declaration order.
+    pub places: Vec<(String, String, Address)>,
+}
+
+impl BoardLinks {
+    /// The declared devices, built by `catalogue`, on their links; with `skip_sensor` the device on
+    /// SPI-A's GPIO57 is left out (the acquisition ISR has its own link to it: `Board::link`).
+    /// A part the catalogue does not know, or one on the wrong kind of link, is a profile error
+    /// naming `board.devices[i].part`.
+    pub fn from_profile(profile: &Profile, catalogue: Catalogue, skip_sensor: bool) -> Result<BoardLinks> {
+        let mut spi = Vec::new();
+        let mut i2c = Vec::new();
+        let mut sci = None;
+        let mut places = Vec::new();
+        for (i, d) in profile.board.devices.iter().enumerate() {
+            let kind = d.kind().ok_or_else(|| Error::Profile(format!("key `board.devices[{i}].link`: unknown")))?;
+            let address = address_of(d, kind);
+            if skip_sensor && address == Some(Address::ChipSelect(SENSOR_CHIP_SELECT)) && kind == LinkKind::Spi {
+                continue;
+            }
+            let bad_part =
+                |why: String| Error::Profile(format!("key `board.devices[{i}].part` = \"{}\": {why}", d.part));
+            let built = match catalogue(&d.part, kind) {
+                None => return Err(bad_part(format!("expected a known part ({})", part::names()))),
+                Some(Err(e)) => return Err(bad_part(format!("cannot sit on `{}` ({e})", d.link))),
+                Some(Ok(b)) => b,
+            };
+            let address = address.ok_or_else(|| bad_part("no place on its link".into()))?;
+            match (built, address) {
+                (Built::Spi(s), Address::ChipSelect(gpio)) => spi.push((gpio, s)),
+                (Built::I2c(t), Address::I2c(a)) => i2c.push((a, t)),
+                (Built::Uart(u), Address::Port) => sci = Some(u),
+                _ => return Err(bad_part(format!("the part is not built for `{}`", d.link))),
+            }
+            places.push((d.part.clone(), d.link.clone(), address));
+        }
+        let spi = if spi.is_empty() {
+            None
+        } else {
+            let mut link = SpiLink::from_profile(profile, ChipSelects::new(spi))?;
+            link.init_from_profile(&profile.spi, 0)?;
+            Some(link)
+        };
+        let i2c = (!i2c.is_empty()).then(|| I2cLink::new(&profile.board.i2c_bus(), i2c));
+        let sci = sci.map(|peer| UartLink::new(&profile.board.sci_port(), Some(peer)));
+        Ok(BoardLinks { spi, i2c, sci, places })
+    }
+
+    /// The link named `name` (`spi-a`, `i2c-a`, `sci-a`), when a device sits on it.
+    pub fn link(&mut self, name: &str) -> Option<&mut dyn Link> {
+        match name {
+            "spi-a" => self.spi.as_mut().map(|l| l as &mut dyn Link),
+            "i2c-a" => self.i2c.as_mut().map(|l| l as &mut dyn Link),
+            "sci-a" => self.sci.as_mut().map(|l| l as &mut dyn Link),
+            _ => None,
+        }
+    }
+
+    /// Whether no device is built here.
+    pub fn is_empty(&self) -> bool {
+        self.places.is_empty()
+    }
+}
+
+/// A validated declaration's place on its link.
+fn address_of(d: &BoardDevice, kind: LinkKind) -> Option<Address> {
+    match kind {
+        LinkKind::Spi => d.chip_select_gpio().map(Address::ChipSelect),
+        LinkKind::I2c => d.address.map(Address::I2c),
+        LinkKind::Uart => Some(Address::Port),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::FrameTiming;
+    use crate::time::Ps;
+    use std::sync::{Arc, Mutex};
+
+    /// The registers of a register file, shared with the test.
+    type Regs = Arc<Mutex<[u8; 128]>>;
+    /// Each register file built, by part name.
+    type Handles = Vec<(String, Regs)>;
+
+    /// A register file, the test part: `name` answers on SPI (a frame `0x80 | reg` reads `reg` in
+    /// the next frame's answer, `reg << 8 | value` writes it) and on I²C (a write of `reg` then reads
+    /// from `reg` on). Every register starts at its part's `tag`, so an answer says who gave it.
+    struct RegisterFile {
+        regs: Regs,
+        pending: u16,
+        pointer: u8,
+        first_after_start: bool,
+    }
+
+    impl RegisterFile {
+        fn new(tag: u8) -> (RegisterFile, Regs) {
+            let regs = Arc::new(Mutex::new([tag; 128]));
+            (RegisterFile { regs: Arc::clone(&regs), pending: 0, pointer: 0, first_after_start: false }, regs)
+        }
+    }
+
+    impl SpiSlave for RegisterFile {
+        fn set_cs(&mut self, _low: bool, _t: Ps) {}
+        fn begin_frame(&mut self, _timing: &FrameTiming) -> u16 {
+            self.pending
+        }
+        fn end_frame(&mut self, din: u16, _timing: &FrameTiming) {
+            let reg = usize::from((din >> 8) & 0x7F);
+            if din & 0x8000 != 0 {
+                self.pending = u16::from(self.regs.lock().unwrap()[reg]);
+            } else {
+                self.regs.lock().unwrap()[reg] = din as u8;
+                self.pending = 0;
+            }
+        }
+    }
+
+    impl I2cTarget for RegisterFile {
+        fn start(&mut self, _t: Ps) {
+            self.first_after_start = true;
+        }
+        fn write(&mut self, byte: u8, _t: Ps) -> bool {
+            if std::mem::take(&mut self.first_after_start) {
+                return true; // the address byte (the link addressed us)
+            }
+            self.pointer = byte & 0x7F;
+            true
+        }
+        fn read(&mut self, _t: Ps, _ack: bool) -> u8 {
+            self.first_after_start = false;
+            let v = self.regs.lock().unwrap()[usize::from(self.pointer)];
+            self.pointer = (self.pointer + 1) & 0x7F;
+            v
+        }
+        fn stop(&mut self, _t: Ps) {}
+    }
+
+    const BOARD: &str = r#"
+[[board.devices]]
+part = "ADIS16407"
+link = "spi-a"
+chip_select = "GPIO57"
+
+[[board.devices]]
+part = "REGFILE-A"
+link = "spi-a"
+chip_select = "GPIO58"
+
+[[board.devices]]
+part = "REGFILE-B"
+link = "spi-a"
+chip_select = "GPIO59"
+
+[[board.devices]]
+part = "REGFILE-C"
+link = "i2c-a"
+address = 0x1E
+"#;
+
+    /// The test's catalogue: the crate's parts plus three register files tagged 0xA1, 0xB2, 0xC3;
+    /// the register handles are kept so the test can look inside each device.
+    fn catalogue(handles: &Mutex<Handles>, name: &str, kind: LinkKind) -> Option<Result<Built>> {
+        let tag = match name {
+            "REGFILE-A" => 0xA1,
+            "REGFILE-B" => 0xB2,
+            "REGFILE-C" => 0xC3,
+            _ => return known_parts(name, kind),
+        };
+        let (file, regs) = RegisterFile::new(tag);
+        handles.lock().unwrap().push((name.to_string(), regs));
+        Some(Ok(match kind {
+            LinkKind::Spi => Built::Spi(Box::new(file)),
+            LinkKind::I2c => Built::I2c(Box::new(file)),
+            LinkKind::Uart => return Some(Err(Error::Profile("not a UART part".into()))),
+        }))
+    }
+
+    fn build(text: &str) -> Result<(BoardLinks, Handles)> {
+        let profile = Profile::from_toml(text, "board.toml", &[])?;
+        let handles = Mutex::new(Vec::new());
+        let links = BoardLinks::from_profile(&profile, &|n, k| catalogue(&handles, n, k), false)?;
+        Ok((links, handles.into_inner().unwrap()))
+    }
+
+    /// Two register files on SPI-A (GPIO58, GPIO59) beside the sensor, one on I2C-A at 0x1E: each
+    /// transaction reaches the device at its place (its answer carries its tag, a write lands in
+    /// its registers only); a chip select nobody sits on is an error naming the wired ones, an
+    /// address nobody answers is NACKed with an event.
+    #[test]
+    fn each_transaction_reaches_the_device_at_its_place() {
+        let (mut links, handles) = build(BOARD).unwrap();
+        let places: Vec<Address> = links.places.iter().map(|p| p.2).collect();
+        assert_eq!(
+            places,
+            [Address::ChipSelect(57), Address::ChipSelect(58), Address::ChipSelect(59), Address::I2c(0x1E)]
+        );
+        let regs = |name: &str| Arc::clone(&handles.iter().find(|h| h.0 == name).unwrap().1);
+        let spi = links.link("spi-a").unwrap();
+        let mut rx = [0u16; 2];
+        // Read register 5 of each SPI register file: the second frame answers.
+        for (gpio, tag) in [(58, 0xA1), (59, 0xB2)] {
+            spi.transfer(Address::ChipSelect(gpio), &[0x8500, 0x0000], &mut rx, u64::from(gpio) * 1_000_000_000)
+                .unwrap();
+            assert_eq!(rx[1], tag, "GPIO{gpio}");
+        }
+        // Write register 7 of the file on GPIO59 only.
+        spi.transfer(Address::ChipSelect(59), &[0x075A], &mut rx[..1], 60_000_000_000).unwrap();
+        assert_eq!((regs("REGFILE-A").lock().unwrap()[7], regs("REGFILE-B").lock().unwrap()[7]), (0xA1, 0x5A));
+        // The ADIS16407 on GPIO57 answers a PROD_ID (0x56) read with 0x4017 in the next frame.
+        let t = spi.transfer(Address::ChipSelect(57), &[0x5600, 0x0000], &mut rx, 61_000_000_000).unwrap();
+        assert_eq!(rx[1], 0x4017);
+        assert!(t.end > t.start && t.complete);
+        let e = spi.transfer(Address::ChipSelect(60), &[0], &mut rx[..1], 62_000_000_000).unwrap_err();
+        assert!(e.to_string().contains("no device on chip select GPIO60 (devices on GPIO57, GPIO58, GPIO59)"), "{e}");
+        assert!(spi.transfer(Address::I2c(0x1E), &[0], &mut rx[..1], 62_000_000_000).is_err());
+        // I²C: register 3 of the file at 0x1E, then an address nobody answers.
+        let i2c = links.link("i2c-a").unwrap();
+        regs("REGFILE-C").lock().unwrap()[3] = 0x33;
+        let mut two = [0u16; 2];
+        let t = i2c.transfer(Address::I2c(0x1E), &[3], &mut two, 0).unwrap();
+        assert_eq!((two, t.complete), ([0x33, 0xC3], true));
+        let t = i2c.transfer(Address::I2c(0x1F), &[3], &mut two, t.end).unwrap();
+        assert_eq!((two, t.complete), ([0xFF, 0xFF], false));
+        let events = i2c.drain_events();
+        assert_eq!(events.len(), 1);
+        assert_eq!(events[0].kind, "i2c_nack");
+        assert!(events[0].message.contains("0x1F"), "{}", events[0].message);
+        assert!(links.link("sci-a").is_none(), "no device on SCI-A");
+    }
+
+    /// The reference board's declaration leaves nothing beside the sensor's own link.
+    #[test]
+    fn the_reference_board_has_only_the_sensor() {
+        let links = BoardLinks::from_profile(&Profile::default(), &known_parts, true).unwrap();
+        assert!(links.is_empty() && links.spi.is_none() && links.i2c.is_none() && links.sci.is_none());
+        let all = BoardLinks::from_profile(&Profile::default(), &known_parts, false).unwrap();
+        assert_eq!(all.places, [("ADIS16407".to_string(), "spi-a".to_string(), Address::ChipSelect(57))]);
+    }
+
+    /// Bad declarations: each error names the `board.devices[i]` key (the CLI exits 2 on a profile
+    /// error).
+    #[test]
+    fn bad_declarations_name_the_key() {
+        let sensor = "[[board.devices]]\npart = \"ADIS16407\"\nlink = \"spi-a\"\nchip_select = \"GPIO57\"\n";
+        let dev = |part: &str, link: &str, place: &str| {
+            format!("[[board.devices]]\npart = \"{part}\"\nlink = \"{link}\"\n{place}\n")
+        };
+        for (text, key) in [
+            (
+                format!(
+                    "{sensor}{}{}",
+                    dev("REGFILE-A", "spi-a", "chip_select = \"GPIO58\""),
+                    dev("REGFILE-B", "spi-a", "chip_select = \"GPIO58\"")
+                ),
+                "key `board.devices[2].chip_select` = GPIO58",
+            ),
+            (
+                format!(
+                    "{sensor}{}{}",
+                    dev("REGFILE-A", "i2c-a", "address = 0x1E"),
+                    dev("REGFILE-C", "i2c-a", "address = 0x1E")
+                ),
+                "key `board.devices[2].address` = 0x1E",
+            ),
+            (
+                format!("{sensor}{}", dev("REGFILE-A", "spi-b", "chip_select = \"GPIO58\"")),
+                "key `board.devices[1].link` = \"spi-b\"",
+            ),
+            (
+                format!("{sensor}{}", dev("NOSUCHPART", "spi-a", "chip_select = \"GPIO58\"")),
+                "key `board.devices[1].part` = \"NOSUCHPART\"",
+            ),
+            (
+                format!("{sensor}{}", dev("ADIS16362", "i2c-a", "address = 0x20")),
+                "key `board.devices[1].part` = \"ADIS16362\"",
+            ),
+            (format!("{sensor}{}", dev("REGFILE-A", "sci-a", "")), "key `board.devices[1].part` = \"REGFILE-A\""),
+        ] {
+            let e = build(&text).map(|_| ()).unwrap_err();
+            assert!(matches!(e, Error::Profile(_)), "{text}: {e:?}");
+            assert!(e.to_string().contains(key), "{text}: {e}");
+        }
+    }
+}
