@@ -4,7 +4,7 @@
 //! allocates.
 
 use super::align::{level_attitude, LevelAligner};
-use super::attitude::{attitude_update, samples_per_update, AttitudeUpdate, StepInputs};
+use super::attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, StepInputs};
 use super::decode::{Decoded, Decoder};
 use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
@@ -42,6 +42,8 @@ pub struct Firmware<T: Scalar> {
     c_bn: Mat3<T>,
     nav: NavState<T>,
     aligner: LevelAligner<T>,
+    /// The latest specific force decoded (the DCM's roll–pitch reference).
+    last_accel: Option<Vec3<T>>,
 }
 
 impl<T: Scalar> Firmware<T> {
@@ -75,6 +77,7 @@ impl<T: Scalar> Firmware<T> {
             c_bn: dcm(&q),
             nav: NavState::from_profile(&profile.navigation),
             aligner: LevelAligner::default(),
+            last_accel: None,
         })
     }
 
@@ -91,7 +94,9 @@ impl<T: Scalar> Firmware<T> {
 
     /// Stage 1: decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT.
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
-        self.decoder.decode(words)
+        let d = self.decoder.decode(words);
+        self.last_accel = Some(d.accel);
+        d
     }
 
     /// Earth and transport rates at the current navigation state.
@@ -103,9 +108,15 @@ impl<T: Scalar> Firmware<T> {
     /// navigation frame's rate when the profile corrects for it.
     pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
         let nav_rate = if self.earth_rate { Some(self.earth_rates().w_in()) } else { None };
-        self.attitude.step(&mut self.q, &self.c_bn, &StepInputs { rates, nav_rate })?;
-        self.c_bn = dcm(&self.q);
+        let inputs = StepInputs { specific_force: self.last_accel, ..StepInputs::rates(rates, nav_rate) };
+        self.attitude.step(&mut self.q, &self.c_bn, &inputs)?;
+        self.c_bn = self.attitude.matrix().unwrap_or_else(|| dcm(&self.q));
         Ok(())
+    }
+
+    /// The drift-cancellation terms of the last attitude update (DCM), None for the open-loop ones.
+    pub fn correction(&self) -> Option<Correction> {
+        self.attitude.correction()
     }
 
     /// Stage 3: Euler angles of the current attitude (radians).
