@@ -222,6 +222,59 @@ impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
     }
 }
 
+/// C_b^n (navigation east-north-up) from one specific-force and one magnetic-field sample: up along f,
+/// north along the field's part perpendicular to up, east = north × up. None when either vector is zero
+/// or they are parallel.
+pub fn attitude_from_acc_mag(f: &Vec3<f64>, m: &Vec3<f64>) -> Option<Mat3<f64>> {
+    let up = unit(f)?;
+    let along = dot(m, &up);
+    let north = unit(&[0, 1, 2].map(|i| m[i] - along * up[i]))?;
+    let east = cross(&north, &up);
+    Some([east, north, up])
+}
+
+/// The DCM at algorithm level in f64 over recorded samples (gyro rad/s, specific force m/s², magnetic
+/// field any unit, one row per sample, `step_s` apart): one update per sample from the previous and the
+/// current rate, starting from [`attitude_from_acc_mag`] of the first sample. Returns one quaternion
+/// (C_b^n, ENU) per sample. No device model: the algorithm alone, as the dataset's baselines run.
+pub fn run_samples(
+    p: &profile::Dcm,
+    step_s: f64,
+    gyr: &[Vec3<f64>],
+    acc: &[Vec3<f64>],
+    mag: &[Vec3<f64>],
+) -> Result<Vec<Quat<f64>>> {
+    let n = gyr.len();
+    if acc.len() != n || mag.len() != n || n == 0 {
+        return Err(Error::Input(format!(
+            "DCM samples: {n} gyro, {} accelerometer and {} magnetometer rows; expected the same number > 0",
+            acc.len(),
+            mag.len()
+        )));
+    }
+    let r0 = attitude_from_acc_mag(&acc[0], &mag[0]).ok_or_else(|| {
+        Error::Input(
+            "DCM samples: the first accelerometer and magnetometer samples give no attitude (zero or parallel)".into(),
+        )
+    })?;
+    let mut dcm = Dcm::<f64>::new(p, step_s);
+    let mut q = quat_from_dcm(&r0);
+    let mut out = Vec::with_capacity(n);
+    out.push(q);
+    for k in 1..n {
+        let rates = [gyr[k - 1], gyr[k]];
+        let inputs = StepInputs {
+            specific_force: Some(acc[k]),
+            magnetic_field: Some(mag[k]),
+            ..StepInputs::rates(&rates, None)
+        };
+        let c = dcm.matrix().unwrap_or(r0);
+        dcm.step(&mut q, &c, &inputs)?;
+        out.push(q);
+    }
+    Ok(out)
+}
+
 /// R·[[1, −dθz, dθy], [dθz, 1, −dθx], [−dθy, dθx, 1]] as published: every element a three-term dot
 /// product, 27 multiplications and 18 additions.
 pub fn matrix_update<T: Scalar>(r: &Mat3<T>, dtheta: &Vec3<T>) -> Mat3<T> {
@@ -603,6 +656,25 @@ mod tests {
 
     fn dcm_eye() -> M {
         rx(0.0)
+    }
+
+    #[test]
+    fn attitude_from_one_sample_and_run_on_samples() {
+        let truth = mul(&rz(0.7), &mul(&rx(0.3), &rz(0.0)));
+        let f = to_body(&truth, [0.0, 0.0, G]);
+        let m = to_body(&truth, FIELD_N);
+        let r = attitude_from_acc_mag(&f, &m).unwrap();
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((r[i][j] - truth[i][j]).abs() < 1e-12, "{r:?} vs {truth:?}");
+            }
+        }
+        assert!(attitude_from_acc_mag(&f, &f).is_none());
+        let p = DcmProfile { yaw_reference: YawReference::Magnetometer, ..DcmProfile::default() };
+        let q = run_samples(&p, DT, &[[0.0; 3]; 10], &[f; 10], &[m; 10]).unwrap();
+        let last = super::super::quat::dcm(&q[9]);
+        assert!(orthogonality_error(&last) < 1e-12 && (last[2][2] - truth[2][2]).abs() < 1e-9);
+        assert!(run_samples(&p, DT, &[[0.0; 3]; 2], &[f; 3], &[m; 2]).is_err());
     }
 
     #[test]
