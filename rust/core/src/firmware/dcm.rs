@@ -224,11 +224,15 @@ impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
 
 /// C_b^n (navigation east-north-up) from one specific-force and one magnetic-field sample: up along f,
 /// north along the field's part perpendicular to up, east = north × up. None when either vector is zero
-/// or they are parallel.
+/// or they are parallel (the horizontal part below 1e-9 of the field: rounding, not a direction).
 pub fn attitude_from_acc_mag(f: &Vec3<f64>, m: &Vec3<f64>) -> Option<Mat3<f64>> {
     let up = unit(f)?;
     let along = dot(m, &up);
-    let north = unit(&[0, 1, 2].map(|i| m[i] - along * up[i]))?;
+    let horizontal = [0, 1, 2].map(|i| m[i] - along * up[i]);
+    if dot(&horizontal, &horizontal) <= 1e-18 * dot(m, m) {
+        return None;
+    }
+    let north = unit(&horizontal)?;
     let east = cross(&north, &up);
     Some([east, north, up])
 }

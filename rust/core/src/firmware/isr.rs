@@ -96,6 +96,13 @@ impl<T: Scalar> Isr<T> {
                 FIRST_INERTIAL + 6
             )));
         }
+        if fw.uses_magnetometer() && burst_frames < FIRST_INERTIAL + 9 {
+            return Err(Error::Profile(format!(
+                "key `firmware.dcm.yaw_reference` = \"magnetometer\": the {} burst carries no X/Y/Z MAGN_OUT \
+                 (expected \"gps\" or \"none\" on this part)",
+                profile.device.part
+            )));
+        }
         Ok(Isr {
             fw,
             stages,
@@ -221,6 +228,9 @@ impl<T: Scalar> Isr<T> {
         for b in 0..bursts.len() {
             let inertial: [u16; 6] = std::array::from_fn(|i| bursts[b].words[FIRST_INERTIAL + i]);
             let d = self.fw.decode(&inertial);
+            if self.fw.uses_magnetometer() {
+                self.fw.decode_magnetometer(&std::array::from_fn(|i| bursts[b].words[FIRST_INERTIAL + 6 + i]));
+            }
             if !d.report.is_clean() {
                 d.report.push_events(board.ps(c), &inertial, &mut self.events);
             }

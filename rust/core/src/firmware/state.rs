@@ -44,6 +44,10 @@ pub struct Firmware<T: Scalar> {
     aligner: LevelAligner<T>,
     /// The latest specific force decoded (the DCM's roll–pitch reference).
     last_accel: Option<Vec3<T>>,
+    /// The algorithm takes the magnetic field (the DCM with `yaw_reference = "magnetometer"`).
+    uses_magnetometer: bool,
+    /// The latest magnetic field decoded, gauss.
+    last_mag: Option<Vec3<T>>,
 }
 
 impl<T: Scalar> Firmware<T> {
@@ -78,6 +82,9 @@ impl<T: Scalar> Firmware<T> {
             nav: NavState::from_profile(&profile.navigation),
             aligner: LevelAligner::default(),
             last_accel: None,
+            uses_magnetometer: fw.algorithm == crate::profile::Algorithm::Dcm
+                && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer,
+            last_mag: None,
         })
     }
 
@@ -99,6 +106,18 @@ impl<T: Scalar> Firmware<T> {
         d
     }
 
+    /// Whether the attitude algorithm takes the magnetic field (then the ISR decodes X/Y/Z MAGN_OUT).
+    pub fn uses_magnetometer(&self) -> bool {
+        self.uses_magnetometer
+    }
+
+    /// Decode X/Y/Z MAGN_OUT for the attitude update.
+    pub fn decode_magnetometer(&mut self, words: &[u16; 3]) -> Vec3<T> {
+        let m = self.decoder.decode_magnetometer(words);
+        self.last_mag = Some(m);
+        m
+    }
+
     /// Earth and transport rates at the current navigation state.
     pub fn earth_rates(&self) -> EarthRates<T> {
         self.earth.rates(&self.nav)
@@ -108,7 +127,11 @@ impl<T: Scalar> Firmware<T> {
     /// navigation frame's rate when the profile corrects for it.
     pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
         let nav_rate = if self.earth_rate { Some(self.earth_rates().w_in()) } else { None };
-        let inputs = StepInputs { specific_force: self.last_accel, ..StepInputs::rates(rates, nav_rate) };
+        let inputs = StepInputs {
+            specific_force: self.last_accel,
+            magnetic_field: self.last_mag,
+            ..StepInputs::rates(rates, nav_rate)
+        };
         self.attitude.step(&mut self.q, &self.c_bn, &inputs)?;
         self.c_bn = self.attitude.matrix().unwrap_or_else(|| dcm(&self.q));
         Ok(())
