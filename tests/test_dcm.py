@@ -25,3 +25,18 @@ def test_gps_reference_without_gps_stream_exits_2_naming_the_key():
     r = run_cli("run", STATIC, "--set", "firmware.algorithm=dcm", "--set", "firmware.dcm.yaw_reference=gps")
     assert r.code == 2, r.err
     assert "firmware.dcm.yaw_reference" in r.err and "Traceback" not in r.err
+
+
+def test_magnetometer_reference_on_a_part_without_one_exits_2_naming_the_key():
+    r = run_cli(
+        "run",
+        STATIC,
+        "--profile",
+        "wing",
+        "--set",
+        "firmware.algorithm=dcm",
+        "--set",
+        "firmware.dcm.yaw_reference=magnetometer",
+    )
+    assert r.code == 2, r.err
+    assert "firmware.dcm.yaw_reference" in r.err and "ADIS16362" in r.err and "Traceback" not in r.err

@@ -96,7 +96,11 @@ impl<T: Scalar> Isr<T> {
                 FIRST_INERTIAL + 6
             )));
         }
-        if fw.uses_magnetometer() && burst_frames < FIRST_INERTIAL + 9 {
+        // X/Y/Z MAGN_OUT (0x10, 0x12, 0x14) right after the six inertial words (burst words 8…10).
+        let part = profile.device.part_decl()?;
+        let magnetometer_words =
+            part.burst.get(FIRST_INERTIAL + 5..FIRST_INERTIAL + 8) == Some(&[0x10, 0x12, 0x14][..]);
+        if fw.uses_magnetometer() && !magnetometer_words {
             return Err(Error::Profile(format!(
                 "key `firmware.dcm.yaw_reference` = \"magnetometer\": the {} burst carries no X/Y/Z MAGN_OUT \
                  (expected \"gps\" or \"none\" on this part)",

@@ -66,6 +66,8 @@ impl<T: Scalar> Firmware<T> {
             return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
         }
         let q: Quat<T> = [lit(1.0), lit(0.0), lit(0.0), lit(0.0)];
+        let uses_magnetometer = fw.algorithm == crate::profile::Algorithm::Dcm
+            && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer;
         Ok(Firmware {
             attitude: attitude_update(fw, step_s),
             earth_rate: fw.earth_rate,
@@ -82,9 +84,9 @@ impl<T: Scalar> Firmware<T> {
             nav: NavState::from_profile(&profile.navigation),
             aligner: LevelAligner::default(),
             last_accel: None,
-            uses_magnetometer: fw.algorithm == crate::profile::Algorithm::Dcm
-                && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer,
-            last_mag: None,
+            uses_magnetometer,
+            // The firmware's field variable before the first read: zero, as a C global starts.
+            last_mag: uses_magnetometer.then_some([lit(0.0); 3]),
         })
     }
 
