@@ -151,7 +151,7 @@ impl<T: Scalar> Dcm<T> {
         Ok([total, e_rp, e_yaw])
     }
 
-    fn gps<'a>(&self, inputs: &StepInputs<'a, T>, key: &str) -> Result<super::attitude::GpsAiding<T>> {
+    fn gps(&self, inputs: &StepInputs<'_, T>, key: &str) -> Result<super::attitude::GpsAiding<T>> {
         inputs.gps.ok_or_else(|| {
             Error::Config(format!(
                 "key `firmware.dcm.{key}` needs a GPS stream and the trace has none (give the trace a GPS \

@@ -96,10 +96,13 @@ impl<T: Scalar> Isr<T> {
                 FIRST_INERTIAL + 6
             )));
         }
-        // X/Y/Z MAGN_OUT (0x10, 0x12, 0x14) right after the six inertial words (burst words 8…10).
+        // X/Y/Z MAGN_OUT right after the six inertial words (burst words 8…10), by register name: the
+        // ADIS16362 shifts X/Y/ZTEMP_OUT out at the same addresses.
         let part = profile.device.part_decl()?;
-        let magnetometer_words =
-            part.burst.get(FIRST_INERTIAL + 5..FIRST_INERTIAL + 8) == Some(&[0x10, 0x12, 0x14][..]);
+        let name_of = |addr: u8| part.registers.iter().find(|r| r.addr == addr).map(|r| r.name);
+        let magnetometer_words = part.burst.get(FIRST_INERTIAL + 5..FIRST_INERTIAL + 8).is_some_and(|a| {
+            a.iter().zip(["XMAGN_OUT", "YMAGN_OUT", "ZMAGN_OUT"]).all(|(&addr, want)| name_of(addr) == Some(want))
+        });
         if fw.uses_magnetometer() && !magnetometer_words {
             return Err(Error::Profile(format!(
                 "key `firmware.dcm.yaw_reference` = \"magnetometer\": the {} burst carries no X/Y/Z MAGN_OUT \
