@@ -35,6 +35,10 @@ def test_override_changes_one_field():
         ("timer.period_us=0", ["timer.period_us", "> 0"]),
         ("firmware.algorithm=rk5", ["firmware.algorithm", "rk4", "rotation-vector"]),
         ("firmware.numeric=f16", ["firmware.numeric", "c28x-f32"]),
+        ("firmware.dcm.kp=-0.1", ["firmware.dcm.kp", "≥ 0"]),
+        ("firmware.dcm.ki=-1e-3", ["firmware.dcm.ki", "≥ 0"]),
+        ("firmware.dcm.yaw_reference=compass", ["firmware.dcm.yaw_reference", "magnetometer", "gps"]),
+        ("firmware.dcm.integrator_limit_dps=200", ["firmware.dcm.integrator_limit_dps", "0…90"]),
         ("spi.spibrr", ["expected key=value"]),
     ],
 )

@@ -18,7 +18,7 @@ import sys
 import traceback
 from collections.abc import Sequence
 
-from sins_fw import __version__
+from sins_fw import __version__, broad_eval
 from sins_fw.cli import (
     bench,
     board,
@@ -53,6 +53,7 @@ COMMANDS = (
     montecarlo,
     sweep,
     bench,
+    broad_eval,
 )
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_BUG = 0, 1, 2, 3

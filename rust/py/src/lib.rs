@@ -154,6 +154,39 @@ fn bench_firmware_stages(
         .map_err(to_py)
 }
 
+/// The DCM (`[firmware.dcm]` of the profile) at algorithm level in f64 over recorded samples: gyro
+/// (rad/s), specific force (m/s²) and magnetic field, n×3 each, `step_s` apart. Returns the
+/// quaternions (n×4, C_b^n, ENU), the first from the first accelerometer and magnetometer sample.
+#[pyfunction]
+fn dcm_orientation<'py>(
+    py: Python<'py>,
+    text: &str,
+    source: &str,
+    overrides: Vec<String>,
+    gyr: numpy::PyReadonlyArray2<'py, f64>,
+    acc: numpy::PyReadonlyArray2<'py, f64>,
+    mag: numpy::PyReadonlyArray2<'py, f64>,
+    step_s: f64,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    use numpy::IntoPyArray;
+    let rows = |name: &str, a: &numpy::PyReadonlyArray2<'py, f64>| -> PyResult<Vec<[f64; 3]>> {
+        let v = a.as_array();
+        if v.ncols() != 3 {
+            return Err(to_py(sins_core::Error::Input(format!("{name}: shape {:?}, expected (n, 3)", v.shape()))));
+        }
+        Ok(v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
+    };
+    let (g, a, m) = (rows("gyr", &gyr)?, rows("acc", &acc)?, rows("mag", &mag)?);
+    let profile = guard(|| Profile::from_toml(text, source, &overrides))?.map_err(to_py)?;
+    let q = py
+        .detach(|| guard(|| sins_core::firmware::dcm_run_samples(&profile.firmware.dcm, step_s, &g, &a, &m)))?
+        .map_err(to_py)?;
+    let n = q.len();
+    let array = numpy::ndarray::Array2::from_shape_vec((n, 4), q.into_flattened())
+        .unwrap_or_else(|_| unreachable!("rows have 4 values"));
+    Ok(array.into_pyarray(py))
+}
+
 /// The event kinds (`sins_core::events::KINDS`) as dicts: name, severity, source, spi_rule, meaning.
 fn event_kinds(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     sins_core::events::KINDS
@@ -201,6 +234,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_selftest_panic, m)?)?;
     m.add_function(wrap_pyfunction!(bench_rk4_lower_bound, m)?)?;
     m.add_function(wrap_pyfunction!(bench_firmware_stages, m)?)?;
+    m.add_function(wrap_pyfunction!(dcm_orientation, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;

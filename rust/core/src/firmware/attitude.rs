@@ -5,9 +5,11 @@
 //! update's inputs ([`StepInputs`]). Adding one: a file with a type implementing the trait, a variant
 //! of `profile::Algorithm` (the profile key `firmware.algorithm`) and one line in [`attitude_update`].
 //!
-//! Registered: RK4 on the quaternion equation (the reference design, `quat.rs`) and the rotation
-//! vector with 1-, 2- or 3-sample coning correction (`rotvec.rs`).
+//! Registered: RK4 on the quaternion equation (the reference design, `quat.rs`), the rotation
+//! vector with 1-, 2- or 3-sample coning correction (`rotvec.rs`) and the direction cosine matrix
+//! with drift cancellation (`dcm.rs`).
 
+use super::dcm::Dcm;
 use super::quat::{body_rate_nav, Rk4};
 use super::rotvec::RotationVector;
 use super::{Mat3, Quat, Vec3};
@@ -15,9 +17,8 @@ use crate::numerics::Scalar;
 use crate::profile::{self, Algorithm};
 use crate::Result;
 
-/// What one attitude update takes. Rates now; the algorithms coming (DCM with drift cancellation,
-/// the wing-angle filter) add their fields here — specific force, magnetic field, aiding (GPS course
-/// and speed) — and the schedule fills the ones the profile's board provides.
+/// What one attitude update takes: the rates, and what the board provides of the references the
+/// fusing algorithms use (the open-loop ones ignore them).
 #[derive(Debug, Clone, Copy)]
 pub struct StepInputs<'a, T> {
     /// ω_ib^b (rad/s) at the update's sample times t, t+T/(n−1), …, t+T (n = `samples_per_update`).
@@ -25,6 +26,28 @@ pub struct StepInputs<'a, T> {
     /// ω_in^n (rad/s), the navigation frame's rotation (earth and transport rate), when the firmware
     /// corrects for it (`firmware.earth_rate`).
     pub nav_rate: Option<Vec3<T>>,
+    /// f^b (m/s²), the latest specific force decoded.
+    pub specific_force: Option<Vec3<T>>,
+    /// The latest magnetic field decoded, body axes (gauss).
+    pub magnetic_field: Option<Vec3<T>>,
+    /// The latest GPS report, when the board has a GPS.
+    pub gps: Option<GpsAiding<T>>,
+}
+
+impl<'a, T> StepInputs<'a, T> {
+    /// Rates only (and the navigation frame's rate): what the open-loop algorithms take.
+    pub fn rates(rates: &'a [Vec3<T>], nav_rate: Option<Vec3<T>>) -> Self {
+        StepInputs { rates, nav_rate, specific_force: None, magnetic_field: None, gps: None }
+    }
+}
+
+/// One GPS report as the attitude firmware uses it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpsAiding<T> {
+    /// Ground speed, m/s.
+    pub ground_speed: T,
+    /// Course over ground, rad, clockwise from true north.
+    pub course: T,
 }
 
 /// One attitude algorithm of the firmware.
@@ -35,6 +58,30 @@ pub trait AttitudeUpdate<T: Scalar>: std::fmt::Debug + Send {
     fn step(&mut self, q: &mut Quat<T>, c_bn: &Mat3<T>, inputs: &StepInputs<'_, T>) -> Result<()>;
     /// The attitude was overwritten: forget what the update carries from step to step.
     fn restart(&mut self) {}
+    /// C_b^n as the update holds it, when it carries a matrix of its own (the DCM): the firmware
+    /// uses it rather than the matrix of `q`.
+    fn matrix(&self) -> Option<Mat3<T>> {
+        None
+    }
+    /// The drift-cancellation terms of the last update, when the algorithm has them.
+    fn correction(&self) -> Option<Correction> {
+        None
+    }
+}
+
+/// The drift-cancellation terms of one update (f64 whatever the backend: a report, not firmware state).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Correction {
+    /// ω_P, the proportional correction, rad/s (body axes).
+    pub omega_p: [f64; 3],
+    /// ω_I, the integrator, rad/s (body axes).
+    pub omega_i: [f64; 3],
+    /// The roll–pitch error vector (body axes).
+    pub error_rp: [f64; 3],
+    /// The yaw error vector (body axes).
+    pub error_yaw: [f64; 3],
+    /// |R·Rᵀ − I| (largest element) after renormalisation.
+    pub orthogonality: f64,
 }
 
 /// The registry: the update of `firmware.algorithm`, for an update period of `step_s` seconds.
@@ -44,6 +91,7 @@ pub fn attitude_update<T: Scalar>(fw: &profile::Firmware, step_s: f64) -> Box<dy
         Algorithm::RotationVector => {
             Box::new(RotationVector::<T>::new(fw.coning_samples as usize, fw.increment_rule, step_s))
         }
+        Algorithm::Dcm => Box::new(Dcm::<T>::new(&fw.dcm, step_s)),
     }
 }
 

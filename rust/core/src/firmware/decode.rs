@@ -33,6 +33,8 @@ pub const PUBLISHED_GYRO_LSB_DPS: f64 = 0.05;
 pub const ACCEL_LSB_G: f64 = 3.333e-3;
 
 const VALID_BITS_MASK: u16 = 0x3FFF;
+/// X/Y/ZMAGN_OUT: 14-bit two's complement, 0.5 mgauss per LSB (adis16407.md).
+pub const MAG_LSB_GAUSS: f64 = 0.0005;
 const SATURATED_POSITIVE: u16 = 0x1FFF;
 const SATURATED_NEGATIVE: u16 = 0x2000;
 /// Published range tests: (positive upper bound, negative lower bound) of the 14-bit code: ±300 °/s
@@ -246,6 +248,18 @@ impl<T: Scalar> Decoder<T> {
         }
     }
 
+    /// Decode X/Y/Z MAGN_OUT (burst words 8…10): mask the 14 valid bits, sign-extend, × 0.5 mgauss;
+    /// gauss. The LSB is a constant in the finest Q that holds the full scale (±4.096 gauss), so the
+    /// integer product loses nothing before it lands in the specific-force class.
+    pub fn decode_magnetometer(&self, words: &[u16; 3]) -> Vec3<T> {
+        let lsb = T::from_f64_range(MAG_LSB_GAUSS, MAG_LSB_GAUSS * FULL_SCALE_CODE);
+        words.map(|w| {
+            let code = (w & VALID_BITS_MASK) as i32;
+            let signed = if code >= 0x2000 { code - 0x4000 } else { code };
+            lsb.mul_i32(signed).to_class(QClass::Accel)
+        })
+    }
+
     /// Decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (burst words 2…7).
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
         let codes = words.map(|w| w & VALID_BITS_MASK);
@@ -443,5 +457,23 @@ mod tests {
         let device = Device { sens_avg: 0x0302, ..Device::default() };
         let e = Decoder::<f64>::new(&device, &FirmwareProfile::default()).unwrap_err();
         assert!(e.to_string().contains("SENS_AVG"), "{e}");
+    }
+
+    #[test]
+    fn magnetometer_words_are_14_bit_half_milligauss() {
+        let d = Decoder::<f64>::new(&crate::profile::Device::default(), &crate::profile::Firmware::default()).unwrap();
+        // 1000 = 0.5 gauss; 0x3C18 = −1000; ND/EA flags (bits 15, 14) ignored; full scale 0x1FFF / 0x2000.
+        assert_eq!(d.decode_magnetometer(&[1000, 0x3C18, 0xC000 | 1000]), [0.5, -0.5, 0.5]);
+        assert_eq!(d.decode_magnetometer(&[0x1FFF, 0x2000, 0]), [8191.0 * 0.0005, -4.096, 0.0]);
+        let q = Decoder::<crate::numerics::Iq>::new(
+            &crate::profile::Device::default(),
+            &crate::profile::Firmware::default(),
+        )
+        .unwrap()
+        .decode_magnetometer(&[1000, 0x3C18, 1]);
+        // IQ: the LSB truncated into Q28 (the finest Q holding ±4.096), the product floored into Q20.
+        let lsb = (0.0005 * 2f64.powi(28)).trunc() / 2f64.powi(28);
+        let expected = [1000.0, -1000.0, 1.0].map(|c: f64| (lsb * c * 2f64.powi(20)).floor() / 2f64.powi(20));
+        assert_eq!(q.map(|x| x.to_f64()), expected);
     }
 }

@@ -96,6 +96,20 @@ impl<T: Scalar> Isr<T> {
                 FIRST_INERTIAL + 6
             )));
         }
+        // X/Y/Z MAGN_OUT right after the six inertial words (burst words 8…10), by register name: the
+        // ADIS16362 shifts X/Y/ZTEMP_OUT out at the same addresses.
+        let part = profile.device.part_decl()?;
+        let name_of = |addr: u8| part.registers.iter().find(|r| r.addr == addr).map(|r| r.name);
+        let magnetometer_words = part.burst.get(FIRST_INERTIAL + 5..FIRST_INERTIAL + 8).is_some_and(|a| {
+            a.iter().zip(["XMAGN_OUT", "YMAGN_OUT", "ZMAGN_OUT"]).all(|(&addr, want)| name_of(addr) == Some(want))
+        });
+        if fw.uses_magnetometer() && !magnetometer_words {
+            return Err(Error::Profile(format!(
+                "key `firmware.dcm.yaw_reference` = \"magnetometer\": the {} burst carries no X/Y/Z MAGN_OUT \
+                 (expected \"gps\" or \"none\" on this part)",
+                profile.device.part
+            )));
+        }
         Ok(Isr {
             fw,
             stages,
@@ -221,6 +235,9 @@ impl<T: Scalar> Isr<T> {
         for b in 0..bursts.len() {
             let inertial: [u16; 6] = std::array::from_fn(|i| bursts[b].words[FIRST_INERTIAL + i]);
             let d = self.fw.decode(&inertial);
+            if self.fw.uses_magnetometer() {
+                self.fw.decode_magnetometer(&std::array::from_fn(|i| bursts[b].words[FIRST_INERTIAL + 6 + i]));
+            }
             if !d.report.is_clean() {
                 d.report.push_events(board.ps(c), &inertial, &mut self.events);
             }

@@ -13,6 +13,7 @@
 mod acceptance;
 mod align;
 pub mod attitude;
+mod dcm;
 mod decode;
 mod euler;
 pub mod isr;
@@ -24,7 +25,8 @@ mod state;
 pub mod state_check;
 
 pub use align::{level_attitude, LevelAligner};
-pub use attitude::{attitude_update, samples_per_update, AttitudeUpdate, StepInputs};
+pub use attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, StepInputs};
+pub use dcm::{attitude_from_acc_mag, run_samples as dcm_run_samples, Dcm};
 pub use decode::{gyro_lsb_dps, DecodeReport, Decoded, Decoder, ACCEL_LSB_G, PUBLISHED_GYRO_LSB_DPS};
 pub use euler::{euler_to_quat, EulerAngles, EulerExtractor};
 pub use nav::{EarthModel, EarthRates, NavState, SOMIGLIANA_K};

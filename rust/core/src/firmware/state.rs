@@ -4,7 +4,7 @@
 //! allocates.
 
 use super::align::{level_attitude, LevelAligner};
-use super::attitude::{attitude_update, samples_per_update, AttitudeUpdate, StepInputs};
+use super::attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, StepInputs};
 use super::decode::{Decoded, Decoder};
 use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
@@ -42,6 +42,12 @@ pub struct Firmware<T: Scalar> {
     c_bn: Mat3<T>,
     nav: NavState<T>,
     aligner: LevelAligner<T>,
+    /// The latest specific force decoded (the DCM's roll–pitch reference).
+    last_accel: Option<Vec3<T>>,
+    /// The algorithm takes the magnetic field (the DCM with `yaw_reference = "magnetometer"`).
+    uses_magnetometer: bool,
+    /// The latest magnetic field decoded, gauss.
+    last_mag: Option<Vec3<T>>,
 }
 
 impl<T: Scalar> Firmware<T> {
@@ -60,6 +66,8 @@ impl<T: Scalar> Firmware<T> {
             return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
         }
         let q: Quat<T> = [lit(1.0), lit(0.0), lit(0.0), lit(0.0)];
+        let uses_magnetometer = fw.algorithm == crate::profile::Algorithm::Dcm
+            && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer;
         Ok(Firmware {
             attitude: attitude_update(fw, step_s),
             earth_rate: fw.earth_rate,
@@ -75,6 +83,10 @@ impl<T: Scalar> Firmware<T> {
             c_bn: dcm(&q),
             nav: NavState::from_profile(&profile.navigation),
             aligner: LevelAligner::default(),
+            last_accel: None,
+            uses_magnetometer,
+            // The firmware's field variable before the first read: zero, as a C global starts.
+            last_mag: uses_magnetometer.then_some([lit(0.0); 3]),
         })
     }
 
@@ -91,7 +103,21 @@ impl<T: Scalar> Firmware<T> {
 
     /// Stage 1: decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT.
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
-        self.decoder.decode(words)
+        let d = self.decoder.decode(words);
+        self.last_accel = Some(d.accel);
+        d
+    }
+
+    /// Whether the attitude algorithm takes the magnetic field (then the ISR decodes X/Y/Z MAGN_OUT).
+    pub fn uses_magnetometer(&self) -> bool {
+        self.uses_magnetometer
+    }
+
+    /// Decode X/Y/Z MAGN_OUT for the attitude update.
+    pub fn decode_magnetometer(&mut self, words: &[u16; 3]) -> Vec3<T> {
+        let m = self.decoder.decode_magnetometer(words);
+        self.last_mag = Some(m);
+        m
     }
 
     /// Earth and transport rates at the current navigation state.
@@ -103,9 +129,19 @@ impl<T: Scalar> Firmware<T> {
     /// navigation frame's rate when the profile corrects for it.
     pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
         let nav_rate = if self.earth_rate { Some(self.earth_rates().w_in()) } else { None };
-        self.attitude.step(&mut self.q, &self.c_bn, &StepInputs { rates, nav_rate })?;
-        self.c_bn = dcm(&self.q);
+        let inputs = StepInputs {
+            specific_force: self.last_accel,
+            magnetic_field: self.last_mag,
+            ..StepInputs::rates(rates, nav_rate)
+        };
+        self.attitude.step(&mut self.q, &self.c_bn, &inputs)?;
+        self.c_bn = self.attitude.matrix().unwrap_or_else(|| dcm(&self.q));
         Ok(())
+    }
+
+    /// The drift-cancellation terms of the last attitude update (DCM), None for the open-loop ones.
+    pub fn correction(&self) -> Option<Correction> {
+        self.attitude.correction()
     }
 
     /// Stage 3: Euler angles of the current attitude (radians).

@@ -522,6 +522,72 @@ pub enum Algorithm {
     Rk4,
     /// Rotation vector with 1-, 2- or 3-sample coning correction.
     RotationVector,
+    /// Direction cosine matrix with drift cancellation (`[firmware.dcm]`).
+    Dcm,
+}
+
+/// The yaw reference of the DCM's drift cancellation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum YawReference {
+    /// The magnetometer, projected to the horizontal with the current attitude.
+    Magnetometer,
+    /// The GPS course over ground.
+    Gps,
+    /// None: yaw integrates the gyros open loop.
+    None,
+}
+
+/// The DCM with drift cancellation (algorithms.md §2): one PI controller on the weighted roll–pitch and
+/// yaw errors. No gains are published; the defaults are this model's [unconfirmed: chosen, see
+/// `firmware_model/SCHEMA.md`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Dcm {
+    /// Proportional gain K_P, 1/s.
+    pub kp: f64,
+    /// Integral gain K_I, 1/s².
+    pub ki: f64,
+    /// Weight of the roll–pitch (accelerometer) error.
+    pub w_rp: f64,
+    /// Weight of the yaw error.
+    pub w_yaw: f64,
+    /// Where the yaw error comes from.
+    pub yaw_reference: YawReference,
+    /// Subtract the centripetal acceleration ω × [V, 0, 0] (V: GPS ground speed) from the accelerometer.
+    pub centripetal: bool,
+    /// Each component of the integrator ω_I is held within ± this, °/s.
+    pub integrator_limit_dps: f64,
+    /// Magnetic declination (the horizontal field's azimuth east of true north), degrees.
+    pub declination_deg: f64,
+}
+
+impl Default for Dcm {
+    fn default() -> Self {
+        Dcm {
+            kp: 0.2,
+            ki: 0.0087,
+            w_rp: 1.0,
+            w_yaw: 1.0,
+            yaw_reference: YawReference::None,
+            centripetal: false,
+            integrator_limit_dps: 5.0,
+            declination_deg: 0.0,
+        }
+    }
+}
+
+impl Dcm {
+    pub(crate) fn validate(&self) -> Result<()> {
+        check_nonneg("firmware.dcm.kp", self.kp)?;
+        check_nonneg("firmware.dcm.ki", self.ki)?;
+        check_nonneg("firmware.dcm.w_rp", self.w_rp)?;
+        check_nonneg("firmware.dcm.w_yaw", self.w_yaw)?;
+        // ω_I is held in the direction-cosine class (Q30 under IQ: |x| < 2 rad/s = 114.6 °/s).
+        check_range("firmware.dcm.integrator_limit_dps", self.integrator_limit_dps, 0.0, 90.0, "0…90 °/s")?;
+        check_range("firmware.dcm.declination_deg", self.declination_deg, -180.0, 180.0, "−180…180 degrees")?;
+        Ok(())
+    }
 }
 
 /// The numeric backend the firmware arithmetic runs in.
@@ -641,6 +707,8 @@ pub struct Firmware {
     /// The firmware's g → m/s² factor for decoded accelerations [unconfirmed: the conversion is
     /// not published; 9.80665 is the standard gravity the data sheet's g means].
     pub accel_g_m_s2: f64,
+    /// The DCM algorithm's gains and references (`firmware.algorithm` = "dcm").
+    pub dcm: Dcm,
 }
 
 impl Default for Firmware {
@@ -663,6 +731,7 @@ impl Default for Firmware {
             navigation: true,
             quat_derivative: QuatDerivative::Correct,
             accel_g_m_s2: 9.80665,
+            dcm: Dcm::default(),
         }
     }
 }
@@ -685,6 +754,7 @@ impl Firmware {
             )));
         }
         check_range("firmware.accel_g_m_s2", self.accel_g_m_s2, 1.0, 100.0, "1…100 m/s² per g")?;
+        self.dcm.validate()?;
         Ok(())
     }
 }
