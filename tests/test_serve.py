@@ -218,3 +218,36 @@ def test_a_port_in_use_is_refused_before_any_work(tmp_path):
     assert r.returncode == 2, r.stderr
     assert f"--port {port}: cannot listen on 127.0.0.1:{port}" in r.stderr
     assert "Traceback" not in r.stderr and r.stdout == ""
+
+
+def test_the_viewer_does_not_outlive_a_killed_command(tmp_path):
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sins_fw", "replay", str(TRACE), "--serve", "--port", "0", "--grpc-port", "0"],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if URL.search(line):
+            break
+    children = [
+        int(p.name)
+        for p in Path("/proc").iterdir()
+        if p.name.isdigit()
+        and (p / "stat").exists()
+        and (p / "stat").read_text().split(") ")[-1].split()[1] == str(proc.pid)
+    ]
+    assert children, "the viewer process was not found"
+    proc.kill()  # SIGKILL: sins-fw cannot clean up
+    proc.wait()
+    deadline = time.monotonic() + 10
+    while any(Path(f"/proc/{c}").exists() for c in children) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    alive = [
+        c
+        for c in children
+        if Path(f"/proc/{c}/stat").exists() and " Z " not in Path(f"/proc/{c}/stat").read_text()
+    ]
+    assert not alive, alive

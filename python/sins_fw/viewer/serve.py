@@ -9,8 +9,11 @@ servers have no authentication).
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import signal
 import socket
 import subprocess
+import sys
 import time
 import urllib.parse
 from collections.abc import Callable
@@ -59,6 +62,12 @@ def _listening(host: str, port: int) -> bool:
     return False
 
 
+def _die_with_parent() -> None:
+    """In the viewer's process, before it starts (Linux): be sent SIGTERM when sins-fw ends, even
+    when it is killed outright, so that no server outlives the command that started it."""
+    ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # 1 = PR_SET_PDEATHSIG
+
+
 def serve(
     recording: Path,
     *,
@@ -86,7 +95,13 @@ def serve(
         str(recording),
     ]
     host = "127.0.0.1" if bind in ("127.0.0.1", "0.0.0.0", "::") else bind
-    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        cmd,
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        preexec_fn=_die_with_parent if sys.platform.startswith("linux") else None,
+    )
     try:
         deadline = time.monotonic() + START_TIMEOUT_S
         while not (_listening(host, web_port) and _listening(host, grpc_port)):

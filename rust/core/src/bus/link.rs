@@ -548,10 +548,12 @@ impl SpiSlave for ChipSelects {
 }
 
 /// The wait of [`Link::transfer`]'s SPI driver after CS↓, between a frame's INT_FLAG and the next
-/// write, and before CS↑: 10 µs, above the ADIS16xxx family's t_STALL (9 µs) and its CS set-up
-/// and hold times. A choice of this generic driver, not a hardware figure: the acquisition ISR,
-/// which counts its own CPU cycles, drives SPI-A through its registers instead.
-pub const DRIVER_WAIT_PS: Ps = 10_000_000;
+/// write, and before CS↑: 40 µs, so that frames outside a burst keep the ADIS16xxx family's
+/// tDATARATE (40 µs first edge to first edge, [unconfirmed] for the ADIS16407) at any SCLK, and
+/// above its t_STALL (9 µs) and CS set-up and hold times. A choice of this generic driver, not a
+/// hardware figure: the acquisition ISR, which counts its own CPU cycles, drives SPI-A through its
+/// registers instead.
+pub const DRIVER_WAIT_PS: Ps = 40_000_000;
 
 /// SPI-A as a [`Link`]: CS↓ at `t`, each word written to SPITXBUF [`DRIVER_WAIT_PS`] after the
 /// previous step, read at its INT_FLAG time, CS↑ [`DRIVER_WAIT_PS`] after the last read.
