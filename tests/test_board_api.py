@@ -9,7 +9,7 @@ from sins_fw import adis16407
 from sins_fw.board import Board
 from sins_fw.errors import RegisterError, TraceError
 
-STALL = 10e-6  # > t_STALL = 9 µs between normal frames
+STALL = 40e-6  # frames outside a burst: ≥ tDATARATE (40 µs first edge to first edge; t_STALL is 9 µs)
 BURST_GAP = 2e-6  # > one SCLK period (1.333 µs at 0.75 MHz) inside a burst
 
 
