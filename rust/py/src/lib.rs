@@ -158,6 +158,7 @@ fn bench_firmware_stages(
 /// (rad/s), specific force (m/s²) and magnetic field, n×3 each, `step_s` apart. Returns the
 /// quaternions (n×4, C_b^n, ENU), the first from the first accelerometer and magnetometer sample.
 #[pyfunction]
+#[allow(clippy::too_many_arguments)] // the Python call's arguments, one per array and the profile
 fn dcm_orientation<'py>(
     py: Python<'py>,
     text: &str,
