@@ -41,9 +41,8 @@ def _loopback_only(port: int) -> bool:
     return bool(found) and all(a == "0100007F" for a in found)
 
 
-@pytest.fixture(scope="module")
-def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, object]]:
-    tmp = tmp_path_factory.mktemp("serve")
+def _start_serving(tmp: Path) -> tuple[subprocess.Popen[str], str]:
+    """`sins-fw replay TRACE --serve` on free ports, as a user starts it, and the address it prints."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "sins_fw", "replay", str(TRACE), "--serve", "--port", "0", "--grpc-port", "0"],
         cwd=tmp,
@@ -64,6 +63,13 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, objec
         if m := URL.search(line):
             url = m.group(1)
     assert url is not None, ("".join(lines), proc.stderr.read() if proc.poll() is not None else "")
+    return proc, url
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, object]]:
+    tmp = tmp_path_factory.mktemp("serve")
+    proc, url = _start_serving(tmp)
     try:
         yield {"proc": proc, "url": url, "tmp": tmp}
     finally:
@@ -221,17 +227,7 @@ def test_a_port_in_use_is_refused_before_any_work(tmp_path):
 
 
 def test_the_viewer_does_not_outlive_a_killed_command(tmp_path):
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "sins_fw", "replay", str(TRACE), "--serve", "--port", "0", "--grpc-port", "0"],
-        cwd=tmp_path,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.DEVNULL,
-        text=True,
-    )
-    assert proc.stdout is not None
-    for line in proc.stdout:
-        if URL.search(line):
-            break
+    proc, _ = _start_serving(tmp_path)
     children = [
         int(p.name)
         for p in Path("/proc").iterdir()

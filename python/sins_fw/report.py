@@ -61,7 +61,12 @@ def budget_summary(run: Run) -> dict[str, Any]:
     """The run's time budget: the flat view `sins-fw run` prints of :func:`sins_fw.budget.summarise`
     (ISR utilisation of the tick period, overruns, skipped ticks, SPI violations), plus that full
     summary under ``detail``."""
-    full = budget.summarise(run)
+    return flat_budget(budget.summarise(run))
+
+
+def flat_budget(full: dict[str, Any]) -> dict[str, Any]:
+    """The flat view of a full budget summary (:func:`sins_fw.budget.summarise`'s keys), with the
+    full one under ``detail``: what a whole run and a streamed one both report."""
     return {
         "ticks": full["ticks"],
         "tick_period_s": full["tick_period_s"],

@@ -551,7 +551,7 @@ class RunSummary:
         ]
 
     def result(self, *, trace: str = "", t0_s: float = 0.0, stage_cycles: dict[str, int]) -> dict[str, Any]:
-        from sins_fw.report import is_spi_violation
+        from sins_fw.report import flat_budget
 
         full = self.budget.result(self.violations())
         return {
@@ -564,18 +564,7 @@ class RunSummary:
             "trace_t0_s": t0_s,
             "events": {"total": self.events_total, "by_kind": dict(sorted(self.kinds.items()))},
             "attitude_error": self.attitude.result(self.cycles),
-            "budget": {
-                "ticks": full["ticks"],
-                "tick_period_s": full["tick_period_s"],
-                "isr_max_s": full["busy"]["max"],
-                "isr_mean_s": full["busy"]["mean"],
-                "utilisation_max": full["utilisation"]["max"],
-                "utilisation_mean": full["utilisation"]["mean"],
-                "overruns": full["overruns"]["count"],
-                "ticks_skipped": len(full["overruns"]["skipped_ticks"]),
-                "spi_violations": sum(v["count"] for v in full["violations"] if is_spi_violation(v["kind"])),
-                "detail": full,
-            },
+            "budget": flat_budget(full),
             "stage_cycles": dict(stage_cycles),
         }
 

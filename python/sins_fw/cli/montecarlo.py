@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -156,12 +157,29 @@ def run(args: argparse.Namespace) -> int:
                     f"p5 {p['p5']:{sign}.4f}  p50 {p['p50']:{sign}.4f}  p95 {p['p95']:{sign}.4f}"
                 )
     outcomes = [o for d in dists.values() for o in d.outcomes]
+    title = f"sins-fw montecarlo {args.scenario}: {args.runs} realisations of `{args.errors}` per case"
+    return write_and_emit(
+        args, report, lines, outcomes, lambda path: sweep.plot_bands(dists, path, title), warning
+    )
+
+
+def write_and_emit(
+    args: argparse.Namespace,
+    report: dict[str, Any],
+    lines: list[str],
+    outcomes: list[mc.Outcome],
+    plot: Callable[[Path], Path],
+    warning: str | None,
+) -> int:
+    """The end `montecarlo` and `sweep` share: the per-run tables (--out) and the picture (--plot,
+    drawn by ``plot``) written, the warning said, the report printed."""
+    from sins_fw import sweep
+
     written = []
     if args.out is not None:
         written += sweep.write_tables(args.out, outcomes)
     if args.plot is not None:
-        title = f"sins-fw montecarlo {args.scenario}: {args.runs} realisations of `{args.errors}` per case"
-        written.append(sweep.plot_bands(dists, args.plot, title))
+        written.append(plot(args.plot))
     report["written"] = [str(p) for p in written]
     lines += [f"wrote {p}" for p in written]
     if warning:

@@ -13,13 +13,18 @@ from typing import Any
 from sins_fw import montecarlo as mc
 from sins_fw import sweep, synth
 from sins_fw.cli.common import (
-    emit,
     engine_from_args,
     exit_epilog,
     profile_from_args,
     run_progress,
 )
-from sins_fw.cli.montecarlo import EXPLAINED, add_realisation_options, check_plot, scenario_case
+from sins_fw.cli.montecarlo import (
+    EXPLAINED,
+    add_realisation_options,
+    check_plot,
+    scenario_case,
+    write_and_emit,
+)
 from sins_fw.errors import InputError
 
 EXAMPLES = """\
@@ -110,16 +115,9 @@ def run(args: argparse.Namespace) -> int:
                 f"{row['scenario']}  {row['point']}  {row['error']:<11} error at the end °: "
                 f"p5 {row['p5_deg']:.4f}  p50 {row['p50_deg']:.4f}  p95 {row['p95_deg']:.4f}"
             )
-    written = []
-    if args.out is not None:
-        written += sweep.write_tables(args.out, outcomes)
-    if args.plot is not None:
-        names = " ".join(report["scenarios"])
-        title = f"sins-fw sweep {names}: {runs_per_point} seeds of `{args.errors}` per point"
-        written.append(sweep.plot_sweep(outcomes, args.plot, title))
-    report["written"] = [str(p) for p in written]
-    lines += [f"wrote {p}" for p in written]
-    if warning:
-        print(f"sins-fw: warning: {warning}", file=sys.stderr)
-    emit(args, report, "\n".join(lines))
-    return 0
+    title = (
+        f"sins-fw sweep {' '.join(report['scenarios'])}: {runs_per_point} seeds of `{args.errors}` per point"
+    )
+    return write_and_emit(
+        args, report, lines, outcomes, lambda path: sweep.plot_sweep(outcomes, path, title), warning
+    )
