@@ -16,8 +16,6 @@ the heading error includes the site's declination against the optical ENU, for e
 from __future__ import annotations
 
 import argparse
-import platform
-import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,6 +24,7 @@ import numpy as np
 
 from sins_fw import _core, metrics
 from sins_fw import quaternion as quat
+from sins_fw.bench import machine
 from sins_fw.broad import import_broad
 from sins_fw.earth import G0
 from sins_fw.errors import InputError
@@ -85,9 +84,8 @@ def load_trials(folder: Path) -> list[Trial]:
 def errors_deg(q_est: np.ndarray, q_truth: np.ndarray, moving: np.ndarray) -> dict[str, float]:
     """Inclination, heading and total RMSE (degrees) over the moving samples with a valid truth
     (sins_fw.metrics: the dataset's definitions in well-conditioned forms)."""
-    keep = metrics.valid_mask(q_truth, moving)
-    e = metrics.attitude_errors(q_est[keep], q_truth[keep])
-    return {k: float(np.sqrt(np.mean(getattr(e, k) ** 2))) for k in ("inclination", "heading", "total")}
+    a = metrics.accuracy(q_est, q_truth, moving)
+    return {"inclination": a.rmse_inclination_deg, "heading": a.rmse_heading_deg, "total": a.rmse_total_deg}
 
 
 def dcm_quats(trial: Trial, overrides: tuple[str, ...] = TUNED) -> np.ndarray:
@@ -223,20 +221,6 @@ def table(report: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def machine() -> dict[str, str]:
-    try:
-        commit = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False
-        ).stdout.strip()
-    except OSError:
-        commit = ""
-    return {
-        "machine": f"{platform.machine()} {platform.processor() or ''}".strip(),
-        "python": platform.python_version(),
-        "commit": commit,
-    }
-
-
 def register(sub: argparse._SubParsersAction) -> None:
     from sins_fw.cli.common import add_json_option, exit_epilog
 
@@ -266,6 +250,6 @@ def run(args: argparse.Namespace) -> int:
 
     overrides = tuple(args.overrides) if args.overrides else TUNED
     report = evaluate(args.folder, overrides, baselines=not args.no_baselines, board=args.board)
-    report["machine"] = machine()
+    report["machine"] = machine()  # the benchmarks' one (sins_fw.bench)
     emit(args, report, table(report))
     return 0
