@@ -42,18 +42,11 @@ def is_spi_violation(kind: str) -> bool:
 
 def events_summary(run: Run) -> dict[str, Any]:
     """Count per kind with the first occurrence (time, severity, message)."""
+    from sins_fw.report_stream import tally_event
+
     kinds: dict[str, dict[str, Any]] = {}
     for e in run.events:  # in time order
-        k = kinds.get(e["kind"])
-        if k is None:
-            kinds[e["kind"]] = {
-                "count": 1,
-                "severity": e["severity"],
-                "first_t_s": e["t_s"],
-                "first_message": e["message"],
-            }
-        else:
-            k["count"] += 1
+        tally_event(kinds, e)
     return {"total": len(run.events), "by_kind": dict(sorted(kinds.items()))}
 
 

@@ -509,16 +509,7 @@ class RunSummary:
     def add_events(self, events: list[dict[str, Any]]) -> None:
         """Events in time order (those of a part, or extra ones such as a trace's gaps)."""
         for e in events:
-            k = self.kinds.get(e["kind"])
-            if k is None:
-                self.kinds[e["kind"]] = {
-                    "count": 1,
-                    "severity": e["severity"],
-                    "first_t_s": e["t_s"],
-                    "first_message": e["message"],
-                }
-            else:
-                k["count"] += 1
+            tally_event(self.kinds, e)
             if e["severity"] == "error":
                 v = self.errors.get(e["kind"])
                 if v is None:
@@ -567,6 +558,21 @@ class RunSummary:
             "budget": flat_budget(full),
             "stage_cycles": dict(stage_cycles),
         }
+
+
+def tally_event(kinds: dict[str, dict[str, Any]], e: dict[str, Any]) -> None:
+    """Count event ``e`` in ``kinds`` (kind → count and the first occurrence's time, severity and
+    message), events coming in time order."""
+    k = kinds.get(e["kind"])
+    if k is None:
+        kinds[e["kind"]] = {
+            "count": 1,
+            "severity": e["severity"],
+            "first_t_s": e["t_s"],
+            "first_message": e["message"],
+        }
+    else:
+        k["count"] += 1
 
 
 def run_part(run: Any) -> dict[str, Any]:
