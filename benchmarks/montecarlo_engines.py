@@ -37,6 +37,14 @@ def empty_job(job: mc.Job, trace: Any) -> None:
     """A job that does nothing: what is left is the engine's own cost per task."""
 
 
+def cpu_timed_job(job: mc.Job, trace: Any) -> tuple[mc.Outcome, float]:
+    """``run_job`` and the CPU seconds the worker's thread spent on it: what a realisation costs
+    where it runs, apart from the engine around it."""
+    t0 = time.thread_time()
+    outcome = mc.run_job(job, trace)
+    return outcome, time.thread_time() - t0
+
+
 def cpu_model() -> str:
     for line in Path("/proc/cpuinfo").read_text().splitlines():
         if line.startswith("model name"):
@@ -49,12 +57,20 @@ def commit() -> str:
     return r.stdout.strip() or "unknown"
 
 
-def timed(engine: Any, fn: Any, jobs: list[mc.Job], traces: dict[str, Any]) -> float:
+def timed(engine: Any, fn: Any, jobs: list[mc.Job], traces: dict[str, Any]) -> tuple[float, float, float]:
+    """Wall seconds of the round, the CPU seconds its jobs took in the workers (for
+    :func:`cpu_timed_job`; 0 otherwise) and the CPU seconds of this driving process (all its
+    threads: the pool's feeder, Dask's client and, for a local cluster, its scheduler)."""
+    jobs_cpu = 0.0
+    c0 = time.process_time()
     t0 = time.perf_counter()
     for item in engine.run(fn, jobs, traces):
         if isinstance(item, mc.Failure):
             raise RuntimeError(f"{item.key}: {item.error}")
-    return time.perf_counter() - t0
+        if isinstance(item, tuple):
+            jobs_cpu += item[1]
+    wall = time.perf_counter() - t0
+    return wall, jobs_cpu, time.process_time() - c0
 
 
 def main() -> None:
@@ -79,15 +95,20 @@ def main() -> None:
         "dask 2": mc.DaskEngine(local_workers=2),
     }
     walls: dict[str, list[float]] = {name: [] for name in engines}
+    job_cpu: dict[str, list[float]] = {name: [] for name in engines}
+    driver_cpu: dict[str, list[float]] = {name: [] for name in engines}
     overhead: dict[str, float] = {}
     try:
         for engine in engines.values():  # warm-up: imports, the scattered trace, the workers' caches
-            timed(engine, mc.run_job, jobs[:4], traces)
+            timed(engine, cpu_timed_job, jobs[:4], traces)
         for _ in range(args.rounds):
             for name, engine in engines.items():
-                walls[name].append(timed(engine, mc.run_job, jobs, traces))
+                wall, cpu, driver = timed(engine, cpu_timed_job, jobs, traces)
+                walls[name].append(wall)
+                job_cpu[name].append(cpu / len(jobs))
+                driver_cpu[name].append(driver)
         for name in ("local 2", "dask 1", "dask 2"):
-            overhead[name] = timed(engines[name], empty_job, empties, traces) / len(empties)
+            overhead[name] = timed(engines[name], empty_job, empties, traces)[0] / len(empties)
     finally:
         for engine in engines.values():
             engine.close()
@@ -124,6 +145,34 @@ def main() -> None:
     ]
     for kind, s in scaling.items():
         lines.append(f"| {kind} | {s:.2f}× | {TARGET_SCALING}× | {'yes' if s >= TARGET_SCALING else 'no'} |")
+    cpu1 = {kind: statistics.median(job_cpu[f"{kind} 1"]) for kind in ("local", "dask")}
+    cpu2 = {kind: statistics.median(job_cpu[f"{kind} 2"]) for kind in ("local", "dask")}
+    lines += [
+        "",
+        "Where the time goes. *CPU per realisation* is the worker thread's CPU time for one `run_job`",
+        "(median over rounds of the round's mean): if two workers side by side make each realisation",
+        "cost more CPU than one alone, the machine itself (shared caches, memory bandwidth, the",
+        "hypervisor) caps the scaling at the ratio of the two, whatever the engine does. *Driving",
+        "process CPU* is this process's CPU time over a round, all threads (for local 1 it includes the",
+        "realisations themselves, which run in it).",
+        "",
+        "| engine | workers | CPU per realisation, ms | driving process CPU per round, s |",
+        "|---|---:|---:|---:|",
+    ]
+    for name in walls:
+        kind, n = name.split()
+        lines.append(
+            f"| {kind} | {n} | {1e3 * statistics.median(job_cpu[name]):.1f} "
+            f"| {statistics.median(driver_cpu[name]):.3f} |"
+        )
+    lines += [""]
+    for kind in ("local", "dask"):
+        ceiling = 2.0 * cpu1[kind] / cpu2[kind]
+        lines.append(
+            f"- {kind}: a realisation costs {cpu2[kind] / cpu1[kind]:.3f}× the CPU with two workers side by "
+            f"side, so the work alone caps the scaling at {ceiling:.2f}×; the engine reaches "
+            f"{scaling[kind]:.2f}× ({100 * scaling[kind] / ceiling:.0f} % of that cap)."
+        )
     lines += [
         "",
         f"Per-task overhead (an empty job, {args.empty} of them; wall time per job, workers sharing them):",
