@@ -11,6 +11,7 @@ pub use board::{Board, BoardDevice, I2cBus, LinkKind, SciPort, LINKS, SENSOR_CHI
 pub use faults::*;
 pub use sections::*;
 
+use crate::device::GyroRange;
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
@@ -54,6 +55,10 @@ impl Profile {
         for ov in overrides {
             apply_override(&mut table, ov)?;
         }
+        apply_gyro_range(&mut table).map_err(|e| match e {
+            Error::Profile(m) => Error::Profile(format!("{source}: {m}")),
+            other => other,
+        })?;
         fill_part_defaults(&mut table);
         check_keys(&table, source)?;
         let de = toml::Value::Table(table);
@@ -176,6 +181,30 @@ pub fn apply_override(table: &mut toml::Table, ov: &str) -> Result<()> {
     Ok(())
 }
 
+/// `device.gyro_range_dps` (75, 150 or 300), another way to write SENS_AVG's range bits 10:8: it sets
+/// them in `device.sens_avg` (the profile's, or the default 0x0402) and raises M (bits 2:0) to the
+/// range's minimum, as the part does on a write; so `gyro_range_dps = 75` gives 0x0104. The key
+/// is replaced by the `sens_avg` it stands for before the profile is read.
+fn apply_gyro_range(table: &mut toml::Table) -> Result<()> {
+    const KEY: &str = "device.gyro_range_dps";
+    let Some(toml::Value::Table(device)) = table.get_mut("device") else { return Ok(()) };
+    let Some(value) = device.remove("gyro_range_dps") else { return Ok(()) };
+    let dps = value.as_float().or_else(|| value.as_integer().map(|i| i as f64));
+    let range = dps
+        .and_then(|d| GyroRange::from_dps(d).ok())
+        .ok_or_else(|| sections::bad(KEY, &value, "75, 150 or 300 (°/s: SENS_AVG's range bits 10:8)"))?;
+    let sens_avg = match device.get("sens_avg") {
+        Some(v) => v.as_integer().and_then(|i| u32::try_from(i).ok()).ok_or_else(|| {
+            sections::bad("device.sens_avg", v, "a 16-bit register value (with `device.gyro_range_dps`)")
+        })?,
+        None => Device::default().sens_avg,
+    };
+    let m = (sens_avg & 0x7).max(u32::from(crate::device::ModelOptions::default().min_m(range)));
+    let sens_avg = (sens_avg & !0x0707) | u32::from(range.bits()) << 8 | m;
+    device.insert("sens_avg".into(), toml::Value::Integer(i64::from(sens_avg)));
+    Ok(())
+}
+
 /// The TOML value of an override (a bare word is a string); None when the text is more than one
 /// value: a line break followed by more (`9\nkey = 1`), which TOML would read as further keys.
 fn parse_value(raw: &str) -> Option<toml::Value> {
@@ -268,6 +297,24 @@ mod tests {
         let m = rejected(&["clocks.crystal_hz=35000000"]);
         assert!(m.contains("clocks.crystal_hz") && m.contains("clocks.divsel") && m.contains("175 MHz"), "{m}");
         assert!(Profile::from_toml("", "x", &["clocks.pllcr=0".into(), "clocks.divsel=1".into()]).is_ok());
+    }
+
+    #[test]
+    fn gyro_range_dps_writes_sens_avg_range_bits() {
+        let sens = |ov: &[&str]| {
+            let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+            Profile::from_toml("", "x", &ov).map(|p| p.device.sens_avg)
+        };
+        // M raised to the range's minimum (4 with ±75), as the part does on a write.
+        assert_eq!(sens(&["device.gyro_range_dps=75"]).unwrap(), 0x0104);
+        assert_eq!(sens(&["device.gyro_range_dps=150"]).unwrap(), 0x0202);
+        assert_eq!(sens(&["device.gyro_range_dps=300.0"]).unwrap(), 0x0402);
+        // A larger M is kept; the range bits are the alias's.
+        assert_eq!(sens(&["device.sens_avg=0x0406", "device.gyro_range_dps=75"]).unwrap(), 0x0106);
+        let m = rejected(&["device.gyro_range_dps=100"]);
+        assert!(m.contains("device.gyro_range_dps") && m.contains("75, 150 or 300"), "{m}");
+        let m = rejected(&["firmware.gyro_range_dps=120"]);
+        assert!(m.contains("firmware.gyro_range_dps") && m.contains("75, 150 or 300"), "{m}");
     }
 
     #[test]

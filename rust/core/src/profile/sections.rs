@@ -707,6 +707,10 @@ pub struct Firmware {
     /// The firmware's g → m/s² factor for decoded accelerations [unconfirmed: the conversion is
     /// not published; 9.80665 is the standard gravity the data sheet's g means].
     pub accel_g_m_s2: f64,
+    /// The gyro range the published decode was written for, °/s (75, 150 or 300): it scales every
+    /// gyro code by range / 6000 °/s (the 6000 codes its range test accepts), 0.05 °/s for ±300,
+    /// whatever SENS_AVG selects. `decode = "correct"` uses SENS_AVG's range instead.
+    pub gyro_range_dps: f64,
     /// The DCM algorithm's gains and references (`firmware.algorithm` = "dcm").
     pub dcm: Dcm,
 }
@@ -731,6 +735,7 @@ impl Default for Firmware {
             navigation: true,
             quat_derivative: QuatDerivative::Correct,
             accel_g_m_s2: 9.80665,
+            gyro_range_dps: 300.0,
             dcm: Dcm::default(),
         }
     }
@@ -754,6 +759,9 @@ impl Firmware {
             )));
         }
         check_range("firmware.accel_g_m_s2", self.accel_g_m_s2, 1.0, 100.0, "1…100 m/s² per g")?;
+        if GyroRange::from_dps(self.gyro_range_dps).is_err() {
+            return Err(bad("firmware.gyro_range_dps", self.gyro_range_dps, "75, 150 or 300 (°/s)"));
+        }
         self.dcm.validate()?;
         Ok(())
     }
