@@ -153,12 +153,7 @@ impl DecodeReport {
                     format!("{name} = 0x{word:04X}: outside both published ranges, previous value kept"),
                 ));
             } else if self.differs & bit != 0 {
-                log.push(Event::new(
-                    t_ps,
-                    "decode_mismatch",
-                    Severity::Warning,
-                    self.mismatch_message(name, *word),
-                ));
+                log.push(Event::new(t_ps, "decode_mismatch", Severity::Warning, self.mismatch_message(name, *word)));
             }
             if self.saturated & bit != 0 {
                 log.push(Event::new(
@@ -477,7 +472,12 @@ mod tests {
                     let saturated = code == 0x1FFF || code == 0x2000;
                     let differs = stale || (i < 3 && gyro_lsb_differs && code != 0);
                     let bit = |flag: bool| u8::from(flag) << i;
-                    let want = DecodeReport { stale: bit(stale), saturated: bit(saturated), differs: bit(differs), ranges_dps: [0; 2] };
+                    let want = DecodeReport {
+                        stale: bit(stale),
+                        saturated: bit(saturated),
+                        differs: bit(differs),
+                        ranges_dps: [0; 2],
+                    };
                     assert_eq!(r, want, "code 0x{code:04X} on channel {i}");
                 }
             }
