@@ -36,7 +36,7 @@ fmt: $(DEPS)
 	$(BIN)/ruff check --fix python tests benchmarks
 
 bench: $(BUILT)
-	$(BIN)/sins-fw bench --output benchmarks/results.md
+	$(BIN)/sins-fw bench --out benchmarks/results.md
 
 # The abi3 wheel (one file for every CPython >= 3.11 on this platform; the bundled profiles and
 # traces inside): `pip install dist/sins_fw-*.whl` needs no Rust toolchain.

@@ -53,8 +53,8 @@ def main() -> int:
             "synth": [*sins, "synth", "static", "--duration-s", f"{args.duration_s:g}", "--out", str(trace)],
             "run --out": [*sins, "run", str(trace), "--out", str(d / "run.h5")],
             "parity": [*sins, "parity", str(trace), "--json"],
-            "replay": [*sins, "replay", str(trace), "--save", str(d / "r.rrd")],
-            "report": [*sins, "report", str(trace), "--png", str(d / "r.png")],
+            "replay": [*sins, "replay", str(trace), "--out", str(d / "r.rrd")],
+            "report": [*sins, "report", str(trace), "--out", str(d / "r.png")],
             "import": [*sins, "import", "trace", str(trace), "--out", str(d / "copy.h5")],
         }
         rows = []

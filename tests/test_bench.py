@@ -22,7 +22,7 @@ def _positive(x: object) -> bool:
 
 def test_bench_quick_reports_every_figure(tmp_path):
     out = tmp_path / "results.md"
-    r = run_cli("bench", "--quick", "--json", "--output", str(out))
+    r = run_cli("bench", "--quick", "--json", "--out", str(out))
     assert r.code == 0, r.err
     report = json.loads(r.out)
     assert set(report["pipeline"]) == set(CASES)

@@ -39,7 +39,7 @@ def cli_report(*overrides: str, seconds: str | None = None) -> tuple[int, dict]:
     for o in overrides:
         args += ["--set", o]
     if seconds is not None:
-        args += ["--seconds", seconds]
+        args += ["--duration-s", seconds]
     r = run_cli(*args)
     assert r.code in (0, 1), r.err
     return r.code, json.loads(r.out)
@@ -103,7 +103,7 @@ def test_reference_reports_cycle_utilisation_and_no_overruns():
 
 
 def test_text_output_shows_the_tables_and_the_calibration():
-    r = run_cli("budget", "--seconds", "0.1")
+    r = run_cli("budget", "--duration-s", "0.1")
     assert r.code == 0, r.err
     for needle in (
         "one timer tick",
@@ -370,11 +370,11 @@ def test_docs_describe_every_json_key():
 
 def test_plot_writes_a_png(tmp_path):
     out = tmp_path / "budget.png"
-    r = run_cli("budget", "--seconds", "0.05", "--plot", str(out))
+    r = run_cli("budget", "--duration-s", "0.05", "--plot", str(out))
     assert r.code == 0, r.err
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 10_000
 
 
 def test_bad_seconds_is_a_usage_error():
-    r = run_cli("budget", "--seconds", "0")
-    assert r.code == 2 and "--seconds" in r.err and "Traceback" not in r.err
+    r = run_cli("budget", "--duration-s", "0")
+    assert r.code == 2 and "--duration-s" in r.err and "Traceback" not in r.err

@@ -169,7 +169,7 @@ def test_missing_extra_exits_2():
     code = (
         "import sys; sys.modules['distributed'] = None\n"
         "from sins_fw.cli import main\n"
-        "sys.exit(main(['montecarlo', 'static', '--param', 'duration_s=1', '--runs', '1', "
+        "sys.exit(main(['montecarlo', 'static', '--param', 'duration-s=1', '--runs', '1', "
         "'--engine', 'dask', '--local-workers', '1']))"
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=False)
@@ -197,7 +197,7 @@ def _pool_started(pid: int) -> bool:
 
 def test_ctrl_c_cancels_writes_nothing_and_exits_130(tmp_path):
     out = tmp_path / "runs.csv"
-    args = ["montecarlo", "static", "--param", "duration_s=300", "--runs", "400", "--workers", "2"]
+    args = ["montecarlo", "static", "--param", "duration-s=300", "--runs", "400", "--workers", "2"]
     proc = subprocess.Popen(
         [sys.executable, "-m", "sins_fw", *args, "--out", str(out)],
         cwd=ROOT,
@@ -221,7 +221,7 @@ def test_ctrl_c_cancels_writes_nothing_and_exits_130(tmp_path):
 def test_sweep_writes_one_tidy_table_with_percentiles(tmp_path):
     out = tmp_path / "sweep.parquet"
     r = run_cli(
-        "sweep", "static", "--param", "duration_s=2", "--grid", "spi.spibrr=9,49", "--grid",
+        "sweep", "static", "--param", "duration-s=2", "--grid", "spi.spibrr=9,49", "--grid",
         "errors.seed=1..3", "--workers", "1", "--out", str(out), "--plot", str(tmp_path / "s.png"), "--json",
     )  # fmt: skip
     assert r.code == 0, r.err
@@ -249,7 +249,7 @@ def test_sweep_hdf5_and_bad_grids(tmp_path):
 
     out = tmp_path / "s.h5"
     r = run_cli(
-        "sweep", "static", "--param", "duration_s=1", "--point", "spi.spibrr=9", "--runs", "2", "--workers",
+        "sweep", "static", "--param", "duration-s=1", "--point", "spi.spibrr=9", "--runs", "2", "--workers",
         "1", "--out", str(out),
     )  # fmt: skip
     assert r.code == 0, r.err

@@ -55,11 +55,9 @@ def test_run_without_error_events_exits_0(capsys, tmp_path, short):
 
 def test_report_and_replay_with_error_events_exit_1_after_writing(capsys, tmp_path, short):
     png, rrd = tmp_path / "r.png", tmp_path / "r.rrd"
-    code, _, err = _cli(capsys, "report", short, "--set", "spi.spibrr=9", "--png", png)
+    code, _, err = _cli(capsys, "report", short, "--set", "spi.spibrr=9", "--out", png)
     assert code == 1 and png.stat().st_size > 0 and "sclk_too_fast" in err, err
-    code, _, err = _cli(
-        capsys, "replay", short, "--set", "spi.spibrr=9", "--save", rrd, "--bus-ticks", "none"
-    )
+    code, _, err = _cli(capsys, "replay", short, "--set", "spi.spibrr=9", "--out", rrd, "--bus-ticks", "none")
     assert code == 1 and rrd.stat().st_size > 0 and "sclk_too_fast" in err, err
 
 

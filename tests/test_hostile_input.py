@@ -69,7 +69,7 @@ def test_hdf5_links_and_compound_columns_are_exit_2_naming_file_and_column(
 
 
 def test_montecarlo_param_that_is_not_a_number_is_exit_2(capsys):
-    code, _, err = _cli(capsys, "montecarlo", "static", "--param", "duration_s=abc", "--runs", "1")
+    code, _, err = _cli(capsys, "montecarlo", "static", "--param", "duration-s=abc", "--runs", "1")
     assert code == 2 and "duration_s" in err and "abc" in err and "Traceback" not in err, err
 
 
@@ -80,7 +80,7 @@ def test_run_output_with_a_bad_until_s_is_exit_2_naming_the_field(capsys, tmp_pa
     assert _cli(capsys, "run", trace, "--out", out, "--until-s", "0.2")[0] == 0
     with h5py.File(out, "r+") as f:
         f.attrs["until_s"] = "abc"
-    code, _, err = _cli(capsys, "replay", out, "--save", tmp_path / "r.rrd")
+    code, _, err = _cli(capsys, "replay", out, "--out", tmp_path / "r.rrd")
     assert code == 2 and "metadata `until_s` = 'abc': expected a finite number" in err and str(out) in err, (
         err
     )

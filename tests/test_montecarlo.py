@@ -36,7 +36,7 @@ def test_published_cases_cover_the_six_table_rows_and_the_hold():
 
 
 def test_montecarlo_cli_json():
-    r = run_cli("montecarlo", "static", "--param", "duration_s=3", "--runs", "2", "--workers", "1", "--json")
+    r = run_cli("montecarlo", "static", "--param", "duration-s=3", "--runs", "2", "--workers", "1", "--json")
     assert r.code == 0, r.err
     rep = json.loads(r.out)
     assert rep["runs"] == 2 and rep["errors_preset"] == "adis16407"
@@ -87,7 +87,7 @@ def test_allan_arw_of_the_preset_through_the_device_within_10_percent():
 
 def test_montecarlo_per_run_table_plot_and_help(tmp_path):
     r = run_cli(
-        "montecarlo", "static", "--param", "duration_s=2", "--runs", "3", "--workers", "1",
+        "montecarlo", "static", "--param", "duration-s=2", "--runs", "3", "--workers", "1",
         "--out", str(tmp_path / "mc.csv"), "--plot", str(tmp_path / "mc.png"),
     )  # fmt: skip
     assert r.code == 0, r.err

@@ -105,20 +105,20 @@ CASES: dict[str, Callable[[Path], tuple[list[object], tuple[str, str]]]] = {
         ],
         ("--out", "FILE"),
     ),
-    "report --png a symlink to the trace": lambda w: (
-        ["report", w / "t.csv", "--png", _symlink(w / "r.png", w / "t.csv")],
-        ("--png", "TRACE"),
+    "report --out a symlink to the trace": lambda w: (
+        ["report", w / "t.csv", "--out", _symlink(w / "r.png", w / "t.csv")],
+        ("--out", "TRACE"),
     ),
-    "replay --save a hard link to the trace": lambda w: (
-        ["replay", w / "t.csv", "--save", _hardlink(w / "r.rrd", w / "t.csv")],
-        ("--save", "TRACE_OR_RUN"),
+    "replay --out a hard link to the trace": lambda w: (
+        ["replay", w / "t.csv", "--out", _hardlink(w / "r.rrd", w / "t.csv")],
+        ("--out", "TRACE_OR_RUN"),
     ),
     "budget --plot a symlink to the profile": lambda w: (
         [
             "budget",
             "--profile",
             w / "p.toml",
-            "--seconds",
+            "--duration-s",
             "0.1",
             "--plot",
             _symlink(w / "b.png", w / "p.toml"),
@@ -144,8 +144,8 @@ def test_replay_refuses_to_save_over_the_trace_a_run_output_records(capsys, ws):
     code, _, err = _cli(capsys, "run", ws / "t.csv", "--out", run_out)
     assert code == 0, err
     before = _snapshot(ws)
-    code, _, err = _cli(capsys, "replay", run_out, "--save", _symlink(ws / "r.rrd", ws / "t.csv"))
-    assert code == 2 and "--save" in err and "recorded trace" in err, err
+    code, _, err = _cli(capsys, "replay", run_out, "--out", _symlink(ws / "r.rrd", ws / "t.csv"))
+    assert code == 2 and "--out" in err and "recorded trace" in err, err
     before["r.rrd"] = "-> " + str(ws / "t.csv")
     assert _snapshot(ws) == before
 
@@ -174,7 +174,7 @@ FULL_WRITES = {
     "run --out .h5": ["run", str(STATIC), "--out", "F/o.h5"],
     "run --out .csv": ["run", str(STATIC), "--out", "F/o.csv"],
     "import trace --out .h5": ["import", "trace", str(STATIC), "--out", "F/i.h5"],
-    "replay --save .rrd": ["replay", str(STATIC), "--save", "F/o.rrd", "--bus-ticks", "none"],
+    "replay --out .rrd": ["replay", str(STATIC), "--out", "F/o.rrd", "--bus-ticks", "none"],
 }
 #: Room for the previous files and not much more (each output above is larger).
 LIMIT_BYTES = 32 * 1024

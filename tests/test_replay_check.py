@@ -13,13 +13,13 @@ TRACE = str(ROOT / "traces" / "static_60s.h5")
 def test_saved_run_replays_bit_for_bit_and_tampering_is_caught(tmp_path):
     out = tmp_path / "run.h5"
     assert run_cli("run", TRACE, "--set", "spi.spibrr=40", "--out", str(out)).code == 0
-    r = run_cli("replay", str(out), "--save", str(tmp_path / "a.rrd"), "--json")
+    r = run_cli("replay", str(out), "--out", str(tmp_path / "a.rrd"), "--json")
     assert r.code == 0, r.err
     assert (tmp_path / "a.rrd").stat().st_size > 0
 
     with h5py.File(out, "r+") as f:
         f["q1"][1234] = f["q1"][1234] + 1e-15
-    r = run_cli("replay", str(out), "--save", str(tmp_path / "b.rrd"))
+    r = run_cli("replay", str(out), "--out", str(tmp_path / "b.rrd"))
     assert r.code == 1
     assert "row 1234" in r.err and "`q1`" in r.err
     assert not (tmp_path / "b.rrd").exists()
@@ -30,7 +30,7 @@ def test_a_run_with_an_override_holding_spaces_replays(tmp_path):
     fault = 'faults.list=[{kind = "stuck_axis", channel = "gyro_z", start_s = 1.0, duration_s = 0.5}]'
     r = run_cli("run", TRACE, "--set", fault, "--until-s", "3", "--out", str(out))
     assert r.code == 0, r.err
-    r = run_cli("replay", str(out), "--save", str(tmp_path / "a.rrd"))
+    r = run_cli("replay", str(out), "--out", str(tmp_path / "a.rrd"))
     assert r.code == 0, r.err
 
 
@@ -50,15 +50,15 @@ def test_a_saved_run_replays_from_any_working_directory(tmp_path):
     with h5py.File(out, "r") as f:
         assert f.attrs["trace"] == "../data/t.h5"
         assert f.attrs["trace_abs"] == str(data / "t.h5")
-    r = run_cli("replay", "../out/run.h5", "--save", "a.rrd", cwd=other)
+    r = run_cli("replay", "../out/run.h5", "--out", "a.rrd", cwd=other)
     assert r.code == 0, r.err
     # The output moved alone: found at the absolute path.
     shutil.move(out, moved / "run.h5")
-    r = run_cli("replay", str(moved / "run.h5"), "--save", "b.rrd", cwd=other)
+    r = run_cli("replay", str(moved / "run.h5"), "--out", "b.rrd", cwd=other)
     assert r.code == 0, r.err
     # Another file where the trace was: refused, naming what was tried.
     shutil.copy(ROOT / "traces" / "coning_10hz.h5", data / "t.h5")
-    r = run_cli("replay", str(moved / "run.h5"), "--save", "c.rrd", cwd=other)
+    r = run_cli("replay", str(moved / "run.h5"), "--out", "c.rrd", cwd=other)
     assert r.code == 2, r.err
     assert "SHA-256" in r.err and "t.h5" in r.err
     assert not (other / "c.rrd").exists()

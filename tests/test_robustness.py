@@ -166,7 +166,7 @@ HOSTILE_COMMANDS = {
         ["run", str(STATIC), "--until-s", "-1"],
         "--until-s = -1.0: expected a finite number",
     ),
-    "montecarlo --param abc": (["montecarlo", "static", "--param", "duration_s=abc"], "duration_s"),
+    "montecarlo --param abc": (["montecarlo", "static", "--param", "duration-s=abc"], "duration_s"),
 }
 
 
@@ -190,7 +190,7 @@ def test_a_run_output_with_a_bad_until_s_is_exit_2_naming_it(capsys, tmp_path, u
     assert _cli(capsys, "run", str(trace), "--out", str(out), "--until-s", "0.2")[0] == 0
     with h5py.File(out, "r+") as f:
         f.attrs["until_s"] = until
-    code, _, err = _cli(capsys, "replay", str(out), "--save", str(tmp_path / "r.rrd"))
+    code, _, err = _cli(capsys, "replay", str(out), "--out", str(tmp_path / "r.rrd"))
     assert (
         code == 2
         and f"{out}: metadata `until_s` = " in err

@@ -155,7 +155,7 @@ def test_report_memory_does_not_grow_with_the_duration(traces):
     from sins_fw.report_page import MAX_POINTS
     from sins_fw.report_stream import BLOCK
 
-    runs = [["report", str(traces / f"{n}.h5"), "--png", str(traces / f"{n}.png")] for n in ("short", "long")]
+    runs = [["report", str(traces / f"{n}.h5"), "--out", str(traces / f"{n}.png")] for n in ("short", "long")]
     short, long = peaks_mb(runs, traces)
     chunk = 65536 * TRACE_DOUBLES * 8 * 3 / 1e6
     bound = (3 + 4 + 3 + 2) * MAX_POINTS * 16 / 1e6 + SUMMARY_MOMENTS * BLOCK * 8 / 1e6 + chunk

@@ -251,7 +251,7 @@ def short_trace(tmp_path_factory) -> Path:
 def test_replay_with_overruns_logs_them_at_their_ticks_and_cycles(short_trace, tmp_path):
     out = tmp_path / "over.rrd"
     r = run_cli(
-        "replay", str(short_trace), "--set", "timer.period_us=300", "--save", str(out), "--bus-ticks", "none"
+        "replay", str(short_trace), "--set", "timer.period_us=300", "--out", str(out), "--bus-ticks", "none"
     )
     assert r.code == 1 and "overrun" in r.err, r.err  # written, then the failed check
     assert not out.with_name(out.name + ".tmp").exists() and not list(tmp_path.glob(".over.rrd.*"))
@@ -286,19 +286,19 @@ def test_replay_spawn_without_a_display_fails_cleanly(short_trace, tmp_path, mon
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     r = run_cli("replay", str(short_trace), "--spawn")
     assert r.code == 2
-    assert "cannot open the Rerun viewer" in r.err and "--save" in r.err and "Traceback" not in r.err
+    assert "cannot open the Rerun viewer" in r.err and "--out" in r.err and "Traceback" not in r.err
     out = tmp_path / "kept.rrd"
-    r = run_cli("replay", str(short_trace), "--spawn", "--save", str(out))
+    r = run_cli("replay", str(short_trace), "--spawn", "--out", str(out))
     assert r.code == 2 and "was saved to" in r.err
     assert out.stat().st_size > 0
 
 
 def test_replay_usage_errors(short_trace, tmp_path):
     r = run_cli("replay", str(short_trace))
-    assert r.code == 2 and "--save" in r.err
-    r = run_cli("replay", str(short_trace), "--save", str(tmp_path / "x.txt"))
+    assert r.code == 2 and "--out" in r.err
+    r = run_cli("replay", str(short_trace), "--out", str(tmp_path / "x.txt"))
     assert r.code == 2 and ".rrd" in r.err
-    r = run_cli("replay", str(short_trace), "--save", str(tmp_path / "x.rrd"), "--bus-ticks", "9:3")
+    r = run_cli("replay", str(short_trace), "--out", str(tmp_path / "x.rrd"), "--bus-ticks", "9:3")
     assert r.code == 2 and "FIRST <= LAST" in r.err
     assert not (tmp_path / "x.rrd").exists()
 
@@ -329,7 +329,7 @@ def test_report_png_is_drawn_from_the_run(run, tmp_path):
 
 def test_report_cli_writes_a_png(short_trace, tmp_path):
     out = tmp_path / "static.png"
-    r = run_cli("report", str(short_trace), "--png", str(out), "--set", "timer.period_us=300", "--json")
+    r = run_cli("report", str(short_trace), "--out", str(out), "--set", "timer.period_us=300", "--json")
     assert r.code == 1, r.err  # the page is drawn, then the overruns fail the check
     assert png_size(out) == (1100, 850)
     assert '"overrun"' in r.out

@@ -46,6 +46,6 @@ def test_run_on_the_wing_board_gives_the_reference_attitude(cli) -> None:
 
 def test_replay_accepts_the_wing_board(cli, tmp_path: Path) -> None:
     out = tmp_path / "wing.rrd"
-    r = cli("replay", TRACE, "--profile", "wing", "--save", str(out), "--bus-ticks", "1:2")
+    r = cli("replay", TRACE, "--profile", "wing", "--out", str(out), "--bus-ticks", "1:2")
     assert r.code == 0, r.err
     assert out.stat().st_size > 0

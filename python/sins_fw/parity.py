@@ -10,7 +10,9 @@ backend: the maximum, the RMS and the final difference (degrees) and the drift r
 least-squares slope of the difference over time (degrees per hour).
 
 Thresholds per backend live in ``firmware_model/parity.toml`` (``max_deg``, ``rms_deg``,
-``drift_deg_per_h``); the file records how they were measured.
+``drift_deg_per_h``; ``max_deg_per_h`` and ``rms_deg_per_h`` for limits that grow with the run's
+duration); the file records how they were measured. ``sins-fw parity --thresholds FILE`` reads
+another table of the same form (a CI's own).
 """
 
 from __future__ import annotations
@@ -43,6 +45,8 @@ BACKENDS: tuple[str, ...] = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
 #: The threshold table (in firmware_model/).
 THRESHOLDS_FILE = "parity.toml"
 _LIMITS = ("max_deg", "rms_deg", "drift_deg_per_h")
+#: The keys of a threshold table: the limits, and the maximum's and RMS's growth per hour of run.
+_KEYS = (*_LIMITS, "max_deg_per_h", "rms_deg_per_h")
 _SECONDS_PER_HOUR = 3600.0
 
 
@@ -72,41 +76,73 @@ def drift_rate_deg_per_h(t_s: ArrayLike, angle_deg: ArrayLike) -> float:
 
 @dataclass(frozen=True)
 class Threshold:
-    """The largest allowed difference of one backend from f64."""
+    """The largest allowed difference of one backend from f64. The maximum and the RMS may also grow
+    with the run's duration T, where a rate is the right measure (rounding errors accumulate): the
+    limit is then ``max_deg + max_deg_per_h · T`` (T in hours), likewise for the RMS."""
 
-    max_deg: float
-    rms_deg: float
-    drift_deg_per_h: float
+    max_deg: float = 0.0
+    rms_deg: float = 0.0
+    drift_deg_per_h: float = 0.0
+    max_deg_per_h: float = 0.0
+    rms_deg_per_h: float = 0.0
+
+    def limits(self, duration_s: float) -> dict[str, float]:
+        """The limits for a run of ``duration_s`` seconds, by measured quantity."""
+        hours = duration_s / _SECONDS_PER_HOUR
+        return {
+            "max_deg": self.max_deg + self.max_deg_per_h * hours,
+            "rms_deg": self.rms_deg + self.rms_deg_per_h * hours,
+            "drift_deg_per_h": self.drift_deg_per_h,
+        }
+
+    def describe(self) -> str:
+        def part(deg: float, per_h: float) -> str:
+            terms = [f"{deg:g}°"] * bool(deg) + [f"{per_h:g}°/h × T"] * bool(per_h)
+            return " + ".join(terms)
+
+        return (
+            f"max {part(self.max_deg, self.max_deg_per_h)}, RMS {part(self.rms_deg, self.rms_deg_per_h)}, "
+            f"drift {self.drift_deg_per_h:g}°/h"
+        )
 
 
 def load_thresholds(path: str | os.PathLike[str] | None = None) -> dict[str, Threshold]:
-    """The per-backend thresholds of ``firmware_model/parity.toml`` (or ``path``)."""
+    """The per-backend thresholds of ``firmware_model/parity.toml`` (or ``path``, e.g. a CI's own).
+
+    Per backend `[backends.NAME]`: ``drift_deg_per_h``, and for the maximum and the RMS an absolute
+    limit (``max_deg``, ``rms_deg``), one that grows with the run's duration (``max_deg_per_h``,
+    ``rms_deg_per_h``), or both (added). Every value a positive number."""
     source = Path(path) if path is not None else MODEL_DIR / THRESHOLDS_FILE
     table = profile_table(source)
     backends = table.get("backends")
+    unknown_top = sorted(set(table) - {"backends"})
+    if unknown_top:
+        raise ProfileError(
+            f"{source}: unknown key(s) {', '.join(unknown_top)}; expected [backends.NAME] tables"
+        )
     if not isinstance(backends, dict):
         raise ProfileError(f"{source}: expected a [backends.NAME] table per backend")
     out: dict[str, Threshold] = {}
+    allowed = ", ".join(b for b in BACKENDS if b != REFERENCE)
+    bad = sorted(name for name in backends if name not in BACKENDS or name == REFERENCE)
+    if bad:
+        raise ProfileError(f"{source}: [backends.{bad[0]}]: unknown backend; expected one of {allowed}")
     for name, limits in backends.items():
-        if name not in BACKENDS or name == REFERENCE:
-            allowed = ", ".join(b for b in BACKENDS if b != REFERENCE)
-            raise ProfileError(f"{source}: [backends.{name}]: unknown backend; expected one of {allowed}")
         if not isinstance(limits, dict):
             raise ProfileError(f"{source}: [backends.{name}]: expected a table")
-        values = {}
-        for key in _LIMITS:
-            v = limits.get(key)
+        unknown = sorted(set(limits) - set(_KEYS))
+        if unknown:
+            keys = ", ".join(f"`backends.{name}.{k}`" for k in unknown)
+            raise ProfileError(f"{source}: unknown key(s) {keys}; expected {', '.join(_KEYS)}")
+        for key, v in limits.items():
             if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) or v <= 0:
                 raise ProfileError(
                     f"{source}: key `backends.{name}.{key}` = {v!r}: expected a positive number"
                 )
-            values[key] = float(v)
-        unknown = sorted(set(limits) - set(_LIMITS))
-        if unknown:
-            raise ProfileError(
-                f"{source}: key `backends.{name}.{unknown[0]}`: unknown; expected {', '.join(_LIMITS)}"
-            )
-        out[name] = Threshold(**values)
+        for needed in (("max_deg", "max_deg_per_h"), ("rms_deg", "rms_deg_per_h"), ("drift_deg_per_h",)):
+            if not any(k in limits for k in needed):
+                raise ProfileError(f"{source}: [backends.{name}]: missing `{'` or `'.join(needed)}`")
+        out[name] = Threshold(**{k: float(v) for k, v in limits.items()})
     return out
 
 
@@ -162,7 +198,7 @@ def compare(run: Run, reference: Run, backend: str, threshold: Threshold | None 
         drift_deg_per_h=drift_rate_deg_per_h(run.time_s, angle),
         threshold=threshold,
     )
-    return _checked(diff)
+    return _checked(diff, float(run.time_s[-1]))
 
 
 @dataclass
@@ -259,7 +295,7 @@ class _Stats:
         self.c_ta += c + dt * da * w
         self.n = n
 
-    def diff(self, backend: str, threshold: Threshold | None) -> BackendDiff:
+    def diff(self, backend: str, threshold: Threshold | None, duration_s: float) -> BackendDiff:
         drift = self.c_ta / self.m2_t * _SECONDS_PER_HOUR if self.n >= 2 and self.m2_t > 0 else 0.0
         return _checked(
             BackendDiff(
@@ -271,23 +307,25 @@ class _Stats:
                 final_deg=self.final_deg,
                 drift_deg_per_h=drift,
                 threshold=threshold,
-            )
+            ),
+            duration_s,
         )
 
 
-def _checked(diff: BackendDiff) -> BackendDiff:
-    """``diff`` with the limits it exceeds listed."""
+def _checked(diff: BackendDiff, duration_s: float) -> BackendDiff:
+    """``diff`` with the limits it exceeds listed (the duration-scaled ones for ``duration_s``)."""
     if diff.threshold is not None:
         measured = {
             "max_deg": diff.max_deg,
             "rms_deg": diff.rms_deg,
             "drift_deg_per_h": abs(diff.drift_deg_per_h),
         }
-        for key in _LIMITS:
-            limit = getattr(diff.threshold, key)
+        for key, limit in diff.threshold.limits(duration_s).items():
             # NaN compares False: count it as exceeded explicitly.
             if not measured[key] <= limit:
-                diff.exceeded.append(f"{key}: {measured[key]:.3g} > {limit:.3g}")
+                per_h = getattr(diff.threshold, f"{key}_per_h", 0.0)
+                how = f" (for {duration_s:.4g} s at {per_h:g}°/h)" if per_h else ""
+                diff.exceeded.append(f"{key}: {measured[key]:.3g} > {limit:.3g}{how}")
     return diff
 
 
@@ -421,11 +459,12 @@ def parity(
     steps = next(iter(stats.values())).n if stats else 0
     if stats and steps == 0:
         raise InputError("no attitude step to compare: the trace is shorter than one update period")
+    duration_s = last_tick_ps * 1e-12 if last_tick_ps is not None else 0.0
     return TraceParity(
         trace=str(trace) if not isinstance(trace, PhysicalTrace) else trace.metadata.get("source", "<trace>"),
         profile=prof.source,
         overrides=prof.overrides,
-        duration_s=last_tick_ps * 1e-12 if last_tick_ps is not None else 0.0,
+        duration_s=duration_s,
         steps=steps,
-        backends=[st.diff(n, limits.get(n)) for n, st in stats.items()],
+        backends=[st.diff(n, limits.get(n), duration_s) for n, st in stats.items()],
     )

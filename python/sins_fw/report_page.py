@@ -10,6 +10,7 @@ from a streamed run (`sins-fw report`), whose series hold at most :data:`MAX_POI
 from __future__ import annotations
 
 import os
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -41,11 +42,29 @@ GIMBAL_MARGIN_DEG = 85.0
 
 @dataclass
 class ReportAxes:
-    """The three panels of the page."""
+    """The panels of the page."""
 
     attitude: Axes
     budget: Axes
+    margin: Axes
     events: Axes
+
+
+#: Space above the highest value of a panel, as a fraction of its range.
+HEADROOM = 0.15
+#: Space added above the attitude panel's data for its legend, as a fraction of the data's range.
+LEGEND_ROOM = 0.25
+#: Space at the top of the margin panel for the strip of missed-deadline and lost-tick marks.
+MARK_STRIP = 0.45
+#: The ISR's end after its tick is drawn beside its busy time when they differ by more than this
+#: fraction of the axis (otherwise the two lines would lie on each other).
+ISR_LINE_APART = 0.02
+#: Characters of a title line before it wraps.
+TITLE_WIDTH = 110
+
+
+def _wrap(text: str, width: int = TITLE_WIDTH) -> str:
+    return textwrap.fill(text, width=width, break_long_words=False, break_on_hyphens=False)
 
 
 #: Points of one plotted series at most. Up to this many rows a series is plotted as it is; beyond,
@@ -147,7 +166,7 @@ class PageData:
         self.gimbal = False
         self.worst: tuple[float, float, int] | None = None  # total error, time, cycle
         self.euler = [Series() for _ in range(3)]
-        self.busy, self.finish, self.deadline = Series(), Series(), Series()
+        self.busy, self.finish, self.deadline, self.margin = Series(), Series(), Series(), Series()
         self.late, self.lost = Series(), Series()
         self.late_count = self.lost_count = 0
         self.margin_min: tuple[float, int] | None = None
@@ -193,6 +212,7 @@ class PageData:
         self.busy.add(tick_s[ran], busy[ran])
         self.finish.add(tick_s[ran], finish[ran])
         self.deadline.add(tick_s[ran], deadline[ran])
+        self.margin.add(tick_s[ran], (deadline - finish)[ran])
         late = ran & (finish > deadline)
         self.late.add(tick_s[late], finish[late])
         self.late_count += int(late.sum())
@@ -228,31 +248,82 @@ def _attitude_panel(ax: Axes, data: PageData) -> None:
         ax.set_ylabel("estimate − truth (°)")
         worst, at, cycle = data.worst
         title = f"Attitude error: largest {worst:.3g}° at {at:.3f} s (cycle {cycle})"
-        ax.set_title(title, loc="left", fontsize=10)
-    ax.legend(loc="upper left", fontsize=8, ncol=4)
+        ax.set_title(_wrap(title), loc="left", fontsize=10)
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + LEGEND_ROOM * (hi - lo))  # the legend sits above the data, not on it
+    ax.legend(loc="upper left", fontsize=8, ncol=5)
     ax.grid(alpha=0.3)
 
 
-def _budget_panel(ax: Axes, data: PageData) -> None:
-    ax.plot(*data.busy.points(), color="tab:blue", lw=0.8, label="ISR busy")
-    ax.plot(*data.finish.points(), color="tab:orange", lw=0.8, label="ISR end after its tick")
-    ax.plot(*data.deadline.points(), color="tab:red", lw=1.0, label="deadline (next tick)")
+def _budget_panel(ax: Axes, margin_ax: Axes, data: PageData) -> None:
+    """The ISR's time per tick on an axis scaled to the work, and the margin to the deadline on its
+    own axis (zero is the deadline); missed deadlines and lost ticks as marks in a strip along the
+    margin axis's top, never over the data."""
+    t_busy, busy = data.busy.points()
+    t_end, end = data.finish.points()
+    ax.plot(t_busy, busy, color="tab:blue", lw=0.8, label="ISR busy")
+    top = max(float(np.max(end)) if len(end) else 0.0, float(np.max(busy)) if len(busy) else 0.0)
+    # The end after the tick differs from the busy time only by the ISR's start latency; drawn when
+    # that shows (queued ticks start late), otherwise it would lie on the busy line.
+    start_latency = float(np.max(end) - np.max(busy)) if len(end) and len(busy) else 0.0
+    if start_latency > ISR_LINE_APART * top:
+        ax.plot(t_end, end, color="tab:orange", lw=0.8, label="ISR end after its tick")
+    ax.set_ylim(0, top * (1 + HEADROOM) if top > 0 else 1.0)
+    ax.set_ylabel("µs")
+    period = float(np.median(data.deadline.points()[1])) if data.deadline.rows else None
+    if len(busy):
+        typical, longest = float(np.median(busy)), float(np.max(busy))
+        text = f"ISR busy per timer tick: typical {typical:.1f} µs, longest {longest:.1f} µs"
+        if start_latency > ISR_LINE_APART * top:
+            text += f"; ends up to {float(np.max(end)):.1f} µs after its tick"
+        if period:
+            text += f" (the next tick comes {period:.0f} µs after)"
+    else:
+        text = "ISR busy per timer tick: no ISR ran"
+    ax.set_title(_wrap(text), loc="left", fontsize=10)
+    ax.legend(loc="lower left", fontsize=8, ncol=2)
+    ax.grid(alpha=0.3)
+
+    t_margin, margin = data.margin.points()
+    margin_ax.plot(t_margin, margin, color="tab:green", lw=0.8, label="margin to the deadline")
+    margin_ax.axhline(0.0, color="tab:red", lw=1.0, ls="--", label="deadline")
+    lo = min(0.0, float(np.min(margin))) if len(margin) else 0.0
+    hi = max(0.0, float(np.max(margin))) if len(margin) else 1.0
+    span = (hi - lo) or 1.0
+    # Room at the top for the strip of marks.
+    margin_ax.set_ylim(lo - HEADROOM * span, hi + MARK_STRIP * span)
+    strip = margin_ax.get_xaxis_transform()  # x in data, y in axes fraction
     if data.late_count:
-        ax.plot(*data.late.points(), "x", color="tab:red", ms=4, label=f"missed deadline ({data.late_count})")
-    if data.lost_count:
-        ax.plot(
-            *data.lost.points(), "v", color="black", ms=4, label=f"tick lost or dropped ({data.lost_count})"
+        t_late = data.late.points()[0]
+        margin_ax.plot(
+            t_late,
+            np.full(len(t_late), 0.93),
+            "|",
+            color="tab:red",
+            ms=7,
+            transform=strip,
+            label=f"missed deadline ({data.late_count})",
         )
-    ax.set_ylabel("µs after the tick")
-    worst = (
-        f"smallest margin {data.margin_min[0]:.1f} µs at tick {data.margin_min[1]}"
+    if data.lost_count:
+        t_lost = data.lost.points()[0]
+        margin_ax.plot(
+            t_lost,
+            np.full(len(t_lost), 0.83),
+            "|",
+            color="black",
+            ms=7,
+            transform=strip,
+            label=f"tick lost or dropped ({data.lost_count})",
+        )
+    smallest = (
+        f"smallest {data.margin_min[0]:.1f} µs at tick {data.margin_min[1]}"
         if data.margin_min is not None
         else "no ISR ran"
     )
-    ax.set_title(f"ISR budget per timer tick: {worst}", loc="left", fontsize=10)
-    ax.set_ylim(bottom=0)
-    ax.legend(loc="upper left", fontsize=8, ncol=5)
-    ax.grid(alpha=0.3)
+    margin_ax.set_title(_wrap(f"Margin to the deadline: {smallest}"), loc="left", fontsize=10)
+    margin_ax.set_ylabel("µs")
+    margin_ax.legend(loc="lower left", fontsize=8, ncol=4)
+    margin_ax.grid(alpha=0.3)
 
 
 def _events_panel(ax: Axes, data: PageData) -> None:
@@ -272,7 +343,7 @@ def _events_panel(ax: Axes, data: PageData) -> None:
                 ax.plot(t, y, "|", color=color, ms=10, label=f"{severity} ({n})")
         ax.set_yticks(range(len(kinds)), [f"{k} ({counts[k]})" for k in kinds], fontsize=8)
         ax.set_ylim(-0.7, len(kinds) - 0.3)
-        ax.legend(loc="upper right", fontsize=8)
+        ax.legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), fontsize=8, ncol=3, frameon=False)
     ax.set_title("Events", loc="left", fontsize=10)
     ax.set_xlabel("emulated time (s)")
     ax.grid(alpha=0.3, axis="x")
@@ -282,21 +353,24 @@ def report_figure(run: Run | PageData, *, title: str = "") -> tuple[Figure, Repo
     """The one-page report of ``run`` (a Run, or the PageData gathered from its streamed output) as
     a matplotlib figure (time axes shared)."""
     data = run if isinstance(run, PageData) else PageData.of_run(run)
-    fig, (a1, a2, a3) = plt.subplots(
-        3, 1, figsize=FIGSIZE, dpi=DPI, sharex=True, gridspec_kw={"height_ratios": [3, 2, 1.4]}
+    fig, (a1, a2, a3, a4) = plt.subplots(
+        4, 1, figsize=FIGSIZE, dpi=DPI, sharex=True, gridspec_kw={"height_ratios": [3, 1.5, 1.5, 1.4]}
     )
     _attitude_panel(a1, data)
-    _budget_panel(a2, data)
-    _events_panel(a3, data)
+    _budget_panel(a2, a3, data)
+    _events_panel(a4, data)
     overrides = " ".join(data.profile.overrides)
     head = title or "sins-fw run"
     fig.suptitle(
-        f"{head} — profile {Path(data.profile.source).name} {overrides}".rstrip()
-        + f" — {data.summary.cycles} cycles, {data.ticks} ticks, {data.summary.events_total} events",
+        _wrap(
+            f"{head} — profile {Path(data.profile.source).name} {overrides}".rstrip()
+            + f" — {data.summary.cycles} cycles, {data.ticks} ticks, {data.summary.events_total} events",
+            TITLE_WIDTH - 10,
+        ),
         fontsize=11,
     )
     fig.tight_layout()
-    return fig, ReportAxes(a1, a2, a3)
+    return fig, ReportAxes(a1, a2, a3, a4)
 
 
 def save_report(

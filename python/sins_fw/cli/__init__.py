@@ -35,7 +35,7 @@ from sins_fw.cli import (
     sweep,
     synth,
 )
-from sins_fw.cli.common import emit_error
+from sins_fw.cli.common import add_debug_option, emit_error, walk_parsers
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated
 
 #: The subcommands, in the order `--help` lists them.
@@ -77,10 +77,12 @@ def build_parser() -> argparse.ArgumentParser:
         description="Firmware-in-the-loop emulator of a TMS320F28335 + ADIS16407 strapdown attitude board.",
     )
     parser.add_argument("--version", action="version", version=f"sins-fw {__version__}")
-    parser.add_argument("--debug", action="store_true", help="show a traceback on errors")
+    add_debug_option(parser, top=True)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for command in COMMANDS:
         command.register(sub)
+    for _, p in list(walk_parsers(parser))[1:]:
+        add_debug_option(p)  # `sins-fw run --debug ...` as well as `sins-fw --debug run ...`
     return parser
 
 

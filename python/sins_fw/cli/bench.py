@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from sins_fw import atomic
 from sins_fw.bench import render, run_suite
-from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, add_out_option, emit, exit_epilog
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,7 +19,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--quick", action="store_true", help="short inputs (seconds, rough figures; for the smoke test)"
     )
-    p.add_argument("--output", type=Path, metavar="FILE", help="also write the report as Markdown to FILE")
+    add_out_option(p, "also write the report as Markdown to FILE", formerly="--output")
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -29,8 +28,8 @@ def run(args: argparse.Namespace) -> int:
     quiet = args.json
     report = run_suite(quick=args.quick, progress=None if quiet else lambda m: print(m, file=sys.stderr))
     text = render(report)
-    if args.output is not None:
-        args.output.parent.mkdir(parents=True, exist_ok=True)
-        atomic.write_text(args.output, text)
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        atomic.write_text(args.out, text)
     emit(args, report, text)
     return 0

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 from typing import Any
 
 from sins_fw import budget
 from sins_fw.atomic import check_distinct
 from sins_fw.cli.common import (
     add_json_option,
+    add_option,
+    add_plot_option,
     add_profile_options,
     emit,
     exit_epilog,
@@ -37,11 +38,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_profile_options(p)
     add_json_option(p)
-    p.add_argument(
-        "--plot", type=Path, metavar="FILE.png", help="draw the tick timeline and the cycle breakdown"
-    )
-    p.add_argument(
-        "--seconds",
+    add_plot_option(p, "draw the tick timeline and the cycle breakdown")
+    add_option(
+        p,
+        "--duration-s",
+        formerly="--seconds",
         type=float,
         default=budget.DEFAULT_SECONDS,
         help=f"emulated time after any alignment (default {budget.DEFAULT_SECONDS:g} s: one full phase "
@@ -51,12 +52,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if not (math.isfinite(args.seconds) and args.seconds > 0):
-        raise InputError(f"--seconds {args.seconds}: expected a finite duration > 0")
+    if not (math.isfinite(args.duration_s) and args.duration_s > 0):
+        raise InputError(f"--duration-s {args.duration_s}: expected a finite duration > 0")
     if args.plot is not None and (args.plot.suffix.lower() != ".png" or args.plot.is_dir()):
         raise InputError(f"--plot {args.plot}: expected a file name ending in .png")
     check_distinct({"--profile": profile_file(args)}, {"--plot": args.plot})
-    report = budget.budget_report(profile_from_args(args), seconds=args.seconds)
+    report = budget.budget_report(profile_from_args(args), seconds=args.duration_s)
     if args.plot is not None:
         budget.plot_report(report, args.plot)
         report["plot"] = str(args.plot)

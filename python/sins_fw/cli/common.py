@@ -56,6 +56,103 @@ def check_error_counts(
         )
 
 
+# The naming scheme of every subcommand's options (docs/cli.md; tests/test_cli_scheme.py walks every
+# parser and holds it to this):
+#   --out FILE      the file a command writes (trace, table, run output, recording, report page)
+#   --plot FILE.png a picture drawn beside the command's result (budget, montecarlo, sweep)
+#   --out-dir DIR   a folder a command writes into;  --WHAT-out FILE  a second output file
+#   a number with a unit ends in the unit: --duration-s, --rate-hz, --until-s, --max-gap-periods
+#   --json, --debug, --profile, --set on every command that has the idea
+#: Unit suffixes of number-valued options.
+UNIT_SUFFIXES = ("-s", "-us", "-hz", "-deg", "-dps", "-dps2", "-m", "-mps", "-periods")
+
+#: Old spellings already warned about by this process (one line each).
+_warned: set[str] = set()
+
+
+def deprecated(old: str, new: str) -> None:
+    """Say once, on stderr (never on --json's stdout), that ``old`` is the old spelling of ``new``."""
+    if old not in _warned:
+        _warned.add(old)
+        print(
+            f"sins-fw: warning: {old} is deprecated, use {new} (the old spelling goes in the next release)",
+            file=sys.stderr,
+        )
+
+
+class _Formerly(argparse.Action):
+    """An old spelling of an option: warns (:func:`deprecated`), then does what the option does."""
+
+    def __init__(self, option_strings: list[str], dest: str, target: argparse.Action, **kwargs: Any) -> None:
+        super().__init__(option_strings, dest, **kwargs)
+        self.target = target
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: Any = None,
+    ) -> None:
+        deprecated(str(option_string), self.target.option_strings[0])
+        self.target(parser, namespace, values, option_string)
+
+
+def add_option(p: Any, name: str, *, formerly: str | None = None, **kwargs: Any) -> argparse.Action:
+    """``p.add_argument(name, **kwargs)``, with ``formerly`` an old spelling that keeps working for one
+    release (hidden from --help, named in the option's help, one deprecation line on stderr)."""
+    if formerly is None:
+        return p.add_argument(name, **kwargs)
+    # A required option and its old spelling: one of the two is required.
+    where = p.add_mutually_exclusive_group(required=True) if kwargs.pop("required", False) else p
+    kwargs["help"] = f"{kwargs.get('help', '')} (formerly {formerly})".lstrip()
+    new = where.add_argument(name, **kwargs)
+    where.add_argument(
+        formerly,
+        action=_Formerly,
+        target=new,
+        dest=new.dest,
+        nargs=new.nargs,
+        type=new.type,
+        choices=new.choices,
+        metavar=new.metavar,
+        default=argparse.SUPPRESS,
+        help=argparse.SUPPRESS,
+    )
+    return new
+
+
+def add_out_option(p: Any, help: str, **kwargs: Any) -> argparse.Action:
+    """`--out FILE`: the file the command writes (``kwargs`` as for :func:`add_option`)."""
+    return add_option(p, "--out", **{"type": Path, "metavar": "FILE", **kwargs, "help": help})
+
+
+def add_plot_option(p: Any, help: str, **kwargs: Any) -> argparse.Action:
+    """`--plot FILE.png`: a picture drawn beside the command's result."""
+    return add_option(p, "--plot", **{"type": Path, "metavar": "FILE.png", **kwargs, "help": help})
+
+
+def add_debug_option(p: argparse.ArgumentParser, *, top: bool = False) -> None:
+    """`--debug`, before or after the subcommand (a subcommand's copy leaves an earlier one alone)."""
+    p.add_argument(
+        "--debug",
+        action="store_true",
+        default=False if top else argparse.SUPPRESS,
+        help="show a traceback on errors",
+    )
+
+
+def walk_parsers(
+    p: argparse.ArgumentParser, name: str = "sins-fw"
+) -> Iterator[tuple[str, argparse.ArgumentParser]]:
+    """``p`` and every subcommand's parser below it, with the command line that reaches it."""
+    yield name, p
+    for action in p._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub_name, sub in action.choices.items():
+                yield from walk_parsers(sub, f"{name} {sub_name}")
+
+
 def add_profile_options(p: argparse.ArgumentParser) -> None:
     """`--profile P` and repeatable `--set key=value`."""
     p.add_argument("--profile", default="reference", help="profile name or path (default: reference)")

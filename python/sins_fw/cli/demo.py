@@ -34,7 +34,12 @@ def register(sub: argparse._SubParsersAction) -> None:
             f"{EVENTS_CHECK.replace('the run', 'a run')}, or a backend exceeds its parity threshold"
         ),
     )
-    p.add_argument("--out-dir", default="out/demo", help="where the Rerun recording goes (default: out/demo)")
+    p.add_argument(
+        "--out-dir",
+        default="out/demo",
+        metavar="DIR",
+        help="where the Rerun recording goes (default: out/demo)",
+    )
     p.add_argument("--no-recording", action="store_true", help="skip the Rerun recording")
     add_json_option(p)
     p.set_defaults(func=run)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from sins_fw.atomic import check_distinct
 from sins_fw.broad import import_broad
-from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, add_out_option, emit, exit_epilog
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
@@ -39,7 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=exit_epilog(None),
     )
     b.add_argument("file", type=Path, help="BROAD trial, e.g. 01_undisturbed_slow_rotation_A.hdf5")
-    b.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
+    add_out_option(b, "output trace, .csv or .h5", required=True)
     add_json_option(b)
     b.set_defaults(func=run)
     t = kinds.add_parser(
@@ -48,7 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=exit_epilog(None),
     )
     t.add_argument("file", type=Path, help="input trace, .csv or .h5")
-    t.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
+    add_out_option(t, "output trace, .csv or .h5", required=True)
     t.add_argument("--allow-gaps", action="store_true", help="accept time steps longer than the gap limit")
     t.add_argument(
         "--max-gap-periods",

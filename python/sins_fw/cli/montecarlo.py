@@ -18,7 +18,10 @@ from sins_fw import synth
 from sins_fw.cli.common import (
     add_engine_options,
     add_json_option,
+    add_out_option,
+    add_plot_option,
     add_profile_options,
+    deprecated,
     emit,
     engine_from_args,
     exit_epilog,
@@ -64,12 +67,19 @@ def add_realisation_options(p: argparse.ArgumentParser, plot_help: str) -> None:
     """The options `montecarlo` and `sweep` share: the scenario's preset and parameters, the error
     model, the output table and plot, the profile, the engine and --json."""
     p.add_argument("--preset", default=None, help="scenario preset (indexing-table: sweep, pm30, yaw25.8)")
-    p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE", help="scenario parameter")
+    p.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="scenario parameter, named as `sins-fw synth SCENARIO`'s option without its dashes, e.g. "
+        "duration-s=30 (repeatable)",
+    )
     p.add_argument(
         "--errors", default="adis16407", help="error-model preset (errors.preset; default adis16407)"
     )
-    p.add_argument("--out", default=None, metavar="FILE", help="per-run table: .parquet, .h5 or .csv")
-    p.add_argument("--plot", default=None, metavar="PNG", help=plot_help)
+    add_out_option(p, "per-run table: .parquet, .h5 or .csv")
+    add_plot_option(p, plot_help)
     add_profile_options(p)
     add_engine_options(p)
     add_json_option(p)
@@ -82,7 +92,10 @@ def scenario_params(items: list[str]) -> dict[str, Any]:
         key, sep, value = item.partition("=")
         if not sep:
             raise InputError(f"--param `{item}`: expected key=value")
-        out[key.strip().replace("-", "_")] = value.strip()
+        key = key.strip()
+        if "_" in key:  # the Python name (synth.generate's keyword) instead of the synth option's
+            deprecated(f"--param {key}=", f"--param {key.replace('_', '-')}=")
+        out[key.replace("-", "_")] = value.strip()
     return out
 
 

@@ -5,7 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from sins_fw.cli.common import add_json_option, add_profile_options, emit, exit_epilog, profile_from_args
+from sins_fw.cli.common import (
+    add_json_option,
+    add_option,
+    add_profile_options,
+    emit,
+    exit_epilog,
+    profile_from_args,
+)
 from sins_fw.errors import CheckFailed, TraceError
 from sins_fw.parity import BACKENDS, REFERENCE, THRESHOLDS_FILE, load_thresholds, parity
 
@@ -17,8 +24,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Run the profile once per backend (only firmware.numeric differs) and report, per "
         "backend against f64, the attitude difference (rotation angle of q_backend ⊗ q_f64⁻¹ per step): "
         f"max, RMS, final and drift rate. Exit 1 when a backend exceeds its threshold in "
-        f"firmware_model/{THRESHOLDS_FILE}.",
-        epilog=exit_epilog(f"when a backend exceeds its threshold in firmware_model/{THRESHOLDS_FILE}"),
+        f"firmware_model/{THRESHOLDS_FILE} or the --thresholds file.",
+        epilog=exit_epilog(
+            f"when a backend exceeds its threshold (firmware_model/{THRESHOLDS_FILE} or --thresholds)"
+        ),
     )
     p.add_argument("traces", nargs="+", type=Path, metavar="TRACE", help="physical traces, .csv or .h5")
     add_profile_options(p)
@@ -27,6 +36,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=None,
         help=f"comma-separated backends (f64 is always the reference); default: f64 and every backend with "
         f"a threshold in {THRESHOLDS_FILE}; known: {','.join(BACKENDS)}",
+    )
+    add_option(
+        p,
+        "--thresholds",
+        type=Path,
+        metavar="FILE.toml",
+        help=f"the thresholds to check against, in the form of firmware_model/{THRESHOLDS_FILE} (default "
+        "that file): [backends.NAME] with max_deg, rms_deg, drift_deg_per_h, or max_deg_per_h / "
+        "rms_deg_per_h for limits that grow with the run's duration (docs/cli.md)",
     )
     add_json_option(p)
     p.set_defaults(func=run)
@@ -37,7 +55,8 @@ def run(args: argparse.Namespace) -> int:
         if not t.is_file():
             raise TraceError(f"{t}: no such trace file")
     profile = profile_from_args(args)
-    thresholds = load_thresholds()
+    thresholds = load_thresholds(args.thresholds)
+    source = args.thresholds or f"firmware_model/{THRESHOLDS_FILE}"
     backends = args.backends if args.backends is not None else [REFERENCE, *thresholds]
     results = []
     lines = [f"profile {profile.source} {' '.join(profile.overrides)}".rstrip(), f"reference {REFERENCE}"]
@@ -51,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
         )
         for b in r.backends:
             if not b.checked:
-                verdict = f"not checked: no threshold in {THRESHOLDS_FILE}"
+                verdict = f"not checked: no threshold in {source}"
             else:
                 verdict = "ok" if b.passed else "EXCEEDS " + "; ".join(b.exceeded)
             lines.append(
@@ -61,10 +80,8 @@ def run(args: argparse.Namespace) -> int:
     passed = all(r.passed for r in results)
     lines.append(
         "thresholds: "
-        + "; ".join(
-            f"{n} max {t.max_deg:g}°, RMS {t.rms_deg:g}°, drift {t.drift_deg_per_h:g}°/h"
-            for n, t in thresholds.items()
-        )
+        + "; ".join(f"{n} {t.describe()}" for n, t in thresholds.items())
+        + f" (T the run's duration; {source})"
     )
     unchecked = sorted({b.backend for r in results for b in r.backends if not b.checked})
     verdict = "parity: every checked backend within its thresholds" if passed else "parity: FAILED"
@@ -79,5 +96,11 @@ def run(args: argparse.Namespace) -> int:
     }
     emit(args, report, "\n".join(lines))
     if not passed:
-        raise CheckFailed(f"parity: a backend exceeds its threshold (firmware_model/{THRESHOLDS_FILE})")
+        breaches = [
+            f"{b.backend} on {r.trace}: {'; '.join(b.exceeded)}"
+            for r in results
+            for b in r.backends
+            if b.exceeded
+        ]
+        raise CheckFailed(f"parity: a backend exceeds its threshold ({source}): {' | '.join(breaches)}")
     return 0

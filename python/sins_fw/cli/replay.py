@@ -1,4 +1,4 @@
-"""`sins-fw replay TRACE --save FILE.rrd [--spawn]`: emulate a physical trace and write a Rerun
+"""`sins-fw replay TRACE --out FILE.rrd [--spawn]`: emulate a physical trace and write a Rerun
 recording (3-D attitude, time series, budget, events, the SPI bus of a window of ticks) with its
 default layout; `--spawn` opens it in the Rerun viewer when one can be shown.
 
@@ -19,6 +19,7 @@ from sins_fw.atomic import check_distinct
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
+    add_out_option,
     add_profile_options,
     check_events,
     emit,
@@ -57,7 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "trace and profile and checked bit for bit against it (exit 1 on a difference)",
     )
     add_profile_options(p)
-    p.add_argument("--save", type=Path, metavar="FILE.rrd", help="write the recording to this file")
+    add_out_option(p, "write the recording to this file (.rrd)", metavar="FILE.rrd", formerly="--save")
     p.add_argument(
         "--spawn", action="store_true", help="open the recording in the Rerun viewer (needs a display)"
     )
@@ -141,22 +142,22 @@ def _bundled_viewer() -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.save is None and not args.spawn and not args.serve:
-        raise InputError("nothing to do: give --save FILE.rrd, --spawn or --serve")
+    if args.out is None and not args.spawn and not args.serve:
+        raise InputError("nothing to do: give --out FILE.rrd, --spawn or --serve")
     if args.serve:
         # Refused before any work: a port in use or the viewer missing.
         serve.viewer_binary()
         for option, port in (("--port", args.port), ("--grpc-port", args.grpc_port)):
             if port != 0:
                 serve.free_port(args.bind, port, option)
-    if args.save is not None and (args.save.is_dir() or args.save.suffix != ".rrd"):
-        raise InputError(f"--save {args.save}: expected a file name ending in .rrd")
+    if args.out is not None and (args.out.is_dir() or args.out.suffix != ".rrd"):
+        raise InputError(f"--out {args.out}: expected a file name ending in .rrd")
     window = parse_ticks(args.bus_ticks)
     problem = viewer_problem() if args.spawn else None
-    if problem is not None and args.save is None:
+    if problem is not None and args.out is None:
         # Fail before any work: nothing would be kept.
         raise ViewerUnavailableError(
-            f"cannot open the Rerun viewer: {problem}; use --save FILE.rrd and open it "
+            f"cannot open the Rerun viewer: {problem}; use --out FILE.rrd and open it "
             "with `rerun FILE.rrd` where a display is available"
         )
     meta = read_metadata(args.trace)
@@ -164,7 +165,7 @@ def run(args: argparse.Namespace) -> int:
     recorded = resolve_trace(args.trace, meta) if meta.get("format") == RUN_FORMAT else None
     check_distinct(
         {"TRACE_OR_RUN": args.trace, "its recorded trace": recorded, "--profile": profile_file(args)},
-        {"--save": args.save},
+        {"--out": args.out},
     )
     if meta.get("format") == RUN_FORMAT:
         # A saved run: replay it from its recorded inputs and check it before showing it.
@@ -194,9 +195,9 @@ def run(args: argparse.Namespace) -> int:
         "parity": sorted(parity),
         "saved": None,
     }
-    if args.save is not None:
-        save_recording(run_, args.save, trace=trace, parity=parity, name=args.trace.name)
-        report["saved"] = str(args.save)
+    if args.out is not None:
+        save_recording(run_, args.out, trace=trace, parity=parity, name=args.trace.name)
+        report["saved"] = str(args.out)
     lines = [
         f"replay of {args.trace}: {run_.cycles} cycles, {report['ticks']} ticks, "
         f"{len(run_.events)} events {report['events'] or ''}".rstrip(),
@@ -204,13 +205,13 @@ def run(args: argparse.Namespace) -> int:
         if window
         else "bus: not recorded",
     ]
-    if args.save is not None:
-        lines.append(f"saved {args.save} (open it with `rerun {args.save}`)")
+    if args.out is not None:
+        lines.append(f"saved {args.out} (open it with `rerun {args.out}`)")
     if args.spawn:
         if problem is not None:
             emit(args, report, "\n".join(lines))
             raise ViewerUnavailableError(
-                f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.save}"
+                f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.out}"
             )
         import rerun as rr
 
@@ -224,7 +225,7 @@ def run(args: argparse.Namespace) -> int:
         lines.append("sent to the Rerun viewer")
     if args.serve:
         with tempfile.TemporaryDirectory(prefix="sins-fw-serve-") as tmp:
-            served = args.save
+            served = args.out
             if served is None:
                 served = Path(tmp) / f"{args.trace.stem}.rrd"
                 save_recording(run_, served, trace=trace, parity=parity, name=args.trace.name)

@@ -1,4 +1,4 @@
-"""`sins-fw report TRACE --png FILE`: emulate a trace and draw a one-page static report (attitude
+"""`sins-fw report TRACE --out FILE.png`: emulate a trace and draw a one-page static report (attitude
 error, ISR budget, events) for people without the Rerun viewer."""
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from sins_fw.atomic import check_distinct
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
+    add_out_option,
     add_profile_options,
     check_error_counts,
     emit,
@@ -19,34 +20,53 @@ from sins_fw.cli.common import (
 )
 from sins_fw.errors import InputError
 from sins_fw.harness import emulate
+from sins_fw.run_output import RUN_FORMAT, replay_check, resolve_trace
+from sins_fw.traces import read_metadata
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "report",
         help="emulate a trace and draw a one-page PNG report (attitude error, ISR budget, events)",
-        epilog=exit_epilog(EVENTS_CHECK),
+        epilog=exit_epilog(f"{EVENTS_CHECK}, or a saved run does not replay bit for bit"),
     )
-    p.add_argument("trace", type=Path, metavar="TRACE", help="physical trace (.h5 or .csv)")
-    p.add_argument("--png", type=Path, required=True, metavar="FILE", help="output image (.png)")
+    p.add_argument(
+        "trace",
+        type=Path,
+        metavar="TRACE_OR_RUN",
+        help="physical trace (.h5 or .csv), or a `sins-fw run --out` file: re-emulated from its recorded "
+        "trace and profile and checked bit for bit against it (exit 1 on a difference)",
+    )
+    add_out_option(p, "the report page (.png)", metavar="FILE.png", required=True, formerly="--png")
     add_profile_options(p)
     add_json_option(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.png.suffix.lower() != ".png" or args.png.is_dir():
-        raise InputError(f"--png {args.png}: expected a file name ending in .png")
-    if not args.png.parent.is_dir() and str(args.png.parent):
-        raise InputError(f"--png {args.png}: directory {args.png.parent} does not exist")
-    check_distinct({"TRACE": args.trace, "--profile": profile_file(args)}, {"--png": args.png})
-    profile = profile_from_args(args)
+    if args.out.suffix.lower() != ".png" or args.out.is_dir():
+        raise InputError(f"--out {args.out}: expected a file name ending in .png")
+    if not args.out.parent.is_dir() and str(args.out.parent):
+        raise InputError(f"--out {args.out}: directory {args.out.parent} does not exist")
+    saved_run = read_metadata(args.trace).get("format") == RUN_FORMAT if args.trace.is_file() else False
+    recorded = resolve_trace(args.trace, read_metadata(args.trace)) if saved_run else None
+    check_distinct(
+        {"TRACE": args.trace, "its recorded trace": recorded, "--profile": profile_file(args)},
+        {"--out": args.out},
+    )
     from sins_fw.report_page import PageData, save_report  # matplotlib is a heavy import
 
-    # Streamed: the page's series are gathered part by part, each bounded (report_page.MAX_POINTS).
-    data = PageData(profile)
-    emulate(args.trace, profile, sink=data.add)
-    save_report(data, args.png, title=args.trace.name)
+    if saved_run:
+        # A `sins-fw run --out` file: re-emulated from the trace and profile it records, checked bit
+        # for bit against it (exit 1 naming the first difference), then drawn, as `replay` does.
+        run_, _ = replay_check(args.trace)
+        profile, data = run_.profile, PageData.of_run(run_)
+    else:
+        # Streamed: the page's series are gathered part by part, each bounded (report_page.MAX_POINTS).
+        profile = profile_from_args(args)
+        data = PageData(profile)
+        emulate(args.trace, profile, sink=data.add)
+    save_report(data, args.out, title=args.trace.name)
     s = data.summary
     counts = {k: v["count"] for k, v in sorted(s.kinds.items())}
     report = {
@@ -55,12 +75,12 @@ def run(args: argparse.Namespace) -> int:
         "overrides": list(profile.overrides),
         "cycles": s.cycles,
         "events": counts,
-        "png": str(args.png),
+        "png": str(args.out),
     }
     emit(
         args,
         report,
-        f"report of {args.trace} ({s.cycles} cycles, {s.events_total} events) written to {args.png}",
+        f"report of {args.trace} ({s.cycles} cycles, {s.events_total} events) written to {args.out}",
     )
     check_error_counts(s.error_counts(), s.first_error())
     return 0

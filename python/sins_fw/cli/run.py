@@ -18,6 +18,7 @@ from sins_fw.atomic import check_distinct
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
+    add_out_option,
     add_profile_options,
     check_error_counts,
     emit,
@@ -46,7 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("trace", type=Path, help="physical or raw-register trace, .csv or .h5")
     add_profile_options(p)
-    p.add_argument("--out", type=Path, help="write the per-step output here (.csv or .h5)")
+    add_out_option(p, "write the per-step output here (.csv or .h5)")
     p.add_argument(
         "--raw-out",
         type=Path,

@@ -29,7 +29,7 @@ from sins_fw.errors import InputError
 
 EXAMPLES = """\
 examples:
-  sins-fw sweep static --param duration_s=30 --grid spi.spibrr=9,49,127 --grid errors.seed=1..200 \\
+  sins-fw sweep static --param duration-s=30 --grid spi.spibrr=9,49,127 --grid errors.seed=1..200 \\
       --out spibrr.parquet --plot spibrr.png
   sins-fw sweep static coning --point "timer.period_us=4000" --point "timer.period_us=2000" --runs 50
 

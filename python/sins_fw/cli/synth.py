@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from sins_fw import synth
-from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, add_out_option, emit, exit_epilog
 from sins_fw.stream import save_chunks
 from sins_fw.traces import check_output_path
 
@@ -41,7 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                 "pm30 (0, +30, 0, −30, 0), yaw25.8 (fast rotation to yaw 25.8°, hold 30 s); "
                 "explicit options override it",
             )
-        s.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
+        add_out_option(s, "output trace, .csv or .h5", required=True)
         add_json_option(s)
         s.set_defaults(func=run)
 

@@ -201,7 +201,12 @@ pub const KINDS: &[EventKind] = &[
     ),
     // The firmware.
     kind("stale_decode", Warning, "firmware", "a gyro word outside both published ranges: the previous value kept"),
-    kind("decode_mismatch", Warning, "firmware", "the published decode's scale differs from the configured gyro range"),
+    kind(
+        "decode_mismatch",
+        Warning,
+        "firmware",
+        "the firmware decodes for another gyro range (`firmware.gyro_range_dps`) than SENS_AVG selects",
+    ),
     kind("saturated_reading", Warning, "firmware", "a decoded code at the 14-bit limit"),
     kind(
         "state_out_of_range",

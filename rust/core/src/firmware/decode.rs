@@ -20,6 +20,7 @@
 
 use super::{lit, Vec3};
 use crate::device::part::Part;
+use crate::device::GyroRange;
 use crate::events::{Event, EventLog, Severity};
 use crate::numerics::{QClass, Scalar};
 use crate::profile::{Decode, Device, Firmware as FirmwareProfile};
@@ -81,6 +82,12 @@ pub fn gyro_lsb_dps(sens_avg: u32) -> Result<f64> {
     }
 }
 
+/// The gyro LSB, °/s, the published decode scales by: `firmware.gyro_range_dps` over the 6000 codes
+/// its range test accepts (±300 °/s → 0.05, as published; ±150 → 0.025; ±75 → 0.0125).
+pub fn firmware_gyro_lsb_dps(range_dps: f64) -> Result<f64> {
+    Ok(GyroRange::from_dps(range_dps)?.lsb_dps())
+}
+
 /// What happened to each channel in one decode; bit i is channel i (X/Y/Z gyro, X/Y/Z accel).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct DecodeReport {
@@ -90,6 +97,9 @@ pub struct DecodeReport {
     pub saturated: u8,
     /// The published and the correct decode give different values (stale or wrong LSB).
     pub differs: u8,
+    /// The gyro range the firmware decodes for (`firmware.gyro_range_dps`) and the one SENS_AVG
+    /// selects, °/s.
+    pub ranges_dps: [u16; 2],
 }
 
 impl DecodeReport {
@@ -110,7 +120,16 @@ impl DecodeReport {
             mask(codes, |_, code| code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE)
         };
         let differs = if gyro_lsb_differs { stale | mask(codes, |i, code| i < 3 && code != 0) } else { stale };
-        DecodeReport { stale, saturated, differs }
+        DecodeReport { stale, saturated, differs, ranges_dps: [0; 2] }
+    }
+
+    /// A `decode_mismatch` message: both ranges and the key that makes the firmware match.
+    fn mismatch_message(&self, name: &str, word: u16) -> String {
+        let [firmware, device] = self.ranges_dps;
+        format!(
+            "{name} = 0x{word:04X}: the firmware decodes for ±{firmware} °/s (firmware.gyro_range_dps = {firmware}), \
+             SENS_AVG selects ±{device} °/s: set firmware.gyro_range_dps = {device} for firmware that matches the device"
+        )
     }
 
     /// True when nothing is to report.
@@ -134,12 +153,7 @@ impl DecodeReport {
                     format!("{name} = 0x{word:04X}: outside both published ranges, previous value kept"),
                 ));
             } else if self.differs & bit != 0 {
-                log.push(Event::new(
-                    t_ps,
-                    "decode_mismatch",
-                    Severity::Warning,
-                    format!("{name} = 0x{word:04X}: published decode scales by 0.05 °/s, the configured range differs"),
-                ));
+                log.push(Event::new(t_ps, "decode_mismatch", Severity::Warning, self.mismatch_message(name, *word)));
             }
             if self.saturated & bit != 0 {
                 log.push(Event::new(
@@ -204,6 +218,8 @@ pub struct Decoder<T> {
     accel: Scale<T>,
     zero: T,
     published_matches_range: bool,
+    /// The firmware's gyro range and SENS_AVG's, °/s (for the `decode_mismatch` message).
+    ranges_dps: [u16; 2],
     accel_range: (u16, u16),
     stale: StaleRanges,
     previous: [T; 6],
@@ -218,6 +234,7 @@ impl<T: Scalar> Decoder<T> {
     /// A decoder for the device's SENS_AVG range and the firmware's decode choice.
     pub fn new(device: &Device, firmware: &FirmwareProfile) -> Result<Self> {
         let lsb = gyro_lsb_dps(device.sens_avg)?;
+        let firmware_lsb = firmware_gyro_lsb_dps(firmware.gyro_range_dps)?;
         let part = device.part_decl()?;
         let accel_range = accel_range(part);
         let zero = lit(0.0);
@@ -225,10 +242,11 @@ impl<T: Scalar> Decoder<T> {
         Ok(Decoder {
             mode: firmware.decode,
             gyro: Scale::new(lsb, deg_to_rad, QClass::Rate),
-            published_gyro: Scale::new(PUBLISHED_GYRO_LSB_DPS, deg_to_rad, QClass::Rate),
+            published_gyro: Scale::new(firmware_lsb, deg_to_rad, QClass::Rate),
             accel: Scale::new(part.accel_lsb_g, firmware.accel_g_m_s2, QClass::Accel),
             zero,
-            published_matches_range: lsb == PUBLISHED_GYRO_LSB_DPS,
+            published_matches_range: lsb == firmware_lsb,
+            ranges_dps: [firmware.gyro_range_dps as u16, (lsb * 6000.0).round() as u16],
             accel_range,
             stale: StaleRanges::new(accel_range),
             previous: [zero; 6],
@@ -263,7 +281,8 @@ impl<T: Scalar> Decoder<T> {
     /// Decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (burst words 2…7).
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
         let codes = words.map(|w| w & VALID_BITS_MASK);
-        let report = DecodeReport::of_codes(&codes, &self.stale, !self.published_matches_range);
+        let mut report = DecodeReport::of_codes(&codes, &self.stale, !self.published_matches_range);
+        report.ranges_dps = self.ranges_dps;
         let mut out = [self.zero; 6];
         for (i, &code) in codes.iter().enumerate() {
             let gyro = i < 3;
@@ -364,6 +383,30 @@ mod tests {
     }
 
     #[test]
+    fn the_firmware_gyro_range_key_sets_the_published_scale_and_names_itself() {
+        // ±75 °/s on the device (0x0104): the published firmware, unchanged, decodes at 0.05 °/s and
+        // says which key to change; rebuilt for ±75 (firmware.gyro_range_dps = 75) it decodes the
+        // same code at 0.0125 °/s, with the published range test and no mismatch.
+        let device = Device { sens_avg: 0x0104, ..Device::default() };
+        let unchanged = FirmwareProfile::default();
+        let rebuilt = FirmwareProfile { gyro_range_dps: 75.0, ..FirmwareProfile::default() };
+        let words = [0xF9DA, 0x0000, 0x0001, 0, 0, 0];
+        let out = Decoder::<f64>::new(&device, &unchanged).unwrap().decode(&words);
+        assert!((dps(&out, 0) + 78.7).abs() < 1e-12);
+        let mut log = EventLog::default();
+        out.report.push_events(5, &words, &mut log);
+        assert_eq!(log.count("decode_mismatch"), 2);
+        let m = &log.events()[0].message;
+        assert!(m.contains("firmware.gyro_range_dps = 300") && m.contains("set firmware.gyro_range_dps = 75"), "{m}");
+        let out = Decoder::<f64>::new(&device, &rebuilt).unwrap().decode(&words);
+        assert!((dps(&out, 0) + 19.675).abs() < 1e-12 && (dps(&out, 2) - 0.0125).abs() < 1e-12);
+        assert!(out.report.is_clean());
+        // The published default is the published literal, bit for bit.
+        assert_eq!(firmware_gyro_lsb_dps(300.0).unwrap().to_bits(), PUBLISHED_GYRO_LSB_DPS.to_bits());
+        assert!(firmware_gyro_lsb_dps(100.0).is_err());
+    }
+
+    #[test]
     fn float_decode_is_the_published_two_step_conversion() {
         // Bit for bit: code × LSB (the held °/s or g), then × π/180 or × g.
         let mut d = decoder(Decode::Published, 0x0402);
@@ -429,7 +472,12 @@ mod tests {
                     let saturated = code == 0x1FFF || code == 0x2000;
                     let differs = stale || (i < 3 && gyro_lsb_differs && code != 0);
                     let bit = |flag: bool| u8::from(flag) << i;
-                    let want = DecodeReport { stale: bit(stale), saturated: bit(saturated), differs: bit(differs) };
+                    let want = DecodeReport {
+                        stale: bit(stale),
+                        saturated: bit(saturated),
+                        differs: bit(differs),
+                        ranges_dps: [0; 2],
+                    };
                     assert_eq!(r, want, "code 0x{code:04X} on channel {i}");
                 }
             }

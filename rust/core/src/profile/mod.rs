@@ -54,6 +54,10 @@ impl Profile {
         for ov in overrides {
             apply_override(&mut table, ov)?;
         }
+        apply_gyro_range(&mut table).map_err(|e| match e {
+            Error::Profile(m) => Error::Profile(format!("{source}: {m}")),
+            other => other,
+        })?;
         fill_part_defaults(&mut table);
         check_keys(&table, source)?;
         let de = toml::Value::Table(table);
@@ -268,6 +272,24 @@ mod tests {
         let m = rejected(&["clocks.crystal_hz=35000000"]);
         assert!(m.contains("clocks.crystal_hz") && m.contains("clocks.divsel") && m.contains("175 MHz"), "{m}");
         assert!(Profile::from_toml("", "x", &["clocks.pllcr=0".into(), "clocks.divsel=1".into()]).is_ok());
+    }
+
+    #[test]
+    fn gyro_range_dps_writes_sens_avg_range_bits() {
+        let sens = |ov: &[&str]| {
+            let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+            Profile::from_toml("", "x", &ov).map(|p| p.device.sens_avg)
+        };
+        // M raised to the range's minimum (4 with ±75), as the part does on a write.
+        assert_eq!(sens(&["device.gyro_range_dps=75"]).unwrap(), 0x0104);
+        assert_eq!(sens(&["device.gyro_range_dps=150"]).unwrap(), 0x0202);
+        assert_eq!(sens(&["device.gyro_range_dps=300.0"]).unwrap(), 0x0402);
+        // A larger M is kept; the range bits are the alias's.
+        assert_eq!(sens(&["device.sens_avg=0x0406", "device.gyro_range_dps=75"]).unwrap(), 0x0106);
+        let m = rejected(&["device.gyro_range_dps=100"]);
+        assert!(m.contains("device.gyro_range_dps") && m.contains("75, 150 or 300"), "{m}");
+        let m = rejected(&["firmware.gyro_range_dps=120"]);
+        assert!(m.contains("firmware.gyro_range_dps") && m.contains("75, 150 or 300"), "{m}");
     }
 
     #[test]

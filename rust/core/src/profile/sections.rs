@@ -367,6 +367,31 @@ pub(crate) fn fill_part_defaults(table: &mut toml::Table) {
     }
 }
 
+/// `device.gyro_range_dps` (75, 150 or 300), another way to write SENS_AVG's range bits 10:8: it sets
+/// them in `device.sens_avg` (the profile's, or the default 0x0402) and raises M (bits 2:0) to the
+/// range's minimum, as the part does on a write; so `gyro_range_dps = 75` gives 0x0104. The key
+/// is replaced by the `sens_avg` it stands for before the profile is read.
+pub(crate) fn apply_gyro_range(table: &mut toml::Table) -> Result<()> {
+    const KEY: &str = "device.gyro_range_dps";
+    let Some(toml::Value::Table(device)) = table.get_mut("device") else { return Ok(()) };
+    let Some(value) = device.remove("gyro_range_dps") else { return Ok(()) };
+    let dps = value.as_float().or_else(|| value.as_integer().map(|i| i as f64));
+    let range = dps
+        .and_then(|d| GyroRange::from_dps(d).ok())
+        .ok_or_else(|| bad(KEY, &value, "75, 150 or 300 (°/s: SENS_AVG's range bits 10:8)"))?;
+    let sens_avg = match device.get("sens_avg") {
+        Some(v) => v
+            .as_integer()
+            .and_then(|i| u32::try_from(i).ok())
+            .ok_or_else(|| bad("device.sens_avg", v, "a 16-bit register value (with `device.gyro_range_dps`)"))?,
+        None => Device::default().sens_avg,
+    };
+    let m = (sens_avg & 0x7).max(u32::from(ModelOptions::default().min_m(range)));
+    let sens_avg = (sens_avg & !0x0707) | u32::from(range.bits()) << 8 | m;
+    device.insert("sens_avg".into(), toml::Value::Integer(i64::from(sens_avg)));
+    Ok(())
+}
+
 impl Device {
     /// The declaration of the part `part` names.
     pub fn part_decl(&self) -> Result<&'static Part> {
@@ -707,6 +732,10 @@ pub struct Firmware {
     /// The firmware's g → m/s² factor for decoded accelerations [unconfirmed: the conversion is
     /// not published; 9.80665 is the standard gravity the data sheet's g means].
     pub accel_g_m_s2: f64,
+    /// The gyro range the published decode was written for, °/s (75, 150 or 300): it scales every
+    /// gyro code by range / 6000 °/s (the 6000 codes its range test accepts), 0.05 °/s for ±300,
+    /// whatever SENS_AVG selects. `decode = "correct"` uses SENS_AVG's range instead.
+    pub gyro_range_dps: f64,
     /// The DCM algorithm's gains and references (`firmware.algorithm` = "dcm").
     pub dcm: Dcm,
 }
@@ -731,6 +760,7 @@ impl Default for Firmware {
             navigation: true,
             quat_derivative: QuatDerivative::Correct,
             accel_g_m_s2: 9.80665,
+            gyro_range_dps: 300.0,
             dcm: Dcm::default(),
         }
     }
@@ -754,6 +784,9 @@ impl Firmware {
             )));
         }
         check_range("firmware.accel_g_m_s2", self.accel_g_m_s2, 1.0, 100.0, "1…100 m/s² per g")?;
+        if GyroRange::from_dps(self.gyro_range_dps).is_err() {
+            return Err(bad("firmware.gyro_range_dps", self.gyro_range_dps, "75, 150 or 300 (°/s)"));
+        }
         self.dcm.validate()?;
         Ok(())
     }
