@@ -11,7 +11,7 @@ from pathlib import Path
 
 from sins_fw.atomic import check_distinct
 from sins_fw.broad import import_broad
-from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, add_read_options, emit, exit_epilog, read_options
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
@@ -56,6 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=DEFAULT_MAX_GAP_PERIODS,
         help=f"gap limit in nominal sample periods (default {DEFAULT_MAX_GAP_PERIODS})",
     )
+    add_read_options(t)
     add_json_option(t)
     t.set_defaults(func=run)
 
@@ -71,7 +72,11 @@ def run(args: argparse.Namespace) -> int:
         # Read and written a chunk at a time: memory is bounded by the chunk (issue 24, item 11).
         kind = RawRegisterTrace if read_metadata(args.file).get("format") == RAW_FORMAT else PhysicalTrace
         chunks = kind.iter_chunks(
-            args.file, IMPORT_CHUNK_ROWS, allow_gaps=args.allow_gaps, max_gap_periods=args.max_gap_periods
+            args.file,
+            IMPORT_CHUNK_ROWS,
+            allow_gaps=args.allow_gaps,
+            max_gap_periods=args.max_gap_periods,
+            read=read_options(args),
         )
         written = save_chunks(args.out, chunks, allow_gaps=args.allow_gaps)
         kind_name, rows, metadata = kind.__name__, written.rows, written.metadata
