@@ -197,3 +197,35 @@ def test_the_cli_reads_with_units_and_columns_and_shows_warnings(tmp_path):
     assert "sins-fw: warning: " in r.err and "look like m/s²" in r.err, r.err
     assert "Traceback" not in r.err
     assert math.isfinite(len(r.out))
+
+
+def test_run_says_which_latitude_the_earth_rate_assumes(tmp_path):
+    """Issue 27, item 3: a trace without a place (BROAD's, a user's) is compensated for the earth rate
+    at the profile's latitude; the summary says so and how to change it or switch it off."""
+    import json
+
+    from sins_fw.synth import generate
+
+    trace = generate("static", duration_s=1.0)
+    assert "latitude_deg" in trace.metadata
+    placed = tmp_path / "placed.h5"
+    trace.save(placed)
+    trace.metadata.pop("latitude_deg")
+    nowhere = tmp_path / "nowhere.h5"
+    trace.save(nowhere)
+
+    r = run_cli("run", str(nowhere))
+    assert r.code == 0, r.err
+    line = next(x for x in r.out.splitlines() if x.startswith("earth rate"))
+    assert "latitude 40.84° assumed (the profile's navigation.latitude_deg)" in line
+    assert "--set navigation.latitude_deg=DEG" in line and "--set firmware.earth_rate=false" in line
+    r = run_cli("run", str(nowhere), "--json")
+    field = json.loads(r.out)["earth_rate"]
+    assert field["compensated"] is True and field["latitude_deg"] == 40.84
+    assert field["trace_latitude_deg"] is None and "assumed" in field["note"]
+
+    for args in ((str(placed),), (str(nowhere), "--set", "firmware.earth_rate=false")):
+        r = run_cli("run", *args, "--json")
+        assert r.code == 0, r.err
+        assert json.loads(r.out)["earth_rate"]["note"] is None
+        assert "earth rate" not in run_cli("run", *args).out

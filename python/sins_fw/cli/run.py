@@ -28,6 +28,7 @@ from sins_fw.cli.common import (
     read_options,
 )
 from sins_fw.cli.stop import check_stop
+from sins_fw.earth import earth_rate_place
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import CHUNK_ROWS, check_until_s, emulate
 from sins_fw.report import ALIGNMENTS, render
@@ -39,6 +40,7 @@ from sins_fw.traces import (
     ReadOptions,
     check_output_path,
     is_raw_register_trace,
+    read_metadata,
 )
 
 
@@ -278,7 +280,10 @@ def run(args: argparse.Namespace) -> int:
         summary["out"] = str(args.out)
     if args.raw_out is not None:
         summary["raw_out"] = str(args.raw_out)
+    summary["earth_rate"] = earth_rate_place(profile, read_metadata(args.trace))
     text = render(summary)
+    if summary["earth_rate"]["note"]:
+        text += f"\nearth rate     {summary['earth_rate']['note']}"
     if replayed:
         text = "replayed       raw-register trace: recorded words, no device model\n" + text
     if args.out is not None:
