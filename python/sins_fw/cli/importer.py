@@ -1,17 +1,21 @@
-"""`sins-fw import broad FILE.hdf5 --out TRACE` and `sins-fw import trace FILE --out TRACE`.
+"""`sins-fw import broad FILE.hdf5 --out TRACE`, `sins-fw import trace FILE --out TRACE` and the
+importers of other logs: `sins-fw import ulog|euroc FILE --out TRACE`.
 
 ``broad`` converts a BROAD trial into a physical trace; ``trace`` reads a physical or raw-register
-trace, validates it and writes it in the form the output extension asks for (CSV ↔ .h5).
+trace, validates it and writes it in the form the output extension asks for (CSV ↔ .h5); the log
+importers are in :mod:`sins_fw.importers` (docs/traces.md, 'Importing logs').
 """
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from sins_fw.atomic import check_distinct
 from sins_fw.broad import import_broad
 from sins_fw.cli.common import add_json_option, add_read_options, emit, exit_epilog, read_options
+from sins_fw.errors import TraceError
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
@@ -59,6 +63,54 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_read_options(t)
     add_json_option(t)
     t.set_defaults(func=run)
+    _register_logs(kinds)
+
+
+_LOGS = {  # the kinds of sins_fw.importers.IMPORTERS
+    "ulog": ("a PX4 ULog (.ulg) → physical trace (needs pyulog)", "PX4 log, e.g. flight.ulg"),
+    "euroc": (
+        "EuRoC-style CSV (imu0/data.csv, ground truth) → physical trace",
+        "EuRoC folder (holding imu0/ or mav0/imu0/) or its imu0/data.csv",
+    ),
+}
+
+
+def _register_logs(kinds: argparse._SubParsersAction) -> None:
+    for kind, (help_text, file_help) in _LOGS.items():
+        k = kinds.add_parser(
+            kind,
+            help=help_text,
+            description=help_text + " (docs/traces.md, 'Importing logs')",
+            epilog=exit_epilog(None),
+        )
+        k.add_argument("file", type=Path, help=file_help)
+        k.add_argument("--out", required=True, type=Path, help="output trace, .csv or .h5")
+        if kind == "euroc":
+            k.add_argument(
+                "--truth",
+                type=Path,
+                help="ground-truth CSV (default: the folder's "
+                "state_groundtruth_estimate0/data.csv when present)",
+            )
+        k.add_argument(
+            "--allow-gaps", action="store_true", help="accept time steps longer than the gap limit"
+        )
+        add_json_option(k)
+        k.set_defaults(func=run)
+
+
+def _import_log(args: argparse.Namespace) -> PhysicalTrace:
+    from sins_fw.importers import importer
+
+    options: dict[str, Any] = {}
+    if args.kind == "euroc":
+        options["truth"] = args.truth
+    trace = importer(args.kind)(args.file, **options)
+    try:
+        trace.validate(allow_gaps=args.allow_gaps)
+    except TraceError as e:
+        raise TraceError(f"{args.file}: the imported trace is invalid: {e}") from None
+    return trace
 
 
 def run(args: argparse.Namespace) -> int:
@@ -67,6 +119,10 @@ def run(args: argparse.Namespace) -> int:
     if args.kind == "broad":
         trace = import_broad(args.file)
         trace.save(args.out)
+        kind_name, rows, metadata = type(trace).__name__, len(trace), trace.metadata
+    elif args.kind in _LOGS:
+        trace = _import_log(args)
+        trace.save(args.out, allow_gaps=args.allow_gaps)
         kind_name, rows, metadata = type(trace).__name__, len(trace), trace.metadata
     else:
         # Read and written a chunk at a time: memory is bounded by the chunk (issue 24, item 11).

@@ -1,0 +1,244 @@
+"""Importers of other logs (issue 27, item 2): each on a small log the test writes itself (with the
+library's own writer, or to the format's published layout), never on downloaded data.
+
+Every log holds one motion: a level vehicle yawing at 20 °/s about its down axis (NED/FRD logs) or
+about z (EuRoC/ROS), with the magnetometer seeing a fixed field. The checks are physical: the
+still accelerometer reads +1 g on the trace's z, the truth rotates it to ENU up, the truth's own
+body increments q_k* ⊗ q_k+1 give the gyro's rates, heading 30° east of north puts the body's x
+axis at (sin 30°, cos 30°, 0) in ENU, and the sensor's time stamps come through exactly."""
+
+from __future__ import annotations
+
+import struct
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+from sins_fw import quaternion
+from sins_fw.errors import InputError
+from sins_fw.traces import G0, PhysicalTrace
+
+RATE_HZ = 250.0
+N = 500
+YAW_RATE = float(np.radians(20.0))
+YAW0 = float(np.radians(30.0))
+#: The earth's field in NED, gauss (north and down components).
+MAG_NED = np.array([0.2, 0.0, 0.45])
+
+
+T0_US = 1_000_000
+
+
+def _attitude_ned(t_us: np.ndarray) -> np.ndarray:
+    """The FRD → NED attitude of the yawing vehicle at the log times ``t_us`` (µs)."""
+    yaw = YAW0 + YAW_RATE * (t_us - T0_US) * 1e-6
+    return quaternion.from_axis_angle(np.array([0.0, 0.0, 1.0]), yaw)
+
+
+def _ned_motion() -> dict[str, np.ndarray]:
+    """Times (µs from 1 s), FRD rates (rad/s) and FRD specific force (m/s²) of the yawing vehicle."""
+    t_us = T0_US + np.arange(N, dtype=np.int64) * 4000
+    gyro = np.tile([0.0, 0.0, YAW_RATE], (N, 1))
+    accel = np.tile([0.0, 0.0, -G0], (N, 1))
+    return {"t_us": t_us, "gyro": gyro, "accel": accel}
+
+
+def _field_frd(t_us: np.ndarray) -> np.ndarray:
+    """The earth's field in FRD body axes at the log times ``t_us``, gauss."""
+    return quaternion.rotate(quaternion.conjugate(_attitude_ned(t_us)), MAG_NED)
+
+
+def _check_physics(
+    trace: PhysicalTrace, float32: bool, mag_span: tuple[float, float] = (0.0, 0.0), mag_atol: float = 0.0
+) -> None:
+    """The trace convention: FLU body (z up), ENU navigation, rates in °/s, specific force in g."""
+    tol = 1e-6 if float32 else 1e-12
+    np.testing.assert_allclose(trace.accel_g, np.tile([0.0, 0.0, 1.0], (len(trace), 1)), atol=tol)
+    np.testing.assert_allclose(trace.gyro_dps[:, :2], 0.0, atol=tol)
+    np.testing.assert_allclose(trace.gyro_dps[:, 2], -20.0, rtol=tol)  # yaw right = turning clockwise
+    q = trace.truth_q
+    valid = ~np.isnan(q[:, 0])
+    assert valid.sum() >= len(trace) - 2
+    up = quaternion.rotate(q[valid], trace.accel_g[valid])
+    np.testing.assert_allclose(up, np.tile([0.0, 0.0, 1.0], (valid.sum(), 1)), atol=10 * tol + 1e-9)
+    first = np.flatnonzero(valid)[0]
+    forward = quaternion.rotate(q[first], [1.0, 0.0, 0.0])
+    heading = YAW0 + YAW_RATE * float(trace.t_s[first])
+    np.testing.assert_allclose(forward, [np.sin(heading), np.cos(heading), 0.0], atol=1e-6)
+    # The truth's body increments are the gyro's rates (the body frame is the same).
+    k = np.flatnonzero(valid[:-1] & valid[1:])
+    dq = quaternion.multiply(quaternion.conjugate(q[k]), q[k + 1])
+    rate = 2 * dq[:, 1:] / np.diff(trace.t_s)[k, None]
+    np.testing.assert_allclose(np.degrees(rate), trace.gyro_dps[k], atol=1e-3)
+    if trace.mag_gauss is not None:
+        inside = valid & (trace.t_s >= mag_span[0]) & (trace.t_s <= mag_span[1])
+        mag_enu = quaternion.rotate(q[inside], trace.mag_gauss[inside])
+        np.testing.assert_allclose(mag_enu, np.tile([0.0, 0.2, -0.45], (inside.sum(), 1)), atol=mag_atol)
+    assert "GPS stream" in trace.metadata["gps"]
+
+
+# ---------------------------------------------------------------------------------------------------
+# PX4 ULog: written to the format's published layout (pyulog reads it; it has no writer of its own
+# that builds a log from nothing)
+# ---------------------------------------------------------------------------------------------------
+
+
+def write_ulog(
+    path: Path, topics: list[tuple[str, list[tuple[str, str, int]], dict[str, np.ndarray]]]
+) -> None:
+    """A ULog file (version 1): the 16-byte header, the flag bits, one format and one subscription
+    per topic, then the data messages in time order. Each topic: (name, [(type, field, count)],
+    {field: values}); the first field is `uint64_t timestamp`."""
+    out = bytearray(b"ULog\x01\x12\x35\x01" + struct.pack("<Q", 0))
+
+    def message(kind: str, payload: bytes) -> None:
+        out.extend(struct.pack("<HB", len(payload), ord(kind)) + payload)
+
+    message("B", bytes(40))  # compat and incompat flags, no appended data
+    for name, fields, _ in topics:
+        message(
+            "F", (name + ":" + "".join(f"{t}[{c}] {f};" if c else f"{t} {f};" for t, f, c in fields)).encode()
+        )
+    for i, (name, _, _) in enumerate(topics):
+        message("A", struct.pack("<BH", 0, i) + name.encode())
+    codes = {"uint64_t": "Q", "float": "f"}
+    rows = []
+    for i, (_, fields, data) in enumerate(topics):
+        for k in range(len(data["timestamp"])):
+            payload = struct.pack("<H", i)
+            for t, f, c in fields:
+                payload += struct.pack("<" + codes[t] * (c or 1), *np.atleast_1d(data[f][k]).tolist())
+            rows.append((int(data["timestamp"][k]), payload))
+    for _, payload in sorted(rows, key=lambda r: r[0]):
+        message("D", payload)
+    path.write_bytes(bytes(out))
+
+
+def _ulog(path: Path) -> dict[str, np.ndarray]:
+    m = _ned_motion()
+    t = m["t_us"]
+    write_ulog(
+        path,
+        [
+            (
+                "sensor_combined",
+                [("uint64_t", "timestamp", 0), ("float", "gyro_rad", 3), ("float", "accelerometer_m_s2", 3)],
+                {"timestamp": t, "gyro_rad": m["gyro"], "accelerometer_m_s2": m["accel"]},
+            ),
+            (
+                "vehicle_magnetometer",
+                [("uint64_t", "timestamp", 0), ("float", "magnetometer_ga", 3)],
+                {"timestamp": t[::5] + 1000, "magnetometer_ga": _field_frd(t[::5] + 1000)},
+            ),
+            (
+                "vehicle_attitude",
+                [("uint64_t", "timestamp", 0), ("float", "q", 4)],
+                {"timestamp": t[::2] + 500, "q": _attitude_ned(t[::2] + 500)},
+            ),
+        ],
+    )
+    return m
+
+
+def test_ulog_import(tmp_path):
+    pytest.importorskip("pyulog")
+    from sins_fw.importers.ulog import import_ulog
+
+    m = _ulog(tmp_path / "flight.ulg")
+    trace = import_ulog(tmp_path / "flight.ulg")
+    np.testing.assert_array_equal(trace.t_s, (m["t_us"] - m["t_us"][0]) * 1e-6)
+    assert trace.metadata["sample_rate_hz"] == "250"
+    assert "1000000 µs" in trace.metadata["time_origin"]
+    assert "vehicle_attitude.q" in trace.metadata["truth"] and "estimate" in trace.metadata["truth"]
+    assert "FRD" in trace.metadata["frame"] and "ENU" in trace.metadata["frame"]
+    # The magnetometer's 50 Hz samples (from 1 ms to 1.981 s) are interpolated linearly: the yaw turns
+    # by θ = 20 °/s × 20 ms between them, a chord error of at most |m_horizontal| θ²/8 (1.2e-6 gauss),
+    # plus float32 rounding (6e-8 of 0.45 gauss).
+    theta = YAW_RATE * 0.02
+    _check_physics(
+        trace, float32=True, mag_span=(0.001, 0.001 + 99 * 0.02), mag_atol=0.2 * theta**2 / 8 + 1e-7
+    )
+
+
+def test_ulog_through_the_cli(tmp_path):
+    pytest.importorskip("pyulog")
+    _ulog(tmp_path / "flight.ulg")
+    r = run_cli("import", "ulog", str(tmp_path / "flight.ulg"), "--out", str(tmp_path / "f.h5"), "--json")
+    assert r.code == 0, r.err
+    assert '"rows": 500' in r.out
+    assert PhysicalTrace.load(tmp_path / "f.h5").metadata["source"] == "PX4 ULog flight.ulg"
+    (tmp_path / "bad.ulg").write_bytes(b"not a log at all")
+    r = run_cli("import", "ulog", str(tmp_path / "bad.ulg"), "--out", str(tmp_path / "b.h5"))
+    assert r.code == 2 and "bad.ulg: not a readable ULog file" in r.err and "Traceback" not in r.err
+
+
+@pytest.mark.parametrize(("kind", "package"), [("ulog", "pyulog")])
+def test_a_missing_library_is_named(tmp_path, monkeypatch, capsys, kind, package):
+    from sins_fw.cli import main
+    from sins_fw.importers import need
+
+    monkeypatch.setitem(sys.modules, package, None)  # `import package` now raises ImportError
+    with pytest.raises(InputError, match=rf"needs the `{package}` package.*pip install 'sins-fw\[import\]'"):
+        need(package, package, kind)
+    (tmp_path / "log").write_bytes(b"x")
+    assert main(["import", kind, str(tmp_path / "log"), "--out", str(tmp_path / "o.h5")]) == 2
+    assert f"pip install {package}" in capsys.readouterr().err
+    assert not (tmp_path / "o.h5").exists()
+
+
+# ---------------------------------------------------------------------------------------------------
+# EuRoC-style CSV
+# ---------------------------------------------------------------------------------------------------
+
+
+def _euroc(root: Path) -> np.ndarray:
+    """A EuRoC folder: the sensor yaws about its z (up) axis; the ground truth at its own times."""
+    t_ns = 1403636579758555392 + np.arange(N, dtype=np.int64) * 4_000_000
+    t = (t_ns - t_ns[0]) * 1e-9
+    imu = root / "mav0" / "imu0"
+    imu.mkdir(parents=True)
+    header = "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+    header += "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n"
+    rows = [f"{s},0.0,0.0,{-float(YAW_RATE)!r},0.0,0.0,{G0!r}" for s in t_ns]
+    (imu / "data.csv").write_text(header + "\n".join(rows) + "\n")
+    gt = root / "mav0" / "state_groundtruth_estimate0"
+    gt.mkdir()
+    t_gt = t_ns[::2] + 1_000_000
+    yaw = np.pi / 2 - YAW0 - YAW_RATE * (t_gt - t_ns[0]) * 1e-9  # ENU yaw of heading 30° + 20 °/s t
+    q = quaternion.from_axis_angle(np.array([0.0, 0.0, 1.0]), yaw)
+    header = (
+        "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z []\n"
+    )
+    rows = [f"{s},1.0,2.0,3.0," + ",".join(repr(float(x)) for x in qk) for s, qk in zip(t_gt, q, strict=True)]
+    (gt / "data.csv").write_text(header + "\n".join(rows) + "\n")
+    return t
+
+
+def test_euroc_import(tmp_path):
+    from sins_fw.importers.euroc import import_euroc
+
+    t = _euroc(tmp_path)
+    trace = import_euroc(tmp_path)
+    np.testing.assert_array_equal(trace.t_s, t)
+    assert "1403636579758555392 ns" in trace.metadata["time_origin"]
+    assert trace.metadata["sample_rate_hz"] == "250"
+    # Before the first ground-truth time (1 ms after the first IMU sample): no truth.
+    assert np.isnan(trace.truth_q[0]).all() and not np.isnan(trace.truth_q[1]).any()
+    _check_physics(trace, float32=False)
+    r = run_cli("import", "euroc", str(tmp_path), "--out", str(tmp_path / "e.csv"))
+    assert r.code == 0, r.err
+    np.testing.assert_array_equal(PhysicalTrace.load(tmp_path / "e.csv").t_s, t)
+
+
+def test_euroc_errors_name_the_file_and_column(tmp_path):
+    from sins_fw.errors import TraceError
+    from sins_fw.importers.euroc import import_euroc
+
+    with pytest.raises(TraceError, match=r"no imu0/data\.csv here or in mav0/"):
+        import_euroc(tmp_path)
+    (tmp_path / "imu.csv").write_text("#timestamp [ns],w_RS_S_x [rad s^-1]\n1,0\n")
+    with pytest.raises(TraceError, match=r"imu.csv: line 1: missing column `w_RS_S_y`"):
+        import_euroc(tmp_path / "imu.csv")
