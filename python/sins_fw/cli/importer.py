@@ -1,5 +1,5 @@
 """`sins-fw import broad FILE.hdf5 --out TRACE`, `sins-fw import trace FILE --out TRACE` and the
-importers of other logs: `sins-fw import ulog|euroc FILE --out TRACE`.
+importers of other logs: `sins-fw import ulog|rosbag|euroc FILE --out TRACE`.
 
 ``broad`` converts a BROAD trial into a physical trace; ``trace`` reads a physical or raw-register
 trace, validates it and writes it in the form the output extension asks for (CSV ↔ .h5); the log
@@ -68,6 +68,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 _LOGS = {  # the kinds of sins_fw.importers.IMPORTERS
     "ulog": ("a PX4 ULog (.ulg) → physical trace (needs pyulog)", "PX4 log, e.g. flight.ulg"),
+    "rosbag": (
+        "a ROS 1 (.bag) or ROS 2 (folder, .db3, .mcap) bag's sensor_msgs/Imu → physical trace "
+        "(needs rosbags)",
+        "ROS bag file or ROS 2 bag folder",
+    ),
     "euroc": (
         "EuRoC-style CSV (imu0/data.csv, ground truth) → physical trace",
         "EuRoC folder (holding imu0/ or mav0/imu0/) or its imu0/data.csv",
@@ -92,6 +97,11 @@ def _register_logs(kinds: argparse._SubParsersAction) -> None:
                 help="ground-truth CSV (default: the folder's "
                 "state_groundtruth_estimate0/data.csv when present)",
             )
+        if kind == "rosbag":
+            k.add_argument("--imu-topic", help="the sensor_msgs/Imu topic (default: the bag's only one)")
+            k.add_argument(
+                "--mag-topic", help="the sensor_msgs/MagneticField topic (default: the bag's only one)"
+            )
         k.add_argument(
             "--allow-gaps", action="store_true", help="accept time steps longer than the gap limit"
         )
@@ -105,6 +115,8 @@ def _import_log(args: argparse.Namespace) -> PhysicalTrace:
     options: dict[str, Any] = {}
     if args.kind == "euroc":
         options["truth"] = args.truth
+    if args.kind == "rosbag":
+        options.update(imu_topic=args.imu_topic, mag_topic=args.mag_topic)
     trace = importer(args.kind)(args.file, **options)
     try:
         trace.validate(allow_gaps=args.allow_gaps)
