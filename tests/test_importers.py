@@ -175,7 +175,9 @@ def test_ulog_through_the_cli(tmp_path):
     assert r.code == 2 and "bad.ulg: not a readable ULog file" in r.err and "Traceback" not in r.err
 
 
-@pytest.mark.parametrize(("kind", "package"), [("ulog", "pyulog"), ("rosbag", "rosbags")])
+@pytest.mark.parametrize(
+    ("kind", "package"), [("ulog", "pyulog"), ("dataflash", "pymavlink"), ("rosbag", "rosbags")]
+)
 def test_a_missing_library_is_named(tmp_path, monkeypatch, capsys, kind, package):
     from sins_fw.cli import main
     from sins_fw.importers import need
@@ -339,3 +341,60 @@ def test_rosbag_with_two_imu_topics_asks_which(tmp_path):
     assert len(import_rosbag(path, imu_topic="/imu/b")) == N
     r = run_cli("import", "rosbag", str(tmp_path / "nothing"), "--out", str(tmp_path / "o.h5"))
     assert r.code == 2 and "no such ROS bag" in r.err
+
+
+# ---------------------------------------------------------------------------------------------------
+# ArduPilot DataFlash: built to the format's layout (FMT messages describe the others), read by
+# pymavlink's DFReader
+# ---------------------------------------------------------------------------------------------------
+
+
+def _df_format(type_id: int, name: str, fmt: str, columns: str) -> bytes:
+    """An FMT message: the type, the message length (3-byte header included), name, format, columns."""
+    sizes = {"Q": 8, "B": 1, "f": 4, "n": 4, "N": 16, "Z": 64}
+    length = 3 + sum(sizes[c] for c in fmt)
+    payload = struct.pack("<BB4s16s64s", type_id, length, name.encode(), fmt.encode(), columns.encode())
+    return b"\xa3\x95\x80" + payload
+
+
+def _df_message(type_id: int, fmt: str, *values: float) -> bytes:
+    return b"\xa3\x95" + bytes([type_id]) + struct.pack("<" + fmt, *values)
+
+
+def _dataflash(path: Path) -> dict[str, np.ndarray]:
+    m = _ned_motion()
+    out = bytearray(_df_format(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
+    out += _df_format(129, "IMU", "QBffffff", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ")
+    out += _df_format(130, "MAG", "QBfff", "TimeUS,I,MagX,MagY,MagZ")
+    out += _df_format(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
+    for k, t in enumerate(m["t_us"]):
+        out += _df_message(129, "QBffffff", t, 0, *m["gyro"][k], *m["accel"][k])
+        out += _df_message(129, "QBffffff", t, 1, 9.0, 9.0, 9.0, 9.0, 9.0, 9.0)  # a second IMU: left out
+        if k % 5 == 0:
+            mag = _field_frd(np.array([t + 1000]))[0] * 1000  # milligauss
+            out += _df_message(130, "QBfff", t + 1000, 0, *mag)
+        if k % 2 == 0:
+            yaw = np.degrees(YAW0 + YAW_RATE * (t + 500 - T0_US) * 1e-6) % 360
+            out += _df_message(131, "Qfff", t + 500, 0.0, 0.0, yaw)
+    path.write_bytes(bytes(out))
+    return m
+
+
+def test_dataflash_import(tmp_path):
+    pytest.importorskip("pymavlink")
+    from sins_fw.importers.dataflash import import_dataflash
+
+    m = _dataflash(tmp_path / "00000001.BIN")
+    trace = import_dataflash(tmp_path / "00000001.BIN")
+    np.testing.assert_array_equal(trace.t_s, (m["t_us"] - m["t_us"][0]) * 1e-6)
+    assert "ATT" in trace.metadata["truth"] and "estimate" in trace.metadata["truth"]
+    theta = YAW_RATE * 0.02
+    # ATT's yaw in float32 degrees: 3e-6° of rounding at 360° (5e-8 rad), far below the checks' 1e-6.
+    _check_physics(
+        trace, float32=True, mag_span=(0.001, 0.001 + 99 * 0.02), mag_atol=0.2 * theta**2 / 8 + 1e-7
+    )
+    r = run_cli("import", "dataflash", str(tmp_path / "00000001.BIN"), "--out", str(tmp_path / "d.csv"))
+    assert r.code == 0, r.err
+    (tmp_path / "empty.BIN").write_bytes(_df_format(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
+    r = run_cli("import", "dataflash", str(tmp_path / "empty.BIN"), "--out", str(tmp_path / "e.csv"))
+    assert r.code == 2 and "no IMU messages (instance 0)" in r.err and "Traceback" not in r.err

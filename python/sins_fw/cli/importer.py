@@ -1,5 +1,5 @@
 """`sins-fw import broad FILE.hdf5 --out TRACE`, `sins-fw import trace FILE --out TRACE` and the
-importers of other logs: `sins-fw import ulog|rosbag|euroc FILE --out TRACE`.
+importers of other logs: `sins-fw import ulog|dataflash|rosbag|euroc FILE --out TRACE`.
 
 ``broad`` converts a BROAD trial into a physical trace; ``trace`` reads a physical or raw-register
 trace, validates it and writes it in the form the output extension asks for (CSV ↔ .h5); the log
@@ -68,6 +68,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 _LOGS = {  # the kinds of sins_fw.importers.IMPORTERS
     "ulog": ("a PX4 ULog (.ulg) → physical trace (needs pyulog)", "PX4 log, e.g. flight.ulg"),
+    "dataflash": (
+        "an ArduPilot DataFlash log (.bin) → physical trace (needs pymavlink)",
+        "ArduPilot log, e.g. 00000042.BIN",
+    ),
     "rosbag": (
         "a ROS 1 (.bag) or ROS 2 (folder, .db3, .mcap) bag's sensor_msgs/Imu → physical trace "
         "(needs rosbags)",

@@ -154,6 +154,7 @@ Importer = Callable[..., PhysicalTrace]
 #: `sins-fw import KIND`: the module and function of each importer (imported when used).
 IMPORTERS = {
     "ulog": ("ulog", "import_ulog"),
+    "dataflash": ("dataflash", "import_dataflash"),
     "rosbag": ("rosbag", "import_rosbag"),
     "euroc": ("euroc", "import_euroc"),
 }
