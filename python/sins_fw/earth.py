@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from sins_fw.errors import InputError
+
 Array = NDArray[np.float64]
 
 #: Standard gravity, the unit "g" of traces (m/s²).
@@ -60,8 +62,11 @@ def earth_rate_place(profile: Any, trace_metadata: Mapping[str, str]) -> dict[st
     it was recorded (``latitude_deg`` in its metadata), and, when it does not, a note saying which
     latitude was assumed and the keys that change it or switch the compensation off. Without the
     compensation (``firmware.earth_rate = false``) the latitude does not matter: no note."""
-    on = bool(profile.get("firmware.earth_rate"))
-    latitude = float(profile.get("navigation.latitude_deg"))
+    try:
+        on = bool(profile.get("firmware.earth_rate"))
+        latitude = float(profile.get("navigation.latitude_deg"))
+    except InputError:  # a firmware without these keys: nothing to say
+        return {"compensated": None, "latitude_deg": None, "trace_latitude_deg": None, "note": None}
     given = trace_metadata.get("latitude_deg")
     note = None
     if on and given is None:

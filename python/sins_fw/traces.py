@@ -498,7 +498,8 @@ def _rate(
     rows = f"the median step of rows 0…{len(times) - 1}, {step:.6g} s"
     if declared is not None:
         if len(dt) >= RATE_MIN_STEPS and abs(float(declared) * step - 1) > RATE_TOLERANCE:
-            hint = _time_hint(step, t, float(declared)) or "; correct it, or remove it to use the times'"
+            fix = "; correct it, or remove it to use the times' rate"
+            hint = _time_hint(step, t, float(declared)) or fix
             raise TraceError(
                 f"{where}: `sample_rate_hz` is {metadata['sample_rate_hz']} Hz but the times give "
                 f"{float(inferred):.6g} Hz ({rows}); expected the two within {RATE_TOLERANCE:.0%}{hint}"

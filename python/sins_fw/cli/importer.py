@@ -33,7 +33,8 @@ IMPORT_CHUNK_ROWS = 1 << 16
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "import",
-        help="convert a BROAD trial or a trace file into a sins-fw trace (.csv/.h5)",
+        help="convert a BROAD trial, a PX4, ArduPilot, ROS or EuRoC log, or a trace file into a sins-fw "
+        "trace (.csv/.h5)",
         epilog=exit_epilog(None),
     )
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
