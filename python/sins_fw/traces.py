@@ -263,7 +263,6 @@ _UNIT_SPELLINGS = {
     "m/s²": "m_s2",
     "µt": "ut",
     "μt": "ut",
-    "mg": "mgauss",
 }
 #: Rows whose times give the sample rate (the median step) when the metadata has none, and against
 #: which a declared rate is checked.

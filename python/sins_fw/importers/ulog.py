@@ -1,7 +1,9 @@
 """PX4 ULog (read with pyulog): ``sensor_combined`` (gyro_rad, rad/s; accelerometer_m_s2, m/s²; FRD
 body axes; time stamps in µs), the magnetometer from ``vehicle_magnetometer`` (magnetometer_ga) or
 ``sensor_mag`` (x, y, z), gauss, FRD; the attitude from ``vehicle_attitude_groundtruth`` (a
-simulation's truth) or ``vehicle_attitude`` (the autopilot's estimate), q = FRD → NED, [w, x, y, z]."""
+simulation's truth) or ``vehicle_attitude`` (the autopilot's estimate), q = FRD → NED, [w, x, y, z].
+Both IMU vectors take sensor_combined's ``timestamp`` (the gyro's sample time; the accelerometer's
+``accelerometer_timestamp_relative``, normally 0, is not applied)."""
 
 from __future__ import annotations
 
