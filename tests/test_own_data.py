@@ -229,3 +229,17 @@ def test_run_says_which_latitude_the_earth_rate_assumes(tmp_path):
         assert r.code == 0, r.err
         assert json.loads(r.out)["earth_rate"]["note"] is None
         assert "earth rate" not in run_cli("run", *args).out
+
+
+def test_a_gap_that_is_a_time_unit_says_so(tmp_path):
+    """Three rows in ms under a declared 100 Hz: too few steps to check the rate, so the first step
+    is a 'gap of 10 s', which now names the time unit that fits (it said only 'gap of 10 s')."""
+    t, w, f = _motion(n=3)
+    header = ["t_s", *(f"gyro_{a}_dps" for a in "xyz"), *(f"accel_{a}_g" for a in "xyz")]
+    path = _csv(tmp_path / "ms.csv", header, _columns(t * 1000, w, f), meta="# sample_rate_hz: 100\n")
+    with pytest.raises(
+        TraceError,
+        match=r"gap of 10 s .*--allow-gaps\); the times look like milliseconds "
+        r"\(100 Hz in ms\): name the column `t_ms` or give --units t=ms",
+    ):
+        PhysicalTrace.load(path)

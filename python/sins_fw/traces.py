@@ -671,6 +671,8 @@ class _Checker:
     #: The file's name of a column read under another name (``gyro_x_dps`` → ``wx``), for messages.
     labels: dict[str, str] = field(default_factory=dict)
     plausibility: _Plausibility | None = None
+    #: How the time column was read (its unit), for the hint of a gap that is a time-unit mistake.
+    time_field: _Field | None = None
 
     def col(self, name: str) -> str:
         """A column as the messages name it: the file's name, and the trace's when they differ."""
@@ -750,6 +752,9 @@ class _Checker:
                 f"({dt[k] / self.period_s:.3g} sample periods) after time {float(joined[k])!r} s; expected "
                 f"at most {self.max_gap_periods:g} periods of 1/sample_rate_hz = {self.period_s:.6g} s "
                 "(allow gaps with allow_gaps=True / --allow-gaps)"
+                + _time_hint(
+                    float(dt[k]), self.time_field or _Field("t_s", "t_s", 1.0, "s"), 1 / self.period_s
+                )
             )
         if len(t):
             self.prev_t = float(t[-1])
@@ -901,7 +906,10 @@ def _checker(
     fields: list[_Field],
 ) -> _Checker:
     labels = {f.name: f.source for f in fields if f.name and f.name != f.source}
-    checker = _Checker(schema, src, float(1 / rate), allow_gaps, max_gap_periods, where, labels=labels)
+    t_field = next(f for f in fields if f.name == "t_s")
+    checker = _Checker(
+        schema, src, float(1 / rate), allow_gaps, max_gap_periods, where, labels=labels, time_field=t_field
+    )
     if schema is PHYSICAL_SCHEMA:
         checker.plausibility = _Plausibility(src, float(1 / rate), {f.name: f for f in fields if f.name})
     return checker
