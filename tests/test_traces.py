@@ -295,7 +295,18 @@ def _message_body(text: str) -> str:
     return re.sub(r"^.*?: (metadata[^:]*: )?", "", str(text))
 
 
-@pytest.mark.parametrize("case", ["truth norm 2", "no sample rate", "gap", "time backwards", "inf gyro"])
+def test_a_file_without_a_rate_takes_the_times_rate_while_memory_needs_one(tmp_path):
+    """A file from another tool often has no metadata: its times give the rate (issue 27, item 1). A
+    trace built in code states its rate (`sample_rate_hz` missing is refused there)."""
+    trace = _bad_in_memory("no sample rate")
+    path = tmp_path / "bad.h5"
+    _h5_by_hand(path, trace.columns(), trace.metadata)
+    assert PhysicalTrace.load(path).metadata["sample_rate_hz"] == "100"
+    with pytest.raises(TraceError, match="`sample_rate_hz` is missing"):
+        trace.validate()
+
+
+@pytest.mark.parametrize("case", ["truth norm 2", "gap", "time backwards", "inf gyro"])
 def test_in_memory_traces_are_refused_like_files(tmp_path, case):
     """The file loaders and emulate() on a trace in memory (whole or in chunks) go through the same
     checks and refuse the same data with the same message (issue 24, item 5: emulate() accepted a

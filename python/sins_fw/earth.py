@@ -8,8 +8,13 @@ the second-order free-air correction), which already contains the centrifugal pa
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from sins_fw.errors import InputError
 
 Array = NDArray[np.float64]
 
@@ -49,3 +54,25 @@ def radii(lat_rad: ArrayLike) -> tuple[Array, Array]:
     s2 = np.sin(np.asarray(lat_rad, dtype=np.float64)) ** 2
     e = FLATTENING_FIRMWARE
     return R_EQUATOR * (1.0 - 2.0 * e + 3.0 * e * s2), R_EQUATOR * (1.0 + e * s2)
+
+
+def earth_rate_place(profile: Any, trace_metadata: Mapping[str, str]) -> dict[str, Any]:
+    """Where the firmware's earth-rate compensation takes the board to be, for a run's summary: the
+    profile's ``navigation.latitude_deg`` (the firmware knows no other), whether the trace says where
+    it was recorded (``latitude_deg`` in its metadata), and, when it does not, a note saying which
+    latitude was assumed and the keys that change it or switch the compensation off. Without the
+    compensation (``firmware.earth_rate = false``) the latitude does not matter: no note."""
+    try:
+        on = bool(profile.get("firmware.earth_rate"))
+        latitude = float(profile.get("navigation.latitude_deg"))
+    except InputError:  # a firmware without these keys: nothing to say
+        return {"compensated": None, "latitude_deg": None, "trace_latitude_deg": None, "note": None}
+    given = trace_metadata.get("latitude_deg")
+    note = None
+    if on and given is None:
+        note = (
+            f"latitude {latitude:g}° assumed (the profile's navigation.latitude_deg): the trace gives no "
+            "`latitude_deg`; set yours with --set navigation.latitude_deg=DEG, or switch the compensation "
+            "off with --set firmware.earth_rate=false"
+        )
+    return {"compensated": on, "latitude_deg": latitude, "trace_latitude_deg": given, "note": note}

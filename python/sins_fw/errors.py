@@ -10,6 +10,8 @@ message, which names the file, key, register or row and what was expected.
     ├── CheckFailed           a check (parity threshold, deadline) failed (CLI exit code 1)
     └── InternalError         a bug: a panic in the core, caught before it could abort Python
 
+    TraceWarning              (a warning) a trace reads but looks wrong: a unit, a time unit
+
     Terminated                SIGTERM, raised by the CLI's handler; a KeyboardInterrupt so that it
                               unwinds exactly like Ctrl-C (CLI exit code 143)
 """
@@ -52,3 +54,8 @@ class InternalError(SinsError):
 class Terminated(KeyboardInterrupt):
     """The process received SIGTERM (the CLI turns it into this exception so that output files are
     left intact and the command says how far it got, as with Ctrl-C)."""
+
+
+class TraceWarning(UserWarning):
+    """A trace reads, but something in it looks wrong: a unit (9.8 g at rest: m/s² in a `_g` column),
+    a time unit, a rate. The message says what was seen and how to read the file otherwise."""

@@ -12,8 +12,10 @@ from __future__ import annotations
 import contextlib
 import io
 import itertools
+import math
 import os
 import re
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -25,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw.atomic import atomic_path, kept_error_file
-from sins_fw.errors import TraceError
+from sins_fw.errors import TraceError, TraceWarning
 
 Array = NDArray[np.float64]
 PathLike = str | os.PathLike[str]
@@ -44,6 +46,8 @@ _CSV_ROWS = 8192
 _HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 _KEY_RE = re.compile(r"^[A-Za-z0-9_.\-]+$")
 _EXTENSIONS = (".csv", ".h5")
+#: Standard gravity: the unit "g" of the traces (m/s²).
+G0 = 9.80665
 
 
 @dataclass(frozen=True)
@@ -209,6 +213,14 @@ def parse_rate(text: str, where: str = "metadata") -> Fraction:
 
 
 def _check_metadata(metadata: Mapping[str, str], schema: _Schema, where: str) -> Fraction:
+    rate = _check_metadata_keys(metadata, schema, where)
+    if rate is None:
+        raise TraceError(f"{where}: `sample_rate_hz` is missing (the nominal sample rate, Hz)")
+    return rate
+
+
+def _check_metadata_keys(metadata: Mapping[str, str], schema: _Schema, where: str) -> Fraction | None:
+    """The metadata's keys and format checked; the declared rate (None when there is none)."""
     for key, value in metadata.items():
         if not _KEY_RE.match(key):
             raise TraceError(f"{where}: key `{key}` must be letters, digits, `_`, `.` or `-`")
@@ -223,8 +235,420 @@ def _check_metadata(metadata: Mapping[str, str], schema: _Schema, where: str) ->
             f"{where}: `format` is `{fmt}` ({other}); expected `{schema.format}` ({schema.title})"
         )
     if "sample_rate_hz" not in metadata:
-        raise TraceError(f"{where}: `sample_rate_hz` is missing (the nominal sample rate, Hz)")
+        return None
     return parse_rate(metadata["sample_rate_hz"], where)
+
+
+# ---------------------------------------------------------------------------------------------------
+# Reading other people's files: units, column maps, the sample rate from the times, plausibility
+# ---------------------------------------------------------------------------------------------------
+
+#: The units a column may be read in, per quantity (the part of the name before the unit): the suffix
+#: that names the unit in a column name (``gyro_x_rad_s``) → the factor to the trace's own unit (the
+#: first one). ``units=`` / ``--units`` take the same names or the usual spellings (``rad/s``, ``m/s2``).
+UNITS: dict[str, dict[str, float]] = {
+    "t": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9},
+    "gyro": {"dps": 1.0, "rad_s": 180.0 / math.pi},
+    "accel": {"g": 1.0, "m_s2": 1.0 / G0},
+    "mag": {"gauss": 1.0, "mgauss": 1e-3, "ut": 1e-2, "nt": 1e-5},
+    "baro": {"mbar": 1.0, "hpa": 1.0, "pa": 1e-2},
+    "temp": {"c": 1.0},
+}
+_UNIT_SPELLINGS = {
+    "deg/s": "dps",
+    "°/s": "dps",
+    "rad/s": "rad_s",
+    "m/s2": "m_s2",
+    "m/s^2": "m_s2",
+    "m/s²": "m_s2",
+    "µt": "ut",
+    "μt": "ut",
+}
+#: Rows whose times give the sample rate (the median step) when the metadata has none, and against
+#: which a declared rate is checked.
+RATE_ROWS = 1024
+#: A declared rate more than this far (relative) from the one the times give is refused: a nominal rate
+#: is within a few per cent of the real one (an RC oscillator's tolerance; crystals are far closer), so a
+#: larger difference is another rate (a decimated log) or times in another unit.
+RATE_TOLERANCE = 0.05
+#: Steps needed before a declared rate is checked against the times: their median is then not moved
+#: by up to 4 gaps (a file of a few rows with one gap keeps its declared rate).
+RATE_MIN_STEPS = 10
+
+
+def _unit_name(text: str) -> str:
+    t = text.strip().lower()
+    return _UNIT_SPELLINGS.get(t, t.replace("/", "_"))
+
+
+def _unit_text(quantity: str) -> str:
+    return ", ".join(f"`{u}`" for u in UNITS[quantity])
+
+
+def parse_units(units: Mapping[str, str] | str | None, where: str = "--units") -> dict[str, str]:
+    """``{"gyro": "rad/s", "accel": "m/s2"}`` or ``"gyro=rad/s,accel=m/s2"`` as quantity → unit suffix
+    (``{"gyro": "rad_s", "accel": "m_s2"}``), each checked against :data:`UNITS`."""
+    pairs = _pairs(units, where)
+    out: dict[str, str] = {}
+    for q, u in pairs.items():
+        if q not in UNITS:
+            raise TraceError(
+                f"{where}: unknown quantity `{q}`; expected one of {', '.join(UNITS)} (e.g. gyro=rad/s)"
+            )
+        unit = _unit_name(u)
+        if unit not in UNITS[q]:
+            raise TraceError(f"{where}: unknown unit `{u}` for `{q}`; expected one of {_unit_text(q)}")
+        out[q] = unit
+    return out
+
+
+def parse_columns(columns: Mapping[str, str] | str | None, where: str = "--columns") -> dict[str, str]:
+    """``{"t_s": "time", "gyro_x": "wx"}`` or ``"t_s=time,gyro_x=wx"``: trace column (with or without
+    its unit) → the file's column name."""
+    return _pairs(columns, where)
+
+
+def _pairs(value: Mapping[str, str] | str | None, where: str) -> dict[str, str]:
+    if value is None:
+        return {}
+    if isinstance(value, Mapping):
+        return {str(k).strip(): str(v).strip() for k, v in value.items()}
+    out: dict[str, str] = {}
+    for item in (s for s in value.split(",") if s.strip()):
+        key, sep, val = item.partition("=")
+        if not sep or not key.strip() or not val.strip():
+            raise TraceError(f"{where}: `{item}` is not NAME=VALUE; expected e.g. gyro=rad/s,accel=m/s2")
+        if key.strip() in out:
+            raise TraceError(f"{where}: `{key.strip()}` is given twice")
+        out[key.strip()] = val.strip()
+    return out
+
+
+@dataclass(frozen=True)
+class ReadOptions:
+    """How to read a file that is not in the trace's own units or names: ``units`` (quantity → unit,
+    e.g. ``{"gyro": "rad/s"}``: every column of the quantity is in that unit, whatever its name says)
+    and ``columns`` (trace column → the file's column, e.g. ``{"t_s": "time", "gyro_x": "wx"}``: the
+    file's other columns that are no trace column are then left out)."""
+
+    units: Mapping[str, str] | str | None = None
+    columns: Mapping[str, str] | str | None = None
+
+    def __bool__(self) -> bool:
+        return bool(self.units) or bool(self.columns)
+
+
+@dataclass(frozen=True)
+class _Field:
+    """One column of the file as read: the file's name, the trace column it becomes (None: left out),
+    the factor to the trace unit, and the unit it was read in."""
+
+    source: str
+    name: str | None
+    factor: float = 1.0
+    unit: str = ""
+
+
+def _quantity(c: Column) -> str | None:
+    """The quantity of a float column that has alternative units (``gyro_x_dps`` → ``gyro``)."""
+    q = c.name.split("_", 1)[0]
+    return q if c.kind == "float" and q in UNITS and c.stem != c.name else None
+
+
+def _resolve_header(schema: _Schema, names: list[str], options: ReadOptions, where: str) -> list[_Field]:
+    """The file's columns as trace columns: units from the name's suffix or ``options.units``, names
+    through ``options.columns``; unknown columns, wrong units and a bad map are explained."""
+    units = parse_units(options.units)
+    mapping = parse_columns(options.columns)
+    by_source: dict[str, str] = {}
+    for key, source in mapping.items():
+        if source not in names:
+            raise TraceError(
+                f"{where}: --columns maps `{key}` to `{source}`, which is not a column of the file "
+                f"(its columns: {', '.join(names)})"
+            )
+        by_source[source] = key
+    for q in units:
+        if not any(_quantity(c) == q for c in schema.columns):
+            raise TraceError(f"{where}: --units gives `{q}`, which a {schema.title} has no column of")
+    fields = [_resolve(schema, n, by_source.get(n), units, bool(mapping), where) for n in names]
+    seen: dict[str, str] = {}
+    for f in fields:
+        if f.name is None:
+            continue
+        if f.name in seen:
+            if seen[f.name] == f.source:
+                raise TraceError(f"{where}: column `{f.source}` appears twice")
+            raise TraceError(
+                f"{where}: columns `{seen[f.name]}` and `{f.source}` are both read as `{f.name}`; expected "
+                "one column per quantity"
+            )
+        seen[f.name] = f.source
+    schema.check_header(list(seen), where)
+    return fields
+
+
+def _resolve(
+    schema: _Schema, source: str, key: str | None, units: dict[str, str], mapped: bool, where: str
+) -> _Field:
+    name = key if key is not None else source
+    lowered = name.strip().lower()
+    via = f" (mapped from `{source}`)" if key is not None else ""
+    known = {c.name: c for c in schema.columns}
+    if name in known:
+        c = known[name]
+        q = _quantity(c)
+        unit = units.get(q, c.name.rsplit("_", 1)[1]) if q else ""
+        return _Field(source, name, UNITS[q][unit] if q else 1.0, unit)
+    for alias in ("timestamp", "time"):  # `time`, `time_ms`: the time column under another name
+        if lowered == alias or lowered.startswith(alias + "_"):
+            lowered = "t" + lowered[len(alias) :]
+            break
+    for c in sorted(schema.columns, key=lambda c: -len(c.stem)):
+        q = _quantity(c)
+        if q is None:
+            continue
+        if lowered == c.stem:
+            if q in units:
+                return _Field(source, c.name, UNITS[q][units[q]], units[q])
+            raise TraceError(
+                f"{where}: column `{name}`{via} has no recognised unit: expected `{c.name}` ({c.unit}); "
+                f"name the unit in the column ({', '.join(f'`{c.stem}_{u}`' for u in UNITS[q])}) or give "
+                f"it with --units {q}=UNIT"
+            )
+        if lowered.startswith(c.stem + "_"):
+            unit = lowered[len(c.stem) + 1 :]
+            if q in units or unit in UNITS[q]:
+                u = units.get(q, unit)
+                return _Field(source, c.name, UNITS[q][u], u)
+            others = ", ".join(f"`{c.stem}_{u}`" for u in list(UNITS[q])[1:])
+            raise TraceError(
+                f"{where}: column `{name}`{via} has the wrong unit: expected `{c.name}` ({c.unit}), or "
+                f"{others}; or give the unit with --units {q}=UNIT"
+            )
+    if mapped and key is None:
+        return _Field(source, None)
+    if key is not None:
+        raise TraceError(f"{where}: --columns maps `{key}` to `{source}`: {schema.diagnose_unknown(key)}")
+    hint = "" if schema is not PHYSICAL_SCHEMA else "; a file with other names can be read with --columns"
+    raise TraceError(f"{where}: {schema.diagnose_unknown(name)}{hint}")
+
+
+#: Time units tried when a rate looks wrong, with their names in messages.
+_TIME_UNITS = {"s": "seconds", "ms": "milliseconds", "us": "microseconds", "ns": "nanoseconds"}
+#: Sample rates an IMU trace can have (Hz): outside, the times are taken to be in another unit.
+_PLAUSIBLE_RATE_HZ = (1.0, 1e5)
+
+
+def _rate_of_step(step: float) -> Fraction:
+    """The rate of a median step: a simple ratio when one is that close (4096/5, 2000/7, 100), else
+    six significant digits."""
+    rate = 1.0 / step
+    simple = Fraction(rate).limit_denominator(1000)
+    if simple > 0 and abs(float(simple) - rate) <= 1e-9 * rate:
+        return simple
+    return Fraction(f"{rate:.6g}")
+
+
+def _rate_text(rate: Fraction) -> str:
+    return str(rate.numerator) if rate.denominator == 1 else f"{rate.numerator}/{rate.denominator}"
+
+
+def _time_hint(step: float, t: _Field, want_hz: float | None) -> str:
+    """When the times' step fits ``want_hz`` (or a plausible IMU rate) in another time unit: which."""
+    read_in = t.unit or "s"
+    scale = UNITS["t"][read_in]
+    candidates = []
+    for unit, factor in UNITS["t"].items():
+        rate = 1.0 / (step / scale * factor)
+        if want_hz is not None:
+            if unit != read_in and abs(rate / want_hz - 1) <= RATE_TOLERANCE:
+                candidates.append((0.0, unit, rate))
+        elif _PLAUSIBLE_RATE_HZ[0] <= rate <= _PLAUSIBLE_RATE_HZ[1]:
+            candidates.append((abs(math.log10(rate / 316.0)), unit, rate))
+    if not candidates:
+        return ""
+    _, unit, rate = min(candidates)
+    if unit == read_in:
+        return ""
+    return (
+        f"; the times look like {_TIME_UNITS[unit]} ({rate:.6g} Hz in {unit}): name the column "
+        f"`t_{unit}` or give --units t={unit}"
+    )
+
+
+def _rate(
+    metadata: dict[str, str], schema: _Schema, times: Array, t: _Field, where: str, src: str
+) -> Fraction:
+    """The sample rate: the declared one checked against the first rows' times (their median step),
+    or, when the metadata has none, the times' own (written into ``metadata``)."""
+    declared = _check_metadata_keys(metadata, schema, where)
+    dt = np.diff(times)
+    dt = dt[np.isfinite(dt) & (dt > 0)]
+    if not len(dt):
+        if declared is None:
+            raise TraceError(
+                f"{where}: `sample_rate_hz` is missing and fewer than two rows give it; add a line "
+                "`# sample_rate_hz: RATE` (the nominal sample rate, Hz)"
+            )
+        return declared
+    step = float(np.median(dt))
+    inferred = _rate_of_step(step)
+    rows = f"the median step of rows 0…{len(times) - 1}, {step:.6g} s"
+    if declared is not None:
+        if len(dt) >= RATE_MIN_STEPS and abs(float(declared) * step - 1) > RATE_TOLERANCE:
+            fix = "; correct it, or remove it to use the times' rate"
+            hint = _time_hint(step, t, float(declared)) or fix
+            raise TraceError(
+                f"{where}: `sample_rate_hz` is {metadata['sample_rate_hz']} Hz but the times give "
+                f"{float(inferred):.6g} Hz ({rows}); expected the two within {RATE_TOLERANCE:.0%}{hint}"
+            )
+        return declared
+    metadata["sample_rate_hz"] = _rate_text(inferred)
+    if not _PLAUSIBLE_RATE_HZ[0] <= float(inferred) <= _PLAUSIBLE_RATE_HZ[1]:
+        hint = _time_hint(step, t, None)
+        warnings.warn(
+            f"{src}: the times give a sample rate of {float(inferred):.6g} Hz ({rows} in {t.unit or 's'}), "
+            f"outside {_PLAUSIBLE_RATE_HZ[0]:g}…{_PLAUSIBLE_RATE_HZ[1]:g} Hz{hint}",
+            TraceWarning,
+            stacklevel=2,
+        )
+    return inferred
+
+
+#: Rows over which the specific force's median magnitude is taken.
+ACCEL_ROWS = 4096
+#: A factor around a unit's ratio inside which a value "looks like" the other unit: the geometric
+#: middle between the right unit (1) and the wrong one (9.81 for g/m/s², 57.3 for °/s / rad/s) is
+#: √9.81 ≈ 3.1 and √57.3 ≈ 7.6; 1.5 stays well inside both.
+_LOOKS_LIKE = 1.5
+#: The largest full scale of MEMS gyros (°/s): a rate above it read as rad/s is °/s.
+GYRO_MAX_DPS = 2000.0
+#: Length of the segments whose mean specific-force directions are compared with the gyro's turning.
+_SEGMENT_S = 0.5
+#: The accelerometer must turn through at least this much (°) before the gyro is judged by it.
+_MIN_TURN_DEG = 10.0
+
+
+@dataclass
+class _Plausibility:
+    """Warnings for units that read but look wrong (docs/traces.md, 'Reading other files'): 9.8 g at
+    rest (m/s² in `_g` columns) and 0.1 g (g in `_m_s2` columns); a gyro that turns far less than the
+    accelerometer's direction does (rad/s in `_dps` columns) or faster than any MEMS gyro (°/s in
+    `_rad_s` columns)."""
+
+    src: str
+    period_s: float
+    fields: dict[str, _Field]
+    accel: list[Array] = field(default_factory=list)
+    accel_rows: int = 0
+    accel_done: bool = False
+    seg_acc: list[Array] = field(default_factory=list)
+    seg_gyro: list[Array] = field(default_factory=list)
+    last_dir: Array | None = None
+    last_bound_deg: float = 0.0
+    turn_deg: float = 0.0
+    bound_deg: float = 0.0
+    peak_dps: float = 0.0
+    warned: set[str] = field(default_factory=set)
+
+    def add(self, cols: Mapping[str, np.ndarray]) -> None:
+        with np.errstate(over="ignore", invalid="ignore"):  # values near the float limit: inf is fine
+            self._add(cols)
+
+    def _add(self, cols: Mapping[str, np.ndarray]) -> None:
+        f = np.stack([cols[f"accel_{a}_g"] for a in "xyz"], axis=1)
+        w = np.stack([cols[f"gyro_{a}_dps"] for a in "xyz"], axis=1)
+        if not self.accel_done:
+            self.accel.append(np.linalg.norm(f, axis=1))
+            self.accel_rows += len(f)
+            if self.accel_rows >= ACCEL_ROWS:
+                self._check_accel()
+        if len(w):
+            self.peak_dps = max(self.peak_dps, float(np.max(np.linalg.norm(w, axis=1))))
+        self.seg_acc.append(f)
+        self.seg_gyro.append(np.linalg.norm(w, axis=1))
+        self._segments(final=False)
+
+    def finish(self) -> None:
+        with np.errstate(over="ignore", invalid="ignore"):
+            if not self.accel_done:
+                self._check_accel()
+            self._segments(final=True)
+        gyro = self.fields.get("gyro_x_dps")
+        if gyro is None:
+            return
+        if gyro.unit != "dps" and self.peak_dps > GYRO_MAX_DPS:
+            self._warn(
+                "gyro",
+                f"a rate of {self.peak_dps:.4g} °/s (read in {gyro.unit}) is beyond any MEMS gyro's range "
+                f"(±{GYRO_MAX_DPS:g} °/s): the gyro columns look like °/s; name them `gyro_x_dps` … or "
+                "give --units gyro=dps",
+            )
+        ratio = math.sqrt(180.0 / math.pi)
+        if gyro.unit == "dps" and self.turn_deg > _MIN_TURN_DEG and self.turn_deg > ratio * self.bound_deg:
+            self._warn(
+                "gyro",
+                f"the specific force turned through {self.turn_deg:.4g}° in all while the gyro rates (read "
+                f"in °/s) allow at most {self.bound_deg:.4g}°: the gyro columns look like rad/s; name them "
+                "`gyro_x_rad_s` … or give --units gyro=rad/s",
+            )
+
+    def _check_accel(self) -> None:
+        self.accel_done = True
+        if not self.accel:
+            return
+        norms = np.concatenate(self.accel)[:ACCEL_ROWS]
+        self.accel = []
+        accel = self.fields.get("accel_x_g")
+        if accel is None or not len(norms):
+            return
+        m = float(np.median(norms))
+        rows = f"the median magnitude of the specific force over rows 0…{len(norms) - 1}"
+        if accel.unit == "g" and G0 / _LOOKS_LIKE <= m <= G0 * _LOOKS_LIKE:
+            self._warn(
+                "accel",
+                f"{rows} is {m:.4g} g, where at rest or in ordinary motion it is about 1 g: the accel "
+                "columns look like m/s²; name them `accel_x_m_s2` … or give --units accel=m/s2",
+            )
+        elif accel.unit != "g" and 1 / (G0 * _LOOKS_LIKE) <= m <= _LOOKS_LIKE / G0:
+            self._warn(
+                "accel",
+                f"{rows} is {m * G0:.4g} m/s² (read in {accel.unit}), where at rest or in ordinary motion "
+                "it is about 9.81 m/s²: the accel columns look like g; name them `accel_x_g` … or give "
+                "--units accel=g",
+            )
+
+    def _segments(self, final: bool) -> None:
+        """Compare the turning of the mean specific force from one segment to the next with the gyro's
+        bound on the turning over the two segments (∫|ω| dt; a rotation turns a vector by at most it)."""
+        n = max(2, round(_SEGMENT_S / self.period_s))
+        acc = np.concatenate(self.seg_acc) if self.seg_acc else np.zeros((0, 3))
+        gyro = np.concatenate(self.seg_gyro) if self.seg_gyro else np.zeros(0)
+        k = len(acc) // n
+        self.seg_acc = [acc[k * n :]] if not final else []
+        self.seg_gyro = [gyro[k * n :]] if not final else []
+        if not k:
+            return
+        means = acc[: k * n].reshape(k, n, 3).mean(axis=1)
+        bounds = gyro[: k * n].reshape(k, n).sum(axis=1) * self.period_s
+        norms = np.linalg.norm(means, axis=1)
+        dirs = means / np.where(norms > 0, norms, 1.0)[:, None]
+        if self.last_dir is not None:
+            dirs = np.vstack([self.last_dir, dirs])
+            bounds = np.concatenate([[self.last_bound_deg], bounds])
+        if len(dirs) > 1:
+            cos = np.einsum("ij,ij->i", dirs[:-1], dirs[1:])
+            sin = np.linalg.norm(np.cross(dirs[:-1], dirs[1:]), axis=1)
+            self.turn_deg += float(np.degrees(np.arctan2(sin, cos)).sum())
+            self.bound_deg += float((bounds[:-1] + bounds[1:]).sum())
+        self.last_dir = dirs[-1]
+        self.last_bound_deg = float(bounds[-1])
+
+    def _warn(self, key: str, text: str) -> None:
+        if key not in self.warned:
+            self.warned.add(key)
+            warnings.warn(f"{self.src}: {text}", TraceWarning, stacklevel=4)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -244,6 +668,20 @@ class _Checker:
     where: Callable[[int], str]
     prev_t: float | None = None
     rows_seen: int = 0
+    #: The file's name of a column read under another name (``gyro_x_dps`` → ``wx``), for messages.
+    labels: dict[str, str] = field(default_factory=dict)
+    plausibility: _Plausibility | None = None
+    #: How the time column was read (its unit), for the hint of a gap that is a time-unit mistake.
+    time_field: _Field | None = None
+
+    def col(self, name: str) -> str:
+        """A column as the messages name it: the file's name, and the trace's when they differ."""
+        return f"`{self.labels[name]}` (read as `{name}`)" if name in self.labels else f"`{name}`"
+
+    def finish(self) -> None:
+        """The end of the file: the plausibility warnings that needed all of it."""
+        if self.plausibility is not None:
+            self.plausibility.finish()
 
     def check(self, cols: dict[str, np.ndarray]) -> None:
         row0 = self.rows_seen
@@ -257,7 +695,7 @@ class _Checker:
                     i = int(np.argmax(bad))
                     allowed = " (NaN is allowed here, infinity is not)" if c.nan_allowed else ""
                     raise TraceError(
-                        f"{self.src}: {self.where(row0 + i)}, column `{name}`: found {arr[i]}; "
+                        f"{self.src}: {self.where(row0 + i)}, column {self.col(name)}: found {arr[i]}; "
                         f"expected a finite number{allowed}"
                     )
             elif c.kind == "flag":
@@ -265,13 +703,15 @@ class _Checker:
                 if bad.any():
                     i = int(np.argmax(bad))
                     raise TraceError(
-                        f"{self.src}: {self.where(row0 + i)}, column `{name}`: found {arr[i]}; "
+                        f"{self.src}: {self.where(row0 + i)}, column {self.col(name)}: found {arr[i]}; "
                         "expected 0 or 1"
                     )
         if "truth_qw" in cols:
             self._check_truth(np.stack([cols[f"truth_q{c}"] for c in "wxyz"], axis=1), row0)
         self._check_time(cols["t_s"], row0)
         self.rows_seen += len(cols["t_s"])
+        if self.plausibility is not None:
+            self.plausibility.add(cols)
 
     def _check_truth(self, q: Array, row0: int) -> None:
         nan = np.isnan(q)
@@ -301,17 +741,20 @@ class _Checker:
             k = int(np.argmax(bad))
             later, earlier = float(joined[k + 1]), float(joined[k])
             raise TraceError(
-                f"{self.src}: {self.where(offset + k)}, column `t_s`: time {later!r} s follows {earlier!r} "
-                "s; expected strictly increasing time"
+                f"{self.src}: {self.where(offset + k)}, column {self.col('t_s')}: time {later!r} s follows "
+                f"{earlier!r} s; expected strictly increasing time"
             )
         gap = dt > self.max_gap_periods * self.period_s
         if gap.any() and not self.allow_gaps:
             k = int(np.argmax(gap))
             raise TraceError(
-                f"{self.src}: {self.where(offset + k)}, column `t_s`: gap of {dt[k]:.6g} s "
+                f"{self.src}: {self.where(offset + k)}, column {self.col('t_s')}: gap of {dt[k]:.6g} s "
                 f"({dt[k] / self.period_s:.3g} sample periods) after time {float(joined[k])!r} s; expected "
                 f"at most {self.max_gap_periods:g} periods of 1/sample_rate_hz = {self.period_s:.6g} s "
                 "(allow gaps with allow_gaps=True / --allow-gaps)"
+                + _time_hint(
+                    float(dt[k]), self.time_field or _Field("t_s", "t_s", 1.0, "s"), 1 / self.period_s
+                )
             )
         if len(t):
             self.prev_t = float(t[-1])
@@ -340,7 +783,14 @@ class _Source:
     blocks: Iterator[dict[str, np.ndarray]]
 
 
-def _open(path: PathLike, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float) -> _Source:
+def _open(
+    path: PathLike,
+    schema: _Schema,
+    rows: int,
+    allow_gaps: bool,
+    max_gap_periods: float,
+    options: ReadOptions | None = None,
+) -> _Source:
     p = Path(path)
     if rows < 1:
         raise TraceError(f"{p}: chunk size must be at least 1 row, got {rows}")
@@ -348,7 +798,7 @@ def _open(path: PathLike, schema: _Schema, rows: int, allow_gaps: bool, max_gap_
     if not p.is_file():
         raise TraceError(f"{p}: no such trace file")
     reader = _open_csv if ext == ".csv" else _open_h5
-    return reader(p, schema, rows, allow_gaps, max_gap_periods)
+    return reader(p, schema, rows, allow_gaps, max_gap_periods, options or ReadOptions())
 
 
 def _sniff(p: Path, fh: IO[bytes]) -> None:
@@ -363,6 +813,13 @@ def _sniff(p: Path, fh: IO[bytes]) -> None:
         raise TraceError(f"{p}: binary data (NUL byte at offset {nul}); expected a CSV text trace")
 
 
+def _separator(header: str) -> str:
+    """The field separator of a CSV header row: `,`, or `;` / tab in a file that has no comma there."""
+    if "," in header:
+        return ","
+    return ";" if ";" in header else "\t" if "\t" in header else ","
+
+
 def _decode(raw: bytes, p: Path, first_line: int) -> str:
     try:
         return raw.decode("utf-8")
@@ -373,7 +830,9 @@ def _decode(raw: bytes, p: Path, first_line: int) -> str:
         ) from None
 
 
-def _open_csv(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float) -> _Source:
+def _open_csv(
+    p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float, options: ReadOptions
+) -> _Source:
     fh = p.open("rb")
     try:
         _sniff(p, fh)
@@ -402,10 +861,16 @@ def _open_csv(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_per
         if header is None:
             raise TraceError(f"{p}: no header row; expected `# key: value` metadata lines then a header row")
         header_line = line_no
-        names = [n.strip() for n in header.split(",")]
-        schema.check_header(names, f"{p}: line {header_line} (header)")
+        sep = _separator(header)
+        names = [n.strip() for n in header.split(sep)]
+        fields = _resolve_header(schema, names, options, f"{p}: line {header_line} (header)")
         lines = "line 1" if header_line == 2 else f"lines 1–{header_line - 1}"
-        rate = _check_metadata(metadata, schema, f"{p}: metadata ({lines})")
+        head = list(itertools.islice(fh, RATE_ROWS + 1))
+        if not head:
+            raise TraceError(f"{p}: header only, no data rows (line {header_line} is the header)")
+        t_field = next(i for i, f in enumerate(fields) if f.name == "t_s")
+        times = _leading_times(head, sep, t_field, fields[t_field].factor)
+        rate = _rate(metadata, schema, times, fields[t_field], f"{p}: metadata ({lines})", str(p))
     except BaseException:
         fh.close()
         raise
@@ -413,67 +878,115 @@ def _open_csv(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_per
     def where(row: int) -> str:
         return f"line {header_line + 1 + row} (row {row})"
 
-    checker = _Checker(schema, str(p), float(1 / rate), allow_gaps, max_gap_periods, where)
-    first = _first_data_line(fh)
-    if first is None:
-        fh.close()
-        raise TraceError(f"{p}: header only, no data rows (line {header_line} is the header)")
-    return _Source(metadata, names, _csv_blocks(p, fh, first, header_line, names, schema, rows, checker))
+    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields)
+    _note_conversions(metadata, fields)
+    blocks = _csv_blocks(p, fh, head, header_line, fields, sep, rows, checker)
+    return _Source(metadata, [f.name for f in fields if f.name], blocks)
 
 
-def _first_data_line(fh: IO[bytes]) -> bytes | None:
-    for raw in fh:
-        return raw
-    return None
+def _leading_times(head: list[bytes], sep: str, index: int, factor: float) -> Array:
+    """The times of the first rows, as far as they read as numbers (the rows are checked later)."""
+    out: list[float] = []
+    for raw in head:
+        try:
+            out.append(float(raw.decode("utf-8").split(sep)[index]))
+        except (UnicodeDecodeError, IndexError, ValueError):
+            break
+    t = np.array(out, dtype=np.float64)
+    return t * factor if factor != 1.0 else t
+
+
+def _checker(
+    schema: _Schema,
+    src: str,
+    rate: Fraction,
+    allow_gaps: bool,
+    max_gap_periods: float,
+    where: Callable[[int], str],
+    fields: list[_Field],
+) -> _Checker:
+    labels = {f.name: f.source for f in fields if f.name and f.name != f.source}
+    t_field = next(f for f in fields if f.name == "t_s")
+    checker = _Checker(
+        schema, src, float(1 / rate), allow_gaps, max_gap_periods, where, labels=labels, time_field=t_field
+    )
+    if schema is PHYSICAL_SCHEMA:
+        checker.plausibility = _Plausibility(src, float(1 / rate), {f.name: f for f in fields if f.name})
+    return checker
+
+
+def _note_conversions(metadata: dict[str, str], fields: list[_Field]) -> None:
+    """Say in the metadata which columns were read under another name or unit (nothing otherwise)."""
+    notes: list[str] = []
+    for f in fields:
+        if f.name is None:
+            continue
+        own = f.name.rsplit("_", 1)[1] if f.unit else ""
+        if f.source != f.name or f.unit != own:
+            unit = f" in {f.unit}" if f.unit != own else ""
+            notes.append(f"{f.name} from `{f.source}`{unit}")
+    skipped = [f.source for f in fields if f.name is None]
+    if skipped:
+        notes.append(f"left out: {', '.join(skipped)}")
+    if notes:
+        metadata["read_as"] = "; ".join(notes)
 
 
 def _csv_blocks(
     p: Path,
     fh: IO[bytes],
-    first: bytes,
+    head: list[bytes],
     header_line: int,
-    names: list[str],
-    schema: _Schema,
+    fields: list[_Field],
+    sep: str,
     rows: int,
     checker: _Checker,
 ) -> Iterator[dict[str, np.ndarray]]:
     with fh:
-        lines_iter = itertools.chain([first], fh)
+        lines_iter = itertools.chain(head, fh)
         while True:
             block = list(itertools.islice(lines_iter, rows))
             if not block:
+                checker.finish()
                 return
             row0 = checker.rows_seen
             raw = b"".join(block)
             text = _decode(raw, p, header_line + 1 + row0)
             at_end = not raw.endswith(b"\n")
-            cols = _parse_csv_block(p, text, names, schema, checker, row0, at_end)
+            cols = _parse_csv_block(p, text, fields, sep, checker, row0, at_end)
             checker.check(cols)
             yield cols
 
 
 def _parse_csv_block(
-    p: Path, text: str, names: list[str], schema: _Schema, checker: _Checker, row0: int, at_end: bool
+    p: Path, text: str, fields: list[_Field], sep: str, checker: _Checker, row0: int, at_end: bool
 ) -> dict[str, np.ndarray]:
-    kinds = [schema.column(n).kind for n in names]
+    schema = checker.schema
+    names = [f.source for f in fields]
+    kinds = [schema.column(f.name).kind if f.name else "skip" for f in fields]
     blank = _BLANK_LINE.search(text.removesuffix("\n"))
     if blank:  # loadtxt would skip it silently
         row = row0 + text.count("\n", 0, blank.start())
         raise TraceError(
-            f"{p}: {checker.where(row)}: empty line; expected {len(names)} comma-separated fields"
+            f"{p}: {checker.where(row)}: empty line; expected {len(names)} {_sep_name(sep)}-separated fields"
         )
     try:
-        if "word" not in kinds:
-            table = np.loadtxt(io.StringIO(text), delimiter=",", dtype=np.float64, ndmin=2, comments=None)
+        if all(k == "float" for k in kinds):
+            table = np.loadtxt(io.StringIO(text), delimiter=sep, dtype=np.float64, ndmin=2, comments=None)
             if table.shape[1] != len(names):
                 raise ValueError("field count")
-            return {n: table[:, i] for i, n in enumerate(names)}
-        strings = np.loadtxt(io.StringIO(text), delimiter=",", dtype=str, ndmin=2, comments=None)
-        if strings.shape[1] != len(names):
-            raise ValueError("field count")
-        out = {n: strings[:, i].astype(np.float64) for i, n in enumerate(names) if kinds[i] != "word"}
+            out = {f.source: table[:, i] for i, f in enumerate(fields)}
+        else:
+            strings = np.loadtxt(io.StringIO(text), delimiter=sep, dtype=str, ndmin=2, comments=None)
+            if strings.shape[1] != len(names):
+                raise ValueError("field count")
+            out = {
+                f.source: strings[:, i].astype(np.float64)
+                for i, f in enumerate(fields)
+                if kinds[i] not in ("word", "skip")
+            }
     except ValueError:
-        _diagnose_csv_block(p, text, names, kinds, checker, row0, at_end)
+        _diagnose_csv_block(p, text, names, kinds, sep, checker, row0, at_end)
         raise  # not reached: the diagnosis raises
     for i, n in enumerate(names):
         if kinds[i] != "word":
@@ -486,24 +999,36 @@ def _parse_csv_block(
                 "16-bit hexadecimal word; expected 0x0000…0xFFFF (e.g. 0xC7A7)"
             )
         out[n] = values.astype(np.uint16)
-    return {n: out[n] for n in names}
+    return {f.name: out[f.source] * f.factor if f.factor != 1.0 else out[f.source] for f in fields if f.name}
+
+
+def _sep_name(sep: str) -> str:
+    return {",": "comma", ";": "semicolon", "\t": "tab"}[sep]
 
 
 def _diagnose_csv_block(
-    p: Path, text: str, names: list[str], kinds: list[str], checker: _Checker, row0: int, at_end: bool
+    p: Path,
+    text: str,
+    names: list[str],
+    kinds: list[str],
+    sep: str,
+    checker: _Checker,
+    row0: int,
+    at_end: bool,
 ) -> None:
     """Find the first bad line of a block that did not parse (error path only: a loop is fine)."""
     lines = text.split("\n")
     if lines and lines[-1] == "":
         lines.pop()
+    what = f"{_sep_name(sep)}-separated fields"
     for k, line in enumerate(lines):
         where = checker.where(row0 + k)
         stripped = line.rstrip("\r")
         if not stripped.strip():
-            raise TraceError(f"{p}: {where}: empty line; expected {len(names)} comma-separated fields")
+            raise TraceError(f"{p}: {where}: empty line; expected {len(names)} {what}")
         if stripped.lstrip().startswith("#"):
             raise TraceError(f"{p}: {where}: comment line after the header; metadata lines go before it")
-        fields = stripped.split(",")
+        fields = stripped.split(sep)
         last = k == len(lines) - 1
         if len(fields) != len(names):
             if last and at_end and len(fields) < len(names):
@@ -511,17 +1036,27 @@ def _diagnose_csv_block(
                     f"{p}: {where}: truncated last row ({len(fields)} of {len(names)} fields and no newline "
                     "at the end of the file); expected a complete row (was the file cut short?)"
                 )
+            hint = (
+                f" (the header is {_sep_name(sep)}-separated; this row has {stripped.count(',')} commas)"
+                if sep != "," and "," in stripped
+                else ""
+            )
             raise TraceError(
-                f"{p}: {where}: {len(fields)} fields; expected {len(names)} ({', '.join(names)})"
+                f"{p}: {where}: {len(fields)} fields; expected {len(names)} ({', '.join(names)}){hint}"
             )
         for name, kind, token in zip(names, kinds, fields, strict=True):
-            if kind == "word":
+            if kind in ("word", "skip"):
                 continue  # word columns are checked after parsing, with their own message
             try:
                 float(token)
             except ValueError:
+                hint = (
+                    f"; decimal commas are not read: write `{token.strip().replace(',', '.')}`"
+                    if re.fullmatch(r"\s*[-+]?\d+,\d*\s*", token)
+                    else ""
+                )
                 raise TraceError(
-                    f"{p}: {where}, column `{name}`: `{token.strip()}` is not a number"
+                    f"{p}: {where}, column `{name}`: `{token.strip()}` is not a number{hint}"
                 ) from None
     raise TraceError(f"{p}: rows {row0}…{row0 + len(lines) - 1}: could not be parsed as numbers")
 
@@ -551,7 +1086,9 @@ def _parse_hex(tokens: NDArray[np.str_]) -> tuple[NDArray[np.int64], NDArray[np.
     return values, bad
 
 
-def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float) -> _Source:
+def _open_h5(
+    p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_periods: float, options: ReadOptions
+) -> _Source:
     with p.open("rb") as fh:
         head = fh.read(512)
     if not head:
@@ -571,14 +1108,17 @@ def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_peri
             raise TraceError(
                 f"{p}: no datasets; expected one dataset per column ({', '.join(schema.names())})"
             )
-        schema.check_header(names, f"{p}")
-        names = schema.order(names)
+        fields = _resolve_header(schema, names, options, f"{p}")
+        order = schema.names()
+        fields = sorted((x for x in fields if x.name), key=lambda x: order.index(str(x.name)))
         length: int | None = None
-        for n in names:
+        first = fields[0].source
+        for x in fields:
+            n = x.source
             ds = _h5_dataset(p, f, n)
             if ds.ndim != 1:
                 raise TraceError(f"{p}: column `{n}`: expected a one-dimensional dataset")
-            c = schema.column(n)
+            c = schema.column(str(x.name))
             kind = ds.dtype.kind
             if (c.kind == "float" and kind not in "fiu") or (c.kind != "float" and kind not in "iub"):
                 raise TraceError(f"{p}: column `{n}`: dataset type {ds.dtype}; expected {_dtype_of(c)}")
@@ -586,11 +1126,16 @@ def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_peri
                 length = ds.shape[0]
             elif ds.shape[0] != length:
                 raise TraceError(
-                    f"{p}: column `{n}` has {ds.shape[0]} rows; expected {length} like column `{names[0]}`"
+                    f"{p}: column `{n}` has {ds.shape[0]} rows; expected {length} like column `{first}`"
                 )
         if not length:
             raise TraceError(f"{p}: header only, no data rows (every dataset is empty)")
-        rate = _check_metadata(metadata, schema, f"{p}: metadata (file attributes)")
+        t_field = next(x for x in fields if x.name == "t_s")
+        try:
+            times = f[t_field.source][: RATE_ROWS + 1].astype(np.float64) * t_field.factor
+        except (OSError, ValueError, TypeError):
+            times = np.array([])  # reading the column again explains it
+        rate = _rate(metadata, schema, times, t_field, f"{p}: metadata (file attributes)", str(p))
     except BaseException:
         f.close()
         raise
@@ -598,8 +1143,11 @@ def _open_h5(p: Path, schema: _Schema, rows: int, allow_gaps: bool, max_gap_peri
     def where(row: int) -> str:
         return f"row {row}"
 
-    checker = _Checker(schema, str(p), float(1 / rate), allow_gaps, max_gap_periods, where)
-    return _Source(metadata, names, _h5_blocks(p, f, names, schema, int(length), rows, checker))
+    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields)
+    _note_conversions(metadata, fields)
+    return _Source(
+        metadata, [str(x.name) for x in fields], _h5_blocks(p, f, fields, schema, int(length), rows, checker)
+    )
 
 
 def _h5_dataset(p: Path, f: h5py.File, name: str) -> h5py.Dataset:
@@ -622,20 +1170,27 @@ def _h5_dataset(p: Path, f: h5py.File, name: str) -> h5py.Dataset:
 
 
 def _h5_blocks(
-    p: Path, f: h5py.File, names: list[str], schema: _Schema, length: int, rows: int, checker: _Checker
+    p: Path,
+    f: h5py.File,
+    fields: list[_Field],
+    schema: _Schema,
+    length: int,
+    rows: int,
+    checker: _Checker,
 ) -> Iterator[dict[str, np.ndarray]]:
     with f:
         for start in range(0, length, rows):
             stop = min(start + rows, length)
             cols: dict[str, np.ndarray] = {}
-            for n in names:
+            for x in fields:
+                n, name = x.source, str(x.name)
                 try:
                     block = f[n][start:stop]
                 except (OSError, ValueError) as e:
                     raise TraceError(
                         f"{p}: column `{n}`, rows {start}…{stop - 1}: cannot be read ({e})"
                     ) from None
-                c = schema.column(n)
+                c = schema.column(name)
                 if c.kind == "word":
                     bad = (block < 0) | (block > 0xFFFF)
                     if bad.any():
@@ -646,9 +1201,12 @@ def _h5_blocks(
                     block = block.astype(np.uint16)
                 elif c.kind == "float":
                     block = block.astype(np.float64)
-                cols[n] = block
+                    if x.factor != 1.0:
+                        block = block * x.factor
+                cols[name] = block
             checker.check(cols)
             yield cols
+        checker.finish()
 
 
 def _attr_text(v: Any) -> str:
@@ -797,12 +1355,18 @@ class _TraceFile:
 
     @classmethod
     def load(
-        cls, path: PathLike, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+        cls,
+        path: PathLike,
+        *,
+        allow_gaps: bool = False,
+        max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+        read: ReadOptions | None = None,
     ) -> Self:
-        """Read and validate a whole trace."""
-        return _concat(
-            cls, cls.iter_chunks(path, _BLOCK_ROWS, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
+        """Read and validate a whole trace (``read``: other units or column names, :class:`ReadOptions`)."""
+        chunks = cls.iter_chunks(
+            path, _BLOCK_ROWS, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods, read=read
         )
+        return _concat(cls, chunks)
 
     @classmethod
     def iter_chunks(
@@ -812,9 +1376,10 @@ class _TraceFile:
         *,
         allow_gaps: bool = False,
         max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+        read: ReadOptions | None = None,
     ) -> Iterator[Self]:
         """Stream a trace in validated chunks of at most ``rows`` rows (memory does not grow with length)."""
-        src = _open(path, cls.schema, rows, allow_gaps, max_gap_periods)
+        src = _open(path, cls.schema, rows, allow_gaps, max_gap_periods, read)
         for block in src.blocks:
             yield cls.from_columns(block, src.metadata)
 
@@ -1087,7 +1652,7 @@ def is_raw_register_trace(path: PathLike) -> bool:
                 for raw in fh:
                     text = raw.decode("utf-8").lstrip("\ufeff").strip()
                     if text and not text.startswith("#"):
-                        names = {n.strip() for n in text.split(",")}
+                        names = {n.strip() for n in text.split(_separator(text))}
                         break
     except (OSError, UnicodeDecodeError, TraceError):
         return False
@@ -1095,10 +1660,17 @@ def is_raw_register_trace(path: PathLike) -> bool:
 
 
 def iter_chunks(
-    path: PathLike, rows: int, *, allow_gaps: bool = False, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS
+    path: PathLike,
+    rows: int,
+    *,
+    allow_gaps: bool = False,
+    max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+    read: ReadOptions | None = None,
 ) -> Iterator[PhysicalTrace]:
     """Stream a physical trace in validated chunks of at most ``rows`` rows."""
-    return PhysicalTrace.iter_chunks(path, rows, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods)
+    return PhysicalTrace.iter_chunks(
+        path, rows, allow_gaps=allow_gaps, max_gap_periods=max_gap_periods, read=read
+    )
 
 
 _C = TypeVar("_C", bound=_TraceFile)

@@ -16,7 +16,9 @@ import os
 import signal
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
+from typing import TextIO
 
 from sins_fw import __version__, broad_eval
 from sins_fw.cli import (
@@ -36,7 +38,7 @@ from sins_fw.cli import (
     synth,
 )
 from sins_fw.cli.common import add_debug_option, emit_error, walk_parsers
-from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated
+from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated, TraceWarning
 
 #: The subcommands, in the order `--help` lists them.
 COMMANDS = (
@@ -94,9 +96,25 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return EXIT_USAGE
     # SIGINT and SIGTERM unwind (temporary files removed, progress reported) instead of killing the
-    # process where it stands.
-    with stop.handling():
+    # process where it stands. A trace that reads but looks wrong is one line on stderr.
+    with stop.handling(), warnings.catch_warnings():
+        warnings.showwarning = _show_warning
         return _run(args)
+
+
+def _show_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    """sins-fw's own warnings as `sins-fw: warning: ...`; others as Python shows them."""
+    if issubclass(category, TraceWarning):
+        print(f"sins-fw: warning: {message}", file=sys.stderr)
+    else:
+        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
 
 
 def _run(args: argparse.Namespace) -> int:

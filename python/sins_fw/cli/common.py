@@ -14,6 +14,7 @@ from typing import Any
 
 from sins_fw.errors import CheckFailed, ProfileError
 from sins_fw.profile import Profile, load_profile, resolve_profile_path
+from sins_fw.traces import ReadOptions
 
 #: What exit status 1 means for a command that emulates a run (`run`, `replay`, `report`, `demo`).
 EVENTS_CHECK = (
@@ -164,6 +165,30 @@ def add_profile_options(p: argparse.ArgumentParser) -> None:
         metavar="KEY=VALUE",
         help="override one profile field for this run (repeatable), e.g. --set spi.spibrr=9",
     )
+
+
+def add_read_options(p: argparse.ArgumentParser) -> None:
+    """--units and --columns: read a trace file in other units or under other column names."""
+    p.add_argument(
+        "--units",
+        metavar="Q=UNIT,...",
+        help="the unit of each quantity's columns, whatever their names say: t=s|ms|us|ns, "
+        "gyro=dps|rad/s, accel=g|m/s2, mag=gauss|mgauss|uT|nT, baro=mbar|hPa|Pa "
+        "(docs/traces.md, 'Reading other files')",
+    )
+    p.add_argument(
+        "--columns",
+        metavar="COLUMN=NAME,...",
+        help="read the file's column NAME as the trace's COLUMN, with or without its unit (e.g. "
+        "t_ms=time,gyro_x=wx with --units gyro=rad/s); the file's columns that are no trace column are "
+        "then left out",
+    )
+
+
+def read_options(args: argparse.Namespace) -> ReadOptions | None:
+    """The --units / --columns of a command, None when neither is given."""
+    read = ReadOptions(units=getattr(args, "units", None), columns=getattr(args, "columns", None))
+    return read if read else None
 
 
 def add_json_option(p: argparse.ArgumentParser) -> None:

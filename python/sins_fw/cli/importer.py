@@ -1,17 +1,21 @@
-"""`sins-fw import broad FILE.hdf5 --out TRACE` and `sins-fw import trace FILE --out TRACE`.
+"""`sins-fw import broad FILE.hdf5 --out TRACE`, `sins-fw import trace FILE --out TRACE` and the
+importers of other logs: `sins-fw import ulog|dataflash|rosbag|euroc FILE --out TRACE`.
 
 ``broad`` converts a BROAD trial into a physical trace; ``trace`` reads a physical or raw-register
-trace, validates it and writes it in the form the output extension asks for (CSV ↔ .h5).
+trace, validates it and writes it in the form the output extension asks for (CSV ↔ .h5); the log
+importers are in :mod:`sins_fw.importers` (docs/traces.md, 'Importing logs').
 """
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from sins_fw.atomic import check_distinct
 from sins_fw.broad import import_broad
-from sins_fw.cli.common import add_json_option, add_out_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, add_out_option, add_read_options, emit, exit_epilog, read_options
+from sins_fw.errors import TraceError
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
@@ -29,7 +33,8 @@ IMPORT_CHUNK_ROWS = 1 << 16
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "import",
-        help="convert a BROAD trial or a trace file into a sins-fw trace (.csv/.h5)",
+        help="convert a BROAD trial, a PX4, ArduPilot, ROS or EuRoC log, or a trace file into a sins-fw "
+        "trace (.csv/.h5)",
         epilog=exit_epilog(None),
     )
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
@@ -56,8 +61,73 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=DEFAULT_MAX_GAP_PERIODS,
         help=f"gap limit in nominal sample periods (default {DEFAULT_MAX_GAP_PERIODS})",
     )
+    add_read_options(t)
     add_json_option(t)
     t.set_defaults(func=run)
+    _register_logs(kinds)
+
+
+_LOGS = {  # the kinds of sins_fw.importers.IMPORTERS
+    "ulog": ("a PX4 ULog (.ulg) → physical trace (needs pyulog)", "PX4 log, e.g. flight.ulg"),
+    "dataflash": (
+        "an ArduPilot DataFlash log (.bin) → physical trace (needs pymavlink)",
+        "ArduPilot log, e.g. 00000042.BIN",
+    ),
+    "rosbag": (
+        "a ROS 1 (.bag) or ROS 2 (folder, .db3, .mcap) bag's sensor_msgs/Imu → physical trace "
+        "(needs rosbags)",
+        "ROS bag file or ROS 2 bag folder",
+    ),
+    "euroc": (
+        "EuRoC-style CSV (imu0/data.csv, ground truth) → physical trace",
+        "EuRoC folder (holding imu0/ or mav0/imu0/) or its imu0/data.csv",
+    ),
+}
+
+
+def _register_logs(kinds: argparse._SubParsersAction) -> None:
+    for kind, (help_text, file_help) in _LOGS.items():
+        k = kinds.add_parser(
+            kind,
+            help=help_text,
+            description=help_text + " (docs/traces.md, 'Importing logs')",
+            epilog=exit_epilog(None),
+        )
+        k.add_argument("file", type=Path, help=file_help)
+        add_out_option(k, "output trace, .csv or .h5", required=True)
+        if kind == "euroc":
+            k.add_argument(
+                "--truth",
+                type=Path,
+                help="ground-truth CSV (default: the folder's "
+                "state_groundtruth_estimate0/data.csv when present)",
+            )
+        if kind == "rosbag":
+            k.add_argument("--imu-topic", help="the sensor_msgs/Imu topic (default: the bag's only one)")
+            k.add_argument(
+                "--mag-topic", help="the sensor_msgs/MagneticField topic (default: the bag's only one)"
+            )
+        k.add_argument(
+            "--allow-gaps", action="store_true", help="accept time steps longer than the gap limit"
+        )
+        add_json_option(k)
+        k.set_defaults(func=run)
+
+
+def _import_log(args: argparse.Namespace) -> PhysicalTrace:
+    from sins_fw.importers import importer
+
+    options: dict[str, Any] = {}
+    if args.kind == "euroc":
+        options["truth"] = args.truth
+    if args.kind == "rosbag":
+        options.update(imu_topic=args.imu_topic, mag_topic=args.mag_topic)
+    trace = importer(args.kind)(args.file, **options)
+    try:
+        trace.validate(allow_gaps=args.allow_gaps)
+    except TraceError as e:
+        raise TraceError(f"{args.file}: the imported trace is invalid: {e}") from None
+    return trace
 
 
 def run(args: argparse.Namespace) -> int:
@@ -67,11 +137,19 @@ def run(args: argparse.Namespace) -> int:
         trace = import_broad(args.file)
         trace.save(args.out)
         kind_name, rows, metadata = type(trace).__name__, len(trace), trace.metadata
+    elif args.kind in _LOGS:
+        trace = _import_log(args)
+        trace.save(args.out, allow_gaps=args.allow_gaps)
+        kind_name, rows, metadata = type(trace).__name__, len(trace), trace.metadata
     else:
         # Read and written a chunk at a time: memory is bounded by the chunk (issue 24, item 11).
         kind = RawRegisterTrace if read_metadata(args.file).get("format") == RAW_FORMAT else PhysicalTrace
         chunks = kind.iter_chunks(
-            args.file, IMPORT_CHUNK_ROWS, allow_gaps=args.allow_gaps, max_gap_periods=args.max_gap_periods
+            args.file,
+            IMPORT_CHUNK_ROWS,
+            allow_gaps=args.allow_gaps,
+            max_gap_periods=args.max_gap_periods,
+            read=read_options(args),
         )
         written = save_chunks(args.out, chunks, allow_gaps=args.allow_gaps)
         kind_name, rows, metadata = kind.__name__, written.rows, written.metadata

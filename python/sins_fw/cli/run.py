@@ -20,19 +20,29 @@ from sins_fw.cli.common import (
     add_json_option,
     add_out_option,
     add_profile_options,
+    add_read_options,
     check_error_counts,
     emit,
     exit_epilog,
     profile_file,
     profile_from_args,
+    read_options,
 )
 from sins_fw.cli.stop import check_stop
+from sins_fw.earth import earth_rate_place
 from sins_fw.errors import InputError, TraceError
-from sins_fw.harness import check_until_s, emulate
+from sins_fw.harness import CHUNK_ROWS, check_until_s, emulate
 from sins_fw.report import ALIGNMENTS, render
 from sins_fw.report_stream import RunSummary
 from sins_fw.run_output import RawWriter, RunWriter, trace_reference
-from sins_fw.traces import DEFAULT_MAX_GAP_PERIODS, PhysicalTrace, check_output_path, is_raw_register_trace
+from sins_fw.traces import (
+    DEFAULT_MAX_GAP_PERIODS,
+    PhysicalTrace,
+    ReadOptions,
+    check_output_path,
+    is_raw_register_trace,
+    read_metadata,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -75,6 +85,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "firmware starting from Q = [1,0,0,0]), heading (about navigation z), none; auto picks initial "
         "for firmware.initial_attitude = zero, heading for level (default auto)",
     )
+    add_read_options(p)
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -145,10 +156,10 @@ class _Reached:
         return f"after emulating {reached:.6g} s{of} of the trace (virtual time reached)"
 
 
-def _first_time(path: Path) -> float | None:
+def _first_time(path: Path, read: ReadOptions | None = None) -> float | None:
     """The trace's first time stamp (reads only its first row); None when it cannot be read."""
     try:
-        first = next(iter(PhysicalTrace.iter_chunks(path, 1)), None)
+        first = next(iter(PhysicalTrace.iter_chunks(path, 1, read=read)), None)
     except InputError:
         return None
     return float(first.t_s[0]) if first is not None and len(first) else None
@@ -199,24 +210,39 @@ def run(args: argparse.Namespace) -> int:
     out_existed = args.out is not None and args.out.exists()
     span = _trace_span_s(args.trace)
     reached = _Reached(span)
-    trace: PhysicalTrace | Path = args.trace
+    trace: PhysicalTrace | Path | Iterator[PhysicalTrace] = args.trace
     gaps: list[dict[str, Any]] = []
     replayed = is_raw_register_trace(args.trace)
+    read = read_options(args)
+    if read is not None and replayed:
+        raise TraceError(
+            f"{args.trace}: --units and --columns read physical traces; this is a raw-register trace"
+        )
     if args.allow_gaps and not replayed:  # raw-register traces load with gaps allowed anyway
-        trace = PhysicalTrace.load(args.trace, allow_gaps=True)
+        trace = PhysicalTrace.load(args.trace, allow_gaps=True, read=read)
         gaps = gap_events(trace)
+    elif read is not None:
+        trace = PhysicalTrace.iter_chunks(args.trace, CHUNK_ROWS, read=read)
     t0 = (
         0.0
         if replayed
         else float(trace.t_s[0])
         if isinstance(trace, PhysicalTrace)
-        else _first_time(args.trace)
+        else _first_time(args.trace, read)
     )
     summary_acc = RunSummary(profile, align=args.align)
     with contextlib.ExitStack() as files, _progress(args, span) as bar:
         writers: list[Any] = []
         if args.out is not None:
             recorded = trace_reference(args.trace, args.out)
+            if read is not None:  # how the trace was read (replay does not apply it yet)
+                recorded.update(
+                    {
+                        k: str(v)
+                        for k, v in (("trace_units", read.units), ("trace_columns", read.columns))
+                        if v
+                    }
+                )
             if args.until_s is not None:
                 recorded["until_s"] = repr(args.until_s)
             writers.append(files.enter_context(RunWriter(args.out, profile, t0 or 0.0, recorded)))
@@ -244,7 +270,7 @@ def run(args: argparse.Namespace) -> int:
             for w in writers:
                 w.close()
         except KeyboardInterrupt as e:
-            how_far = reached.text(_first_time(args.trace) if reached.t is not None else None)
+            how_far = reached.text(_first_time(args.trace, read) if reached.t is not None else None)
             raise type(e)(f"stopped {how_far}{_out_state(args.out, out_existed)}") from None
     # Stable order: the core's events keep theirs; the gaps come after them in the counts (each
     # kind's first occurrence is the same either way: a gap is its own kind).
@@ -255,7 +281,10 @@ def run(args: argparse.Namespace) -> int:
         summary["out"] = str(args.out)
     if args.raw_out is not None:
         summary["raw_out"] = str(args.raw_out)
+    summary["earth_rate"] = earth_rate_place(profile, read_metadata(args.trace))
     text = render(summary)
+    if summary["earth_rate"]["note"]:
+        text += f"\nearth rate     {summary['earth_rate']['note']}"
     if replayed:
         text = "replayed       raw-register trace: recorded words, no device model\n" + text
     if args.out is not None:

@@ -69,7 +69,15 @@ def main() -> None:
         (META + COLS + "\n" + ROWS[0] + "\n").encode() + b"0.01,0,0,0,0,0,1\xff\n"
     )
     (HERE / "binary_garbage.csv").write_bytes(bytes(range(256)) * 4)
-    csv("missing_sample_rate.csv", meta="# format: sins-fw-physical-trace/1\n")
+    # Without `sample_rate_hz` the times give the rate: one row cannot.
+    csv("missing_sample_rate_one_row.csv", meta="# format: sins-fw-physical-trace/1\n", rows=ROWS[:1])
+    # A declared rate the times contradict: 1000 Hz times under 100 Hz; times in ms under 100 Hz.
+    many = [f"{k / 1000!r},0,0,0,0,0,1" for k in range(20)]
+    csv("sample_rate_mismatch.csv", rows=many)
+    csv("time_in_ms.csv", rows=[f"{10 * k}.0,0,0,0,0,0,1" for k in range(20)])
+    # A `;`-separated file (read) whose numbers have decimal commas (not read).
+    semi = [r.replace(",", ";") for r in ROWS]
+    csv("decimal_comma.csv", header=COLS.replace(",", ";"), rows=[semi[0], semi[1].replace("0.01", "0,01")])
     csv("bad_sample_rate.csv", meta="# sample_rate_hz: fast\n")
     csv("truth_incomplete.csv", header=COLS + ",truth_qw", rows=[r + ",1" for r in ROWS])
     q = ",truth_qw,truth_qx,truth_qy,truth_qz"
@@ -107,7 +115,7 @@ def main() -> None:
     h5("h5_missing_column.h5", {k: v for k, v in base.items() if k != "accel_z_g"})
     h5("h5_length_mismatch.h5", {**base, "gyro_y_dps": np.zeros(2)})
     h5("h5_nan_value.h5", {**base, "gyro_z_dps": np.array([0.0, 0.0, np.nan])})
-    h5("h5_wrong_unit.h5", {**{k: v for k, v in base.items() if k != "t_s"}, "t_ms": base["t_s"] * 1000})
+    h5("h5_wrong_unit.h5", {**{k: v for k, v in base.items() if k != "t_s"}, "t_min": base["t_s"] / 60})
     good = (HERE / "h5_nan_value.h5").read_bytes()
     (HERE / "h5_truncated.h5").write_bytes(good[:600])
     (HERE / "h5_named_csv.csv").write_bytes(good)

@@ -1,0 +1,167 @@
+"""Importers for the logs users have (docs/traces.md, 'Importing logs'): PX4 ULog, ArduPilot
+DataFlash, ROS 1/2 bags and EuRoC-style CSV, each into a physical trace.
+
+Each keeps the sensor's own time stamps (shifted so that the log's first IMU sample is t = 0, the
+origin in the metadata), converts units to the trace's (°/s, g, gauss) and frames to its convention
+(body axes with z up when level, navigation frame ENU) and says what it did in the metadata
+(``frame``, ``truth``, ``time_origin``). Magnetometer samples are interpolated linearly onto the IMU
+times; an attitude found in the log becomes the truth (interpolated, normalised; NaN outside its
+span). GPS is not imported: the trace format has no GPS stream yet.
+
+The libraries (pyulog, pymavlink, rosbags) are the optional extra ``sins-fw[import]``; without them
+the command says which package to install.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from collections.abc import Callable
+from fractions import Fraction
+from pathlib import Path
+from types import ModuleType
+from typing import Any, cast
+
+import numpy as np
+from numpy.typing import NDArray
+
+from sins_fw import quaternion
+from sins_fw.errors import InputError, TraceError
+from sins_fw.traces import G0, PhysicalTrace, _rate_of_step, _rate_text
+
+Array = NDArray[np.float64]
+PathLike = str | os.PathLike[str]
+
+#: FRD (x forward, y right, z down) → FLU (x forward, y left, z up): a half turn about x.
+FLU_FROM_FRD = np.array([1.0, -1.0, -1.0])
+#: The half turn about x as a quaternion (C_FLU^FRD = C_FRD^FLU).
+Q_FRD_FLU = np.array([0.0, 1.0, 0.0, 0.0])
+#: C_NED^ENU: a half turn about (1, 1, 0)/√2 (x_E = y_N, y_N = x_E, z_U = −z_D).
+Q_ENU_NED = np.array([0.0, 1.0, 1.0, 0.0]) / np.sqrt(2.0)
+FRAME_FRD_NED = (
+    "body axes FLU (x forward, y left, z up) from the log's FRD: (x, −y, −z) for rates, specific "
+    "force and field; truth C_b^n with n = ENU from the log's FRD→NED attitude q: q_ENU,FLU = "
+    "q_ENU,NED ⊗ q ⊗ q_FRD,FLU (q_ENU,NED = [0, 1, 1, 0]/√2, q_FRD,FLU = [0, 1, 0, 0])"
+)
+GAUSS_PER_TESLA = 1e4
+#: Truth samples further apart than this many of their own median steps are a gap: NaN truth there.
+TRUTH_GAP_STEPS = 2.0
+
+
+def need(module: str, package: str, kind: str) -> ModuleType:
+    """Import an optional library, or an InputError (exit 2) saying which package to install."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise InputError(
+            f"`sins-fw import {kind}` needs the `{package}` package, which is not installed: "
+            f"pip install 'sins-fw[import]' (or pip install {package})"
+        ) from None
+
+
+def check_file(path: PathLike, what: str) -> Path:
+    p = Path(path)
+    if not p.exists():
+        raise TraceError(f"{p}: no such {what}")
+    return p
+
+
+def truth_from_ned(q_ned_frd: Array) -> Array:
+    """An FRD→NED attitude (Hamilton [w, x, y, z]) as the trace's C_b^n: FLU body, ENU navigation."""
+    return quaternion.multiply(quaternion.multiply(Q_ENU_NED, q_ned_frd), Q_FRD_FLU)
+
+
+def interpolate_truth(t: Array, t_q: Array, q: Array) -> Array:
+    """Unit quaternions ``q`` (at times ``t_q``) at the times ``t``: normalised linear interpolation
+    between the neighbours (signs aligned: q and −q are one attitude); NaN before the first, after
+    the last, and inside gaps longer than :data:`TRUTH_GAP_STEPS` median steps."""
+    out = np.full((len(t), 4), np.nan)
+    if len(t_q) < 2:
+        return out
+    q = quaternion.normalize(np.asarray(q, dtype=np.float64))
+    q = q.copy()
+    for k in range(1, len(q)):  # one hemisphere, so that neighbours interpolate the short way
+        if np.dot(q[k], q[k - 1]) < 0:
+            q[k] = -q[k]
+    i = np.searchsorted(t_q, t, side="right") - 1
+    inside = (i >= 0) & (i < len(t_q) - 1)
+    exact_end = t == t_q[-1]
+    i = np.clip(i, 0, len(t_q) - 2)
+    step = np.diff(t_q)
+    gap = step[i] > TRUTH_GAP_STEPS * float(np.median(step))
+    ok = (inside & ~gap) | exact_end
+    u = ((t - t_q[i]) / step[i])[:, None]
+    blend = quaternion.normalize((1 - u) * q[i] + u * q[i + 1])
+    out[ok] = blend[ok]
+    return out
+
+
+def interpolate(t: Array, t_src: Array, values: Array) -> Array:
+    """``values`` (n, k) at the times ``t``: linear interpolation, the first and last value held
+    beyond the ends (the trace's columns other than truth take no NaN)."""
+    return np.stack([np.interp(t, t_src, values[:, j]) for j in range(values.shape[1])], axis=1)
+
+
+def rate_from_times(t: Array, where: str) -> Fraction:
+    dt = np.diff(t)
+    dt = dt[dt > 0]
+    if not len(dt):
+        raise TraceError(f"{where}: fewer than two IMU samples with increasing times; expected a log")
+    return _rate_of_step(float(np.median(dt)))
+
+
+def ascending(t: Array, *arrays: Array) -> tuple[Array, ...]:
+    """Samples in time order, a repeated time stamp kept once (the first): logs can repeat one when
+    a topic is written twice."""
+    order = np.argsort(t, kind="stable")
+    t = t[order]
+    keep = np.concatenate([[True], np.diff(t) > 0]) if len(t) else np.zeros(0, dtype=bool)
+    return (t[keep], *(a[order][keep] for a in arrays))
+
+
+def make_trace(
+    *,
+    t_abs: Array,
+    origin: str,
+    gyro_dps: Array,
+    accel_g: Array,
+    mag_gauss: Array | None,
+    truth_q: Array | None,
+    metadata: dict[str, str],
+    where: str,
+) -> PhysicalTrace:
+    """The physical trace of an import: times from the log's first IMU sample, the rate from the
+    times, the provenance and conversions in the metadata."""
+    t = t_abs - t_abs[0]
+    meta = {
+        "sample_rate_hz": _rate_text(rate_from_times(t, where)),
+        **metadata,
+        "time_origin": origin,
+        "g0_m_s2": repr(G0),
+        "gps": "not imported: the trace format has no GPS stream yet",
+    }
+    return PhysicalTrace(
+        t_s=t,
+        gyro_dps=gyro_dps,
+        accel_g=accel_g,
+        mag_gauss=mag_gauss,
+        truth_q=truth_q,
+        metadata=meta,
+    )
+
+
+Importer = Callable[..., PhysicalTrace]
+#: `sins-fw import KIND`: the module and function of each importer (imported when used).
+IMPORTERS = {
+    "ulog": ("ulog", "import_ulog"),
+    "dataflash": ("dataflash", "import_dataflash"),
+    "rosbag": ("rosbag", "import_rosbag"),
+    "euroc": ("euroc", "import_euroc"),
+}
+
+
+def importer(kind: str) -> Importer:
+    """The importer `sins-fw import KIND` runs."""
+    module, function = IMPORTERS[kind]
+    imported: Any = importlib.import_module(f"sins_fw.importers.{module}")
+    return cast(Importer, getattr(imported, function))

@@ -1,0 +1,98 @@
+"""ArduPilot DataFlash logs (.bin, read with pymavlink's DFReader): ``IMU`` instance 0 (GyrX…Z rad/s,
+AccX…Z m/s², TimeUS µs), ``MAG`` instance 0 (MagX…Z, milligauss) and ``ATT`` (Roll, Pitch, Yaw in
+degrees: the autopilot's estimate), all in ArduPilot's FRD body axes and NED earth frame."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from sins_fw import quaternion
+from sins_fw.errors import TraceError
+from sins_fw.importers import (
+    FLU_FROM_FRD,
+    FRAME_FRD_NED,
+    PathLike,
+    ascending,
+    check_file,
+    interpolate,
+    interpolate_truth,
+    make_trace,
+    need,
+    truth_from_ned,
+)
+from sins_fw.traces import G0, PhysicalTrace
+
+MILLIGAUSS = 1e-3
+_FIELDS = {
+    "IMU": ("GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ"),
+    "MAG": ("MagX", "MagY", "MagZ"),
+    "ATT": ("Roll", "Pitch", "Yaw"),
+}
+
+
+def _instance(m: Any) -> int:
+    """The sensor instance of an IMU or MAG message (logs before instances existed: 0)."""
+    return int(getattr(m, "I", 0) or 0)
+
+
+def import_dataflash(path: PathLike) -> PhysicalTrace:
+    """An ArduPilot DataFlash log as a physical trace."""
+    need("pymavlink", "pymavlink", "dataflash")
+    from pymavlink import DFReader
+
+    p = check_file(path, "DataFlash log")
+    rows: dict[str, list[tuple[int, tuple[float, ...]]]] = {k: [] for k in _FIELDS}
+    try:
+        log = DFReader.DFReader_binary(str(p), zero_time_base=False)
+        while (m := log.recv_match(type=list(_FIELDS))) is not None:
+            kind = m.get_type()
+            if kind in ("IMU", "MAG") and _instance(m):
+                continue
+            rows[kind].append((int(m.TimeUS), tuple(float(getattr(m, f)) for f in _FIELDS[kind])))
+    except Exception as e:  # pymavlink raises assorted errors on what is not a DataFlash log
+        raise TraceError(f"{p}: not a readable DataFlash log ({e}); expected an ArduPilot .bin log") from None
+    if not rows["IMU"]:
+        raise TraceError(f"{p}: no IMU messages (instance 0); expected an ArduPilot log with IMU data")
+
+    def arrays(kind: str) -> tuple[np.ndarray, np.ndarray]:
+        t = np.array([r[0] for r in rows[kind]], dtype=np.int64)
+        v = np.array([r[1] for r in rows[kind]], dtype=np.float64)
+        return ascending(t, v)  # type: ignore[return-value]
+
+    t_us, imu = arrays("IMU")
+    t0 = int(t_us[0])
+    t = (t_us - t0).astype(np.float64) * 1e-6
+    mag, truth = None, None
+    if rows["MAG"]:
+        tm, m = arrays("MAG")
+        mag = interpolate(t, (tm - t0).astype(np.float64) * 1e-6, m) * MILLIGAUSS * FLU_FROM_FRD
+    if rows["ATT"]:
+        ta, att = arrays("ATT")
+        q_ned = quaternion.from_euler(*np.radians(att).T)
+        truth = truth_from_ned(interpolate_truth(t, (ta - t0).astype(np.float64) * 1e-6, q_ned))
+    return make_trace(
+        t_abs=t,
+        origin=f"t_s = 0 at the log's IMU TimeUS {t0} µs",
+        gyro_dps=np.degrees(imu[:, :3]) * FLU_FROM_FRD,
+        accel_g=imu[:, 3:] / G0 * FLU_FROM_FRD,
+        mag_gauss=mag,
+        truth_q=truth,
+        metadata={
+            "source": f"ArduPilot DataFlash log {p.name}",
+            "source_file": p.name,
+            "generator": f"sins-fw import dataflash {p.name}",
+            "frame": FRAME_FRD_NED,
+            "units": "IMU Gyr rad/s → °/s, Acc m/s² → g, MAG milligauss → gauss (instance 0 of each)",
+            "magnetometer": "MAG instance 0, interpolated linearly at the IMU times"
+            if mag is not None
+            else "none (no MAG messages)",
+            "truth": "ATT Roll, Pitch, Yaw (Z-Y-X Euler angles, FRD → NED): the autopilot's estimate "
+            "(EKF), not "
+            "an independent truth; interpolated (normalised linear) at the IMU times, NaN outside"
+            if truth is not None
+            else "none (no ATT messages)",
+        },
+        where=f"{p}: IMU",
+    )

@@ -1,0 +1,107 @@
+"""PX4 ULog (read with pyulog): ``sensor_combined`` (gyro_rad, rad/s; accelerometer_m_s2, m/s²; FRD
+body axes; time stamps in µs), the magnetometer from ``vehicle_magnetometer`` (magnetometer_ga) or
+``sensor_mag`` (x, y, z), gauss, FRD; the attitude from ``vehicle_attitude_groundtruth`` (a
+simulation's truth) or ``vehicle_attitude`` (the autopilot's estimate), q = FRD → NED, [w, x, y, z].
+Both IMU vectors take sensor_combined's ``timestamp`` (the gyro's sample time; the accelerometer's
+``accelerometer_timestamp_relative``, normally 0, is not applied)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from sins_fw.errors import TraceError
+from sins_fw.importers import (
+    FLU_FROM_FRD,
+    FRAME_FRD_NED,
+    PathLike,
+    ascending,
+    check_file,
+    interpolate,
+    interpolate_truth,
+    make_trace,
+    need,
+    truth_from_ned,
+)
+from sins_fw.traces import G0, PhysicalTrace
+
+_TOPICS = (
+    "sensor_combined",
+    "vehicle_magnetometer",
+    "sensor_mag",
+    "vehicle_attitude_groundtruth",
+    "vehicle_attitude",
+)
+_MAGS = (("vehicle_magnetometer", "magnetometer_ga[{}]"), ("sensor_mag", "{}"))
+_ATTITUDES = (
+    ("vehicle_attitude_groundtruth", "the simulation's true attitude"),
+    ("vehicle_attitude", "the autopilot's estimate (EKF), not an independent truth"),
+)
+
+
+def _vectors(data: dict[str, Any], pattern: str, axes: tuple[str, ...], where: str) -> np.ndarray:
+    names = [pattern.format(a) for a in axes]
+    missing = [n for n in names if n not in data]
+    if missing:
+        raise TraceError(f"{where}: field `{missing[0]}` is missing; expected {', '.join(names)}")
+    return np.stack([np.asarray(data[n], dtype=np.float64) for n in names], axis=1)
+
+
+def import_ulog(path: PathLike) -> PhysicalTrace:
+    """A PX4 ULog file as a physical trace (instance 0 of each topic)."""
+    pyulog = need("pyulog", "pyulog", "ulog")
+    p = check_file(path, "ULog file")
+    try:
+        log = pyulog.ULog(str(p), list(_TOPICS))
+    except Exception as e:  # pyulog raises its own and struct errors on a file that is not ULog
+        raise TraceError(f"{p}: not a readable ULog file ({e}); expected a PX4 .ulg log") from None
+    topics = {(d.name, d.multi_id): d.data for d in log.data_list}
+    imu = topics.get(("sensor_combined", 0))
+    if imu is None:
+        found = ", ".join(sorted({n for n, _ in topics})) or "none of the topics read"
+        raise TraceError(f"{p}: no `sensor_combined` topic; expected a PX4 log with IMU data (found {found})")
+    where = f"{p}: sensor_combined"
+    t_us = np.asarray(imu["timestamp"], dtype=np.int64)
+    gyro = _vectors(imu, "gyro_rad[{}]", ("0", "1", "2"), where)
+    accel = _vectors(imu, "accelerometer_m_s2[{}]", ("0", "1", "2"), where)
+    t_us, gyro, accel = ascending(t_us, gyro, accel)
+    t0 = int(t_us[0])
+    t = (t_us - t0).astype(np.float64) * 1e-6
+    mag, mag_note = None, "none (no vehicle_magnetometer or sensor_mag topic)"
+    for topic, pattern in _MAGS:
+        data = topics.get((topic, 0))
+        if data is not None:
+            tm = (np.asarray(data["timestamp"], dtype=np.int64) - t0).astype(np.float64) * 1e-6
+            axes = ("0", "1", "2") if "[" in pattern else ("x", "y", "z")
+            tm, m = ascending(tm, _vectors(data, pattern, axes, f"{p}: {topic}"))
+            mag = interpolate(t, tm, m) * FLU_FROM_FRD
+            mag_note = f"{topic} (gauss), interpolated linearly at the IMU times"
+            break
+    truth, truth_note = None, "none (no vehicle_attitude topic)"
+    for topic, what in _ATTITUDES:
+        data = topics.get((topic, 0))
+        if data is not None:
+            tq = (np.asarray(data["timestamp"], dtype=np.int64) - t0).astype(np.float64) * 1e-6
+            tq, q = ascending(tq, _vectors(data, "q[{}]", ("0", "1", "2", "3"), f"{p}: {topic}"))
+            truth = truth_from_ned(interpolate_truth(t, tq, q))
+            truth_note = f"{topic}.q: {what}; interpolated (normalised linear) at the IMU times, NaN outside"
+            break
+    return make_trace(
+        t_abs=t,
+        origin=f"t_s = 0 at the log's sensor_combined time stamp {t0} µs",
+        gyro_dps=np.degrees(gyro) * FLU_FROM_FRD,
+        accel_g=accel / G0 * FLU_FROM_FRD,
+        mag_gauss=mag,
+        truth_q=truth,
+        metadata={
+            "source": f"PX4 ULog {p.name}",
+            "source_file": p.name,
+            "generator": f"sins-fw import ulog {p.name}",
+            "frame": FRAME_FRD_NED,
+            "units": "gyro_rad rad/s → °/s, accelerometer_m_s2 m/s² → g, magnetometer gauss",
+            "magnetometer": mag_note,
+            "truth": truth_note,
+        },
+        where=where,
+    )

@@ -1,0 +1,400 @@
+"""Importers of other logs (issue 27, item 2): each on a small log the test writes itself (with the
+library's own writer, or to the format's published layout), never on downloaded data.
+
+Every log holds one motion: a level vehicle yawing at 20 °/s about its down axis (NED/FRD logs) or
+about z (EuRoC/ROS), with the magnetometer seeing a fixed field. The checks are physical: the
+still accelerometer reads +1 g on the trace's z, the truth rotates it to ENU up, the truth's own
+body increments q_k* ⊗ q_k+1 give the gyro's rates, heading 30° east of north puts the body's x
+axis at (sin 30°, cos 30°, 0) in ENU, and the sensor's time stamps come through exactly."""
+
+from __future__ import annotations
+
+import struct
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+from sins_fw import quaternion
+from sins_fw.errors import InputError
+from sins_fw.traces import G0, PhysicalTrace
+
+RATE_HZ = 250.0
+N = 500
+YAW_RATE = float(np.radians(20.0))
+YAW0 = float(np.radians(30.0))
+#: The earth's field in NED, gauss (north and down components).
+MAG_NED = np.array([0.2, 0.0, 0.45])
+
+
+T0_US = 1_000_000
+
+
+def _attitude_ned(t_us: np.ndarray) -> np.ndarray:
+    """The FRD → NED attitude of the yawing vehicle at the log times ``t_us`` (µs)."""
+    yaw = YAW0 + YAW_RATE * (t_us - T0_US) * 1e-6
+    return quaternion.from_axis_angle(np.array([0.0, 0.0, 1.0]), yaw)
+
+
+def _ned_motion() -> dict[str, np.ndarray]:
+    """Times (µs from 1 s), FRD rates (rad/s) and FRD specific force (m/s²) of the yawing vehicle."""
+    t_us = T0_US + np.arange(N, dtype=np.int64) * 4000
+    gyro = np.tile([0.0, 0.0, YAW_RATE], (N, 1))
+    accel = np.tile([0.0, 0.0, -G0], (N, 1))
+    return {"t_us": t_us, "gyro": gyro, "accel": accel}
+
+
+def _field_frd(t_us: np.ndarray) -> np.ndarray:
+    """The earth's field in FRD body axes at the log times ``t_us``, gauss."""
+    return quaternion.rotate(quaternion.conjugate(_attitude_ned(t_us)), MAG_NED)
+
+
+def _check_physics(
+    trace: PhysicalTrace, float32: bool, mag_span: tuple[float, float] = (0.0, 0.0), mag_atol: float = 0.0
+) -> None:
+    """The trace convention: FLU body (z up), ENU navigation, rates in °/s, specific force in g."""
+    tol = 1e-6 if float32 else 1e-12
+    np.testing.assert_allclose(trace.accel_g, np.tile([0.0, 0.0, 1.0], (len(trace), 1)), atol=tol)
+    np.testing.assert_allclose(trace.gyro_dps[:, :2], 0.0, atol=tol)
+    np.testing.assert_allclose(trace.gyro_dps[:, 2], -20.0, rtol=tol)  # yaw right = turning clockwise
+    q = trace.truth_q
+    valid = ~np.isnan(q[:, 0])
+    assert valid.sum() >= len(trace) - 2
+    up = quaternion.rotate(q[valid], trace.accel_g[valid])
+    np.testing.assert_allclose(up, np.tile([0.0, 0.0, 1.0], (valid.sum(), 1)), atol=10 * tol + 1e-9)
+    first = np.flatnonzero(valid)[0]
+    forward = quaternion.rotate(q[first], [1.0, 0.0, 0.0])
+    heading = YAW0 + YAW_RATE * float(trace.t_s[first])
+    np.testing.assert_allclose(forward, [np.sin(heading), np.cos(heading), 0.0], atol=1e-6)
+    # The truth's body increments are the gyro's rates (the body frame is the same).
+    k = np.flatnonzero(valid[:-1] & valid[1:])
+    dq = quaternion.multiply(quaternion.conjugate(q[k]), q[k + 1])
+    rate = 2 * dq[:, 1:] / np.diff(trace.t_s)[k, None]
+    np.testing.assert_allclose(np.degrees(rate), trace.gyro_dps[k], atol=1e-3)
+    if trace.mag_gauss is not None:
+        inside = valid & (trace.t_s >= mag_span[0]) & (trace.t_s <= mag_span[1])
+        mag_enu = quaternion.rotate(q[inside], trace.mag_gauss[inside])
+        np.testing.assert_allclose(mag_enu, np.tile([0.0, 0.2, -0.45], (inside.sum(), 1)), atol=mag_atol)
+    assert "GPS stream" in trace.metadata["gps"]
+
+
+# ---------------------------------------------------------------------------------------------------
+# PX4 ULog: written to the format's published layout (pyulog reads it; it has no writer of its own
+# that builds a log from nothing)
+# ---------------------------------------------------------------------------------------------------
+
+
+def write_ulog(
+    path: Path, topics: list[tuple[str, list[tuple[str, str, int]], dict[str, np.ndarray]]]
+) -> None:
+    """A ULog file (version 1): the 16-byte header, the flag bits, one format and one subscription
+    per topic, then the data messages in time order. Each topic: (name, [(type, field, count)],
+    {field: values}); the first field is `uint64_t timestamp`."""
+    out = bytearray(b"ULog\x01\x12\x35\x01" + struct.pack("<Q", 0))
+
+    def message(kind: str, payload: bytes) -> None:
+        out.extend(struct.pack("<HB", len(payload), ord(kind)) + payload)
+
+    message("B", bytes(40))  # compat and incompat flags, no appended data
+    for name, fields, _ in topics:
+        message(
+            "F", (name + ":" + "".join(f"{t}[{c}] {f};" if c else f"{t} {f};" for t, f, c in fields)).encode()
+        )
+    for i, (name, _, _) in enumerate(topics):
+        message("A", struct.pack("<BH", 0, i) + name.encode())
+    codes = {"uint64_t": "Q", "float": "f"}
+    rows = []
+    for i, (_, fields, data) in enumerate(topics):
+        for k in range(len(data["timestamp"])):
+            payload = struct.pack("<H", i)
+            for t, f, c in fields:
+                payload += struct.pack("<" + codes[t] * (c or 1), *np.atleast_1d(data[f][k]).tolist())
+            rows.append((int(data["timestamp"][k]), payload))
+    for _, payload in sorted(rows, key=lambda r: r[0]):
+        message("D", payload)
+    path.write_bytes(bytes(out))
+
+
+def _ulog(path: Path) -> dict[str, np.ndarray]:
+    m = _ned_motion()
+    t = m["t_us"]
+    write_ulog(
+        path,
+        [
+            (
+                "sensor_combined",
+                [("uint64_t", "timestamp", 0), ("float", "gyro_rad", 3), ("float", "accelerometer_m_s2", 3)],
+                {"timestamp": t, "gyro_rad": m["gyro"], "accelerometer_m_s2": m["accel"]},
+            ),
+            (
+                "vehicle_magnetometer",
+                [("uint64_t", "timestamp", 0), ("float", "magnetometer_ga", 3)],
+                {"timestamp": t[::5] + 1000, "magnetometer_ga": _field_frd(t[::5] + 1000)},
+            ),
+            (
+                "vehicle_attitude",
+                [("uint64_t", "timestamp", 0), ("float", "q", 4)],
+                {"timestamp": t[::2] + 500, "q": _attitude_ned(t[::2] + 500)},
+            ),
+        ],
+    )
+    return m
+
+
+def test_ulog_import(tmp_path):
+    pytest.importorskip("pyulog")
+    from sins_fw.importers.ulog import import_ulog
+
+    m = _ulog(tmp_path / "flight.ulg")
+    trace = import_ulog(tmp_path / "flight.ulg")
+    np.testing.assert_array_equal(trace.t_s, (m["t_us"] - m["t_us"][0]) * 1e-6)
+    assert trace.metadata["sample_rate_hz"] == "250"
+    assert "1000000 µs" in trace.metadata["time_origin"]
+    assert "vehicle_attitude.q" in trace.metadata["truth"] and "estimate" in trace.metadata["truth"]
+    assert "FRD" in trace.metadata["frame"] and "ENU" in trace.metadata["frame"]
+    # The magnetometer's 50 Hz samples (from 1 ms to 1.981 s) are interpolated linearly: the yaw turns
+    # by θ = 20 °/s × 20 ms between them, a chord error of at most |m_horizontal| θ²/8 (1.2e-6 gauss),
+    # plus float32 rounding (6e-8 of 0.45 gauss).
+    theta = YAW_RATE * 0.02
+    _check_physics(
+        trace, float32=True, mag_span=(0.001, 0.001 + 99 * 0.02), mag_atol=0.2 * theta**2 / 8 + 1e-7
+    )
+
+
+def test_ulog_through_the_cli(tmp_path):
+    pytest.importorskip("pyulog")
+    _ulog(tmp_path / "flight.ulg")
+    r = run_cli("import", "ulog", str(tmp_path / "flight.ulg"), "--out", str(tmp_path / "f.h5"), "--json")
+    assert r.code == 0, r.err
+    assert '"rows": 500' in r.out
+    assert PhysicalTrace.load(tmp_path / "f.h5").metadata["source"] == "PX4 ULog flight.ulg"
+    (tmp_path / "bad.ulg").write_bytes(b"not a log at all")
+    r = run_cli("import", "ulog", str(tmp_path / "bad.ulg"), "--out", str(tmp_path / "b.h5"))
+    assert r.code == 2 and "bad.ulg: not a readable ULog file" in r.err and "Traceback" not in r.err
+
+
+@pytest.mark.parametrize(
+    ("kind", "package"), [("ulog", "pyulog"), ("dataflash", "pymavlink"), ("rosbag", "rosbags")]
+)
+def test_a_missing_library_is_named(tmp_path, monkeypatch, capsys, kind, package):
+    from sins_fw.cli import main
+    from sins_fw.importers import need
+
+    monkeypatch.setitem(sys.modules, package, None)  # `import package` now raises ImportError
+    with pytest.raises(InputError, match=rf"needs the `{package}` package.*pip install 'sins-fw\[import\]'"):
+        need(package, package, kind)
+    (tmp_path / "log").write_bytes(b"x")
+    assert main(["import", kind, str(tmp_path / "log"), "--out", str(tmp_path / "o.h5")]) == 2
+    assert f"pip install {package}" in capsys.readouterr().err
+    assert not (tmp_path / "o.h5").exists()
+
+
+# ---------------------------------------------------------------------------------------------------
+# EuRoC-style CSV
+# ---------------------------------------------------------------------------------------------------
+
+
+def _euroc(root: Path) -> np.ndarray:
+    """A EuRoC folder: the sensor yaws about its z (up) axis; the ground truth at its own times."""
+    t_ns = 1403636579758555392 + np.arange(N, dtype=np.int64) * 4_000_000
+    t = (t_ns - t_ns[0]) * 1e-9
+    imu = root / "mav0" / "imu0"
+    imu.mkdir(parents=True)
+    header = "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+    header += "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n"
+    rows = [f"{s},0.0,0.0,{-float(YAW_RATE)!r},0.0,0.0,{G0!r}" for s in t_ns]
+    (imu / "data.csv").write_text(header + "\n".join(rows) + "\n")
+    gt = root / "mav0" / "state_groundtruth_estimate0"
+    gt.mkdir()
+    t_gt = t_ns[::2] + 1_000_000
+    yaw = np.pi / 2 - YAW0 - YAW_RATE * (t_gt - t_ns[0]) * 1e-9  # ENU yaw of heading 30° + 20 °/s t
+    q = quaternion.from_axis_angle(np.array([0.0, 0.0, 1.0]), yaw)
+    header = (
+        "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z []\n"
+    )
+    rows = [f"{s},1.0,2.0,3.0," + ",".join(repr(float(x)) for x in qk) for s, qk in zip(t_gt, q, strict=True)]
+    (gt / "data.csv").write_text(header + "\n".join(rows) + "\n")
+    return t
+
+
+def test_euroc_import(tmp_path):
+    from sins_fw.importers.euroc import import_euroc
+
+    t = _euroc(tmp_path)
+    trace = import_euroc(tmp_path)
+    np.testing.assert_array_equal(trace.t_s, t)
+    assert "1403636579758555392 ns" in trace.metadata["time_origin"]
+    assert trace.metadata["sample_rate_hz"] == "250"
+    # Before the first ground-truth time (1 ms after the first IMU sample): no truth.
+    assert np.isnan(trace.truth_q[0]).all() and not np.isnan(trace.truth_q[1]).any()
+    _check_physics(trace, float32=False)
+    r = run_cli("import", "euroc", str(tmp_path), "--out", str(tmp_path / "e.csv"))
+    assert r.code == 0, r.err
+    np.testing.assert_array_equal(PhysicalTrace.load(tmp_path / "e.csv").t_s, t)
+
+
+def test_euroc_errors_name_the_file_and_column(tmp_path):
+    from sins_fw.errors import TraceError
+    from sins_fw.importers.euroc import import_euroc
+
+    with pytest.raises(TraceError, match=r"no imu0/data\.csv here or in mav0/"):
+        import_euroc(tmp_path)
+    (tmp_path / "imu.csv").write_text("#timestamp [ns],w_RS_S_x [rad s^-1]\n1,0\n")
+    with pytest.raises(TraceError, match=r"imu.csv: line 1: missing column `w_RS_S_y`"):
+        import_euroc(tmp_path / "imu.csv")
+
+
+# ---------------------------------------------------------------------------------------------------
+# ROS 1 and ROS 2 bags, written with rosbags' own writers
+# ---------------------------------------------------------------------------------------------------
+
+
+def _enu_attitude(t: np.ndarray) -> np.ndarray:
+    """The FLU → ENU attitude of the yawing vehicle at the times ``t`` (s from the first sample)."""
+    return quaternion.from_axis_angle(np.array([0.0, 0.0, 1.0]), np.pi / 2 - YAW0 - YAW_RATE * t)
+
+
+def _write_bag(path: Path, ros: int, imu_topics: tuple[str, ...] = ("/imu/data",)) -> np.ndarray:
+    from rosbags.rosbag1 import Writer as Writer1
+    from rosbags.rosbag2 import Writer as Writer2
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
+    types = store.types
+    imu_t, mag_t = types["sensor_msgs/msg/Imu"], types["sensor_msgs/msg/MagneticField"]
+    header_t, time_t = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
+    quat_t, vec_t = types["geometry_msgs/msg/Quaternion"], types["geometry_msgs/msg/Vector3"]
+    serialize = store.serialize_ros1 if ros == 1 else store.serialize_cdr
+    t0_ns = 1_700_000_000_123_456_789
+    t_ns = t0_ns + np.arange(N, dtype=np.int64) * 4_000_000
+
+    def header(ns: int, k: int) -> object:
+        stamp = time_t(sec=ns // 10**9, nanosec=ns % 10**9)
+        return (
+            header_t(seq=k, stamp=stamp, frame_id="imu")
+            if ros == 1
+            else header_t(stamp=stamp, frame_id="imu")
+        )
+
+    writer = Writer1(path) if ros == 1 else Writer2(path, version=9)
+    with writer:
+        imus = [writer.add_connection(topic, imu_t.__msgtype__, typestore=store) for topic in imu_topics]
+        mag = writer.add_connection("/imu/mag", mag_t.__msgtype__, typestore=store)
+        q = _enu_attitude((t_ns - t0_ns) * 1e-9)
+        zeros = np.zeros(9)
+        for k, ns in enumerate(t_ns):
+            msg = imu_t(
+                header=header(int(ns), k),
+                orientation=quat_t(x=q[k, 1], y=q[k, 2], z=q[k, 3], w=q[k, 0]),
+                orientation_covariance=zeros,
+                angular_velocity=vec_t(x=0.0, y=0.0, z=-YAW_RATE),
+                angular_velocity_covariance=zeros,
+                linear_acceleration=vec_t(x=0.0, y=0.0, z=G0),
+                linear_acceleration_covariance=zeros,
+            )
+            for conn in imus:  # recorded 2 ms after the sensor's stamp: the stamp is what counts
+                writer.write(conn, int(ns) + 2_000_000, serialize(msg, imu_t.__msgtype__))
+        for k, ns in enumerate(t_ns[::5] + 1_000_000):
+            b = quaternion.rotate(quaternion.conjugate(_enu_attitude((ns - t0_ns) * 1e-9)), [0.0, 0.2, -0.45])
+            msg = mag_t(
+                header=header(int(ns), k),
+                magnetic_field=vec_t(x=b[0] * 1e-4, y=b[1] * 1e-4, z=b[2] * 1e-4),
+                magnetic_field_covariance=zeros,
+            )
+            writer.write(mag, int(ns), serialize(msg, mag_t.__msgtype__))
+    return (t_ns - t0_ns) * 1e-9
+
+
+@pytest.mark.parametrize("ros", [1, 2])
+def test_rosbag_import(tmp_path, ros):
+    pytest.importorskip("rosbags")
+    from sins_fw.importers.rosbag import import_rosbag
+
+    path = tmp_path / ("flight.bag" if ros == 1 else "flight")
+    t = _write_bag(path, ros)
+    trace = import_rosbag(path)
+    np.testing.assert_array_equal(trace.t_s, t)
+    assert "1700000000123456789 ns" in trace.metadata["time_origin"]
+    assert "REP 103" in trace.metadata["frame"] and "estimate" in trace.metadata["truth"]
+    # The field at 50 Hz, interpolated: the chord error of a 0.4° turn (as for the ULog).
+    theta = YAW_RATE * 0.02
+    _check_physics(
+        trace, float32=False, mag_span=(0.001, 0.001 + 99 * 0.02), mag_atol=0.2 * theta**2 / 8 + 1e-12
+    )
+    r = run_cli("import", "rosbag", str(path), "--out", str(tmp_path / "r.h5"))
+    assert r.code == 0, r.err
+
+
+def test_rosbag_with_two_imu_topics_asks_which(tmp_path):
+    pytest.importorskip("rosbags")
+    from sins_fw.errors import TraceError
+    from sins_fw.importers.rosbag import import_rosbag
+
+    path = tmp_path / "two"
+    _write_bag(path, 2, imu_topics=("/imu/a", "/imu/b"))
+    with pytest.raises(
+        TraceError, match=r"2 sensor_msgs/msg/Imu topics \(/imu/a, /imu/b\); choose one with --imu-topic"
+    ):
+        import_rosbag(path)
+    assert len(import_rosbag(path, imu_topic="/imu/b")) == N
+    r = run_cli("import", "rosbag", str(tmp_path / "nothing"), "--out", str(tmp_path / "o.h5"))
+    assert r.code == 2 and "no such ROS bag" in r.err
+
+
+# ---------------------------------------------------------------------------------------------------
+# ArduPilot DataFlash: built to the format's layout (FMT messages describe the others), read by
+# pymavlink's DFReader
+# ---------------------------------------------------------------------------------------------------
+
+
+def _df_format(type_id: int, name: str, fmt: str, columns: str) -> bytes:
+    """An FMT message: the type, the message length (3-byte header included), name, format, columns."""
+    sizes = {"Q": 8, "B": 1, "f": 4, "n": 4, "N": 16, "Z": 64}
+    length = 3 + sum(sizes[c] for c in fmt)
+    payload = struct.pack("<BB4s16s64s", type_id, length, name.encode(), fmt.encode(), columns.encode())
+    return b"\xa3\x95\x80" + payload
+
+
+def _df_message(type_id: int, fmt: str, *values: float) -> bytes:
+    return b"\xa3\x95" + bytes([type_id]) + struct.pack("<" + fmt, *values)
+
+
+def _dataflash(path: Path) -> dict[str, np.ndarray]:
+    m = _ned_motion()
+    out = bytearray(_df_format(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
+    out += _df_format(129, "IMU", "QBffffff", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ")
+    out += _df_format(130, "MAG", "QBfff", "TimeUS,I,MagX,MagY,MagZ")
+    out += _df_format(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
+    for k, t in enumerate(m["t_us"]):
+        out += _df_message(129, "QBffffff", t, 0, *m["gyro"][k], *m["accel"][k])
+        out += _df_message(129, "QBffffff", t, 1, 9.0, 9.0, 9.0, 9.0, 9.0, 9.0)  # a second IMU: left out
+        if k % 5 == 0:
+            mag = _field_frd(np.array([t + 1000]))[0] * 1000  # milligauss
+            out += _df_message(130, "QBfff", t + 1000, 0, *mag)
+        if k % 2 == 0:
+            yaw = np.degrees(YAW0 + YAW_RATE * (t + 500 - T0_US) * 1e-6) % 360
+            out += _df_message(131, "Qfff", t + 500, 0.0, 0.0, yaw)
+    path.write_bytes(bytes(out))
+    return m
+
+
+def test_dataflash_import(tmp_path):
+    pytest.importorskip("pymavlink")
+    from sins_fw.importers.dataflash import import_dataflash
+
+    m = _dataflash(tmp_path / "00000001.BIN")
+    trace = import_dataflash(tmp_path / "00000001.BIN")
+    np.testing.assert_array_equal(trace.t_s, (m["t_us"] - m["t_us"][0]) * 1e-6)
+    assert "ATT" in trace.metadata["truth"] and "estimate" in trace.metadata["truth"]
+    theta = YAW_RATE * 0.02
+    # ATT's yaw in float32 degrees: 3e-6° of rounding at 360° (5e-8 rad), far below the checks' 1e-6.
+    _check_physics(
+        trace, float32=True, mag_span=(0.001, 0.001 + 99 * 0.02), mag_atol=0.2 * theta**2 / 8 + 1e-7
+    )
+    r = run_cli("import", "dataflash", str(tmp_path / "00000001.BIN"), "--out", str(tmp_path / "d.csv"))
+    assert r.code == 0, r.err
+    (tmp_path / "empty.BIN").write_bytes(_df_format(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
+    r = run_cli("import", "dataflash", str(tmp_path / "empty.BIN"), "--out", str(tmp_path / "e.csv"))
+    assert r.code == 2 and "no IMU messages (instance 0)" in r.err and "Traceback" not in r.err
