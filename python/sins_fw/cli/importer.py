@@ -14,7 +14,14 @@ from typing import Any
 
 from sins_fw.atomic import check_distinct
 from sins_fw.broad import import_broad
-from sins_fw.cli.common import add_json_option, add_out_option, add_read_options, emit, exit_epilog, read_options
+from sins_fw.cli.common import (
+    add_json_option,
+    add_out_option,
+    add_read_options,
+    emit,
+    exit_epilog,
+    read_options,
+)
 from sins_fw.errors import TraceError
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
