@@ -181,3 +181,20 @@ def test_replay_memory_does_not_grow_with_the_duration(traces):
     bound = chunk + window
     assert bound < per_step_growth_mb(650) / 2
     assert long - short < bound, (short, long, bound)
+
+
+def test_run_allow_gaps_memory_does_not_grow_with_the_duration(traces):
+    """`run --allow-gaps` notes the gaps as the chunks stream past (cli.run.GapFinder) instead of
+    reading the trace whole: the bound of `run`. Reading it whole would add the longer trace's
+    rows, (819 200 − 81 920) × 17 doubles = 100 MB."""
+    from sins_fw.report_stream import BLOCK
+
+    runs = [
+        ["run", str(traces / f"{n}.h5"), "--allow-gaps", "--out", str(traces / f"{n}_gaps.csv")]
+        for n in ("short", "long")
+    ]
+    short, long = peaks_mb(runs, traces)
+    chunk = 65536 * TRACE_DOUBLES * 8 * 3 / 1e6
+    bound = SUMMARY_MOMENTS * BLOCK * 8 / 1e6 + chunk
+    assert bound < (819_200 - 81_920) * TRACE_DOUBLES * 8 / 1e6 / 2
+    assert long - short < bound, (short, long, bound)

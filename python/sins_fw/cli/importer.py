@@ -9,7 +9,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from sins_fw.atomic import check_distinct
+from sins_fw import progress
+from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.broad import import_broad
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.stream import save_chunks
@@ -62,6 +63,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.out)
+    check_output_folder(args.out, "--out")
     check_distinct({"FILE": args.file}, {"--out": args.out})
     if args.kind == "broad":
         trace = import_broad(args.file)
@@ -73,7 +75,9 @@ def run(args: argparse.Namespace) -> int:
         chunks = kind.iter_chunks(
             args.file, IMPORT_CHUNK_ROWS, allow_gaps=args.allow_gaps, max_gap_periods=args.max_gap_periods
         )
-        written = save_chunks(args.out, chunks, allow_gaps=args.allow_gaps)
+        span = progress.trace_span_s(args.file)
+        with progress.bar(progress.wanted(args), span, desc="importing") as advance:
+            written = save_chunks(args.out, progress.follow(chunks, advance), allow_gaps=args.allow_gaps)
         kind_name, rows, metadata = kind.__name__, written.rows, written.metadata
     report = {
         "in": str(args.file),
