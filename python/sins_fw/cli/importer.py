@@ -11,7 +11,7 @@ from pathlib import Path
 
 from sins_fw import progress
 from sins_fw.atomic import check_distinct, check_output_folder
-from sins_fw.broad import import_broad
+from sins_fw.broad import iter_broad
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
@@ -66,9 +66,9 @@ def run(args: argparse.Namespace) -> int:
     check_output_folder(args.out, "--out")
     check_distinct({"FILE": args.file}, {"--out": args.out})
     if args.kind == "broad":
-        trace = import_broad(args.file)
-        trace.save(args.out)
-        kind_name, rows, metadata = type(trace).__name__, len(trace), trace.metadata
+        # Read, converted and written a chunk at a time, as `import trace` (issue 24, item 11).
+        written = save_chunks(args.out, iter_broad(args.file, IMPORT_CHUNK_ROWS))
+        kind_name, rows, metadata = PhysicalTrace.__name__, written.rows, written.metadata
     else:
         # Read and written a chunk at a time: memory is bounded by the chunk (issue 24, item 11).
         kind = RawRegisterTrace if read_metadata(args.file).get("format") == RAW_FORMAT else PhysicalTrace
