@@ -22,6 +22,8 @@ from sins_fw.viewer import paths
 from sins_fw.viewer.recording import save_recording
 
 STATIC = ROOT / "traces" / "static_60s.h5"
+#: Recordings are written without Rerun's footer (viewer.recording.recording_file says why).
+pytestmark = pytest.mark.filterwarnings("ignore:RRD file has no footer")
 WINDOW = (100, 103)
 #: Frames per burst read on the reference board (the command and 14 output registers).
 BURST_FRAMES = _core.READ_WORDS
