@@ -119,3 +119,23 @@ def test_a_file_that_is_not_a_broad_trial_is_explained(tmp_path):
     r = run_cli("import", "broad", str(bad), "--out", str(tmp_path / "o.h5"))
     assert r.code == 2 and "imu_acc" in r.err and "Traceback" not in r.err
     assert not (tmp_path / "o.h5").exists()
+
+
+@pytest.mark.parametrize("ext", [".csv", ".h5"])
+def test_import_broad_streams_the_bytes_of_the_whole_import(tmp_path, ext):
+    """Issue 24, item 11: `import broad` loaded a trial whole. It now reads, converts and writes a
+    chunk at a time (broad.iter_broad): the same bytes as the whole trial saved, whether the trial
+    comes in one chunk (the CLI's 65 536 rows: every trial is shorter) or in many (4 096 rows)."""
+    from sins_fw.broad import iter_broad
+    from sins_fw.stream import save_chunks
+
+    path = TRIALS[1]  # 04: with breaks (lost markers: NaN truth rows)
+    import_broad(path).save(tmp_path / f"whole{ext}")
+    whole = (tmp_path / f"whole{ext}").read_bytes()
+    r = run_cli("import", "broad", str(path), "--out", str(tmp_path / f"cli{ext}"))
+    assert r.code == 0, r.err
+    assert (tmp_path / f"cli{ext}").read_bytes() == whole
+    chunks = list(iter_broad(path, 4096))
+    assert len(chunks) == -(-len(h5py.File(path, "r")["imu_gyr"]) // 4096)
+    save_chunks(tmp_path / f"chunked{ext}", chunks)
+    assert (tmp_path / f"chunked{ext}").read_bytes() == whole

@@ -175,6 +175,10 @@ FULL_WRITES = {
     "run --out .csv": ["run", str(STATIC), "--out", "F/o.csv"],
     "import trace --out .h5": ["import", "trace", str(STATIC), "--out", "F/i.h5"],
     "replay --out .rrd": ["replay", str(STATIC), "--out", "F/o.rrd", "--bus-ticks", "none"],
+    # Streamed writers (issue 24, item 11): the recording with the other backends' threads running,
+    # and a run reading its trace as it writes.
+    "replay --out .rrd --parity": ["replay", str(STATIC), "--out", "F/o.rrd", "--parity", "f64"],
+    "run --allow-gaps --out .csv": ["run", str(STATIC), "--allow-gaps", "--out", "F/o.csv"],
 }
 #: Room for the previous files and not much more (each output above is larger).
 LIMIT_BYTES = 32 * 1024

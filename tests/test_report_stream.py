@@ -109,3 +109,41 @@ def test_a_long_series_is_plotted_as_its_envelope_in_at_most_max_points():
     short = Series()
     short.add(t[:1000], v[:1000])
     assert np.array_equal(short.points()[1], v[:1000])  # short: the rows themselves
+
+
+def test_run_allow_gaps_streams_and_writes_what_the_whole_trace_gave(tmp_path):
+    """Issue 24, item 11: `run --allow-gaps` read the whole trace into memory to list its gaps. Now
+    the gaps are noted as the chunks stream past (one across the first chunk boundary, row 65 536):
+    the same `input_gap` events, and the --out bytes `save_run` writes of the run on the whole
+    trace (the memory bound: tests/test_streamed_memory.py)."""
+    import json
+
+    import numpy as np
+
+    from sins_fw import synth
+    from sins_fw.run_output import trace_reference
+    from sins_fw.traces import PhysicalTrace
+
+    whole = synth.generate("static", duration_s=100.0)
+    keep = np.ones(len(whole), dtype=bool)
+    for lo, hi in ((1000, 1600), (65530, 65600), (80000, 80003)):
+        keep[lo:hi] = False
+    cols = {k: v[keep] for k, v in whole.columns().items()}
+    gappy = PhysicalTrace.from_columns(cols, whole.metadata)
+    trace = tmp_path / "gappy.h5"
+    gappy.save(trace, allow_gaps=True)
+    out = tmp_path / "o.csv"
+    r = run_cli("run", str(trace), "--allow-gaps", "--out", str(out), "--json")
+    assert r.code == 0, r.err
+    gaps = json.loads(r.out)["events"]["by_kind"]["input_gap"]
+    period = 1 / float(gappy.sample_rate_hz)
+    dt = np.diff(gappy.t_s)
+    assert gaps["count"] == int(np.sum(dt > 1.5 * period)) == 3
+    first = int(np.argmax(dt > 1.5 * period))
+    assert gaps["first_t_s"] == float(gappy.t_s[first] - gappy.t_s[0])
+    save_run(
+        emulate(PhysicalTrace.load(trace, allow_gaps=True), allow_gaps=True),
+        tmp_path / "w.csv",
+        trace_reference(trace, out),
+    )
+    assert out.read_bytes() == (tmp_path / "w.csv").read_bytes()

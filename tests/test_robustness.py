@@ -23,6 +23,7 @@ from conftest import ROOT, run_cli
 from sins_fw import atomic, synth
 from sins_fw.cli import main
 from sins_fw.run_output import load_run
+from sins_fw.traces import PHYSICAL_SCHEMA, _write_csv
 
 BAD = ROOT / "tests" / "data" / "bad"
 PROFILES = BAD / "profiles"
@@ -458,3 +459,65 @@ def test_an_interrupt_dropped_inside_a_finaliser_is_raised_at_the_next_check() -
     )
     assert done.stdout.strip() == "raised at the check", (done.stdout, done.stderr)
     assert "Traceback" not in done.stderr and "Exception ignored" not in done.stderr, done.stderr
+
+
+# ---------------------------------------------------------------------------------------------------
+# The streamed writers (issue 24, item 11): bad input found part-way through leaves nothing behind
+# ---------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("name", "fragment"), TRACE_CASES, ids=[c[0] for c in TRACE_CASES])
+def test_bad_trace_through_replay_and_run_allow_gaps(capsys, tmp_path, name, fragment):
+    """`replay` and `run --allow-gaps` read the trace as they write (they loaded it whole before):
+    the corpus still gets exit 2 naming the file, and no recording or output, not even a temporary
+    file."""
+    commands = [["replay", str(BAD / name), "--out", str(tmp_path / "r.rrd")]]
+    if "gap" not in name:  # a gap is what --allow-gaps accepts
+        commands.append(["run", str(BAD / name), "--allow-gaps", "--out", str(tmp_path / "o.csv")])
+    for args in commands:
+        code, out, err = _cli(capsys, *args)
+        assert code == 2, (args, out, err)
+        assert "Traceback" not in err and "panicked" not in err
+        assert str(BAD / name) in err, err
+        assert list(tmp_path.iterdir()) == [], args
+
+
+@pytest.fixture(scope="module")
+def late_nan(tmp_path_factory) -> Path:
+    """A 150 s static trace whose gyro is NaN at row 120 000 (146 s): in the second file chunk, long
+    after every streamed writer has written its first rows."""
+    trace = synth.generate("static", duration_s=150.0)
+    cols = trace.columns()
+    cols["gyro_y_dps"] = cols["gyro_y_dps"].copy()
+    cols["gyro_y_dps"][120_000] = np.nan
+    path = tmp_path_factory.mktemp("late") / "late_nan.csv"
+    # Written as another tool would (no validation on the way out).
+    _write_csv(path, PHYSICAL_SCHEMA, {"format": PHYSICAL_SCHEMA.format, **trace.metadata}, cols)
+    return path
+
+
+LATE = {
+    "replay --out": ["replay", "TRACE", "--out", "OUT/r.rrd", "--bus-ticks", "none"],
+    "replay --out --parity": ["replay", "TRACE", "--out", "OUT/r.rrd", "--parity", "f64"],
+    "run --out .h5": ["run", "TRACE", "--out", "OUT/o.h5"],
+    "run --allow-gaps --out": ["run", "TRACE", "--allow-gaps", "--out", "OUT/o.csv"],
+    "run --raw-out": ["run", "TRACE", "--raw-out", "OUT/raw.csv"],
+    "import trace": ["import", "trace", "TRACE", "--out", "OUT/i.h5"],
+}
+
+
+@pytest.mark.parametrize("case", sorted(LATE))
+def test_bad_row_found_late_leaves_the_previous_output(capsys, tmp_path, late_nan, case):
+    """Each streamed writer meets the bad row after writing for a while: exit 2 naming the file,
+    row and column; the previous output kept byte for byte, no temporary file."""
+    out = tmp_path / "out"
+    out.mkdir()
+    args = [a.replace("TRACE", str(late_nan)).replace("OUT", str(out)) for a in LATE[case]]
+    target = Path(next(a for a in args if a.startswith(str(out))))
+    target.write_bytes(b"previous")
+    code, _, err = _cli(capsys, *args)
+    assert code == 2, err
+    assert str(late_nan) in err and "row 120000" in err and "gyro_y_dps" in err, err
+    assert "Traceback" not in err
+    assert target.read_bytes() == b"previous"
+    assert sorted(p.name for p in out.iterdir()) == [target.name]

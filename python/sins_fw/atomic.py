@@ -164,6 +164,26 @@ def check_distinct(
                 )
 
 
+def check_output_folder(path: str | os.PathLike[str], option: str) -> None:
+    """Refuse, before any work, an output (given with ``option``) whose folder cannot take it
+    (InputError naming both). Missing folders are created when the file is written
+    (:func:`atomic_path`), so the nearest folder that exists must be a folder in which a file can be
+    created: probed by creating and removing a temporary file there, which sees permissions, a
+    read-only file system and the user's rights as the write itself would."""
+    dest = Path(path)
+    existing = dest.parent if str(dest.parent) else Path(".")
+    while not existing.exists() and existing.parent != existing:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise InputError(f"{option} {dest}: {existing} is not a folder")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=TEMP_SUFFIX, dir=existing)
+    except OSError as e:
+        raise InputError(f"{option} {dest}: cannot create a file in {existing} ({e.strerror or e})") from None
+    os.close(fd)
+    os.unlink(tmp)
+
+
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
     """Write ``text`` (UTF-8, ``\\n`` line ends) to ``path`` atomically."""
     with atomic_path(path) as tmp:

@@ -335,17 +335,19 @@ _DONE = object()
 _KEPT = ("cycle_t_ps", "cycle_quat", "budget_tick_ps")
 
 
-def _streamed(
+def streamed(
     trace: PhysicalTrace | str | os.PathLike[str],
     profiles: dict[str, Profile],
     on_chunk: Callable[[str, float], None] | None,
     chunk_rows: int,
+    keep: tuple[str, ...] = _KEPT,
 ) -> Iterator[dict[str, dict[str, Any] | None]]:
     """Emulate every backend at once, each in a thread streaming its output (``emulate(...,
     sink=...)``) through a queue of a few chunks: memory is bounded by the chunk, not the trace.
     Yields one output chunk per backend per round (None for a backend that has finished): only what
-    the comparison reads (:data:`_KEPT`), not the chunk's read and budget columns, which would
-    otherwise be the bulk of every queued chunk (≈ 5 MB each instead of 0.4 MB at 10 000 steps)."""
+    the comparison reads (``keep``, by default :data:`_KEPT`), not the chunk's read and budget
+    columns, which would otherwise be the bulk of every queued chunk (≈ 5 MB each instead of 0.4 MB
+    at 10 000 steps)."""
     queues: dict[str, queue.Queue[Any]] = {n: queue.Queue(maxsize=2) for n in profiles}
     stop = threading.Event()
 
@@ -362,7 +364,7 @@ def _streamed(
             raise _StoppedError
 
         def slim(part: dict[str, Any]) -> None:
-            put({k: part[k] for k in _KEPT})
+            put({k: part[k] for k in keep})
 
         try:
             report = None if on_chunk is None else (lambda t: on_chunk(name, t))
@@ -429,7 +431,7 @@ def parity(
     stats = {n: _Stats() for n in names if n != REFERENCE}
     pending: dict[str, tuple[Array, Array]] = {n: (np.empty(0, np.uint64), np.empty((0, 4))) for n in names}
     last_tick_ps: int | None = None
-    for row in _streamed(trace, profiles, on_chunk, chunk_rows):
+    for row in streamed(trace, profiles, on_chunk, chunk_rows):
         for n, part in row.items():
             if part is None:
                 continue

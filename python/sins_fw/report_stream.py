@@ -363,6 +363,9 @@ class _Attitude:
             "q0": part.get("truth_q0"),
             "step": part.get("cycle_step"),
             "row0": self.rows,
+            # For a listener that stamps the rows (the Rerun recording): each step's tick and its time.
+            "tick": part.get("cycle_tick"),
+            "index_ps": part.get("cycle_index_ps"),
         }
         self.rows += n
         if not n:

@@ -12,8 +12,9 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from sins_fw.atomic import check_distinct
-from sins_fw.broad import import_broad
+from sins_fw import progress
+from sins_fw.atomic import check_distinct, check_output_folder
+from sins_fw.broad import iter_broad
 from sins_fw.cli.common import (
     add_json_option,
     add_out_option,
@@ -139,11 +140,12 @@ def _import_log(args: argparse.Namespace) -> PhysicalTrace:
 
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.out)
+    check_output_folder(args.out, "--out")
     check_distinct({"FILE": args.file}, {"--out": args.out})
     if args.kind == "broad":
-        trace = import_broad(args.file)
-        trace.save(args.out)
-        kind_name, rows, metadata = type(trace).__name__, len(trace), trace.metadata
+        # Read, converted and written a chunk at a time, as `import trace` (issue 24, item 11).
+        written = save_chunks(args.out, iter_broad(args.file, IMPORT_CHUNK_ROWS))
+        kind_name, rows, metadata = PhysicalTrace.__name__, written.rows, written.metadata
     elif args.kind in _LOGS:
         trace = _import_log(args)
         trace.save(args.out, allow_gaps=args.allow_gaps)
@@ -158,7 +160,9 @@ def run(args: argparse.Namespace) -> int:
             max_gap_periods=args.max_gap_periods,
             read=read_options(args),
         )
-        written = save_chunks(args.out, chunks, allow_gaps=args.allow_gaps)
+        span = progress.trace_span_s(args.file)
+        with progress.bar(progress.wanted(args), span, desc="importing") as advance:
+            written = save_chunks(args.out, progress.follow(chunks, advance), allow_gaps=args.allow_gaps)
         kind_name, rows, metadata = kind.__name__, written.rows, written.metadata
     report = {
         "in": str(args.file),

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from sins_fw import progress
 from sins_fw.cli.common import (
     add_json_option,
     add_option,
@@ -61,7 +62,15 @@ def run(args: argparse.Namespace) -> int:
     results = []
     lines = [f"profile {profile.source} {' '.join(profile.overrides)}".rstrip(), f"reference {REFERENCE}"]
     for path in args.traces:
-        r = parity(path, profile, backends=backends, thresholds=thresholds)
+        # The bar follows the reference backend (the others run beside it).
+        with progress.trace_bar(progress.wanted(args), progress.trace_span_s(path), "parity") as reached:
+            r = parity(
+                path,
+                profile,
+                backends=backends,
+                thresholds=thresholds,
+                on_chunk=lambda name, t, reached=reached: reached(t) if name == REFERENCE else None,
+            )
         results.append(r)
         lines.append(f"{path}: {r.steps} steps, {r.duration_s:.3f} s")
         lines.append(

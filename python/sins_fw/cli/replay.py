@@ -9,29 +9,37 @@ the project has no run-output file format.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import shutil
 import sys
 import tempfile
+from collections import Counter
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-from sins_fw.atomic import check_distinct
+from sins_fw import parity, progress
+from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
     add_out_option,
     add_profile_options,
-    check_events,
+    check_error_counts,
     emit,
     exit_epilog,
     profile_file,
     profile_from_args,
 )
-from sins_fw.errors import InputError
-from sins_fw.harness import emulate
+from sins_fw.errors import InputError, TraceError
+from sins_fw.harness import CHUNK_ROWS, Run, emulate
+from sins_fw.profile import Profile
 from sins_fw.run_output import RUN_FORMAT, replay_check, resolve_trace
-from sins_fw.traces import PhysicalTrace, read_metadata
+from sins_fw.traces import read_metadata
 from sins_fw.viewer import serve
+
+if TYPE_CHECKING:
+    from sins_fw.viewer.recording import Recorder
 
 NUMERICS = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
 
@@ -58,7 +66,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "trace and profile and checked bit for bit against it (exit 1 on a difference)",
     )
     add_profile_options(p)
-    add_out_option(p, "write the recording to this file (.rrd)", metavar="FILE.rrd", formerly="--save")
+    add_out_option(p, "write the recording to this file (.rrd)", metavar="FILE.rrd", formerly="--out")
     p.add_argument(
         "--spawn", action="store_true", help="open the recording in the Rerun viewer (needs a display)"
     )
@@ -141,6 +149,75 @@ def _bundled_viewer() -> bool:
     return True
 
 
+class _Tally:
+    """What the replay's report says of the run, counted part by part."""
+
+    def __init__(self) -> None:
+        self.cycles = 0
+        self.ticks = 0
+        self.kinds: Counter[str] = Counter()
+        self.errors: Counter[str] = Counter()  # in the order each kind first occurred
+        self.first_error: dict[str, Any] | None = None
+        self.last_step: int | None = None
+
+    def add(self, part: dict[str, Any]) -> None:
+        self.cycles += len(part["cycle_step"])
+        self.ticks += len(part["budget_tick"])
+        if len(part["cycle_step"]):
+            self.last_step = int(part["cycle_step"][-1])
+        for e in part["events"]:
+            self.kinds[e["kind"]] += 1
+            if e["severity"] == "error":
+                self.errors[e["kind"]] += 1
+                self.first_error = self.first_error or e
+
+
+class _Parity:
+    """The other backends' runs, side by side with the replayed one (``parity.streamed``: each in a
+    thread, a few parts queued), handed to the recorders as far as the replayed run has got."""
+
+    KEEP = ("cycle_step", "cycle_euler_deg", "cycle_quat")
+
+    def __init__(self, trace: Path, profile: Profile, names: list[str], recorders: list[Recorder]) -> None:
+        profiles = {n: profile.with_overrides(f"firmware.numeric={n}") for n in names}
+        self.rows = parity.streamed(trace, profiles, None, CHUNK_ROWS, keep=self.KEEP) if names else iter(())
+        self.reached: dict[str, int | None] = dict.fromkeys(names)
+        self.done: set[str] = set()
+        self.recorders = recorders
+
+    def _pull(self) -> bool:
+        row = next(self.rows, None)
+        if row is None:
+            self.done |= set(self.reached)
+            return False
+        for name, part in row.items():
+            if part is None:
+                self.done.add(name)
+                continue
+            if len(part["cycle_step"]):
+                self.reached[name] = int(part["cycle_step"][-1])
+            for r in self.recorders:
+                r.add_parity(name, part)
+        return True
+
+    def upto(self, step: int | None) -> None:
+        """Pull the backends' parts until each has reached ``step`` (or ended)."""
+        if step is None:
+            return
+        while any(n not in self.done and (s is None or s < step) for n, s in self.reached.items()):
+            if not self._pull():
+                return
+
+    def finish(self) -> None:
+        while self._pull():
+            pass
+
+    def close(self) -> None:
+        close = getattr(self.rows, "close", None)
+        if close is not None:
+            close()  # stops the threads of backends still running (an error in the replayed run)
+
+
 def run(args: argparse.Namespace) -> int:
     if args.out is None and not args.spawn and not args.serve:
         raise InputError("nothing to do: give --out FILE.rrd, --spawn or --serve")
@@ -152,6 +229,8 @@ def run(args: argparse.Namespace) -> int:
                 serve.free_port(args.bind, port, option)
     if args.out is not None and (args.out.is_dir() or args.out.suffix != ".rrd"):
         raise InputError(f"--out {args.out}: expected a file name ending in .rrd")
+    if args.out is not None:
+        check_output_folder(args.out, "--out")
     window = parse_ticks(args.bus_ticks)
     problem = viewer_problem() if args.spawn else None
     if problem is not None and args.out is None:
@@ -167,69 +246,55 @@ def run(args: argparse.Namespace) -> int:
         {"TRACE_OR_RUN": args.trace, "its recorded trace": recorded, "--profile": profile_file(args)},
         {"--out": args.out},
     )
+    saved_run: Run | None = None
     if meta.get("format") == RUN_FORMAT:
-        # A saved run: replay it from its recorded inputs and check it before showing it.
-        run_, meta = replay_check(args.trace, bus_window=window)
-        profile = run_.profile
-        trace = PhysicalTrace.load(resolve_trace(args.trace, meta))
+        # A saved run: replay it from its recorded inputs and check it before showing it (whole).
+        saved_run, meta = replay_check(args.trace, bus_window=window)
+        profile = saved_run.profile
+        trace = resolve_trace(args.trace, meta)
     else:
         profile = profile_from_args(args)
-        trace = PhysicalTrace.load(args.trace)
-        run_ = emulate(trace, profile, bus_window=window)
-    parity = {
-        name: emulate(trace, profile, overrides=[f"firmware.numeric={name}"])
-        for name in args.parity
-        if name != profile.get("firmware.numeric")
-    }
-    from sins_fw.viewer import default_blueprint, log_run, save_recording  # rerun is a heavy import
-
-    report = {
-        "trace": str(args.trace),
-        "profile": profile.source,
-        "overrides": list(profile.overrides),
-        "cycles": run_.cycles,
-        "ticks": len(run_.budget["tick"]),
-        "events": run_.events_by_kind(),
-        "bus_ticks": list(window) if window else None,
-        "bus_frames": 0 if run_.bus is None else len(run_.bus["frame_index"]),
-        "parity": sorted(parity),
-        "saved": None,
-    }
-    if args.out is not None:
-        save_recording(run_, args.out, trace=trace, parity=parity, name=args.trace.name)
-        report["saved"] = str(args.out)
-    lines = [
-        f"replay of {args.trace}: {run_.cycles} cycles, {report['ticks']} ticks, "
-        f"{len(run_.events)} events {report['events'] or ''}".rstrip(),
-        f"bus window: ticks {window[0]}…{window[1]}, {report['bus_frames']} frames"
-        if window
-        else "bus: not recorded",
-    ]
-    if args.out is not None:
-        lines.append(f"saved {args.out} (open it with `rerun {args.out}`)")
-    if args.spawn:
-        if problem is not None:
-            emit(args, report, "\n".join(lines))
-            raise ViewerUnavailableError(
-                f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.out}"
-            )
-        import rerun as rr
-
-        rec = rr.RecordingStream("sins-fw")
-        try:
-            rec.spawn(default_blueprint=default_blueprint(run_, parity=parity))
-        except Exception as e:  # the viewer failed to start: say why, no traceback
-            raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
-        log_run(rec, run_, trace=trace, parity=parity)
-        rec.flush()
-        lines.append("sent to the Rerun viewer")
-    if args.serve:
-        with tempfile.TemporaryDirectory(prefix="sins-fw-serve-") as tmp:
-            served = args.out
-            if served is None:
-                served = Path(tmp) / f"{args.trace.stem}.rrd"
-                save_recording(run_, served, trace=trace, parity=parity, name=args.trace.name)
-            emit(args, report, "\n".join(lines))
+        trace = args.trace
+        if not trace.is_file():
+            raise TraceError(f"{trace}: no such trace file")
+    names = [n for n in dict.fromkeys(args.parity) if n != profile.get("firmware.numeric")]
+    with contextlib.ExitStack() as keep:
+        served = args.out
+        if served is None and args.serve:
+            tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
+            served = Path(tmp) / f"{args.trace.stem}.rrd"
+        tally, bus_frames = _record(args, trace, profile, saved_run, window, names, served, problem is None)
+        report = {
+            "trace": str(args.trace),
+            "profile": profile.source,
+            "overrides": list(profile.overrides),
+            "cycles": tally.cycles,
+            "ticks": tally.ticks,
+            "events": dict(sorted(tally.kinds.items())),
+            "bus_ticks": list(window) if window else None,
+            "bus_frames": bus_frames,
+            "parity": sorted(names),
+            "saved": None if args.out is None else str(args.out),
+        }
+        lines = [
+            f"replay of {args.trace}: {tally.cycles} cycles, {tally.ticks} ticks, "
+            f"{sum(tally.kinds.values())} events {report['events'] or ''}".rstrip(),
+            f"bus window: ticks {window[0]}…{window[1]}, {bus_frames} frames"
+            if window
+            else "bus: not recorded",
+        ]
+        if args.out is not None:
+            lines.append(f"saved {args.out} (open it with `rerun {args.out}`)")
+        if args.spawn:
+            if problem is not None:
+                emit(args, report, "\n".join(lines))
+                raise ViewerUnavailableError(
+                    f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.out}"
+                )
+            lines.append("sent to the Rerun viewer")
+        emit(args, report, "\n".join(lines))
+        if args.serve:
+            assert served is not None
 
             def ready(url: str) -> None:
                 print(f"serving {served.name} in Rerun's web viewer at {url} (Ctrl-C stops it)", flush=True)
@@ -237,9 +302,79 @@ def run(args: argparse.Namespace) -> int:
             code = serve.serve(
                 served, bind=args.bind, web_port=args.port, grpc_port=args.grpc_port, on_ready=ready
             )
-        if code == 0:
-            check_events(run_.events)  # the recording is shown first, whatever its events
-        return code
-    emit(args, report, "\n".join(lines))
-    check_events(run_.events)
+            if code != 0:
+                return code
+    # The recording is shown first, whatever its events.
+    check_error_counts(dict(tally.errors), tally.first_error)
     return 0
+
+
+def _record(
+    args: argparse.Namespace,
+    trace: Path,
+    profile: Profile,
+    saved_run: Run | None,
+    window: tuple[int, int] | None,
+    names: list[str],
+    served: Path | None,
+    spawn: bool,
+) -> tuple[_Tally, int]:
+    """Emulate ``trace`` (or take ``saved_run``) and log it, part by part as it streams out, to the
+    file ``served`` and/or a spawned viewer; the other backends ``names`` side by side. Returns what
+    the report says and the number of bus frames."""
+    from sins_fw.viewer import recording  # rerun is a heavy import
+    from sins_fw.viewer.layout import default_blueprint
+
+    blueprint = default_blueprint(bus=window is not None, parity=names)
+    # The id is derived from what the recording is made of (docs/traces.md, "Determinism").
+    rid = recording.recording_id(
+        profile.text,
+        "\n".join(profile.overrides),
+        args.trace.name,
+        recording.file_digest(trace),
+        repr(window),
+        ",".join(names),
+    )
+    tally = _Tally()
+    with contextlib.ExitStack() as stack:
+        streams = []
+        if served is not None:
+            out = recording.recording_file(
+                served, recording_id=rid, blueprint=blueprint, name=args.trace.name
+            )
+            streams.append(stack.enter_context(out))
+        if args.spawn and spawn:
+            import rerun as rr
+
+            rec = rr.RecordingStream("sins-fw", recording_id=rid)
+            try:
+                rec.spawn(default_blueprint=blueprint)
+            except Exception as e:  # the viewer failed to start: say why, no traceback
+                raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
+            streams.append(rec)
+        recorders = [
+            recording.Recorder(r, profile, trace=trace, parity=names, bus_window=window) for r in streams
+        ]
+        others = _Parity(trace, profile, names, recorders)
+        stack.callback(others.close)
+
+        def sink(part: dict[str, Any]) -> None:
+            tally.add(part)
+            for r in recorders:
+                r.add(part)
+            others.upto(tally.last_step)
+
+        if saved_run is not None:
+            sink(recording.run_part(saved_run))
+            bus = saved_run.bus
+        else:
+            with progress.trace_bar(
+                progress.wanted(args), progress.trace_span_s(trace), desc="replaying"
+            ) as reached:
+                bus = emulate(trace, profile, bus_window=window, sink=sink, on_chunk=reached).bus
+        others.finish()
+        for r in recorders:
+            r.finish(bus)
+        if args.spawn and spawn:
+            streams[-1].flush()
+    return tally, 0 if bus is None else len(bus["frame_index"])

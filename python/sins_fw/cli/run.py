@@ -4,17 +4,14 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import signal
-import sys
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 
-from sins_fw.atomic import check_distinct
+from sins_fw import progress
+from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
@@ -75,7 +72,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--allow-gaps",
         action="store_true",
         help="accept time steps longer than 1.5 sample periods: the device sees the input interpolated "
-        "linearly across each gap, and each gap is an `input_gap` event (the trace is read into memory)",
+        "linearly across each gap, and each gap is an `input_gap` event",
     )
     p.add_argument(
         "--align",
@@ -88,53 +85,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_read_options(p)
     add_json_option(p)
     p.set_defaults(func=run)
-
-
-def _trace_span_s(path: Path) -> float | None:
-    """The time span of an HDF5 trace without reading it (None for CSV or when unreadable: the
-    emulation's own loading reports the problem)."""
-    if path.suffix.lower() not in (".h5", ".hdf5"):
-        return None
-    try:
-        with h5py.File(path, "r") as f:
-            t = f["t_s"]
-            return float(t[-1] - t[0]) if len(t) else None
-    except (OSError, KeyError, ValueError, TypeError, RuntimeError):
-        return None  # a link, a compound dtype...: loading the trace reports it
-
-
-@contextmanager
-def _progress(args: argparse.Namespace, span_s: float | None) -> Iterator[Callable[[float], None] | None]:
-    """A tqdm bar on stderr for interactive use (not with --json, not when stderr is redirected)."""
-    if args.json or not sys.stderr.isatty():
-        yield None
-        return
-    from tqdm import tqdm
-
-    # A Ctrl-C inside tqdm's constructor leaves a half-built bar whose __del__ prints a traceback:
-    # hold the signals for the few microseconds it takes (they are delivered right after).
-    with _signals_held():
-        bar = tqdm(total=span_s, unit="s", unit_scale=True, desc="emulating", file=sys.stderr, leave=False)
-    with bar:
-        start: list[float] = []
-
-        def update(t: float) -> None:
-            if not start:
-                start.append(t)
-            bar.update(t - start[0] - bar.n)
-
-        yield update
-
-
-@contextmanager
-def _signals_held() -> Iterator[None]:
-    """Block SIGINT and SIGTERM for the duration (delivered when the block ends)."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 class _Reached:
@@ -170,24 +120,48 @@ def gap_events(
 ) -> list[dict[str, Any]]:
     """One `input_gap` event per time step longer than ``max_gap_periods`` sample periods, at the
     virtual time of the sample before the gap (the run's time 0 is the trace's first sample)."""
-    t = trace.t_s
-    if len(t) < 2:
-        return []
-    period = float(1 / trace.sample_rate_hz)
-    dt = np.diff(t)
-    limit = max_gap_periods * period
-    return [
-        {
-            "t_s": float(t[i] - t[0]),
-            "kind": "input_gap",
-            "severity": "warning",
-            "message": f"trace gap of {dt[i]:.6g} s ({dt[i] / period:.3g} sample periods) after trace time "
-            f"{float(t[i])!r} s: the device sees the input interpolated linearly across it",
-            "measured": float(dt[i]),
-            "required": limit,
-        }
-        for i in np.flatnonzero(dt > limit)
-    ]
+    finder = GapFinder(max_gap_periods)
+    for _ in finder.follow([trace]):
+        pass
+    return finder.events
+
+
+class GapFinder:
+    """:func:`gap_events` of a trace found chunk by chunk as it streams past (:meth:`follow`), so the
+    trace is never held whole: each chunk's steps, and the step from the previous chunk's last time."""
+
+    def __init__(self, max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS) -> None:
+        self.max_gap_periods = max_gap_periods
+        self.events: list[dict[str, Any]] = []
+        self.t0: float | None = None
+        self.last: np.ndarray | None = None
+
+    def follow(self, chunks: Iterable[PhysicalTrace]) -> Iterator[PhysicalTrace]:
+        for chunk in chunks:
+            if len(chunk.t_s):
+                self._add(chunk)
+            yield chunk
+
+    def _add(self, chunk: PhysicalTrace) -> None:
+        if self.t0 is None:
+            self.t0 = float(chunk.t_s[0])
+        t = chunk.t_s if self.last is None else np.concatenate([self.last, chunk.t_s])
+        self.last = chunk.t_s[-1:]
+        period = float(1 / chunk.sample_rate_hz)
+        dt = np.diff(t)
+        limit = self.max_gap_periods * period
+        self.events += [
+            {
+                "t_s": float(t[i] - self.t0),
+                "kind": "input_gap",
+                "severity": "warning",
+                "message": f"trace gap of {dt[i]:.6g} s ({dt[i] / period:.3g} sample periods) after trace "
+                f"time {float(t[i])!r} s: the device sees the input interpolated linearly across it",
+                "measured": float(dt[i]),
+                "required": limit,
+            }
+            for i in np.flatnonzero(dt > limit)
+        ]
 
 
 def _out_state(out: Path | None, existed: bool) -> str:
@@ -197,9 +171,10 @@ def _out_state(out: Path | None, existed: bool) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    for out in (args.out, args.raw_out):
+    for option, out in (("--out", args.out), ("--raw-out", args.raw_out)):
         if out is not None:
             check_output_path(out)
+            check_output_folder(out, option)
     check_distinct(
         {"TRACE": args.trace, "--profile": profile_file(args)}, {"--out": args.out, "--raw-out": args.raw_out}
     )
@@ -208,10 +183,10 @@ def run(args: argparse.Namespace) -> int:
         raise TraceError(f"{args.trace}: no such trace file")
     profile = profile_from_args(args)
     out_existed = args.out is not None and args.out.exists()
-    span = _trace_span_s(args.trace)
+    span = progress.trace_span_s(args.trace)
     reached = _Reached(span)
-    trace: PhysicalTrace | Path | Iterator[PhysicalTrace] = args.trace
-    gaps: list[dict[str, Any]] = []
+    trace: Iterable[PhysicalTrace] | Path = args.trace
+    finder = GapFinder()
     replayed = is_raw_register_trace(args.trace)
     read = read_options(args)
     if read is not None and replayed:
@@ -219,19 +194,13 @@ def run(args: argparse.Namespace) -> int:
             f"{args.trace}: --units and --columns read physical traces; this is a raw-register trace"
         )
     if args.allow_gaps and not replayed:  # raw-register traces load with gaps allowed anyway
-        trace = PhysicalTrace.load(args.trace, allow_gaps=True, read=read)
-        gaps = gap_events(trace)
+        # Streamed, the gaps noted as the chunks pass (issue 24, item 11).
+        trace = finder.follow(PhysicalTrace.iter_chunks(args.trace, CHUNK_ROWS, allow_gaps=True, read=read))
     elif read is not None:
         trace = PhysicalTrace.iter_chunks(args.trace, CHUNK_ROWS, read=read)
-    t0 = (
-        0.0
-        if replayed
-        else float(trace.t_s[0])
-        if isinstance(trace, PhysicalTrace)
-        else _first_time(args.trace, read)
-    )
+    t0 = 0.0 if replayed else _first_time(args.trace, read)
     summary_acc = RunSummary(profile, align=args.align)
-    with contextlib.ExitStack() as files, _progress(args, span) as bar:
+    with contextlib.ExitStack() as files, progress.trace_bar(progress.wanted(args), span) as bar:
         writers: list[Any] = []
         if args.out is not None:
             recorded = trace_reference(args.trace, args.out)
@@ -251,8 +220,7 @@ def run(args: argparse.Namespace) -> int:
 
         def on_chunk(t: float) -> None:
             reached(t)
-            if bar is not None:
-                bar(t)
+            bar(t)
             check_stop()
 
         def sink(part: dict[str, Any]) -> None:
@@ -274,7 +242,7 @@ def run(args: argparse.Namespace) -> int:
             raise type(e)(f"stopped {how_far}{_out_state(args.out, out_existed)}") from None
     # Stable order: the core's events keep theirs; the gaps come after them in the counts (each
     # kind's first occurrence is the same either way: a gap is its own kind).
-    summary_acc.add_events(gaps)
+    summary_acc.add_events(finder.events)
     summary = summary_acc.result(trace=str(args.trace), t0_s=result.t0_s, stage_cycles=result.stage_cycles)
     summary["replayed"] = replayed
     if args.out is not None:

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from sins_fw import synth
+from sins_fw import progress, synth
+from sins_fw.atomic import check_output_folder
 from sins_fw.cli.common import add_json_option, add_out_option, emit, exit_epilog
 from sins_fw.stream import save_chunks
 from sins_fw.traces import check_output_path
@@ -58,12 +59,16 @@ def _parser(param: synth.Param) -> object:
 
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.out)
+    check_output_folder(args.out, "--out")
     scenario = synth.SCENARIOS[args.scenario]
     given = {p.name: getattr(args, p.name) for p in scenario.params if getattr(args, p.name) is not None}
+    preset = getattr(args, "preset", None)
+    # The bar's total: the duration when the scenario has one (an indexing table's follows its dwells).
+    duration = synth.resolve(args.scenario, preset, **given).get("duration_s")
     # Generated and written chunk by chunk: memory does not grow with the duration.
-    trace = save_chunks(
-        args.out, synth.generate_chunks(args.scenario, getattr(args, "preset", None), **given)
-    )
+    with progress.bar(progress.wanted(args), duration, desc="generating") as advance:
+        chunks = synth.generate_chunks(args.scenario, preset, **given)
+        trace = save_chunks(args.out, progress.follow(chunks, advance))
     report = {
         "out": str(args.out),
         "scenario": args.scenario,

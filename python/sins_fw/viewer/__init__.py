@@ -2,6 +2,13 @@
 array with Rerun's columnar API, :func:`default_blueprint` lays the recording out. Entity paths and
 timeline names: :mod:`sins_fw.viewer.paths`."""
 
+import os
+
+# Rerun's own log (set before Rerun starts it; a RUST_LOG of the user's wins): warnings and errors,
+# but not the file writer's notice that a recording has no footer, which sins-fw chooses
+# (recording.recording_file says why) and would print on every save.
+os.environ.setdefault("RUST_LOG", "warn,re_log_encoding::rrd::file_sink=error")
+
 from sins_fw.viewer.layout import default_blueprint
 from sins_fw.viewer.recording import log_run, save_recording
 

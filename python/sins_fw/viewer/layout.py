@@ -7,11 +7,10 @@ how the other numeric backends differ."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable
 
 import rerun.blueprint as rrb
 
-from sins_fw.harness import Run
 from sins_fw.viewer import paths
 
 
@@ -19,8 +18,10 @@ def _events(name: str = "Events") -> rrb.TextLogView:
     return rrb.TextLogView(origin=paths.EVENTS, name=name)
 
 
-def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> rrb.Blueprint:
-    """Tabs Attitude, Sensor, Budget, and Bus / Parity when the run has them; emulated time selected."""
+def default_blueprint(*, bus: bool, parity: Iterable[str] = ()) -> rrb.Blueprint:
+    """Tabs Attitude, Sensor, Budget, and Bus / Parity when the recording has them (``bus``: a bus
+    window was recorded; ``parity``: the other backends' names); emulated time selected."""
+    parity = list(parity)
     angles = [
         rrb.TimeSeriesView(
             name=f"{angle.capitalize()}: estimate and truth (°)",
@@ -65,7 +66,7 @@ def default_blueprint(run: Run, *, parity: Mapping[str, Run] | None = None) -> r
         name="Budget",
     )
     tabs: list[rrb.Container] = [attitude, sensor, budget]
-    if run.bus is not None:
+    if bus:
         tabs.append(
             rrb.Vertical(
                 rrb.StateTimelineView(
