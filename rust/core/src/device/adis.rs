@@ -496,6 +496,10 @@ pub struct Adis {
     pending: bool,
     now: Ps,
     busy_until: Ps,
+    /// How long the part had been powered at time 0, and its start-up time (ps): it answers and
+    /// samples from `startup − powered_before` on ([`Adis::ready_at`]).
+    powered_before: Ps,
+    startup: Ps,
     /// The latest data-ready assertion as of the last MSC_CTRL change ([`Adis::set_data_ready_pin`]);
     /// the samples since then assert data ready on `data_ready_pin`, so the record is derived from
     /// the latest sample when asked for instead of being written at every sample.
@@ -566,7 +570,10 @@ impl Adis {
             idle_word: cfg.dout_after_write as u16,
             burst_command: cfg.burst_command as u16,
         };
-        let first_t = s_to_ps(cfg.first_sample_us * 1e-6);
+        // Before the start-up ends the part neither samples nor answers: its sample clock starts then.
+        let (powered_before, startup) = (s_to_ps(cfg.powered_before_ms * 1e-3), s_to_ps(layout.part.startup_ms * 1e-3));
+        let ready_at = startup.saturating_sub(powered_before);
+        let first_t = ready_at + s_to_ps(cfg.first_sample_us * 1e-6);
         let smpl_prd = regs[layout.smpl];
         let calibration = Calibration::of(&layout, &regs, GyroRange::Dps300);
         let mut dev = Adis {
@@ -590,7 +597,9 @@ impl Adis {
             filtered: Physical::default(),
             pending: false,
             now: 0,
-            busy_until: 0,
+            busy_until: ready_at,
+            powered_before,
+            startup,
             data_ready: None,
             data_ready_pin: None,
             data_ready_pin_from: 0,
@@ -718,9 +727,20 @@ impl Adis {
         &self.filtered
     }
 
-    /// End of the current software reset (0 if none happened); the part ignores SPI until then.
+    /// End of the current software reset or of the power-on start-up (0 if neither is running
+    /// at or after time 0); the part ignores SPI until then.
     pub fn busy_until(&self) -> Ps {
         self.busy_until
+    }
+
+    /// When the power-on start-up ends (0 if it ended before time 0).
+    pub fn ready_at(&self) -> Ps {
+        self.startup.saturating_sub(self.powered_before)
+    }
+
+    /// How long the part had been powered at time 0, and its start-up time, ps.
+    pub(super) fn startup(&self) -> (Ps, Ps) {
+        (self.powered_before, self.startup)
     }
 
     /// Events recorded so far.
