@@ -87,6 +87,12 @@ pub const KINDS: &[EventKind] = &[
     spi_rule("frame_length", Error, "device", "a frame of other than 16 SCLK cycles: DIN ignored, DOUT corrupt"),
     spi_rule("frame_without_cs", Error, "device", "SCLK clocked at the device with its chip select high"),
     spi_rule("device_busy", Error, "device", "a frame clocked while the device is in a software reset"),
+    spi_rule(
+        "read_before_startup",
+        Error,
+        "device",
+        "a frame clocked before the part's power-on start-up ended: DIN ignored, DOUT reads 0x0000",
+    ),
     spi_rule("burst_truncated", Info, "device", "CS rose before the burst shifted all its data frames out"),
     // The link between the MCU and the device.
     spi_rule("cs_changed_mid_frame", Warning, "link", "the chip-select GPIO changed while a character was shifting"),

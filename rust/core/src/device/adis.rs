@@ -6,8 +6,8 @@
 //! filter is stateful, but nothing is allocated per sample.
 
 use super::encoding::{
-    encode_field, overrange, sign_extend, surely_unclipped, to_field, Channel, GyroRange, ACCEL_LSB_G,
-    GYRO_OFF_LSB_DPS, MAG_HIC_LSB_GAUSS, MAG_SIC_UNITY,
+    sign_extend, surely_unclipped, to_field, Channel, FieldCode, GyroRange, ACCEL_LSB_G, GYRO_OFF_LSB_DPS,
+    MAG_HIC_LSB_GAUSS, MAG_SIC_UNITY,
 };
 use super::faults::{DeviceFaults, SampleFaults};
 use super::filter::Bartlett;
@@ -304,10 +304,12 @@ const fn s(a: u8) -> usize {
 struct Calibration {
     /// The register words (XGYRO_OFF … ZMAGN_SIC) the values come from.
     words: [u16; 12],
-    /// The gyro range the unclipped intervals are for.
+    /// The gyro range the unclipped intervals and the encodings are for.
     range: GyroRange,
-    /// The part's output registers.
-    outputs: Outputs,
+    /// How each output register (the first `n_outputs`) encodes a sample, resolved from the part's
+    /// declaration, these registers and the range: a sample's encoding is arithmetic only.
+    outputs: [OutputCode; 16],
+    n_outputs: usize,
     /// The factor from g to the encoder's accelerometer unit (3.333 mg LSBs): 3.333 mg over the
     /// part's accelerometer LSB (exactly 1 for the ADIS16407, so its codes are unchanged bit for bit).
     accel_scale: f64,
@@ -325,6 +327,26 @@ struct Calibration {
     /// an infinite width for a value no output of the part encodes).
     unclipped_centre: [f64; 13],
     unclipped_half_width: [f64; 13],
+}
+
+/// One output register's encoding: the value at index `value` of [`Physical::values`], calibrated
+/// as `(value + add) × mul` (the offset, hard iron or soft iron and the accelerometer's scale; 0 and 1
+/// where the channel has none, which change no bit), into `field`, written to register slot `slot`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct OutputCode {
+    slot: u8,
+    value: u8,
+    add: f64,
+    mul: f64,
+    field: FieldCode,
+}
+
+impl OutputCode {
+    /// The calibrated value this register encodes, from the sample's values.
+    #[inline(always)]
+    fn calibrated(&self, values: &[f64; 13]) -> f64 {
+        (values[usize::from(self.value)] + self.add) * self.mul
+    }
 }
 
 impl Calibration {
@@ -375,10 +397,28 @@ impl Calibration {
             unclipped(Channel::Supply),
             unclipped(Channel::Aux),
         ];
+        let mut codes =
+            [OutputCode { slot: 0, value: 0, add: 0.0, mul: 1.0, field: FieldCode::of(Channel::Supply, range) }; 16];
+        for (code, &(slot, ch, axis)) in codes.iter_mut().zip(&outputs.list[..outputs.len]) {
+            let i = usize::from(axis);
+            // Indices into `Physical::values`: gyro, accel, mag x y z, baro, temp, supply, aux.
+            let (value, add, mul) = match ch {
+                Channel::Gyro => (i, gyro_offset[i], 1.0),
+                Channel::Accel => (3 + i, accel_offset[i], accel_scale),
+                // Hard iron adds, then soft iron scales [unconfirmed order; sibling ADIS16405].
+                Channel::Mag => (6 + i, hard_iron[i], soft_iron[i]),
+                Channel::Baro | Channel::BaroLow => (9, 0.0, 1.0),
+                Channel::Temp => (10, 0.0, 1.0),
+                Channel::Supply => (11, 0.0, 1.0),
+                Channel::Aux => (12, 0.0, 1.0),
+            };
+            *code = OutputCode { slot, value: value as u8, add, mul, field: FieldCode::of(ch, range) };
+        }
         Calibration {
             words,
             range,
-            outputs,
+            outputs: codes,
+            n_outputs: outputs.len,
             accel_scale,
             gyro_offset,
             accel_offset,
@@ -406,36 +446,17 @@ impl Calibration {
     /// Write the output registers' codes for the sample values `f` into `regs` (in place: the
     /// registers are not copied).
     fn encode_outputs(&self, f: &Physical, regs: &mut [u16; SLOTS]) {
-        let range = self.range;
-        self.visit_outputs(f, |slot, ch, v| regs[slot] = encode_field::<true>(ch, v, range).code);
+        let values = f.values();
+        for o in &self.outputs[..self.n_outputs] {
+            // (Slots are below SLOTS: the mask only spares a bounds check.)
+            regs[usize::from(o.slot) & (SLOTS - 1)] = o.field.code(o.calibrated(&values));
+        }
     }
 
     /// Whether any output register clips at its field limit for the sample values `f`.
     fn outputs_overrange(&self, f: &Physical) -> bool {
-        let range = self.range;
-        let mut over = false;
-        self.visit_outputs(f, |_, ch, v| over |= overrange(ch, v, range));
-        over
-    }
-
-    /// Visit the output registers with the sample values `f` they encode: `visit(slot, channel,
-    /// value)`, the value being the filtered one with the calibration applied.
-    #[inline(always)]
-    fn visit_outputs(&self, f: &Physical, mut visit: impl FnMut(usize, Channel, f64)) {
-        for &(slot, ch, axis) in &self.outputs.list[..self.outputs.len] {
-            let i = usize::from(axis);
-            let v = match ch {
-                Channel::Supply => f.supply_v,
-                Channel::Gyro => f.gyro_dps[i] + self.gyro_offset[i],
-                Channel::Accel => (f.accel_g[i] + self.accel_offset[i]) * self.accel_scale,
-                // Hard iron adds, then soft iron scales [unconfirmed order; sibling ADIS16405].
-                Channel::Mag => (f.mag_gauss[i] + self.hard_iron[i]) * self.soft_iron[i],
-                Channel::Baro | Channel::BaroLow => f.baro_mbar,
-                Channel::Temp => f.temp_c,
-                Channel::Aux => f.aux_v,
-            };
-            visit(usize::from(slot), ch, v);
-        }
+        let values = f.values();
+        self.outputs[..self.n_outputs].iter().fold(false, |over, o| over | o.field.clips(o.calibrated(&values)))
     }
 }
 
@@ -475,6 +496,10 @@ pub struct Adis {
     pending: bool,
     now: Ps,
     busy_until: Ps,
+    /// How long the part had been powered at time 0, and its start-up time (ps): it answers and
+    /// samples from `startup − powered_before` on ([`Adis::ready_at`]).
+    powered_before: Ps,
+    startup: Ps,
     /// The latest data-ready assertion as of the last MSC_CTRL change ([`Adis::set_data_ready_pin`]);
     /// the samples since then assert data ready on `data_ready_pin`, so the record is derived from
     /// the latest sample when asked for instead of being written at every sample.
@@ -545,7 +570,10 @@ impl Adis {
             idle_word: cfg.dout_after_write as u16,
             burst_command: cfg.burst_command as u16,
         };
-        let first_t = s_to_ps(cfg.first_sample_us * 1e-6);
+        // Before the start-up ends the part neither samples nor answers: its sample clock starts then.
+        let (powered_before, startup) = (s_to_ps(cfg.powered_before_ms * 1e-3), s_to_ps(layout.part.startup_ms * 1e-3));
+        let ready_at = startup.saturating_sub(powered_before);
+        let first_t = ready_at + s_to_ps(cfg.first_sample_us * 1e-6);
         let smpl_prd = regs[layout.smpl];
         let calibration = Calibration::of(&layout, &regs, GyroRange::Dps300);
         let mut dev = Adis {
@@ -569,7 +597,9 @@ impl Adis {
             filtered: Physical::default(),
             pending: false,
             now: 0,
-            busy_until: 0,
+            busy_until: ready_at,
+            powered_before,
+            startup,
             data_ready: None,
             data_ready_pin: None,
             data_ready_pin_from: 0,
@@ -697,9 +727,20 @@ impl Adis {
         &self.filtered
     }
 
-    /// End of the current software reset (0 if none happened); the part ignores SPI until then.
+    /// End of the current software reset or of the power-on start-up (0 if neither is running
+    /// at or after time 0); the part ignores SPI until then.
     pub fn busy_until(&self) -> Ps {
         self.busy_until
+    }
+
+    /// When the power-on start-up ends (0 if it ended before time 0).
+    pub fn ready_at(&self) -> Ps {
+        self.startup.saturating_sub(self.powered_before)
+    }
+
+    /// How long the part had been powered at time 0, and its start-up time, ps.
+    pub(super) fn startup(&self) -> (Ps, Ps) {
+        (self.powered_before, self.startup)
     }
 
     /// Events recorded so far.
@@ -830,9 +871,12 @@ impl Adis {
     /// The output words of a burst (the first `burst_len`), as of now, with the sample they hold.
     pub(super) fn burst_snapshot(&mut self) -> ([u16; MAX_BURST_WORDS], Option<SampleStamp>) {
         self.encode_pending();
+        // Every burst word is an output register (the part tests hold the declarations to it): its
+        // word is the register with ND and EA ([`word`]), here without a branch per word.
+        let ea = if self.regs[self.layout.diag] != 0 { 0x4000 } else { 0 };
         let mut words = [0u16; MAX_BURST_WORDS];
-        for (i, w) in words.iter_mut().enumerate().take(self.layout.burst_len) {
-            *w = word(&self.layout, &self.regs, self.nd, self.layout.burst_slot(i));
+        for (w, &slot) in words.iter_mut().zip(&self.layout.burst_slots[..self.layout.burst_len]) {
+            *w = self.regs[slot & (SLOTS - 1)] | ea | ((self.nd >> slot & 1) as u16) << 15;
         }
         (words, self.latest)
     }
@@ -1306,8 +1350,7 @@ mod tests {
         // Wherever the screen passes a sample, no output may clip.
         let (mut passed, mut flagged) = (0u32, 0u32);
         for_each_swept_sample(|case, i, cal, f| {
-            let mut over = false;
-            cal.visit_outputs(f, |_, ch, x| over |= overrange(ch, x, cal.range));
+            let over = cal.outputs_overrange(f);
             if cal.nothing_can_clip(f) {
                 passed += 1;
                 assert!(!over, "case {case}, value {i}: passed by the screen but clips: {f:?}");

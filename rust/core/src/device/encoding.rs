@@ -269,35 +269,84 @@ pub fn encode(channel: Channel, value: f64, range: GyroRange) -> Result<Encoded>
     if value.is_nan() {
         return Err(Error::Input(format!("cannot encode NaN into a {} word", channel.name())));
     }
-    Ok(encode_field::<true>(channel, value, range))
+    Ok(FieldCode::of(channel, range).encode(value))
 }
 
-/// [`encode`] without the NaN check (NaN encodes as code 0), for the device's per-sample path whose
-/// input is already sanitised. `MAY_CLIP = false` leaves out the clip tests, for a caller that has
-/// proved the value lies inside [`surely_unclipped`] (where they cannot fire; `overrange` is then
-/// false).
-#[inline(always)]
-pub(crate) fn encode_field<const MAY_CLIP: bool>(channel: Channel, value: f64, range: GyroRange) -> Encoded {
-    let (x, lo, hi) = scaled(channel, value, range);
-    let (q, overrange) = quantize::<MAY_CLIP>(x, lo, hi);
-    let code = match channel {
-        Channel::Baro => q >> 8,
-        Channel::BaroLow => q & 0xFF,
-        _ => i32::from(to_field(q, channel.bits())),
-    };
-    Encoded { code: code as u16, overrange }
+/// A channel's field at one gyro range, resolved once so that encoding is arithmetic only:
+/// `(value − zero) × 1/LSB`, rounded half away from zero and clipped to the field's codes, then the
+/// register's bits of the code. The barometer's two registers share one 22-bit unsigned code:
+/// BARO_OUT holds its high 14 bits, BARO_OUTL its low 8.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct FieldCode {
+    zero: f64,
+    inv_lsb: f64,
+    /// The smallest and largest code, and the scaled values from which on they are clipped to
+    /// (round(x) > hi ⟺ x ≥ hi + ½ and round(x) < lo ⟺ x ≤ lo − ½, ties away from zero).
+    lo: i32,
+    hi: i32,
+    below: f64,
+    above: f64,
+    shift: u32,
+    mask: u32,
 }
 
-/// Whether `value` clips at its field's limits: [`encode_field`]'s `overrange` without the code
-/// (the device flags every sample but encodes only those it is read at).
-#[inline(always)]
-pub(crate) fn overrange(channel: Channel, value: f64, range: GyroRange) -> bool {
-    let (x, lo, hi) = scaled(channel, value, range);
-    x >= f64::from(hi) + 0.5 || x <= f64::from(lo) - 0.5
+impl FieldCode {
+    /// The field of `channel` at `range`.
+    pub(crate) fn of(channel: Channel, range: GyroRange) -> FieldCode {
+        let (lo, hi, inv_lsb) = match channel {
+            Channel::Baro | Channel::BaroLow => (0, (1 << BARO_FINE_BITS) - 1, Channel::BaroLow.inv_lsb(range)),
+            _ => {
+                let (lo, hi) = channel.code_limits();
+                (lo, hi, channel.inv_lsb(range))
+            }
+        };
+        let (shift, mask) = match channel {
+            Channel::Baro => (8, field_mask(14)),
+            Channel::BaroLow => (0, 0xFF),
+            _ => (0, field_mask(channel.bits())),
+        };
+        let (below, above) = (f64::from(lo) - 0.5, f64::from(hi) + 0.5);
+        FieldCode { zero: channel.zero(), inv_lsb, lo, hi, below, above, shift, mask: u32::from(mask) }
+    }
+
+    /// `value` in LSB of the field.
+    #[inline(always)]
+    fn scaled(&self, value: f64) -> f64 {
+        (value - self.zero) * self.inv_lsb
+    }
+
+    /// The register bits of `value`'s code (NaN encodes as code 0: [`encode`] rejects it, the
+    /// device's input is sanitised).
+    #[inline(always)]
+    pub(crate) fn code(&self, value: f64) -> u16 {
+        let x = self.scaled(value);
+        let q = if x >= self.above {
+            self.hi
+        } else if x <= self.below {
+            self.lo
+        } else {
+            // NaN falls through both comparisons and casts to 0.
+            round_half_away(x) as i32
+        };
+        ((q >> self.shift) as u32 & self.mask) as u16
+    }
+
+    /// Whether `value` clips at the field's limits (its code is not the rounded value).
+    #[inline(always)]
+    pub(crate) fn clips(&self, value: f64) -> bool {
+        let x = self.scaled(value);
+        x >= self.above || x <= self.below
+    }
+
+    /// [`FieldCode::code`] with whether it clipped.
+    #[inline(always)]
+    pub(crate) fn encode(&self, value: f64) -> Encoded {
+        Encoded { code: self.code(value), overrange: self.clips(value) }
+    }
 }
 
 /// An interval of values of `channel` that surely encode without clipping: the field's range shrunk
-/// by 1 %, for a cheap screen before the exact [`overrange`] test. Inside it the exact test cannot
+/// by 1 %, for a cheap screen before the exact [`FieldCode::clips`] test. Inside it the exact test cannot
 /// fire: its scaling rounds by a few ulps (1e-16 relative), the margin is 1e-2 of the range.
 pub(crate) fn surely_unclipped(channel: Channel, range: GyroRange) -> (f64, f64) {
     const MARGIN: f64 = 0.99;
@@ -311,19 +360,6 @@ pub(crate) fn surely_unclipped(channel: Channel, range: GyroRange) -> (f64, f64)
     };
     let zero = channel.zero();
     (zero + MARGIN * (f64::from(lo) - 0.5) * lsb, zero + MARGIN * (f64::from(hi) + 0.5) * lsb)
-}
-
-/// `value` in LSB of its field, with the field's code limits. The barometer's two registers share
-/// one 22-bit unsigned code (BARO_OUT its high 14 bits, BARO_OUTL its low 8).
-#[inline(always)]
-fn scaled(channel: Channel, value: f64, range: GyroRange) -> (f64, i32, i32) {
-    match channel {
-        Channel::Baro | Channel::BaroLow => (value * Channel::BaroLow.inv_lsb(range), 0, (1 << BARO_FINE_BITS) - 1),
-        _ => {
-            let (lo, hi) = channel.code_limits();
-            ((value - channel.zero()) * channel.inv_lsb(range), lo, hi)
-        }
-    }
 }
 
 /// Decode a whole 16-bit output word: the channel's field plus the ND and EA flags.
@@ -342,21 +378,6 @@ pub fn decode(channel: Channel, word: u16, range: GyroRange) -> DecodedWord {
 pub fn decode_baro(baro_out: u16, baro_outl: u16) -> f64 {
     let full = (u32::from(baro_out & field_mask(14)) << 8) | u32::from(baro_outl & 0xFF);
     f64::from(full) * BARO_FINE_LSB_MBAR
-}
-
-/// Round `x` to the nearest integer, clipped to `lo..=hi`; the flag says a clip happened. Without
-/// `MAY_CLIP` the caller guarantees `x` rounds into `lo..=hi` and the tests are compiled out.
-#[inline]
-fn quantize<const MAY_CLIP: bool>(x: f64, lo: i32, hi: i32) -> (i32, bool) {
-    // round(x) > hi ⟺ x ≥ hi + ½ and round(x) < lo ⟺ x ≤ lo − ½ (ties away from zero).
-    if MAY_CLIP && x >= f64::from(hi) + 0.5 {
-        (hi, true)
-    } else if MAY_CLIP && x <= f64::from(lo) - 0.5 {
-        (lo, true)
-    } else {
-        // NaN falls through both comparisons and casts to 0.
-        (round_half_away(x) as i32, false)
-    }
 }
 
 /// Round to nearest, ties away from zero (as `f64::round`), for |x| < 2⁶³, without a libm call
@@ -517,9 +538,13 @@ mod tests {
                 // The ends do not clip; 1.1 % further out (past the 1 % margin) they do: the interval
                 // has the field's limits and LSB.
                 for (end, side) in [(lo, "low"), (hi, "high")] {
-                    assert!(!overrange(ch, end, range), "{} {side} end clips", ch.name());
+                    assert!(!FieldCode::of(ch, range).clips(end), "{} {side} end clips", ch.name());
                     let beyond = zero + (end - zero) / 0.99 * 1.001;
-                    assert!(overrange(ch, beyond, range), "{} beyond the {side} end does not clip", ch.name());
+                    assert!(
+                        FieldCode::of(ch, range).clips(beyond),
+                        "{} beyond the {side} end does not clip",
+                        ch.name()
+                    );
                 }
             }
         }

@@ -59,12 +59,18 @@ impl Violations {
     pub const DEVICE_BUSY: Violations = Violations(1 << 7);
     /// Too little time since the previous frame outside a burst started (tDATARATE).
     pub const DATARATE_TOO_SHORT: Violations = Violations(1 << 8);
+    /// Clocked before the power-on start-up ended.
+    pub const BEFORE_STARTUP: Violations = Violations(1 << 9);
 
     /// The rules whose breach makes the slave ignore DIN (and corrupt DOUT) in either timing mode.
-    const IGNORE_DIN: Violations =
-        Violations(Violations::FRAME_LENGTH.0 | Violations::NO_CHIP_SELECT.0 | Violations::DEVICE_BUSY.0);
+    const IGNORE_DIN: Violations = Violations(
+        Violations::FRAME_LENGTH.0
+            | Violations::NO_CHIP_SELECT.0
+            | Violations::DEVICE_BUSY.0
+            | Violations::BEFORE_STARTUP.0,
+    );
 
-    const NAMES: [(Violations, &'static str); 9] = [
+    const NAMES: [(Violations, &'static str); 10] = [
         (Violations::SCLK_TOO_FAST, "sclk_too_fast"),
         (Violations::STALL_TOO_SHORT, "stall_too_short"),
         (Violations::CS_SETUP, "cs_setup"),
@@ -74,6 +80,7 @@ impl Violations {
         (Violations::NO_CHIP_SELECT, "frame_without_cs"),
         (Violations::DEVICE_BUSY, "device_busy"),
         (Violations::DATARATE_TOO_SHORT, "datarate_too_short"),
+        (Violations::BEFORE_STARTUP, "read_before_startup"),
     ];
 
     /// No rule broken.
@@ -513,16 +520,31 @@ impl Adis {
         ));
     }
 
-    /// A frame the slave does not take part in (CS high, or a software reset running): DOUT reads
-    /// as the corrupt word and DIN is ignored.
+    /// A frame the slave does not take part in (CS high, the power-on start-up or a software reset
+    /// running): DIN is ignored, DOUT reads as the corrupt word (0x0000 during the start-up).
     #[cold]
     #[inline(never)]
     fn ignored_frame(&mut self, timing: &FrameTiming) -> u16 {
         let (t, n) = (timing.first_edge, self.spi.frames);
+        let mut dout = self.limits.corrupt_word;
         let violation = if !self.spi.cs_low {
             let msg = format!("frame {n}: clocked with CS high; the {} ignores it", self.layout.part.name);
             self.violation(Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
             Violations::NO_CHIP_SELECT
+        } else if t < self.ready_at() {
+            // The part is still starting up: it drives no register onto DOUT, modelled as 0x0000 (the
+            // data sheet says nothing of DOUT during the start-up).
+            let (since_power_on, startup) = self.startup();
+            let since = since_power_on + t;
+            let msg = format!(
+                "frame {n}: {:.3} ms after power-on; the {} answers after its {:.3} ms start-up",
+                since as f64 / 1e9,
+                self.layout.part.name,
+                startup as f64 / 1e9
+            );
+            self.violation(Violations::BEFORE_STARTUP, t, msg, s(since as f64), s(startup as f64));
+            dout = 0x0000;
+            Violations::BEFORE_STARTUP
         } else {
             let left = self.busy_until() - t;
             let msg = format!(
@@ -534,7 +556,6 @@ impl Adis {
             self.spi.reset();
             Violations::DEVICE_BUSY
         };
-        let dout = self.limits.corrupt_word;
         self.record_start(read_record(self.spi.frames, timing, dout, None, None, violation, false));
         dout
     }

@@ -1212,3 +1212,37 @@ fn sclk_is_judged_by_its_full_period_at_both_link_levels() {
         assert!(events[0].message.contains("SCLK 2.083333 MHz"), "{}", events[0].message);
     }
 }
+
+/// The power-on start-up (adis16407.md: 210 ms). A part powered at time 0 (`device.powered_before_ms
+/// = 0`) read 17 µs later answers 0x0000, ignores the command and reports `read_before_startup`; read
+/// after its 210 ms it answers, with samples taken from then on. The default profile's part had been
+/// powered long enough: ready at time 0.
+#[test]
+fn a_read_before_the_power_on_startup_reads_zero_and_is_reported() {
+    let cfg = Device { powered_before_ms: 0.0, ..Device::default() };
+    let mut d = Adis::new(&cfg).unwrap();
+    assert_eq!(d.ready_at(), 210 * MS);
+    let mut h = Host::new(17 * US, SCLK_750K);
+    h.cs_low(&mut d);
+    let first = h.frame(&mut d, u16::from(addr::PROD_ID) << 8);
+    let second = h.frame(&mut d, 0x0000);
+    h.cs_high(&mut d);
+    assert_eq!((first, second), (0x0000, 0x0000));
+    assert_eq!(d.events().count("read_before_startup"), 2);
+    let e = d.events().events().iter().find(|e| e.kind == "read_before_startup").unwrap();
+    assert!(e.message.contains("after its 210.000 ms start-up"), "{}", e.message);
+    assert_eq!(d.latest_sample(), None, "no sample during the start-up");
+    // After the start-up the part answers, and its first sample is the start-up's end.
+    h.t = 210 * MS + 5 * MS;
+    assert_eq!(h.read(&mut d, addr::PROD_ID), 0x4017);
+    assert_eq!(d.latest_sample().map(|s| (s.index, s.t)), Some((4, 210 * MS + 4 * PERIOD)));
+    assert_eq!(d.events().count("read_before_startup"), 2);
+    // Powered 200 ms before time 0: ready 10 ms in. The default: ready at once.
+    let d = Adis::new(&Device { powered_before_ms: 200.0, ..Device::default() }).unwrap();
+    assert_eq!(d.ready_at(), 10 * MS);
+    let mut d = device();
+    assert_eq!(d.ready_at(), 0);
+    let mut h = Host::new(17 * US, SCLK_750K);
+    assert_eq!(h.read(&mut d, addr::PROD_ID), 0x4017);
+    assert_eq!(d.events().count("read_before_startup"), 0);
+}

@@ -268,6 +268,10 @@ pub struct Device {
     pub first_sample_us: f64,
     /// Time the part is unavailable after a software reset, ms [unconfirmed; siblings 90–170].
     pub reset_time_ms: f64,
+    /// How long the part had been powered when the run starts, ms. It is ready its part's start-up
+    /// time after power-on; until then it neither samples nor answers (`read_before_startup`). The
+    /// default, 1 s, leaves either part ready at the start.
+    pub powered_before_ms: f64,
     /// Consequence of a timing violation.
     pub timing_mode: TimingMode,
     /// Maximum SCLK in normal mode, Hz.
@@ -308,6 +312,7 @@ impl Default for Device {
             clock_ppb: 0,
             first_sample_us: 0.0,
             reset_time_ms: 130.0,
+            powered_before_ms: 1000.0,
             timing_mode: TimingMode::Strict,
             sclk_max_hz: 2.0e6,
             sclk_burst_max_hz: 1.0e6,
@@ -441,6 +446,7 @@ impl Device {
         }
         check_nonneg("device.first_sample_us", self.first_sample_us)?;
         check_nonneg("device.reset_time_ms", self.reset_time_ms)?;
+        check_nonneg("device.powered_before_ms", self.powered_before_ms)?;
         check_pos("device.sclk_max_hz", self.sclk_max_hz)?;
         check_pos("device.sclk_burst_max_hz", self.sclk_burst_max_hz)?;
         if self.sclk_burst_max_hz > self.sclk_max_hz {
