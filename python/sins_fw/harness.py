@@ -32,7 +32,14 @@ from sins_fw import _core
 from sins_fw.errors import InputError, ProfileError, TraceError
 from sins_fw.metrics import AttitudeErrors
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
-from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace, validated
+from sins_fw.traces import (
+    PhysicalTrace,
+    RawRegisterTrace,
+    gps_fixes,
+    gps_latency_s,
+    is_raw_register_trace,
+    validated,
+)
 
 PS = 1e-12
 #: Rows per chunk read from a trace (file): big enough to amortise the reading, small enough for memory.
@@ -424,6 +431,9 @@ def emulate(
                 break
             chunk = next(_slices(chunk, n))
         t = np.ascontiguousarray(chunk.t_s - t0)
+        fixes = gps_fixes(chunk, t)
+        if fixes is not None:  # before the chunk's input: every fix is there before it is due
+            emu.push_gps(fixes[0], gps_latency_s(chunk.metadata, "trace metadata"), fixes[1], fixes[2])
         for s in _pieces(t, bus):
             if window is not None and chunk.truth_q is not None:
                 window.feed(t[s], chunk.truth_q[s], None if chunk.moving is None else chunk.moving[s])
