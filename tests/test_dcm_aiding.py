@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sins_fw import emulate, synth
+from sins_fw import _core, emulate, synth
 from sins_fw.errors import ConfigError, TraceError
 from sins_fw.traces import GPS_COLUMNS, PhysicalTrace
 
@@ -184,3 +184,22 @@ def test_aiding_keys_off_leave_the_generator_command_as_it_was() -> None:
     values = synth.resolve("static")
     assert "--gps" not in synth.command_line("static", values)
     assert "--mag" not in synth.command_line("static", values)
+
+
+def test_dcm_correction_terms_are_output_columns_only_for_the_dcm() -> None:
+    """ω_P, ω_I, the two errors and |R·Rᵀ − I| come out one row per step under the DCM (declared once
+    in the core's output table), and as no rows under RK4 (its output is unchanged)."""
+    names = {c["name"] for c in _core.OUTPUT_COLUMNS}
+    terms = ("step", "omega_p", "omega_i", "error_rp", "error_yaw", "orthogonality")
+    assert {f"dcm_{t}" for t in terms} <= names
+    trace = synth.generate("static", duration_s=4.0, attitude_deg=(10.0, 0.0, 0.0))
+    run = emulate(trace, overrides=["firmware.algorithm=dcm", "firmware.decode=correct"])
+    assert set(run.dcm) == set(terms)
+    assert np.array_equal(run.dcm["step"], run.step)
+    assert run.dcm["omega_p"].shape == (len(run.step), 3)
+    # Renormalisation keeps R orthonormal to ~(|dθ|²)² per step (dcm.rs); at rest far below 1e-5.
+    assert run.dcm["orthogonality"].max() < 1e-5
+    # The 10° roll starts as a roll–pitch error about body x: ω_P = K_P·e, K_P = 0.2, |e| = sin 10°.
+    assert abs(run.dcm["omega_p"][0, 0]) == pytest.approx(0.2 * math.sin(math.radians(10.0)), rel=0.02)
+    rk4 = emulate(trace)
+    assert all(len(v) == 0 for v in rk4.dcm.values())

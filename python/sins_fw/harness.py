@@ -93,6 +93,10 @@ class Run:
     #: The SPI bus log of the ticks ``bus_window`` asked for (see :func:`emulate`): ``cs_t_ps``,
     #: ``cs_low`` per CS edge; ``frame_*`` per frame (index, start/end, first/last SCLK edge, DIN, DOUT…).
     bus: dict[str, NDArray[Any]] | None = None
+    #: The DCM's drift-cancellation terms, one row per step (the core's `dcm_*` columns without the
+    #: prefix: ``step``, ``omega_p``, ``omega_i`` rad/s, ``error_rp``, ``error_yaw``, ``orthogonality``);
+    #: empty for the open-loop algorithms.
+    dcm: dict[str, NDArray[Any]] = field(default_factory=dict)
 
     @property
     def cycles(self) -> int:
@@ -658,6 +662,7 @@ def _assemble(profile: Profile, t0: float, parts: list[dict[str, Any]], stage_cy
         budget={k.removeprefix("budget_"): _cat(parts, k) for k in budget_keys},
         events=[e for p in parts for e in p["events"]],
         stage_cycles=stage_cycles,
+        dcm={k.removeprefix("dcm_"): _cat(parts, k) for k in parts[0] if k.startswith("dcm_")},
     )
 
 

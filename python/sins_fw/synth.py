@@ -674,6 +674,20 @@ _ATTITUDE = Param(
 )
 
 
+def _kinematic(motion: Callable[..., Motion]) -> Callable[..., Motion]:
+    """A motion function taking every parameter of its scenario: the aiding keys (the trace's
+    magnetic field and GPS, not the motion's) are set aside."""
+
+    def make(**values: Any) -> Motion:
+        return motion(**{k: v for k, v in values.items() if k not in _AIDING_NAMES})
+
+    make.__doc__ = motion.__doc__
+    return make
+
+
+_AIDING_NAMES = frozenset(p.name for p in _AIDING)
+
+
 @dataclass(frozen=True)
 class Scenario:
     """A named scenario: its motion function, parameters, and description."""
@@ -692,13 +706,13 @@ SCENARIOS: dict[str, Scenario] = {
     for s in (
         Scenario(
             "static",
-            static_motion,
+            _kinematic(static_motion),
             (Param("duration_s", "float", 60.0, "duration, s"), _ATTITUDE, *_COMMON),
             "a board at rest at a fixed attitude",
         ),
         Scenario(
             "indexing-table",
-            indexing_table_motion,
+            _kinematic(indexing_table_motion),
             (
                 Param("axis", "axis", "y", "body axis of the table: x (roll), y (pitch) or z (yaw)"),
                 Param("angles_deg", "floats", (0.0, 10.0), "table angles in order, degrees (first = start)"),
@@ -712,7 +726,7 @@ SCENARIOS: dict[str, Scenario] = {
         ),
         Scenario(
             "turntable",
-            turntable_motion,
+            _kinematic(turntable_motion),
             (
                 Param("axis", "axis", "x", "body axis of rotation"),
                 Param("rates_dps", "floats", (50.0, 100.0, 200.0, 300.0), "table rates in order, °/s"),
@@ -726,7 +740,7 @@ SCENARIOS: dict[str, Scenario] = {
         ),
         Scenario(
             "coning",
-            coning_motion,
+            _kinematic(coning_motion),
             (
                 Param("half_angle_deg", "float", 1.0, "cone half-angle α, degrees"),
                 Param("frequency_hz", "float", 10.0, "coning frequency Ω/2π, Hz"),
@@ -738,7 +752,7 @@ SCENARIOS: dict[str, Scenario] = {
         ),
         Scenario(
             "flight",
-            flight_motion,
+            _kinematic(flight_motion),
             (
                 Param("heading_deg", "float", 60.0, "runway heading, degrees from north clockwise"),
                 Param("speed_mps", "float", 40.0, "cruise speed, m/s"),
@@ -752,7 +766,7 @@ SCENARIOS: dict[str, Scenario] = {
         ),
         Scenario(
             "turn",
-            turn_motion,
+            _kinematic(turn_motion),
             (
                 Param("speed_mps", "float", 20.0, "ground speed, m/s"),
                 Param("turn_rate_dps", "float", 10.0, "turn rate, °/s (positive: right turn)"),
@@ -879,12 +893,8 @@ CHUNK_ROWS = 1 << 16
 
 
 def _motion(scenario: Scenario, values: dict[str, Any], rows: slice | None = None) -> Motion:
-    """The scenario's motion (the aiding keys are the trace's, not the motion's)."""
-    kinematic = {k: v for k, v in values.items() if k not in _AIDING_NAMES}
-    return scenario.motion(**kinematic) if rows is None else scenario.motion(**kinematic, rows=rows)
-
-
-_AIDING_NAMES = frozenset(p.name for p in _AIDING)
+    """The scenario's motion."""
+    return scenario.motion(**values) if rows is None else scenario.motion(**values, rows=rows)
 
 
 def generate(name: str, preset: str | None = None, **params: Any) -> PhysicalTrace:

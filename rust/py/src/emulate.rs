@@ -560,6 +560,12 @@ output_columns! {
     budget_deadline_ps: u64 = budget.deadline_ps,
     budget_step: bool = budget.step,
     budget_overrun: bool = budget.overrun,
+    dcm_step: u64 = corrections.step,
+    dcm_omega_p: [f64; 3] = corrections.omega_p,
+    dcm_omega_i: [f64; 3] = corrections.omega_i,
+    dcm_error_rp: [f64; 3] = corrections.error_rp,
+    dcm_error_yaw: [f64; 3] = corrections.error_yaw,
+    dcm_orthogonality: f64 = corrections.orthogonality,
 }
 
 fn bus_log_dict<'py>(py: Python<'py>, log: &[LinkRecord]) -> PyResult<Bound<'py, PyDict>> {

@@ -448,6 +448,16 @@ impl<T: Scalar> Isr<T> {
             self.report_state_out_of_range(&row);
         }
         self.out.cycles.push(row);
+        if let Some(c) = self.fw.correction() {
+            self.out.corrections.push(crate::output::CorrectionRow {
+                step: self.step,
+                omega_p: c.omega_p,
+                omega_i: c.omega_i,
+                error_rp: c.error_rp,
+                error_yaw: c.error_yaw,
+                orthogonality: c.orthogonality,
+            });
+        }
     }
 
     /// The first step whose firmware state is out of range: one error event naming what (later
