@@ -203,3 +203,11 @@ def test_dcm_correction_terms_are_output_columns_only_for_the_dcm() -> None:
     assert abs(run.dcm["omega_p"][0, 0]) == pytest.approx(0.2 * math.sin(math.radians(10.0)), rel=0.02)
     rk4 = emulate(trace)
     assert all(len(v) == 0 for v in rk4.dcm.values())
+
+
+def test_a_trace_in_memory_keeps_its_gps_stream() -> None:
+    """emulate() on a PhysicalTrace object slices it into pieces: the GPS columns go with them (they
+    were dropped, and the GPS yaw reference then said the trace had no GPS stream)."""
+    trace = synth.generate("turn", duration_s=3.0, gps_rate_hz=1.0)
+    run = emulate(trace, overrides=["firmware.algorithm=dcm", "firmware.dcm.yaw_reference=gps"])
+    assert len(run.dcm["error_yaw"]) == len(run.step) and np.abs(run.dcm["error_yaw"]).max() > 0

@@ -278,6 +278,7 @@ def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterat
             truth_q=None if trace.truth_q is None else trace.truth_q[s],
             moving=None if trace.moving is None else trace.moving[s],
             metadata=trace.metadata,
+            gps=None if trace.gps is None else trace.gps[s],
         )
 
 
