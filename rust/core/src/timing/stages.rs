@@ -150,15 +150,23 @@ const MAG_WORDS: [u16; 3] = [0x01F4, 0x3F9C, 0x3CE0];
 /// The GPS fix of the counting inputs (a board with a GPS moving at 20 m/s, course 30°).
 const GPS_FIX: GpsFix = GpsFix { t_s: 0.0, latency_s: 0.0, ground_speed_mps: 20.0, course_deg: 30.0 };
 
-/// The counting firmware of a profile at its representative inputs, ready for an update: the
-/// rates of one update and the specific force. It has a GPS (whether or not the algorithm uses it).
-fn counting_firmware(profile: &Profile) -> Result<(Firmware<Counted>, Vec<Vec3<Counted>>, Vec3<Counted>)> {
+/// The counting firmware of a profile at its representative inputs, ready for an update. It has a
+/// GPS (whether or not the algorithm uses it).
+struct Counting {
+    fw: Firmware<Counted>,
+    /// The rates of one update.
+    rates: Vec<Vec3<Counted>>,
+    /// The specific force.
+    f_b: Vec3<Counted>,
+}
+
+fn counting_firmware(profile: &Profile) -> Result<Counting> {
     let mut fw = Firmware::<Counted>::new(profile)?;
     fw.push_gps(&[GPS_FIX])?;
     fw.receive_gps(GPS_FIX.available_s());
     let lit = |x: f64| Counted(x);
     let rates: Vec<Vec3<Counted>> = (0..fw.rates_per_update()).map(|i| RATES[i % 3].map(lit)).collect();
-    Ok((fw, rates, [lit(0.1), lit(-0.2), lit(9.8)]))
+    Ok(Counting { fw, rates, f_b: [lit(0.1), lit(-0.2), lit(9.8)] })
 }
 
 /// Decode one burst: the six inertial words, and X/Y/Z MAGN_OUT when the algorithm takes the field.
@@ -177,7 +185,7 @@ pub fn attitude_parts(profile: &Profile, table: &CostTable) -> Result<Vec<(&'sta
     count_as(arith_section(profile.firmware.numeric) == ArithSection::Iq, || {
         let arith = arith_for(profile.firmware.numeric, table);
         let factor = location_factor(profile, table);
-        let (mut fw, rates, _) = counting_firmware(profile)?;
+        let Counting { mut fw, rates, .. } = counting_firmware(profile)?;
         decode_burst(&mut fw);
         let mut marks: Vec<(&'static str, OpCounts)> = Vec::new();
         let (result, total) =
@@ -203,7 +211,7 @@ pub fn attitude_parts(profile: &Profile, table: &CostTable) -> Result<Vec<(&'sta
 fn counted_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
     let arith = arith_for(profile.firmware.numeric, table);
     let factor = location_factor(profile, table);
-    let (mut fw, rates, f_b) = counting_firmware(profile)?;
+    let Counting { mut fw, rates, f_b } = counting_firmware(profile)?;
     let lit = |x: f64| Counted(x);
 
     let (_, decode) = count(|| decode_burst(&mut fw));
