@@ -327,6 +327,15 @@ def _stage_prices(costs: dict[str, Any], provenance: dict[str, dict[str, Any]], 
             "counts": {k: int(v) for k, v in st["counts"].items() if v},
             "terms": lines,
             "estimated_cycles": estimated,
+            # The DCM's attitude update, part by part (docs/budget.md, "The DCM's parts").
+            "parts": {
+                part: {
+                    "cycles": int(p["cycles"]),
+                    "time_s": p["cycles"] / sysclk_hz,
+                    "counts": {k: int(v) for k, v in p["counts"].items() if v},
+                }
+                for part, p in st.get("parts", {}).items()
+            },
         }
     return out
 

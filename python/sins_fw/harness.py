@@ -32,7 +32,14 @@ from sins_fw import _core
 from sins_fw.errors import InputError, ProfileError, TraceError
 from sins_fw.metrics import AttitudeErrors
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
-from sins_fw.traces import PhysicalTrace, RawRegisterTrace, is_raw_register_trace, validated
+from sins_fw.traces import (
+    PhysicalTrace,
+    RawRegisterTrace,
+    gps_fixes,
+    gps_latency_s,
+    is_raw_register_trace,
+    validated,
+)
 
 PS = 1e-12
 #: Rows per chunk read from a trace (file): big enough to amortise the reading, small enough for memory.
@@ -86,6 +93,10 @@ class Run:
     #: The SPI bus log of the ticks ``bus_window`` asked for (see :func:`emulate`): ``cs_t_ps``,
     #: ``cs_low`` per CS edge; ``frame_*`` per frame (index, start/end, first/last SCLK edge, DIN, DOUT…).
     bus: dict[str, NDArray[Any]] | None = None
+    #: The DCM's drift-cancellation terms, one row per step (the core's `dcm_*` columns without the
+    #: prefix: ``step``, ``omega_p``, ``omega_i`` rad/s, ``error_rp``, ``error_yaw``, ``orthogonality``);
+    #: empty for the open-loop algorithms.
+    dcm: dict[str, NDArray[Any]] = field(default_factory=dict)
 
     @property
     def cycles(self) -> int:
@@ -267,6 +278,7 @@ def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterat
             truth_q=None if trace.truth_q is None else trace.truth_q[s],
             moving=None if trace.moving is None else trace.moving[s],
             metadata=trace.metadata,
+            gps=None if trace.gps is None else trace.gps[s],
         )
 
 
@@ -424,6 +436,9 @@ def emulate(
                 break
             chunk = next(_slices(chunk, n))
         t = np.ascontiguousarray(chunk.t_s - t0)
+        fixes = gps_fixes(chunk, t)
+        if fixes is not None:  # before the chunk's input: every fix is there before it is due
+            emu.push_gps(fixes[0], gps_latency_s(chunk.metadata, "trace metadata"), fixes[1], fixes[2])
         for s in _pieces(t, bus):
             if window is not None and chunk.truth_q is not None:
                 window.feed(t[s], chunk.truth_q[s], None if chunk.moving is None else chunk.moving[s])
@@ -648,6 +663,7 @@ def _assemble(profile: Profile, t0: float, parts: list[dict[str, Any]], stage_cy
         budget={k.removeprefix("budget_"): _cat(parts, k) for k in budget_keys},
         events=[e for p in parts for e in p["events"]],
         stage_cycles=stage_cycles,
+        dcm={k.removeprefix("dcm_"): _cat(parts, k) for k in parts[0] if k.startswith("dcm_")},
     )
 
 

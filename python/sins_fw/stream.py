@@ -75,7 +75,13 @@ class TableWriter:
         rate = _check_metadata(self.metadata, schema, f"{self.path}: metadata")
         src = f"<{schema.title} written to {self.path}>"
         self._checker = _Checker(
-            schema, src, float(1 / rate), allow_gaps, max_gap_periods, lambda r: f"row {r}"
+            schema,
+            src,
+            float(1 / rate),
+            allow_gaps,
+            max_gap_periods,
+            lambda r: f"row {r}",
+            metadata=self.metadata,
         )
         self.rows = 0
         self._names: list[str] | None = None

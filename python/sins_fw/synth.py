@@ -167,6 +167,8 @@ class Motion:
     lat_rad: Array
     height_m: Array
     w_en_n: Array
+    #: Displacement east of the start point, m (for the GPS longitude).
+    east_m: Array
 
     def rows(self, rows: slice) -> Motion:
         """These rows of the motion."""
@@ -213,6 +215,7 @@ def _ground(t: Array, q: Array, w_nb: Array, latitude_deg: float, height_m: floa
         lat_rad=np.full(len(t), math.radians(latitude_deg)),
         height_m=np.full(len(t), height_m),
         w_en_n=zeros,
+        east_m=np.zeros(len(t)),
     )
 
 
@@ -490,6 +493,39 @@ def flight_motion(
     plan = flight_plan(
         heading_deg=heading_deg, speed_mps=speed_mps, turn_rate_dps=turn_rate_dps, climb_deg=climb_deg
     )
+    return _plan_motion(plan, latitude_deg, height_m, rate_hz, rows)
+
+
+def turn_motion(
+    *,
+    speed_mps: float = 20.0,
+    turn_rate_dps: float = 10.0,
+    heading_deg: float = 0.0,
+    duration_s: float = 120.0,
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
+) -> Motion:
+    """A level coordinated turn at constant speed V and turn rate ψ̇ from t = 0 (heading ``heading_deg``
+    at t = 0, positive rate: a right turn): the flight's kinematics with constant V, γ = 0 and bank
+    atan(V ψ̇ / g0), so the specific force has the centripetal V ψ̇ along body y besides gravity (the
+    DCM's centripetal compensation removes it: ω × [V, 0, 0])."""
+    if speed_mps <= 0 or turn_rate_dps == 0 or duration_s <= 0:
+        raise ConfigError("turn: speed and duration must be positive, the turn rate not zero")
+    plan = _FlightPlan(
+        speed=Profile.build(0.0, speed_mps, []),
+        gamma=Profile.build(0.0, 0.0, []),
+        heading=Profile.build(math.radians(heading_deg), math.radians(turn_rate_dps), []),
+        end=duration_s,
+    )
+    return _plan_motion(plan, latitude_deg, height_m, rate_hz, rows)
+
+
+def _plan_motion(
+    plan: _FlightPlan, latitude_deg: float, height_m: float, rate_hz: str, rows: slice | None
+) -> Motion:
+    """The motion of a flight plan (see :func:`flight_motion`)."""
     t = sample_times(plan.end, rate_hz)
     v_n, a_n = plan.velocity(t)
     _, v, dv, _ = plan.speed(t)
@@ -529,7 +565,17 @@ def flight_motion(
         ],
         axis=1,
     )
-    whole = Motion(t_s=t, q_nb=q, w_nb_b=w_nb, v_n=v_n, a_n=a_n, lat_rad=lat, height_m=height, w_en_n=w_en)
+    whole = Motion(
+        t_s=t,
+        q_nb=q,
+        w_nb_b=w_nb,
+        v_n=v_n,
+        a_n=a_n,
+        lat_rad=lat,
+        height_m=height,
+        w_en_n=w_en,
+        east_m=disp[:, 0],
+    )
     return whole if rows is None else whole.rows(rows)
 
 
@@ -543,9 +589,12 @@ class Param:
     """One scenario parameter: Python name (the CLI option is ``--name-with-dashes``)."""
 
     name: str
-    kind: str  # "float", "floats", "triple", "axis", "rate"
+    kind: str  # "float", "floats", "triple", "axis", "rate", "field"
     default: Any
     help: str
+    #: Named in the generator command only when not at its default (the aiding keys: traces made
+    #: without them stay byte-identical).
+    optional: bool = False
 
     @property
     def option(self) -> str:
@@ -565,6 +614,10 @@ class Param:
         if self.kind == "axis":
             if text not in _AXES:
                 raise ValueError(f"expected x, y or z, got `{text}`")
+            return text
+        if self.kind == "field":
+            if text not in MAG_FIELDS:
+                raise ValueError(f"expected one of {', '.join(MAG_FIELDS)}, got `{text}`")
             return text
         try:
             parse_rate(text, "--rate-hz")
@@ -592,14 +645,47 @@ def _num(x: float) -> str:
     return repr(float(x)).removesuffix(".0") if float(x).is_integer() else repr(float(x))
 
 
+DEFAULT_LONGITUDE_DEG = 111.7
+#: The magnetic field of ``--mag-field``: none (no magnetometer columns), wmm (the World Magnetic Model
+#: 2020 of the ``ahrs`` package at the start point, epoch 2020.0), custom (the three mag_* keys).
+MAG_FIELDS = ("none", "wmm", "custom")
+#: The WMM's date: its epoch, so the field does not depend on the day the trace is made.
+WMM_EPOCH = 2020.0
+#: The aiding keys every scenario takes (magnetic field and GPS stream; docs/traces.md).
+_AIDING = (
+    Param("longitude_deg", "float", DEFAULT_LONGITUDE_DEG, "longitude of the start, degrees east", True),
+    Param("mag_field", "field", "none", "magnetic field: none, wmm (WMM-2020 at the start) or custom", True),
+    Param("mag_intensity_gauss", "float", 0.5, "custom field: total intensity F, gauss (0 < F ≤ 1)", True),
+    Param("mag_inclination_deg", "float", 60.0, "custom field: inclination I, degrees down (−90…90)", True),
+    Param("mag_declination_deg", "float", 0.0, "custom field: declination D, degrees east (−180…180)", True),
+    Param(
+        "gps_rate_hz", "float", 0.0, "GPS fix rate, Hz (0: no GPS stream; it divides the sample rate)", True
+    ),
+    Param("gps_latency_s", "float", 0.1, "GPS latency: a fix reaches the firmware this late, s (0…10)", True),
+)
 _COMMON = (
     Param("latitude_deg", "float", DEFAULT_LATITUDE_DEG, "geodetic latitude, degrees"),
     Param("height_m", "float", DEFAULT_HEIGHT_M, "height above the ellipsoid, m"),
     Param("rate_hz", "rate", DEFAULT_RATE_HZ, "sample rate, Hz (exact decimal, e.g. 819.2)"),
+    *_AIDING,
 )
 _ATTITUDE = Param(
     "attitude_deg", "triple", (0.0, 0.0, 0.0), "mount attitude roll,pitch,yaw, degrees (C_b^n ZYX)"
 )
+
+
+def _kinematic(motion: Callable[..., Motion]) -> Callable[..., Motion]:
+    """A motion function taking every parameter of its scenario: the aiding keys (the trace's
+    magnetic field and GPS, not the motion's) are set aside."""
+
+    def make(**values: Any) -> Motion:
+        return motion(**{k: v for k, v in values.items() if k not in _AIDING_NAMES})
+
+    make.__doc__ = motion.__doc__
+    return make
+
+
+_AIDING_NAMES = frozenset(p.name for p in _AIDING)
 
 
 @dataclass(frozen=True)
@@ -620,13 +706,13 @@ SCENARIOS: dict[str, Scenario] = {
     for s in (
         Scenario(
             "static",
-            static_motion,
+            _kinematic(static_motion),
             (Param("duration_s", "float", 60.0, "duration, s"), _ATTITUDE, *_COMMON),
             "a board at rest at a fixed attitude",
         ),
         Scenario(
             "indexing-table",
-            indexing_table_motion,
+            _kinematic(indexing_table_motion),
             (
                 Param("axis", "axis", "y", "body axis of the table: x (roll), y (pitch) or z (yaw)"),
                 Param("angles_deg", "floats", (0.0, 10.0), "table angles in order, degrees (first = start)"),
@@ -640,7 +726,7 @@ SCENARIOS: dict[str, Scenario] = {
         ),
         Scenario(
             "turntable",
-            turntable_motion,
+            _kinematic(turntable_motion),
             (
                 Param("axis", "axis", "x", "body axis of rotation"),
                 Param("rates_dps", "floats", (50.0, 100.0, 200.0, 300.0), "table rates in order, °/s"),
@@ -654,7 +740,7 @@ SCENARIOS: dict[str, Scenario] = {
         ),
         Scenario(
             "coning",
-            coning_motion,
+            _kinematic(coning_motion),
             (
                 Param("half_angle_deg", "float", 1.0, "cone half-angle α, degrees"),
                 Param("frequency_hz", "float", 10.0, "coning frequency Ω/2π, Hz"),
@@ -666,7 +752,7 @@ SCENARIOS: dict[str, Scenario] = {
         ),
         Scenario(
             "flight",
-            flight_motion,
+            _kinematic(flight_motion),
             (
                 Param("heading_deg", "float", 60.0, "runway heading, degrees from north clockwise"),
                 Param("speed_mps", "float", 40.0, "cruise speed, m/s"),
@@ -677,6 +763,20 @@ SCENARIOS: dict[str, Scenario] = {
             "fixed-wing flight: take-off roll, climb, turns, level, descent (with transport rate)",
             transport_rate=True,
             chunked=False,  # its position sums the whole trajectory (a fixed 318 s plan)
+        ),
+        Scenario(
+            "turn",
+            _kinematic(turn_motion),
+            (
+                Param("speed_mps", "float", 20.0, "ground speed, m/s"),
+                Param("turn_rate_dps", "float", 10.0, "turn rate, °/s (positive: right turn)"),
+                Param("heading_deg", "float", 0.0, "heading at t = 0, degrees from north clockwise"),
+                Param("duration_s", "float", 120.0, "duration, s"),
+                *_COMMON,
+            ),
+            "level coordinated turn at constant speed and rate (with transport rate)",
+            transport_rate=True,
+            chunked=False,
         ),
     )
 }
@@ -707,7 +807,58 @@ def resolve(name: str, preset: str | None = None, **params: Any) -> dict[str, An
                 raise ConfigError(f"scenario `{name}`, parameter `{key}` = {value!r}: {e}") from None
         values[key] = value
     _check_place(name, values["latitude_deg"], values["height_m"])
+    _check_aiding(name, values)
     return values
+
+
+def _check_aiding(name: str, values: dict[str, Any]) -> None:
+    """The aiding keys' ranges (a ConfigError naming the key and the range)."""
+    for key, lo, hi, allowed in (
+        ("longitude_deg", -180.0, 180.0, "−180…180"),
+        ("mag_intensity_gauss", 1e-6, 1.0, "0 < F ≤ 1 gauss (the earth's field is 0.22…0.67)"),
+        ("mag_inclination_deg", -90.0, 90.0, "−90…90"),
+        ("mag_declination_deg", -180.0, 180.0, "−180…180"),
+        ("gps_rate_hz", 0.0, 50.0, "0…50 Hz"),
+        ("gps_latency_s", 0.0, 10.0, "0…10 s"),
+    ):
+        value = values[key]
+        if not (isinstance(value, int | float) and math.isfinite(value) and lo <= value <= hi):
+            raise ConfigError(
+                f"scenario `{name}`, parameter `{key}` (--{key.replace('_', '-')}) = {value!r}: "
+                f"expected {allowed}"
+            )
+    if values["mag_field"] not in MAG_FIELDS:
+        raise ConfigError(
+            f"scenario `{name}`, parameter `mag_field` = {values['mag_field']!r}: "
+            f"expected one of {', '.join(MAG_FIELDS)}"
+        )
+
+
+def field_n(values: dict[str, Any]) -> Array | None:
+    """The earth's magnetic field at the start point, ENU, gauss (None for ``mag_field = none``):
+    F·[cos I sin D, cos I cos D, −sin I], I positive down, D east of true north."""
+    if values["mag_field"] == "none":
+        return None
+    if values["mag_field"] == "wmm":
+        try:
+            from ahrs.utils import WMM  # the ahrs package loads slowly: only for wmm
+        except ImportError:
+            raise ConfigError(
+                "mag_field = wmm needs the `ahrs` package (pip install 'sins-fw[bench]'); or give the field "
+                "with mag_field = custom and the mag_* keys"
+            ) from None
+
+        w = WMM(
+            date=WMM_EPOCH,
+            latitude=float(values["latitude_deg"]),
+            longitude=float(values["longitude_deg"]),
+            height=float(values["height_m"]) / 1000.0,
+        )
+        f, i, d = float(w.F) * 1e-5, math.radians(float(w.I)), math.radians(float(w.D))  # nT → gauss
+    else:
+        f = float(values["mag_intensity_gauss"])
+        i, d = math.radians(values["mag_inclination_deg"]), math.radians(values["mag_declination_deg"])
+    return f * np.array([math.cos(i) * math.sin(d), math.cos(i) * math.cos(d), -math.sin(i)])
 
 
 def _check_place(name: str, latitude_deg: Any, height_m: Any) -> None:
@@ -732,7 +883,8 @@ def command_line(name: str, values: dict[str, Any]) -> str:
     scenario = SCENARIOS[name]
     args = ["sins-fw", "synth", name]
     for p in scenario.params:
-        args += [p.option, p.render(values[p.name])]
+        if not (p.optional and values[p.name] == p.default):
+            args += [p.option, p.render(values[p.name])]
     return shlex.join(args)
 
 
@@ -740,10 +892,15 @@ def command_line(name: str, values: dict[str, Any]) -> str:
 CHUNK_ROWS = 1 << 16
 
 
+def _motion(scenario: Scenario, values: dict[str, Any], rows: slice | None = None) -> Motion:
+    """The scenario's motion."""
+    return scenario.motion(**values) if rows is None else scenario.motion(**values, rows=rows)
+
+
 def generate(name: str, preset: str | None = None, **params: Any) -> PhysicalTrace:
     """A scenario as a physical trace (truth quaternion and movement mask included)."""
     values = resolve(name, preset, **params)
-    return to_trace(SCENARIOS[name].motion(**values), _metadata(name, values))
+    return to_trace(_motion(SCENARIOS[name], values), _metadata(name, values), values)
 
 
 def generate_chunks(
@@ -754,12 +911,12 @@ def generate_chunks(
     values = resolve(name, preset, **params)
     scenario = SCENARIOS[name]
     metadata = _metadata(name, values)
-    whole = None if scenario.chunked else scenario.motion(**values)
+    whole = None if scenario.chunked else _motion(scenario, values)
     for start in itertools.count(0, rows):
         cut = slice(start, start + rows)
-        motion = scenario.motion(**values, rows=cut) if whole is None else whole.rows(cut)
+        motion = _motion(scenario, values, cut) if whole is None else whole.rows(cut)
         if len(motion.t_s):
-            yield to_trace(motion, metadata)
+            yield to_trace(motion, metadata, values)
         if len(motion.t_s) < rows:
             return
 
@@ -778,16 +935,71 @@ def _metadata(name: str, values: dict[str, Any]) -> dict[str, str]:
         "transport_rate": "included" if scenario.transport_rate else "zero (the board stays at one place)",
         "latitude_deg": _num(values["latitude_deg"]),
         "height_m": _num(values["height_m"]),
+        **_aiding_metadata(values),
     }
 
 
-def to_trace(motion: Motion, metadata: dict[str, str]) -> PhysicalTrace:
-    """Sensor quantities of a motion in trace units (°/s, g)."""
+def _aiding_metadata(values: dict[str, Any]) -> dict[str, str]:
+    """The metadata of the magnetic field and the GPS stream, when the trace has them."""
+    out: dict[str, str] = {}
+    m = field_n(values)
+    if m is not None:
+        source = f"WMM-2020 (ahrs), epoch {WMM_EPOCH}" if values["mag_field"] == "wmm" else "custom"
+        out["magnetic_field_enu_gauss"] = " ".join(repr(float(x)) for x in m)
+        out["magnetic_field_source"] = f"{source}, at the start point, constant over the trace"
+    if values["gps_rate_hz"] > 0:
+        out["gps_rate_hz"] = _num(values["gps_rate_hz"])
+        out["gps_latency_s"] = _num(values["gps_latency_s"])
+        out["longitude_deg"] = _num(values["longitude_deg"])
+    return out
+
+
+def to_trace(motion: Motion, metadata: dict[str, str], values: dict[str, Any] | None = None) -> PhysicalTrace:
+    """Sensor quantities of a motion in trace units (°/s, g), with the magnetic field and the GPS
+    stream of the aiding keys in ``values`` (none without them)."""
+    m = None if values is None else field_n(values)
+    gps = None if values is None or values["gps_rate_hz"] <= 0 else _gps(motion, values)
     return PhysicalTrace(
         t_s=motion.t_s,
         gyro_dps=np.degrees(motion.gyro_rad_s()),
         accel_g=motion.specific_force() / earth.G0,
+        mag_gauss=None
+        if m is None
+        else quat.rotate(quat.conjugate(motion.q_nb), np.broadcast_to(m, motion.v_n.shape)),
         truth_q=motion.q_nb,
         moving=motion.moving(),
         metadata=metadata,
+        gps=gps,
     )
+
+
+def _gps(motion: Motion, values: dict[str, Any]) -> Array:
+    """The GPS columns (n, 5): a fix (ground speed, course, latitude, longitude, height: the truth) on
+    the first sample at or after each multiple of 1/gps_rate (from t = 0; exact integer arithmetic on
+    the sample index, so chunks agree), NaN elsewhere. Longitude: the start's plus the east
+    displacement over the start's radius of the prime vertical (as the latitude uses R_N)."""
+    rate = parse_rate(str(values["rate_hz"]), "synth")
+    ratio = Fraction(str(values["gps_rate_hz"])) / rate  # GPS epochs per sample
+    index = np.rint(motion.t_s * float(rate)).astype(np.int64)
+
+    def epoch(i: NDArray[np.int64]) -> NDArray[np.int64]:
+        return (i * ratio.numerator) // ratio.denominator
+
+    fix = (index == 0) | (epoch(index) != epoch(index - 1))
+    v_e, v_n = motion.v_n[:, 0], motion.v_n[:, 1]
+    lat0 = math.radians(float(values["latitude_deg"]))
+    r_e = float(earth.radii(lat0)[1]) + float(values["height_m"])
+    lon = float(values["longitude_deg"]) + np.degrees(motion.east_m / (r_e * math.cos(lat0)))
+    course = np.mod(np.degrees(np.arctan2(v_e, v_n)), 360.0)
+    cols = np.stack(
+        [
+            np.hypot(v_e, v_n),
+            np.where(course >= 360.0, 0.0, course),
+            np.degrees(motion.lat_rad),
+            lon,
+            motion.height_m,
+        ],
+        axis=1,
+    )
+    cols[~fix] = np.nan
+    return cols

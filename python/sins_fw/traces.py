@@ -103,7 +103,40 @@ PHYSICAL_COLUMNS: tuple[Column, ...] = (
     Column(
         "moving", "0/1", "1 where the body moves relative to the navigation frame", "flag", "moving", False
     ),
+    *(
+        Column(
+            name,
+            unit,
+            f"{what}; a row of five NaN: no fix at this sample",
+            group="gps",
+            required=False,
+            nan_allowed=True,
+        )
+        for name, unit, what in (
+            ("gps_speed_mps", "m/s", "GPS ground speed"),
+            ("gps_course_deg", "°", "GPS course over ground, clockwise from true north (0 ≤ c < 360)"),
+            ("gps_lat_deg", "°", "GPS latitude, WGS-84"),
+            ("gps_lon_deg", "°", "GPS longitude, WGS-84"),
+            ("gps_height_m", "m", "GPS height above the WGS-84 ellipsoid"),
+        )
+    ),
 )
+#: The GPS stream's columns (:func:`check_gps`).
+GPS_COLUMNS: tuple[str, ...] = (
+    "gps_speed_mps",
+    "gps_course_deg",
+    "gps_lat_deg",
+    "gps_lon_deg",
+    "gps_height_m",
+)
+#: Each GPS column's allowed range (closed, except the course's upper end).
+_GPS_RANGES: dict[str, tuple[float, float, str]] = {
+    "gps_speed_mps": (0.0, math.inf, "≥ 0 m/s"),
+    "gps_course_deg": (0.0, 360.0, "0 ≤ course < 360°"),
+    "gps_lat_deg": (-90.0, 90.0, "−90…90°"),
+    "gps_lon_deg": (-180.0, 180.0, "−180…180°"),
+    "gps_height_m": (-1.0e4, 1.0e5, "−10 000…100 000 m"),
+}
 
 #: The 15 DOUT words of one burst read, in bus order: the don't-care answer to the 0x4200 command
 #: frame, then the 14 output registers 0x02…0x1C.
@@ -674,6 +707,9 @@ class _Checker:
     #: How the time column was read (its unit), for the hint of a gap that is a time-unit mistake.
     time_field: _Field | None = None
 
+    #: The trace's metadata (the GPS stream's keys are checked with its first rows).
+    metadata: Mapping[str, str] = field(default_factory=dict)
+
     def col(self, name: str) -> str:
         """A column as the messages name it: the file's name, and the trace's when they differ."""
         return f"`{self.labels[name]}` (read as `{name}`)" if name in self.labels else f"`{name}`"
@@ -708,6 +744,10 @@ class _Checker:
                     )
         if "truth_qw" in cols:
             self._check_truth(np.stack([cols[f"truth_q{c}"] for c in "wxyz"], axis=1), row0)
+        if GPS_COLUMNS[0] in cols:
+            if row0 == 0:
+                gps_latency_s(self.metadata, f"{self.src}: metadata")
+            check_gps(cols, lambda i: f"{self.src}: {self.where(row0 + i)}")
         self._check_time(cols["t_s"], row0)
         self.rows_seen += len(cols["t_s"])
         if self.plausibility is not None:
@@ -878,7 +918,7 @@ def _open_csv(
     def where(row: int) -> str:
         return f"line {header_line + 1 + row} (row {row})"
 
-    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields)
+    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields, metadata)
     _note_conversions(metadata, fields)
     blocks = _csv_blocks(p, fh, head, header_line, fields, sep, rows, checker)
     return _Source(metadata, [f.name for f in fields if f.name], blocks)
@@ -904,11 +944,20 @@ def _checker(
     max_gap_periods: float,
     where: Callable[[int], str],
     fields: list[_Field],
+    metadata: Mapping[str, str],
 ) -> _Checker:
     labels = {f.name: f.source for f in fields if f.name and f.name != f.source}
     t_field = next(f for f in fields if f.name == "t_s")
     checker = _Checker(
-        schema, src, float(1 / rate), allow_gaps, max_gap_periods, where, labels=labels, time_field=t_field
+        schema,
+        src,
+        float(1 / rate),
+        allow_gaps,
+        max_gap_periods,
+        where,
+        labels=labels,
+        time_field=t_field,
+        metadata=metadata,
     )
     if schema is PHYSICAL_SCHEMA:
         checker.plausibility = _Plausibility(src, float(1 / rate), {f.name: f for f in fields if f.name})
@@ -1143,7 +1192,7 @@ def _open_h5(
     def where(row: int) -> str:
         return f"row {row}"
 
-    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields)
+    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields, metadata)
     _note_conversions(metadata, fields)
     return _Source(
         metadata, [str(x.name) for x in fields], _h5_blocks(p, f, fields, schema, int(length), rows, checker)
@@ -1468,6 +1517,7 @@ class PhysicalTrace(_TraceFile):
     truth_q: Array | None = None
     moving: NDArray[np.bool_] | None = None
     metadata: dict[str, str] = field(default_factory=dict)
+    gps: Array | None = None
 
     schema: ClassVar[_Schema] = PHYSICAL_SCHEMA
     _GROUPS: ClassVar[dict[str, tuple[str, ...]]] = {
@@ -1478,6 +1528,7 @@ class PhysicalTrace(_TraceFile):
         "temp_c": ("temp_c",),
         "truth_q": tuple(f"truth_q{c}" for c in "wxyz"),
         "moving": ("moving",),
+        "gps": GPS_COLUMNS,
     }
 
     def __post_init__(self) -> None:
@@ -1548,7 +1599,7 @@ class PhysicalTrace(_TraceFile):
                 fields[attr] = np.stack(arrays, axis=1) if len(names) > 1 else arrays[0]
         if "moving" in fields:
             fields["moving"] = fields["moving"].astype(bool)
-        for attr in ("gyro_dps", "accel_g", "mag_gauss", "baro_mbar", "temp_c", "truth_q"):
+        for attr in ("gyro_dps", "accel_g", "mag_gauss", "baro_mbar", "temp_c", "truth_q", "gps"):
             if attr in fields:
                 fields[attr] = fields[attr].astype(np.float64)
         return cls(t_s=np.asarray(cols["t_s"], dtype=np.float64), metadata=dict(metadata), **fields)
@@ -1689,7 +1740,13 @@ def validated(
             src = f"<{chunk.schema.title} in memory>"
             rate = _check_metadata(chunk.metadata, chunk.schema, f"{src}: metadata")
             checker = _Checker(
-                chunk.schema, src, float(1 / rate), allow_gaps, max_gap_periods, lambda r: f"row {r}"
+                chunk.schema,
+                src,
+                float(1 / rate),
+                allow_gaps,
+                max_gap_periods,
+                lambda r: f"row {r}",
+                metadata=chunk.metadata,
             )
         cols = chunk.columns()
         lengths = {n: len(a) for n, a in cols.items()}
@@ -1709,3 +1766,65 @@ def _concat(cls: type[_T], chunks: Iterator[_T]) -> _T:
     parts = [t.columns() for t in traces]
     cols = {n: np.concatenate([p[n] for p in parts]) for n in parts[0]}
     return cls.from_columns(cols, traces[0].metadata)
+
+
+# ---------------------------------------------------------------------------------------------------
+# The optional GPS stream of a physical trace (docs/traces.md, "GPS stream")
+# ---------------------------------------------------------------------------------------------------
+
+
+def gps_latency_s(metadata: Mapping[str, str], where: str) -> float:
+    """The GPS stream's latency from the metadata key ``gps_latency_s`` (required with the GPS columns):
+    a fix reaches the firmware that many seconds after its time of validity (its row's ``t_s``)."""
+    text = metadata.get("gps_latency_s")
+    if text is None:
+        raise TraceError(
+            f"{where}: `gps_latency_s` is missing; expected the GPS receiver's latency in s (e.g. 0.1) "
+            "with the gps_* columns"
+        )
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0.0 <= value <= 10.0):
+        raise TraceError(f"{where}: `gps_latency_s` is `{text}`; expected a number of seconds in 0…10")
+    if "gps_rate_hz" in metadata:
+        parse_rate(metadata["gps_rate_hz"], where)
+    return value
+
+
+def check_gps(cols: Mapping[str, np.ndarray], where: Callable[[int], str]) -> None:
+    """The GPS columns of a block of rows: a row holds a fix (five numbers in range) or none (five
+    NaN); ``where(i)`` names row i of the block."""
+    block = np.stack([cols[n] for n in GPS_COLUMNS], axis=1)
+    nan = np.isnan(block)
+    partial = nan.any(axis=1) & ~nan.all(axis=1)
+    if partial.any():
+        i = int(np.argmax(partial))
+        name = GPS_COLUMNS[int(np.argmax(nan[i]))]
+        raise TraceError(
+            f"{where(i)}, column `{name}`: NaN in only some GPS columns; expected all five NaN (no fix "
+            "at this sample) or none"
+        )
+    for k, name in enumerate(GPS_COLUMNS):
+        lo, hi, allowed = _GPS_RANGES[name]
+        x = block[:, k]
+        with np.errstate(invalid="ignore"):
+            bad = (x < lo) | (x >= hi if name == "gps_course_deg" else x > hi)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise TraceError(f"{where(i)}, column `{name}`: found {float(x[i])!r}; expected {allowed}")
+
+
+def gps_fixes(trace: PhysicalTrace, t_s: Array) -> tuple[Array, Array, Array] | None:
+    """The GPS fixes of a (validated) trace or chunk: the times ``t_s`` of its rows holding a fix (the
+    trace's times as the emulator takes them), their ground speed (m/s) and course (degrees); None
+    without a GPS stream."""
+    if trace.gps is None:
+        return None
+    has = ~np.isnan(trace.gps[:, 0])
+    return (
+        np.ascontiguousarray(t_s[has]),
+        np.ascontiguousarray(trace.gps[has, 0]),
+        np.ascontiguousarray(trace.gps[has, 1]),
+    )

@@ -43,6 +43,14 @@ REGISTER_WORDS = "registers/words"
 REGISTER_ND = "registers/nd"
 REGISTER_EA = "registers/ea"
 
+#: The DCM's drift-cancellation terms (one scalar series per component; none for the other
+#: algorithms): ω_P and ω_I (°/s), the roll–pitch and yaw errors, |R·Rᵀ − I|.
+DCM_OMEGA_P = "dcm/omega_p"
+DCM_OMEGA_I = "dcm/omega_i"
+DCM_ERROR_RP = "dcm/error_rp"
+DCM_ERROR_YAW = "dcm/error_yaw"
+DCM_ORTHOGONALITY = "dcm/orthogonality"
+
 BUDGET_BUSY = "budget/busy"
 BUDGET_FINISH = "budget/finish"
 BUDGET_DEADLINE = "budget/deadline"

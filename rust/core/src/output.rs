@@ -21,6 +21,24 @@ pub struct CycleRow {
     pub pos: [f64; 3],
 }
 
+/// One attitude step's drift-cancellation terms (the algorithms that have them: the DCM; no rows
+/// for the others).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CorrectionRow {
+    /// The step (as [`CycleRow::step`]).
+    pub step: u64,
+    /// ω_P, rad/s, body axes.
+    pub omega_p: [f64; 3],
+    /// ω_I, rad/s, body axes.
+    pub omega_i: [f64; 3],
+    /// The roll–pitch error vector, body axes.
+    pub error_rp: [f64; 3],
+    /// The yaw error vector, body axes.
+    pub error_yaw: [f64; 3],
+    /// |R·Rᵀ − I| (largest element) after renormalisation.
+    pub orthogonality: f64,
+}
+
 /// One burst read.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReadRow {
@@ -113,6 +131,8 @@ pub struct Output {
     pub reads: Vec<ReadRow>,
     /// One row per timer tick.
     pub budget: Vec<BudgetRow>,
+    /// One row per attitude step of an algorithm with drift-cancellation terms (the DCM).
+    pub corrections: Vec<CorrectionRow>,
     /// Events of every model, in time order.
     pub events: Vec<Event>,
 }
@@ -123,6 +143,7 @@ impl Output {
         self.cycles.extend(other.cycles);
         self.reads.extend(other.reads);
         self.budget.extend(other.budget);
+        self.corrections.extend(other.corrections);
         self.events.extend(other.events);
     }
 }
@@ -131,11 +152,11 @@ impl Output {
 pub const READ_WORDS: usize = 15;
 
 /// One output column as the binding hands it to Python (`sins_fw._core.OUTPUT_COLUMNS`): a field of
-/// [`CycleRow`], [`ReadRow`] or [`BudgetRow`] under its table's prefix, in the order `Emulator.take`
+/// [`CycleRow`], [`ReadRow`], [`BudgetRow`] or [`CorrectionRow`] under its table's prefix, in the order `Emulator.take`
 /// returns them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Column {
-    /// Key in `Emulator.take`'s dict: `cycle_`, `read_` or `budget_` and the row's field.
+    /// Key in `Emulator.take`'s dict: `cycle_`, `read_`, `budget_` or `dcm_` and the row's field.
     pub name: &'static str,
     /// Unit of its values.
     pub unit: &'static str,
@@ -217,6 +238,12 @@ pub const COLUMNS: &[Column] = &[
     col("budget_deadline_ps", "ps", "the next tick: the deadline of this one"),
     col("budget_step", "0/1", "this tick completed an attitude step"),
     col("budget_overrun", "0/1", "this tick arrived while the previous ISR was running"),
+    col("dcm_step", "1", "DCM only (no rows for the other algorithms): the attitude step of the row"),
+    col("dcm_omega_p", "rad/s", "DCM: the proportional correction ω_P = K_P·e, body axes"),
+    col("dcm_omega_i", "rad/s", "DCM: the integrator ω_I, body axes"),
+    col("dcm_error_rp", "1", "DCM: the roll–pitch error ĝ × r₃ (centripetal-compensated), body axes"),
+    col("dcm_error_yaw", "1", "DCM: the yaw error (magnetometer or GPS course), body axes"),
+    col("dcm_orthogonality", "1", "DCM: |R·Rᵀ − I| (largest element) after renormalisation"),
 ];
 
 /// Whether `names` are the names of [`COLUMNS`], in order: lets the binding check its column list

@@ -14,6 +14,7 @@ use sins_core::device::replay::{ReplaySlave, RECORDED_WORDS};
 use sins_core::device::Physical;
 use sins_core::emulator::{price_list, CostTerm, Emulator as Core, Output, Progress, Sensor};
 use sins_core::events::Event;
+use sins_core::firmware::GpsFix;
 use sins_core::numerics::{iq, Scalar};
 use sins_core::profile::{IqFormats, Numeric, Profile};
 use sins_core::timing::{CostTable, StageCosts};
@@ -26,6 +27,7 @@ use crate::event_dict;
 trait Run: Send {
     fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error>;
     fn push_words(&mut self, t: &[f64], words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error>;
+    fn push_gps(&mut self, fixes: &[GpsFix]) -> Result<(), Error>;
     fn end(&mut self);
     fn run(&mut self) -> Result<Progress, Error>;
     fn take(&mut self) -> Output;
@@ -75,6 +77,9 @@ where
     }
     fn push_words(&mut self, t: &[f64], words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error> {
         Inputs::push_words(self, t, words)
+    }
+    fn push_gps(&mut self, fixes: &[GpsFix]) -> Result<(), Error> {
+        Core::push_gps(self, fixes)
     }
     fn end(&mut self) {
         Inputs::end(self)
@@ -280,6 +285,31 @@ impl Emulator {
         guard(|| iq::with_formats(&self.formats, || inner.push_words(&t, &rows)))?.map_err(to_py)?.map_err(to_py)
     }
 
+    /// Append fixes of the board's GPS stream (from the first call on, the board has a GPS): t (s, the
+    /// fix's time of validity on the input's clock), ground speed (m/s) and course over ground
+    /// (degrees from true north), one per fix, and the receiver's latency (s): each fix reaches the
+    /// firmware at t + latency. Give a chunk's fixes before its physical input.
+    fn push_gps(
+        &mut self,
+        t: PyReadonlyArray1<'_, f64>,
+        latency_s: f64,
+        speed_mps: PyReadonlyArray1<'_, f64>,
+        course_deg: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let (t, v, c) = (t.as_array(), speed_mps.as_array(), course_deg.as_array());
+        if v.len() != t.len() || c.len() != t.len() {
+            return Err(to_py(Error::Input(format!(
+                "GPS fixes: {} times, {} speeds and {} courses; expected one of each per fix",
+                t.len(),
+                v.len(),
+                c.len()
+            ))));
+        }
+        let fixes: Vec<GpsFix> =
+            (0..t.len()).map(|i| GpsFix { t_s: t[i], latency_s, ground_speed_mps: v[i], course_deg: c[i] }).collect();
+        self.inner().push_gps(&fixes).map_err(to_py)
+    }
+
     /// A hint: the input will end at `t_s` (seconds, the time of its last row, as pushed). The
     /// output columns are then sized once for the whole run, extrapolated from the first run that
     /// produces rows, instead of growing by doubling (which copies them). Only worth giving when
@@ -361,7 +391,14 @@ impl Emulator {
         d.set_item("arith_section", prices.arith_section)?;
         for stage in &prices.stages {
             let counted = stage.counts.map(|_| stage.terms.as_slice());
-            d.set_item(stage.name, stage_dict(py, stage.cycles, counted, &stage.terms)?)?;
+            let sd = stage_dict(py, stage.cycles, counted, &stage.terms)?;
+            // The stage's parts (the DCM's attitude update), each priced like a stage, in order.
+            let parts = PyDict::new(py);
+            for part in &stage.parts {
+                parts.set_item(part.name, stage_dict(py, part.cycles, Some(&part.terms), &part.terms)?)?;
+            }
+            sd.set_item("parts", parts)?;
+            d.set_item(stage.name, sd)?;
         }
         Ok(d)
     }
@@ -523,6 +560,12 @@ output_columns! {
     budget_deadline_ps: u64 = budget.deadline_ps,
     budget_step: bool = budget.step,
     budget_overrun: bool = budget.overrun,
+    dcm_step: u64 = corrections.step,
+    dcm_omega_p: [f64; 3] = corrections.omega_p,
+    dcm_omega_i: [f64; 3] = corrections.omega_i,
+    dcm_error_rp: [f64; 3] = corrections.error_rp,
+    dcm_error_yaw: [f64; 3] = corrections.error_yaw,
+    dcm_orthogonality: f64 = corrections.orthogonality,
 }
 
 fn bus_log_dict<'py>(py: Python<'py>, log: &[LinkRecord]) -> PyResult<Bound<'py, PyDict>> {

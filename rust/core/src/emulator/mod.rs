@@ -93,6 +93,15 @@ impl<T: Scalar> Emulator<T> {
     }
 }
 
+impl<T: Scalar, S: Sensor> Emulator<T, S> {
+    /// Append fixes of the board's GPS stream (times on the input's clock; see
+    /// [`crate::firmware::Firmware::push_gps`]). From the first call on, the board has a GPS; give each
+    /// chunk's fixes before the chunk's physical input, so every fix is there before it is due.
+    pub fn push_gps(&mut self, fixes: &[crate::firmware::GpsFix]) -> Result<()> {
+        self.fw.firmware_mut().push_gps(fixes)
+    }
+}
+
 impl<T: Scalar> Emulator<T, ReplaySlave> {
     /// The board and firmware of a profile reading recorded bursts instead of the device model (a
     /// raw-register trace): push them with [`Emulator::push_words`]. The profile's device timing

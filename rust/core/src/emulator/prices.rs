@@ -1,13 +1,14 @@
 //! Every compute stage's price as the budget report shows it: one call for the binding
 //! ([`price_list`]), so the timing model's internals stay behind the emulator.
 
-use crate::firmware::isr::StageCosts;
+use crate::firmware::isr::{StageCost, StageCosts};
 use crate::firmware::update_period_s;
 use crate::numerics::counter::OpCounts;
 use crate::profile::Profile;
 use crate::timing::costs::CostTable;
 use crate::timing::stages::{
-    arith_for, arith_section, arith_terms, entry_terms, exit_terms, location_factor, ArithSection, CostTerm,
+    arith_for, arith_section, arith_terms, attitude_parts, entry_terms, exit_terms, location_factor, ArithSection,
+    CostTerm,
 };
 
 /// One stage's price: its cycles, the operations counted (none for the interrupt's entry and
@@ -22,6 +23,9 @@ pub struct StagePrice {
     pub counts: Option<OpCounts>,
     /// Each term: a count at one cost-table entry's unit cost.
     pub terms: Vec<CostTerm>,
+    /// The stage's parts, in order, each priced like a stage (the DCM's attitude update:
+    /// `timing::stages::attitude_parts`); empty for the others.
+    pub parts: Vec<StagePrice>,
 }
 
 /// The prices of every compute stage of a profile's firmware.
@@ -47,6 +51,7 @@ pub fn price_list(profile: &Profile, costs: &CostTable, stages: &StageCosts) -> 
         cycles: stages.entry,
         counts: None,
         terms: entry_terms(&costs.interrupt).to_vec(),
+        parts: Vec::new(),
     }];
     for (name, stage) in [
         ("decode", stages.decode),
@@ -55,14 +60,24 @@ pub fn price_list(profile: &Profile, costs: &CostTable, stages: &StageCosts) -> 
         ("navigation", stages.navigation),
         ("interpolation", stages.interpolation),
     ] {
-        let terms = arith_terms(&stage.counts, section, arith).to_vec();
-        list.push(StagePrice { name, cycles: stage.cycles, counts: Some(stage.counts), terms });
+        let price = |name, stage: &StageCost, parts| StagePrice {
+            name,
+            cycles: stage.cycles,
+            counts: Some(stage.counts),
+            terms: arith_terms(&stage.counts, section, arith).to_vec(),
+            parts,
+        };
+        // The profile was validated when the emulator was built: its parts count as its stages did.
+        let parts = if name == "attitude" { attitude_parts(profile, costs).unwrap_or_default() } else { Vec::new() };
+        let parts = parts.iter().map(|(n, c)| price(n, c, Vec::new())).collect();
+        list.push(price(name, &stage, parts));
     }
     list.push(StagePrice {
         name: "exit",
         cycles: stages.exit,
         counts: None,
         terms: exit_terms(&costs.interrupt).to_vec(),
+        parts: Vec::new(),
     });
     PriceList {
         update_period_s: update_period_s(profile),

@@ -30,15 +30,27 @@ pub struct StepInputs<'a, T> {
     pub specific_force: Option<Vec3<T>>,
     /// The latest magnetic field decoded, body axes (gauss).
     pub magnetic_field: Option<Vec3<T>>,
-    /// The latest GPS report, when the board has a GPS.
-    pub gps: Option<GpsAiding<T>>,
+    /// The GPS: none on the board, a stream with no fix usable yet, or the latest fix usable.
+    pub gps: GpsInput<T>,
 }
 
 impl<'a, T> StepInputs<'a, T> {
     /// Rates only (and the navigation frame's rate): what the open-loop algorithms take.
     pub fn rates(rates: &'a [Vec3<T>], nav_rate: Option<Vec3<T>>) -> Self {
-        StepInputs { rates, nav_rate, specific_force: None, magnetic_field: None, gps: None }
+        StepInputs { rates, nav_rate, specific_force: None, magnetic_field: None, gps: GpsInput::None }
     }
+}
+
+/// What the firmware has of a GPS at one update.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum GpsInput<T> {
+    /// The board has no GPS (the trace has no GPS stream).
+    #[default]
+    None,
+    /// A GPS stream, but no fix is usable yet (the first one is still within its latency).
+    Waiting,
+    /// The latest fix usable at this update.
+    Fix(GpsAiding<T>),
 }
 
 /// One GPS report as the attitude firmware uses it.
@@ -56,6 +68,17 @@ pub trait AttitudeUpdate<T: Scalar>: std::fmt::Debug + Send {
     fn samples_per_update(&self) -> usize;
     /// One update of the attitude `q` (body to navigation), whose matrix C_b^n is `c_bn`.
     fn step(&mut self, q: &mut Quat<T>, c_bn: &Mat3<T>, inputs: &StepInputs<'_, T>) -> Result<()>;
+    /// [`AttitudeUpdate::step`], calling `mark` with the name of each of its parts as the part ends
+    /// (the timing model prices the parts between the marks). Algorithms with no parts call none.
+    fn step_marked(
+        &mut self,
+        q: &mut Quat<T>,
+        c_bn: &Mat3<T>,
+        inputs: &StepInputs<'_, T>,
+        _mark: &mut dyn FnMut(&'static str),
+    ) -> Result<()> {
+        self.step(q, c_bn, inputs)
+    }
     /// The attitude was overwritten: forget what the update carries from step to step.
     fn restart(&mut self) {}
     /// C_b^n as the update holds it, when it carries a matrix of its own (the DCM): the firmware

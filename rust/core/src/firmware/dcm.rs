@@ -33,7 +33,7 @@
 //! resolves errors down to 2⁻³⁰/(K_I·T) = 1.5e-5 rad (8.8e-4°). `integrator_does_not_creep_under_iq`
 //! shows both.
 
-use super::attitude::{wrong_count, AttitudeUpdate, Correction, StepInputs};
+use super::attitude::{wrong_count, AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
 use super::quat::body_rate_nav;
 use super::{lit, Mat3, Quat, Vec3};
 use crate::numerics::{QClass, Scalar};
@@ -58,6 +58,8 @@ pub struct Dcm<T> {
     sin_decl: T,
     yaw_reference: YawReference,
     centripetal: bool,
+    /// Ground speed below which the GPS course gives no yaw error, m/s.
+    gps_min_speed: T,
     /// The source's printed roll–pitch sign (tests: it converges to the inverted attitude).
     printed_sign: bool,
     last: Correction,
@@ -82,6 +84,7 @@ impl<T: Scalar> Dcm<T> {
             sin_decl: T::from_f64(decl.sin(), QClass::Quat),
             yaw_reference: p.yaw_reference,
             centripetal: p.centripetal,
+            gps_min_speed: T::from_f64(p.gps_min_speed_mps, QClass::Accel),
             printed_sign: false,
             last: Correction::default(),
         }
@@ -107,10 +110,13 @@ impl<T: Scalar> Dcm<T> {
         if let Some(f) = inputs.specific_force {
             let mut g = f;
             if self.centripetal {
-                let v = self.gps(inputs, "centripetal")?.ground_speed;
-                // a = ω × [V, 0, 0] = [0, ω_z V, −ω_y V].
-                g[1] = (g[1] - gyro[2] * v).to_class(QClass::Accel);
-                g[2] = (g[2] + gyro[1] * v).to_class(QClass::Accel);
+                // Until the first fix is usable, no compensation (V unknown).
+                if let Some(fix) = self.gps(inputs, "centripetal")? {
+                    let v = fix.ground_speed;
+                    // a = ω × [V, 0, 0] = [0, ω_z V, −ω_y V].
+                    g[1] = (g[1] - gyro[2] * v).to_class(QClass::Accel);
+                    g[2] = (g[2] + gyro[1] * v).to_class(QClass::Accel);
+                }
             }
             if let Some(g_hat) = unit(&g) {
                 e_rp = cross(&g_hat, &r3).map(|x| x.to_class(QClass::Quat));
@@ -138,10 +144,14 @@ impl<T: Scalar> Dcm<T> {
                     None
                 }
             }
-            YawReference::Gps => {
-                let c = self.gps(inputs, "yaw_reference")?.course;
-                Some(r[0][0] * c.cos() - r[1][0] * c.sin())
-            }
+            // The course means nothing at rest: no yaw error below the minimum ground speed.
+            YawReference::Gps => match self.gps(inputs, "yaw_reference")? {
+                Some(fix) if fix.ground_speed >= self.gps_min_speed => {
+                    let c = fix.course;
+                    Some(r[0][0] * c.cos() - r[1][0] * c.sin())
+                }
+                _ => None,
+            },
         };
         let e_yaw = match e_z {
             Some(ez) => r3.map(|x| (ez.to_class(QClass::Quat) * x).to_class(QClass::Quat)),
@@ -151,23 +161,29 @@ impl<T: Scalar> Dcm<T> {
         Ok([total, e_rp, e_yaw])
     }
 
-    fn gps(&self, inputs: &StepInputs<'_, T>, key: &str) -> Result<super::attitude::GpsAiding<T>> {
-        inputs.gps.ok_or_else(|| {
-            Error::Config(format!(
+    /// The latest usable fix (None while the stream's first fix is within its latency); an error when
+    /// the board has no GPS at all.
+    fn gps(&self, inputs: &StepInputs<'_, T>, key: &str) -> Result<Option<GpsAiding<T>>> {
+        match inputs.gps {
+            GpsInput::Fix(fix) => Ok(Some(fix)),
+            GpsInput::Waiting => Ok(None),
+            GpsInput::None => Err(Error::Config(format!(
                 "key `firmware.dcm.{key}` needs a GPS stream and the trace has none (give the trace a GPS \
                  stream, or set `firmware.dcm.centripetal` = false and `firmware.dcm.yaw_reference` to \
                  \"magnetometer\" or \"none\")"
-            ))
-        })
+            ))),
+        }
     }
-}
-
-impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
-    fn samples_per_update(&self) -> usize {
-        2
-    }
-
-    fn step(&mut self, q: &mut Quat<T>, c_bn: &Mat3<T>, inputs: &StepInputs<'_, T>) -> Result<()> {
+    /// One update, calling `mark` with each part's name as the part ends (the timing model prices the
+    /// parts from the operations counted between the marks; the firmware passes a no-op).
+    #[inline(always)]
+    fn step_in_parts(
+        &mut self,
+        q: &mut Quat<T>,
+        c_bn: &Mat3<T>,
+        inputs: &StepInputs<'_, T>,
+        mut mark: impl FnMut(&'static str),
+    ) -> Result<()> {
         let (w0, w1) = match inputs.rates {
             [a, b] => (*a, *b),
             other => return Err(wrong_count(other.len(), 2, "DCM")),
@@ -178,7 +194,9 @@ impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
         if let Some(w_in) = inputs.nav_rate {
             w = body_rate_nav(&r, &w, &w_in);
         }
+        mark("rate");
         let [total, e_rp, e_yaw] = self.errors(&r, &w1, inputs)?;
+        mark("errors");
         let omega_p = total.map(|e| (self.kp * e).to_class(QClass::Rate));
         for (wi, e) in self.omega_i.iter_mut().zip(total) {
             let next = (*wi + self.ki_dt * e).to_class(QClass::Quat);
@@ -190,11 +208,16 @@ impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
                 next
             };
         }
+        mark("pi");
         let dtheta: Vec3<T> =
             [0, 1, 2].map(|i| ((w[i] + omega_p[i] + self.omega_i[i]) * self.dt).to_class(QClass::Rate));
+        mark("increment");
         let mut next = matrix_update(&r, &dtheta);
+        mark("matrix_update");
         let orthogonality = renormalise(&mut next);
+        mark("renormalise");
         *q = quat_from_dcm(&next);
+        mark("quaternion");
         self.r = Some(next);
         let f = |v: Vec3<T>| v.map(|x| x.to_f64());
         self.last = Correction {
@@ -205,6 +228,26 @@ impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
             orthogonality,
         };
         Ok(())
+    }
+}
+
+impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
+    fn samples_per_update(&self) -> usize {
+        2
+    }
+
+    fn step(&mut self, q: &mut Quat<T>, c_bn: &Mat3<T>, inputs: &StepInputs<'_, T>) -> Result<()> {
+        self.step_in_parts(q, c_bn, inputs, |_| {})
+    }
+
+    fn step_marked(
+        &mut self,
+        q: &mut Quat<T>,
+        c_bn: &Mat3<T>,
+        inputs: &StepInputs<'_, T>,
+        mark: &mut dyn FnMut(&'static str),
+    ) -> Result<()> {
+        self.step_in_parts(q, c_bn, inputs, mark)
     }
 
     fn restart(&mut self) {
@@ -367,7 +410,6 @@ mod tests {
     //! The analytic checks of issue 18, each with its derivation. A scenario gives the true attitude
     //! R(t) = C_b^n, the true body rate and the specific force; the DCM runs from the sensor values
     //! converted into the backend (`from_f64`), as the firmware receives them.
-    use super::super::attitude::GpsAiding;
     use super::*;
     use crate::numerics::{C28xF32Rn, C28xF32Rz, Counted, Iq};
     use crate::profile::Dcm as DcmProfile;
@@ -438,7 +480,7 @@ mod tests {
             let inputs = StepInputs {
                 specific_force: Some(f),
                 magnetic_field: Some(m),
-                gps: Some(gps),
+                gps: GpsInput::Fix(gps),
                 ..StepInputs::rates(&rates, None)
             };
             let c = dcm.matrix().unwrap_or(c0);

@@ -147,8 +147,7 @@ impl<T: Scalar> Isr<T> {
         &self.stages
     }
 
-    /// The firmware's variables, for tests that force a state.
-    #[cfg_attr(not(test), allow(dead_code))]
+    /// The firmware's variables (the GPS stream's fixes; tests that force a state).
     pub(crate) fn firmware_mut(&mut self) -> &mut Firmware<T> {
         &mut self.fw
     }
@@ -266,6 +265,8 @@ impl<T: Scalar> Isr<T> {
                     self.aligning = false;
                 }
             } else {
+                // The latest GPS fix that has reached the board by now (its time plus its latency).
+                self.fw.receive_gps(ps_to_s(board.ps(c)));
                 self.fw.update_attitude(self.schedule.rates())?;
                 c += self.stages.attitude.cycles;
                 self.maybe_nest(board, &mut c, k)?;
@@ -447,6 +448,16 @@ impl<T: Scalar> Isr<T> {
             self.report_state_out_of_range(&row);
         }
         self.out.cycles.push(row);
+        if let Some(c) = self.fw.correction() {
+            self.out.corrections.push(crate::output::CorrectionRow {
+                step: self.step,
+                omega_p: c.omega_p,
+                omega_i: c.omega_i,
+                error_rp: c.error_rp,
+                error_yaw: c.error_yaw,
+                orthogonality: c.orthogonality,
+            });
+        }
     }
 
     /// The first step whose firmware state is out of range: one error event naming what (later

@@ -25,14 +25,14 @@ mod state;
 pub mod state_check;
 
 pub use align::{level_attitude, LevelAligner};
-pub use attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, StepInputs};
+pub use attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
 pub use dcm::{attitude_from_acc_mag, run_samples as dcm_run_samples, Dcm};
 pub use decode::{gyro_lsb_dps, DecodeReport, Decoded, Decoder, ACCEL_LSB_G, PUBLISHED_GYRO_LSB_DPS};
 pub use euler::{euler_to_quat, EulerAngles, EulerExtractor};
 pub use nav::{EarthModel, EarthRates, NavState, SOMIGLIANA_K};
 pub use quat::{body_rate_nav, dcm, midpoint, normalise, quat_mul, Rk4};
 pub use rotvec::{coning_vector, increments, quat_from_rotvec, RotationVector};
-pub use state::{update_period_s, Firmware};
+pub use state::{update_period_s, Firmware, GpsFix};
 
 use crate::numerics::{QClass, Scalar};
 

@@ -4,7 +4,9 @@
 //! allocates.
 
 use super::align::{level_attitude, LevelAligner};
-use super::attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, StepInputs};
+use super::attitude::{
+    attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs,
+};
 use super::decode::{Decoded, Decoder};
 use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
@@ -48,6 +50,34 @@ pub struct Firmware<T: Scalar> {
     uses_magnetometer: bool,
     /// The latest magnetic field decoded, gauss.
     last_mag: Option<Vec3<T>>,
+    /// Fixes of the GPS stream not usable yet (in time order); None: the board has no GPS.
+    gps_pending: Option<std::collections::VecDeque<GpsFix>>,
+    /// The latest fix usable at the last update.
+    gps: GpsInput<T>,
+    /// When the latest fix taken reached the firmware, s.
+    gps_last_available: Option<f64>,
+    /// Fixes given so far (to name them in errors).
+    gps_given: u64,
+}
+
+/// One fix of a GPS stream as the trace gives it (what the firmware takes of a GPS report).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpsFix {
+    /// Time of validity, s (the trace's time, as the physical input's).
+    pub t_s: f64,
+    /// The receiver's latency, s: the fix reaches the firmware at `t_s + latency_s`.
+    pub latency_s: f64,
+    /// Ground speed, m/s.
+    pub ground_speed_mps: f64,
+    /// Course over ground, degrees clockwise from true north.
+    pub course_deg: f64,
+}
+
+impl GpsFix {
+    /// When the fix reaches the firmware, s.
+    pub fn available_s(&self) -> f64 {
+        self.t_s + self.latency_s
+    }
 }
 
 impl<T: Scalar> Firmware<T> {
@@ -87,6 +117,10 @@ impl<T: Scalar> Firmware<T> {
             uses_magnetometer,
             // The firmware's field variable before the first read: zero, as a C global starts.
             last_mag: uses_magnetometer.then_some([lit(0.0); 3]),
+            gps_pending: None,
+            gps: GpsInput::None,
+            gps_last_available: None,
+            gps_given: 0,
         })
     }
 
@@ -120,6 +154,56 @@ impl<T: Scalar> Firmware<T> {
         m
     }
 
+    /// Fixes of the board's GPS stream (in order of their arrival time `t_s + latency_s`, strictly
+    /// increasing; each value finite, speed ≥ 0, latency ≥ 0): from the first call on, the board has a
+    /// GPS. Errors name the fix (counted from the first fix ever given) and the field.
+    pub fn push_gps(&mut self, fixes: &[GpsFix]) -> Result<()> {
+        let pending = self.gps_pending.get_or_insert_with(Default::default);
+        if self.gps == GpsInput::None {
+            self.gps = GpsInput::Waiting;
+        }
+        for f in fixes {
+            let i = self.gps_given;
+            let bad = |field: &str, value: f64, expected: &str| {
+                Err(Error::Input(format!("GPS fix {i}: field `{field}` = {value}; expected {expected}")))
+            };
+            if !f.t_s.is_finite() {
+                return bad("t_s", f.t_s, "a finite time");
+            }
+            if !(f.latency_s.is_finite() && f.latency_s >= 0.0) {
+                return bad("latency_s", f.latency_s, "a finite number ≥ 0");
+            }
+            if !(f.ground_speed_mps.is_finite() && f.ground_speed_mps >= 0.0) {
+                return bad("ground_speed_mps", f.ground_speed_mps, "a finite number ≥ 0");
+            }
+            if !f.course_deg.is_finite() {
+                return bad("course_deg", f.course_deg, "a finite number of degrees");
+            }
+            if let Some(last) = pending.back().map(GpsFix::available_s).or(self.gps_last_available) {
+                if f.available_s() <= last {
+                    return bad("t_s", f.t_s, "a fix arriving (t_s + latency_s) after the previous one");
+                }
+            }
+            pending.push_back(*f);
+            self.gps_given += 1;
+        }
+        Ok(())
+    }
+
+    /// The latest GPS fix that has reached the firmware by `t_s` (the board's time, s): every fix with
+    /// `t_s + latency_s ≤ t_s` is taken in order, the last one kept.
+    pub fn receive_gps(&mut self, t_s: f64) {
+        let Some(pending) = &mut self.gps_pending else { return };
+        while let Some(fix) = pending.front().filter(|f| f.available_s() <= t_s).copied() {
+            pending.pop_front();
+            self.gps_last_available = Some(fix.available_s());
+            self.gps = GpsInput::Fix(GpsAiding {
+                ground_speed: T::from_f64(fix.ground_speed_mps, QClass::Accel),
+                course: T::from_f64(fix.course_deg.to_radians(), QClass::Angle),
+            });
+        }
+    }
+
     /// Earth and transport rates at the current navigation state.
     pub fn earth_rates(&self) -> EarthRates<T> {
         self.earth.rates(&self.nav)
@@ -128,13 +212,27 @@ impl<T: Scalar> Firmware<T> {
     /// Stage 2: attitude update from `rates_per_update()` samples of ω_ib^b (rad/s), with the
     /// navigation frame's rate when the profile corrects for it.
     pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
+        self.update_attitude_marked(rates, None)
+    }
+
+    /// [`Firmware::update_attitude`] calling `mark` as each part of the algorithm ends (the timing
+    /// model's breakdown; see [`AttitudeUpdate::step_marked`]).
+    pub fn update_attitude_marked(
+        &mut self,
+        rates: &[Vec3<T>],
+        mark: Option<&mut dyn FnMut(&'static str)>,
+    ) -> Result<()> {
         let nav_rate = if self.earth_rate { Some(self.earth_rates().w_in()) } else { None };
         let inputs = StepInputs {
             specific_force: self.last_accel,
             magnetic_field: self.last_mag,
+            gps: self.gps,
             ..StepInputs::rates(rates, nav_rate)
         };
-        self.attitude.step(&mut self.q, &self.c_bn, &inputs)?;
+        match mark {
+            None => self.attitude.step(&mut self.q, &self.c_bn, &inputs)?,
+            Some(mark) => self.attitude.step_marked(&mut self.q, &self.c_bn, &inputs, mark)?,
+        }
         self.c_bn = self.attitude.matrix().unwrap_or_else(|| dcm(&self.q));
         Ok(())
     }
@@ -211,6 +309,64 @@ impl<T: Scalar> Firmware<T> {
 mod tests {
     use super::*;
     use crate::profile::{Algorithm, Decode};
+
+    fn dcm_with(yaw: crate::profile::YawReference) -> Profile {
+        let mut p = Profile::default();
+        p.firmware.algorithm = Algorithm::Dcm;
+        p.firmware.dcm.yaw_reference = yaw;
+        p
+    }
+
+    fn fix(t_s: f64, latency_s: f64, course_deg: f64) -> GpsFix {
+        GpsFix { t_s, latency_s, ground_speed_mps: 20.0, course_deg }
+    }
+
+    /// A fix reaches the firmware at its time plus its latency, the latest one that has wins, and the
+    /// GPS yaw reference waits (no error, no yaw correction) until the first fix is there; without a
+    /// stream at all it names the key.
+    #[test]
+    fn gps_fixes_arrive_after_their_latency() {
+        let p = dcm_with(crate::profile::YawReference::Gps);
+        let rates = [[0.0; 3]; 2];
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        let e = fw.update_attitude(&rates).unwrap_err().to_string();
+        assert!(e.contains("firmware.dcm.yaw_reference") && e.contains("GPS stream"), "{e}");
+        let mut fw = Firmware::<f64>::new(&p).unwrap();
+        fw.push_gps(&[fix(1.0, 0.1, 90.0), fix(1.2, 0.1, 180.0), fix(1.4, 0.1, 270.0)]).unwrap();
+        fw.receive_gps(1.0999);
+        assert_eq!(fw.gps, GpsInput::Waiting);
+        fw.update_attitude(&rates).unwrap();
+        assert_eq!(fw.correction().unwrap().error_yaw, [0.0; 3], "no yaw error before the first fix");
+        fw.receive_gps(1.1);
+        let course = |fw: &Firmware<f64>| match fw.gps {
+            GpsInput::Fix(f) => f.course.to_degrees(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(course(&fw), 90.0);
+        fw.receive_gps(1.45);
+        assert!((course(&fw) - 180.0).abs() < 1e-12, "the latest fix arrived, not the one still in flight");
+        fw.update_attitude(&rates).unwrap();
+        // Level, nose east (R = I), course south: the yaw error turns the nose about up.
+        assert!(fw.correction().unwrap().error_yaw[2].abs() > 0.5);
+        fw.receive_gps(10.0);
+        assert!((course(&fw) - 270.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_gps_fixes_name_the_fix_and_field() {
+        let mut fw = Firmware::<f64>::new(&dcm_with(crate::profile::YawReference::Gps)).unwrap();
+        fw.push_gps(&[fix(1.0, 0.1, 0.0)]).unwrap();
+        for (bad, field) in [
+            (GpsFix { ground_speed_mps: -1.0, ..fix(2.0, 0.1, 0.0) }, "ground_speed_mps"),
+            (fix(2.0, -0.1, 0.0), "latency_s"),
+            (fix(2.0, 0.1, f64::NAN), "course_deg"),
+            (fix(f64::INFINITY, 0.1, 0.0), "t_s"),
+            (fix(0.9, 0.1, 0.0), "t_s"),
+        ] {
+            let e = fw.push_gps(&[bad]).unwrap_err().to_string();
+            assert!(e.contains("GPS fix 1") && e.contains(&format!("`{field}`")), "{e}");
+        }
+    }
 
     #[test]
     fn update_period_follows_the_schedule() {

@@ -591,6 +591,9 @@ pub struct Dcm {
     pub integrator_limit_dps: f64,
     /// Magnetic declination (the horizontal field's azimuth east of true north), degrees.
     pub declination_deg: f64,
+    /// Below this GPS ground speed the course over ground gives no yaw error (it is undefined at
+    /// rest), m/s.
+    pub gps_min_speed_mps: f64,
 }
 
 impl Default for Dcm {
@@ -604,6 +607,7 @@ impl Default for Dcm {
             centripetal: false,
             integrator_limit_dps: 5.0,
             declination_deg: 0.0,
+            gps_min_speed_mps: 2.0,
         }
     }
 }
@@ -617,6 +621,7 @@ impl Dcm {
         // ω_I is held in the direction-cosine class (Q30 under IQ: |x| < 2 rad/s = 114.6 °/s).
         check_range("firmware.dcm.integrator_limit_dps", self.integrator_limit_dps, 0.0, 90.0, "0…90 °/s")?;
         check_range("firmware.dcm.declination_deg", self.declination_deg, -180.0, 180.0, "−180…180 degrees")?;
+        check_range("firmware.dcm.gps_min_speed_mps", self.gps_min_speed_mps, 0.0, 100.0, "0…100 m/s")?;
         Ok(())
     }
 }

@@ -7,8 +7,8 @@
 use crate::error::Result;
 use crate::firmware::isr::{StageCost, StageCosts};
 use crate::firmware::schedule::{interpolate, MAX_SAMPLES};
-use crate::firmware::{Firmware, Vec3};
-use crate::numerics::counter::{count, count_as, Counted, OpCounts};
+use crate::firmware::{Firmware, GpsFix, Vec3};
+use crate::numerics::counter::{count, count_as, snapshot, Counted, OpCounts};
 use crate::profile::{CodeLocation, Numeric, Profile, Schedule};
 use crate::timing::costs::{ArithCosts, CostTable, InterruptCosts};
 
@@ -145,15 +145,76 @@ pub fn stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
     count_as(arith_section(profile.firmware.numeric) == ArithSection::Iq, || counted_stage_costs(profile, table))
 }
 
+/// X/Y/Z MAGN_OUT of the counting inputs: 0.25, −0.05, −0.4 gauss (positive and negative codes).
+const MAG_WORDS: [u16; 3] = [0x01F4, 0x3F9C, 0x3CE0];
+/// The GPS fix of the counting inputs (a board with a GPS moving at 20 m/s, course 30°).
+const GPS_FIX: GpsFix = GpsFix { t_s: 0.0, latency_s: 0.0, ground_speed_mps: 20.0, course_deg: 30.0 };
+
+/// The counting firmware of a profile at its representative inputs, ready for an update. It has a
+/// GPS (whether or not the algorithm uses it).
+struct Counting {
+    fw: Firmware<Counted>,
+    /// The rates of one update.
+    rates: Vec<Vec3<Counted>>,
+    /// The specific force.
+    f_b: Vec3<Counted>,
+}
+
+fn counting_firmware(profile: &Profile) -> Result<Counting> {
+    let mut fw = Firmware::<Counted>::new(profile)?;
+    fw.push_gps(&[GPS_FIX])?;
+    fw.receive_gps(GPS_FIX.available_s());
+    let lit = |x: f64| Counted(x);
+    let rates: Vec<Vec3<Counted>> = (0..fw.rates_per_update()).map(|i| RATES[i % 3].map(lit)).collect();
+    Ok(Counting { fw, rates, f_b: [lit(0.1), lit(-0.2), lit(9.8)] })
+}
+
+/// Decode one burst: the six inertial words, and X/Y/Z MAGN_OUT when the algorithm takes the field.
+fn decode_burst(fw: &mut Firmware<Counted>) {
+    fw.decode(&WORDS);
+    if fw.uses_magnetometer() {
+        fw.decode_magnetometer(&MAG_WORDS);
+    }
+}
+
+/// The operations of the attitude update's parts, in order, when the algorithm has parts (the DCM:
+/// `rate`, `errors`, `pi`, `increment`, `matrix_update`, `renormalise`, `quaternion`), each priced
+/// like a stage; the update's operations outside them (e.g. the earth-rate correction's rates) are
+/// `other`. Empty for the algorithms without parts. The same counting as [`stage_costs`].
+pub fn attitude_parts(profile: &Profile, table: &CostTable) -> Result<Vec<(&'static str, StageCost)>> {
+    count_as(arith_section(profile.firmware.numeric) == ArithSection::Iq, || {
+        let arith = arith_for(profile.firmware.numeric, table);
+        let factor = location_factor(profile, table);
+        let Counting { mut fw, rates, .. } = counting_firmware(profile)?;
+        decode_burst(&mut fw);
+        let mut marks: Vec<(&'static str, OpCounts)> = Vec::new();
+        let (result, total) =
+            count(|| fw.update_attitude_marked(&rates, Some(&mut |name| marks.push((name, snapshot())))));
+        result?;
+        let mut parts = Vec::with_capacity(marks.len() + 1);
+        let mut before = OpCounts::default();
+        for (name, at) in marks.iter().copied() {
+            parts.push((name, at - before));
+            before = at;
+        }
+        let rest = total - parts.iter().fold(OpCounts::default(), |a, (_, c)| a + *c);
+        if !parts.is_empty() && rest.total() > 0 {
+            parts.push(("other", rest));
+        }
+        Ok(parts
+            .into_iter()
+            .map(|(n, counts)| (n, StageCost { counts, cycles: price(&counts, arith, factor) }))
+            .collect())
+    })
+}
+
 fn counted_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
     let arith = arith_for(profile.firmware.numeric, table);
     let factor = location_factor(profile, table);
-    let mut fw = Firmware::<Counted>::new(profile)?;
+    let Counting { mut fw, rates, f_b } = counting_firmware(profile)?;
     let lit = |x: f64| Counted(x);
-    let rates: Vec<Vec3<Counted>> = (0..fw.rates_per_update()).map(|i| RATES[i % 3].map(lit)).collect();
-    let f_b: Vec3<Counted> = [lit(0.1), lit(-0.2), lit(9.8)];
 
-    let (_, decode) = count(|| fw.decode(&WORDS));
+    let (_, decode) = count(|| decode_burst(&mut fw));
     let (attitude, attitude_counts) = count(|| fw.update_attitude(&rates));
     attitude?;
     let (_, euler) = count(|| fw.euler());
@@ -201,6 +262,57 @@ mod tests {
     }
 
     const PINNED_RK4: (u64, u64, u64, u64) = (113, 167, 12, 1);
+
+    fn dcm_profile(yaw: crate::profile::YawReference) -> Profile {
+        let mut p = Profile::default();
+        p.firmware.algorithm = crate::profile::Algorithm::Dcm;
+        p.firmware.dcm.yaw_reference = yaw;
+        p.firmware.dcm.centripetal = true;
+        p
+    }
+
+    /// The DCM's parts in the budget: the matrix update as published (27 multiplications, 18 additions,
+    /// on every backend's count), and the parts add up to the attitude stage, operation by operation.
+    #[test]
+    fn dcm_parts_price_the_published_matrix_update_and_add_up_to_the_stage() {
+        let t = table();
+        for yaw in [crate::profile::YawReference::Magnetometer, crate::profile::YawReference::Gps] {
+            let mut p = dcm_profile(yaw);
+            for numeric in [Numeric::C28xF32, Numeric::Iq] {
+                p.firmware.numeric = numeric;
+                let stage = stage_costs(&p, &t).unwrap().attitude;
+                let parts = attitude_parts(&p, &t).unwrap();
+                let names: Vec<_> = parts.iter().map(|(n, _)| *n).collect();
+                assert_eq!(
+                    names,
+                    ["rate", "errors", "pi", "increment", "matrix_update", "renormalise", "quaternion"],
+                    "{yaw:?} {numeric:?}"
+                );
+                let m = parts[4].1.counts;
+                assert_eq!((m.muls, m.adds), (27, 18), "{m:?}");
+                let sum = parts.iter().fold(OpCounts::default(), |a, (_, c)| a + c.counts);
+                assert_eq!(sum, stage.counts, "{yaw:?} {numeric:?}");
+                assert!(parts
+                    .iter()
+                    .all(|(_, c)| c.cycles > 0 && c.cycles == price(&c.counts, arith_for(numeric, &t), 1.0)));
+            }
+        }
+        // The open-loop algorithms have no parts.
+        assert!(attitude_parts(&Profile::default(), &t).unwrap().is_empty());
+    }
+
+    /// The three MAGN_OUT decodes are charged to every burst's decode when the DCM takes the field
+    /// (float: per word one I32TOF32 and one MPYF32 by the LSB).
+    #[test]
+    fn magnetometer_decode_is_charged_when_the_dcm_uses_it() {
+        let t = table();
+        let plain = stage_costs(&dcm_profile(crate::profile::YawReference::Gps), &t).unwrap().decode;
+        let with_mag = stage_costs(&dcm_profile(crate::profile::YawReference::Magnetometer), &t).unwrap().decode;
+        assert!(with_mag.cycles > plain.cycles, "{with_mag:?} vs {plain:?}");
+        let d = with_mag.counts - plain.counts;
+        assert_eq!((d.int_to_float, d.muls), (3, 3), "{d:?}");
+        assert_eq!(plain, stage_costs(&Profile::default(), &t).unwrap().decode);
+    }
 
     #[test]
     fn counts_are_deterministic() {
