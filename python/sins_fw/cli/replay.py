@@ -66,7 +66,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "trace and profile and checked bit for bit against it (exit 1 on a difference)",
     )
     add_profile_options(p)
-    add_out_option(p, "write the recording to this file (.rrd)", metavar="FILE.rrd", formerly="--out")
+    add_out_option(p, "write the recording to this file (.rrd)", metavar="FILE.rrd", formerly="--save")
     p.add_argument(
         "--spawn", action="store_true", help="open the recording in the Rerun viewer (needs a display)"
     )
