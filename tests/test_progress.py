@@ -139,7 +139,7 @@ def test_an_output_through_a_file_is_refused_before_any_work(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("")
     r = run_cli("replay", str(STATIC), "--out", str(blocker / "sub" / "r.rrd"))
-    assert r.code == 2 and f"--save {blocker / 'sub' / 'r.rrd'}: {blocker} is not a folder" in r.err, r.err
+    assert r.code == 2 and f"--out {blocker / 'sub' / 'r.rrd'}: {blocker} is not a folder" in r.err, r.err
 
 
 def test_a_missing_output_folder_is_created(tmp_path):
