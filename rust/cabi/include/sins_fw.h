@@ -107,6 +107,13 @@ enum SinsStatus sins_now_ps(struct SinsBoard *board, uint64_t *out);
 // `board` is a live handle.
 enum SinsStatus sins_advance_ps(struct SinsBoard *board, uint64_t ps);
 
+// Let `cycles` SYSCLKOUT cycles pass, from the next cycle boundary (the CPU's time for the code a
+// host-built firmware runs between register accesses).
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_advance_cycles(struct SinsBoard *board, uint64_t cycles);
+
 // Move virtual time to `t_ps` (not before now: `SINS_ERR_INPUT`).
 //
 // # Safety

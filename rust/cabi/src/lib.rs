@@ -282,6 +282,16 @@ pub unsafe extern "C" fn sins_advance_ps(board: *mut SinsBoard, ps: u64) -> Sins
     })
 }
 
+/// Let `cycles` SYSCLKOUT cycles pass, from the next cycle boundary (the CPU's time for the code a
+/// host-built firmware runs between register accesses).
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_advance_cycles(board: *mut SinsBoard, cycles: u64) -> SinsStatus {
+    call(|| Ok(self::board(board)?.board.advance_cycles(cycles)?))
+}
+
 /// Move virtual time to `t_ps` (not before now: `SINS_ERR_INPUT`).
 ///
 /// # Safety

@@ -72,6 +72,12 @@ fn errors_come_back_as_codes_with_a_message() {
         assert!(last_error().contains("out"), "{}", last_error());
         assert_eq!(sins_advance_ps(b, 1000), SinsStatus::SinsOk);
         assert_eq!(sins_advance_to_ps(b, 10), SinsStatus::SinsErrInput);
+        // 150 SYSCLKOUT cycles at 150 MHz from 1000 ps: from the next cycle boundary (cycle 1) to cycle
+        // 151, 151 × 6666.67 ps floored to whole picoseconds.
+        let mut t = 0u64;
+        assert_eq!(sins_advance_cycles(b, 150), SinsStatus::SinsOk);
+        assert_eq!(sins_now_ps(b, &mut t), SinsStatus::SinsOk);
+        assert_eq!(t, 1_006_666, "{t}");
         assert!(last_error().contains("only moves forward"), "{}", last_error());
         assert_eq!(sins_configure_spi(b, 100e3, -1, ptr::null_mut()), SinsStatus::SinsErrConfig);
         assert!(last_error().contains("LOSPCP"), "{}", last_error());

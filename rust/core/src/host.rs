@@ -201,6 +201,12 @@ impl HostBoard {
         r
     }
 
+    /// Let `cycles` SYSCLKOUT cycles pass (the CPU's time for code between register accesses).
+    pub fn advance_cycles(&mut self, cycles: u64) -> Result<()> {
+        let cycle = self.sysclkout.ps_to_cycles_ceil(self.now).saturating_add(cycles);
+        self.advance_to(self.sysclkout.cycles_to_ps(cycle).max(self.now))
+    }
+
     /// Let `seconds` pass; a negative step that rounds to no time is no step.
     pub fn advance_s(&mut self, seconds: f64) -> Result<()> {
         if !seconds.is_finite() {
