@@ -25,6 +25,7 @@ from sins_fw.cli import (
     bench,
     board,
     budget,
+    build_firmware,
     demo,
     importer,
     montecarlo,
@@ -56,6 +57,7 @@ COMMANDS = (
     sweep,
     bench,
     broad_eval,
+    build_firmware,
 )
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_BUG = 0, 1, 2, 3

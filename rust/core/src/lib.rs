@@ -15,6 +15,8 @@
 //!   Euler extraction and navigation.
 //! - [`timing`]: the compute-time model (the firmware's stages counted and priced).
 //! - [`emulator`]: the scheduler of virtual time that wires board and firmware; [`output`]: the run's rows.
+//! - [`host`]: the board without firmware, driven register by register by a host-side driver (the
+//!   Python `Board`, the C ABI).
 //! - [`time`] and [`events`]: integer virtual time and the event log shared by every model.
 #![forbid(unsafe_code)]
 
@@ -26,6 +28,7 @@ pub mod emulator;
 pub mod error;
 pub mod events;
 pub mod firmware;
+pub mod host;
 pub mod numerics;
 pub mod output;
 pub mod profile;

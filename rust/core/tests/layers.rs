@@ -18,8 +18,9 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("links", &["bus", "dsp"]),
     // The parts: the ADIS16xxx family and its declarations, the signal path, the replay.
     ("parts", &["device"]),
-    // The board composed: its devices on their links, the static board summary.
-    ("board", &["board", "dsp::summary"]),
+    // The board composed: its devices on their links, the static board summary; the board without
+    // firmware that host-side drivers reach (the Python Board, the C ABI).
+    ("board", &["board", "dsp::summary", "host"]),
     ("firmware", &["firmware", "numerics"]),
     // The timing model prices the firmware's own stages (it runs their code).
     ("timing", &["timing"]),

@@ -6,11 +6,11 @@ use std::sync::Mutex;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sins_core::bus::link::{LinkRecord, SpiLink};
-use sins_core::device::{self, Adis16407, Channel, Constant, GyroRange, Physical};
-use sins_core::dsp::spi;
+use sins_core::bus::link::LinkRecord;
+use sins_core::device::{self, Channel, GyroRange, Physical};
+use sins_core::host::HostBoard;
 use sins_core::profile::Profile;
-use sins_core::time::{ps_to_s, s_to_ps, Ps};
+use sins_core::time::{ps_to_s, s_to_ps};
 use sins_core::Error;
 
 use crate::errors::{guard, to_py};
@@ -38,47 +38,26 @@ pub fn decode(channel: &str, word: u16, range_dps: f64) -> PyResult<(f64, bool, 
     guard(run)?.map_err(to_py)
 }
 
-/// SPI-A register offsets by name.
-fn spi_offset(name: &str) -> Result<u16, Error> {
-    Ok(match name.to_ascii_uppercase().as_str() {
-        "SPICCR" => spi::SPICCR,
-        "SPICTL" => spi::SPICTL,
-        "SPISTS" => spi::SPISTS,
-        "SPIBRR" => spi::SPIBRR,
-        "SPIRXEMU" => spi::SPIRXEMU,
-        "SPIRXBUF" => spi::SPIRXBUF,
-        "SPITXBUF" => spi::SPITXBUF,
-        "SPIDAT" => spi::SPIDAT,
-        "SPIFFTX" => spi::SPIFFTX,
-        "SPIFFRX" => spi::SPIFFRX,
-        "SPIFFCT" => spi::SPIFFCT,
-        "SPIPRI" => spi::SPIPRI,
-        _ => {
-            return Err(Error::Register(format!(
-                "SPI-A register `{name}`: expected one of SPICCR, SPICTL, SPISTS, SPIBRR, SPIRXEMU, SPIRXBUF, \
-                 SPITXBUF, SPIDAT, SPIFFTX, SPIFFRX, SPIFFCT, SPIPRI"
-            )))
-        }
-    })
-}
-
-/// The board without firmware: SPI-A (reset state), GPIO57 and an ADIS16407 seeing a constant
-/// physical state, at virtual time `now`.
+/// The board without firmware ([`HostBoard`]): SPI-A, LOSPCP, the GPIO data registers (GPIO57 is
+/// the chip select) and an ADIS16407 with the profile's errors and faults, at virtual time `now`.
 #[pyclass(module = "sins_fw._core")]
 pub struct Board {
-    inner: Mutex<State>,
-}
-
-struct State {
-    link: SpiLink<Adis16407>,
-    now: Ps,
+    inner: Mutex<HostBoard>,
 }
 
 impl Board {
-    fn with<R>(&self, f: impl FnOnce(&mut State) -> Result<R, Error>) -> PyResult<R> {
+    fn with<R>(&self, f: impl FnOnce(&mut HostBoard) -> Result<R, Error>) -> PyResult<R> {
         let mut s = self.inner.lock().unwrap_or_else(|e| e.into_inner());
         guard(|| f(&mut s))?.map_err(to_py)
     }
+}
+
+/// A 16-bit word from Python, or an error naming what it is for and the value.
+fn word(what: &str, value: i64) -> Result<u16, Error> {
+    u16::try_from(value).map_err(|_| {
+        let shown = if value < 0 { format!("-0x{:X}", value.unsigned_abs()) } else { format!("0x{value:X}") };
+        Error::Register(format!("{what} = {value} ({shown}): expected 0…0xFFFF (a 16-bit word)"))
+    })
 }
 
 #[pymethods]
@@ -86,70 +65,102 @@ impl Board {
     /// A board of a profile (TOML text, source name, overrides). The bus log is on.
     #[new]
     fn new(text: &str, source: &str, overrides: Vec<String>) -> PyResult<Self> {
-        let build = || -> Result<State, Error> {
-            let profile = Profile::from_toml(text, source, &overrides)?;
-            let mut dev = Adis16407::new(&profile.device)?;
-            dev.set_stimulus(Box::new(Constant(Physical::powered_idle())));
-            let mut link = SpiLink::from_profile(&profile, dev)?;
-            link.enable_log();
-            Ok(State { link, now: 0 })
-        };
+        let build = || -> Result<HostBoard, Error> { HostBoard::new(&Profile::from_toml(text, source, &overrides)?) };
         Ok(Board { inner: Mutex::new(guard(build)?.map_err(to_py)?) })
     }
 
     /// Virtual time, s.
     #[getter]
     fn now_s(&self) -> PyResult<f64> {
-        self.with(|s| Ok(ps_to_s(s.now)))
+        self.with(|s| Ok(s.now_s()))
     }
 
-    /// Let `seconds` of virtual time pass (the device samples, characters shift).
+    /// LSPCLK, Hz.
+    #[getter]
+    fn lspclk_hz(&self) -> PyResult<f64> {
+        self.with(|s| Ok(s.lspclk_hz()))
+    }
+
+    /// Let `seconds` of virtual time pass (a negative rounding residue is no step).
     fn advance(&self, seconds: f64) -> PyResult<()> {
+        self.with(|s| s.advance_s(seconds))
+    }
+
+    /// Move virtual time to `t_s` seconds since power-on.
+    fn advance_to(&self, t_s: f64) -> PyResult<()> {
+        self.with(|s| s.advance_to_s(t_s))
+    }
+
+    /// Write a register by name (SPI-A, LOSPCP, GPIO data registers), the value checked.
+    fn write(&self, register: &str, value: i64) -> PyResult<()> {
+        self.with(|s| s.write_named(register, value))
+    }
+
+    /// Read a register by name.
+    fn read(&self, register: &str) -> PyResult<u32> {
+        self.with(|s| s.read_named(register))
+    }
+
+    /// Write a 16-bit word at a C28x address.
+    fn write_address(&self, address: i64, value: i64) -> PyResult<()> {
         self.with(|s| {
-            if !(seconds.is_finite() && seconds >= 0.0) {
-                return Err(Error::Input(format!("advance({seconds}): expected a finite time ≥ 0 s")));
-            }
-            s.now += s_to_ps(seconds);
-            s.link.advance(s.now)
+            let a =
+                u32::try_from(address).map_err(|_| Error::Register(format!("C28x address {address}: expected ≥ 0")))?;
+            s.write(a, word(&format!("the word at 0x{a:04X}"), value)?)
         })
     }
 
-    /// Write an SPI-A register (by name) now.
-    fn write(&self, register: &str, value: u16) -> PyResult<()> {
+    /// Read the 16-bit word at a C28x address.
+    fn read_address(&self, address: i64) -> PyResult<u16> {
         self.with(|s| {
-            let now = s.now;
-            s.link.write(spi_offset(register)?, value, now)
-        })
-    }
-
-    /// Read an SPI-A register (by name) now.
-    fn read(&self, register: &str) -> PyResult<u16> {
-        self.with(|s| {
-            let now = s.now;
-            s.link.read(spi_offset(register)?, now)
+            let a =
+                u32::try_from(address).map_err(|_| Error::Register(format!("C28x address {address}: expected ≥ 0")))?;
+            s.read(a)
         })
     }
 
     /// Drive GPIO57, the chip select (`high=False` asserts it).
     fn set_gpio57(&self, high: bool) -> PyResult<()> {
-        self.with(|s| {
-            let now = s.now;
-            s.link.set_gpio57(high, now)
-        })
+        self.with(|s| s.set_gpio57(high))
     }
 
     /// The published InitSpi register writes from the profile, now.
-    fn init_spi(&self, text: &str, source: &str, overrides: Vec<String>) -> PyResult<()> {
-        self.with(|s| {
-            let p = Profile::from_toml(text, source, &overrides)?;
-            let now = s.now;
-            s.link.init_from_profile(&p.spi, now)
-        })
+    fn init_spi(&self) -> PyResult<()> {
+        self.with(|s| s.init_spi())
     }
 
-    /// When SPISTS.INT_FLAG sets (None: no character in flight), s.
-    fn int_flag_time_s(&self) -> PyResult<Option<f64>> {
-        self.with(|s| Ok(s.link.int_flag_time().map(ps_to_s)))
+    /// Set SCLK (Hz; exact or the nearest below) and/or the SPI mode (0…3) through SPI-A's registers;
+    /// returns what was set: spibrr, sclk_hz, exact, mode, lspclk_hz.
+    #[pyo3(signature = (sclk_hz=None, mode=None))]
+    fn configure_spi<'py>(
+        &self,
+        py: Python<'py>,
+        sclk_hz: Option<f64>,
+        mode: Option<i64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let set = self.with(|s| {
+            let m = mode
+                .map(|m| u8::try_from(m).map_err(|_| Error::Config(format!("SPI mode {m}: expected 0…3"))))
+                .transpose()?;
+            s.configure_spi(sclk_hz, m)
+        })?;
+        let d = PyDict::new(py);
+        d.set_item("spibrr", set.spibrr)?;
+        d.set_item("sclk_hz", set.sclk_hz)?;
+        d.set_item("exact", set.exact)?;
+        d.set_item("mode", set.mode)?;
+        d.set_item("lspclk_hz", set.lspclk_hz)?;
+        Ok(d)
+    }
+
+    /// One frame as a polling driver does it (see `HostBoard::transfer`); returns the received word.
+    fn transfer(&self, din: i64, stall_s: f64) -> PyResult<u16> {
+        self.with(|s| {
+            if !(stall_s.is_finite() && stall_s >= 0.0) {
+                return Err(Error::Input(format!("transfer stall {stall_s} s: expected a finite time ≥ 0 s")));
+            }
+            s.transfer(word("SPITXBUF", din)?, s_to_ps(stall_s))
+        })
     }
 
     /// What the ADIS16407 sees from now on: gyro (°/s), accel (g), and optionally mag (gauss),
@@ -173,7 +184,7 @@ impl Board {
         let mag = mag_gauss.as_ref().map(|m| v3(m, "mag_gauss"));
         self.with(|s| {
             let idle = Physical::powered_idle();
-            let p = Physical {
+            s.set_physical(Physical {
                 gyro_dps: gyro?,
                 accel_g: accel?,
                 mag_gauss: mag.transpose()?.unwrap_or(idle.mag_gauss),
@@ -181,26 +192,19 @@ impl Board {
                 temp_c: temp_c.unwrap_or(idle.temp_c),
                 supply_v: supply_v.unwrap_or(idle.supply_v),
                 aux_v: idle.aux_v,
-            };
-            if !p.is_finite() {
-                return Err(Error::Input("set_physical: every value must be finite".into()));
-            }
-            let now = s.now;
-            s.link.advance(now)?;
-            s.link.slave_mut().set_stimulus(Box::new(Constant(p)));
-            Ok(())
+            })
         })
     }
 
     /// An ADIS16407 register's current contents (no SPI traffic), by address.
-    fn peek_device(&self, addr: u8) -> PyResult<u16> {
-        self.with(|s| s.link.slave().peek(addr))
+    fn peek_device(&self, addr: i64) -> PyResult<u16> {
+        self.with(|s| s.peek_device(addr))
     }
 
     /// The transaction log since the last call: frames (index, start/end s, first/last SCLK edge s,
     /// master TX/RX, DIN/DOUT) and CS edges, as a list of dicts in time order.
     fn take_log<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        let log = self.with(|s| Ok(s.link.take_log()))?;
+        let log = self.with(|s| Ok(s.take_log()))?;
         log.iter()
             .map(|r| {
                 let d = PyDict::new(py);
@@ -228,14 +232,18 @@ impl Board {
             .collect()
     }
 
-    /// Events of SPI-A, the link and the device since the last call.
+    /// Events of SPI-A, the link and the device since the last call, each with `frame` (the SPI-A
+    /// character index of the frame it concerns, as in the log) and `din`, or None for both.
     fn take_events<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        let events = self.with(|s| {
-            let mut all = s.link.drain_events();
-            all.extend(s.link.slave_mut().drain_events());
-            all.sort_by_key(|e| e.t_ps);
-            Ok(all)
-        })?;
-        events.iter().map(|e| event_dict(py, e)).collect()
+        let events = self.with(|s| Ok(s.take_events()))?;
+        events
+            .iter()
+            .map(|e| {
+                let d = event_dict(py, &e.event)?;
+                d.set_item("frame", e.frame.map(|f| f.index))?;
+                d.set_item("din", e.frame.map(|f| f.din))?;
+                Ok(d)
+            })
+            .collect()
     }
 }

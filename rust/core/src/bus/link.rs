@@ -406,6 +406,17 @@ impl<S: SpiSlave> SpiLink<S> {
         Ok(())
     }
 
+    /// A new LSPCLK from time `t` on (the firmware wrote LOSPCP); see [`SpiA::set_lspclk`].
+    pub fn set_lspclk(&mut self, lspclk: Clock, t: Ps) -> Result<()> {
+        self.spi.advance(t, &mut self.wires)?;
+        self.spi.set_lspclk(lspclk, t)?;
+        self.wires.lspclk = lspclk;
+        self.wires.waveform = None;
+        self.wires.period_cache = None;
+        self.wires.exchange_map = None;
+        Ok(())
+    }
+
     /// Whether CS is asserted (GPIO57 low).
     pub fn cs_asserted(&self) -> bool {
         self.wires.cs_low

@@ -517,6 +517,23 @@ impl SpiA {
         self.lspclk
     }
 
+    /// A new LSPCLK (the firmware wrote LOSPCP) from time `t` on. Refused while a character is
+    /// scheduled, shifting or waiting in TXBUF/the FIFO: how the divider's change would stretch a
+    /// character in progress is not modelled. The new clock's edges fall on its own multiples of the
+    /// period from t = 0 (the divider's phase at the change is [unconfirmed]).
+    pub fn set_lspclk(&mut self, lspclk: Clock, t: Ps) -> Result<()> {
+        self.check_time(t)?;
+        if self.active.is_some() || self.tx_queue.len != 0 {
+            return Err(Error::Register(format!(
+                "LOSPCP written at {t} ps while SPI-A has a character scheduled or shifting: changing LSPCLK \
+                 under a character is not modelled; write LOSPCP while SPI-A is idle"
+            )));
+        }
+        self.now = t;
+        self.lspclk = lspclk;
+        Ok(())
+    }
+
     /// Events recorded so far (overruns, lost writes, writes to read-only registers).
     pub fn events(&self) -> &EventLog {
         &self.events

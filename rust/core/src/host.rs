@@ -1,0 +1,562 @@
+//! The board as a driver author drives it from the host, with no firmware model: SPI-A, LOSPCP and
+//! the GPIO data registers at their C28x addresses (GPIO57 is the ADIS16407's chip select), the
+//! ADIS16407 with the profile's sensor errors (`errors.*`) and faults (`faults.*`), and virtual time
+//! that only the caller moves. The Python `Board` and the C ABI (`rust/cabi`) are thin wrappers of
+//! [`HostBoard`].
+//!
+//! - Registers are 16-bit words at C28x data addresses ([`REGISTERS`]); the GPIO data registers are
+//!   32-bit (two words, low word first). A GPxSET/GPxCLEAR/GPxTOGGLE word reads 0, as on the chip;
+//!   GPxDAT reads the output latch (every pin is taken as an output: GPxDIR and the mux are not
+//!   modelled). LOSPCP (bits 2:0) changes LSPCLK at once; EALLOW protection is not modelled.
+//! - Time is whole picoseconds. A step that rounds to no time (a rounding residue of the caller's
+//!   float arithmetic: below half a picosecond, or below the resolution of an f64 number of seconds
+//!   at the current time) is no step; a real step back is refused.
+//! - Every event is tied to the frame on the wires at its time (its SPI-A character index, as in the
+//!   transaction log, and the DIN the slave sampled); a CS-edge event (`cs_hold`, `burst_truncated`)
+//!   to the frame that ended last before it. An event inside a character still shifting waits until
+//!   the character ends.
+
+use crate::bus::link::{FrameRecord, LinkRecord, SpiLink};
+use crate::device::error_model::ErrorModel;
+use crate::device::{Adis16407, Constant, Physical};
+use crate::dsp::clocks::DspClocks;
+use crate::dsp::spi;
+use crate::error::{Error, Result};
+use crate::events::Event;
+use crate::profile::{self, FaultKind, Profile};
+use crate::time::{ps_to_s, Clock, Ps, PS_PER_S};
+
+/// Every register the host board models: name, C28x word address, width in bits.
+pub const REGISTERS: &[(&str, u32, u32)] = &[
+    ("SPICCR", 0x7040, 16),
+    ("SPICTL", 0x7041, 16),
+    ("SPISTS", 0x7042, 16),
+    ("SPIBRR", 0x7044, 16),
+    ("SPIRXEMU", 0x7046, 16),
+    ("SPIRXBUF", 0x7047, 16),
+    ("SPITXBUF", 0x7048, 16),
+    ("SPIDAT", 0x7049, 16),
+    ("SPIFFTX", 0x704A, 16),
+    ("SPIFFRX", 0x704B, 16),
+    ("SPIFFCT", 0x704C, 16),
+    ("SPIPRI", 0x704F, 16),
+    ("LOSPCP", 0x701B, 16),
+    ("GPADAT", 0x6FC0, 32),
+    ("GPASET", 0x6FC2, 32),
+    ("GPACLEAR", 0x6FC4, 32),
+    ("GPATOGGLE", 0x6FC6, 32),
+    ("GPBDAT", 0x6FC8, 32),
+    ("GPBSET", 0x6FCA, 32),
+    ("GPBCLEAR", 0x6FCC, 32),
+    ("GPBTOGGLE", 0x6FCE, 32),
+    ("GPCDAT", 0x6FD0, 32),
+    ("GPCSET", 0x6FD2, 32),
+    ("GPCCLEAR", 0x6FD4, 32),
+    ("GPCTOGGLE", 0x6FD6, 32),
+];
+
+/// SPI-A's base address.
+pub const SPIA_BASE: u32 = 0x7040;
+/// The GPIO data registers' base address (GpioDataRegs).
+pub const GPIO_DATA_BASE: u32 = 0x6FC0;
+/// LOSPCP's address (SysCtrlRegs).
+pub const LOSPCP: u32 = 0x701B;
+/// The chip select of the ADIS16407 on the reference board.
+pub const CS_GPIO: u32 = 57;
+
+/// A register by name: (address, width in bits).
+pub fn register(name: &str) -> Result<(u32, u32)> {
+    let upper = name.to_ascii_uppercase();
+    REGISTERS.iter().find(|r| r.0 == upper).map(|r| (r.1, r.2)).ok_or_else(|| {
+        let names: Vec<&str> = REGISTERS.iter().map(|r| r.0).collect();
+        Error::Register(format!("register `{name}`: expected one of {}", names.join(", ")))
+    })
+}
+
+/// The name of the register at `addr` (its low word for a 32-bit one), if modelled.
+pub fn register_name(addr: u32) -> Option<&'static str> {
+    REGISTERS.iter().find(|r| addr >= r.1 && addr < r.1 + r.2 / 16).map(|r| r.0)
+}
+
+fn no_register(addr: u32) -> Error {
+    Error::Register(format!(
+        "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, LOSPCP 0x701B, \
+         GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7)"
+    ))
+}
+
+/// A frame as an event is tied to it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameRef {
+    /// SPI-A character index since power-on (the transaction log's `index`).
+    pub index: u64,
+    /// The bits the slave sampled on DIN.
+    pub din: u16,
+}
+
+/// An event with the frame it concerns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HostEvent {
+    /// The event.
+    pub event: Event,
+    /// The frame on the wires at the event (or, for a CS edge, the frame before it).
+    pub frame: Option<FrameRef>,
+}
+
+/// What [`HostBoard::configure_spi`] set.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpiSetting {
+    /// SPIBRR written.
+    pub spibrr: u16,
+    /// The SCLK it gives, Hz (the asked one or the nearest below it).
+    pub sclk_hz: f64,
+    /// Whether that is exactly the SCLK asked for.
+    pub exact: bool,
+    /// The standard SPI mode of SPICCR.CLKPOLARITY and SPICTL.CLK_PHASE.
+    pub mode: u8,
+    /// LSPCLK, Hz.
+    pub lspclk_hz: f64,
+}
+
+/// The board without firmware, driven from the host in virtual time.
+pub struct HostBoard {
+    link: SpiLink<Adis16407>,
+    now: Ps,
+    sysclkout: Clock,
+    lospcp: u16,
+    spi_profile: profile::Spi,
+    t_sfs: Ps,
+    /// GPIO output latches of ports A, B, C.
+    gpio: [u32; 3],
+    /// Transaction log not yet taken.
+    log: Vec<LinkRecord>,
+    /// Frames events may still be tied to (the last one at least).
+    recent: Vec<FrameRecord>,
+    /// Events not yet tied to their frame or not yet taken.
+    pending: Vec<Event>,
+}
+
+impl HostBoard {
+    /// The board of a profile at t = 0: SPI-A in its reset state (see [`HostBoard::init_spi`]), CS
+    /// high, the device powered and still, with the profile's sensor errors and faults. The
+    /// `dropped_burst` fault is refused: it acts inside the firmware's burst of a timer tick, and
+    /// here the driver, not a timer, decides when frames happen.
+    pub fn new(profile: &Profile) -> Result<HostBoard> {
+        if profile.faults.list.iter().any(|f| f.kind == FaultKind::DroppedBurst) {
+            return Err(Error::Config(
+                "faults.list: a `dropped_burst` fault raises CS inside the firmware's burst of a timer tick; the \
+                 host board runs no firmware (the driver moves CS), so it cannot be injected here: remove it, or \
+                 run the firmware model (`emulate`, `sins-fw run`)"
+                    .into(),
+            ));
+        }
+        let mut dev = Adis16407::new(&profile.device)?;
+        let period_s = dev.sample_clock().period_s();
+        dev.set_sensor_errors(Box::new(ErrorModel::from_profile(&profile.errors, period_s)?));
+        dev.set_faults(&profile.faults);
+        dev.set_stimulus(Box::new(Constant(Physical::powered_idle())));
+        let clocks = DspClocks::from_profile(&profile.clocks)?;
+        let mut link = SpiLink::from_profile(profile, dev)?;
+        link.enable_log();
+        Ok(HostBoard {
+            link,
+            now: 0,
+            sysclkout: clocks.sysclkout,
+            lospcp: profile.clocks.lospcp as u16,
+            spi_profile: profile.spi.clone(),
+            t_sfs: (profile.device.t_sfs_ns * 1e3).ceil() as Ps,
+            gpio: [0, 1 << (CS_GPIO - 32), 0],
+            log: Vec::new(),
+            recent: Vec::new(),
+            pending: Vec::new(),
+        })
+    }
+
+    /// Virtual time, ps.
+    pub fn now(&self) -> Ps {
+        self.now
+    }
+
+    /// Virtual time, s.
+    pub fn now_s(&self) -> f64 {
+        ps_to_s(self.now)
+    }
+
+    /// LSPCLK, Hz.
+    pub fn lspclk_hz(&self) -> f64 {
+        self.link.spi().lspclk().hz()
+    }
+
+    /// Move virtual time to `t` (≥ now): the device samples, characters shift.
+    pub fn advance_to(&mut self, t: Ps) -> Result<()> {
+        if t < self.now {
+            return Err(Error::Input(format!(
+                "advance to {t} ps: the board is at {} ps already; virtual time only moves forward",
+                self.now
+            )));
+        }
+        self.now = t;
+        let r = self.link.advance(t);
+        self.sync();
+        r
+    }
+
+    /// Let `cycles` SYSCLKOUT cycles pass (the CPU's time for code between register accesses).
+    pub fn advance_cycles(&mut self, cycles: u64) -> Result<()> {
+        let cycle = self.sysclkout.ps_to_cycles_ceil(self.now).saturating_add(cycles);
+        self.advance_to(self.sysclkout.cycles_to_ps(cycle).max(self.now))
+    }
+
+    /// Let `seconds` pass; a negative step that rounds to no time is no step.
+    pub fn advance_s(&mut self, seconds: f64) -> Result<()> {
+        if !seconds.is_finite() {
+            return Err(Error::Input(format!("advance({seconds} s): expected a finite time")));
+        }
+        let step = (seconds * PS_PER_S as f64).round();
+        if step < 0.0 && -step > self.rounding_ps() {
+            return Err(Error::Input(format!(
+                "advance({seconds:e} s): a step back in time; virtual time only moves forward (a step that rounds \
+                 to less than the time's resolution, {:.3} ps here, is taken as none)",
+                self.rounding_ps()
+            )));
+        }
+        self.advance_to(self.now + step.max(0.0) as Ps)
+    }
+
+    /// Move to `t_s` seconds since power-on; a time before now by less than the time's resolution
+    /// (a rounding residue) is now.
+    pub fn advance_to_s(&mut self, t_s: f64) -> Result<()> {
+        if !(t_s.is_finite() && t_s >= 0.0) {
+            return Err(Error::Input(format!("advance_to({t_s} s): expected a finite time ≥ 0 s")));
+        }
+        let t = (t_s * PS_PER_S as f64).round();
+        let now = self.now as f64;
+        if t < now {
+            if now - t > self.rounding_ps() {
+                return Err(Error::Input(format!(
+                    "advance_to({t_s:.12} s): the board is at {:.12} s already; virtual time only moves forward",
+                    self.now_s()
+                )));
+            }
+            return Ok(());
+        }
+        self.advance_to(t as Ps)
+    }
+
+    /// The resolution of a time near now given as an f64 number of seconds, in ps (at least half a
+    /// picosecond, the rounding of whole picoseconds).
+    fn rounding_ps(&self) -> f64 {
+        (self.now as f64 * f64::EPSILON).max(0.5)
+    }
+
+    /// Write a 16-bit word at a C28x address.
+    pub fn write(&mut self, addr: u32, value: u16) -> Result<()> {
+        let r = self.write_unsynced(addr, value);
+        self.sync();
+        r
+    }
+
+    fn write_unsynced(&mut self, addr: u32, value: u16) -> Result<()> {
+        let now = self.now;
+        match addr {
+            LOSPCP => self.set_lospcp(value & 0x7),
+            a if is_spi(a) => self.link.write((a - SPIA_BASE) as u16, value, now),
+            a if is_gpio(a) => self.write_gpio(a, value),
+            a => Err(no_register(a)),
+        }
+    }
+
+    /// Read the 16-bit word at a C28x address (reading SPIRXBUF clears INT_FLAG, as on the chip).
+    pub fn read(&mut self, addr: u32) -> Result<u16> {
+        let now = self.now;
+        let r = match addr {
+            LOSPCP => Ok(self.lospcp),
+            a if is_spi(a) => self.link.read((a - SPIA_BASE) as u16, now),
+            a if is_gpio(a) => Ok(self.read_gpio(a)),
+            a => Err(no_register(a)),
+        };
+        self.sync();
+        r
+    }
+
+    /// Write a register by name; `value` is checked against its width (a 32-bit register is written
+    /// low word first).
+    pub fn write_named(&mut self, name: &str, value: i64) -> Result<()> {
+        let (addr, bits) = register(name)?;
+        let max = (1i64 << bits) - 1;
+        if !(0..=max).contains(&value) {
+            return Err(Error::Register(format!(
+                "{} = {value} ({}): expected 0…0x{max:X} (a {bits}-bit register)",
+                name.to_ascii_uppercase(),
+                hex(value)
+            )));
+        }
+        self.write(addr, value as u16)?;
+        if bits == 32 {
+            self.write(addr + 1, (value >> 16) as u16)?;
+        }
+        Ok(())
+    }
+
+    /// Read a register by name (a 32-bit register's two words, low word first).
+    pub fn read_named(&mut self, name: &str) -> Result<u32> {
+        let (addr, bits) = register(name)?;
+        let lo = u32::from(self.read(addr)?);
+        Ok(if bits == 32 { lo | u32::from(self.read(addr + 1)?) << 16 } else { lo })
+    }
+
+    /// Drive GPIO57, the chip select (`high = false` asserts it), through GPBSET/GPBCLEAR.
+    pub fn set_gpio57(&mut self, high: bool) -> Result<()> {
+        self.set_gpio(CS_GPIO, high)
+    }
+
+    /// Drive a GPIO pin (0…87) through its port's SET/CLEAR register.
+    pub fn set_gpio(&mut self, pin: u32, high: bool) -> Result<()> {
+        if pin > 87 {
+            return Err(Error::Register(format!("GPIO{pin}: the F28335 has GPIO0…GPIO87")));
+        }
+        let base = GPIO_DATA_BASE + 8 * (pin / 32) + if high { 2 } else { 4 };
+        let bit = pin % 32;
+        self.write(base + bit / 16, 1 << (bit % 16))
+    }
+
+    fn set_lospcp(&mut self, lospcp: u16) -> Result<()> {
+        let lspclk = if lospcp == 0 { self.sysclkout } else { self.sysclkout.divided(2 * u64::from(lospcp)) };
+        self.link.set_lspclk(lspclk, self.now)?;
+        self.lospcp = lospcp;
+        Ok(())
+    }
+
+    fn write_gpio(&mut self, addr: u32, value: u16) -> Result<()> {
+        let off = addr - GPIO_DATA_BASE;
+        let (port, kind, high_word) = ((off / 8) as usize, (off % 8) / 2, off % 2 == 1);
+        let bits = if high_word { u32::from(value) << 16 } else { u32::from(value) };
+        let keep = if high_word { 0x0000_FFFF } else { 0xFFFF_0000 };
+        let before = self.gpio[port];
+        self.gpio[port] = match kind {
+            0 => (before & keep) | bits,
+            1 => before | bits,
+            2 => before & !bits,
+            _ => before ^ bits,
+        };
+        let cs = 1 << (CS_GPIO - 32);
+        if port == 1 && (before ^ self.gpio[1]) & cs != 0 {
+            let now = self.now;
+            self.link.set_gpio57(self.gpio[1] & cs != 0, now)?;
+        }
+        Ok(())
+    }
+
+    fn read_gpio(&self, addr: u32) -> u16 {
+        let off = addr - GPIO_DATA_BASE;
+        let (port, kind, high_word) = ((off / 8) as usize, (off % 8) / 2, off % 2 == 1);
+        match (kind, high_word) {
+            (0, false) => self.gpio[port] as u16,
+            (0, true) => (self.gpio[port] >> 16) as u16,
+            _ => 0,
+        }
+    }
+
+    /// The published InitSpi register writes of the profile, now.
+    pub fn init_spi(&mut self) -> Result<()> {
+        let now = self.now;
+        let r = self.link.init_from_profile(&self.spi_profile, now);
+        self.sync();
+        r
+    }
+
+    /// Set SCLK (the asked frequency or the nearest below it SPI-A can make from LSPCLK) and/or the
+    /// standard SPI mode (SPICCR.CLKPOLARITY, SPICTL.CLK_PHASE), through SPI-A's registers: SPICCR
+    /// with SPISWRESET = 0, SPICTL, SPIBRR, then SPICCR with SPISWRESET as it was. Impossible
+    /// requests are refused naming the register.
+    pub fn configure_spi(&mut self, sclk_hz: Option<f64>, mode: Option<u8>) -> Result<SpiSetting> {
+        let spiccr = self.read(SPIA_BASE + u32::from(spi::SPICCR))?;
+        let spictl = self.read(SPIA_BASE + u32::from(spi::SPICTL))?;
+        let mut spibrr = self.read(SPIA_BASE + u32::from(spi::SPIBRR))?;
+        let lspclk = self.link.spi().lspclk();
+        if let Some(f) = sclk_hz {
+            spibrr = self.spibrr_for(f, lspclk)?;
+        }
+        let (mut ccr, mut ctl) = (spiccr, spictl);
+        if let Some(m) = mode {
+            let (pol, phase) = match m {
+                0 => (false, true),
+                1 => (false, false),
+                2 => (true, true),
+                3 => (true, false),
+                _ => {
+                    return Err(Error::Config(format!(
+                        "SPI mode {m}: expected 0…3 (it sets SPICCR.CLKPOLARITY and SPICTL.CLK_PHASE)"
+                    )))
+                }
+            };
+            ccr = (ccr & !spi::SPICCR_CLKPOLARITY) | if pol { spi::SPICCR_CLKPOLARITY } else { 0 };
+            ctl = (ctl & !spi::SPICTL_CLK_PHASE) | if phase { spi::SPICTL_CLK_PHASE } else { 0 };
+        }
+        let base = SPIA_BASE;
+        self.write(base + u32::from(spi::SPICCR), ccr & !spi::SPICCR_SPISWRESET)?;
+        self.write(base + u32::from(spi::SPICTL), ctl)?;
+        self.write(base + u32::from(spi::SPIBRR), spibrr)?;
+        self.write(base + u32::from(spi::SPICCR), ccr)?;
+        let divisor = spi::baud_divisor(spibrr);
+        let achieved = lspclk.hz() / f64::from(divisor);
+        let scheme = self.link.spi().scheme();
+        Ok(SpiSetting {
+            spibrr,
+            sclk_hz: achieved,
+            exact: sclk_hz.is_none_or(|f| lspclk.hz() == f * f64::from(divisor)),
+            mode: scheme.standard_mode(),
+            lspclk_hz: lspclk.hz(),
+        })
+    }
+
+    /// The SPIBRR for SCLK `f` at `lspclk`: the smallest divisor whose SCLK is not above `f`.
+    fn spibrr_for(&self, f: f64, lspclk: Clock) -> Result<u16> {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(Error::Config(format!("SCLK {f} Hz: expected a positive frequency")));
+        }
+        let l = lspclk.hz();
+        // LSPCLK/(SPIBRR+1) ≤ f, with SPIBRR = 3…127 (0…2 give LSPCLK/4 too).
+        match (4u32..=128).find(|&d| l <= f * f64::from(d)) {
+            Some(d) => Ok((d - 1) as u16),
+            None => Err(Error::Config(format!(
+                "SCLK {f} Hz: SPIBRR would have to be {} at LSPCLK {l} Hz, but SPIBRR is 3…127 (SCLK {}…{} Hz); \
+                 raise LOSPCP (now {}) to lower LSPCLK",
+                (l / f).ceil() - 1.0,
+                l / 128.0,
+                l / 4.0,
+                self.lospcp
+            ))),
+        }
+    }
+
+    /// One frame as a polling driver does it (an Arduino-style `transfer16`): wait `stall` (the
+    /// ADIS16407 wants ≥ 9 µs between normal frames, one SCLK period inside a burst), wait until
+    /// BUFFULL_FLAG reads 0, write SPITXBUF, wait for INT_FLAG, read SPIRXBUF, and return no sooner
+    /// than tSFS after the frame's last SCLK edge, so that the caller may raise CS at once. In the
+    /// schemes without delay (modes 1 and 3) INT_FLAG comes half an SCLK period after the last edge;
+    /// with delay (modes 0 and 2) it comes at the last edge, and returning then would break tSFS.
+    /// A word left in SPIRXBUF by earlier register traffic is read (discarded) first, so that
+    /// INT_FLAG belongs to this frame.
+    pub fn transfer(&mut self, din: u16, stall: Ps) -> Result<u16> {
+        let r = self.transfer_unsynced(din, stall);
+        self.sync();
+        r
+    }
+
+    fn transfer_unsynced(&mut self, din: u16, stall: Ps) -> Result<u16> {
+        let (sts, rxbuf, txbuf) = (spi::SPISTS, spi::SPIRXBUF, spi::SPITXBUF);
+        self.now += stall;
+        self.link.advance(self.now)?;
+        let t = self
+            .link
+            .buffull_clear_time()
+            .ok_or_else(|| Error::Config("SPITXBUF stays full: SPI-A is held in reset (SPICCR bit 7 = 0)".into()))?;
+        self.now = self.now.max(t);
+        if self.link.read(sts, self.now)? & spi::SPISTS_INT_FLAG != 0 {
+            self.link.read(rxbuf, self.now)?;
+        }
+        self.link.write(txbuf, din, self.now)?;
+        let flag = self.link.int_flag_time().ok_or_else(|| {
+            Error::Config(
+                "SPI-A started no character after the SPITXBUF write: is it released from reset (SPICCR bit 7), \
+                 master (SPICTL bit 2), in normal (non-FIFO) mode?"
+                    .into(),
+            )
+        })?;
+        self.now = self.now.max(flag);
+        let rx = self.link.read(rxbuf, self.now)?;
+        self.sync();
+        if let Some(le) = self.recent.last().map(|f| f.timing.last_edge) {
+            self.now = self.now.max(le + self.t_sfs);
+            self.link.advance(self.now)?;
+        }
+        Ok(rx)
+    }
+
+    /// What the ADIS16407 sees from now on (held constant).
+    pub fn set_physical(&mut self, p: Physical) -> Result<()> {
+        if !p.is_finite() {
+            return Err(Error::Input("set_physical: every value must be finite".into()));
+        }
+        let now = self.now;
+        self.link.advance(now)?;
+        self.link.slave_mut().set_stimulus(Box::new(Constant(p)));
+        self.sync();
+        Ok(())
+    }
+
+    /// An ADIS16407 register's current contents (no SPI traffic), by its even address.
+    pub fn peek_device(&self, addr: i64) -> Result<u16> {
+        let a = u8::try_from(addr).ok().filter(|a| *a <= 0x7F).ok_or_else(|| {
+            Error::Register(format!("ADIS16407 register address {addr} ({}): expected 0…0x7F", hex(addr)))
+        })?;
+        self.link.slave().peek(a)
+    }
+
+    /// The transaction log (frames and CS edges) since the last call, in time order.
+    pub fn take_log(&mut self) -> Vec<LinkRecord> {
+        self.sync();
+        std::mem::take(&mut self.log)
+    }
+
+    /// SPI-A's, the link's and the device's events since the last call, in time order, each with
+    /// its frame. Events inside a character still shifting wait until it ends.
+    pub fn take_events(&mut self) -> Vec<HostEvent> {
+        self.sync();
+        self.pending.sort_by_key(|e| e.t_ps);
+        let shifting = self.link.spi().current_frame().map(|f| f.start_ps).filter(|&s| s <= self.now);
+        let split = self.pending.partition_point(|e| shifting.is_none_or(|s| e.t_ps < s));
+        let ready: Vec<Event> = self.pending.drain(..split).collect();
+        let out = ready.into_iter().map(|e| HostEvent { frame: self.frame_of(&e), event: e }).collect();
+        if self.pending.is_empty() {
+            let keep = self.recent.len().saturating_sub(1);
+            self.recent.drain(..keep);
+        }
+        out
+    }
+
+    fn frame_of(&self, e: &Event) -> Option<FrameRef> {
+        let t = e.t_ps;
+        let r = |f: &FrameRecord| FrameRef { index: f.index, din: f.din };
+        if let Some(f) = self.recent.iter().rev().find(|f| f.start_ps <= t && t <= f.end_ps) {
+            return Some(r(f));
+        }
+        if matches!(e.kind, "cs_hold" | "burst_truncated") {
+            return self.recent.iter().rev().find(|f| f.end_ps <= t).map(r);
+        }
+        None
+    }
+
+    /// Move what the link logged and the events raised into this board's own lists.
+    fn sync(&mut self) {
+        for r in self.link.take_log() {
+            if let LinkRecord::Frame(f) = r {
+                self.recent.push(f);
+            }
+            self.log.push(r);
+        }
+        self.pending.extend(self.link.drain_events());
+        self.pending.extend(self.link.slave_mut().drain_events());
+        if self.pending.is_empty() && self.recent.len() > 64 {
+            let keep = self.recent.len() - 1;
+            self.recent.drain(..keep);
+        }
+    }
+}
+
+fn is_spi(a: u32) -> bool {
+    (SPIA_BASE..SPIA_BASE + 16).contains(&a) && register_name(a).is_some()
+}
+
+fn is_gpio(a: u32) -> bool {
+    (GPIO_DATA_BASE..GPIO_DATA_BASE + 24).contains(&a)
+}
+
+fn hex(v: i64) -> String {
+    if v < 0 {
+        format!("-0x{:X}", v.unsigned_abs())
+    } else {
+        format!("0x{v:X}")
+    }
+}

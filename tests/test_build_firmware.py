@@ -1,0 +1,77 @@
+"""`sins-fw build-firmware` (issue 20, item 1, its foundation): a user's F28335 C firmware written
+against TI's DSP2833x headers, compiled unmodified for the host against the replacement headers, run
+against the emulated board."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from sins_fw.cli import main
+from sins_fw.errors import InputError
+from sins_fw.firmware_build import build_firmware, run_firmware
+
+ROOT = Path(__file__).resolve().parents[1]
+PROD_ID_EXAMPLE = ROOT / "firmware_c" / "examples" / "prod_id"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def cabi_library() -> None:
+    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
+    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
+    assert built.returncode == 0, built.stderr
+
+
+def test_the_prod_id_firmware_reads_0x4017(tmp_path: Path, capsys: pytest.CaptureFixture[str]):
+    out = tmp_path / "fw.so"
+    assert main(["build-firmware", str(PROD_ID_EXAMPLE), "-o", str(out)]) == 0
+    assert f"built {out}" in capsys.readouterr().out
+    run = run_firmware(out, "reference", until_s=0.05)
+    assert run.global_value("prod_id") == 0x4017
+    # After the 10 ms start-up delay each loop takes 1000 + 40 µs of DELAY_US plus two 16-bit frames at
+    # 0.75 MHz (2 × 21.3 µs) and the polling: ≈ 1.083 ms, so 40 ms hold 36 whole loops and most of a 37th.
+    assert run.global_value("reads") in (36, 37)
+    assert 0.05 <= run.now_s < 0.05 + 1.1e-3
+    assert run.accesses > 1000
+
+
+def test_a_bit_field_store_is_a_read_modify_write_of_the_word(tmp_path: Path):
+    src = tmp_path / "rmw.c"
+    src.write_text(
+        '#include "DSP2833x_Device.h"\n'
+        "Uint16 ccr, ctl, lospcp;\n"
+        "void main(void) {\n"
+        "    SpiaRegs.SPICCR.all = 0x004F;\n"
+        "    SpiaRegs.SPICCR.bit.SPISWRESET = 1;\n"
+        "    ccr = SpiaRegs.SPICCR.all;\n"
+        "    SpiaRegs.SPICTL.all = 0x0006;\n"
+        "    SpiaRegs.SPICTL.bit.CLK_PHASE = 1;\n"
+        "    SpiaRegs.SPICTL.bit.TALK = 0;\n"
+        "    ctl = SpiaRegs.SPICTL.all;\n"
+        "    EALLOW;\n"
+        "    SysCtrlRegs.LOSPCP.bit.LSPCLK = 6;\n"
+        "    EDIS;\n"
+        "    lospcp = SysCtrlRegs.LOSPCP.all;\n"
+        "}\n"
+    )
+    run = run_firmware(build_firmware([src], tmp_path / "rmw.so"), until_s=1.0)
+    assert (run.global_value("ccr"), run.global_value("ctl"), run.global_value("lospcp")) == (0xCF, 0x0C, 6)
+    assert run.now_s < 1e-6  # main returned: 10 accesses of 3 cycles at 150 MHz (plus the RMW reads)
+
+
+def test_a_source_that_does_not_compile_names_file_and_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    src = tmp_path / "bad.c"
+    src.write_text('#include "DSP2833x_Device.h"\nvoid main(void) {\n    CpuTimer0Regs.TCR.bit.TSS = 1;\n}\n')
+    out = tmp_path / "fw.so"
+    assert main(["build-firmware", str(src), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "bad.c:3" in err and "CpuTimer0Regs" in err
+    assert not out.exists()
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    with pytest.raises(InputError, match="no C sources"):
+        build_firmware([empty], tmp_path / "x.so")
