@@ -243,3 +243,24 @@ def test_a_gap_that_is_a_time_unit_says_so(tmp_path):
         r"\(100 Hz in ms\): name the column `t_ms` or give --units t=ms",
     ):
         PhysicalTrace.load(path)
+
+
+def test_a_run_of_a_file_read_with_units_and_columns_replays_and_reports(tmp_path):
+    """A run records how it read its trace (``trace_units``, ``trace_columns``); `replay` and `report`
+    of its output read the trace the same way. Before, both failed on the file's header ("wx")."""
+    t, w, f = _motion(n=300)
+    header = ["time", "wx", "wy", "wz", "ax", "ay", "az"]
+    path = _csv(tmp_path / "own.csv", header, _columns(t * 1000, np.radians(w), f))
+    saved = tmp_path / "run.h5"
+    read = [
+        "--units",
+        "t=ms,gyro=rad/s",
+        "--columns",
+        "t=time,gyro_x=wx,gyro_y=wy,gyro_z=wz,accel_x_g=ax,accel_y_g=ay,accel_z_g=az",
+    ]
+    r = run_cli("run", str(path), *read, "--out", str(saved))
+    assert r.code == 0, r.err
+    r = run_cli("replay", str(saved), "--out", str(tmp_path / "r.rrd"), "--bus-ticks", "none")
+    assert r.code == 0 and (tmp_path / "r.rrd").is_file(), r.err
+    r = run_cli("report", str(saved), "--out", str(tmp_path / "r.png"))
+    assert r.code == 0 and (tmp_path / "r.png").is_file(), r.err

@@ -20,7 +20,7 @@ from sins_fw.errors import CheckFailed, InputError
 from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
-from sins_fw.traces import Column, RawRegisterTrace, _open, _Schema, _write
+from sins_fw.traces import Column, PhysicalTrace, RawRegisterTrace, ReadOptions, _open, _Schema, _write
 
 RUN_FORMAT = "sins-fw-run-output/1"
 
@@ -322,6 +322,15 @@ def _until_s(path: str | os.PathLike[str], text: str | None) -> float | None:
     return check_until_s(until, f"{path}: metadata `until_s`")
 
 
+def recorded_trace(path: str | os.PathLike[str], meta: dict[str, str]) -> Path | PhysicalTrace:
+    """The trace a run output was made from (:func:`resolve_trace`), read as the run read it: a run
+    whose trace needed ``--units`` / ``--columns`` records them (``trace_units``, ``trace_columns``),
+    and that trace is loaded with them; any other is returned as its path, to be streamed."""
+    trace = resolve_trace(path, meta)
+    read = ReadOptions(units=meta.get("trace_units"), columns=meta.get("trace_columns"))
+    return PhysicalTrace.load(trace, read=read) if read else trace
+
+
 def replay_check(
     path: str | os.PathLike[str], bus_window: tuple[int, int] | None = None
 ) -> tuple[Run, dict[str, str]]:
@@ -330,8 +339,8 @@ def replay_check(
     the new Run and the metadata (``trace`` is where the trace was found: :func:`resolve_trace`);
     raises CheckFailed naming the first differing column and row."""
     meta, saved = load_run(path)
-    trace = resolve_trace(path, meta)
-    meta = {**meta, "trace": str(trace)}  # the trace as found
+    meta = {**meta, "trace": str(resolve_trace(path, meta))}  # the trace as found
+    trace = recorded_trace(path, meta)
     try:
         overrides = [str(o) for o in json.loads(meta.get("overrides") or "[]")]
     except (json.JSONDecodeError, TypeError):

@@ -34,8 +34,8 @@ from sins_fw.cli.common import (
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import CHUNK_ROWS, Run, emulate
 from sins_fw.profile import Profile
-from sins_fw.run_output import RUN_FORMAT, replay_check, resolve_trace
-from sins_fw.traces import read_metadata
+from sins_fw.run_output import RUN_FORMAT, recorded_trace, replay_check, resolve_trace
+from sins_fw.traces import PhysicalTrace, read_metadata
 from sins_fw.viewer import serve
 
 if TYPE_CHECKING:
@@ -178,7 +178,9 @@ class _Parity:
 
     KEEP = ("cycle_step", "cycle_euler_deg", "cycle_quat")
 
-    def __init__(self, trace: Path, profile: Profile, names: list[str], recorders: list[Recorder]) -> None:
+    def __init__(
+        self, trace: Path | PhysicalTrace, profile: Profile, names: list[str], recorders: list[Recorder]
+    ) -> None:
         profiles = {n: profile.with_overrides(f"firmware.numeric={n}") for n in names}
         self.rows = parity.streamed(trace, profiles, None, CHUNK_ROWS, keep=self.KEEP) if names else iter(())
         self.reached: dict[str, int | None] = dict.fromkeys(names)
@@ -247,11 +249,13 @@ def run(args: argparse.Namespace) -> int:
         {"--out": args.out},
     )
     saved_run: Run | None = None
+    source: Path | PhysicalTrace | None = None
     if meta.get("format") == RUN_FORMAT:
         # A saved run: replay it from its recorded inputs and check it before showing it (whole).
         saved_run, meta = replay_check(args.trace, bus_window=window)
         profile = saved_run.profile
         trace = resolve_trace(args.trace, meta)
+        source = recorded_trace(args.trace, meta)  # read as the run read it (--units, --columns)
     else:
         profile = profile_from_args(args)
         trace = args.trace
@@ -263,7 +267,9 @@ def run(args: argparse.Namespace) -> int:
         if served is None and args.serve:
             tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
             served = Path(tmp) / f"{args.trace.stem}.rrd"
-        tally, bus_frames = _record(args, trace, profile, saved_run, window, names, served, problem is None)
+        tally, bus_frames = _record(
+            args, trace, profile, saved_run, window, names, served, problem is None, source
+        )
         report = {
             "trace": str(args.trace),
             "profile": profile.source,
@@ -318,10 +324,12 @@ def _record(
     names: list[str],
     served: Path | None,
     spawn: bool,
+    source: Path | PhysicalTrace | None = None,
 ) -> tuple[_Tally, int]:
     """Emulate ``trace`` (or take ``saved_run``) and log it, part by part as it streams out, to the
     file ``served`` and/or a spawned viewer; the other backends ``names`` side by side. Returns what
-    the report says and the number of bus frames."""
+    the report says and the number of bus frames. ``source``: the trace as the saved run read it,
+    when that differs from the file ``trace`` (see :func:`sins_fw.run_output.recorded_trace`)."""
     from sins_fw.viewer import recording  # rerun is a heavy import
     from sins_fw.viewer.layout import default_blueprint
 
@@ -353,9 +361,10 @@ def _record(
                 raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
             streams.append(rec)
         recorders = [
-            recording.Recorder(r, profile, trace=trace, parity=names, bus_window=window) for r in streams
+            recording.Recorder(r, profile, trace=source or trace, parity=names, bus_window=window)
+            for r in streams
         ]
-        others = _Parity(trace, profile, names, recorders)
+        others = _Parity(source or trace, profile, names, recorders)
         stack.callback(others.close)
 
         def sink(part: dict[str, Any]) -> None:

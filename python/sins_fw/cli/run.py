@@ -204,7 +204,7 @@ def run(args: argparse.Namespace) -> int:
         writers: list[Any] = []
         if args.out is not None:
             recorded = trace_reference(args.trace, args.out)
-            if read is not None:  # how the trace was read (replay does not apply it yet)
+            if read is not None:  # how the trace was read (replay and report read it the same way)
                 recorded.update(
                     {
                         k: str(v)
