@@ -4,6 +4,7 @@ against the emulated board (sins_fw.firmware_build)."""
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.firmware_build import build_firmware, sources_of
@@ -16,14 +17,21 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=exit_epilog(None),
     )
     p.add_argument("sources", nargs="+", help="C source files or folders (their *.c, *.cpp)")
-    p.add_argument("-o", "--output", required=True, help="the shared library to write (e.g. fw.so)")
+    p.add_argument(
+        "--out",
+        "-o",
+        type=Path,
+        metavar="FILE.so",
+        required=True,
+        help="the shared library to write (e.g. fw.so)",
+    )
     add_json_option(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     sources = sources_of(args.sources)
-    out = build_firmware(args.sources, args.output)
+    out = build_firmware(args.sources, args.out)
     emit(
         args,
         {"output": str(out), "sources": [str(s) for s in sources]},
