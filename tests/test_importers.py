@@ -5,7 +5,9 @@ Every log holds one motion: a level vehicle yawing at 20 °/s about its down axi
 about z (EuRoC/ROS), with the magnetometer seeing a fixed field. The checks are physical: the
 still accelerometer reads +1 g on the trace's z, the truth rotates it to ENU up, the truth's own
 body increments q_k* ⊗ q_k+1 give the gyro's rates, heading 30° east of north puts the body's x
-axis at (sin 30°, cos 30°, 0) in ENU, and the sensor's time stamps come through exactly."""
+axis at (sin 30°, cos 30°, 0) in ENU, and the sensor's time stamps come through exactly. The GPS
+fixes (10 Hz) report 20 m/s along a course of 30°, stamped 1.5 ms after an IMU sample: each lands on
+the next row, NaN rows between."""
 
 from __future__ import annotations
 
@@ -77,7 +79,44 @@ def _check_physics(
         inside = valid & (trace.t_s >= mag_span[0]) & (trace.t_s <= mag_span[1])
         mag_enu = quaternion.rotate(q[inside], trace.mag_gauss[inside])
         np.testing.assert_allclose(mag_enu, np.tile([0.0, 0.2, -0.45], (inside.sum(), 1)), atol=mag_atol)
-    assert "GPS stream" in trace.metadata["gps"]
+    assert "gps" in trace.metadata
+
+
+#: The GPS fixes: 10 Hz from 1.5 ms after the first IMU sample (µs after T0_US), 20 m/s along 30°.
+GPS_DT_US = 1500 + 100_000 * np.arange(20, dtype=np.int64)
+GPS_SPEED, GPS_COURSE = 20.0, 30.0
+LAT0, LON0, H0 = 47.3977419, 8.5455938, 488.0
+#: Rows of the fixes: the first IMU sample (every 4 ms) at or after each: 1.5 ms + 100 ms k → 25 k + 1.
+GPS_ROWS = 1 + 25 * np.arange(20)
+
+
+def _gps_positions(dt_us: np.ndarray) -> np.ndarray:
+    """Latitude, longitude (°) and height (m) of the fixes (a sphere of 6371 km is enough: the
+    importers copy positions, the test only needs known values)."""
+    d = GPS_SPEED * dt_us * 1e-6
+    north, east = d * np.cos(np.radians(GPS_COURSE)), d * np.sin(np.radians(GPS_COURSE))
+    lat = LAT0 + np.degrees(north / 6.371e6)
+    lon = LON0 + np.degrees(east / (6.371e6 * np.cos(np.radians(LAT0))))
+    return np.column_stack([lat, lon, H0 + 0.5 * dt_us * 1e-6])
+
+
+def _check_gps(
+    trace: PhysicalTrace, deg_tol: float, m_tol: float, course_tol: float, latency_s: float
+) -> None:
+    """The fixes on rows GPS_ROWS, all five NaN elsewhere, values within the log format's resolution."""
+    assert trace.gps is not None, trace.metadata["gps"]
+    has = ~np.isnan(trace.gps[:, 0])
+    np.testing.assert_array_equal(np.flatnonzero(has), GPS_ROWS)
+    assert np.isnan(trace.gps[~has]).all()
+    g = trace.gps[has]
+    np.testing.assert_allclose(g[:, 0], GPS_SPEED, rtol=1e-7)  # float32: 6e-8 relative
+    np.testing.assert_allclose(g[:, 1], GPS_COURSE, atol=course_tol)
+    pos = _gps_positions(GPS_DT_US)
+    np.testing.assert_allclose(g[:, 2:4], pos[:, :2], rtol=0, atol=deg_tol)
+    np.testing.assert_allclose(g[:, 4], pos[:, 2], rtol=0, atol=m_tol)
+    assert float(trace.metadata["gps_latency_s"]) == latency_s
+    assert trace.metadata["gps_rate_hz"] == "10"
+    trace.validate()  # the GPS stream's own checks (ranges, gps_latency_s)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -104,7 +143,7 @@ def write_ulog(
         )
     for i, (name, _, _) in enumerate(topics):
         message("A", struct.pack("<BH", 0, i) + name.encode())
-    codes = {"uint64_t": "Q", "float": "f"}
+    codes = {"uint64_t": "Q", "float": "f", "double": "d", "int32_t": "i", "uint8_t": "B"}
     rows = []
     for i, (_, fields, data) in enumerate(topics):
         for k in range(len(data["timestamp"])):
@@ -117,12 +156,46 @@ def write_ulog(
     path.write_bytes(bytes(out))
 
 
-def _ulog(path: Path) -> dict[str, np.ndarray]:
+def _ulog_gps(version: str) -> tuple[str, list[tuple[str, str, int]], dict[str, np.ndarray]]:
+    """The GPS topic: PX4 before v1.15 (vehicle_gps_position, 1e-7° and mm integers) or after
+    (sensor_gps, degrees and metres as doubles). Three messages are left out: one without a fix, one
+    before the first IMU sample and one after the last."""
+    dt = np.concatenate([GPS_DT_US, [51_500, -50_000, 2_001_500]])
+    pos = _gps_positions(dt)
+    fix = np.array([3] * 20 + [0, 3, 3])
+    data = {
+        "timestamp": T0_US + dt,
+        "vel_m_s": np.full(len(dt), GPS_SPEED),
+        "cog_rad": np.full(len(dt), np.radians(GPS_COURSE) - 2 * np.pi),  # PX4's −π…π
+        "fix_type": fix,
+    }
+    head = [
+        ("uint64_t", "timestamp", 0),
+        ("float", "vel_m_s", 0),
+        ("float", "cog_rad", 0),
+        ("uint8_t", "fix_type", 0),
+    ]
+    if version == "old":
+        data.update(
+            lat=np.rint(pos[:, 0] * 1e7).astype(np.int64),
+            lon=np.rint(pos[:, 1] * 1e7).astype(np.int64),
+            alt=np.rint((pos[:, 2] - 48.0) * 1e3).astype(np.int64),  # MSL: not read when alt_ellipsoid is
+            alt_ellipsoid=np.rint(pos[:, 2] * 1e3).astype(np.int64),
+        )
+        fields = [("int32_t", n, 0) for n in ("lat", "lon", "alt", "alt_ellipsoid")]
+        return "vehicle_gps_position", head + fields, data
+    data.update(latitude_deg=pos[:, 0], longitude_deg=pos[:, 1], altitude_msl_m=pos[:, 2])
+    fields = [("double", n, 0) for n in ("latitude_deg", "longitude_deg", "altitude_msl_m")]
+    return "sensor_gps", head + fields, data
+
+
+def _ulog(path: Path, gps: str | None = None) -> dict[str, np.ndarray]:
     m = _ned_motion()
     t = m["t_us"]
     write_ulog(
         path,
-        [
+        ([_ulog_gps(gps)] if gps else [])
+        + [
             (
                 "sensor_combined",
                 [("uint64_t", "timestamp", 0), ("float", "gyro_rad", 3), ("float", "accelerometer_m_s2", 3)],
@@ -143,6 +216,48 @@ def _ulog(path: Path) -> dict[str, np.ndarray]:
     return m
 
 
+@pytest.mark.parametrize("version", ["old", "new"])
+def test_ulog_keeps_the_gps(tmp_path, version):
+    pytest.importorskip("pyulog")
+    from sins_fw.importers.ulog import import_ulog
+
+    _ulog(tmp_path / "flight.ulg", gps=version)
+    trace = import_ulog(tmp_path / "flight.ulg", gps_latency_s=0.0)
+    # Old: 1e-7° integers (half a unit of rounding), mm; new: doubles. Course: float32 rad (3e-7 rad).
+    deg_tol, m_tol = (0.5e-7 + 1e-12, 0.5e-3 + 1e-9) if version == "old" else (1e-12, 1e-9)
+    _check_gps(trace, deg_tol, m_tol, course_tol=1e-4, latency_s=0.0)
+    meta = trace.metadata["gps"]
+    assert "1 messages without a 3D fix left out" in meta and "2 left out" in meta
+    assert ("ellipsoid height" if version == "old" else "MSL altitude") in meta
+    # A latency moves each fix's time of validity earlier: 1.5 ms + 100 ms k − 2 ms → row 25 k; the
+    # fix before the first sample (k = 0, at −0.5 ms) is left out.
+    late = import_ulog(tmp_path / "flight.ulg", gps_latency_s=0.002)
+    assert late.gps is not None and late.metadata["gps_latency_s"] == "0.002"
+    np.testing.assert_array_equal(np.flatnonzero(~np.isnan(late.gps[:, 0])), 25 * np.arange(1, 20))
+    r = run_cli(
+        "import",
+        "ulog",
+        str(tmp_path / "flight.ulg"),
+        "--gps-latency-s",
+        "0.1",
+        "--out",
+        str(tmp_path / "g.h5"),
+    )
+    assert r.code == 0, r.err
+    saved = PhysicalTrace.load(tmp_path / "g.h5")
+    assert saved.metadata["gps_latency_s"] == "0.1" and saved.gps is not None
+    r = run_cli(
+        "import",
+        "ulog",
+        str(tmp_path / "flight.ulg"),
+        "--gps-latency-s",
+        "11",
+        "--out",
+        str(tmp_path / "x.h5"),
+    )
+    assert r.code == 2 and "--gps-latency-s 11.0: expected" in r.err and not (tmp_path / "x.h5").exists()
+
+
 def test_ulog_import(tmp_path):
     pytest.importorskip("pyulog")
     from sins_fw.importers.ulog import import_ulog
@@ -154,6 +269,7 @@ def test_ulog_import(tmp_path):
     assert "1000000 µs" in trace.metadata["time_origin"]
     assert "vehicle_attitude.q" in trace.metadata["truth"] and "estimate" in trace.metadata["truth"]
     assert "FRD" in trace.metadata["frame"] and "ENU" in trace.metadata["frame"]
+    assert trace.gps is None and "no vehicle_gps_position or sensor_gps" in trace.metadata["gps"]
     # The magnetometer's 50 Hz samples (from 1 ms to 1.981 s) are interpolated linearly: the yaw turns
     # by θ = 20 °/s × 20 ms between them, a chord error of at most |m_horizontal| θ²/8 (1.2e-6 gauss),
     # plus float32 rounding (6e-8 of 0.45 gauss).
@@ -256,7 +372,11 @@ def _enu_attitude(t: np.ndarray) -> np.ndarray:
     return quaternion.from_axis_angle(np.array([0.0, 0.0, 1.0]), np.pi / 2 - YAW0 - YAW_RATE * t)
 
 
-def _write_bag(path: Path, ros: int, imu_topics: tuple[str, ...] = ("/imu/data",)) -> np.ndarray:
+def _write_bag(
+    path: Path, ros: int, imu_topics: tuple[str, ...] = ("/imu/data",), gps: tuple[str, ...] = ()
+) -> np.ndarray:
+    """A bag of the yawing vehicle; ``gps`` names what GPS it holds: "fix" (NavSatFix) and "vel"
+    (TwistStamped, ENU)."""
     from rosbags.rosbag1 import Writer as Writer1
     from rosbags.rosbag2 import Writer as Writer2
     from rosbags.typesys import Stores, get_typestore
@@ -304,7 +424,42 @@ def _write_bag(path: Path, ros: int, imu_topics: tuple[str, ...] = ("/imu/data",
                 magnetic_field_covariance=zeros,
             )
             writer.write(mag, int(ns), serialize(msg, mag_t.__msgtype__))
+        _write_gps(writer, store, serialize, header, t0_ns - T0_US * 1000, gps)
     return (t_ns - t0_ns) * 1e-9
+
+
+def _write_gps(
+    writer: object, store: object, serialize: object, header: object, base_ns: int, gps: tuple[str, ...]
+) -> None:
+    """NavSatFix fixes (GPS_DT_US; one more without a fix) and the ENU ground velocity (10 Hz over
+    the whole log, 0.5 ms before each fix)."""
+    types = store.types  # type: ignore[attr-defined]
+    fix_t, status_t = types["sensor_msgs/msg/NavSatFix"], types["sensor_msgs/msg/NavSatStatus"]
+    twist_st, twist_t = types["geometry_msgs/msg/TwistStamped"], types["geometry_msgs/msg/Twist"]
+    vec_t = types["geometry_msgs/msg/Vector3"]
+    if "fix" in gps:
+        conn = writer.add_connection("/gps/fix", fix_t.__msgtype__, typestore=store)  # type: ignore[attr-defined]
+        dt = np.concatenate([GPS_DT_US, [51_500]])
+        for k, ((lat, lon, h), d) in enumerate(zip(_gps_positions(dt), dt, strict=True)):
+            ns = base_ns + (T0_US + int(d)) * 1000
+            msg = fix_t(
+                header=header(ns, k),
+                status=status_t(status=-1 if k == 20 else 0, service=1),
+                latitude=lat,
+                longitude=lon,
+                altitude=h,
+                position_covariance=np.zeros(9),
+                position_covariance_type=0,
+            )
+            writer.write(conn, ns, serialize(msg, fix_t.__msgtype__))  # type: ignore[attr-defined,operator]
+    if "vel" in gps:
+        conn = writer.add_connection("/gps/vel", twist_st.__msgtype__, typestore=store)  # type: ignore[attr-defined]
+        c = np.radians(GPS_COURSE)
+        for k in range(21):
+            ns = base_ns + (T0_US + 1000 + 100_000 * k) * 1000
+            v = vec_t(x=GPS_SPEED * np.sin(c), y=GPS_SPEED * np.cos(c), z=0.0)
+            msg = twist_st(header=header(ns, k), twist=twist_t(linear=v, angular=vec_t(x=0.0, y=0.0, z=0.0)))
+            writer.write(conn, ns, serialize(msg, twist_st.__msgtype__))  # type: ignore[attr-defined,operator]
 
 
 @pytest.mark.parametrize("ros", [1, 2])
@@ -351,7 +506,7 @@ def test_rosbag_with_two_imu_topics_asks_which(tmp_path):
 
 def _df_format(type_id: int, name: str, fmt: str, columns: str) -> bytes:
     """An FMT message: the type, the message length (3-byte header included), name, format, columns."""
-    sizes = {"Q": 8, "B": 1, "f": 4, "n": 4, "N": 16, "Z": 64}
+    sizes = {"Q": 8, "B": 1, "f": 4, "n": 4, "N": 16, "Z": 64, "L": 4, "e": 4}
     length = 3 + sum(sizes[c] for c in fmt)
     payload = struct.pack("<BB4s16s64s", type_id, length, name.encode(), fmt.encode(), columns.encode())
     return b"\xa3\x95\x80" + payload
@@ -361,9 +516,18 @@ def _df_message(type_id: int, fmt: str, *values: float) -> bytes:
     return b"\xa3\x95" + bytes([type_id]) + struct.pack("<" + fmt, *values)
 
 
-def _dataflash(path: Path) -> dict[str, np.ndarray]:
+def _dataflash(path: Path, gps: bool = False) -> dict[str, np.ndarray]:
     m = _ned_motion()
     out = bytearray(_df_format(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
+    if gps:  # Lat/Lng 1e-7° integers, Alt cm integers (MSL); left out: no fix, second receiver, too early
+        out += _df_format(132, "GPS", "QBBLLeff", "TimeUS,I,Status,Lat,Lng,Alt,Spd,GCrs")
+        pos = _gps_positions(GPS_DT_US)
+        for dt, (lat, lon, h) in zip(GPS_DT_US, pos, strict=True):
+            ints = (round(lat * 1e7), round(lon * 1e7), round(h * 100))
+            out += _df_message(132, "QBBiiiff", T0_US + dt, 0, 3, *ints, GPS_SPEED, GPS_COURSE)
+            out += _df_message(132, "QBBiiiff", T0_US + dt, 1, 3, 0, 0, 0, 1.0, 1.0)
+        out += _df_message(132, "QBBiiiff", T0_US + 51_500, 0, 1, 0, 0, 0, 0.0, 0.0)
+        out += _df_message(132, "QBBiiiff", T0_US - 50_000, 0, 3, 473977419, 85455938, 48800, 20.0, 30.0)
     out += _df_format(129, "IMU", "QBffffff", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ")
     out += _df_format(130, "MAG", "QBfff", "TimeUS,I,MagX,MagY,MagZ")
     out += _df_format(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
@@ -398,3 +562,40 @@ def test_dataflash_import(tmp_path):
     (tmp_path / "empty.BIN").write_bytes(_df_format(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
     r = run_cli("import", "dataflash", str(tmp_path / "empty.BIN"), "--out", str(tmp_path / "e.csv"))
     assert r.code == 2 and "no IMU messages (instance 0)" in r.err and "Traceback" not in r.err
+
+
+def test_dataflash_keeps_the_gps(tmp_path):
+    pytest.importorskip("pymavlink")
+    from sins_fw.importers.dataflash import import_dataflash
+
+    _dataflash(tmp_path / "gps.BIN", gps=True)
+    trace = import_dataflash(tmp_path / "gps.BIN")
+    # Lat/Lng: half a 1e-7° unit; Alt: half a cm; GCrs float32 degrees.
+    _check_gps(trace, 0.5e-7 + 1e-12, 0.005 + 1e-9, course_tol=1e-5, latency_s=0.0)
+    meta = trace.metadata["gps"]
+    assert (
+        "1 messages without a 3D fix left out" in meta and "1 left out" in meta and "mean sea level" in meta
+    )
+    _dataflash(tmp_path / "no_gps.BIN")
+    assert import_dataflash(tmp_path / "no_gps.BIN").metadata["gps"] == "none (no GPS messages)"
+
+
+@pytest.mark.parametrize("ros", [1, 2])
+def test_rosbag_keeps_the_gps(tmp_path, ros):
+    pytest.importorskip("rosbags")
+    from sins_fw.importers.rosbag import import_rosbag
+
+    path = tmp_path / ("gps.bag" if ros == 1 else "gps")
+    _write_bag(path, ros, gps=("fix", "vel"))
+    trace = import_rosbag(path)
+    # Positions are doubles; speed and course from the float64 velocity: rounding only.
+    _check_gps(trace, 1e-12, 1e-9, course_tol=1e-9, latency_s=0.0)
+    assert "/gps/fix" in trace.metadata["gps"] and "/gps/vel" in trace.metadata["gps"]
+    only = tmp_path / ("fix.bag" if ros == 1 else "fix")
+    _write_bag(only, ros, gps=("fix",))
+    trace = import_rosbag(only)
+    assert trace.gps is None
+    assert "/gps/fix gives position only" in trace.metadata["gps"]
+    assert "no geometry_msgs/msg/TwistStamped" in trace.metadata["gps"]
+    r = run_cli("import", "rosbag", str(only), "--out", str(tmp_path / "o.h5"))
+    assert r.code == 0, r.err

@@ -17,6 +17,7 @@ from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.broad import iter_broad
 from sins_fw.cli.common import (
     add_json_option,
+    add_option,
     add_out_option,
     add_read_options,
     emit,
@@ -24,6 +25,7 @@ from sins_fw.cli.common import (
     read_options,
 )
 from sins_fw.errors import TraceError
+from sins_fw.importers import DEFAULT_GPS_LATENCY_S
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
@@ -115,6 +117,25 @@ def _register_logs(kinds: argparse._SubParsersAction) -> None:
             k.add_argument(
                 "--mag-topic", help="the sensor_msgs/MagneticField topic (default: the bag's only one)"
             )
+            k.add_argument(
+                "--gps-topic", help="the sensor_msgs/NavSatFix topic (default: the bag's only one)"
+            )
+            k.add_argument(
+                "--gps-velocity-topic",
+                help="the geometry_msgs/TwistStamped topic of the fixes' ENU ground velocity "
+                "(default: the bag's only one)",
+            )
+        if kind != "euroc":
+            add_option(
+                k,
+                "--gps-latency-s",
+                type=float,
+                default=DEFAULT_GPS_LATENCY_S,
+                metavar="S",
+                help="the GPS receiver's latency, 0…10 s: a fix's time of validity is its logged stamp "
+                f"minus this (default {DEFAULT_GPS_LATENCY_S}: the stamp is the time of validity); "
+                "written as gps_latency_s",
+            )
         k.add_argument(
             "--allow-gaps", action="store_true", help="accept time steps longer than the gap limit"
         )
@@ -129,7 +150,14 @@ def _import_log(args: argparse.Namespace) -> PhysicalTrace:
     if args.kind == "euroc":
         options["truth"] = args.truth
     if args.kind == "rosbag":
-        options.update(imu_topic=args.imu_topic, mag_topic=args.mag_topic)
+        options.update(
+            imu_topic=args.imu_topic,
+            mag_topic=args.mag_topic,
+            gps_topic=args.gps_topic,
+            gps_velocity_topic=args.gps_velocity_topic,
+        )
+    if args.kind != "euroc":
+        options["gps_latency_s"] = args.gps_latency_s
     trace = importer(args.kind)(args.file, **options)
     try:
         trace.validate(allow_gaps=args.allow_gaps)

@@ -6,7 +6,7 @@ origin in the metadata), converts units to the trace's (°/s, g, gauss) and fram
 (body axes with z up when level, navigation frame ENU) and says what it did in the metadata
 (``frame``, ``truth``, ``time_origin``). Magnetometer samples are interpolated linearly onto the IMU
 times; an attitude found in the log becomes the truth (interpolated, normalised; NaN outside its
-span). GPS is not imported: the trace format has no GPS stream yet.
+span). GPS fixes found in the log become the trace's GPS stream (:func:`gps_stream`).
 
 The libraries (pyulog, pymavlink, rosbags) are the optional extra ``sins-fw[import]``; without them
 the command says which package to install.
@@ -20,14 +20,14 @@ from collections.abc import Callable
 from fractions import Fraction
 from pathlib import Path
 from types import ModuleType
-from typing import Any, cast
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw import quaternion
 from sins_fw.errors import InputError, TraceError
-from sins_fw.traces import G0, PhysicalTrace, _rate_of_step, _rate_text
+from sins_fw.traces import G0, GPS_COLUMNS, PhysicalTrace, _rate_of_step, _rate_text
 
 Array = NDArray[np.float64]
 PathLike = str | os.PathLike[str]
@@ -129,6 +129,7 @@ def make_trace(
     truth_q: Array | None,
     metadata: dict[str, str],
     where: str,
+    gps: GpsStream | str | None = None,
 ) -> PhysicalTrace:
     """The physical trace of an import: times from the log's first IMU sample, the rate from the
     times, the provenance and conversions in the metadata."""
@@ -138,8 +139,11 @@ def make_trace(
         **metadata,
         "time_origin": origin,
         "g0_m_s2": repr(G0),
-        "gps": "not imported: the trace format has no GPS stream yet",
     }
+    if gps is None or isinstance(gps, str):
+        meta["gps"] = gps or "none"
+    else:
+        meta.update(gps.metadata)
     return PhysicalTrace(
         t_s=t,
         gyro_dps=gyro_dps,
@@ -147,7 +151,64 @@ def make_trace(
         mag_gauss=mag_gauss,
         truth_q=truth_q,
         metadata=meta,
+        gps=None if gps is None or isinstance(gps, str) else gps.columns,
     )
+
+
+#: The GPS latency an import writes unless told (`--gps-latency-s`): the log's stamp of a fix is taken
+#: as its time of validity.
+DEFAULT_GPS_LATENCY_S = 0.0
+
+
+class GpsStream(NamedTuple):
+    """The GPS columns of an import (n, 5; NaN on rows without a fix) and their metadata keys."""
+
+    columns: Array
+    metadata: dict[str, str]
+
+
+def gps_stream(
+    t_imu: NDArray[np.int64],
+    t_fix: NDArray[np.int64],
+    fixes: Array,
+    *,
+    ticks_per_s: int,
+    latency_s: float,
+    source: str,
+) -> GpsStream | str:
+    """Fixes (n, 5: speed m/s, course ° clockwise from north, latitude °, longitude °, height m) logged
+    at the integer stamps ``t_fix`` as the GPS columns of the rows at the IMU stamps ``t_imu`` (same
+    clock, ``ticks_per_s`` ticks a second). A logged stamp is the time the fix reached the autopilot;
+    its time of validity is ``latency_s`` earlier (rounded to a tick), and the fix goes on the first
+    row at or after that time (as synth places its fixes; two on one row: the later kept). Fixes
+    before the first or after the last row, or with a non-finite value, are left out and counted.
+    Returns a text saying why there is no GPS stream when no fix is left."""
+    if not 0.0 <= latency_s <= 10.0:
+        raise TraceError(f"--gps-latency-s {latency_s!r}: expected the GPS receiver's latency in 0…10 s")
+    fixes = np.array(fixes, dtype=np.float64).reshape(-1, len(GPS_COLUMNS))
+    fixes[:, 1] = np.mod(fixes[:, 1], 360.0)
+    fixes[fixes[:, 1] >= 360.0, 1] = 0.0  # a tiny negative course rounds to 360
+    valid = t_fix - round(latency_s * ticks_per_s)
+    row = np.searchsorted(t_imu, valid, side="left")
+    keep = np.isfinite(fixes).all(axis=1) & (valid >= t_imu[0]) & (row < len(t_imu))
+    left_out = int((~keep).sum())
+    order = np.argsort(valid[keep], kind="stable")
+    rows, values = row[keep][order], fixes[keep][order]
+    if not len(rows):
+        return f"none: {source} holds no fix inside the IMU's span"
+    cols = np.full((len(t_imu), len(GPS_COLUMNS)), np.nan)
+    cols[rows] = values  # numpy assigns in order: on a row taking two fixes the later stays
+    shared = len(rows) - len(np.unique(rows))
+    step = np.diff(np.unique(valid[keep]))
+    meta = {
+        "gps": f"{source}; {len(rows) - shared} fixes, each on the first row at or after its time of "
+        f"validity (the log's stamp minus gps_latency_s); {left_out} left out (outside the IMU's span or "
+        f"not finite), {shared} replaced by a later fix on the same row",
+        "gps_latency_s": repr(float(latency_s)),
+    }
+    if len(step):
+        meta["gps_rate_hz"] = _rate_text(_rate_of_step(float(np.median(step)) / ticks_per_s))
+    return GpsStream(cols, meta)
 
 
 Importer = Callable[..., PhysicalTrace]

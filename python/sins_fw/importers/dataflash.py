@@ -1,6 +1,8 @@
 """ArduPilot DataFlash logs (.bin, read with pymavlink's DFReader): ``IMU`` instance 0 (GyrX…Z rad/s,
 AccX…Z m/s², TimeUS µs), ``MAG`` instance 0 (MagX…Z, milligauss) and ``ATT`` (Roll, Pitch, Yaw in
-degrees: the autopilot's estimate), all in ArduPilot's FRD body axes and NED earth frame."""
+degrees: the autopilot's estimate) and ``GPS`` instance 0 (3D fixes, Status ≥ 3: Spd m/s, GCrs °,
+Lat and Lng °, Alt m above mean sea level, taken as the height), all in ArduPilot's FRD body axes and
+NED earth frame."""
 
 from __future__ import annotations
 
@@ -11,11 +13,13 @@ import numpy as np
 from sins_fw import quaternion
 from sins_fw.errors import TraceError
 from sins_fw.importers import (
+    DEFAULT_GPS_LATENCY_S,
     FLU_FROM_FRD,
     FRAME_FRD_NED,
     PathLike,
     ascending,
     check_file,
+    gps_stream,
     interpolate,
     interpolate_truth,
     make_trace,
@@ -29,6 +33,7 @@ _FIELDS = {
     "IMU": ("GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ"),
     "MAG": ("MagX", "MagY", "MagZ"),
     "ATT": ("Roll", "Pitch", "Yaw"),
+    "GPS": ("Status", "Spd", "GCrs", "Lat", "Lng", "Alt"),
 }
 
 
@@ -37,7 +42,7 @@ def _instance(m: Any) -> int:
     return int(getattr(m, "I", 0) or 0)
 
 
-def import_dataflash(path: PathLike) -> PhysicalTrace:
+def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) -> PhysicalTrace:
     """An ArduPilot DataFlash log as a physical trace."""
     need("pymavlink", "pymavlink", "dataflash")
     from pymavlink import DFReader
@@ -48,7 +53,7 @@ def import_dataflash(path: PathLike) -> PhysicalTrace:
         log = DFReader.DFReader_binary(str(p), zero_time_base=False)
         while (m := log.recv_match(type=list(_FIELDS))) is not None:
             kind = m.get_type()
-            if kind in ("IMU", "MAG") and _instance(m):
+            if kind in ("IMU", "MAG", "GPS") and _instance(m):
                 continue
             rows[kind].append((int(m.TimeUS), tuple(float(getattr(m, f)) for f in _FIELDS[kind])))
     except Exception as e:  # pymavlink raises assorted errors on what is not a DataFlash log
@@ -72,6 +77,18 @@ def import_dataflash(path: PathLike) -> PhysicalTrace:
         ta, att = arrays("ATT")
         q_ned = quaternion.from_euler(*np.radians(att).T)
         truth = truth_from_ned(interpolate_truth(t, (ta - t0).astype(np.float64) * 1e-6, q_ned))
+    gps: Any = "none (no GPS messages)"
+    if rows["GPS"]:
+        tg = np.array([r[0] for r in rows["GPS"]], dtype=np.int64)
+        g = np.array([r[1] for r in rows["GPS"]], dtype=np.float64)
+        fix = g[:, 0] >= 3
+        source = (
+            f"GPS instance 0 (Spd, GCrs, Lat, Lng; Alt above mean sea level taken as the height; "
+            f"{int((~fix).sum())} messages without a 3D fix left out)"
+        )
+        gps = gps_stream(
+            t_us, tg[fix], g[fix, 1:], ticks_per_s=1_000_000, latency_s=gps_latency_s, source=source
+        )
     return make_trace(
         t_abs=t,
         origin=f"t_s = 0 at the log's IMU TimeUS {t0} µs",
@@ -79,6 +96,7 @@ def import_dataflash(path: PathLike) -> PhysicalTrace:
         accel_g=imu[:, 3:] / G0 * FLU_FROM_FRD,
         mag_gauss=mag,
         truth_q=truth,
+        gps=gps,
         metadata={
             "source": f"ArduPilot DataFlash log {p.name}",
             "source_file": p.name,

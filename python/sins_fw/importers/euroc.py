@@ -101,4 +101,5 @@ def import_euroc(path: PathLike, truth: PathLike | None = None) -> PhysicalTrace
         truth_q=truth_q,
         metadata=metadata,
         where=str(imu),
+        gps="none: EuRoC-style logs hold no GPS",
     )

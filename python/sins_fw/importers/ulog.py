@@ -2,6 +2,9 @@
 body axes; time stamps in µs), the magnetometer from ``vehicle_magnetometer`` (magnetometer_ga) or
 ``sensor_mag`` (x, y, z), gauss, FRD; the attitude from ``vehicle_attitude_groundtruth`` (a
 simulation's truth) or ``vehicle_attitude`` (the autopilot's estimate), q = FRD → NED, [w, x, y, z].
+GPS from ``vehicle_gps_position`` or else ``sensor_gps`` (instance 0; 3D fixes, fix_type ≥ 3):
+vel_m_s, cog_rad, and lat/lon (1e-7° integers) with alt_ellipsoid/alt (mm) or, in newer PX4,
+latitude_deg/longitude_deg with altitude_ellipsoid_m/altitude_msl_m; at the message's timestamp.
 Both IMU vectors take sensor_combined's ``timestamp`` (the gyro's sample time; the accelerometer's
 ``accelerometer_timestamp_relative``, normally 0, is not applied)."""
 
@@ -13,11 +16,13 @@ import numpy as np
 
 from sins_fw.errors import TraceError
 from sins_fw.importers import (
+    DEFAULT_GPS_LATENCY_S,
     FLU_FROM_FRD,
     FRAME_FRD_NED,
     PathLike,
     ascending,
     check_file,
+    gps_stream,
     interpolate,
     interpolate_truth,
     make_trace,
@@ -32,6 +37,8 @@ _TOPICS = (
     "sensor_mag",
     "vehicle_attitude_groundtruth",
     "vehicle_attitude",
+    "vehicle_gps_position",
+    "sensor_gps",
 )
 _MAGS = (("vehicle_magnetometer", "magnetometer_ga[{}]"), ("sensor_mag", "{}"))
 _ATTITUDES = (
@@ -48,7 +55,36 @@ def _vectors(data: dict[str, Any], pattern: str, axes: tuple[str, ...], where: s
     return np.stack([np.asarray(data[n], dtype=np.float64) for n in names], axis=1)
 
 
-def import_ulog(path: PathLike) -> PhysicalTrace:
+#: (latitude, longitude, ellipsoid height, MSL altitude): the field names and their scale to °, ° and m.
+_GPS_POSITIONS = (
+    (("latitude_deg", 1.0), ("longitude_deg", 1.0), ("altitude_ellipsoid_m", 1.0), ("altitude_msl_m", 1.0)),
+    (("lat", 1e-7), ("lon", 1e-7), ("alt_ellipsoid", 1e-3), ("alt", 1e-3)),
+)
+
+
+def _gps(topics: dict[tuple[str, int], dict[str, Any]], t_us: np.ndarray, latency_s: float, p: Any) -> Any:
+    """The GPS stream of the log (see :func:`sins_fw.importers.gps_stream`) or why there is none."""
+    for topic in ("vehicle_gps_position", "sensor_gps"):
+        data = topics.get((topic, 0))
+        if data is None:
+            continue
+        lat, lon, ell, msl = next((f for f in _GPS_POSITIONS if f[0][0] in data), _GPS_POSITIONS[1])
+        height, note = (ell, "ellipsoid height") if ell[0] in data else (msl, "MSL altitude as the height")
+        names = ["vel_m_s", "cog_rad", lat[0], lon[0], height[0]]
+        v = _vectors(data, "{}", tuple(names), f"{p}: {topic}")
+        v *= [1.0, np.degrees(1.0), lat[1], lon[1], height[1]]
+        fix = np.asarray(data.get("fix_type", np.full(len(v), 3)))
+        t_fix = np.asarray(data["timestamp"], dtype=np.int64)
+        source = (
+            f"{topic} ({', '.join(names)}; {note}; {int((fix < 3).sum())} messages without a 3D fix left out)"
+        )
+        return gps_stream(
+            t_us, t_fix[fix >= 3], v[fix >= 3], ticks_per_s=1_000_000, latency_s=latency_s, source=source
+        )
+    return "none (no vehicle_gps_position or sensor_gps topic)"
+
+
+def import_ulog(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) -> PhysicalTrace:
     """A PX4 ULog file as a physical trace (instance 0 of each topic)."""
     pyulog = need("pyulog", "pyulog", "ulog")
     p = check_file(path, "ULog file")
@@ -94,6 +130,7 @@ def import_ulog(path: PathLike) -> PhysicalTrace:
         accel_g=accel / G0 * FLU_FROM_FRD,
         mag_gauss=mag,
         truth_q=truth,
+        gps=_gps(topics, t_us, gps_latency_s, p),
         metadata={
             "source": f"PX4 ULog {p.name}",
             "source_file": p.name,
