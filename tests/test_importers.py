@@ -346,6 +346,7 @@ def test_euroc_import(tmp_path):
     # Before the first ground-truth time (1 ms after the first IMU sample): no truth.
     assert np.isnan(trace.truth_q[0]).all() and not np.isnan(trace.truth_q[1]).any()
     _check_physics(trace, float32=False)
+    assert trace.gps is None and trace.metadata["gps"] == "none: EuRoC-style logs hold no GPS"
     r = run_cli("import", "euroc", str(tmp_path), "--out", str(tmp_path / "e.csv"))
     assert r.code == 0, r.err
     np.testing.assert_array_equal(PhysicalTrace.load(tmp_path / "e.csv").t_s, t)
@@ -473,6 +474,7 @@ def test_rosbag_import(tmp_path, ros):
     np.testing.assert_array_equal(trace.t_s, t)
     assert "1700000000123456789 ns" in trace.metadata["time_origin"]
     assert "REP 103" in trace.metadata["frame"] and "estimate" in trace.metadata["truth"]
+    assert trace.gps is None and "none: no sensor_msgs/msg/NavSatFix topic and no" in trace.metadata["gps"]
     # The field at 50 Hz, interpolated: the chord error of a 0.4° turn (as for the ULog).
     theta = YAW_RATE * 0.02
     _check_physics(

@@ -72,11 +72,13 @@ def _gps(
     velocity interpolated at their stamps, or why there is none."""
     fix_topic, vel_topic = names
     if fix_topic is None or vel_topic is None:
-        what = f"no {FIX} topic" if fix_topic is None else f"{fix_topic} gives position only"
-        missing = f"no {VEL} fix-velocity topic" if vel_topic is None else "no fixes"
-        return (
-            f"none: {what} and {missing} (speed and course need both; see --gps-topic, --gps-velocity-topic)"
+        what = (
+            f"{fix_topic} gives position only: no {VEL} fix-velocity topic"
+            if vel_topic is None and fix_topic is not None
+            else f"no {FIX} topic"
+            + (f" ({vel_topic} gives velocity only)" if vel_topic else f" and no {VEL}")
         )
+        return f"none: {what} (speed and course need both; see --gps-topic, --gps-velocity-topic)"
     if not fixes or len(vels) < 2:
         return f"none: {fix_topic} has {len(fixes)} fixes, {vel_topic} {len(vels)} velocities (need 2)"
     tf, pos = ascending(np.array([s for s, _ in fixes], dtype=np.int64), np.array([v for _, v in fixes]))
