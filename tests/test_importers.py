@@ -508,7 +508,7 @@ def test_rosbag_with_two_imu_topics_asks_which(tmp_path):
 
 def _df_format(type_id: int, name: str, fmt: str, columns: str) -> bytes:
     """An FMT message: the type, the message length (3-byte header included), name, format, columns."""
-    sizes = {"Q": 8, "B": 1, "f": 4, "n": 4, "N": 16, "Z": 64, "L": 4, "e": 4}
+    sizes = {"Q": 8, "B": 1, "f": 4, "n": 4, "N": 16, "Z": 64, "L": 4, "e": 4, "I": 4, "H": 2, "c": 2}
     length = 3 + sum(sizes[c] for c in fmt)
     payload = struct.pack("<BB4s16s64s", type_id, length, name.encode(), fmt.encode(), columns.encode())
     return b"\xa3\x95\x80" + payload
@@ -521,18 +521,27 @@ def _df_message(type_id: int, fmt: str, *values: float) -> bytes:
 def _dataflash(path: Path, gps: bool = False) -> dict[str, np.ndarray]:
     m = _ned_motion()
     out = bytearray(_df_format(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
-    if gps:  # Lat/Lng 1e-7° integers, Alt cm integers (MSL); left out: no fix, second receiver, too early
-        out += _df_format(132, "GPS", "QBBLLeff", "TimeUS,I,Status,Lat,Lng,Alt,Spd,GCrs")
-        pos = _gps_positions(GPS_DT_US)
-        for dt, (lat, lon, h) in zip(GPS_DT_US, pos, strict=True):
-            ints = (round(lat * 1e7), round(lon * 1e7), round(h * 100))
-            out += _df_message(132, "QBBiiiff", T0_US + dt, 0, 3, *ints, GPS_SPEED, GPS_COURSE)
-            out += _df_message(132, "QBBiiiff", T0_US + dt, 1, 3, 0, 0, 0, 1.0, 1.0)
-        out += _df_message(132, "QBBiiiff", T0_US + 51_500, 0, 1, 0, 0, 0, 0.0, 0.0)
-        out += _df_message(132, "QBBiiiff", T0_US - 50_000, 0, 3, 473977419, 85455938, 48800, 20.0, 30.0)
     out += _df_format(129, "IMU", "QBffffff", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ")
     out += _df_format(130, "MAG", "QBfff", "TimeUS,I,MagX,MagY,MagZ")
     out += _df_format(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
+    if gps:  # ArduPilot's GPS layout: Lat/Lng 1e-7° integers, Alt cm integers (MSL), GPS week and ms
+        out += _df_format(
+            132, "GPS", "QBBIHBcLLeffffB", "TimeUS,I,Status,GMS,GWk,NSats,HDop,Lat,Lng,Alt,Spd,GCrs,VZ,Yaw,U"
+        )
+
+        def gps_message(
+            t_us: int, instance: int, status: int, ints: tuple[int, int, int], spd: float
+        ) -> bytes:
+            gms = 300_000_000 + (t_us - T0_US) // 1000
+            values = (t_us, instance, status, gms, 2300, 12, 80, *ints, spd, GPS_COURSE, 0.0, 0.0, 1)
+            return _df_message(132, "QBBIHBhiiiffffB", *values)
+
+        for dt, (lat, lon, h) in zip(GPS_DT_US, _gps_positions(GPS_DT_US), strict=True):
+            ints = (round(lat * 1e7), round(lon * 1e7), round(h * 100))
+            out += gps_message(T0_US + int(dt), 0, 3, ints, GPS_SPEED)
+            out += gps_message(T0_US + int(dt), 1, 3, (0, 0, 0), 1.0)  # a second receiver: left out
+        out += gps_message(T0_US + 51_500, 0, 1, (0, 0, 0), 0.0)  # no fix: left out
+        out += gps_message(T0_US - 50_000, 0, 3, (473977419, 85455938, 48800), GPS_SPEED)  # too early
     for k, t in enumerate(m["t_us"]):
         out += _df_message(129, "QBffffff", t, 0, *m["gyro"][k], *m["accel"][k])
         out += _df_message(129, "QBffffff", t, 1, 9.0, 9.0, 9.0, 9.0, 9.0, 9.0)  # a second IMU: left out
