@@ -610,3 +610,18 @@ def test_rosbag_keeps_the_gps(tmp_path, ros):
     assert "no geometry_msgs/msg/TwistStamped" in trace.metadata["gps"]
     r = run_cli("import", "rosbag", str(only), "--out", str(tmp_path / "o.h5"))
     assert r.code == 0, r.err
+
+
+def test_two_fixes_on_one_row_keep_the_later():
+    from sins_fw.importers import gps_stream
+
+    t_imu = np.arange(5, dtype=np.int64) * 4000  # µs
+    fixes = np.array([[1.0, 10.0, 1.0, 2.0, 3.0], [2.0, -10.0, 1.0, 2.0, 3.0], [3.0, 370.0, 1.0, 2.0, 3.0]])
+    gps = gps_stream(
+        t_imu, np.array([5000, 6000, 12000]), fixes, ticks_per_s=10**6, latency_s=0.0, source="s"
+    )
+    assert not isinstance(gps, str)
+    # 5 ms and 6 ms both go on the 8 ms row: the later (course −10° → 350°) stays; 12 ms is on its row.
+    np.testing.assert_array_equal(gps.columns[2:4, :2], [[2.0, 350.0], [3.0, 10.0]])
+    assert np.isnan(gps.columns[[0, 1, 4]]).all()
+    assert "2 fixes" in gps.metadata["gps"] and "1 replaced by a later fix" in gps.metadata["gps"]
