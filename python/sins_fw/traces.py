@@ -23,6 +23,7 @@ import h5py
 import numpy as np
 from numpy.typing import NDArray
 
+from sins_fw import _core
 from sins_fw.errors import TraceError, TraceWarning
 from sins_fw.tablefile import (
     BLOCK_ROWS,
@@ -118,25 +119,14 @@ _GPS_RANGES: dict[str, tuple[float, float, str]] = {
     "gps_height_m": (-1.0e4, 1.0e5, "−10 000…100 000 m"),
 }
 
-#: The 15 DOUT words of one burst read, in bus order: the don't-care answer to the 0x4200 command
-#: frame, then the 14 output registers 0x02…0x1C.
-RAW_WORD_COLUMNS: tuple[str, ...] = (
-    "frame0",
-    "supply_out",
-    "xgyro_out",
-    "ygyro_out",
-    "zgyro_out",
-    "xaccl_out",
-    "yaccl_out",
-    "zaccl_out",
-    "xmagn_out",
-    "ymagn_out",
-    "zmagn_out",
-    "baro_out",
-    "baro_outl",
-    "temp_out",
-    "aux_adc",
-)
+#: The part whose burst read a raw-register trace records: the format is the ADIS16407's burst
+#: (its command answer and 14 output registers, docs/traces.md "Raw-register trace"), whatever part
+#: a profile declares.
+RAW_PART = "ADIS16407"
+#: The 15 DOUT words of one burst read, in bus order: the don't-care answer to the burst command
+#: frame (0x4200), then the registers :data:`RAW_PART`'s declaration in the Rust core lists for its
+#: burst (`_core.PARTS`), named in lower case (0x02…0x1C: ``supply_out`` … ``aux_adc``).
+RAW_WORD_COLUMNS: tuple[str, ...] = ("frame0", *(name.lower() for name in _core.PARTS[RAW_PART]["burst"]))
 RAW_COLUMNS: tuple[Column, ...] = (
     Column("t_s", "s", "time of the burst's chip-select falling edge"),
     *(
