@@ -52,7 +52,7 @@ G0 = 9.80665
 
 @dataclass(frozen=True)
 class Column:
-    """One column of a trace format."""
+    """One column of a table format (a trace, the run output)."""
 
     name: str
     unit: str
@@ -70,6 +70,7 @@ class Column:
         return self.name.rsplit("_", 1)[0]
 
 
+#: Other names of the time column (the message on them asks for `t_s`).
 _ALIASES = {"time": "t_s", "timestamp": "t_s", "time_s": "t_s"}
 
 
