@@ -1,5 +1,6 @@
 """Names declared once across the language boundary: the event kinds and output columns are the
-core's tables (exported by the binding); docs/events.md is generated from them; the Python side
+core's tables (exported by the binding), and so are the raw-register trace's word columns (the
+ADIS16407's burst list); docs/events.md is generated from them; the Python side
 reports no kind of its own that the table lacks."""
 
 from __future__ import annotations
@@ -7,7 +8,7 @@ from __future__ import annotations
 import re
 
 from conftest import ROOT
-from sins_fw import _core, docs
+from sins_fw import _core, docs, traces
 from sins_fw.harness import new_emulator
 from sins_fw.profile import load_profile
 
@@ -38,3 +39,15 @@ def test_the_take_dict_holds_exactly_the_output_columns() -> None:
     taken = emu.take()
     assert list(taken) == [c["name"] for c in _core.OUTPUT_COLUMNS] + ["events"]
     assert taken["read_words"].shape[1:] == (_core.READ_WORDS,)
+
+
+def test_raw_word_columns_from_the_part_are_the_documented_format() -> None:
+    # RAW_WORD_COLUMNS comes from the ADIS16407's burst list in the Rust core: a change of the part's
+    # declaration would change the file format, so it must match the documented column list.
+    section = (ROOT / "docs" / "traces.md").read_text().split("## Raw-register trace", 1)[1]
+    listed = section.split("bus order:", 1)[1].split("(registers", 1)[0]
+    documented = tuple(re.findall(r"`([a-z0-9_]+)`", listed))
+    assert len(documented) == _core.READ_WORDS
+    assert documented == traces.RAW_WORD_COLUMNS
+    assert traces.RAW_SCHEMA.names() == ["t_s", *documented]
+    assert _core.PARTS[traces.RAW_PART]["burst_command"] == 0x4200  # the documented command frame

@@ -23,7 +23,8 @@ from conftest import ROOT, run_cli
 from sins_fw import atomic, synth
 from sins_fw.cli import main
 from sins_fw.run_output import load_run
-from sins_fw.traces import PHYSICAL_SCHEMA, _write_csv
+from sins_fw.tablefile import write_csv
+from sins_fw.traces import PHYSICAL_SCHEMA
 
 BAD = ROOT / "tests" / "data" / "bad"
 PROFILES = BAD / "profiles"
@@ -492,7 +493,7 @@ def late_nan(tmp_path_factory) -> Path:
     cols["gyro_y_dps"][120_000] = np.nan
     path = tmp_path_factory.mktemp("late") / "late_nan.csv"
     # Written as another tool would (no validation on the way out).
-    _write_csv(path, PHYSICAL_SCHEMA, {"format": PHYSICAL_SCHEMA.format, **trace.metadata}, cols)
+    write_csv(path, PHYSICAL_SCHEMA, {"format": PHYSICAL_SCHEMA.format, **trace.metadata}, cols)
     return path
 
 

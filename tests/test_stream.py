@@ -63,7 +63,7 @@ def test_a_short_h5_is_the_whole_writers_bytes(tmp_path):
 
 def test_a_long_h5_streams_the_same_values_chunked_alike(tmp_path, monkeypatch):
     # Scaled down: chunks of 1 000 rows, streaming from the first chunk on.
-    monkeypatch.setattr(stream, "_BLOCK_ROWS", 1000)
+    monkeypatch.setattr(stream, "BLOCK_ROWS", 1000)
     monkeypatch.setattr(stream, "WHOLE_ROWS", 0)
     trace = synth.generate("coning", duration_s=4.0)
     stream.save_chunks(tmp_path / "s.h5", synth.generate_chunks("coning", rows=777, duration_s=4.0))
@@ -77,7 +77,7 @@ def test_a_long_h5_streams_the_same_values_chunked_alike(tmp_path, monkeypatch):
 
 
 def test_a_stream_that_fails_leaves_the_old_file(tmp_path, monkeypatch):
-    monkeypatch.setattr(stream, "_BLOCK_ROWS", 1000)
+    monkeypatch.setattr(stream, "BLOCK_ROWS", 1000)
     monkeypatch.setattr(stream, "WHOLE_ROWS", 0)
     out = tmp_path / "t.h5"
     out.write_bytes(b"old")

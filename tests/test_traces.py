@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, run_cli
-from sins_fw import traces
+from sins_fw import tablefile, traces
 from sins_fw.errors import TraceError
 from sins_fw.traces import PhysicalTrace, RawRegisterTrace
 
@@ -172,7 +172,7 @@ def test_save_is_atomic(tmp_path, monkeypatch):
     def explode(*_args, **_kwargs):
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(traces, "_format_column", explode)
+    monkeypatch.setattr(tablefile, "_format_column", explode)
     with pytest.raises(RuntimeError):
         trace.save(path)
     assert path.read_text() == "previous content"  # the old file is untouched

@@ -20,7 +20,8 @@ from sins_fw.errors import CheckFailed, InputError
 from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
-from sins_fw.traces import Column, PhysicalTrace, RawRegisterTrace, ReadOptions, _open, _Schema, _write
+from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, write_table
+from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth
 
 RUN_FORMAT = "sins-fw-run-output/1"
 
@@ -49,7 +50,7 @@ RUN_COLUMNS: tuple[Column, ...] = (
     ),
     Column("moving", "0/1", "the trace's movement mask at the step time", "flag", "moving", False),
 )
-RUN_SCHEMA = _Schema("run output", RUN_FORMAT, RUN_COLUMNS)
+RUN_SCHEMA = Schema("run output", RUN_FORMAT, RUN_COLUMNS, checks=(check_truth,))
 
 
 def run_columns(run: Run) -> dict[str, np.ndarray]:
@@ -77,7 +78,7 @@ def save_run(run: Run, path: str | os.PathLike[str], metadata: dict[str, str] | 
     """Write the per-step output (``.csv`` or ``.h5``) atomically. ``metadata`` adds one-line
     ``key: value`` entries to the ones recorded always (trace, profile, overrides, numeric, rate)."""
     meta = _run_metadata(run.profile, _step_s(run), run.t0_s, metadata or {})
-    _write(path, RUN_SCHEMA, meta, run_columns(run))
+    write_table(path, RUN_SCHEMA, meta, run_columns(run))
 
 
 def _run_metadata(profile: Profile, step_s: Fraction, t0_s: float, extra: dict[str, str]) -> dict[str, str]:
@@ -172,7 +173,7 @@ class _Deferred:
     def _ready(self, final: bool) -> bool:
         raise NotImplementedError
 
-    def _header(self) -> tuple[_Schema, dict[str, str]]:
+    def _header(self) -> tuple[Schema, dict[str, str]]:
         raise NotImplementedError
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
@@ -201,7 +202,7 @@ class RunWriter(_Deferred):
             )
         return final
 
-    def _header(self) -> tuple[_Schema, dict[str, str]]:
+    def _header(self) -> tuple[Schema, dict[str, str]]:
         ticks = self._steps if len(self._steps) >= 2 else self._ticks
         step_s = Fraction(ticks[1] - ticks[0], 10**12)
         return RUN_SCHEMA, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
@@ -226,7 +227,7 @@ class RawWriter(_Deferred):
             raise InputError("raw-register trace: the run is too short (fewer than two timer ticks)")
         return False
 
-    def _header(self) -> tuple[_Schema, dict[str, str]]:
+    def _header(self) -> tuple[Schema, dict[str, str]]:
         rate = Fraction(10**12, self._ticks[1] - self._ticks[0])
         meta = {"sample_rate_hz": _rate_text(rate), **self.metadata}
         empty = RawRegisterTrace(
@@ -305,7 +306,7 @@ def _step_s(run: Run) -> Fraction:
 
 def load_run(path: str | os.PathLike[str]) -> tuple[dict[str, str], dict[str, np.ndarray]]:
     """Read a run-output file back: (metadata, columns), validated as on write."""
-    src = _open(path, RUN_SCHEMA, 1 << 16, True, 1.5)
+    src = open_table(path, RUN_SCHEMA, 1 << 16, True, 1.5)
     blocks = list(src.blocks)
     cols: dict[str, Any] = {n: np.concatenate([b[n] for b in blocks]) for n in blocks[0]} if blocks else {}
     return src.metadata, cols

@@ -30,24 +30,24 @@ import numpy as np
 
 from sins_fw.atomic import atomic_path, kept_error_file
 from sins_fw.errors import TraceError
-from sins_fw.traces import (
-    _BLOCK_ROWS,
+from sins_fw.tablefile import (
+    BLOCK_ROWS,
     DEFAULT_MAX_GAP_PERIODS,
+    Checker,
     PathLike,
-    _check_metadata,
-    _Checker,
-    _csv_lines,
-    _extension,
-    _h5_create,
-    _Schema,
-    _TraceFile,
-    _write_h5,
+    Schema,
+    check_metadata,
+    csv_lines,
+    h5_create,
     parse_rate,
+    table_extension,
+    write_h5,
 )
+from sins_fw.traces import _TraceFile
 
 #: Rows held before an HDF5 file is streamed: up to five chunks (6.7 min at 819.2 SPS, ≈ 45 MB for
 #: the 17 columns of a physical trace) are written whole, with the whole-array writer's bytes.
-WHOLE_ROWS = 5 * _BLOCK_ROWS
+WHOLE_ROWS = 5 * BLOCK_ROWS
 
 
 class TableWriter:
@@ -62,7 +62,7 @@ class TableWriter:
     def __init__(
         self,
         path: PathLike,
-        schema: _Schema,
+        schema: Schema,
         metadata: Mapping[str, str],
         *,
         allow_gaps: bool = False,
@@ -70,11 +70,11 @@ class TableWriter:
     ) -> None:
         self.path = Path(path)
         self.schema = schema
-        self._ext = _extension(self.path)
+        self._ext = table_extension(self.path)
         self.metadata = {"format": schema.format, **{k: v for k, v in metadata.items() if k != "format"}}
-        rate = _check_metadata(self.metadata, schema, f"{self.path}: metadata")
+        rate = check_metadata(self.metadata, schema, f"{self.path}: metadata")
         src = f"<{schema.title} written to {self.path}>"
-        self._checker = _Checker(
+        self._checker = Checker(
             schema,
             src,
             float(1 / rate),
@@ -134,8 +134,8 @@ class TableWriter:
         self._pending_rows += n
         if self._h5 is None and self._pending_rows <= WHOLE_ROWS:
             return
-        while self._pending_rows >= _BLOCK_ROWS:
-            self._flush_chunk(_BLOCK_ROWS)
+        while self._pending_rows >= BLOCK_ROWS:
+            self._flush_chunk(BLOCK_ROWS)
 
     # CSV ------------------------------------------------------------------------------------------
 
@@ -147,7 +147,7 @@ class TableWriter:
             for k, v in self.metadata.items():
                 self._csv.write(f"# {k}: {v}\n")
             self._csv.write(",".join(self._names) + "\n")
-        self._csv.write(_csv_lines(self.schema, block))
+        self._csv.write(csv_lines(self.schema, block))
 
     # HDF5 -----------------------------------------------------------------------------------------
 
@@ -183,7 +183,7 @@ class TableWriter:
             for k, v in self.metadata.items():
                 self._h5.attrs[k] = v
             for name, arr in block.items():
-                self._datasets[name] = _h5_create(self._h5, self.schema.column(name), arr[:0], _BLOCK_ROWS)
+                self._datasets[name] = h5_create(self._h5, self.schema.column(name), arr[:0], BLOCK_ROWS)
         start = self.rows - self._pending_rows - rows
         for name, arr in block.items():
             ds = self._datasets[name]
@@ -197,7 +197,7 @@ class TableWriter:
             return
         if self._h5 is None:  # short: the whole-array writer, the same bytes as ever
             assert self._tmp is not None
-            _write_h5(self._tmp, self.schema, self.metadata, self._take(self._pending_rows), atomic=False)
+            write_h5(self._tmp, self.schema, self.metadata, self._take(self._pending_rows), atomic=False)
             return
         if self._pending_rows:
             self._flush_chunk(self._pending_rows)
@@ -248,7 +248,7 @@ def save_chunks(path: PathLike, chunks: Iterable[_TraceFile], *, allow_gaps: boo
 
 def write_blocks(
     path: PathLike,
-    schema: _Schema,
+    schema: Schema,
     metadata: Mapping[str, str],
     blocks: Iterator[Mapping[str, np.ndarray]],
     *,

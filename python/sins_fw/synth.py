@@ -76,7 +76,7 @@ def _smoothstep(u: Array) -> tuple[Array, Array, Array, Array]:
 
 
 @dataclass(frozen=True)
-class Profile:
+class MotionProfile:
     """A smooth piecewise rate r(t) and its integral x(t): holds and septic ramps.
 
     Segment k starts at ``t0[k]``, lasts ``length[k]`` (the last one forever), ramps r from ``r0[k]``
@@ -90,7 +90,7 @@ class Profile:
     x0: Array
 
     @staticmethod
-    def build(x_start: float, r_start: float, ramps: Sequence[tuple[float, float, float]]) -> Profile:
+    def build(x_start: float, r_start: float, ramps: Sequence[tuple[float, float, float]]) -> MotionProfile:
         """From ``(start time, duration, target rate)`` ramps in time order; holds fill the gaps."""
         t0: list[float] = [0.0]
         length: list[float] = []
@@ -117,14 +117,14 @@ class Profile:
             x0.append(x)
         length.append(math.inf)
         r1.append(r)
-        return Profile(*(np.array(a, dtype=np.float64) for a in (t0, length, r0, r1, x0)))
+        return MotionProfile(*(np.array(a, dtype=np.float64) for a in (t0, length, r0, r1, x0)))
 
-    def pinned(self, values: dict[int, float]) -> Profile:
+    def pinned(self, values: dict[int, float]) -> MotionProfile:
         """The same profile with x at the start of some segments set exactly (table stops)."""
         x0 = self.x0.copy()
         for k, v in values.items():
             x0[k] = v
-        return Profile(self.t0, self.length, self.r0, self.r1, x0)
+        return MotionProfile(self.t0, self.length, self.r0, self.r1, x0)
 
     @property
     def end(self) -> float:
@@ -252,10 +252,15 @@ def static_motion(
 
 
 def _axis_motion(
-    t: Array, profile: Profile, axis: str, attitude_deg: Sequence[float], latitude_deg: float, height_m: float
+    t: Array,
+    motion: MotionProfile,
+    axis: str,
+    attitude_deg: Sequence[float],
+    latitude_deg: float,
+    height_m: float,
 ) -> Motion:
-    """A rotation of a table (mounted at ``attitude_deg``) about a body axis by the angle profile."""
-    angle, rate, _, _ = profile(t)
+    """A rotation of a table (mounted at ``attitude_deg``) about a body axis by the angle ``motion``."""
+    angle, rate, _, _ = motion(t)
     a = _axis(axis)
     q = quat.multiply(_attitude(attitude_deg), quat.from_axis_angle(a, angle))
     return _ground(t, q, rate[:, None] * a, latitude_deg, height_m)
@@ -295,7 +300,7 @@ def sweep_angles(axis: str) -> tuple[float, ...]:
 
 def indexing_profile(
     angles_deg: Sequence[float], max_rate_dps: float, max_accel_dps2: float, dwell_s: float
-) -> tuple[Profile, float]:
+) -> tuple[MotionProfile, float]:
     """Dwell at each table angle, moving between them with rate and acceleration limits: the angle
     profile (radians) and its total duration (the last dwell included)."""
     if len(angles_deg) < 1:
@@ -321,10 +326,10 @@ def indexing_profile(
         t = decel + t_ramp
         stops.append((t, nxt))
         t += dwell_s
-    profile = Profile.build(angles[0], 0.0, ramps)
+    motion = MotionProfile.build(angles[0], 0.0, ramps)
     # Pin each stop to its exact table angle (the integral's rounding would leave ~1e-16 rad).
-    index = {float(t0): k for k, t0 in enumerate(profile.t0)}
-    return profile.pinned({index[stop]: angle for stop, angle in stops}), t
+    index = {float(t0): k for k, t0 in enumerate(motion.t0)}
+    return motion.pinned({index[stop]: angle for stop, angle in stops}), t
 
 
 def indexing_table_motion(
@@ -341,8 +346,8 @@ def indexing_table_motion(
     rows: slice | None = None,
 ) -> Motion:
     """A single-axis indexing table: dwell ``dwell_s`` at each angle (the first included), smooth moves."""
-    profile, end = indexing_profile(angles_deg, max_rate_dps, max_accel_dps2, dwell_s)
-    return _axis_motion(sample_times(end, rate_hz, rows), profile, axis, attitude_deg, latitude_deg, height_m)
+    motion, end = indexing_profile(angles_deg, max_rate_dps, max_accel_dps2, dwell_s)
+    return _axis_motion(sample_times(end, rate_hz, rows), motion, axis, attitude_deg, latitude_deg, height_m)
 
 
 def turntable_motion(
@@ -373,8 +378,8 @@ def turntable_motion(
             t += dt
             r = target
         t += hold_s if k < len(targets) else lead_s
-    profile = Profile.build(0.0, 0.0, ramps)
-    return _axis_motion(sample_times(t, rate_hz, rows), profile, axis, attitude_deg, latitude_deg, height_m)
+    motion = MotionProfile.build(0.0, 0.0, ramps)
+    return _axis_motion(sample_times(t, rate_hz, rows), motion, axis, attitude_deg, latitude_deg, height_m)
 
 
 def coning_motion(
@@ -425,9 +430,9 @@ _GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
 
 @dataclass(frozen=True)
 class _FlightPlan:
-    speed: Profile  # r = V (m/s)
-    gamma: Profile  # r = flight-path angle γ (rad)
-    heading: Profile  # x = heading ψ from north, clockwise; r = ψ̇ (rad, rad/s)
+    speed: MotionProfile  # r = V (m/s)
+    gamma: MotionProfile  # r = flight-path angle γ (rad)
+    heading: MotionProfile  # x = heading ψ from north, clockwise; r = ψ̇ (rad, rad/s)
     end: float
 
     def velocity(self, t: Array) -> tuple[Array, Array]:
@@ -451,9 +456,9 @@ def flight_plan(
     if speed_mps <= 0 or turn_rate_dps <= 0:
         raise ConfigError("flight: speed and turn rate must be positive")
     v_lof = 0.7 * speed_mps
-    speed = Profile.build(0.0, 0.0, [(10.0, 20.0, v_lof), (34.0, 20.0, speed_mps)])
+    speed = MotionProfile.build(0.0, 0.0, [(10.0, 20.0, v_lof), (34.0, 20.0, speed_mps)])
     climb = math.radians(climb_deg)
-    gamma = Profile.build(
+    gamma = MotionProfile.build(
         0.0, 0.0, [(30.0, 4.0, climb), (90.0, 4.0, 0.0), (250.0, 4.0, -climb / 2), (294.0, 4.0, 0.0)]
     )
     rate = math.radians(turn_rate_dps)
@@ -464,7 +469,7 @@ def flight_plan(
         hold = math.radians(abs(angle_deg)) / rate - ramp
         return [(start, ramp, r), (start + ramp + hold, ramp, 0.0)]
 
-    heading = Profile.build(math.radians(heading_deg), 0.0, [*turn(114.0, 90.0), *turn(167.0, -180.0)])
+    heading = MotionProfile.build(math.radians(heading_deg), 0.0, [*turn(114.0, 90.0), *turn(167.0, -180.0)])
     return _FlightPlan(speed, gamma, heading, end=318.0)
 
 
@@ -514,9 +519,9 @@ def turn_motion(
     if speed_mps <= 0 or turn_rate_dps == 0 or duration_s <= 0:
         raise ConfigError("turn: speed and duration must be positive, the turn rate not zero")
     plan = _FlightPlan(
-        speed=Profile.build(0.0, speed_mps, []),
-        gamma=Profile.build(0.0, 0.0, []),
-        heading=Profile.build(math.radians(heading_deg), math.radians(turn_rate_dps), []),
+        speed=MotionProfile.build(0.0, speed_mps, []),
+        gamma=MotionProfile.build(0.0, 0.0, []),
+        heading=MotionProfile.build(math.radians(heading_deg), math.radians(turn_rate_dps), []),
         end=duration_s,
     )
     return _plan_motion(plan, latitude_deg, height_m, rate_hz, rows)

@@ -27,7 +27,8 @@ from numpy.typing import NDArray
 
 from sins_fw import quaternion
 from sins_fw.errors import InputError, TraceError
-from sins_fw.traces import G0, GPS_COLUMNS, PhysicalTrace, _rate_of_step, _rate_text
+from sins_fw.tablefile import rate_of_step, rate_text
+from sins_fw.traces import G0, GPS_COLUMNS, PhysicalTrace
 
 Array = NDArray[np.float64]
 PathLike = str | os.PathLike[str]
@@ -107,7 +108,7 @@ def rate_from_times(t: Array, where: str) -> Fraction:
     dt = dt[dt > 0]
     if not len(dt):
         raise TraceError(f"{where}: fewer than two IMU samples with increasing times; expected a log")
-    return _rate_of_step(float(np.median(dt)))
+    return rate_of_step(float(np.median(dt)))
 
 
 def ascending(t: Array, *arrays: Array) -> tuple[Array, ...]:
@@ -135,7 +136,7 @@ def make_trace(
     times, the provenance and conversions in the metadata."""
     t = t_abs - t_abs[0]
     meta = {
-        "sample_rate_hz": _rate_text(rate_from_times(t, where)),
+        "sample_rate_hz": rate_text(rate_from_times(t, where)),
         **metadata,
         "time_origin": origin,
         "g0_m_s2": repr(G0),
@@ -207,7 +208,7 @@ def gps_stream(
         "gps_latency_s": repr(float(latency_s)),
     }
     if len(step):
-        meta["gps_rate_hz"] = _rate_text(_rate_of_step(float(np.median(step)) / ticks_per_s))
+        meta["gps_rate_hz"] = rate_text(rate_of_step(float(np.median(step)) / ticks_per_s))
     return GpsStream(cols, meta)
 
 

@@ -220,11 +220,27 @@ fn output_columns(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
         .collect()
 }
 
+/// The parts (`sins_core::device::part::PARTS`) by name, each a dict: prod_id, burst_command and
+/// burst (the names of the registers a burst shifts out after its command frame, in order).
+fn parts(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    for p in sins_core::device::part::PARTS {
+        let burst: Vec<&str> = p.burst.iter().filter_map(|&a| p.lookup(a).map(|r| r.name)).collect();
+        let d = PyDict::new(py);
+        d.set_item("prod_id", p.prod_id)?;
+        d.set_item("burst_command", p.burst_command)?;
+        d.set_item("burst", burst)?;
+        out.set_item(p.name, d)?;
+    }
+    Ok(out)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("EVENT_KINDS", event_kinds(m.py())?)?;
     m.add("OUTPUT_COLUMNS", output_columns(m.py())?)?;
     m.add("READ_WORDS", sins_core::emulator::READ_WORDS)?;
+    m.add("PARTS", parts(m.py())?)?;
     m.add("__version__", sins_core::VERSION)?;
     m.add("BLOCK_TICKS", sins_core::emulator::BLOCK_TICKS)?;
     m.add_function(wrap_pyfunction!(resolve_profile, m)?)?;
