@@ -254,3 +254,34 @@ def test_a_full_disk_is_exit_2_naming_the_file_and_keeping_the_old_one(full_disk
     out.write_bytes(b"previous")
     r = _run_limited(args, full_disk, None)
     _check_refused_cleanly(r, out, "No space left on device")
+
+
+def test_an_rrd_whose_last_bytes_fail_at_close_is_an_error_not_a_thread_traceback(tmp_path, monkeypatch):
+    """The recording's pump writes through a buffered file: on a nearly full disk every write can fit
+    the buffer and only the flush at close fail. Before, that OSError escaped the pump's thread as a
+    traceback on stderr and the save went on as if complete (a truncated .rrd renamed into place);
+    now it is the save's error, raised when the pump ends."""
+    import errno
+    import threading
+
+    from sins_fw.viewer import recording
+
+    class FailsAtClose:
+        def __init__(self) -> None:
+            self.held = 0
+
+        def write(self, block: bytes) -> int:
+            self.held += len(block)
+            return len(block)
+
+        def close(self) -> None:
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+    escaped: list[BaseException] = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: escaped.append(args.exc_value))
+    monkeypatch.setattr(Path, "open", lambda self, *a, **k: FailsAtClose())
+    pump = recording._Pump(tmp_path / "r.rrd.tmp")
+    with pytest.raises(OSError, match="No space left on device"):
+        with pump as fd:
+            os.write(int(fd.rsplit("/", 1)[1]), b"x" * 1000)
+    assert escaped == []

@@ -696,18 +696,22 @@ class _Pump:
         self.thread = threading.Thread(target=self._pump, name="rrd-writer", daemon=True)
 
     def _pump(self) -> None:
-        with self.tmp.open("wb") as fh, open(self.read_end, "rb", buffering=0) as pipe:
-            for block in iter(lambda: pipe.read(1 << 20), b""):
-                if self.error is None:
-                    try:
-                        fh.write(block)
-                    except OSError as e:
-                        self.error = e
-            if self.error is None:
-                try:
-                    fh.flush()
-                except OSError as e:
-                    self.error = e
+        fh = self.tmp.open("wb")
+        try:
+            with open(self.read_end, "rb", buffering=0) as pipe:
+                for block in iter(lambda: pipe.read(1 << 20), b""):
+                    if self.error is None:
+                        try:
+                            fh.write(block)
+                        except OSError as e:
+                            self.error = e
+        finally:
+            # Closing flushes what the buffer still holds: on a full disk that fails too, and after a
+            # failed write it fails again. Either is this save's error, never a thread's traceback.
+            try:
+                fh.close()
+            except OSError as e:
+                self.error = self.error or e
 
     def __enter__(self) -> str:
         self.thread.start()
