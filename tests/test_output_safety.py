@@ -281,7 +281,6 @@ def test_an_rrd_whose_last_bytes_fail_at_close_is_an_error_not_a_thread_tracebac
     monkeypatch.setattr(threading, "excepthook", lambda args: escaped.append(args.exc_value))
     monkeypatch.setattr(Path, "open", lambda self, *a, **k: FailsAtClose())
     pump = recording._Pump(tmp_path / "r.rrd.tmp")
-    with pytest.raises(OSError, match="No space left on device"):
-        with pump as fd:
-            os.write(int(fd.rsplit("/", 1)[1]), b"x" * 1000)
+    with pytest.raises(OSError, match="No space left on device"), pump as fd:
+        os.write(int(fd.rsplit("/", 1)[1]), b"x" * 1000)
     assert escaped == []
