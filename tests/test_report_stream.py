@@ -75,17 +75,19 @@ def test_up_to_a_block_the_summary_is_numpys_over_the_whole_arrays(name, overrid
 
 
 @pytest.mark.parametrize("ext", [".csv", ".h5"])
-def test_run_out_streamed_is_the_whole_writers_file(tmp_path, ext):
+@pytest.mark.parametrize("overrides", [[], ["firmware.algorithm=dcm"]])
+def test_run_out_streamed_is_the_whole_writers_file(tmp_path, ext, overrides):
     """`run --out` writes as the run streams: the bytes `save_run` writes of the whole run (the
-    metadata the CLI records added)."""
+    metadata the CLI records added), the DCM's columns included."""
     trace = TRACES / "pitch_sweep.h5"
     out = tmp_path / f"o{ext}"
-    r = run_cli("run", str(trace), "--out", str(out), "--until-s", "30")
+    sets = [x for o in overrides for x in ("--set", o)]
+    r = run_cli("run", str(trace), *sets, "--out", str(out), "--until-s", "30")
     assert r.code == 0, r.err
     from sins_fw.run_output import trace_reference
 
     meta = {**trace_reference(trace, out), "until_s": repr(30.0)}
-    save_run(emulate(trace, until_s=30.0), tmp_path / f"w{ext}", meta)
+    save_run(emulate(trace, overrides=overrides, until_s=30.0), tmp_path / f"w{ext}", meta)
     assert out.read_bytes() == (tmp_path / f"w{ext}").read_bytes()
 
 

@@ -252,3 +252,46 @@ def test_output_size_hint_never_changes_the_output():
     reference = output(None)
     for hint in (float(t[-1]), 100.0, 0.5, math.nan):
         assert output(hint) == reference
+
+
+def _dcm_file_columns(cols: dict[str, np.ndarray], key: str) -> np.ndarray:
+    """The file columns of the core's `dcm_<key>`, as Run.dcm holds it (one column per component)."""
+    from sins_fw.run_output import CORE_FILE_COLUMNS
+
+    names = [n for n, _ in CORE_FILE_COLUMNS[f"dcm_{key}"]]
+    return cols[names[0]] if len(names) == 1 else np.stack([cols[n] for n in names], axis=1)
+
+
+@pytest.mark.parametrize("ext", ["csv", "h5"])
+def test_dcm_run_output_carries_the_correction_terms(tmp_path, ext):
+    """Issue 18, item 3: under the DCM `run --out` holds ω_P, ω_I, the two errors and |R·Rᵀ − I|
+    on the row of their step, bit for bit the run's `Run.dcm` (shortest round-trip text in CSV,
+    float64 datasets in HDF5), and the replay check (`replay`, `report` of the file) compares them
+    like every other column. Other algorithms' files have none of them."""
+    from sins_fw.errors import CheckFailed
+    from sins_fw.run_output import CORE_FILE_COLUMNS, replay_check
+
+    out = tmp_path / f"dcm.{ext}"
+    r = run_cli("run", STATIC, "--set", "firmware.algorithm=dcm", "--until-s", "5", "--out", str(out))
+    assert r.code == 0, r.err
+    _, cols = load_run(out)
+    run = sins_fw.emulate(ROOT / STATIC, overrides=["firmware.algorithm=dcm"], until_s=5.0)
+    assert np.array_equal(run.dcm["step"], run.step) and run.cycles > 1000
+    for key in ("omega_p", "omega_i", "error_rp", "error_yaw", "orthogonality"):
+        np.testing.assert_array_equal(_dcm_file_columns(cols, key), run.dcm[key])
+    assert np.any(run.dcm["omega_p"] != 0) and np.all(run.dcm["orthogonality"] > 0), "not all zero"
+    replay_check(out)
+    if ext == "csv":
+        # One DCM value changed in the file: the replay check names it.
+        lines = out.read_text(encoding="utf-8").splitlines(keepends=True)
+        header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+        row = lines[header + 1].rstrip("\n").split(",")
+        row[-1] = repr(float(row[-1]) * 2)
+        lines[header + 1] = ",".join(row) + "\n"
+        out.write_text("".join(lines), encoding="utf-8")
+        with pytest.raises(CheckFailed, match="row 0, column `dcm_orthogonality`"):
+            replay_check(out)
+    rk4 = tmp_path / f"rk4.{ext}"
+    assert run_cli("run", STATIC, "--until-s", "1", "--out", str(rk4)).code == 0
+    dcm_names = {n for k, v in CORE_FILE_COLUMNS.items() if k.startswith("dcm_") for n, _ in v}
+    assert not dcm_names & set(load_run(rk4)[1])

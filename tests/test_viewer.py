@@ -375,20 +375,22 @@ def recorded_rows(path: Path) -> dict[str, list[str]]:
     return out
 
 
-@pytest.mark.parametrize("overrides", [[], ["timer.period_us=300"]])
+@pytest.mark.parametrize("overrides", [[], ["timer.period_us=300"], ["firmware.algorithm=dcm"]])
 def test_replay_streams_the_recording_a_whole_run_gives(short_trace, tmp_path, overrides):
     """Issue 24, item 11: `replay` logs each part of the output as the emulation streams it (the
     recording is written part by part, the run never held whole). What it records is what the whole
     Run's recording holds, row for row on every entity: the cycle rows, truth and errors, the reads
     with their physical input, the budget, the events (with overruns: stamped with their tick and
-    the cycle under way, across parts), the bus window and the parity differences. The trace is cut
-    into several parts (2 s at FEED_ROWS = 8 192 rows a piece; 300 µs ticks fill blocks sooner)."""
+    the cycle under way, across parts), the bus window, the parity differences and the DCM's terms.
+    The trace is cut into several parts (2 s at FEED_ROWS = 8 192 rows a piece; 300 µs ticks fill
+    blocks sooner)."""
     sets = [x for o in overrides for x in ("--set", o)]
     out = tmp_path / "streamed.rrd"
     r = run_cli(
         "replay", str(short_trace), *sets, "--save", str(out), "--bus-ticks", "3:5", "--parity", "f64"
     )
-    assert r.code == (1 if overrides else 0), r.err
+    overruns = "timer.period_us=300" in overrides
+    assert r.code == (1 if overruns else 0), r.err
     trace = PhysicalTrace.load(short_trace)
     whole = emulate(trace, overrides=overrides, bus_window=(3, 5))
     other = emulate(trace, overrides=[*overrides, "firmware.numeric=f64"])
@@ -397,8 +399,9 @@ def test_replay_streams_the_recording_a_whole_run_gives(short_trace, tmp_path, o
     assert got.keys() == expected.keys()
     for entity in expected:
         assert got[entity] == expected[entity], entity
-    if overrides:
+    if overruns:
         assert len(expected["/" + paths.EVENTS]) > 100
+    assert ("/" + paths.DCM_ORTHOGONALITY in expected) == ("firmware.algorithm=dcm" in overrides)
 
 
 def test_replay_twice_gives_the_same_recording(short_trace, tmp_path):
@@ -413,3 +416,54 @@ def test_replay_twice_gives_the_same_recording(short_trace, tmp_path):
         ids.append([e.recording_id for e in rr.chunk.RrdReader(out).recordings()])
     assert ids[0] == ids[1] and len(ids[0]) == 1 and ids[2] != ids[0]
     assert recorded_rows(tmp_path / "a" / "r.rrd") == recorded_rows(tmp_path / "b" / "r.rrd")
+
+
+#: The DCM's series: entity, `Run.dcm` key, the recorded values from it (ω in °/s).
+DCM_SERIES = [
+    (paths.DCM_OMEGA_P, "omega_p", np.degrees),
+    (paths.DCM_OMEGA_I, "omega_i", np.degrees),
+    (paths.DCM_ERROR_RP, "error_rp", np.asarray),
+    (paths.DCM_ERROR_YAW, "error_yaw", np.asarray),
+    (paths.DCM_ORTHOGONALITY, "orthogonality", np.asarray),
+]
+
+
+def test_dcm_replay_records_the_correction_terms_and_a_dcm_tab(short_trace, tmp_path, store):
+    """Issue 18, item 3: a DCM replay logs ω_P, ω_I (°/s), the roll–pitch and yaw errors and
+    |R·Rᵀ − I| at their entities, one row per step on the cycle timeline with the step's time and
+    tick, the values of `Run.dcm` (Scalars are float64: exact), and its layout has a DCM tab. The
+    RK4 recording (`store`) has neither."""
+    from sins_fw.viewer.layout import default_blueprint
+
+    out = tmp_path / "dcm.rrd"
+    r = run_cli(
+        "replay",
+        str(short_trace),
+        "--set",
+        "firmware.algorithm=dcm",
+        "--out",
+        str(out),
+        "--bus-ticks",
+        "none",
+    )
+    assert r.code == 0, r.err
+    run = emulate(short_trace, overrides=["firmware.algorithm=dcm"])
+    dcm_store = rr.chunk.RrdReader(out).stream().collect()
+    for entity, key, recorded in DCM_SERIES:
+        t = query(dcm_store, paths.CYCLE, entity)
+        assert t.num_rows == run.cycles == len(run.dcm[key]), entity
+        assert np.array_equal(t.column(paths.CYCLE).to_numpy(), run.step.astype(np.int64))
+        ns = t.column(paths.TIME).cast("int64").to_numpy()
+        assert np.array_equal(ns, np.round(run.time_s * 1e9).astype(np.int64))
+        expected = recorded(run.dcm[key]).reshape(run.cycles, -1)
+        assert np.array_equal(scalars(t, "/" + entity), expected), entity
+    assert np.any(run.dcm["omega_p"] != 0), "not a series of zeros"
+    # The layout the replay saved shows the DCM series (its views' origins), as default_blueprint lays
+    # them out only when asked.
+    reader = rr.chunk.RrdReader(out)
+    layout = "\n".join(chunk.format() for chunk in reader.stream(store=reader.blueprints()[0]))
+    assert all(entity in layout for entity, _, _ in DCM_SERIES)
+    tabs = [c.name for c in default_blueprint(bus=False, dcm=True).root_container.contents]
+    assert tabs == ["Attitude", "Sensor", "Budget", "DCM"]
+    assert "DCM" not in [c.name for c in default_blueprint(bus=True).root_container.contents]
+    assert not [e for e in store.schema().entity_paths() if e.startswith("/dcm")]

@@ -51,15 +51,17 @@ def events_md() -> str:
         "## Output columns",
         "",
         "What `_core.Emulator.take()` returns beside the events, one row per attitude step (`cycle_`),",
-        f"burst read (`read_`; `read_words` holds {_core.READ_WORDS} words) and timer tick (`budget_`); the",
-        "last column names the run output file's columns (`sins-fw run --out`, docs/traces.md).",
+        f"burst read (`read_`; `read_words` holds {_core.READ_WORDS} words), timer tick (`budget_`) and,",
+        "under the DCM, attitude step again (`dcm_`: its drift-cancellation terms); the last column names",
+        "the run output file's columns (`sins-fw run --out`, docs/traces.md).",
         "",
         "| column | unit | meaning | run output file |",
         "|---|---|---|---|",
     ]
     for c in _core.OUTPUT_COLUMNS:
         file = ", ".join(f"`{n}`" for n, _ in c["file"])
-        lines.append(f"| `{c['name']}` | {c['unit']} | {c['meaning']} | {file} |")
+        meaning = c["meaning"].replace("|", "\\|")  # a table cell: |R·Rᵀ − I| is not a column break
+        lines.append(f"| `{c['name']}` | {c['unit']} | {meaning} | {file} |")
     return "\n".join(lines) + "\n"
 
 

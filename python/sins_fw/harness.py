@@ -169,6 +169,13 @@ class Run:
         return self.budget["deadline_ps"] > self.budget["tick_ps"]
 
 
+def has_dcm(profile: Profile) -> bool:
+    """Whether the profile's attitude algorithm reports drift-cancellation terms (the core's `dcm_*`
+    rows, :attr:`Run.dcm`): the DCM. Known before the run, so that a file or a viewer layout can
+    make room for them from the start."""
+    return profile.get("firmware.algorithm") == "dcm"
+
+
 def _rate_text(rate: Fraction) -> str:
     """A rate as exact text: a decimal when it has one (``250``, ``819.2``), else ``num/den``."""
     den = rate.denominator

@@ -17,7 +17,7 @@ import numpy as np
 
 from sins_fw import _core
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate
+from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate, has_dcm
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
 from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, write_table
@@ -26,17 +26,24 @@ from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth
 RUN_FORMAT = "sins-fw-run-output/1"
 
 #: The core's output columns that the file holds (`_core.OUTPUT_COLUMNS`, the ones with file
-#: columns): core column name → its file columns, one per component.
+#: columns): core column name → its file columns, one per component. The per-step (`cycle_`) ones
+#: are in every file; the DCM's (`dcm_`, one row per step, the step's row) only in the DCM's.
 CORE_FILE_COLUMNS: dict[str, list[tuple[str, str]]] = {
     c["name"]: c["file"] for c in _core.OUTPUT_COLUMNS if c["file"]
 }
 
-RUN_COLUMNS: tuple[Column, ...] = (
-    *(
-        Column(name, unit, c["meaning"] if len(c["file"]) == 1 else f"{c['meaning']}: component {i}")
+
+def _core_file_columns(prefix: str, **kind: Any) -> list[Column]:
+    return [
+        Column(name, unit, c["meaning"] if len(c["file"]) == 1 else f"{c['meaning']}: component {i}", **kind)
         for c in _core.OUTPUT_COLUMNS
+        if c["name"].startswith(prefix)
         for i, (name, unit) in enumerate(c["file"])
-    ),
+    ]
+
+
+RUN_COLUMNS: tuple[Column, ...] = (
+    *_core_file_columns("cycle_"),
     *(
         Column(
             f"truth_q{c}",
@@ -49,6 +56,7 @@ RUN_COLUMNS: tuple[Column, ...] = (
         for c in "wxyz"
     ),
     Column("moving", "0/1", "the trace's movement mask at the step time", "flag", "moving", False),
+    *_core_file_columns("dcm_", group="dcm", required=False),
 )
 RUN_SCHEMA = Schema("run output", RUN_FORMAT, RUN_COLUMNS, checks=(check_truth,))
 
@@ -62,16 +70,33 @@ def run_columns(run: Run) -> dict[str, np.ndarray]:
         "cycle_vel_enu": run.velocity_enu,
         "cycle_pos": run.position,
     }
-    cols: dict[str, np.ndarray] = {}
-    for core_name, file_columns in CORE_FILE_COLUMNS.items():
-        for i, (name, _unit) in enumerate(file_columns):
-            cols[name] = values[core_name][:, i]
+    cols = _file_columns(values, "cycle_")
     if run.truth_q is not None:
         for i, c in enumerate("wxyz"):
             cols[f"truth_q{c}"] = run.truth_q[:, i]
         if run.moving is not None:
             cols["moving"] = run.moving.astype(np.uint8)
+    if has_dcm(run.profile):
+        cols |= _dcm_columns(run.step, {f"dcm_{k}": v for k, v in run.dcm.items()})
     return cols
+
+
+def _file_columns(values: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
+    """The file columns of the core columns ``values`` (those named ``prefix``…), one per component."""
+    cols: dict[str, np.ndarray] = {}
+    for core_name, file_columns in CORE_FILE_COLUMNS.items():
+        if core_name.startswith(prefix):
+            v = values[core_name]
+            for i, (name, _unit) in enumerate(file_columns):
+                cols[name] = v if v.ndim == 1 else v[:, i]
+    return cols
+
+
+def _dcm_columns(step: np.ndarray, dcm: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The DCM's file columns, on the rows of their steps (the core gives one row per step)."""
+    if not np.array_equal(dcm["dcm_step"], step):
+        raise CheckFailed("run output: the DCM's rows are not one per attitude step")
+    return _file_columns(dcm, "dcm_")
 
 
 def save_run(run: Run, path: str | os.PathLike[str], metadata: dict[str, str] | None = None) -> None:
@@ -95,8 +120,9 @@ def _run_metadata(profile: Profile, step_s: Fraction, t0_s: float, extra: dict[s
     }
 
 
-def _step_columns(part: dict[str, Any]) -> dict[str, np.ndarray]:
-    """The file columns of one part of streamed output (as :func:`run_columns` of a whole run)."""
+def _step_columns(part: dict[str, Any], dcm: bool) -> dict[str, np.ndarray]:
+    """The file columns of one part of streamed output (as :func:`run_columns` of a whole run;
+    ``dcm``: the DCM's columns too)."""
     values = {
         "cycle_t_ps": (part["cycle_t_ps"].astype(np.float64) * PS)[:, None],
         "cycle_quat": part["cycle_quat"],
@@ -104,15 +130,14 @@ def _step_columns(part: dict[str, Any]) -> dict[str, np.ndarray]:
         "cycle_vel_enu": part["cycle_vel_enu"],
         "cycle_pos": part["cycle_pos"],
     }
-    cols: dict[str, np.ndarray] = {}
-    for core_name, file_columns in CORE_FILE_COLUMNS.items():
-        for i, (name, _unit) in enumerate(file_columns):
-            cols[name] = values[core_name][:, i]
+    cols = _file_columns(values, "cycle_")
     if "truth_q" in part:
         for i, c in enumerate("wxyz"):
             cols[f"truth_q{c}"] = part["truth_q"][:, i]
         if "moving" in part:
             cols["moving"] = part["moving"].astype(np.uint8)
+    if dcm:
+        cols |= _dcm_columns(part["cycle_step"], part)
     return cols
 
 
@@ -208,7 +233,7 @@ class RunWriter(_Deferred):
         return RUN_SCHEMA, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
-        return _step_columns(part)
+        return _step_columns(part, has_dcm(self.profile))
 
 
 class RawWriter(_Deferred):

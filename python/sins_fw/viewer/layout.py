@@ -2,8 +2,9 @@
 one tab per question. *Attitude*: is it right, and where did it go wrong (the board and its truth
 ghost, roll/pitch/yaw against truth, the errors, the events). *Sensor*: what the firmware decoded
 next to what the IMU felt, the raw register words and their ND/EA flags, the sample age. *Budget*:
-which cycle missed its deadline. *Bus*: what was on the SPI bus in the recorded window. *Parity*:
-how the other numeric backends differ."""
+which cycle missed its deadline. *DCM*: how the DCM's drift cancellation pulls the attitude (its
+correction terms and errors, the matrix's orthogonality). *Bus*: what was on the SPI bus in the
+recorded window. *Parity*: how the other numeric backends differ."""
 
 from __future__ import annotations
 
@@ -18,9 +19,10 @@ def _events(name: str = "Events") -> rrb.TextLogView:
     return rrb.TextLogView(origin=paths.EVENTS, name=name)
 
 
-def default_blueprint(*, bus: bool, parity: Iterable[str] = ()) -> rrb.Blueprint:
-    """Tabs Attitude, Sensor, Budget, and Bus / Parity when the recording has them (``bus``: a bus
-    window was recorded; ``parity``: the other backends' names); emulated time selected."""
+def default_blueprint(*, bus: bool, parity: Iterable[str] = (), dcm: bool = False) -> rrb.Blueprint:
+    """Tabs Attitude, Sensor, Budget, and DCM / Bus / Parity when the recording has them (``dcm``:
+    the firmware is the DCM, :func:`sins_fw.harness.has_dcm`; ``bus``: a bus window was recorded;
+    ``parity``: the other backends' names); emulated time selected."""
     parity = list(parity)
     angles = [
         rrb.TimeSeriesView(
@@ -66,6 +68,21 @@ def default_blueprint(*, bus: bool, parity: Iterable[str] = ()) -> rrb.Blueprint
         name="Budget",
     )
     tabs: list[rrb.Container] = [attitude, sensor, budget]
+    if dcm:
+        tabs.append(
+            rrb.Vertical(
+                rrb.Horizontal(
+                    rrb.TimeSeriesView(name="ω_P = K_P·e (°/s, body axes)", origin=paths.DCM_OMEGA_P),
+                    rrb.TimeSeriesView(name="ω_I, the integrator (°/s, body axes)", origin=paths.DCM_OMEGA_I),
+                ),
+                rrb.Horizontal(
+                    rrb.TimeSeriesView(name="Roll–pitch error (body axes)", origin=paths.DCM_ERROR_RP),
+                    rrb.TimeSeriesView(name="Yaw error (body axes)", origin=paths.DCM_ERROR_YAW),
+                ),
+                rrb.TimeSeriesView(name="|R·Rᵀ − I| after renormalisation", origin=paths.DCM_ORTHOGONALITY),
+                name="DCM",
+            )
+        )
     if bus:
         tabs.append(
             rrb.Vertical(

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from sins_fw import quaternion
 from sins_fw.atomic import atomic_path
-from sins_fw.harness import CHUNK_ROWS, Run, TraceInput, _chunks
+from sins_fw.harness import CHUNK_ROWS, Run, TraceInput, _chunks, has_dcm
 from sins_fw.metrics import AttitudeErrors, attitude_errors, wrap_deg
 from sins_fw.profile import Profile
 from sins_fw.report_stream import _Attitude
@@ -274,6 +274,7 @@ class Recorder:
             i = np.clip(np.searchsorted(tick_ps, part["cycle_t_ps"]), 0, max(len(tick_ps) - 1, 0))
             cyc_ps, cyc_tick = tick_ps[i], ticks[i].astype(np.int64)
             self._log_cycles(part, cyc_ps, cyc_tick)
+            self._log_dcm(part, cyc_ps, cyc_tick)
             for name, mine in self.mine.items():
                 mine.add(
                     {
@@ -346,6 +347,24 @@ class Recorder:
                 "cycle_index_ps": cyc_ps,
             }
         )
+
+    def _log_dcm(self, part: Mapping[str, Any], cyc_ps: NDArray[Any], cyc_tick: NDArray[Any]) -> None:
+        """The DCM's drift-cancellation terms (its ``dcm_*`` rows, none for the other algorithms),
+        each row at the index of its step: ω_P and ω_I in °/s, the errors and |R·Rᵀ − I| as they are."""
+        dcm_step = part.get("dcm_step")
+        if dcm_step is None or not len(dcm_step):
+            return
+        i = np.searchsorted(part["cycle_step"], dcm_step)
+        index = [_time(cyc_ps[i]), _seq(paths.CYCLE, dcm_step), _seq(paths.TICK, cyc_tick[i])]
+        colors = list(AXIS_COLORS)
+        for path, key, what, scale in (
+            (paths.DCM_OMEGA_P, "dcm_omega_p", "ω_P {} (°/s)", np.degrees),
+            (paths.DCM_OMEGA_I, "dcm_omega_i", "ω_I {} (°/s)", np.degrees),
+            (paths.DCM_ERROR_RP, "dcm_error_rp", "roll–pitch error {}", np.asarray),
+            (paths.DCM_ERROR_YAW, "dcm_error_yaw", "yaw error {}", np.asarray),
+        ):
+            self._scalars(path, index, scale(part[key]), [what.format(a) for a in AXES], colors)
+        self._scalars(paths.DCM_ORTHOGONALITY, index, part["dcm_orthogonality"], ["|R·Rᵀ − I|"])
 
     def _log_errors(self, rows: dict[str, Any], valid: NDArray[np.bool_], err: AttitudeErrors) -> None:
         index = [
@@ -619,6 +638,7 @@ def run_part(run: Run) -> dict[str, Any]:
         "read_words": run.read_words,
         "events": run.events,
         **{f"budget_{k}": v for k, v in run.budget.items()},
+        **{f"dcm_{k}": v for k, v in run.dcm.items()},
     }
     if run.truth_q is not None:
         part["truth_q"] = run.truth_q
@@ -775,7 +795,7 @@ def save_recording(
     bp = (
         blueprint
         if blueprint is not None
-        else default_blueprint(bus=run.bus is not None, parity=parity or ())
+        else default_blueprint(bus=run.bus is not None, parity=parity or (), dcm=has_dcm(run.profile))
     )
     with recording_file(path, recording_id=rid, blueprint=bp, name=name) as rec:
         log_run(rec, run, trace=trace, parity=parity)

@@ -238,12 +238,41 @@ pub const COLUMNS: &[Column] = &[
     col("budget_deadline_ps", "ps", "the next tick: the deadline of this one"),
     col("budget_step", "0/1", "this tick completed an attitude step"),
     col("budget_overrun", "0/1", "this tick arrived while the previous ISR was running"),
-    col("dcm_step", "1", "DCM only (no rows for the other algorithms): the attitude step of the row"),
-    col("dcm_omega_p", "rad/s", "DCM: the proportional correction ω_P = K_P·e, body axes"),
-    col("dcm_omega_i", "rad/s", "DCM: the integrator ω_I, body axes"),
-    col("dcm_error_rp", "1", "DCM: the roll–pitch error ĝ × r₃ (centripetal-compensated), body axes"),
-    col("dcm_error_yaw", "1", "DCM: the yaw error (magnetometer or GPS course), body axes"),
-    col("dcm_orthogonality", "1", "DCM: |R·Rᵀ − I| (largest element) after renormalisation"),
+    col(
+        "dcm_step",
+        "1",
+        "DCM only (no rows for the other algorithms): the attitude step of the row (in the run output file, the row of that step)",
+    ),
+    filed(
+        "dcm_omega_p",
+        "rad/s",
+        "DCM: the proportional correction ω_P = K_P·e, body axes",
+        &[("dcm_omega_p_x_rad_s", "rad/s"), ("dcm_omega_p_y_rad_s", "rad/s"), ("dcm_omega_p_z_rad_s", "rad/s")],
+    ),
+    filed(
+        "dcm_omega_i",
+        "rad/s",
+        "DCM: the integrator ω_I, body axes",
+        &[("dcm_omega_i_x_rad_s", "rad/s"), ("dcm_omega_i_y_rad_s", "rad/s"), ("dcm_omega_i_z_rad_s", "rad/s")],
+    ),
+    filed(
+        "dcm_error_rp",
+        "1",
+        "DCM: the roll–pitch error ĝ × r₃ (centripetal-compensated), body axes",
+        &[("dcm_error_rp_x", "1"), ("dcm_error_rp_y", "1"), ("dcm_error_rp_z", "1")],
+    ),
+    filed(
+        "dcm_error_yaw",
+        "1",
+        "DCM: the yaw error (magnetometer or GPS course), body axes",
+        &[("dcm_error_yaw_x", "1"), ("dcm_error_yaw_y", "1"), ("dcm_error_yaw_z", "1")],
+    ),
+    filed(
+        "dcm_orthogonality",
+        "1",
+        "DCM: |R·Rᵀ − I| (largest element) after renormalisation",
+        &[("dcm_orthogonality", "1")],
+    ),
 ];
 
 /// Whether `names` are the names of [`COLUMNS`], in order: lets the binding check its column list
