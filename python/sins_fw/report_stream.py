@@ -579,9 +579,12 @@ def tally_event(kinds: dict[str, dict[str, Any]], e: dict[str, Any]) -> None:
 
 
 def run_part(run: Any) -> dict[str, Any]:
-    """A whole :class:`~sins_fw.harness.Run` as one part for :meth:`RunSummary.add`."""
+    """A whole :class:`~sins_fw.harness.Run` as one part, in the form the streamed emulation hands
+    over (for :meth:`RunSummary.add` and the viewer's ``Recorder.add``; step times also back in
+    integer picoseconds)."""
     part: dict[str, Any] = {
         "cycle_t_s": run.time_s,
+        "cycle_t_ps": np.round(run.time_s / 1e-12).astype(np.uint64),
         "cycle_step": run.step,
         "cycle_quat": run.quat,
         "cycle_euler_deg": run.euler_deg,
@@ -591,8 +594,12 @@ def run_part(run: Any) -> dict[str, Any]:
         "read_age_ps": run.read_age_ps,
         "read_assumed_s": run.read_assumed_s,
         "read_sample_ps": run.read_sample_ps,
+        "read_rate": run.read_rate,
+        "read_accel": run.read_accel,
+        "read_words": run.read_words,
         "events": run.events,
         **{f"budget_{k}": v for k, v in run.budget.items()},
+        **{f"dcm_{k}": v for k, v in run.dcm.items()},
     }
     if run.truth_q is not None:
         part["truth_q"] = run.truth_q

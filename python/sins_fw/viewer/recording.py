@@ -35,7 +35,7 @@ from sins_fw.atomic import atomic_path
 from sins_fw.harness import CHUNK_ROWS, Run, TraceInput, _chunks, has_dcm
 from sins_fw.metrics import AttitudeErrors, attitude_errors, wrap_deg
 from sins_fw.profile import Profile
-from sins_fw.report_stream import _Attitude
+from sins_fw.report_stream import _Attitude, run_part
 from sins_fw.traces import RAW_WORD_COLUMNS
 from sins_fw.viewer import paths
 
@@ -619,33 +619,6 @@ def _log_bus(
             [(220, 40, 40)],
         )
         _send(rec, paths.BUS_STALL_MIN, sub, rr.Scalars.columns(scalars=rows["required_ps"][ok] * 1e-6))
-
-
-def run_part(run: Run) -> dict[str, Any]:
-    """A whole :class:`~sins_fw.harness.Run` as one part for :meth:`Recorder.add` (step times back in
-    integer picoseconds)."""
-    part: dict[str, Any] = {
-        "cycle_t_ps": np.round(run.time_s / 1e-12).astype(np.uint64),
-        "cycle_step": run.step,
-        "cycle_quat": run.quat,
-        "cycle_euler_deg": run.euler_deg,
-        "read_tick": run.read_tick,
-        "read_t_start_ps": run.read_t_start_ps,
-        "read_rate": run.read_rate,
-        "read_accel": run.read_accel,
-        "read_sample_ps": run.read_sample_ps,
-        "read_age_ps": run.read_age_ps,
-        "read_words": run.read_words,
-        "events": run.events,
-        **{f"budget_{k}": v for k, v in run.budget.items()},
-        **{f"dcm_{k}": v for k, v in run.dcm.items()},
-    }
-    if run.truth_q is not None:
-        part["truth_q"] = run.truth_q
-        part["truth_q0"] = run.truth_q0
-        if run.moving is not None:
-            part["moving"] = run.moving
-    return part
 
 
 def log_run(
