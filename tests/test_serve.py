@@ -62,6 +62,11 @@ def _start_serving(tmp: Path) -> tuple[subprocess.Popen[str], str]:
         lines.append(line)
         if m := URL.search(line):
             url = m.group(1)
+    if url is None:  # say why: the command's own error, once it has ended
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
     assert url is not None, ("".join(lines), proc.stderr.read() if proc.poll() is not None else "")
     return proc, url
 

@@ -40,14 +40,25 @@ def viewer_binary() -> Path:
     return exe
 
 
+def free_ports(bind: str, *wanted: tuple[int, str]) -> list[int]:
+    """Each ``(port, option)`` if it can be bound on ``bind`` (a free one for 0), else an InputError
+    naming ``option``. The ports are held together while they are chosen, so that two asked as 0
+    never come out the same."""
+    with contextlib.ExitStack() as held:
+        ports = []
+        for port, option in wanted:
+            s = held.enter_context(socket.socket(socket.AF_INET, socket.SOCK_STREAM))
+            try:
+                s.bind((bind, port))
+            except OSError as e:
+                raise InputError(f"{option} {port}: cannot listen on {bind}:{port} ({e.strerror})") from None
+            ports.append(int(s.getsockname()[1]))
+        return ports
+
+
 def free_port(bind: str, port: int, option: str) -> int:
     """``port`` if it can be bound on ``bind`` (a free one for 0), else an InputError naming ``option``."""
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        try:
-            s.bind((bind, port))
-        except OSError as e:
-            raise InputError(f"{option} {port}: cannot listen on {bind}:{port} ({e.strerror})") from None
-        return int(s.getsockname()[1])
+    return free_ports(bind, (port, option))[0]
 
 
 def viewer_url(host: str, web_port: int, grpc_port: int) -> str:
@@ -79,10 +90,9 @@ def serve(
     """Serve ``recording`` until the viewer process ends or Ctrl-C (then 130). ``on_ready`` gets the
     viewer's address once both ports answer."""
     exe = viewer_binary()
-    web_port = free_port(bind, web_port, "--port")
-    grpc_port = free_port(bind, grpc_port, "--grpc-port")
-    if web_port == grpc_port:
+    if web_port == grpc_port != 0:
         raise InputError(f"--port and --grpc-port are both {web_port}: give two different ports")
+    web_port, grpc_port = free_ports(bind, (web_port, "--port"), (grpc_port, "--grpc-port"))
     cmd = [
         str(exe),
         "--serve-web",
