@@ -191,6 +191,17 @@ def read_options(args: argparse.Namespace) -> ReadOptions | None:
     return read if read else None
 
 
+def add_trace_or_run_argument(p: argparse.ArgumentParser) -> None:
+    """The positional TRACE_OR_RUN of `replay` and `report`: a trace, or a run output replayed and checked."""
+    p.add_argument(
+        "trace",
+        type=Path,
+        metavar="TRACE_OR_RUN",
+        help="physical trace (.h5 or .csv), or a `sins-fw run --out` file: re-emulated from its recorded "
+        "trace and profile and checked bit for bit against it (exit 1 on a difference)",
+    )
+
+
 def add_json_option(p: argparse.ArgumentParser) -> None:
     """`--json`: print one JSON object on stdout and nothing else."""
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout (for scripts and CI)")

@@ -25,6 +25,7 @@ from sins_fw.cli.common import (
     add_json_option,
     add_out_option,
     add_profile_options,
+    add_trace_or_run_argument,
     check_error_counts,
     emit,
     exit_epilog,
@@ -58,13 +59,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "(CS, frames with DIN/DOUT, stalls) for a window of ticks. Open it with `rerun FILE.rrd`.",
         epilog=exit_epilog(f"{EVENTS_CHECK}, or a saved run does not replay bit for bit"),
     )
-    p.add_argument(
-        "trace",
-        type=Path,
-        metavar="TRACE_OR_RUN",
-        help="physical trace (.h5 or .csv), or a `sins-fw run --out` file: re-emulated from its recorded "
-        "trace and profile and checked bit for bit against it (exit 1 on a difference)",
-    )
+    add_trace_or_run_argument(p)
     add_profile_options(p)
     add_out_option(p, "write the recording to this file (.rrd)", metavar="FILE.rrd", formerly="--save")
     p.add_argument(

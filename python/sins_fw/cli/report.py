@@ -4,7 +4,6 @@ error, ISR budget, events) for people without the Rerun viewer."""
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from sins_fw.atomic import check_distinct
 from sins_fw.cli.common import (
@@ -12,6 +11,7 @@ from sins_fw.cli.common import (
     add_json_option,
     add_out_option,
     add_profile_options,
+    add_trace_or_run_argument,
     check_error_counts,
     emit,
     exit_epilog,
@@ -30,13 +30,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="emulate a trace and draw a one-page PNG report (attitude error, ISR budget, events)",
         epilog=exit_epilog(f"{EVENTS_CHECK}, or a saved run does not replay bit for bit"),
     )
-    p.add_argument(
-        "trace",
-        type=Path,
-        metavar="TRACE_OR_RUN",
-        help="physical trace (.h5 or .csv), or a `sins-fw run --out` file: re-emulated from its recorded "
-        "trace and profile and checked bit for bit against it (exit 1 on a difference)",
-    )
+    add_trace_or_run_argument(p)
     add_out_option(p, "the report page (.png)", metavar="FILE.png", required=True, formerly="--png")
     add_profile_options(p)
     add_json_option(p)
