@@ -1,6 +1,7 @@
 """The Monte Carlo engines and sweeps: the same bits on the local pool and on Dask distributed (a
-LocalCluster of two workers bound to 127.0.0.1, never another address), a worker killed in the
-middle of a run, mixed software refused, the optional extra missing, Ctrl-C, and the sweep tables."""
+LocalCluster of two workers bound to 127.0.0.1, never another address) whatever the batch size, a
+worker killed in the middle of a run (of single jobs or of batches), mixed software refused, the
+optional extra missing, Ctrl-C, a trace checked once, and the sweep tables."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import contextlib
 import csv
 import json
 import os
+import pickle
 import signal
 import subprocess
 import sys
@@ -19,10 +21,12 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, run_cli
+from sins_fw import harness, sweep
 from sins_fw import montecarlo as mc
-from sins_fw import sweep
-from sins_fw.errors import InputError, InternalError
+from sins_fw.errors import InputError, InternalError, TraceError
+from sins_fw.harness import emulate
 from sins_fw.profile import load_profile
+from sins_fw.traces import CheckedTrace
 
 STATIC = mc.Case("static 3 s", "static", None, (("duration_s", 3.0),), (0.0, 0.0, 0.0))
 TURN = mc.Case(
@@ -58,6 +62,16 @@ def dask_engine(reference):
     assert dict(os.environ) == environ
 
 
+@contextlib.contextmanager
+def _batch(engine: mc.DaskEngine, size: int | None):
+    """The engine running ``size`` jobs a task for the duration (None: the default rule)."""
+    before, engine.batch = engine.batch, size
+    try:
+        yield
+    finally:
+        engine.batch = before
+
+
 def _workers(engine: mc.DaskEngine) -> dict[str, int]:
     """Worker address → process id."""
     return engine.client.run(os.getpid)
@@ -87,16 +101,38 @@ def test_local_workers_keep_glibcs_adaptive_mmap_threshold(dask_engine):
     assert set(dask_engine.client.run(_trim_threshold).values()) == {None}
 
 
-def test_dask_gives_the_local_arrays(dask_engine, reference):
-    got = mc.collect(dask_engine, JOBS, _traces())
+@pytest.mark.parametrize("size", [None, 1, 5, 12])
+def test_dask_gives_the_local_arrays_whatever_the_batch(dask_engine, reference, size):
+    # None: the default rule (12 jobs on 2 workers: 1 a task); 5: batches of 5, 5 and 2; 12: one task.
+    seen: list[tuple[int, int, int]] = []
+    with _batch(dask_engine, size):
+        got = mc.collect(dask_engine, JOBS, _traces(), progress=lambda *counts: seen.append(counts))
+    assert dask_engine.last_batch == (size or 1)
+    assert dask_engine.describe().endswith(f", {size or 1} run{'s' if (size or 1) > 1 else ''} a task")
     assert _same(got, reference)
     assert np.array_equal(
         np.array([o.error_deg for o in got]), np.array([o.error_deg for o in reference]), equal_nan=True
     )
+    # The progress bar still counts realisations, one by one, whatever the batch.
+    assert seen == [(k, 0, len(JOBS)) for k in range(1, len(JOBS) + 1)]
 
 
-def test_a_worker_killed_mid_run_gives_the_identical_result_set(dask_engine):
-    # Runs of about 0.1 s each, so that both workers still have runs queued after the first result.
+def test_batch_size_rule():
+    # At least 4 batches a worker, at most 32 jobs a batch, at least 1.
+    assert mc.batch_size(128, 2) == 16 and mc.batch_size(128, 1) == 32
+    assert mc.batch_size(10_000, 8) == mc.MAX_BATCH == 32
+    assert mc.batch_size(12, 2) == 1 and mc.batch_size(0, 2) == 1 and mc.batch_size(5, 0) == 1
+    cut = mc.batches(JOBS, 5)
+    assert [len(b.jobs) for b in cut] == [5, 5, 2]
+    assert [j for b in cut for j in b.jobs] == JOBS
+    assert cut[0].cases == (STATIC.name,) and cut[1].cases == (STATIC.name, TURN.name)
+
+
+@pytest.mark.parametrize("size", [1, 3])
+def test_a_worker_killed_mid_run_gives_the_identical_result_set(dask_engine, size):
+    # Runs of about 0.1 s each, so that both workers still have runs queued after the first result
+    # (with batches of 3, the first result comes with two others, and the lost batch is run again whole).
+    dask_engine.client.wait_for_workers(2, timeout=120)  # the one killed before is back
     long = mc.Case("static 300 s", "static", None, (("duration_s", 300.0),), (0.0, 0.0, 0.0))
     jobs = mc.jobs_for([long], range(1, 13), PROFILE)
     traces = {long.name: long.trace()}
@@ -113,7 +149,8 @@ def test_a_worker_killed_mid_run_gives_the_identical_result_set(dask_engine):
         os.kill(pids[victim], signal.SIGKILL)
         killed.append(pids[victim])
 
-    got = mc.collect(dask_engine, jobs, traces, progress=kill_one_busy_worker)
+    with _batch(dask_engine, size):
+        got = mc.collect(dask_engine, jobs, traces, progress=kill_one_busy_worker)
     assert killed, "no worker was busy after the first result"
     assert _same(got, reference)
     # The nanny restarted the worker: two again, neither the one killed.
@@ -139,7 +176,7 @@ def test_an_interruption_cancels_the_outstanding_dask_tasks(dask_engine):
     def interrupt(done: int, failed: int, total: int) -> None:
         raise KeyboardInterrupt
 
-    with pytest.raises(KeyboardInterrupt):
+    with _batch(dask_engine, 4), pytest.raises(KeyboardInterrupt):
         mc.collect(dask_engine, JOBS, _traces(), progress=interrupt)
 
     def tasks(dask_scheduler) -> int:
@@ -177,6 +214,42 @@ def test_missing_extra_exits_2():
     assert 'pip install "sins-fw[dask]"' in r.stderr and "Traceback" not in r.stderr
 
 
+def test_a_bad_trace_is_refused_once_with_emulates_message(monkeypatch):
+    bad = STATIC.trace()
+    bad.gyro_dps[7, 1] = np.nan
+    with pytest.raises(TraceError) as in_emulate:
+        emulate(bad, PROFILE)
+    with mc.LocalEngine(2) as engine, pytest.raises(TraceError) as in_collect:
+        mc.collect(engine, JOBS, {STATIC.name: bad, TURN.name: TURN.trace()})
+    # The same message, naming the case, before any job ran (no "12 of 12 runs failed").
+    assert str(in_collect.value) == f"case `{STATIC.name}`: {in_emulate.value}"
+
+
+def test_a_checked_trace_is_checked_once_and_cannot_change(monkeypatch):
+    trace = STATIC.trace()
+    checked = CheckedTrace(trace)
+    trace.gyro_dps[:] = np.nan  # the caller's arrays are not the checked ones
+    for copy in (checked, pickle.loads(pickle.dumps(checked))):
+        view = copy.trace
+        assert view is not copy.trace and np.isfinite(view.gyro_dps).all()
+        with pytest.raises(ValueError, match="read-only"):
+            view.gyro_dps[0, 0] = 1.0
+        view.metadata["sample_rate_hz"] = "1"  # a copy: the checked trace keeps its own
+        assert copy.trace.metadata["sample_rate_hz"] != "1"
+    # The jobs take it as it is: no check in any job (none can fail here), and the same bits.
+    reference = mc.run_job(JOBS[0], STATIC.trace())
+
+    def no_check(*args, **kwargs):
+        raise AssertionError("a checked trace was checked again")
+
+    monkeypatch.setattr(harness, "validated", no_check)
+    with mc.LocalEngine(1) as engine:
+        got = mc.collect(engine, JOBS[:1], {STATIC.name: checked})
+    assert got[0].same_as(reference)
+    with pytest.raises(TraceError, match="expected a PhysicalTrace"):
+        CheckedTrace("trace.csv")  # type: ignore[arg-type]
+
+
 def test_engine_options_are_checked():
     r = run_cli("montecarlo", "static", "--runs", "1", "--engine", "dask")
     assert r.code == 2 and "--scheduler" in r.err and "--local-workers" in r.err
@@ -184,6 +257,12 @@ def test_engine_options_are_checked():
     assert r.code == 2 and "--engine dask" in r.err
     r = run_cli("montecarlo", "static", "--runs", "1", "--out", "x.txt")
     assert r.code == 2 and ".parquet" in r.err
+    r = run_cli("montecarlo", "static", "--runs", "1", "--batch", "4")
+    assert r.code == 2 and "--batch" in r.err and "--engine dask" in r.err
+    r = run_cli(
+        "montecarlo", "static", "--runs", "1", "--engine", "dask", "--local-workers", "1", "--batch", "0"
+    )
+    assert r.code == 2 and "--batch 0: expected at least 1" in r.err
 
 
 def _pool_started(pid: int) -> bool:

@@ -33,6 +33,7 @@ from sins_fw.errors import InputError, ProfileError, TraceError
 from sins_fw.metrics import AttitudeErrors
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
 from sins_fw.traces import (
+    CheckedTrace,
     PhysicalTrace,
     RawRegisterTrace,
     gps_fixes,
@@ -192,7 +193,9 @@ def _rate_text(rate: Fraction) -> str:
 #: What `emulate` accepts: a whole trace, a trace file, or an iterable of consecutive chunks (a
 #: generator of PhysicalTrace, for inputs too long to hold in memory); a raw-register trace or file
 #: is replayed.
-TraceInput = PhysicalTrace | RawRegisterTrace | str | os.PathLike[str] | Iterable[PhysicalTrace]
+TraceInput = (
+    PhysicalTrace | CheckedTrace | RawRegisterTrace | str | os.PathLike[str] | Iterable[PhysicalTrace]
+)
 
 
 def check_until_s(value: Any, name: str = "until_s") -> float | None:
@@ -353,8 +356,8 @@ def emulate(
     allow_gaps: bool = False,
     **settings: Any,
 ) -> Run:
-    """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace, a trace file, or an iterable of
-    consecutive PhysicalTrace chunks).
+    """Emulate the board of ``profile`` on ``trace`` (a PhysicalTrace, a CheckedTrace, a trace file, or
+    an iterable of consecutive PhysicalTrace chunks).
 
     Profile overrides come as ``key=value`` texts in ``overrides`` and/or as keywords with ``__`` for
     the dot, applied after them: ``emulate(trace, spi__spibrr=9, firmware__numeric="iq")`` is
@@ -390,12 +393,17 @@ def emulate(
 
     A physical trace is validated as it streams in, the same way whether it is a file or in memory
     (:class:`~sins_fw.errors.TraceError` naming the row and column): ``allow_gaps`` accepts time steps
-    longer than 1.5 sample periods (the device sees the input interpolated across them).
+    longer than 1.5 sample periods (the device sees the input interpolated across them). A
+    :class:`~sins_fw.traces.CheckedTrace` passed those checks when it was made and is not checked
+    again (a trace many runs share is checked once).
 
     A :class:`RawRegisterTrace` or a raw-register trace file is replayed through the firmware (the
     device model is bypassed; its recorded timestamps are the reads' sample times); profile faults
     cannot apply to it (they act on the device model) and are refused.
     """
+    checked = isinstance(trace, CheckedTrace)
+    if checked:  # checked once where it was made, and unchangeable since (see CheckedTrace)
+        trace = trace.trace
     _check_trace_argument(trace)
     until_s = check_until_s(until_s)
     if isinstance(chunk_rows, bool) or not isinstance(chunk_rows, int | np.integer) or chunk_rows < 1:
@@ -432,7 +440,8 @@ def emulate(
     truth_t: list[Array] = []
     t0: float | None = None
     truth_q0: Array | None = None
-    for chunk in _chunks(trace, chunk_rows, allow_gaps):
+    chunks = _slices(trace, chunk_rows) if checked else _chunks(trace, chunk_rows, allow_gaps)
+    for chunk in chunks:
         if len(chunk) == 0:
             continue
         if t0 is None:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 from fractions import Fraction
 from pathlib import Path
 from typing import Any, ClassVar, Self, TypeVar
@@ -682,6 +682,55 @@ def validated(
         yield chunk
     if checker is None or checker.rows_seen == 0:
         raise TraceError(f"{src or '<trace in memory>'}: no data rows")
+
+
+class CheckedTrace:
+    """A :class:`PhysicalTrace` that passed every check ``emulate`` makes on a trace in memory, with
+    gaps not allowed (:meth:`PhysicalTrace.validate`), and that cannot change afterwards: the check
+    runs on read-only copies of the arrays, and the checked trace is never handed out (:attr:`trace`
+    is a new PhysicalTrace over the same read-only arrays each time, so that changing it changes
+    nothing here). ``emulate`` takes it without checking it again: a trace many runs share (a Monte
+    Carlo's) is checked once, where it is made.
+
+    A copy (pickle, ``copy``) carries the checked arrays and makes them read-only again without a new
+    check: it holds the same values that passed. This is how a trace scattered to a cluster's
+    workers is trusted there (a pickle is code to whoever unpickles it: who can forge one can run
+    anything on the worker already)."""
+
+    __slots__ = ("_trace",)
+
+    def __init__(self, trace: PhysicalTrace) -> None:
+        if not isinstance(trace, PhysicalTrace):
+            raise TraceError(f"CheckedTrace: expected a PhysicalTrace; got {type(trace).__name__}")
+        arrays = {f.name: getattr(trace, f.name) for f in fields(trace) if f.name != "metadata"}
+        copied = {k: None if v is None else np.array(v, copy=True) for k, v in arrays.items()}
+        frozen = PhysicalTrace(**copied, metadata=dict(trace.metadata))
+        _freeze(frozen)
+        frozen.validate()
+        self._trace = frozen
+
+    @property
+    def trace(self) -> PhysicalTrace:
+        """The checked trace: a new PhysicalTrace over its read-only arrays (and a copy of its metadata)."""
+        return replace(self._trace)
+
+    def __len__(self) -> int:
+        return len(self._trace)
+
+    def __getstate__(self) -> PhysicalTrace:
+        return self._trace
+
+    def __setstate__(self, trace: PhysicalTrace) -> None:
+        _freeze(trace)
+        self._trace = trace
+
+
+def _freeze(trace: PhysicalTrace) -> None:
+    """Make a trace's arrays read-only."""
+    for f in fields(trace):
+        value = getattr(trace, f.name)
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)
 
 
 _T = TypeVar("_T", PhysicalTrace, RawRegisterTrace)

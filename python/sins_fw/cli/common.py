@@ -255,7 +255,8 @@ def emit_error(args: argparse.Namespace | None, kind: str, code: int, message: s
 
 
 def add_engine_options(p: argparse.ArgumentParser) -> None:
-    """Where the runs execute: `--engine local|dask`, `--workers`, `--scheduler`, `--local-workers`."""
+    """Where the runs execute: `--engine local|dask`, `--workers`, `--scheduler`, `--local-workers`,
+    `--batch`."""
     from sins_fw.montecarlo import default_workers
 
     g = p.add_argument_group("engine (where the runs execute; the results are the same bits on any)")
@@ -286,6 +287,14 @@ def add_engine_options(p: argparse.ArgumentParser) -> None:
         metavar="N",
         help="dask engine: start a cluster of N worker processes on this machine (bound to 127.0.0.1)",
     )
+    g.add_argument(
+        "--batch",
+        type=int,
+        default=None,
+        metavar="N",
+        help="dask engine: runs per task (default: the runs ÷ (4 × the cluster's worker threads), "
+        "between 1 and 32; the results are the same whatever N)",
+    )
 
 
 def engine_from_args(args: argparse.Namespace) -> Any:
@@ -298,7 +307,11 @@ def engine_from_args(args: argparse.Namespace) -> Any:
             "--workers is the local engine's; with --engine dask the cluster's workers run the jobs"
         )
     return make_engine(
-        args.engine, workers=args.workers, scheduler=args.scheduler, local_workers=args.local_workers
+        args.engine,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        local_workers=args.local_workers,
+        batch=args.batch,
     )
 
 
