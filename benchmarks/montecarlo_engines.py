@@ -2,13 +2,14 @@
 and the per-task overhead of each engine (an empty job). Target: ≥ 1.8× from one worker to two.
 
 Each configuration runs the same seeded realisations (``static`` scenario, ``errors.preset=adis16407``,
-the reference profile); the trace is generated once. The engines are started (and warmed with one
-round) before timing: local 1 runs in this process, local 2 starts its process pool inside each
-timed round (as every ``sins-fw montecarlo`` does), dask N is a LocalCluster of N single-threaded
-worker processes bound to 127.0.0.1 that stays up. The configurations are timed in turns for
-``--rounds`` rounds, so that a slow spell of a shared machine falls on all of them: figures are
-medians. The load average before and after is recorded: on a loaded machine two workers cannot
-scale by two.
+the reference profile); the trace is generated and checked once (a ``CheckedTrace``, as
+``montecarlo.collect`` makes). The engines are started (and warmed with one round) before timing:
+local 1 runs in this process, local 2 starts its process pool inside each timed round (as every
+``sins-fw montecarlo`` does), dask N is a LocalCluster of N single-threaded worker processes bound
+to 127.0.0.1 that stays up, running its default batches (``montecarlo.batch_size``). The
+configurations are timed in turns for ``--rounds`` rounds, so that a slow spell of a shared machine
+falls on all of them: figures are medians. The load average before and after is recorded: on a
+loaded machine two workers cannot scale by two.
 
     python benchmarks/montecarlo_engines.py [--duration-s 240] [--runs 32] [--rounds 3] [--output F]
 """
@@ -28,6 +29,7 @@ from typing import Any
 from sins_fw import montecarlo as mc
 from sins_fw.atomic import write_text
 from sins_fw.profile import load_profile
+from sins_fw.traces import CheckedTrace
 
 HERE = Path(__file__).resolve().parent
 TARGET_SCALING = 1.8
@@ -84,7 +86,7 @@ def main() -> None:
 
     load_before = os.getloadavg()
     case = mc.Case("static", "static", None, (("duration_s", args.duration_s),), (0.0, 0.0, 0.0))
-    traces = {case.name: case.trace()}
+    traces = {case.name: CheckedTrace(case.trace())}
     profile = load_profile("reference", ["errors.preset=adis16407"])
     jobs = mc.jobs_for([case], range(1, args.runs + 1), profile)
     empties = mc.jobs_for([case], range(1, args.empty + 1), profile)
@@ -97,7 +99,8 @@ def main() -> None:
     walls: dict[str, list[float]] = {name: [] for name in engines}
     job_cpu: dict[str, list[float]] = {name: [] for name in engines}
     driver_cpu: dict[str, list[float]] = {name: [] for name in engines}
-    overhead: dict[str, float] = {}
+    batch: dict[str, int] = {}
+    overhead: dict[str, tuple[float, float]] = {}
     try:
         for engine in engines.values():  # warm-up: imports, the scattered trace, the workers' caches
             timed(engine, cpu_timed_job, jobs[:4], traces)
@@ -107,8 +110,17 @@ def main() -> None:
                 walls[name].append(wall)
                 job_cpu[name].append(cpu / len(jobs))
                 driver_cpu[name].append(driver)
+                if isinstance(engine, mc.DaskEngine):
+                    batch[name] = engine.last_batch or 1
         for name in ("local 2", "dask 1", "dask 2"):
-            overhead[name] = timed(engines[name], empty_job, empties, traces)[0] / len(empties)
+            wall, _, driver = timed(engines[name], empty_job, empties, traces)
+            label = name if name.startswith("local") else f"{name}, {engines[name].last_batch} runs a task"
+            overhead[label] = (wall / len(empties), driver / len(empties))
+        dask2 = engines["dask 2"]
+        assert isinstance(dask2, mc.DaskEngine)
+        dask2.batch = 1
+        wall, _, driver = timed(dask2, empty_job, empties, traces)
+        overhead["dask 2, 1 run a task"] = (wall / len(empties), driver / len(empties))
     finally:
         for engine in engines.values():
             engine.close()
@@ -131,13 +143,16 @@ def main() -> None:
         f"Each realisation: `static` {args.duration_s:g} s, `errors.preset=adis16407`, reference profile; "
         f"{args.runs} realisations per round, medians of {args.rounds} rounds taken in turns.",
         "",
-        "| engine | workers | wall per round (median), s | rounds, s | realisations/s |",
-        "|---|---:|---:|---|---:|",
+        "| engine | workers | runs a task | wall per round (median), s | rounds, s | realisations/s |",
+        "|---|---:|---:|---:|---|---:|",
     ]
     for name, w in walls.items():
         kind, n = name.split()
         samples = ", ".join(f"{x:.2f}" for x in w)
-        lines.append(f"| {kind} | {n} | {statistics.median(w):.3f} | {samples} | {rate[name]:.1f} |")
+        per_task = batch.get(name, 1)
+        lines.append(
+            f"| {kind} | {n} | {per_task} | {statistics.median(w):.3f} | {samples} | {rate[name]:.1f} |"
+        )
     lines += [
         "",
         "| engine | scaling 1 → 2 workers | target | met |",
@@ -175,9 +190,10 @@ def main() -> None:
         )
     lines += [
         "",
-        f"Per-task overhead (an empty job, {args.empty} of them; wall time per job, workers sharing them):",
+        f"Overhead per run (an empty job, {args.empty} of them; wall time per job, workers sharing them,",
+        "and the driving process's CPU time per job):",
         "",
-        *(f"- {name}: {1e3 * t:.2f} ms" for name, t in overhead.items()),
+        *(f"- {name}: {1e3 * t:.2f} ms wall, {1e3 * c:.2f} ms CPU" for name, (t, c) in overhead.items()),
         "",
     ]
     text = "\n".join(lines)

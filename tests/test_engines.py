@@ -265,6 +265,17 @@ def test_engine_options_are_checked():
     assert r.code == 2 and "--batch 0: expected at least 1" in r.err
 
 
+def test_montecarlo_cli_on_dask_in_batches_gives_the_local_report():
+    pytest.importorskip("distributed")
+    common = ["montecarlo", "static", "--param", "duration-s=2", "--runs", "4", "--json"]
+    local = run_cli(*common, "--workers", "1")
+    dask = run_cli(*common, "--engine", "dask", "--local-workers", "1", "--batch", "3")
+    assert local.code == 0 and dask.code == 0, dask.err
+    a, b = json.loads(local.out), json.loads(dask.out)
+    assert b["engine"].endswith(", 1 worker, 3 runs a task")  # batches of 3 and 1
+    assert a["cases"] == b["cases"]
+
+
 def _pool_started(pid: int) -> bool:
     cmdline = Path(f"/proc/{pid}/cmdline").read_bytes()
     for child in Path(f"/proc/{pid}/task/{pid}/children").read_text().split():
