@@ -6,7 +6,10 @@ the reference profile); the trace is generated and checked once (a ``CheckedTrac
 ``montecarlo.collect`` makes). The engines are started (and warmed with one round) before timing:
 local 1 runs in this process, local 2 starts its process pool inside each timed round (as every
 ``sins-fw montecarlo`` does), dask N is a LocalCluster of N single-threaded worker processes bound
-to 127.0.0.1 that stays up, running its default batches (``montecarlo.batch_size``). The
+to 127.0.0.1, running its default batches (``montecarlo.batch_size``). Each engine is started for
+its own round only and closed after it (an idle LocalCluster costs the process holding it CPU, which
+would otherwise be charged to the configurations timed while it waits); its start-up and warm-up
+are outside the timed part. The
 configurations are timed in turns for ``--rounds`` rounds, so that a slow spell of a shared machine
 falls on all of them: figures are medians. The load average before and after is recorded: on a
 loaded machine two workers cannot scale by two.
@@ -90,40 +93,46 @@ def main() -> None:
     profile = load_profile("reference", ["errors.preset=adis16407"])
     jobs = mc.jobs_for([case], range(1, args.runs + 1), profile)
     empties = mc.jobs_for([case], range(1, args.empty + 1), profile)
-    engines = {
-        "local 1": mc.LocalEngine(1),
-        "local 2": mc.LocalEngine(2),
-        "dask 1": mc.DaskEngine(local_workers=1),
-        "dask 2": mc.DaskEngine(local_workers=2),
+    engines: dict[str, Any] = {
+        "local 1": lambda: mc.LocalEngine(1),
+        "local 2": lambda: mc.LocalEngine(2),
+        "dask 1": lambda: mc.DaskEngine(local_workers=1),
+        "dask 2": lambda: mc.DaskEngine(local_workers=2),
     }
     walls: dict[str, list[float]] = {name: [] for name in engines}
     job_cpu: dict[str, list[float]] = {name: [] for name in engines}
     driver_cpu: dict[str, list[float]] = {name: [] for name in engines}
     batch: dict[str, int] = {}
     overhead: dict[str, tuple[float, float]] = {}
-    try:
-        for engine in engines.values():  # warm-up: imports, the scattered trace, the workers' caches
-            timed(engine, cpu_timed_job, jobs[:4], traces)
-        for _ in range(args.rounds):
-            for name, engine in engines.items():
+
+    def started(name: str) -> Any:
+        """The engine, up and warmed (imports, the scattered trace, the workers' caches)."""
+        engine = engines[name]()
+        timed(engine, cpu_timed_job, jobs[:4], traces)
+        return engine
+
+    for _ in range(args.rounds):
+        for name in engines:
+            engine = started(name)
+            try:
                 wall, cpu, driver = timed(engine, cpu_timed_job, jobs, traces)
-                walls[name].append(wall)
-                job_cpu[name].append(cpu / len(jobs))
-                driver_cpu[name].append(driver)
                 if isinstance(engine, mc.DaskEngine):
                     batch[name] = engine.last_batch or 1
-        for name in ("local 2", "dask 1", "dask 2"):
-            wall, _, driver = timed(engines[name], empty_job, empties, traces)
-            label = name if name.startswith("local") else f"{name}, {engines[name].last_batch} runs a task"
-            overhead[label] = (wall / len(empties), driver / len(empties))
-        dask2 = engines["dask 2"]
-        assert isinstance(dask2, mc.DaskEngine)
-        dask2.batch = 1
-        wall, _, driver = timed(dask2, empty_job, empties, traces)
-        overhead["dask 2, 1 run a task"] = (wall / len(empties), driver / len(empties))
-    finally:
-        for engine in engines.values():
+            finally:
+                engine.close()
+            walls[name].append(wall)
+            job_cpu[name].append(cpu / len(jobs))
+            driver_cpu[name].append(driver)
+    for name, per_task in (("local 2", None), ("dask 1", None), ("dask 2", None), ("dask 2", 1)):
+        engine = started(name)
+        try:
+            if per_task is not None:
+                engine.batch = per_task
+            wall, _, driver = timed(engine, empty_job, empties, traces)
+            label = name if name.startswith("local") else f"{name}, {engine.last_batch} runs a task"
+        finally:
             engine.close()
+        overhead[label] = (wall / len(empties), driver / len(empties))
     load_after = os.getloadavg()
 
     rate = {name: args.runs / statistics.median(w) for name, w in walls.items()}
