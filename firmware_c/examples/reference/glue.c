@@ -1,11 +1,10 @@
 /* The glue the thesis does not publish, written as a user would: one burst's words to the attitude.
    The timer ISR (isr.c) reads a burst every 4 ms; the published conversion gives deg/s and g; the
-   rates, in rad/s, fill Wnbb at t, t+T/2 and t+T, two bursts per 8 ms update, the last sample of an
-   update being the first of the next (the profile's schedule = "half-step"); after each updateQ the
-   Euler angles come from T by the thesis' tables 2-1 (roll) and 2-2 (yaw), pitch = -asin(T31).
-
-   Not here (profile keys to match): the earth-rate and transport-rate correction of the body rates
-   (firmware.earth_rate = false) and the navigation (firmware.navigation = false). */
+   rates, in rad/s, are the samples at t, t+T/2 and t+T, two bursts per 8 ms update, the last sample of
+   an update being the first of the next (the profile's schedule = "half-step"); Wnbb is each sample
+   less the navigation frame's rate (navigation.c), then updateQ; the Euler angles come from T by the
+   thesis' tables 2-1 (roll) and 2-2 (yaw), pitch = -asin(T31); then one navigation step with the
+   latest specific force. */
 #include <math.h>
 
 #include "reference.h"
@@ -21,7 +20,8 @@
 #define TWO_PI 6.283185307179586
 
 double pitch, roll, yaw;
-double f_b[3]; /* specific force, m/s^2 (the navigation's input; kept for the user's own use) */
+double w_ib[3][3]; /* the update's rate samples, rad/s */
+double f_b[3];      /* the latest specific force, m/s^2 */
 Uint32 updates;
 static Uint16 samples;
 
@@ -74,16 +74,18 @@ void reference_process_burst(const Uint16 rdata[15])
     int i;
     convert_data(rdata);
     for (i = 0; i < 3; i++) {
-        Wnbb[samples][i] = a[i] * DEG_TO_RAD;
+        w_ib[samples][i] = a[i] * DEG_TO_RAD;
         f_b[i] = a[i + 3] * G_M_S2;
     }
     samples++;
     if (samples == 3) {
+        body_rates(w_ib);
         updateQ();
         update_euler();
+        navigate(f_b);
         updates++;
         for (i = 0; i < 3; i++)
-            Wnbb[0][i] = Wnbb[2][i];
+            w_ib[0][i] = w_ib[2][i];
         samples = 1;
     }
 }

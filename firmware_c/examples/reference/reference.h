@@ -25,6 +25,11 @@ void convert_data(const Uint16 rdata[15]);
 /* Published RK4 update, normalisation and attitude matrix (appendix 1). */
 void updateQ(void);
 
+/* Glue (navigation.c): the earth-rate and transport-rate correction, the navigation. */
+extern double lat, lon, height, vel[3];
+void body_rates(double w_ib[3][3]);
+void navigate(const double f_b[3]);
+
 /* Glue: the Euler angles (rad) of T by the thesis' tables 2-1 and 2-2, updated after each updateQ. */
 extern double pitch, roll, yaw;
 extern Uint32 updates;
