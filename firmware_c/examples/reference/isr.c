@@ -5,8 +5,9 @@
    words to the attitude code (glue.c). main initialises SPI-A as the reference profile's InitSpi
    (SPICCR 0x004F, SPICTL, SPIBRR, SPICCR 0x00CF, SPIPRI), the timer and the PIE, then idles.
 
-   It needs the host build's CPU timer 0 and PIE (issue 20, item 3) to build; published.c and glue.c
-   build and run without it (tests/test_reference_firmware.py calls reference_process_burst). */
+   It needs the host build's CPU timer 0 and PIE (issue 20, item 3) to build; published.c, glue.c and
+   navigation.c build and run without it (tests/test_reference_firmware.py calls
+   reference_process_burst). */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
 #include "reference.h"

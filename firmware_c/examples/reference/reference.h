@@ -1,7 +1,8 @@
 /* The reference design's firmware (2014 thesis, F28335 + ADIS16407), as a user writes it against TI's
    DSP2833x headers: the published code (published.c: the data conversion of section 4.4.3 and the
    RK4 quaternion update of appendix 1, as printed) and the glue the thesis does not publish (glue.c:
-   one burst's words to the attitude; isr.c: CPU timer 0, the burst read, main).
+   one burst's words to the attitude; navigation.c: the earth and transport rates, the navigation;
+   isr.c: CPU timer 0, the burst read, main).
 
    The variables are the published code's: `double` as printed (32-bit under TI's COFF ABI: build with
    `sins-fw build-firmware --float c28x`; `--float host` gives the f64 reference). */
