@@ -207,8 +207,8 @@ def test_conversions_to_integers_truncate_and_compare(float_libs: dict[str, ctyp
 def test_literal_rewrite_leaves_everything_else():
     text = "x = 1e3 + .5f + 0x1E5 + a1e5 + 3.333e-003 + 12 + 0x1.8p3; s = \"2.5\"; // 1.5\n/* 2.0 */ c = '1';"
     assert rewrite_literals(text) == (
-        "x = SINS_C28X_LITERAL(1e3) + SINS_C28X_LITERAL(.5f) + 0x1E5 + a1e5 + SINS_C28X_LITERAL(3.333e-003)"
-        " + 12 + SINS_C28X_LITERAL(0x1.8p3); s = \"2.5\"; // 1.5\n/* 2.0 */ c = '1';"
+        "x = sins_c28x_float(1e3) + sins_c28x_float(.5f) + 0x1E5 + a1e5 + sins_c28x_float(3.333e-003)"
+        " + 12 + sins_c28x_float(0x1.8p3); s = \"2.5\"; // 1.5\n/* 2.0 */ c = '1';"
     )
 
 

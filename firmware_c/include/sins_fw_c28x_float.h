@@ -4,8 +4,9 @@
    TI's COFF ABI makes `double` 32-bit; + − × round to nearest (RND32 = 1, what compiled C runs);
    subnormal results and inputs are flushed to +0, −0 is stored as +0, there is no NaN (∞ instead);
    division and sqrt are fastRTS' estimate + two Newton steps; sin, cos, atan, atan2, asin are the
-   backend's model. The build also rewrites the floating literals of the firmware's sources and headers
-   into SINS_C28X_LITERAL(…), so that `code * 0.05` multiplies in C28x single precision as on target
+   backend's model. The build also rewrites the floating literals on the firmware's own lines (after
+   preprocessing) into sins_c28x_float(…): the literal rounded to nearest as TI's compiler stores a
+   32-bit double, so that `code * 0.05` multiplies in C28x single precision as on target
    (docs/c-arithmetic.md lists what stays different).
 
    The standard headers are included here, before `float` and `double` are redefined: their own
@@ -142,9 +143,6 @@ public:
         return old;
     }
 };
-
-/* A floating literal of the firmware, as TI's compiler stores a 32-bit double: rounded to nearest. */
-#define SINS_C28X_LITERAL(x) (sins_c28x_float(x))
 
 /* The math library the firmware calls, on C28x values: fastRTS as the backend models it. */
 #define SINS_C28X_UNARY(NAME, FN)                                                                          \

@@ -3,8 +3,8 @@
 ``float_mode="host"`` compiles the firmware's ``float`` and ``double`` as the host's (64-bit ``double``).
 ``float_mode="c28x"`` makes both the C28x's 32-bit float (TI's COFF ABI), every operation the
 ``c28x-f32`` backend's (``firmware_c/include/sins_fw_c28x_float.h``): the header is force-included,
-and each floating literal of the firmware's own sources and headers is rewritten into
-``SINS_C28X_LITERAL(…)`` in a copy (``#line`` keeps the original file and line in every message), so
+each source is preprocessed, and each floating literal on the firmware's own lines is rewritten into
+``sins_c28x_float(…)`` (the line markers keep the original file and line in every message), so
 that ``code * 0.05`` is a C28x multiplication, not a host ``double`` one rounded afterwards.
 
 :func:`diagnose_int` is the 16-bit ``int`` check: a shadow compile with ``int`` as a 16-bit ``short``
@@ -18,13 +18,11 @@ import os
 import re
 import subprocess
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from sins_fw.errors import InputError
 
 FLOAT_MODES = ("host", "c28x")
-HEADER_SUFFIXES = (".h", ".hpp")
 
 # One token of C source that matters here: a comment, a string or character literal (skipped), a
 # preprocessing number (C11 6.4.8), or an identifier (so that digits inside names are not numbers).
@@ -45,34 +43,40 @@ def _is_floating(number: str) -> bool:
 
 def rewrite_literals(text: str) -> str:
     """``text`` with each floating literal ``x`` (outside comments and strings) as
-    ``SINS_C28X_LITERAL(x)``; everything else, line breaks included, unchanged."""
+    ``sins_c28x_float(x)``; everything else, line breaks included, unchanged."""
 
     def replace(m: re.Match[str]) -> str:
         number = m.group("number")
         if number is not None and _is_floating(number):
-            return f"SINS_C28X_LITERAL({number})"
+            return f"sins_c28x_float({number})"
         return m.group(0)
 
     return _TOKEN.sub(replace, text)
 
 
-def _rewritten_copy(source: Path, target: Path) -> None:
-    text = source.read_text(encoding="utf-8", errors="surrogateescape")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    quoted = str(source.resolve()).replace("\\", "\\\\").replace('"', '\\"')
-    target.write_text(
-        f'#line 1 "{quoted}"\n' + rewrite_literals(text), encoding="utf-8", errors="surrogateescape"
-    )
+# A line marker of the preprocessor's output: `# LINE "FILE" FLAGS` (flag 3: a system header).
+_LINE_MARKER = re.compile(r'^# \d+ "((?:\\.|[^"\\])*)"((?: \d)*)$')
 
 
-@dataclass
-class Prepared:
-    """What the compiler gets for one arithmetic mode: the sources, include folders to put before the
-    firmware's own, and extra flags (after the prelude's ``-include``)."""
-
-    sources: list[Path]
-    include_dirs: list[Path] = field(default_factory=list)
-    flags: list[str] = field(default_factory=list)
+def rewrite_preprocessed(text: str, ours: Sequence[Path]) -> str:
+    """Preprocessed C++ ``text`` with the floating literals of the firmware's own lines rewritten
+    (:func:`rewrite_literals`). Lines the line markers attribute to a system header, to a file under
+    one of the folders ``ours`` (the replacement headers) or to the compiler's pseudo-files are left
+    alone. A literal that a macro brings into the firmware's line (a header's ``#define SCALE 0.05``)
+    is rewritten there, where it is used."""
+    roots = [str(p.resolve()) + os.sep for p in ours]
+    out: list[str] = []
+    firmware = False
+    for line in text.splitlines(keepends=True):
+        marker = _LINE_MARKER.match(line.rstrip("\n"))
+        if marker:
+            name, marker_flags = marker.group(1), marker.group(2).split()
+            path = "" if name.startswith("<") else os.path.abspath(name)
+            firmware = bool(path) and "3" not in marker_flags and not any(path.startswith(r) for r in roots)
+            out.append(line)
+        else:
+            out.append(rewrite_literals(line) if firmware else line)
+    return "".join(out)
 
 
 def check_float_mode(float_mode: str) -> None:
@@ -80,29 +84,45 @@ def check_float_mode(float_mode: str) -> None:
         raise InputError(f"float mode `{float_mode}`: expected one of {', '.join(FLOAT_MODES)}")
 
 
-def prepare(sources: Sequence[Path], float_mode: str, workdir: Path, include: Path) -> Prepared:
-    """The sources, include folders and flags of ``float_mode``; the c28x mode writes its rewritten
-    copies under ``workdir``. Both modes forbid contracting a × b + c into a fused multiply-add, which
-    the firmware's C does not ask for and the emulator's backends do not do."""
+def flags(float_mode: str, include: Path) -> list[str]:
+    """The compiler flags of ``float_mode`` (after the prelude's ``-include``). Both modes forbid
+    contracting a × b + c into a fused multiply-add, which the firmware's C does not ask for and the
+    emulator's backends do not do."""
     check_float_mode(float_mode)
-    flags = ["-ffp-contract=off"]
+    c28x = ["-include", str(include / "sins_fw_c28x_float.h")] if float_mode == "c28x" else []
+    return ["-ffp-contract=off", *c28x]
+
+
+def prepare(
+    sources: Sequence[Path], float_mode: str, workdir: Path, preprocess: Sequence[str], ours: Sequence[Path]
+) -> tuple[str, list[Path]]:
+    """The language (for ``-x``) and the files the compiler builds the firmware from. Host mode: the
+    sources as they are. C28x mode: each source preprocessed by ``preprocess`` (the compiler and the
+    build's flags, :func:`flags` included) and its floating literals rewritten
+    (:func:`rewrite_preprocessed`, ``ours``: the replacement headers' folders) into ``workdir``. A
+    source that does not preprocess raises :class:`~sins_fw.errors.InputError` quoting the compiler."""
+    check_float_mode(float_mode)
     if float_mode == "host":
-        return Prepared(list(sources), [], flags)
-    copies: list[Path] = []
+        return "c++", list(sources)
+    out: list[Path] = []
     for i, s in enumerate(sources):
-        copy = workdir / "src" / f"{i}_{s.name}"
-        _rewritten_copy(s, copy)
-        copies.append(copy)
-    # The firmware's own headers, rewritten likewise, found before the originals.
-    mirrors: list[Path] = []
-    for i, folder in enumerate(sorted({s.parent for s in sources})):
-        mirror = workdir / f"inc{i}"
-        for h in folder.rglob("*"):
-            if h.suffix in HEADER_SUFFIXES and h.is_file():
-                _rewritten_copy(h, mirror / h.relative_to(folder))
-        mirrors.append(mirror)
-    flags += ["-include", str(include / "sins_fw_c28x_float.h")]
-    return Prepared(copies, mirrors, flags)
+        cmd = [*preprocess, "-E", "-x", "c++", str(s)]
+        run = subprocess.run(cmd, capture_output=True, text=True, check=False, env=_c_locale())
+        if run.returncode != 0:
+            raise InputError(
+                "the firmware does not build as C++17 against the replacement headers:\n  "
+                + "\n  ".join(_errors(run.stderr))
+            )
+        target = workdir / f"{i}_{s.stem}.ii"
+        target.write_text(rewrite_preprocessed(run.stdout, ours), encoding="utf-8")
+        out.append(target)
+    return "c++-cpp-output", out
+
+
+def _errors(stderr: str, n: int = 5) -> list[str]:
+    """The compiler's first ``n`` error lines (its last lines when none says "error")."""
+    lines = stderr.splitlines()
+    return [line for line in lines if re.search(r"\berror\b", line)][:n] or lines[-n:]
 
 
 #: The conversion warnings the 16-bit ``int`` check asks for (float ↔ int ones are a separate matter).
@@ -138,13 +158,10 @@ def diagnose_int(paths: Sequence[str | os.PathLike[str]], compiler: str = "g++")
             str(s),
         ]
         run = subprocess.run(cmd, capture_output=True, text=True, check=False, env=_c_locale())
-        lines = run.stderr.splitlines()
         if run.returncode != 0:
-            errors = [line for line in lines if re.search(r"\berror\b", line)][:5]
-            raise InputError(
-                "the 16-bit int check could not compile the firmware:\n  " + "\n  ".join(errors or lines[-5:])
-            )
-        findings += [line for line in lines if ": warning: " in line]
+            message = "\n  ".join(_errors(run.stderr))
+            raise InputError(f"the 16-bit int check could not compile the firmware:\n  {message}")
+        findings += [line for line in run.stderr.splitlines() if ": warning: " in line]
     return findings
 
 

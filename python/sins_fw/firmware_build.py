@@ -92,26 +92,33 @@ def build_firmware(
     read_cycles, write_cycles = _io_cycles()
     include = FIRMWARE_C / "include"
     folders = sorted({str(s.parent) for s in sources})
+    cabi_include = ROOT / "rust" / "cabi" / "include"
+    flags = [
+        "-std=c++17",
+        "-O1",
+        "-fPIC",
+        "-include",
+        str(include / "sins_fw_prelude.h"),
+        *firmware_arith.flags(float_mode, include),
+        f"-I{include}",
+        *(f"-I{d}" for d in folders),
+        f"-I{cabi_include}",
+        f"-DSINS_FW_READ_CYCLES={read_cycles}",
+        f"-DSINS_FW_WRITE_CYCLES={write_cycles}",
+    ]
     with atomic_path(out) as tmp, tempfile.TemporaryDirectory(prefix="sins-fw-build-") as work:
-        arith = firmware_arith.prepare(sources, float_mode, Path(work), include)
+        language, firmware = firmware_arith.prepare(
+            sources, float_mode, Path(work), [compiler, *flags], [include, cabi_include]
+        )
         cmd = [
             compiler,
-            "-std=c++17",
-            "-O1",
-            "-fPIC",
+            *flags,
             "-shared",
-            "-include",
-            str(include / "sins_fw_prelude.h"),
-            *arith.flags,
-            f"-I{include}",
-            *(f"-I{d}" for d in arith.include_dirs),
-            *(f"-I{d}" for d in folders),
-            f"-I{ROOT / 'rust' / 'cabi' / 'include'}",
-            f"-DSINS_FW_READ_CYCLES={read_cycles}",
-            f"-DSINS_FW_WRITE_CYCLES={write_cycles}",
+            "-x",
+            language,
+            *map(str, firmware),
             "-x",
             "c++",
-            *map(str, arith.sources),
             str(FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp"),
             "-x",
             "none",
