@@ -81,7 +81,11 @@ void main(void)
 }
 
 /* One burst read per tick: per frame, wait until the transmit buffer is free, send (0x4200 first,
-   then zeros), wait for the received word, read it; then the attitude code. */
+   then zeros), wait for the received word, read it (reference-design.md's reading of the listing, and
+   the emulator's model); then the attitude code. The thesis prints the per-frame steps in another
+   order, `if (Spi_RxReady() == 1) { rdata = SpiaRegs.SPIRXBUF; } while (Spi_RxReady() != 1) { }`
+   after the write: taken literally, each frame would read the word of the frame before (INT_FLAG is
+   still set from it), shifting the burst by one word. */
 interrupt void cpu_timer0_isr(void)
 {
     Uint16 i, sdata;
