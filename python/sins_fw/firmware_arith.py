@@ -113,9 +113,10 @@ def prepare(
                 "the firmware does not build as C++17 against the replacement headers:\n  "
                 + "\n  ".join(_errors(run.stderr))
             )
-        target = workdir / f"{i}_{s.stem}.ii"
-        target.write_text(rewrite_preprocessed(run.stdout, ours), encoding="utf-8")
-        out.append(target)
+        # A scratch file in the build's temporary folder (removed with it), not an output.
+        tmp_source = workdir / f"{i}_{s.stem}.ii"
+        tmp_source.write_text(rewrite_preprocessed(run.stdout, ours), encoding="utf-8")
+        out.append(tmp_source)
     return "c++-cpp-output", out
 
 
