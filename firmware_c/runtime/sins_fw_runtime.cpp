@@ -11,6 +11,11 @@
 #include <cstring>
 #include <string>
 
+/* The C28x float mode (sins_fw_c28x_float.h) maps `float` and `double` onto the C28x model in the
+   firmware's sources only: the runtime keeps the host's. */
+#undef float
+#undef double
+
 #include "DSP2833x_Device.h"
 #include "sins_fw.h"
 

@@ -9,8 +9,9 @@ each access charged the cycles of ``firmware_model/c28x-costs.toml`` ``[io]``. T
 library linked against the C ABI library (``rust/cabi``): :func:`run_firmware` runs its ``main`` until a
 virtual time and reads its globals.
 
-Modelled so far: SPI-A, the GPIO data registers, LOSPCP. CPU timer 0, the PIE and interrupts, the
-C28x arithmetic mode and IQmath are not yet (issue 20, items 1, 3, 4).
+Modelled so far: SPI-A, the GPIO data registers, LOSPCP. CPU timer 0, the PIE and interrupts are not
+yet (issue 20, items 1, 3). The firmware's ``float``/``double`` are the host's or the C28x's
+(``float_mode``), IQmathLib.h is the ``iq`` backend's (sins_fw.firmware_arith, docs/c-arithmetic.md).
 """
 
 from __future__ import annotations
@@ -20,11 +21,13 @@ import os
 import re
 import shutil
 import subprocess
+import tempfile
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from sins_fw import firmware_arith
 from sins_fw.atomic import atomic_path
 from sins_fw.errors import ConfigError, InputError
 from sins_fw.profile import MODEL_DIR
@@ -71,35 +74,51 @@ def _io_cycles() -> tuple[int, int]:
 
 
 def build_firmware(
-    paths: Sequence[str | os.PathLike[str]], out: str | os.PathLike[str], *, compiler: str = "g++"
+    paths: Sequence[str | os.PathLike[str]],
+    out: str | os.PathLike[str],
+    *,
+    compiler: str = "g++",
+    float_mode: str = "host",
 ) -> Path:
-    """Compile the firmware sources (files or folders) into the shared library ``out``. A source that
+    """Compile the firmware sources (files or folders) into the shared library ``out``, its ``float``
+    and ``double`` in ``float_mode`` (``host`` or ``c28x``: sins_fw.firmware_arith). A source that
     does not compile raises :class:`~sins_fw.errors.InputError` quoting the compiler's first errors
     (file:line); ``out`` is then left as it was."""
     sources = sources_of(paths)
+    firmware_arith.check_float_mode(float_mode)
     if shutil.which(compiler) is None:
         raise ConfigError(f"`{compiler}` not found: a host C++ compiler is needed (Debian: build-essential)")
     libdir = cabi_library_dir()
     read_cycles, write_cycles = _io_cycles()
     include = FIRMWARE_C / "include"
     folders = sorted({str(s.parent) for s in sources})
-    with atomic_path(out) as tmp:
+    cabi_include = ROOT / "rust" / "cabi" / "include"
+    flags = [
+        "-std=c++17",
+        "-O1",
+        "-fPIC",
+        "-include",
+        str(include / "sins_fw_prelude.h"),
+        *firmware_arith.flags(float_mode, include),
+        f"-I{include}",
+        *(f"-I{d}" for d in folders),
+        f"-I{cabi_include}",
+        f"-DSINS_FW_READ_CYCLES={read_cycles}",
+        f"-DSINS_FW_WRITE_CYCLES={write_cycles}",
+    ]
+    with atomic_path(out) as tmp, tempfile.TemporaryDirectory(prefix="sins-fw-build-") as work:
+        language, firmware = firmware_arith.prepare(
+            sources, float_mode, Path(work), [compiler, *flags], [include, cabi_include]
+        )
         cmd = [
             compiler,
-            "-std=c++17",
-            "-O1",
-            "-fPIC",
+            *flags,
             "-shared",
-            "-include",
-            str(include / "sins_fw_prelude.h"),
-            f"-I{include}",
-            *(f"-I{d}" for d in folders),
-            f"-I{ROOT / 'rust' / 'cabi' / 'include'}",
-            f"-DSINS_FW_READ_CYCLES={read_cycles}",
-            f"-DSINS_FW_WRITE_CYCLES={write_cycles}",
+            "-x",
+            language,
+            *map(str, firmware),
             "-x",
             "c++",
-            *map(str, sources),
             str(FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp"),
             "-x",
             "none",

@@ -195,6 +195,110 @@ float sins_c28x_div(float a, float b);
 // C28x square root as fastRTS does it: `EISQRTF32` estimate, two Newton–Raphson steps, times `x`.
 float sins_c28x_sqrt(float x);
 
+// A constant or a host `double` as TI's compiler gives it a 32-bit `double`: rounded to nearest
+// f32 (whatever RND32), canonical (NaN → +∞, subnormals and −0 → +0).
+float sins_c28x_from_f64(double x);
+
+// `I32TOF32` (rounded in the mode: to nearest).
+float sins_c28x_from_i32(int32_t x);
+
+// `UI32TOF32` (rounded to nearest; exact through f64, so one rounding).
+float sins_c28x_from_u32(uint32_t x);
+
+// `F32TOI32`: truncated toward zero, saturated to the i32 range (the FPU saturates; C on the host
+// leaves out-of-range conversions undefined). ∞ saturates.
+int32_t sins_c28x_to_i32(float x);
+
+// `F32TOUI32`: truncated toward zero, saturated to 0…2³²−1.
+uint32_t sins_c28x_to_u32(float x);
+
+// `NEGF32` (0 stays +0).
+float sins_c28x_neg(float x);
+
+// `ABSF32`.
+float sins_c28x_abs(float x);
+
+// fastRTS `sin` (the backend's model: f64 sine rounded once to nearest f32).
+float sins_c28x_sin(float x);
+
+// fastRTS `cos` (as `sins_c28x_sin`).
+float sins_c28x_cos(float x);
+
+// fastRTS `atan`.
+float sins_c28x_atan(float x);
+
+// fastRTS `atan2(y, x)`.
+float sins_c28x_atan2(float y, float x);
+
+// fastRTS `asin` (argument clamped to [−1, 1] as the backend does).
+float sins_c28x_asin(float x);
+
+// `acos`: no model in the backend; f64, rounded once to nearest (argument clamped to [−1, 1]).
+float sins_c28x_acos(float x);
+
+// `tan`: no model in the backend; f64, rounded once to nearest.
+float sins_c28x_tan(float x);
+
+// `exp`: no model in the backend; f64, rounded once to nearest.
+float sins_c28x_exp(float x);
+
+// `log`: no model in the backend; f64, rounded once to nearest (log 0 = −∞; log of x < 0, NaN in
+// IEEE, is +∞ as the FPU treats NaN).
+float sins_c28x_log(float x);
+
+// `pow`: no model in the backend; f64, rounded once to nearest.
+float sins_c28x_pow(float x, float y);
+
+// `_IQN(x)`: `x·2^q` truncated toward zero, saturated to the 32-bit range (NaN → 0).
+int32_t sins_iq_from_f64(double x, uint8_t q);
+
+// `_IQNtoF(a)`: to f32, the mantissa truncated.
+float sins_iq_to_f32(int32_t a, uint8_t q);
+
+// `_IQNtoIQM`: from Q `from` to Q `to` (left shifts wrap, right shifts floor).
+int32_t sins_iq_to_q(int32_t a, uint8_t from, uint8_t to);
+
+// `_IQNmpy(a, b)`: the 64-bit product shifted right by N (floor), low 32 bits.
+int32_t sins_iq_mpy(int32_t a, int32_t b, uint8_t q);
+
+// `_IQNrmpy(a, b)`: the product rounded, wrapping.
+int32_t sins_iq_rmpy(int32_t a, int32_t b, uint8_t q);
+
+// `_IQNrsmpy(a, b)`: the product rounded and saturated.
+int32_t sins_iq_rsmpy(int32_t a, int32_t b, uint8_t q);
+
+// `_IQNdiv(a, b)`: the quotient rounded to nearest (ties away from zero), saturated; b = 0 gives
+// 0x7FFFFFFF.
+int32_t sins_iq_div(int32_t a, int32_t b, uint8_t q);
+
+// `_IQmpyI32(a, n)`: the 32-bit integer product, wrapping.
+int32_t sins_iq_mpy_i32(int32_t a, int32_t n, uint8_t q);
+
+// `_IQNsqrt(a)`: the root floored to Q N; a ≤ 0 gives 0.
+int32_t sins_iq_sqrt(int32_t a, uint8_t q);
+
+// `_IQNisqrt(a)`: 1/√a floored, saturated; a ≤ 0 gives 0.
+int32_t sins_iq_isqrt(int32_t a, uint8_t q);
+
+// `_IQNsin(a)` (radians), in Q N, truncated toward zero.
+int32_t sins_iq_sin(int32_t a, uint8_t q);
+
+// `_IQNcos(a)` (radians), in Q N.
+int32_t sins_iq_cos(int32_t a, uint8_t q);
+
+// `_IQNatan(a)`, radians, in Q min(N, 29) (π needs two integer bits). The raw result is in that Q:
+// `IQmathLib.h` shifts it back to N.
+int32_t sins_iq_atan(int32_t a, uint8_t q);
+
+// `_IQNatan2(y, x)`, radians in (−π, π] (see `sins_iq_atan` for the Q); (0, 0) gives 0.
+int32_t sins_iq_atan2(int32_t y, int32_t x, uint8_t q);
+
+// `_IQNasin(a)`, as firmware writes it: `_IQatan2(a, _IQsqrt(_IQ(1) − _IQmpy(a, a)))`.
+int32_t sins_iq_asin(int32_t a, uint8_t q);
+
+// `_IQabs(a)` (wraps: |0x80000000| stays 0x80000000).
+int32_t sins_iq_abs(int32_t a, uint8_t q);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

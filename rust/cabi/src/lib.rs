@@ -24,6 +24,10 @@ use sins_core::numerics::{C28xF32Rn, Scalar};
 use sins_core::profile::Profile;
 use sins_core::{Error, Result};
 
+// The C28x float mode's conversions and math library, and IQmathLib, for a firmware's own code.
+pub mod c28x_math;
+pub mod iq;
+
 /// What a call returned.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
