@@ -875,8 +875,16 @@ impl Adis {
         // word is the register with ND and EA ([`word`]), here without a branch per word.
         let ea = if self.regs[self.layout.diag] != 0 { 0x4000 } else { 0 };
         let mut words = [0u16; MAX_BURST_WORDS];
-        for (w, &slot) in words.iter_mut().zip(&self.layout.burst_slots[..self.layout.burst_len]) {
-            *w = self.regs[slot & (SLOTS - 1)] | ea | ((self.nd >> slot & 1) as u16) << 15;
+        let slots = self.layout.burst_slots[..self.layout.burst_len].iter();
+        let all = self.layout.burst_nd_mask(0..self.layout.burst_len);
+        if self.nd & all == all {
+            // Usually every word is new (a sample since the last burst): one flag word for all.
+            let flags = ea | 0x8000;
+            words.iter_mut().zip(slots).for_each(|(w, &slot)| *w = self.regs[slot & (SLOTS - 1)] | flags);
+        } else {
+            for (w, &slot) in words.iter_mut().zip(slots) {
+                *w = self.regs[slot & (SLOTS - 1)] | ea | ((self.nd >> slot & 1) as u16) << 15;
+            }
         }
         (words, self.latest)
     }

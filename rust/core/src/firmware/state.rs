@@ -58,6 +58,12 @@ pub struct Firmware<T: Scalar> {
     gps_last_available: Option<f64>,
     /// Fixes given so far (to name them in errors).
     gps_given: u64,
+    /// The earth rates the attitude update computed from the current navigation state, which the
+    /// navigation step of the same update takes instead of computing them again (they are a pure
+    /// function of that state, and only the navigation step changes it). An emulation shortcut,
+    /// not the target's code: the timing model counts the navigation stage computing them itself
+    /// (see `timing::stages`).
+    earth_rates_of_state: Option<EarthRates<T>>,
 }
 
 /// One fix of a GPS stream as the trace gives it (what the firmware takes of a GPS report).
@@ -121,6 +127,7 @@ impl<T: Scalar> Firmware<T> {
             gps: GpsInput::None,
             gps_last_available: None,
             gps_given: 0,
+            earth_rates_of_state: None,
         })
     }
 
@@ -209,6 +216,19 @@ impl<T: Scalar> Firmware<T> {
         self.earth.rates(&self.nav)
     }
 
+    /// [`Firmware::earth_rates`], kept for the navigation step of this update.
+    fn earth_rates_kept(&mut self) -> EarthRates<T> {
+        let r = self.earth_rates_of_state.unwrap_or_else(|| self.earth.rates(&self.nav));
+        self.earth_rates_of_state = Some(r);
+        r
+    }
+
+    /// Forget the kept earth rates, so that the next navigation step computes them (the timing
+    /// model counts the navigation stage as the target runs it).
+    pub(crate) fn forget_earth_rates(&mut self) {
+        self.earth_rates_of_state = None;
+    }
+
     /// Stage 2: attitude update from `rates_per_update()` samples of ω_ib^b (rad/s), with the
     /// navigation frame's rate when the profile corrects for it.
     pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
@@ -222,7 +242,7 @@ impl<T: Scalar> Firmware<T> {
         rates: &[Vec3<T>],
         mark: Option<&mut dyn FnMut(&'static str)>,
     ) -> Result<()> {
-        let nav_rate = if self.earth_rate { Some(self.earth_rates().w_in()) } else { None };
+        let nav_rate = if self.earth_rate { Some(self.earth_rates_kept().w_in()) } else { None };
         let inputs = StepInputs {
             specific_force: self.last_accel,
             magnetic_field: self.last_mag,
@@ -251,7 +271,7 @@ impl<T: Scalar> Firmware<T> {
     /// turns navigation off.
     pub fn navigate(&mut self, f_b: &Vec3<T>) {
         if self.navigation {
-            let rates = self.earth.rates(&self.nav);
+            let rates = self.earth_rates_of_state.take().unwrap_or_else(|| self.earth.rates(&self.nav));
             self.earth.step_with_rates(&mut self.nav, &rates, &self.c_bn, f_b, self.t1);
         }
     }
@@ -374,6 +394,39 @@ mod tests {
         assert_eq!(update_period_s(&p), 0.008);
         p.firmware.schedule = Schedule::Endpoint;
         assert_eq!(update_period_s(&p), 0.004);
+    }
+
+    /// The navigation step that takes the attitude update's earth rates ends where one computing
+    /// them itself does, bit for bit, in every backend (moving north-east, with the earth-rate correction).
+    #[test]
+    fn kept_earth_rates_equal_fresh_ones() {
+        fn run<T: Scalar>(p: &Profile, forget: bool) -> Vec<f64> {
+            let mut fw = Firmware::<T>::new(p).unwrap();
+            let words = [0x0014, 0x3FF6, 0x0008, 0x0003, 0x3FFD, 0x012C];
+            for _ in 0..50 {
+                let d = fw.decode(&words);
+                fw.update_attitude(&[d.rate; 3]).unwrap();
+                if forget {
+                    fw.forget_earth_rates();
+                }
+                fw.navigate(&d.accel);
+            }
+            let n = fw.nav_state();
+            [n.lat, n.lon, n.height, n.vel[0], n.vel[1], n.vel[2]].iter().chain(fw.quat()).map(|x| x.to_f64()).collect()
+        }
+        let mut p = Profile::default();
+        p.navigation.velocity_enu = [30.0, 40.0, 1.0];
+        p.navigation.latitude_deg = 45.0;
+        for (kept, fresh) in [
+            (run::<f64>(&p, false), run::<f64>(&p, true)),
+            (run::<crate::numerics::C28xF32Rn>(&p, false), run::<crate::numerics::C28xF32Rn>(&p, true)),
+            (run::<crate::numerics::Iq>(&p, false), run::<crate::numerics::Iq>(&p, true)),
+        ] {
+            assert_eq!(
+                kept.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                fresh.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+        }
     }
 
     #[test]
