@@ -54,6 +54,16 @@ pub enum GyroRange {
 }
 
 impl GyroRange {
+    /// The smallest M (SENS_AVG bits 2:0) the part allows at this range: M ≥ 2 at ±150 °/s, M ≥ 4 at
+    /// ±75 °/s (adis16407.md, SENS_AVG); the defaults of `ModelOptions`.
+    pub fn min_m(self) -> u8 {
+        match self {
+            GyroRange::Dps300 => 0,
+            GyroRange::Dps150 => 2,
+            GyroRange::Dps75 => 4,
+        }
+    }
+
     /// Output LSB in °/s.
     pub fn lsb_dps(self) -> f64 {
         match self {

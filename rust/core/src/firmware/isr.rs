@@ -82,7 +82,7 @@ impl<T: Scalar> Isr<T> {
     pub fn new<S: Sensor>(profile: &Profile, board: &Board<S>, stages: StageCosts, io: &IoCosts) -> Result<Self> {
         let fw = Firmware::<T>::new(profile)?;
         let zero = T::from_f64(0.0, crate::numerics::QClass::Rate);
-        let schedule = RateSchedule::new(profile.firmware.schedule, samples_per_update(&profile.firmware))?;
+        let schedule = RateSchedule::new(profile.firmware.schedule, samples_per_update(&profile.firmware)?)?;
         let clocks = &board.clocks;
         let poller = Poller {
             sysclk: clocks.sysclkout,

@@ -3,10 +3,9 @@
 //! order and the timing model can run each with the counting type. Plain data in and out; nothing
 //! allocates.
 
+use super::algorithms::{attitude_update, samples_per_update};
 use super::align::{level_attitude, LevelAligner};
-use super::attitude::{
-    attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs,
-};
+use super::attitude::{AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
 use super::decode::{Decoded, Decoder};
 use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
@@ -18,11 +17,11 @@ use crate::{Error, Result};
 
 /// The attitude update period T of a profile, s: for `half-step` one timer tick per interval between
 /// the update's samples (a read every tick; RK4's t, t+T/2, t+T span two ticks), one tick otherwise.
-pub fn update_period_s(profile: &Profile) -> f64 {
+pub fn update_period_s(profile: &Profile) -> Result<f64> {
     let tick = profile.timer.period_us * 1e-6;
     match profile.firmware.schedule {
-        Schedule::HalfStep => (samples_per_update(&profile.firmware) - 1) as f64 * tick,
-        Schedule::Endpoint | Schedule::BackToBack => tick,
+        Schedule::HalfStep => Ok((samples_per_update(&profile.firmware)? - 1) as f64 * tick),
+        Schedule::Endpoint | Schedule::BackToBack => Ok(tick),
     }
 }
 
@@ -97,15 +96,15 @@ impl<T: Scalar> Firmware<T> {
                 fw.coning_samples
             )));
         }
-        let step_s = update_period_s(profile);
+        let step_s = update_period_s(profile)?;
         if !(step_s.is_finite() && step_s > 0.0) {
             return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
         }
         let q: Quat<T> = [lit(1.0), lit(0.0), lit(0.0), lit(0.0)];
-        let uses_magnetometer = fw.algorithm == crate::profile::Algorithm::Dcm
-            && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer;
+        let uses_magnetometer =
+            fw.algorithm == "dcm" && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer;
         Ok(Firmware {
-            attitude: attitude_update(fw, step_s),
+            attitude: attitude_update(fw, step_s)?,
             earth_rate: fw.earth_rate,
             navigation: fw.navigation,
             initial_attitude: fw.initial_attitude,
@@ -328,11 +327,11 @@ impl<T: Scalar> Firmware<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::{Algorithm, Decode};
+    use crate::profile::Decode;
 
     fn dcm_with(yaw: crate::profile::YawReference) -> Profile {
         let mut p = Profile::default();
-        p.firmware.algorithm = Algorithm::Dcm;
+        p.firmware.algorithm = "dcm".into();
         p.firmware.dcm.yaw_reference = yaw;
         p
     }
@@ -391,9 +390,9 @@ mod tests {
     #[test]
     fn update_period_follows_the_schedule() {
         let mut p = Profile::default();
-        assert_eq!(update_period_s(&p), 0.008);
+        assert_eq!(update_period_s(&p).unwrap(), 0.008);
         p.firmware.schedule = Schedule::Endpoint;
-        assert_eq!(update_period_s(&p), 0.004);
+        assert_eq!(update_period_s(&p).unwrap(), 0.004);
     }
 
     /// The navigation step that takes the attitude update's earth rates ends where one computing
@@ -435,7 +434,7 @@ mod tests {
         let mut fw = Firmware::<f64>::new(&p).unwrap();
         let e = fw.update_attitude(&[[0.0; 3]; 2]).unwrap_err();
         assert!(e.to_string().contains("takes 3"), "{e}");
-        p.firmware.algorithm = Algorithm::RotationVector;
+        p.firmware.algorithm = "rotation-vector".into();
         p.firmware.coning_samples = 3;
         let mut fw = Firmware::<f64>::new(&p).unwrap();
         assert_eq!(fw.rates_per_update(), 4);

@@ -268,7 +268,7 @@ mod tests {
 
     fn dcm_profile(yaw: crate::profile::YawReference) -> Profile {
         let mut p = Profile::default();
-        p.firmware.algorithm = crate::profile::Algorithm::Dcm;
+        p.firmware.algorithm = "dcm".into();
         p.firmware.dcm.yaw_reference = yaw;
         p.firmware.dcm.centripetal = true;
         p
