@@ -2,7 +2,8 @@
 //! layers below it, never one above. The table of layers is [`LAYERS`] (the one place it is kept);
 //! this test reads the crate's source and fails on a reference to a layer above (and on a module
 //! the table does not place). Test code (`#[cfg(test)]` modules, `tests*.rs`, `*_tests.rs`) and
-//! comments are not looked at.
+//! comments are not looked at. Inside a layer the modules may use each other, but not in a circle:
+//! [`no_module_cycles`] fails on a cycle of modules (as `device::adis` and `device::slave` once were).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -11,6 +12,9 @@ use std::path::Path;
 /// wins) it holds.
 const LAYERS: &[(&str, &[&str])] = &[
     ("base", &["time", "error", "events", "output"]),
+    // The parts' declarations as data (register maps, burst lists, ranges, timing figures) and the
+    // output words' encoding they name: the profile validates its `[device]` keys against them.
+    ("declarations", &["device::encoding", "device::part", "device::parts"]),
     // The board as data: the profile and the cost table (both read from TOML).
     ("profile", &["profile", "timing::costs"]),
     // The wires and the MCU's end of them: the link kinds with the slave-side contracts the parts
@@ -29,11 +33,7 @@ const LAYERS: &[(&str, &[&str])] = &[
 
 /// References that break the rule today, each with its reason; the test fails when one of them
 /// disappears too (then strike it from this list).
-const KNOWN: &[(&str, &str, &str)] = &[(
-    "profile::sections",
-    "device",
-    "[device] is validated against the part declarations (device::part) and the error-model presets",
-)];
+const KNOWN: &[(&str, &str, &str)] = &[];
 
 /// Names at the crate root that belong to a module.
 const ROOT_NAMES: &[(&str, &str)] =
@@ -183,4 +183,112 @@ fn a_deliberate_breach_is_caught() {
             "`gadget` is in no layer of LAYERS".to_string(),
         ]
     );
+}
+
+/// The modules (first two path segments) that module `module`'s non-test code uses, through
+/// `crate::` paths or, from a module one level down, `super::` paths.
+fn module_uses(module: &str, source: &str) -> Vec<String> {
+    let key = |m: &str| m.split("::").take(2).collect::<Vec<_>>().join("::");
+    let mut out: Vec<String> = references(source).iter().map(|r| key(r)).collect();
+    let segments: Vec<&str> = module.split("::").collect();
+    if segments.len() == 2 {
+        let code: String = source
+            .lines()
+            .take_while(|l| !l.trim_start().starts_with("#[cfg(test)]"))
+            .map(|l| format!("{}\n", l.split("//").next().unwrap_or("")))
+            .collect();
+        for (i, _) in code.match_indices("super::") {
+            let name: String =
+                code[i + "super::".len()..].chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            if !name.is_empty() {
+                out.push(format!("{}::{name}", segments[0]));
+            }
+        }
+    }
+    out.retain(|t| *t != key(module));
+    out.sort();
+    out.dedup();
+    out
+}
+
+/// A cycle in the graph of module uses, if there is one (as the modules on it).
+fn find_cycle(edges: &BTreeMap<String, Vec<String>>) -> Option<Vec<String>> {
+    fn visit(
+        node: &str,
+        edges: &BTreeMap<String, Vec<String>>,
+        state: &mut BTreeMap<String, u8>,
+        path: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        match state.get(node) {
+            Some(2) => return None,
+            Some(1) => {
+                let from = path.iter().position(|m| m == node).unwrap_or(0);
+                return Some(path[from..].iter().cloned().chain([node.to_string()]).collect());
+            }
+            _ => {}
+        }
+        state.insert(node.to_string(), 1);
+        path.push(node.to_string());
+        for next in edges.get(node).into_iter().flatten() {
+            if let Some(cycle) = visit(next, edges, state, path) {
+                return Some(cycle);
+            }
+        }
+        path.pop();
+        state.insert(node.to_string(), 2);
+        None
+    }
+    let mut state = BTreeMap::new();
+    edges.keys().find_map(|m| visit(m, edges, &mut state, &mut Vec::new()))
+}
+
+fn module_graph(files: &BTreeMap<String, String>) -> BTreeMap<String, Vec<String>> {
+    let key = |m: &str| m.split("::").take(2).collect::<Vec<_>>().join("::");
+    let keys: Vec<String> = files.keys().map(|m| key(m)).collect();
+    // A path names the module it is in: `board::Board` is in `board`.
+    let resolve = |t: &str| {
+        let first = t.split("::").next().unwrap_or("");
+        [t, first].into_iter().find(|k| keys.iter().any(|m| m == k)).map(str::to_string)
+    };
+    let mut edges: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for (module, source) in files {
+        let from = key(module);
+        let uses: Vec<String> =
+            // A module and its own sub-modules (declared and re-exported by it) are one unit here.
+            module_uses(module, source)
+                .iter()
+                .filter_map(|t| resolve(t))
+                .filter(|t| !(t.starts_with(&from) || from.starts_with(t.as_str())))
+                .collect();
+        let all = edges.entry(from).or_default();
+        all.extend(uses);
+        all.sort();
+        all.dedup();
+    }
+    edges
+}
+
+#[test]
+fn no_module_cycles() {
+    let graph = module_graph(&crate_sources());
+    assert_eq!(find_cycle(&graph), None, "modules that use each other in a circle");
+}
+
+/// The cycle check finds a cycle of two sibling modules through `super::` and one through
+/// `crate::` paths, and passes a chain.
+#[test]
+fn a_deliberate_cycle_is_caught() {
+    let files = |list: &[(&str, &str)]| -> BTreeMap<String, String> {
+        list.iter().map(|(m, s)| (m.to_string(), s.to_string())).collect()
+    };
+    let two = files(&[("device::a", "use super::b::X;\n"), ("device::b", "use super::a::Y;\n")]);
+    assert_eq!(find_cycle(&module_graph(&two)), Some(vec!["device::a".into(), "device::b".into(), "device::a".into()]));
+    let three = files(&[
+        ("bus::x", "use crate::dsp::spi::S;\n"),
+        ("dsp::spi", "fn f() -> crate::board::B {}\n"),
+        ("board", "use crate::bus::x::T;\n"),
+    ]);
+    assert!(find_cycle(&module_graph(&three)).is_some());
+    let chain = files(&[("device::a", "use super::b::X;\n"), ("device::b", "use crate::time::Ps;\n")]);
+    assert_eq!(find_cycle(&module_graph(&chain)), None);
 }

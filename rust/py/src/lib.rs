@@ -220,11 +220,11 @@ fn output_columns(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
         .collect()
 }
 
-/// The parts (`sins_core::device::part::PARTS`) by name, each a dict: prod_id, burst_command and
+/// The parts (`sins_core::device::parts::PARTS`) by name, each a dict: prod_id, burst_command and
 /// burst (the names of the registers a burst shifts out after its command frame, in order).
 fn parts(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let out = PyDict::new(py);
-    for p in sins_core::device::part::PARTS {
+    for p in sins_core::device::parts::PARTS {
         let burst: Vec<&str> = p.burst.iter().filter_map(|&a| p.lookup(a).map(|r| r.name)).collect();
         let d = PyDict::new(py);
         d.set_item("prod_id", p.prod_id)?;

@@ -6,7 +6,7 @@
 use crate::bus::i2c::{I2cLink, I2cTarget};
 use crate::bus::uart::{UartLink, UartPeer};
 use crate::bus::{Address, ChipSelects, Link, SpiLink, SpiSlave};
-use crate::device::{part, Adis};
+use crate::device::{parts, Adis};
 use crate::error::{Error, Result};
 use crate::profile::{self, BoardDevice, LinkKind, Profile, SENSOR_CHIP_SELECT};
 
@@ -26,7 +26,7 @@ pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
 
 /// The parts the crate declares (`device::part`): the ADIS16xxx family, on SPI.
 pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
-    let p = part::by_name(name)?;
+    let p = parts::by_name(name)?;
     Some(match kind {
         LinkKind::Spi => Adis::new(&profile::Device::of_part(p)).map(|d| Built::Spi(Box::new(d))),
         _ => Err(Error::Profile(format!("{}: an SPI part", p.name))),
@@ -65,7 +65,7 @@ impl BoardLinks {
             let bad_part =
                 |why: String| Error::Profile(format!("key `board.devices[{i}].part` = \"{}\": {why}", d.part));
             let built = match catalogue(&d.part, kind) {
-                None => return Err(bad_part(format!("expected a known part ({})", part::names()))),
+                None => return Err(bad_part(format!("expected a known part ({})", parts::names()))),
                 Some(Err(e)) => return Err(bad_part(format!("cannot sit on `{}` ({e})", d.link))),
                 Some(Ok(b)) => b,
             };

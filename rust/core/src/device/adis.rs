@@ -11,9 +11,9 @@ use super::encoding::{
 };
 use super::faults::{DeviceFaults, SampleFaults};
 use super::filter::Bartlett;
-use super::part::{Access, Format, Part, RegisterDef, Role, MAX_BURST_WORDS, SLOTS};
+use super::frame::{MinPs, ReadRecord};
+use super::part::{Access, Format, Part, PowerOn, RegisterDef, Role, MAX_BURST_WORDS, SLOTS};
 use super::sampler::{sample_clock, Constant, Ideal, Schedule, SensorErrors, Stimulus};
-use super::slave::{MinPs, SlaveState};
 use super::Physical;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -57,8 +57,8 @@ impl Default for ModelOptions {
             supply_high_v: 5.25,
             supply_low_v: 4.75,
             diag_clear_on_read: true,
-            min_m_150: 2,
-            min_m_75: 4,
+            min_m_150: GyroRange::Dps150.min_m(),
+            min_m_75: GyroRange::Dps75.min_m(),
         }
     }
 }
@@ -460,6 +460,99 @@ impl Calibration {
     }
 }
 
+/// The output words of a burst in progress (the SPI protocol's state, [`super::slave`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Burst {
+    pub(super) words: [u16; MAX_BURST_WORDS],
+    pub(super) len: usize,
+    pub(super) sample: Option<SampleStamp>,
+    pub(super) next: usize,
+}
+
+/// The slave's protocol state.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SlaveState {
+    pub(super) cs_low: bool,
+    pub(super) cs_fall: Ps,
+    /// A frame has been clocked since CS fell.
+    pub(super) framed_since_cs: bool,
+    /// Last SCLK edge of the previous frame.
+    pub(super) last_edge: Option<Ps>,
+    /// First SCLK edge of the previous frame when it was outside a burst (tDATARATE counts from it).
+    pub(super) last_plain_start: Option<Ps>,
+    /// Register asked for by the previous read frame.
+    pub(super) pending_read: Option<u8>,
+    /// A cs_hold violation under strict corrupts the next DOUT.
+    pub(super) corrupt_next: bool,
+    pub(super) burst: Option<Burst>,
+    /// The records of the frame in progress (slot `frames % 2`) and of the latest finished frame (the
+    /// other slot): finishing a frame moves on `frames` instead of copying the record (88 bytes).
+    pub(super) records: [ReadRecord; 2],
+    /// Frames finished since power-on.
+    pub(super) frames: u64,
+    /// Frames finished when CS last fell.
+    pub(super) frames_at_cs_fall: u64,
+    /// The record of the second frame to end since CS last fell (a burst's first data frame) as it
+    /// ended, kept for the read records, which need that frame's sample after the whole burst has run.
+    pub(super) second_in_window: Option<ReadRecord>,
+    pub(super) log: Option<Vec<ReadRecord>>,
+}
+
+impl SlaveState {
+    /// Forget the protocol state (a software reset); counters and the log stay.
+    pub fn reset(&mut self) {
+        self.pending_read = None;
+        self.corrupt_next = false;
+        self.burst = None;
+    }
+
+    /// `n` burst data frames ended: the burst moves on by `n` words, and is over after the last.
+    pub(super) fn burst_frames_done(&mut self, n: usize) {
+        if let Some(b) = &mut self.burst {
+            b.next += n;
+            if b.next == b.len {
+                self.burst = None;
+            }
+        }
+    }
+
+    /// Slot of the frame in progress.
+    pub(super) fn current(&self) -> usize {
+        (self.frames % 2) as usize
+    }
+
+    /// Slot of the latest finished frame.
+    pub(super) fn finished(&self) -> usize {
+        self.current() ^ 1
+    }
+
+    /// The latest finished frame.
+    pub(super) fn last(&self) -> Option<&ReadRecord> {
+        (self.frames > 0).then(|| &self.records[self.finished()])
+    }
+
+    /// The number (counted as `frames`) of the second frame to end since CS last fell.
+    pub(super) fn second_in_window_number(&self) -> u64 {
+        self.frames_at_cs_fall + 1
+    }
+}
+
+/// The power-on value of this register for a device profile.
+fn power_on_value(r: &RegisterDef, cfg: &Device) -> u16 {
+    // The profile validates these to 16 bits.
+    let v = match r.power_on {
+        PowerOn::Fixed(v) => v,
+        PowerOn::ProdId => cfg.prod_id as u16,
+        PowerOn::SmplPrd => cfg.smpl_prd as u16,
+        PowerOn::SensAvg => cfg.sens_avg as u16,
+        PowerOn::MscCtrl => cfg.msc_ctrl as u16,
+        PowerOn::LotId1 => cfg.lot_id1 as u16,
+        PowerOn::LotId2 => cfg.lot_id2 as u16,
+        PowerOn::SerialNum => cfg.serial_num as u16,
+    };
+    v & r.mask
+}
+
 /// A part of the ADIS16xxx family (which one: the profile's `device.part`).
 pub struct Adis {
     pub(super) layout: Layout,
@@ -547,7 +640,7 @@ impl Adis {
         let layout = Layout::of(cfg.part_decl()?);
         let mut regs = [0u16; SLOTS];
         for r in layout.part.registers {
-            regs[r.slot()] = r.power_on_value(cfg);
+            regs[r.slot()] = power_on_value(r, cfg);
         }
         let (t_stall_ps, t_cs_ps, t_sfs_ps) = (cfg.t_stall_us * 1e6, cfg.t_cs_ns * 1e3, cfg.t_sfs_ns * 1e3);
         let limits = Limits {
@@ -875,8 +968,16 @@ impl Adis {
         // word is the register with ND and EA ([`word`]), here without a branch per word.
         let ea = if self.regs[self.layout.diag] != 0 { 0x4000 } else { 0 };
         let mut words = [0u16; MAX_BURST_WORDS];
-        for (w, &slot) in words.iter_mut().zip(&self.layout.burst_slots[..self.layout.burst_len]) {
-            *w = self.regs[slot & (SLOTS - 1)] | ea | ((self.nd >> slot & 1) as u16) << 15;
+        let slots = self.layout.burst_slots[..self.layout.burst_len].iter();
+        let all = self.layout.burst_nd_mask(0..self.layout.burst_len);
+        if self.nd & all == all {
+            // Usually every word is new (a sample since the last burst): one flag word for all.
+            let flags = ea | 0x8000;
+            words.iter_mut().zip(slots).for_each(|(w, &slot)| *w = self.regs[slot & (SLOTS - 1)] | flags);
+        } else {
+            for (w, &slot) in words.iter_mut().zip(slots) {
+                *w = self.regs[slot & (SLOTS - 1)] | ea | ((self.nd >> slot & 1) as u16) << 15;
+            }
         }
         (words, self.latest)
     }

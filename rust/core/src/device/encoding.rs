@@ -54,6 +54,16 @@ pub enum GyroRange {
 }
 
 impl GyroRange {
+    /// The smallest M (SENS_AVG bits 2:0) the part allows at this range: M ≥ 2 at ±150 °/s, M ≥ 4 at
+    /// ±75 °/s (adis16407.md, SENS_AVG); the defaults of `ModelOptions`.
+    pub fn min_m(self) -> u8 {
+        match self {
+            GyroRange::Dps300 => 0,
+            GyroRange::Dps150 => 2,
+            GyroRange::Dps75 => 4,
+        }
+    }
+
     /// Output LSB in °/s.
     pub fn lsb_dps(self) -> f64 {
         match self {
@@ -280,10 +290,10 @@ pub fn encode(channel: Channel, value: f64, range: GyroRange) -> Result<Encoded>
 pub(crate) struct FieldCode {
     zero: f64,
     inv_lsb: f64,
-    /// The smallest and largest code, and the scaled values from which on they are clipped to
+    /// The smallest and largest code (as floats), and the scaled values from which on a value clips
     /// (round(x) > hi ⟺ x ≥ hi + ½ and round(x) < lo ⟺ x ≤ lo − ½, ties away from zero).
-    lo: i32,
-    hi: i32,
+    lo_f: f64,
+    hi_f: f64,
     below: f64,
     above: f64,
     shift: u32,
@@ -306,7 +316,16 @@ impl FieldCode {
             _ => (0, field_mask(channel.bits())),
         };
         let (below, above) = (f64::from(lo) - 0.5, f64::from(hi) + 0.5);
-        FieldCode { zero: channel.zero(), inv_lsb, lo, hi, below, above, shift, mask: u32::from(mask) }
+        FieldCode {
+            zero: channel.zero(),
+            inv_lsb,
+            lo_f: f64::from(lo),
+            hi_f: f64::from(hi),
+            below,
+            above,
+            shift,
+            mask: u32::from(mask),
+        }
     }
 
     /// `value` in LSB of the field.
@@ -319,16 +338,13 @@ impl FieldCode {
     /// device's input is sanitised).
     #[inline(always)]
     pub(crate) fn code(&self, value: f64) -> u16 {
+        // Limited to the field's codes before rounding: the same code as rounding then clipping
+        // (the rounding is monotone and the limits are whole), without a branch. NaN passes both
+        // comparisons and casts to 0.
         let x = self.scaled(value);
-        let q = if x >= self.above {
-            self.hi
-        } else if x <= self.below {
-            self.lo
-        } else {
-            // NaN falls through both comparisons and casts to 0.
-            round_half_away(x) as i32
-        };
-        ((q >> self.shift) as u32 & self.mask) as u16
+        let x = if x < self.lo_f { self.lo_f } else { x };
+        let x = if x > self.hi_f { self.hi_f } else { x };
+        ((round_half_away(x) as i32 >> self.shift) as u32 & self.mask) as u16
     }
 
     /// Whether `value` clips at the field's limits (its code is not the rounded value).

@@ -108,7 +108,7 @@ use serde::{Deserialize, Serialize};
 
 use super::Physical;
 use crate::error::{Error, Result};
-use crate::profile::Errors;
+use crate::profile::{check_update_ratio, Errors};
 use crate::time::Ps;
 use ziggurat::{standard_normal, Gaussian};
 
@@ -122,13 +122,10 @@ pub const STANDARD_GRAVITY: f64 = 9.80665;
 pub const GAUSS_MARKOV_ALLAN_PEAK: f64 = 0.617_364_283_144_441_4;
 /// Averaging time of that peak, in correlation times τ.
 pub const GAUSS_MARKOV_ALLAN_PEAK_AT: f64 = 1.892_617_851_020_620_6;
-/// Preset names accepted by [`ErrorParams::preset`].
-pub const PRESET_NAMES: [&str; 4] = ["ideal", "adis16407", "adis16407-nulled", "adis16362"];
+/// Preset names accepted by [`ErrorParams::preset`] (the profile checks `errors.preset` against them).
+pub use crate::profile::{DEFAULT_GAUSS_MARKOV_UPDATE_RATIO, PRESET_NAMES};
 /// Most Gauss–Markov terms per triad (each costs one Gaussian draw per axis and update).
 pub const MAX_GAUSS_MARKOV_TERMS: usize = 32;
-/// Default R of [`ErrorParams::gauss_markov_update_ratio`]: a term is redrawn at least R times per
-/// correlation time, so the held value moves by ≈ σ·√(2/R) = 0.14 σ per update (module docs).
-pub const DEFAULT_GAUSS_MARKOV_UPDATE_RATIO: f64 = 100.0;
 
 /// Allan-deviation floor of flicker noise per unit of IEEE-952 bias instability B: √(2 ln 2 / π) ≈ 0.6643.
 pub fn flicker_floor_factor() -> f64 {
@@ -1199,18 +1196,6 @@ impl ErrorModel {
 
 fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> Error {
     Error::Profile(format!("key `{key}` = {value}: expected {expected}"))
-}
-
-/// Check `errors.gauss_markov_update_ratio` (the profile checks it with this too).
-pub(crate) fn check_update_ratio(ratio: f64) -> Result<()> {
-    if !(ratio.is_finite() && ratio >= 1.0) {
-        return Err(bad(
-            "errors.gauss_markov_update_ratio",
-            ratio,
-            "a finite number ≥ 1 (below 1 a term would be held longer than its correlation time)",
-        ));
-    }
-    Ok(())
 }
 
 fn check_finite(key: &str, value: f64) -> Result<()> {

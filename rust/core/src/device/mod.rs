@@ -13,6 +13,7 @@ mod adis;
 pub mod encoding;
 mod faults;
 pub mod filter;
+mod frame;
 pub mod part;
 pub mod parts;
 pub mod registers;
@@ -23,8 +24,8 @@ mod slave;
 pub use adis::{Adis, Adis16407, DataReady, DataReadyLine, ModelOptions, SampleStamp};
 pub use encoding::{decode, decode_baro, encode, Channel, DecodedWord, Encoded, GyroRange};
 pub use faults::describe as describe_fault;
+pub use frame::{ReadRecord, Violations};
 pub use sampler::{Constant, FnStimulus, Ideal, SensorErrors, SliceStimulus, Stimulus};
-pub use slave::{ReadRecord, Violations};
 
 pub mod error_model;
 

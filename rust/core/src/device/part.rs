@@ -7,7 +7,7 @@
 //! scale and rated range, its start-up and reset times, its SCLK limits and its error-model preset.
 //! Everything else — 16-bit frames, a read answering in the next frame, byte writes, the burst read,
 //! the sample clock, the Bartlett filter, ND/EA, GLOB_CMD, the timing rules — is the family's.
-//! A sibling part is one file in `parts/` and one line in [`PARTS`].
+//! A sibling part is one file in `parts/` and one line in `parts::PARTS`.
 
 use super::encoding::Channel;
 
@@ -159,22 +159,6 @@ pub const fn out(name: &'static str, addr: u8, channel: Channel, axis: u8, data:
 }
 
 impl RegisterDef {
-    /// The power-on value of this register for a device profile.
-    pub fn power_on_value(&self, cfg: &crate::profile::Device) -> u16 {
-        // The profile validates these to 16 bits.
-        let v = match self.power_on {
-            PowerOn::Fixed(v) => v,
-            PowerOn::ProdId => cfg.prod_id as u16,
-            PowerOn::SmplPrd => cfg.smpl_prd as u16,
-            PowerOn::SensAvg => cfg.sens_avg as u16,
-            PowerOn::MscCtrl => cfg.msc_ctrl as u16,
-            PowerOn::LotId1 => cfg.lot_id1 as u16,
-            PowerOn::LotId2 => cfg.lot_id2 as u16,
-            PowerOn::SerialNum => cfg.serial_num as u16,
-        };
-        v & self.mask
-    }
-
     /// Slot of this register in a register array ([`slot`]).
     pub fn slot(&self) -> usize {
         slot(self.addr)
@@ -254,19 +238,6 @@ pub struct Part {
     pub error_preset: &'static str,
 }
 
-/// Every part the emulator knows.
-pub const PARTS: [&Part; 2] = [&super::parts::adis16407::PART, &super::parts::adis16362::PART];
-
-/// The part called `name` (case-insensitive).
-pub fn by_name(name: &str) -> Option<&'static Part> {
-    PARTS.into_iter().find(|p| p.name.eq_ignore_ascii_case(name))
-}
-
-/// The names of the known parts, for messages.
-pub fn names() -> String {
-    PARTS.map(|p| p.name).join(", ")
-}
-
 impl Part {
     /// Frames of one burst read: the command and the data words.
     pub fn burst_frames(&self) -> usize {
@@ -310,7 +281,7 @@ mod tests {
     /// of their channel; the burst made of output registers; one register per protocol role.
     #[test]
     fn every_part_declaration_is_consistent() {
-        for p in PARTS {
+        for p in super::super::parts::PARTS {
             for (i, r) in p.registers.iter().enumerate() {
                 assert_eq!(r.addr % 2, 0, "{} {}", p.name, r.name);
                 assert!(slot(r.addr) < SLOTS && usize::from(r.addr >> 1) < SLOTS, "{} {}", p.name, r.name);
@@ -338,7 +309,7 @@ mod tests {
             for role in [Role::DiagStat, Role::GlobCmd, Role::SmplPrd, Role::SensAvg, Role::MscCtrl] {
                 assert!(p.with_role(role).is_some(), "{}: no {role:?}", p.name);
             }
-            assert_eq!(by_name(&p.name.to_lowercase()).map(|x| x.name), Some(p.name));
+            assert_eq!(super::super::parts::by_name(&p.name.to_lowercase()).map(|x| x.name), Some(p.name));
         }
     }
 }

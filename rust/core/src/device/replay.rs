@@ -16,8 +16,8 @@
 use std::collections::VecDeque;
 
 use super::adis::SampleStamp;
+use super::frame::ReadRecord;
 use super::registers::BURST_ORDER;
-use super::slave::ReadRecord;
 use crate::bus::{FrameTiming, SpiSlave};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};

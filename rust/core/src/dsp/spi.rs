@@ -290,6 +290,21 @@ pub struct PollSteps {
     /// SYSCLKOUT per LSPCLK, start latency, character length (LSPCLK cycles), `before_write`, `after_read`.
     made_for: Option<[u64; 5]>,
     by_phase: [Option<PollStep>; POLL_PHASES],
+    /// The latest run from each first-write phase: its words' steps composed, so that the next run
+    /// from that phase takes its starts at once instead of stepping word by word.
+    runs: [RunPlan; POLL_PHASES],
+}
+
+/// A run of a polled loop from a first write at some phase (see [`PollSteps`]): the LSPCLK cycle each
+/// character starts on and the next write's position (whole LSPCLK cycles, phase), counted from the
+/// first write's LSPCLK cycle q (q cancels, as in one word's step). No characters: none kept.
+#[derive(Debug, Clone, Default)]
+struct RunPlan {
+    start_after: Vec<u64>,
+    lspclk_cycles: u64,
+    next_phase: u64,
+    /// [`closest_spacing`] of the starts.
+    closest_spacing: u64,
 }
 
 impl PollSteps {
@@ -302,7 +317,7 @@ impl PollSteps {
         self
     }
 
-    /// Empty the tables for `made_for` (out of line: rare).
+    /// Empty the tables for `made_for` (out of line: rare, and it drops the kept runs).
     #[cold]
     #[inline(never)]
     fn empty_for(&mut self, made_for: [u64; 5]) {
@@ -821,7 +836,8 @@ impl SpiA {
     /// q + [φ > 0] + latency, INT_FLAG sets ([φ > 0] + latency + length)·k − φ cycles after the write
     /// (q cancels), so the poll's length, the next write's distance and the next phase are functions
     /// of φ. Each is worked out once per phase (at most k of them) and kept in `steps` for the next
-    /// runs with the same `read_after` (see [`PollSteps`]).
+    /// runs with the same `read_after` (see [`PollSteps`]); so is a whole run of `N` words from the
+    /// phase of its first write (its starts and end, counted from that write's LSPCLK cycle).
     #[allow(clippy::too_many_arguments)]
     pub fn polled_run<W: SpiWire, const N: usize>(
         &mut self,
@@ -840,30 +856,44 @@ impl SpiA {
             [k.get(), self.start_latency_lspclk, self.shape.length_cycles(), cpu.before_write, cpu.after_read];
         let steps = steps.for_loop(made_for);
         let mut starts = [0u64; N];
-        let (mut q, mut phase) = k.div_rem(*c + cpu.before_write);
-        for start in &mut starts {
-            let remembered = steps.by_phase.get(phase as usize).copied().flatten();
-            let step = match remembered {
-                Some(step) => step,
-                None => {
-                    let (start, wait) = self.polled_word((q, phase), cpu);
-                    let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
-                        // A poll that fails: the word-by-word loop leaves the registers as the register
-                        // path does, and returns the error (nothing has changed yet).
-                        return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
-                    };
-                    let (lspclk_cycles, next_phase) = k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
-                    let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
-                    if let Some(slot) = steps.by_phase.get_mut(phase as usize) {
-                        *slot = Some(step);
+        let (q0, phase0) = k.div_rem(*c + cpu.before_write);
+        let kept = steps.runs.get(phase0 as usize).filter(|run| run.start_after.len() == N);
+        let (q, phase, closest) = if let Some(run) = kept {
+            starts.iter_mut().zip(&run.start_after).for_each(|(start, after)| *start = q0 + after);
+            (q0 + run.lspclk_cycles, run.next_phase, run.closest_spacing)
+        } else {
+            let (mut q, mut phase) = (q0, phase0);
+            for start in &mut starts {
+                let remembered = steps.by_phase.get(phase as usize).copied().flatten();
+                let step = match remembered {
+                    Some(step) => step,
+                    None => {
+                        let (start, wait) = self.polled_word((q, phase), cpu);
+                        let Ok(to_read) = read_after(q * k.get() + phase, wait) else {
+                            // A poll that fails: the word-by-word loop leaves the registers as the register
+                            // path does, and returns the error (nothing has changed yet).
+                            return self.polled_burst([tx; N], c, cpu, read_after, wire, |_, _| {});
+                        };
+                        let (lspclk_cycles, next_phase) =
+                            k.div_rem(phase + to_read + cpu.after_read + cpu.before_write);
+                        let step = PollStep { start_after: start - q, to_read, lspclk_cycles, next_phase };
+                        if let Some(slot) = steps.by_phase.get_mut(phase as usize) {
+                            *slot = Some(step);
+                        }
+                        step
                     }
-                    step
-                }
-            };
-            *start = q + step.start_after;
-            (q, phase) = (q + step.lspclk_cycles, step.next_phase);
-        }
-        let closest = closest_spacing(&starts);
+                };
+                *start = q + step.start_after;
+                (q, phase) = (q + step.lspclk_cycles, step.next_phase);
+            }
+            let closest = closest_spacing(&starts);
+            if let Some(run) = steps.runs.get_mut(phase0 as usize) {
+                run.start_after.clear();
+                run.start_after.extend(starts.iter().map(|start| start - q0));
+                (run.lspclk_cycles, run.next_phase, run.closest_spacing) = (q - q0, phase, closest);
+            }
+            (q, phase, closest)
+        };
         self.txbuf = tx;
         let first = self.next_frame(tx, starts[0]);
         self.frames += N as u64 - 1;

@@ -80,7 +80,8 @@ pub fn price_list(profile: &Profile, costs: &CostTable, stages: &StageCosts) -> 
         parts: Vec::new(),
     });
     PriceList {
-        update_period_s: update_period_s(profile),
+        // Validated when the emulator was built, as above.
+        update_period_s: update_period_s(profile).unwrap_or(f64::NAN),
         code_location_factor: location_factor(profile, costs),
         arith_section: match section {
             ArithSection::Float => "float",

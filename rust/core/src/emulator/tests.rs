@@ -73,7 +73,7 @@ fn rotation_vector_runs_with_every_coning_order_and_schedule() {
     for n in 1..=3u32 {
         for schedule in [Schedule::HalfStep, Schedule::Endpoint, Schedule::BackToBack] {
             let mut p = reference_f64();
-            p.firmware.algorithm = crate::profile::Algorithm::RotationVector;
+            p.firmware.algorithm = "rotation-vector".into();
             p.firmware.coning_samples = n;
             p.firmware.schedule = schedule;
             if schedule == Schedule::BackToBack {
@@ -92,7 +92,7 @@ fn rotation_vector_runs_with_every_coning_order_and_schedule() {
                 Schedule::BackToBack => ticks,
             };
             assert_eq!(out.cycles.len() as u64, updates, "{n} {schedule:?}");
-            let step_s = crate::firmware::update_period_s(&p);
+            let step_s = crate::firmware::update_period_s(&p).unwrap();
             let want = updates as f64 * step_s * 10.0;
             let yaw = out.cycles.last().unwrap().euler_deg[2];
             assert!((yaw - want).abs() < 1e-9, "{n} {schedule:?}: yaw {yaw} want {want}");

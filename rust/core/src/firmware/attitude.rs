@@ -2,19 +2,11 @@
 //!
 //! An algorithm says how many samples one update takes ([`AttitudeUpdate::samples_per_update`]:
 //! the acquisition schedule gathers that many, see `schedule.rs`) and steps the attitude from that
-//! update's inputs ([`StepInputs`]). Adding one: a file with a type implementing the trait, a variant
-//! of `profile::Algorithm` (the profile key `firmware.algorithm`) and one line in [`attitude_update`].
-//!
-//! Registered: RK4 on the quaternion equation (the reference design, `quat.rs`), the rotation
-//! vector with 1-, 2- or 3-sample coning correction (`rotvec.rs`) and the direction cosine matrix
-//! with drift cancellation (`dcm.rs`).
+//! update's inputs ([`StepInputs`]). The algorithms are registered in `algorithms.rs`.
 
-use super::dcm::Dcm;
 use super::quat::{body_rate_nav, Rk4};
-use super::rotvec::RotationVector;
 use super::{Mat3, Quat, Vec3};
 use crate::numerics::Scalar;
-use crate::profile::{self, Algorithm};
 use crate::Result;
 
 /// What one attitude update takes: the rates, and what the board provides of the references the
@@ -105,22 +97,6 @@ pub struct Correction {
     pub error_yaw: [f64; 3],
     /// |R·Rᵀ − I| (largest element) after renormalisation.
     pub orthogonality: f64,
-}
-
-/// The registry: the update of `firmware.algorithm`, for an update period of `step_s` seconds.
-pub fn attitude_update<T: Scalar>(fw: &profile::Firmware, step_s: f64) -> Box<dyn AttitudeUpdate<T>> {
-    match fw.algorithm {
-        Algorithm::Rk4 => Box::new(Rk4::<T>::new(step_s, fw.quat_derivative)),
-        Algorithm::RotationVector => {
-            Box::new(RotationVector::<T>::new(fw.coning_samples as usize, fw.increment_rule, step_s))
-        }
-        Algorithm::Dcm => Box::new(Dcm::<T>::new(&fw.dcm, step_s)),
-    }
-}
-
-/// Samples one update of the profile's algorithm takes (what the schedule gathers).
-pub fn samples_per_update(fw: &profile::Firmware) -> usize {
-    attitude_update::<f64>(fw, 1.0).samples_per_update()
 }
 
 /// RK4 on Q̇ = ½ M(ω_nb^b) Q from the rates at t, t+T/2, t+T, with ω_nb^b = ω_ib^b − C_n^b ω_in^n.

@@ -82,7 +82,7 @@ impl<T: Scalar> Isr<T> {
     pub fn new<S: Sensor>(profile: &Profile, board: &Board<S>, stages: StageCosts, io: &IoCosts) -> Result<Self> {
         let fw = Firmware::<T>::new(profile)?;
         let zero = T::from_f64(0.0, crate::numerics::QClass::Rate);
-        let schedule = RateSchedule::new(profile.firmware.schedule, samples_per_update(&profile.firmware))?;
+        let schedule = RateSchedule::new(profile.firmware.schedule, samples_per_update(&profile.firmware)?)?;
         let clocks = &board.clocks;
         let poller = Poller {
             sysclk: clocks.sysclkout,
@@ -426,7 +426,7 @@ impl<T: Scalar> Isr<T> {
             words: b.words,
             rate: rate.map(|x| x.to_f64()),
             accel: accel.map(|x| x.to_f64()),
-            sample_index: b.sample_index.map_or(-1, |i| i as i64),
+            sample_index: b.sample_index,
             sample_ps: b.sample_ps,
             assumed_s,
             age_ps: b.age_ps,
@@ -561,7 +561,7 @@ impl Poller {
 }
 
 /// What one burst read gave the firmware.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 struct Burst {
     words: [u16; BURST_FRAMES],
     t_cs_ps: Ps,
@@ -569,9 +569,26 @@ struct Burst {
     t_cs_rise_ps: Ps,
     t_start_ps: Ps,
     t_end_ps: Ps,
-    sample_index: Option<u64>,
+    /// The sample the data words hold, −1 for none (as the read row keeps it).
+    sample_index: i64,
     sample_ps: Ps,
     age_ps: Ps,
+}
+
+impl Default for Burst {
+    /// Nothing read yet.
+    fn default() -> Self {
+        Burst {
+            words: [0; BURST_FRAMES],
+            t_cs_ps: 0,
+            t_cs_rise_ps: 0,
+            t_start_ps: 0,
+            t_end_ps: 0,
+            sample_index: -1,
+            sample_ps: 0,
+            age_ps: 0,
+        }
+    }
 }
 
 impl Burst {
@@ -594,7 +611,7 @@ impl Burst {
             if i == 1 {
                 // Every data word of a burst comes from the sample latest at the burst's start (the
                 // device latches it at the command frame); its age is counted from there.
-                self.sample_index = f.sample.map(|x| x.index);
+                self.sample_index = f.sample.map_or(-1, |x| x.index as i64);
                 self.sample_ps = f.sample.map_or(f.t_start, |x| x.t);
                 self.age_ps = self.t_start_ps.saturating_sub(self.sample_ps);
             }

@@ -11,6 +11,7 @@
 
 #[cfg(test)]
 mod acceptance;
+pub mod algorithms;
 mod align;
 pub mod attitude;
 mod dcm;
@@ -24,8 +25,9 @@ pub mod schedule;
 mod state;
 pub mod state_check;
 
+pub use algorithms::{attitude_update, samples_per_update};
 pub use align::{level_attitude, LevelAligner};
-pub use attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
+pub use attitude::{AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
 pub use dcm::{attitude_from_acc_mag, run_samples as dcm_run_samples, Dcm};
 pub use decode::{gyro_lsb_dps, DecodeReport, Decoded, Decoder, ACCEL_LSB_G, PUBLISHED_GYRO_LSB_DPS};
 pub use euler::{euler_to_quat, EulerAngles, EulerExtractor};

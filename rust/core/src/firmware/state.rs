@@ -3,10 +3,9 @@
 //! order and the timing model can run each with the counting type. Plain data in and out; nothing
 //! allocates.
 
+use super::algorithms::{attitude_update, samples_per_update};
 use super::align::{level_attitude, LevelAligner};
-use super::attitude::{
-    attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs,
-};
+use super::attitude::{AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
 use super::decode::{Decoded, Decoder};
 use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
@@ -18,11 +17,11 @@ use crate::{Error, Result};
 
 /// The attitude update period T of a profile, s: for `half-step` one timer tick per interval between
 /// the update's samples (a read every tick; RK4's t, t+T/2, t+T span two ticks), one tick otherwise.
-pub fn update_period_s(profile: &Profile) -> f64 {
+pub fn update_period_s(profile: &Profile) -> Result<f64> {
     let tick = profile.timer.period_us * 1e-6;
     match profile.firmware.schedule {
-        Schedule::HalfStep => (samples_per_update(&profile.firmware) - 1) as f64 * tick,
-        Schedule::Endpoint | Schedule::BackToBack => tick,
+        Schedule::HalfStep => Ok((samples_per_update(&profile.firmware)? - 1) as f64 * tick),
+        Schedule::Endpoint | Schedule::BackToBack => Ok(tick),
     }
 }
 
@@ -58,6 +57,12 @@ pub struct Firmware<T: Scalar> {
     gps_last_available: Option<f64>,
     /// Fixes given so far (to name them in errors).
     gps_given: u64,
+    /// The earth rates the attitude update computed from the current navigation state, which the
+    /// navigation step of the same update takes instead of computing them again (they are a pure
+    /// function of that state, and only the navigation step changes it). An emulation shortcut,
+    /// not the target's code: the timing model counts the navigation stage computing them itself
+    /// (see `timing::stages`).
+    earth_rates_of_state: Option<EarthRates<T>>,
 }
 
 /// One fix of a GPS stream as the trace gives it (what the firmware takes of a GPS report).
@@ -91,15 +96,15 @@ impl<T: Scalar> Firmware<T> {
                 fw.coning_samples
             )));
         }
-        let step_s = update_period_s(profile);
+        let step_s = update_period_s(profile)?;
         if !(step_s.is_finite() && step_s > 0.0) {
             return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
         }
         let q: Quat<T> = [lit(1.0), lit(0.0), lit(0.0), lit(0.0)];
-        let uses_magnetometer = fw.algorithm == crate::profile::Algorithm::Dcm
-            && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer;
+        let uses_magnetometer =
+            fw.algorithm == "dcm" && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer;
         Ok(Firmware {
-            attitude: attitude_update(fw, step_s),
+            attitude: attitude_update(fw, step_s)?,
             earth_rate: fw.earth_rate,
             navigation: fw.navigation,
             initial_attitude: fw.initial_attitude,
@@ -121,6 +126,7 @@ impl<T: Scalar> Firmware<T> {
             gps: GpsInput::None,
             gps_last_available: None,
             gps_given: 0,
+            earth_rates_of_state: None,
         })
     }
 
@@ -209,6 +215,19 @@ impl<T: Scalar> Firmware<T> {
         self.earth.rates(&self.nav)
     }
 
+    /// [`Firmware::earth_rates`], kept for the navigation step of this update.
+    fn earth_rates_kept(&mut self) -> EarthRates<T> {
+        let r = self.earth_rates_of_state.unwrap_or_else(|| self.earth.rates(&self.nav));
+        self.earth_rates_of_state = Some(r);
+        r
+    }
+
+    /// Forget the kept earth rates, so that the next navigation step computes them (the timing
+    /// model counts the navigation stage as the target runs it).
+    pub(crate) fn forget_earth_rates(&mut self) {
+        self.earth_rates_of_state = None;
+    }
+
     /// Stage 2: attitude update from `rates_per_update()` samples of ω_ib^b (rad/s), with the
     /// navigation frame's rate when the profile corrects for it.
     pub fn update_attitude(&mut self, rates: &[Vec3<T>]) -> Result<()> {
@@ -222,7 +241,7 @@ impl<T: Scalar> Firmware<T> {
         rates: &[Vec3<T>],
         mark: Option<&mut dyn FnMut(&'static str)>,
     ) -> Result<()> {
-        let nav_rate = if self.earth_rate { Some(self.earth_rates().w_in()) } else { None };
+        let nav_rate = if self.earth_rate { Some(self.earth_rates_kept().w_in()) } else { None };
         let inputs = StepInputs {
             specific_force: self.last_accel,
             magnetic_field: self.last_mag,
@@ -251,7 +270,7 @@ impl<T: Scalar> Firmware<T> {
     /// turns navigation off.
     pub fn navigate(&mut self, f_b: &Vec3<T>) {
         if self.navigation {
-            let rates = self.earth.rates(&self.nav);
+            let rates = self.earth_rates_of_state.take().unwrap_or_else(|| self.earth.rates(&self.nav));
             self.earth.step_with_rates(&mut self.nav, &rates, &self.c_bn, f_b, self.t1);
         }
     }
@@ -308,11 +327,11 @@ impl<T: Scalar> Firmware<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::{Algorithm, Decode};
+    use crate::profile::Decode;
 
     fn dcm_with(yaw: crate::profile::YawReference) -> Profile {
         let mut p = Profile::default();
-        p.firmware.algorithm = Algorithm::Dcm;
+        p.firmware.algorithm = "dcm".into();
         p.firmware.dcm.yaw_reference = yaw;
         p
     }
@@ -371,9 +390,42 @@ mod tests {
     #[test]
     fn update_period_follows_the_schedule() {
         let mut p = Profile::default();
-        assert_eq!(update_period_s(&p), 0.008);
+        assert_eq!(update_period_s(&p).unwrap(), 0.008);
         p.firmware.schedule = Schedule::Endpoint;
-        assert_eq!(update_period_s(&p), 0.004);
+        assert_eq!(update_period_s(&p).unwrap(), 0.004);
+    }
+
+    /// The navigation step that takes the attitude update's earth rates ends where one computing
+    /// them itself does, bit for bit, in every backend (moving north-east, with the earth-rate correction).
+    #[test]
+    fn kept_earth_rates_equal_fresh_ones() {
+        fn run<T: Scalar>(p: &Profile, forget: bool) -> Vec<f64> {
+            let mut fw = Firmware::<T>::new(p).unwrap();
+            let words = [0x0014, 0x3FF6, 0x0008, 0x0003, 0x3FFD, 0x012C];
+            for _ in 0..50 {
+                let d = fw.decode(&words);
+                fw.update_attitude(&[d.rate; 3]).unwrap();
+                if forget {
+                    fw.forget_earth_rates();
+                }
+                fw.navigate(&d.accel);
+            }
+            let n = fw.nav_state();
+            [n.lat, n.lon, n.height, n.vel[0], n.vel[1], n.vel[2]].iter().chain(fw.quat()).map(|x| x.to_f64()).collect()
+        }
+        let mut p = Profile::default();
+        p.navigation.velocity_enu = [30.0, 40.0, 1.0];
+        p.navigation.latitude_deg = 45.0;
+        for (kept, fresh) in [
+            (run::<f64>(&p, false), run::<f64>(&p, true)),
+            (run::<crate::numerics::C28xF32Rn>(&p, false), run::<crate::numerics::C28xF32Rn>(&p, true)),
+            (run::<crate::numerics::Iq>(&p, false), run::<crate::numerics::Iq>(&p, true)),
+        ] {
+            assert_eq!(
+                kept.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                fresh.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+        }
     }
 
     #[test]
@@ -382,7 +434,7 @@ mod tests {
         let mut fw = Firmware::<f64>::new(&p).unwrap();
         let e = fw.update_attitude(&[[0.0; 3]; 2]).unwrap_err();
         assert!(e.to_string().contains("takes 3"), "{e}");
-        p.firmware.algorithm = Algorithm::RotationVector;
+        p.firmware.algorithm = "rotation-vector".into();
         p.firmware.coning_samples = 3;
         let mut fw = Firmware::<f64>::new(&p).unwrap();
         assert_eq!(fw.rates_per_update(), 4);

@@ -1,8 +1,9 @@
 //! The sections of a profile. Defaults are the reference design as published; values marked
 //! [unconfirmed] in the spec are parameters here, documented in `firmware_model/SCHEMA.md`.
 
-use crate::device::part::{self as parts, Part, Role};
-use crate::device::{GyroRange, ModelOptions};
+use crate::device::encoding::GyroRange;
+use crate::device::part::{Part, Role};
+use crate::device::parts;
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
@@ -391,7 +392,7 @@ pub(crate) fn apply_gyro_range(table: &mut toml::Table) -> Result<()> {
             .ok_or_else(|| bad("device.sens_avg", v, "a 16-bit register value (with `device.gyro_range_dps`)"))?,
         None => Device::default().sens_avg,
     };
-    let m = (sens_avg & 0x7).max(u32::from(ModelOptions::default().min_m(range)));
+    let m = (sens_avg & 0x7).max(u32::from(range.min_m()));
     let sens_avg = (sens_avg & !0x0707) | u32::from(range.bits()) << 8 | m;
     device.insert("sens_avg".into(), toml::Value::Integer(i64::from(sens_avg)));
     Ok(())
@@ -473,7 +474,7 @@ impl Device {
         // The part raises M to the range's minimum on every write, so it cannot hold a smaller M:
         // a power-on value with one would read back differently from what the profile states.
         let m = (self.sens_avg & 0x7) as u8;
-        let min_m = ModelOptions::default().min_m(range);
+        let min_m = range.min_m();
         if m < min_m {
             return Err(bad(
                 "device.sens_avg",
@@ -488,6 +489,24 @@ impl Device {
         }
         Ok(())
     }
+}
+
+/// The error-model presets `errors.preset` names (`device::error_model::ErrorParams::preset`).
+pub const PRESET_NAMES: [&str; 4] = ["ideal", "adis16407", "adis16407-nulled", "adis16362"];
+/// Default R of `errors.gauss_markov_update_ratio`: a term is redrawn at least R times per
+/// correlation time, so the held value moves by ≈ σ·√(2/R) = 0.14 σ per update (`device::error_model`).
+pub const DEFAULT_GAUSS_MARKOV_UPDATE_RATIO: f64 = 100.0;
+
+/// Check `errors.gauss_markov_update_ratio` (the error model checks its parameters with this too).
+pub fn check_update_ratio(ratio: f64) -> Result<()> {
+    if !(ratio.is_finite() && ratio >= 1.0) {
+        return Err(bad(
+            "errors.gauss_markov_update_ratio",
+            ratio,
+            "a finite number ≥ 1 (below 1 a term would be held longer than its correlation time)",
+        ));
+    }
+    Ok(())
 }
 
 /// The sensor error model applied inside the device (presets in the traces work).
@@ -505,20 +524,17 @@ pub struct Errors {
 
 impl Default for Errors {
     fn default() -> Self {
-        Errors {
-            preset: "ideal".into(),
-            seed: 1,
-            gauss_markov_update_ratio: crate::device::error_model::DEFAULT_GAUSS_MARKOV_UPDATE_RATIO,
-        }
+        Errors { preset: "ideal".into(), seed: 1, gauss_markov_update_ratio: DEFAULT_GAUSS_MARKOV_UPDATE_RATIO }
     }
 }
 
 impl Errors {
     pub(crate) fn validate(&self) -> Result<()> {
-        if !crate::device::error_model::PRESET_NAMES.contains(&self.preset.as_str()) {
-            return Err(bad("errors.preset", &self.preset, "one of `ideal`, `adis16407`, `adis16407-nulled`"));
+        if !PRESET_NAMES.contains(&self.preset.as_str()) {
+            let names: Vec<String> = PRESET_NAMES.iter().map(|n| format!("`{n}`")).collect();
+            return Err(bad("errors.preset", &self.preset, &format!("one of {}", names.join(", "))));
         }
-        crate::device::error_model::check_update_ratio(self.gauss_markov_update_ratio)
+        check_update_ratio(self.gauss_markov_update_ratio)
     }
 }
 
@@ -543,18 +559,6 @@ pub enum Decode {
     Published,
     /// Mask and sign-extend with the configured range's LSB.
     Correct,
-}
-
-/// Attitude update algorithm.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Algorithm {
-    /// 4th-order Runge–Kutta on the quaternion equation (the reference design).
-    Rk4,
-    /// Rotation vector with 1-, 2- or 3-sample coning correction.
-    RotationVector,
-    /// Direction cosine matrix with drift cancellation (`[firmware.dcm]`).
-    Dcm,
 }
 
 /// The yaw reference of the DCM's drift cancellation.
@@ -713,7 +717,7 @@ pub struct Firmware {
     /// Output-word decode.
     pub decode: Decode,
     /// Attitude update.
-    pub algorithm: Algorithm,
+    pub algorithm: String,
     /// Coning samples for the rotation-vector algorithm (1, 2 or 3).
     pub coning_samples: u32,
     /// Rates → angle increments rule for the rotation-vector algorithm.
@@ -756,7 +760,7 @@ impl Default for Firmware {
         Firmware {
             schedule: Schedule::HalfStep,
             decode: Decode::Published,
-            algorithm: Algorithm::Rk4,
+            algorithm: "rk4".into(),
             coning_samples: 2,
             increment_rule: IncrementRule::Trapezoid,
             numeric: Numeric::C28xF32,
