@@ -23,6 +23,7 @@ mod rotvec;
 pub mod schedule;
 mod state;
 pub mod state_check;
+pub mod wing;
 
 pub use align::{level_attitude, LevelAligner};
 pub use attitude::{attitude_update, samples_per_update, AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
