@@ -2,6 +2,7 @@
 //! operations counted with the counting type and priced with the profile's cost table, beside the
 //! reference stages the ISR runs in one update tick.
 
+use sins_core::firmware::dcm;
 use sins_core::firmware::wing::{FilterConfig, Mode, WingFilter, WingZero};
 use sins_core::numerics::counter::count;
 use sins_core::numerics::{Counted, QClass, Scalar};
@@ -25,18 +26,26 @@ fn the_wing_filter_fits_the_tick() {
     let factor = location_factor(&profile, &table);
 
     let c = |x: f64, class| Counted::from_f64(x, class);
+    // A consistent zero: the IMU tilted by q_wr, at rest (f^b = g · third row of C_b^w).
+    let q: [f64; 4] = {
+        let q = [0.99, 0.1, -0.05, 0.02];
+        let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        q.map(|x| x / n)
+    };
+    let t = dcm(&q);
+    let g = 9.80665;
     let zero = WingZero {
-        q_wr: [c(0.99, QClass::Quat), c(0.1, QClass::Quat), c(-0.05, QClass::Quat), c(0.02, QClass::Quat)],
-        up_r: [c(0.1, QClass::Quat), c(-0.2, QClass::Quat), c(0.97, QClass::Quat)],
+        q_wr: q.map(|x| c(x, QClass::Quat)),
+        up_r: t[2].map(|x| c(x, QClass::Quat)),
         gyro_mean: [c(0.05, QClass::Rate), c(-0.03, QClass::Rate), c(0.02, QClass::Rate)],
     };
     let axis = [c(0.3, QClass::Quat), c(0.9, QClass::Quat), c(0.3, QClass::Quat)];
     let step_s = 0.008;
-    let mut filter = WingFilter::new(&zero, axis, FilterConfig::adis16362(step_s, 9.80665, Mode::Full)).unwrap();
+    let mut filter = WingFilter::new(&zero, axis, FilterConfig::adis16362(step_s, g, Mode::Full)).unwrap();
     let f = [c(0.98, QClass::Accel), c(-1.96, QClass::Accel), c(9.5, QClass::Accel)];
     // At rest (after the detector's 0.5 s): the rest measurements run too; then moving.
     let still = zero.gyro_mean;
-    let f_rest = [c(0.98, QClass::Accel), c(-1.96, QClass::Accel), c(9.559, QClass::Accel)];
+    let f_rest = t[2].map(|x| c(x * g, QClass::Accel));
     for _ in 0..100 {
         filter.step(&still, &f_rest);
     }
@@ -56,9 +65,9 @@ fn the_wing_filter_fits_the_tick() {
     let sysclk_hz = 150e6;
     let tick = (profile.timer.period_us * 1e-6 * sysclk_hz) as u64;
     eprintln!(
-        "wing filter step ({}): {moving_cycles} cycles moving, {rest_cycles} at rest = {:.2} % of the {tick}-cycle \
+        "wing filter step ({:?}): {moving_cycles} cycles moving, {rest_cycles} at rest = {:.2} % of the {tick}-cycle \
          tick ({:.1} µs); reference stages {reference} cycles ({:.2} %); together {:.2} %",
-        format!("{:?}", profile.firmware.numeric),
+        profile.firmware.numeric,
         100.0 * wing as f64 / tick as f64,
         wing as f64 / sysclk_hz * 1e6,
         100.0 * reference as f64 / tick as f64,

@@ -18,10 +18,10 @@
 //! After the updates the error is put into the nominal state (q ← exp(−φ) ⊗ q, …) and reset to 0.
 //! Rest detection: |ω̂| and ||f̂| − g| below their thresholds for a number of consecutive steps.
 
-use super::geometry::{conj, cross, dot, hinge_angle, WingZero};
 use super::super::quat::{dcm, normalise, quat_mul};
 use super::super::rotvec::quat_from_rotvec;
 use super::super::{lit, Mat3, Quat, Vec3};
+use super::geometry::{conj, cross, dot, hinge_angle, WingZero};
 use crate::numerics::{QClass, Scalar};
 use crate::{Error, Result};
 
@@ -164,10 +164,9 @@ pub fn check_fixed_point_span<T: Scalar>(variances: &[(&str, f64)]) -> Result<()
         return Ok(());
     }
     let positive = variances.iter().filter(|(_, v)| *v > 0.0);
-    let (Some(lo), Some(hi)) = (
-        positive.clone().min_by(|a, b| a.1.total_cmp(&b.1)),
-        positive.max_by(|a, b| a.1.total_cmp(&b.1)),
-    ) else {
+    let (Some(lo), Some(hi)) =
+        (positive.clone().min_by(|a, b| a.1.total_cmp(&b.1)), positive.max_by(|a, b| a.1.total_cmp(&b.1)))
+    else {
         return Ok(());
     };
     let bits = (hi.1 / lo.1).log2() + 1.0 + IQ_SIGNIFICANT_BITS;
@@ -322,9 +321,9 @@ impl<T: Scalar> WingFilter<T> {
         let c = dcm(&self.q);
         let u_f = mv3(&c, &f_hat);
         if full {
-            for i in 0..3 {
-                let g_i = if i == 2 { self.g } else { lit(0.0) };
-                self.v[i] = (self.v[i] + (u_f[i] - g_i) * dt).to_class(QClass::Accel);
+            let g_w = [lit(0.0), lit(0.0), self.g];
+            for ((v, uf), g) in self.v.iter_mut().zip(u_f).zip(g_w) {
+                *v = (*v + (uf - g) * dt).to_class(QClass::Accel);
             }
         }
 
@@ -410,8 +409,8 @@ impl<T: Scalar> WingFilter<T> {
             .collect();
         let mut p1 = self.p;
         for &(i, k, adt) in &nz {
-            for j in 0..STATES {
-                p1[i][j] = p1[i][j] + adt * self.p[k][j];
+            for (x, pk) in p1[i].iter_mut().zip(&self.p[k]) {
+                *x = *x + adt * *pk;
             }
         }
         let mut p2 = p1;
@@ -420,8 +419,8 @@ impl<T: Scalar> WingFilter<T> {
                 p2[i][j] = p2[i][j] + p1[i][k] * adt;
             }
         }
-        for i in 0..STATES {
-            p2[i][i] = p2[i][i] + self.qd[i];
+        for (i, qd) in self.qd.iter().enumerate() {
+            p2[i][i] = p2[i][i] + *qd;
         }
         self.p = p2;
     }
@@ -437,10 +436,10 @@ impl<T: Scalar> WingFilter<T> {
         let s = idx.iter().fold(r, |acc, &k| acc + h[k] * ph[k]);
         let innovation = idx.iter().fold(z, |acc, &k| acc - h[k] * x[k]);
         let gain = ph.map(|v| v / s);
-        for i in 0..STATES {
-            x[i] = x[i] + gain[i] * innovation;
-            for j in 0..STATES {
-                self.p[i][j] = self.p[i][j] - gain[i] * ph[j];
+        for ((xi, gi), row) in x.iter_mut().zip(gain).zip(self.p.iter_mut()) {
+            *xi = *xi + gi * innovation;
+            for (pij, phj) in row.iter_mut().zip(&ph) {
+                *pij = *pij - gi * *phj;
             }
         }
     }

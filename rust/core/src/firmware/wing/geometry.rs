@@ -165,7 +165,8 @@ pub fn static_axis<T: Scalar>(up_r: &Vec3<T>, poses: &[Vec3<T>]) -> Result<Vec3<
     let scale = dot(&v, &v);
     let trace2 = (m[0][0] + m[1][1] + m[2][2]) * (m[0][0] + m[1][1] + m[2][2]);
     // The poses span one direction only (adj(M) ≈ 0 relative to M's size): no axis.
-    if !(scale.to_f64() > 1e-24 * trace2.to_f64() * trace2.to_f64()) {
+    let limit = 1e-24 * trace2.to_f64() * trace2.to_f64();
+    if !matches!(scale.to_f64().partial_cmp(&limit), Some(std::cmp::Ordering::Greater)) {
         return Err(Error::Config(
             "wing static axis: the rest poses' up vectors differ along one direction only (all poses on one \
              great circle through the zero's up vector); give poses at different angles"
