@@ -36,6 +36,13 @@ CASES = [
         {"duration_s": 3.0, "half_angle_deg": 20.0, "frequency_hz": 2.0, "attitude_deg": (5, 5, 5)},
     ),
     ("flight", "102.4", {}),
+    ("wing", "819.2", {"angles_deg": (0.0, 30.0, -20.0), "rest_s": 1.0, "mount_deg": (20.0, 80.0, -30.0)}),
+    ("wing", "819.2", {"flap": "sine", "duration_s": 6.0, "period_s": 2.0, "rest_s": 1.0}),
+    (
+        "wing",
+        "819.2",
+        {"flap": "sweep", "duration_s": 8.0, "rest_s": 1.0, "base_amplitude_deg": 2.0, "base_period_s": 5.0},
+    ),
 ]
 
 

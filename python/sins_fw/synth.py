@@ -169,10 +169,14 @@ class Motion:
     w_en_n: Array
     #: Displacement east of the start point, m (for the GPS longitude).
     east_m: Array
+    #: The hinge angle α from the zero pose, rad (the ``wing`` scenario; None elsewhere).
+    alpha_rad: Array | None = None
+    #: Sensor temperature, °C (None: the trace has no temperature column).
+    temp_c: Array | None = None
 
     def rows(self, rows: slice) -> Motion:
         """These rows of the motion."""
-        return Motion(**{k: v[rows] for k, v in vars(self).items()})
+        return Motion(**{k: None if v is None else v[rows] for k, v in vars(self).items()})
 
     @property
     def w_ie_n(self) -> Array:
@@ -589,12 +593,158 @@ def _plan_motion(
 # ---------------------------------------------------------------------------------------------------
 
 
+#: The wing scenario's flap profiles (``--flap``).
+FLAP_PROFILES = ("steps", "sine", "sweep")
+
+
+def _flap_profile(
+    t: Array,
+    flap: str,
+    angles_deg: Sequence[float],
+    amplitude_deg: float,
+    period_s: float,
+    max_rate_dps: float,
+    max_accel_dps2: float,
+    rest_s: float,
+    duration_s: float,
+) -> tuple[Array, Array, Array]:
+    """α, α̇, α̈ (rad, rad/s, rad/s²) of a flap profile, α = 0 at rest for ``rest_s`` first:
+    - steps: to each of ``angles_deg`` with rate/acceleration-limited septic moves, ``rest_s`` at each;
+    - sine: amplitude·e(t)·sin(2π(t − rest)/period), the envelope e a septic ramp 0 → 1 over one period;
+    - sweep: reciprocating moves 0 → +A → −A → +A … → 0 (limited as the steps, no dwell at the ends)."""
+    if flap == "sine":
+        t0 = rest_s
+        w = 2.0 * math.pi / period_s
+        tau = np.maximum(t - t0, 0.0)
+        u = np.clip(tau / period_s, 0.0, 1.0)
+        _, e, de, dde = _smoothstep(u)
+        de, dde = de / period_s, dde / period_s**2
+        amp = math.radians(amplitude_deg)
+        sn, cs = np.sin(w * tau), np.cos(w * tau)
+        alpha = amp * e * sn
+        rate = amp * (de * sn + e * w * cs)
+        acc = amp * (dde * sn + 2.0 * de * w * cs - e * w * w * sn)
+        return alpha, rate, acc
+    if flap == "steps":
+        profile, _ = indexing_profile(angles_deg, max_rate_dps, max_accel_dps2, rest_s)
+    else:
+        a = abs(amplitude_deg)
+        one, _ = indexing_profile((a, -a), max_rate_dps, max_accel_dps2, 1e-3)
+        cycle = 2.0 * (one.end - 1e-3)  # one +A → −A → +A cycle
+        sweeps = max(1, math.floor((duration_s - 2.0 * rest_s) / cycle))
+        waypoints = (0.0, *itertools.chain.from_iterable((a, -a) for _ in range(sweeps)), 0.0)
+        moves, _ = indexing_profile(waypoints, max_rate_dps, max_accel_dps2, 1e-3)
+        profile = MotionProfile.build(0.0, 0.0, [(t0 + rest_s, dt, r1) for t0, dt, r1 in _ramps(moves)])
+    alpha, rate, acc, _ = profile(t)
+    return alpha, rate, acc
+
+
+def _ramps(profile: MotionProfile) -> list[tuple[float, float, float]]:
+    """The ramps (start, duration, target rate) of a profile (its segments that change the rate)."""
+    return [
+        (float(t0), float(n), float(r1))
+        for t0, n, r0, r1 in zip(profile.t0, profile.length, profile.r0, profile.r1, strict=True)
+        if r0 != r1
+    ]
+
+
+def wing_duration(values: dict[str, Any]) -> float:
+    """The wing scenario's duration: ``duration_s`` for sine and sweep; for steps the moves with a rest
+    at each angle (the first included)."""
+    if values["flap"] == "steps":
+        _, end = indexing_profile(
+            values["angles_deg"], values["max_rate_dps"], values["max_accel_dps2"], values["rest_s"]
+        )
+        return end
+    return float(values["duration_s"])
+
+
+def wing_motion(
+    *,
+    flap: str = "steps",
+    angles_deg: Sequence[float] = (0.0, 20.0, -15.0, 35.0, 0.0),
+    amplitude_deg: float = 30.0,
+    period_s: float = 4.0,
+    max_rate_dps: float = 60.0,
+    max_accel_dps2: float = 120.0,
+    rest_s: float = 10.0,
+    duration_s: float = 120.0,
+    axis_elevation_deg: float = 20.0,
+    axis_azimuth_deg: float = 30.0,
+    mount_deg: Sequence[float] = (10.0, -5.0, 70.0),
+    lever_m: Sequence[float] = (0.3, 0.1, 0.0),
+    base_amplitude_deg: float = 0.0,
+    base_period_s: float = 20.0,
+    temp_start_c: float = 25.0,
+    temp_rate_c_per_min: float = 0.0,
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
+) -> Motion:
+    """A wing on a hinge (algorithms.md §3): the hinge axis a at elevation β above the horizontal and
+    azimuth γ (its horizontal part, clockwise from north), the IMU mounted at ``mount_deg`` (roll,
+    pitch, yaw of C_b^n at the zero pose) and at ``lever_m`` (ENU, m) from a point of the hinge line.
+    The base pitches about east by b(t) = B sin(2πt/T) (B = 0: static). With q_h = rotation about a by
+    α and q_B about east by b, C_b^n = q_B ⊗ q_h(α) ⊗ q_mount; the IMU's position is p = B·R_a(α)·ℓ, so
+
+        ω_nb^n = ḃ e + B(α̇ a),   v = ḃ e × p + B(α̇ a × x),
+        v̇ = b̈ e × p + ḃ² e × (e × p) + 2ḃ e × B(α̇ a × x) + B(α̈ a × x + α̇² a × (a × x)),  x = R_a(α) ℓ.
+
+    Truth α is exact (the profile's closed form); the temperature is a ramp."""
+    if flap not in FLAP_PROFILES:
+        raise ConfigError(f"wing: flap `{flap}`; expected one of {', '.join(FLAP_PROFILES)}")
+    if len(lever_m) != 3:
+        raise ConfigError(f"wing: lever_m has {len(lever_m)} values; expected three (east, north, up, m)")
+    if not 0.0 <= axis_elevation_deg < 90.0:
+        raise ConfigError(
+            f"wing: axis_elevation_deg {axis_elevation_deg}; expected 0 ≤ β < 90 (a vertical axis hides α)"
+        )
+    if period_s <= 0 or base_period_s <= 0 or rest_s <= 0:
+        raise ConfigError("wing: period_s, base_period_s and rest_s must be positive")
+    values = {"flap": flap, "angles_deg": angles_deg, "max_rate_dps": max_rate_dps}
+    values |= {"max_accel_dps2": max_accel_dps2, "rest_s": rest_s, "duration_s": duration_s}
+    t = sample_times(wing_duration(values), rate_hz, rows)
+    alpha, rate, acc = _flap_profile(
+        t, flap, angles_deg, amplitude_deg, period_s, max_rate_dps, max_accel_dps2, rest_s, duration_s
+    )
+    beta, gamma = math.radians(axis_elevation_deg), math.radians(axis_azimuth_deg)
+    a = np.array([math.cos(beta) * math.sin(gamma), math.cos(beta) * math.cos(gamma), math.sin(beta)])
+    e = _X
+    wb = 2.0 * math.pi / base_period_s
+    big_b = math.radians(base_amplitude_deg)
+    b, db, ddb = big_b * np.sin(wb * t), big_b * wb * np.cos(wb * t), -big_b * wb * wb * np.sin(wb * t)
+    q_base = quat.from_axis_angle(e, b)
+    q_h = quat.from_axis_angle(a, alpha)
+    q = quat.multiply(q_base, quat.multiply(q_h, _attitude(mount_deg)))
+    n = len(t)
+    ell = np.broadcast_to(np.asarray(lever_m, dtype=np.float64), (n, 3))
+    x = quat.rotate(q_h, ell)
+    ax = np.cross(a, x)
+    p = quat.rotate(q_base, x)
+    ep = np.cross(e, p)
+    w_n = db[:, None] * e + quat.rotate(q_base, rate[:, None] * a)
+    x_dot = quat.rotate(q_base, rate[:, None] * ax)
+    v = db[:, None] * ep + x_dot
+    acc_n = (
+        ddb[:, None] * ep
+        + (db * db)[:, None] * np.cross(e, ep)
+        + 2.0 * db[:, None] * np.cross(e, x_dot)
+        + quat.rotate(q_base, acc[:, None] * ax + (rate * rate)[:, None] * np.cross(a, ax))
+    )
+    motion = _ground(t, q, quat.rotate(quat.conjugate(q), w_n), latitude_deg, height_m)
+    motion.v_n, motion.a_n = v, acc_n
+    motion.alpha_rad = alpha
+    motion.temp_c = temp_start_c + temp_rate_c_per_min / 60.0 * t
+    return motion
+
+
 @dataclass(frozen=True)
 class Param:
     """One scenario parameter: Python name (the CLI option is ``--name-with-dashes``)."""
 
     name: str
-    kind: str  # "float", "floats", "triple", "axis", "rate", "field"
+    kind: str  # "float", "floats", "triple", "axis", "rate", "field", "flap"
     default: Any
     help: str
     #: Named in the generator command only when not at its default (the aiding keys: traces made
@@ -619,6 +769,10 @@ class Param:
         if self.kind == "axis":
             if text not in _AXES:
                 raise ValueError(f"expected x, y or z, got `{text}`")
+            return text
+        if self.kind == "flap":
+            if text not in FLAP_PROFILES:
+                raise ValueError(f"expected one of {', '.join(FLAP_PROFILES)}, got `{text}`")
             return text
         if self.kind == "field":
             if text not in MAG_FIELDS:
@@ -782,6 +936,54 @@ SCENARIOS: dict[str, Scenario] = {
             "level coordinated turn at constant speed and rate (with transport rate)",
             transport_rate=True,
             chunked=False,
+        ),
+        Scenario(
+            "wing",
+            _kinematic(wing_motion),
+            (
+                Param(
+                    "flap",
+                    "flap",
+                    "steps",
+                    "flap profile: steps (rests between), sine or sweep (reciprocating)",
+                ),
+                Param(
+                    "angles_deg",
+                    "floats",
+                    (0.0, 20.0, -15.0, 35.0, 0.0),
+                    "steps: hinge angles in order, degrees",
+                ),
+                Param("amplitude_deg", "float", 30.0, "sine and sweep: amplitude, degrees"),
+                Param("period_s", "float", 4.0, "sine: period, s"),
+                Param("max_rate_dps", "float", 60.0, "steps and sweep: rate limit, °/s"),
+                Param("max_accel_dps2", "float", 120.0, "steps and sweep: acceleration limit, °/s²"),
+                Param("rest_s", "float", 10.0, "rest at the zero first (and at each step), s"),
+                Param("duration_s", "float", 120.0, "sine and sweep: duration, s"),
+                Param(
+                    "axis_elevation_deg",
+                    "float",
+                    20.0,
+                    "hinge axis elevation β above the horizontal, degrees",
+                ),
+                Param("axis_azimuth_deg", "float", 30.0, "hinge axis azimuth, degrees from north clockwise"),
+                Param(
+                    "mount_deg",
+                    "triple",
+                    (10.0, -5.0, 70.0),
+                    "IMU attitude at the zero: roll,pitch,yaw, degrees",
+                ),
+                Param(
+                    "lever_m", "floats", (0.3, 0.1, 0.0), "IMU position from the hinge line: east,north,up, m"
+                ),
+                Param(
+                    "base_amplitude_deg", "float", 0.0, "base pitching amplitude, degrees (0: static base)"
+                ),
+                Param("base_period_s", "float", 20.0, "base pitching period, s"),
+                Param("temp_start_c", "float", 25.0, "sensor temperature at the start, °C"),
+                Param("temp_rate_c_per_min", "float", 0.0, "temperature drift, °C/min"),
+                *_COMMON,
+            ),
+            "a wing on a hinge of any axis, IMU at any mount: flap steps, sines or sweeps; exact α truth",
         ),
     )
 }
@@ -972,6 +1174,8 @@ def to_trace(motion: Motion, metadata: dict[str, str], values: dict[str, Any] | 
         if m is None
         else quat.rotate(quat.conjugate(motion.q_nb), np.broadcast_to(m, motion.v_n.shape)),
         truth_q=motion.q_nb,
+        truth_alpha_deg=None if motion.alpha_rad is None else np.degrees(motion.alpha_rad),
+        temp_c=motion.temp_c,
         moving=motion.moving(),
         metadata=metadata,
         gps=gps,

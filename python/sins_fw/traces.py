@@ -84,6 +84,14 @@ PHYSICAL_COLUMNS: tuple[Column, ...] = (
     Column(
         "moving", "0/1", "1 where the body moves relative to the navigation frame", "flag", "moving", False
     ),
+    Column(
+        "truth_alpha_deg",
+        "°",
+        "truth hinge angle α from the zero pose (wing scenario)",
+        group="truth_alpha",
+        required=False,
+        nan_allowed=True,
+    ),
     *(
         Column(
             name,
@@ -465,6 +473,7 @@ class PhysicalTrace(_TraceFile):
     moving: NDArray[np.bool_] | None = None
     metadata: dict[str, str] = field(default_factory=dict)
     gps: Array | None = None
+    truth_alpha_deg: Array | None = None
 
     schema: ClassVar[Schema] = PHYSICAL_SCHEMA
     _GROUPS: ClassVar[dict[str, tuple[str, ...]]] = {
@@ -476,6 +485,7 @@ class PhysicalTrace(_TraceFile):
         "truth_q": tuple(f"truth_q{c}" for c in "wxyz"),
         "moving": ("moving",),
         "gps": GPS_COLUMNS,
+        "truth_alpha_deg": ("truth_alpha_deg",),
     }
 
     def __post_init__(self) -> None:
@@ -546,7 +556,16 @@ class PhysicalTrace(_TraceFile):
                 fields[attr] = np.stack(arrays, axis=1) if len(names) > 1 else arrays[0]
         if "moving" in fields:
             fields["moving"] = fields["moving"].astype(bool)
-        for attr in ("gyro_dps", "accel_g", "mag_gauss", "baro_mbar", "temp_c", "truth_q", "gps"):
+        for attr in (
+            "gyro_dps",
+            "accel_g",
+            "mag_gauss",
+            "baro_mbar",
+            "temp_c",
+            "truth_q",
+            "gps",
+            "truth_alpha_deg",
+        ):
             if attr in fields:
                 fields[attr] = fields[attr].astype(np.float64)
         return cls(t_s=np.asarray(cols["t_s"], dtype=np.float64), metadata=dict(metadata), **fields)

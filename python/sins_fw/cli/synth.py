@@ -64,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
     given = {p.name: getattr(args, p.name) for p in scenario.params if getattr(args, p.name) is not None}
     preset = getattr(args, "preset", None)
     # The bar's total: the duration when the scenario has one (an indexing table's follows its dwells).
-    duration = synth.resolve(args.scenario, preset, **given).get("duration_s")
+    values = synth.resolve(args.scenario, preset, **given)
+    duration = synth.wing_duration(values) if args.scenario == "wing" else values.get("duration_s")
     # Generated and written chunk by chunk: memory does not grow with the duration.
     with progress.bar(progress.wanted(args), duration, desc="generating") as advance:
         chunks = synth.generate_chunks(args.scenario, preset, **given)

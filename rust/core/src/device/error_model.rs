@@ -721,14 +721,64 @@ pub fn preset_table(name: &str) -> Result<Vec<PresetRow>> {
     ];
     Ok(rows
         .into_iter()
-        .map(|(quantity, value, unit, source, unconfirmed)| PresetRow {
-            quantity,
-            value,
-            unit,
-            source: if annotated { source } else { "ideal preset: no error" },
-            unconfirmed: annotated && unconfirmed,
+        .map(|(quantity, value, unit, source, unconfirmed)| {
+            let (source, unconfirmed) = match name {
+                "adis16362" => adis16362_source(quantity).unwrap_or((source, unconfirmed)),
+                _ => (source, unconfirmed),
+            };
+            PresetRow {
+                quantity,
+                value,
+                unit,
+                source: if annotated { source } else { "ideal preset: no error" },
+                unconfirmed: annotated && unconfirmed,
+            }
         })
         .collect())
+}
+
+const SRC_WING_NOTES: &str =
+    "ADIS16362 data sheet as the wing-angle notes quote it (spec adis16362.md, algorithms.md §3 corrections)";
+const SRC_16362_RECOLLECTION: &str = "ADIS16362 Table 1 by recollection, not re-read (spec adis16362.md): unconfirmed";
+
+/// Where each value of the `adis16362` preset comes from, where it differs from the ADIS16407's
+/// annotation (the rows not named keep it: model choices and values not in the spec). The preset is
+/// [`ErrorParams::adis16362`].
+fn adis16362_source(quantity: &str) -> Option<(&'static str, bool)> {
+    let row = match quantity {
+        "gyro full scale (range ±300)" => ("ADIS16362 data sheet p. 11 Table 9: ±300 °/s (spec adis16362.md)", false),
+        "gyro initial bias, 1σ" => (SRC_WING_NOTES, false),
+        "gyro bias tempco, 1σ" => (SRC_WING_NOTES, false),
+        "gyro in-run bias stability (Allan floor)" => (SRC_WING_NOTES, false),
+        "gyro angle random walk" => ("ADIS16362 Table 1 by recollection (2.0 °/√h), not re-read: unconfirmed", true),
+        "gyro per-sample noise at 819.2 SPS (derived)" => {
+            ("N·√fs from the ARW; the recollected 0.8 °/s rms unfiltered is unconfirmed", true)
+        }
+        "gyro nonlinearity (quadratic, uniform ±)" => (SRC_16362_RECOLLECTION, true),
+        "gyro misalignment per element (uniform ±)" => ("axis-to-axis 0.05° by recollection: unconfirmed", true),
+        "gyro g-sensitivity per matrix element, 1σ" => (SRC_16362_RECOLLECTION, true),
+        "accel full scale" => ("rated ±1.7 g by recollection (spec adis16362.md): unconfirmed", true),
+        "accel initial bias, 1σ" => ("±4 mg by recollection, read as 1σ (spec adis16362.md): unconfirmed", true),
+        "accel bias tempco, 1σ" => ("the ADIS16407's 0.3 mg/°C: not in the ADIS16362 spec, unconfirmed", true),
+        "accel noise density (one-sided, data-sheet convention)" => {
+            ("derived from the VRW 0.12 m/s/√h (recollection, unconfirmed), N·√2", true)
+        }
+        "accel velocity random walk (derived)" => (SRC_16362_RECOLLECTION, true),
+        "accel per-sample noise at 819.2 SPS (derived)" => (
+            "N·√fs from the VRW: 5.8 mg, against a recollected ≈ 1.5 mg rms unfiltered — the two recollected \
+             figures disagree by 4×; unconfirmed",
+            true,
+        ),
+        "accel in-run bias stability (Allan floor)" => {
+            ("0.1 mg by recollection (spec adis16362.md): unconfirmed", true)
+        }
+        "accel misalignment per element (uniform ±)" => ("assumed equal to the gyro's: unconfirmed", true),
+        "magnetometer noise per sample" | "barometer noise per sample" => {
+            ("no magnetometer or barometer on the ADIS16362 (spec adis16362.md)", false)
+        }
+        _ => return None,
+    };
+    Some(row)
 }
 
 /// The realised constants of one inertial triad (one unit, one seed).
@@ -1880,6 +1930,28 @@ mod tests {
         let ideal = preset_table("ideal").unwrap();
         assert_eq!(ideal.len(), rows.len());
         assert!(ideal.iter().all(|r| !r.unconfirmed && (r.value == 0.0 || r.quantity.contains("full scale"))));
+    }
+
+    #[test]
+    fn the_adis16362_table_names_its_own_sources() {
+        let rows = preset_table("adis16362").unwrap();
+        let row = |q: &str| rows.iter().find(|r| r.quantity.starts_with(q)).unwrap();
+        // The notes' figures, confirmed by the wing-angle notes (the issue's numbers).
+        for (q, v) in [("gyro initial bias", 3.0), ("gyro in-run bias stability", 0.007), ("gyro bias tempco", 0.01)] {
+            assert!((row(q).value - v).abs() < 1e-15 && !row(q).unconfirmed && row(q).source.contains("notes"), "{q}");
+        }
+        assert!((row("accel velocity random walk").value - 0.12).abs() < 1e-12);
+        assert!((row("accel in-run bias stability").value - 0.1).abs() < 1e-12);
+        assert!((row("accel initial bias").value - 4.0).abs() < 1e-12);
+        assert!((row("accel full scale").value - 1.7).abs() < 1e-15);
+        assert_eq!(row("magnetometer noise").value, 0.0);
+        // No row of the 16362 cites the 16407's data sheet as its own: each names the 16362's source,
+        // a sibling marked unconfirmed, or a model choice.
+        for r in &rows {
+            assert!(!r.source.starts_with("ADIS16407 data sheet") || r.unconfirmed, "{}: {}", r.quantity, r.source);
+            assert!(!r.source.contains("for the 16407"), "{}: {}", r.quantity, r.source);
+        }
+        assert!(rows.iter().filter(|r| r.source.to_lowercase().contains("adis16362")).count() >= 14);
     }
 
     #[test]

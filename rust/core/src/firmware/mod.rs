@@ -24,6 +24,7 @@ mod rotvec;
 pub mod schedule;
 mod state;
 pub mod state_check;
+pub mod wing;
 
 pub use algorithms::{attitude_update, samples_per_update};
 pub use align::{level_attitude, LevelAligner};
