@@ -6,7 +6,7 @@
 use crate::bus::i2c::{I2cLink, I2cTarget};
 use crate::bus::uart::{UartLink, UartPeer};
 use crate::bus::{Address, ChipSelects, Link, SpiLink, SpiSlave};
-use crate::device::{part, Adis};
+use crate::device::{adxl345, part, Adis};
 use crate::error::{Error, Result};
 use crate::profile::{self, BoardDevice, LinkKind, Profile, SENSOR_CHIP_SELECT};
 
@@ -24,8 +24,15 @@ pub enum Built {
 /// that cannot sit on that kind of link.
 pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
 
-/// The parts the crate declares (`device::part`): the ADIS16xxx family, on SPI.
+/// The parts the crate declares: the ADIS16xxx family (`device::part`) and the ADXL345 on SPI.
 pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
+    let only = |want: LinkKind, build: fn() -> Built| -> Option<Result<Built>> {
+        Some(if kind == want { Ok(build()) } else { Err(Error::Profile(format!("{name}: a part for {want:?} links"))) })
+    };
+    // The gyro-free board's parts, one arm each.
+    if name.eq_ignore_ascii_case("ADXL345") {
+        return only(LinkKind::Spi, || Built::Spi(Box::new(adxl345::Adxl345::at_rest())));
+    }
     let p = part::by_name(name)?;
     Some(match kind {
         LinkKind::Spi => Adis::new(&profile::Device::of_part(p)).map(|d| Built::Spi(Box::new(d))),

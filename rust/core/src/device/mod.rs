@@ -10,6 +10,7 @@
 //! - [`replay`]: a slave answering recorded burst words instead of the device (raw-register traces).
 
 mod adis;
+pub mod adxl345;
 pub mod encoding;
 mod faults;
 pub mod filter;
