@@ -12,6 +12,7 @@
 
 pub mod bitlevel;
 pub mod i2c;
+pub mod i2c_bits;
 pub mod link;
 pub mod transaction;
 pub mod uart;
