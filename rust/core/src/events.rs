@@ -252,6 +252,18 @@ pub const KINDS: &[EventKind] = &[
         "link",
         "the I²C master raised SCL while a target stretched it (held it low): the target's bits may be lost",
     ),
+    kind(
+        "unknown_command",
+        Warning,
+        "device",
+        "a command code the part does not know (in its selected revision): ignored",
+    ),
+    kind(
+        "response_too_early",
+        Warning,
+        "device",
+        "a response read before the command's response delay ended: the previous response is read",
+    ),
 ];
 
 /// The table entry of `name`, if it is a known kind.
