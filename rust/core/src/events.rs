@@ -264,6 +264,10 @@ pub const KINDS: &[EventKind] = &[
         "device",
         "a response read before the command's response delay ended: the previous response is read",
     ),
+    // NMEA 0183 from the GPS on a UART.
+    kind("nmea_bad_checksum", Warning, "firmware", "an NMEA line whose checksum does not match its body: dropped"),
+    kind("uart_framing_error", Warning, "link", "a UART character whose stop bit was read low: dropped"),
+    kind("uart_overrun", Warning, "link", "a UART character arrived with the receive FIFO full: lost"),
 ];
 
 /// The table entry of `name`, if it is a known kind.

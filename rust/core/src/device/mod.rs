@@ -14,6 +14,7 @@ pub mod adxl345;
 pub mod encoding;
 mod faults;
 pub mod filter;
+pub mod gps;
 pub mod hmc6343;
 pub mod part;
 pub mod parts;
