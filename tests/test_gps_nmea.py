@@ -19,7 +19,9 @@ def _sentences(**kw: object) -> list[str]:
 
 
 def test_every_sentence_parses_and_round_trips() -> None:
-    lines = _sentences(seconds=20, seed=3, lat_deg=-33.8651, lon_deg=151.2099, alt_m=58.0, speed_m_s=13.4, course_deg=271.5)
+    lines = _sentences(
+        seconds=20, seed=3, lat_deg=-33.8651, lon_deg=151.2099, alt_m=58.0, speed_m_s=13.4, course_deg=271.5
+    )
     assert len(lines) == 4 * 20
     kinds = [pynmea2.parse(line, check=True).sentence_type for line in lines]
     assert kinds == ["GGA", "GSA", "RMC", "VTG"] * 20
@@ -30,7 +32,15 @@ def test_every_sentence_parses_and_round_trips() -> None:
 
 
 def test_values_read_back_are_the_fix() -> None:
-    lines = _sentences(seconds=3, seed=0, lat_deg=37.38745833, lon_deg=-121.97236, alt_m=9.0, speed_m_s=0.0669, course_deg=309.62)
+    lines = _sentences(
+        seconds=3,
+        seed=0,
+        lat_deg=37.38745833,
+        lon_deg=-121.97236,
+        alt_m=9.0,
+        speed_m_s=0.0669,
+        course_deg=309.62,
+    )
     gga = pynmea2.parse(lines[0], check=True)
     rmc = pynmea2.parse(lines[2], check=True)
     vtg = pynmea2.parse(lines[3], check=True)
@@ -39,7 +49,7 @@ def test_values_read_back_are_the_fix() -> None:
     assert gga.longitude == pytest.approx(-121.97236, abs=3e-4)
     assert gga.gps_qual == 1 and gga.num_sats == "07"
     assert rmc.status == "A" and rmc.datestamp.isoformat() == "1998-05-12"
-    assert rmc.timestamp.isoformat() == "16:12:29"
+    assert rmc.timestamp.isoformat().startswith("16:12:29")
     assert float(vtg.true_track) == pytest.approx(309.62)
     # Speed: 0.0669 m/s ± 0.1 m/s noise (5 sigma), in knots.
     assert float(rmc.spd_over_grnd) == pytest.approx(0.0669 * KNOTS_PER_M_S, abs=0.5 * KNOTS_PER_M_S)
