@@ -57,7 +57,7 @@ impl Receiver {
     /// Decode the line `edges` (idle high before the first): each character goes into the FIFO with
     /// the end of its stop bit.
     pub fn listen(&mut self, edges: &[Edge]) {
-        let level_at = |t: Ps| edges.iter().take_while(|e| e.0 <= t).last().map_or(true, |e| e.1);
+        let level_at = |t: Ps| edges.iter().take_while(|e| e.0 <= t).last().is_none_or(|e| e.1);
         let mut i = 0;
         while let Some(k) = edges[i..].iter().position(|e| !e.1) {
             let start = edges[i + k].0;
