@@ -231,6 +231,43 @@ pub const KINDS: &[EventKind] = &[
         "harness",
         "the trace has a gap longer than the allowed sample periods: interpolated across",
     ),
+    // The gyro-free board's parts (ADXL345 on SPI).
+    spi_rule(
+        "cs_high_too_short",
+        Error,
+        "device",
+        "chip select high for less than the part's time between two communications (ADXL345 tCS,DIS)",
+    ),
+    spi_rule(
+        "fifo_pop_too_soon",
+        Error,
+        "device",
+        "a FIFO or FIFO_STATUS read less than 5 µs after the end of the previous data read (ADXL345)",
+    ),
+    spi_rule("byte_frame_length", Error, "device", "a frame of other than 8 SCLK cycles at a byte-wide SPI part"),
+    // I²C rules a master can break, and the HMC6343 on I²C.
+    kind(
+        "i2c_stretch_ignored",
+        Warning,
+        "link",
+        "the I²C master raised SCL while a target stretched it (held it low): the target's bits may be lost",
+    ),
+    kind(
+        "unknown_command",
+        Warning,
+        "device",
+        "a command code the part does not know (in its selected revision): ignored",
+    ),
+    kind(
+        "response_too_early",
+        Warning,
+        "device",
+        "a response read before the command's response delay ended: the previous response is read",
+    ),
+    // NMEA 0183 from the GPS on a UART.
+    kind("nmea_bad_checksum", Warning, "firmware", "an NMEA line whose checksum does not match its body: dropped"),
+    kind("uart_framing_error", Warning, "link", "a UART character whose stop bit was read low: dropped"),
+    kind("uart_overrun", Warning, "link", "a UART character arrived with the receive FIFO full: lost"),
 ];
 
 /// The table entry of `name`, if it is a known kind.

@@ -235,6 +235,50 @@ fn parts(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(out)
 }
 
+/// The GPS model's NMEA lines (`sins_core::device::gps`) over its first `seconds` s, for a receiver
+/// at (`lat_deg`, `lon_deg`, `alt_m`) moving at `speed_m_s` on `course_deg`, with `faults` given as
+/// (kind, a, b): ("corrupt", epoch, sentence index), ("lost", from, to), ("cold", at, 0). Returns
+/// (end of the line's last character in s, line) pairs.
+#[pyfunction]
+#[pyo3(signature = (seconds, seed=0, lat_deg=40.0, lon_deg=116.0, alt_m=50.0, speed_m_s=0.0, course_deg=0.0, faults=Vec::new()))]
+#[allow(clippy::too_many_arguments)]
+fn gps_nmea_lines(
+    seconds: u64,
+    seed: u64,
+    lat_deg: f64,
+    lon_deg: f64,
+    alt_m: f64,
+    speed_m_s: f64,
+    course_deg: f64,
+    faults: Vec<(String, u64, u64)>,
+) -> PyResult<Vec<(f64, String)>> {
+    use sins_core::device::gps::{self, Fault, Settings, Truth};
+    let faults = faults
+        .into_iter()
+        .map(|(k, a, b)| match k.as_str() {
+            "corrupt" => Ok(Fault::CorruptSentence { epoch: a, index: b as usize }),
+            "lost" => Ok(Fault::LostFix { from: a, to: b }),
+            "cold" => Ok(Fault::ColdStart { at: a }),
+            _ => Err(to_py(sins_core::Error::Config(format!("GPS fault `{k}`: expected corrupt, lost or cold")))),
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let truth = Truth { lat_deg, lon_deg, alt_m, speed_m_s, course_deg };
+    let settings = Settings { seed, faults, ..Settings::default() };
+    guard(|| {
+        gps::lines(settings, Box::new(move |_| truth), seconds).into_iter().map(|(t, l)| (ps_to_s(t), l)).collect()
+    })
+}
+
+/// The receiving side's check of NMEA text (`gps::NmeaReader`): the sentence bodies it passes and
+/// its events (a bad checksum is an `nmea_bad_checksum` event).
+#[pyfunction]
+fn nmea_read<'py>(py: Python<'py>, text: &str) -> PyResult<(Vec<String>, Vec<Bound<'py, PyDict>>)> {
+    let mut reader = sins_core::device::gps::NmeaReader::default();
+    let bodies: Vec<String> = text.bytes().filter_map(|b| reader.push(b, 0)).collect();
+    let events = reader.drain_events().iter().map(|e| event_dict(py, e)).collect::<PyResult<_>>()?;
+    Ok((bodies, events))
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("EVENT_KINDS", event_kinds(m.py())?)?;
@@ -252,6 +296,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bench_rk4_lower_bound, m)?)?;
     m.add_function(wrap_pyfunction!(bench_firmware_stages, m)?)?;
     m.add_function(wrap_pyfunction!(dcm_orientation, m)?)?;
+    m.add_function(wrap_pyfunction!(gps_nmea_lines, m)?)?;
+    m.add_function(wrap_pyfunction!(nmea_read, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;

@@ -6,7 +6,7 @@
 use crate::bus::i2c::{I2cLink, I2cTarget};
 use crate::bus::uart::{UartLink, UartPeer};
 use crate::bus::{Address, ChipSelects, Link, SpiLink, SpiSlave};
-use crate::device::{parts, Adis};
+use crate::device::{adxl345, gps, hmc6343, parts, Adis};
 use crate::error::{Error, Result};
 use crate::profile::{self, BoardDevice, LinkKind, Profile, SENSOR_CHIP_SELECT};
 
@@ -24,8 +24,18 @@ pub enum Built {
 /// that cannot sit on that kind of link.
 pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
 
-/// The parts the crate declares (`device::part`): the ADIS16xxx family, on SPI.
+/// The parts the crate declares: the ADIS16xxx family (`device::part`) and the ADXL345 on SPI, the HMC6343 on I²C, the GR-87 GPS on a UART.
 pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
+    let only = |want: LinkKind, build: fn() -> Built| -> Option<Result<Built>> {
+        Some(if kind == want { Ok(build()) } else { Err(Error::Profile(format!("{name}: a part for {want:?} links"))) })
+    };
+    // The gyro-free board's parts, one arm each.
+    match name.to_ascii_uppercase().as_str() {
+        "ADXL345" => return only(LinkKind::Spi, || Built::Spi(Box::new(adxl345::Adxl345::at_rest()))),
+        "HMC6343" => return only(LinkKind::I2c, || Built::I2c(Box::new(hmc6343::Hmc6343::at_rest()))),
+        "GR-87" | "GPS" => return only(LinkKind::Uart, || Built::Uart(Box::new(gps::Gps::at_rest()))),
+        _ => {}
+    }
     let p = parts::by_name(name)?;
     Some(match kind {
         LinkKind::Spi => Adis::new(&profile::Device::of_part(p)).map(|d| Built::Spi(Box::new(d))),

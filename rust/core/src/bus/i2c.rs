@@ -7,8 +7,10 @@
 //! answers at byte level with the time of the bits it sees. An address no target answers is NACKed
 //! (an `i2c_nack` event; the read bytes are the idle bus's 0xFF); SCL phases below the mode's
 //! minimums (standard mode up to 100 kHz, fast mode up to 400 kHz) are reported once per
-//! transaction (`i2c_scl_too_fast`, the lenient consequence of i2c.md). Not modelled: clock
-//! stretching, arbitration, bus clear.
+//! transaction (`i2c_scl_too_fast`, the lenient consequence of i2c.md). A target may stretch
+//! SCL after a byte ([`I2cTarget::hold_scl`]); a master that does not wait breaks the rule
+//! (`i2c_stretch_ignored`). The bit level (`i2c_bits.rs`) walks the same traffic on SCL and SDA.
+//! Not modelled: arbitration, bus clear.
 
 use super::{Address, Link, Transfer};
 use crate::error::{Error, Result};
@@ -27,19 +29,25 @@ pub trait I2cTarget {
     fn read(&mut self, t: Ps, ack: bool) -> u8;
     /// A STOP at `t`.
     fn stop(&mut self, t: Ps);
+    /// Clock stretching: SCL fell at `t` after the ninth clock of a byte the target took part in;
+    /// the target holds SCL low until the time returned (`t` or earlier: no stretching). Both link
+    /// levels ask it at the same instant (`i2c_bits`).
+    fn hold_scl(&mut self, t: Ps) -> Ps {
+        t
+    }
 }
 
 /// The minimum phases of one I²C mode (i2c.md, Table 10 as reproduced), ps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Mode {
-    name: &'static str,
-    t_low: Ps,
-    t_high: Ps,
-    t_buf: Ps,
+pub(super) struct Mode {
+    pub(super) name: &'static str,
+    pub(super) t_low: Ps,
+    pub(super) t_high: Ps,
+    pub(super) t_buf: Ps,
 }
 
-const STANDARD: Mode = Mode { name: "standard mode", t_low: 4_700_000, t_high: 4_000_000, t_buf: 4_700_000 };
-const FAST: Mode = Mode { name: "fast mode", t_low: 1_300_000, t_high: 600_000, t_buf: 1_300_000 };
+pub(super) const STANDARD: Mode = Mode { name: "standard mode", t_low: 4_700_000, t_high: 4_000_000, t_buf: 4_700_000 };
+pub(super) const FAST: Mode = Mode { name: "fast mode", t_low: 1_300_000, t_high: 600_000, t_buf: 1_300_000 };
 
 /// I2C-A and its targets.
 pub struct I2cLink {
@@ -50,6 +58,8 @@ pub struct I2cLink {
     mode: Mode,
     /// The last STOP (the bus is free tBUF after it).
     last_stop: Option<Ps>,
+    /// Whether the master waits for a stretched SCL (a master that does not breaks the rule).
+    honours_stretching: bool,
     events: EventLog,
 }
 
@@ -66,7 +76,21 @@ impl I2cLink {
         let (low, high) = (Ps::from(bus.scl_low_ns) * 1_000, Ps::from(bus.scl_high_ns) * 1_000);
         // Up to 100 kHz the standard mode's rules apply, above it the fast mode's.
         let mode = if low + high >= 10_000_000 { STANDARD } else { FAST };
-        I2cLink { targets, low, high, mode, last_stop: None, events: EventLog::default() }
+        I2cLink { targets, low, high, mode, last_stop: None, honours_stretching: true, events: EventLog::default() }
+    }
+
+    /// Make the master wait for a stretched SCL (the rule, the default) or time its clock on its
+    /// own (breaking it: an `i2c_stretch_ignored` event each time a target holds SCL).
+    pub fn set_honours_stretching(&mut self, on: bool) {
+        self.honours_stretching = on;
+    }
+
+    /// After a byte whose ninth clock fell at `fall`: the time the bus goes on from, later by what
+    /// target `i` stretches SCL beyond the low phase (see [`I2cTarget::hold_scl`]).
+    fn stretched(&mut self, i: Option<usize>, fall: Ps) -> Ps {
+        let Some(i) = i else { return fall };
+        let release = self.targets[i].1.hold_scl(fall);
+        stretch_rule(release, fall, self.low, self.honours_stretching, &mut self.events)
     }
 
     /// One SCL period.
@@ -115,10 +139,12 @@ impl Link for I2cLink {
         let byte_out = |link: &mut I2cLink, byte: u8, now: &mut Ps| -> bool {
             let ninth_rise = *now + 8 * period + low;
             *now += 9 * period;
-            match target {
+            let ack = match target {
                 Some(i) => link.targets[i].1.write(byte, ninth_rise),
                 None => false,
-            }
+            };
+            *now = link.stretched(target, *now);
+            ack
         };
         if let Some(i) = target {
             self.targets[i].1.start(start);
@@ -152,6 +178,7 @@ impl Link for I2cLink {
                     let first_rise = now + low;
                     *r = u16::from(target.map_or(0xFF, |i| self.targets[i].1.read(first_rise, ack)));
                     now += 9 * period;
+                    now = self.stretched(target, now);
                 }
             } else {
                 for (k, &w) in tx.iter().enumerate() {
@@ -184,6 +211,25 @@ impl Link for I2cLink {
     fn drain_events(&mut self) -> Vec<Event> {
         self.events.drain()
     }
+}
+
+/// The rule of a stretched SCL: the master that honours it goes on from `release` when that is
+/// after its own low phase; one that does not keeps its own time and an `i2c_stretch_ignored` event
+/// is reported. Returns the time the bus goes on from (the clock's fall before the next low phase).
+pub(super) fn stretch_rule(release: Ps, fall: Ps, low: Ps, honours: bool, events: &mut EventLog) -> Ps {
+    if release <= fall + low {
+        return fall;
+    }
+    if honours {
+        return release - low;
+    }
+    events.push(Event::new(
+        fall + low,
+        "i2c_stretch_ignored",
+        Severity::Warning,
+        format!("I2C master raised SCL at {} ps while the target held it low until {release} ps", fall + low),
+    ));
+    fall
 }
 
 #[cfg(test)]

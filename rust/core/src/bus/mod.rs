@@ -12,9 +12,11 @@
 
 pub mod bitlevel;
 pub mod i2c;
+pub mod i2c_bits;
 pub mod link;
 pub mod transaction;
 pub mod uart;
+pub mod uart_bits;
 
 pub use crate::profile::BusLevel;
 pub use link::{ChipSelects, FrameRecord, LinkRecord, SpiLink};

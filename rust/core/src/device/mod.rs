@@ -10,10 +10,13 @@
 //! - [`replay`]: a slave answering recorded burst words instead of the device (raw-register traces).
 
 mod adis;
+pub mod adxl345;
 pub mod encoding;
 mod faults;
 pub mod filter;
 mod frame;
+pub mod gps;
+pub mod hmc6343;
 pub mod part;
 pub mod parts;
 pub mod registers;
