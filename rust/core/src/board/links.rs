@@ -24,8 +24,14 @@ pub enum Built {
 /// that cannot sit on that kind of link.
 pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
 
-/// The parts the crate declares (`device::part`): the ADIS16xxx family, on SPI.
+/// The parts the crate declares (`device::part`): the ADIS16xxx family, on SPI; the ADS8344 ADC.
 pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
+    if name == "ADS8344" {
+        return Some(match kind {
+            LinkKind::Spi => Ok(Built::Spi(Box::new(crate::device::ads8344::Ads8344::unconnected()))),
+            _ => Err(Error::Profile("ADS8344: an SPI part".into())),
+        });
+    }
     let p = part::by_name(name)?;
     Some(match kind {
         LinkKind::Spi => Adis::new(&profile::Device::of_part(p)).map(|d| Built::Spi(Box::new(d))),

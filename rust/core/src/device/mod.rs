@@ -10,6 +10,8 @@
 //! - [`replay`]: a slave answering recorded burst words instead of the device (raw-register traces).
 
 mod adis;
+pub mod ads8344;
+pub mod analog;
 pub mod encoding;
 mod faults;
 pub mod filter;
