@@ -484,7 +484,7 @@ impl Ads8344 {
 mod tests {
     use super::*;
     use crate::board::links::{known_parts, BoardLinks, Built};
-    use crate::bus::{Address, Link};
+    use crate::bus::Address;
     use crate::profile::{LinkKind, Profile};
 
     /// A frame of `bits` clocks of `period` ps, its first edge at `first`, SPI mode `mode`.
@@ -648,7 +648,7 @@ mod tests {
         // 8-bit characters: the profile's own check still ties SPICHAR to the `[device]` ADIS part
         // (16-bit), so the registers are set past it here.
         (profile.spi.spiccr, profile.spi.spibrr) = (0x00C7, 15);
-        let catalogue = |name: &str, kind: LinkKind| {
+        let catalogue = |name: &str, _kind: LinkKind| {
             (name == "ADS8344").then(|| Ok(Built::Spi(Box::new(Ads8344::new(Ads8344Config::default(), ramp())))))
         };
         let mut links = BoardLinks::from_profile(&profile, &catalogue, true).unwrap();
