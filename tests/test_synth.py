@@ -43,6 +43,7 @@ CASES = [
         "819.2",
         {"flap": "sweep", "duration_s": 8.0, "rest_s": 1.0, "base_amplitude_deg": 2.0, "base_period_s": 5.0},
     ),
+    ("spin", "819.2", {"duration_s": 4.0, "spin_up_s": 1.0, "sway_hz": 1.0, "attitude_deg": (0, 10, 30)}),
 ]
 
 
@@ -189,3 +190,20 @@ def test_cli_writes_what_the_api_generates(tmp_path):
     # The recorded command regenerates the same file.
     again = run_cli(*shlex.split(generator)[1:], "--out", str(tmp_path / "c.h5"))
     assert again.code == 0 and (tmp_path / "c.h5").read_bytes() == (tmp_path / "a.h5").read_bytes()
+
+
+def test_spin_body_x_holds_the_swinging_axis_and_the_roll_is_the_spin_angle():
+    """The spin scenario's body x axis points where yaw ψ(t) and pitch θ(t) put it (the spin leaves it
+    alone), and after the spin-up the spin rate is the held rate: exact up to f64 round-off."""
+    m = synth.spin_motion(spin_dps=720.0, spin_up_s=1.0, duration_s=3.0, sway_hz=0.5, rate_hz="100")
+    x_n = quat.rotate(m.q_nb, np.array([1.0, 0.0, 0.0]))
+    phase = 2 * np.pi * np.mod(0.5 * m.t_s, 1.0)
+    psi, theta = np.radians(5.0) * np.sin(phase), np.radians(5.0) * np.sin(phase)
+    expected = np.stack([np.cos(psi) * np.cos(theta), np.sin(psi) * np.cos(theta), -np.sin(theta)], axis=1)
+    assert np.abs(x_n - expected).max() < 1e-12
+    held = m.t_s >= 1.0
+    # ω_x = φ̇ + the swing's component along the spun x axis: the yaw rate's share, −sin θ·ψ̇.
+    w_swing_x = -np.sin(theta) * np.radians(5.0) * np.pi * np.cos(phase)
+    assert np.abs(m.w_nb_b[held, 0] - np.radians(720.0) - w_swing_x[held]).max() < 1e-12
+    with pytest.raises(synth.ConfigError, match="0…1000"):
+        synth.spin_motion(spin_dps=1200.0)

@@ -427,6 +427,50 @@ def coning_motion(
     return _ground(t, q, w, latitude_deg, height_m)
 
 
+def spin_motion(
+    *,
+    spin_dps: float = 1000.0,
+    spin_up_s: float = 2.0,
+    duration_s: float = 60.0,
+    pitch_amplitude_deg: float = 5.0,
+    yaw_amplitude_deg: float = 5.0,
+    sway_hz: float = 0.2,
+    attitude_deg: Sequence[float] = (0.0, 0.0, 0.0),
+    latitude_deg: float = DEFAULT_LATITUDE_DEG,
+    height_m: float = DEFAULT_HEIGHT_M,
+    rate_hz: str = DEFAULT_RATE_HZ,
+    rows: slice | None = None,
+) -> Motion:
+    """A body spinning about its x axis on a two-axis turntable (the geomagnetic–gyro board's test,
+    algorithms.md §1): from rest, a septic spin-up to ``spin_dps`` over ``spin_up_s``, held; the
+    spin axis swings in yaw ψ(t) = A_ψ sin 2πft and pitch θ(t) = A_θ sin 2πft about the mount
+    (``attitude_deg``). q = q_mount ⊗ q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ) and, exactly,
+    ω_nb^b = R_x(φ)ᵀ(R_y(θ)ᵀ ψ̇ e_z + θ̇ e_y) + φ̇ e_x. The spin angle φ is the profile's integral;
+    the sway's phase is reduced as 2π·frac(f·t)."""
+    if not 0.0 <= spin_dps <= 1000.0:
+        raise ConfigError(f"spin: --spin-dps {spin_dps}: expected 0…1000 °/s")
+    if spin_up_s <= 0 or duration_s <= spin_up_s or sway_hz < 0:
+        raise ConfigError("spin: spin-up must be positive and shorter than the duration, sway frequency ≥ 0")
+    t = sample_times(duration_s, rate_hz, rows)
+    ramps = [(0.0, spin_up_s, math.radians(spin_dps))] if spin_dps else []
+    phi, phi_dot, _, _ = MotionProfile.build(0.0, 0.0, ramps)(t)
+    w = 2.0 * math.pi * sway_hz
+    phase = 2.0 * math.pi * np.mod(sway_hz * t, 1.0)
+    a_psi, a_theta = math.radians(yaw_amplitude_deg), math.radians(pitch_amplitude_deg)
+    psi, psi_dot = a_psi * np.sin(phase), a_psi * w * np.cos(phase)
+    theta, theta_dot = a_theta * np.sin(phase), a_theta * w * np.cos(phase)
+    q_x = quat.from_axis_angle(_AXES["x"], phi)
+    q_y = quat.from_axis_angle(_AXES["y"], theta)
+    q_z = quat.from_axis_angle(_AXES["z"], psi)
+    q = quat.multiply(_attitude(attitude_deg), quat.multiply(q_z, quat.multiply(q_y, q_x)))
+    zeros = np.zeros_like(t)
+    swing = quat.rotate(quat.conjugate(q_y), np.stack([zeros, zeros, psi_dot], axis=1))
+    swing[:, 1] += theta_dot
+    w_b = quat.rotate(quat.conjugate(q_x), swing)
+    w_b[:, 0] += phi_dot
+    return _ground(t, q, w_b, latitude_deg, height_m)
+
+
 # Gauss–Legendre nodes on [0, 1] for the position quadrature of ``flight`` (degree-7 exact).
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(4)
 _GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
@@ -908,6 +952,21 @@ SCENARIOS: dict[str, Scenario] = {
                 *_COMMON,
             ),
             "classical coning about the mount's x axis",
+        ),
+        Scenario(
+            "spin",
+            _kinematic(spin_motion),
+            (
+                Param("spin_dps", "float", 1000.0, "spin rate about body x, °/s (0…1000)"),
+                Param("spin_up_s", "float", 2.0, "spin-up time from rest, s"),
+                Param("duration_s", "float", 60.0, "duration, s"),
+                Param("pitch_amplitude_deg", "float", 5.0, "pitch swing of the spin axis, degrees"),
+                Param("yaw_amplitude_deg", "float", 5.0, "yaw swing of the spin axis, degrees"),
+                Param("sway_hz", "float", 0.2, "frequency of the pitch and yaw swing, Hz"),
+                _ATTITUDE,
+                *_COMMON,
+            ),
+            "a body spinning about x on a two-axis turntable, its axis swinging in pitch and yaw",
         ),
         Scenario(
             "flight",

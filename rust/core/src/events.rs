@@ -268,6 +268,33 @@ pub const KINDS: &[EventKind] = &[
     kind("nmea_bad_checksum", Warning, "firmware", "an NMEA line whose checksum does not match its body: dropped"),
     kind("uart_framing_error", Warning, "link", "a UART character whose stop bit was read low: dropped"),
     kind("uart_overrun", Warning, "link", "a UART character arrived with the receive FIFO full: lost"),
+    // The ADS8344 converter (geomagnetic–gyro board) and its firmware.
+    spi_rule(
+        "adc_acquisition_too_short",
+        Error,
+        "device",
+        "the ADC tracked its input for less than t_ACQ before the hold edge (DCLK too fast): the sample may not settle",
+    ),
+    spi_rule(
+        "adc_conversion_aborted",
+        Warning,
+        "device",
+        "CS rose before the ADC's control byte or result was clocked through: no result",
+    ),
+    spi_rule("adc_busy_read", Warning, "device", "DCLK during an internal-clock conversion: DOUT reads 0"),
+    kind("adc_input_out_of_range", Warning, "device", "an ADC input outside 0…VREF: the code clips"),
+    kind(
+        "adc_result_in_command_frame",
+        Warning,
+        "device",
+        "a result bit fell in the SPI character that carried its start bit: the word-level link cannot show it (reads 0)",
+    ),
+    kind(
+        "mag_aid_gated",
+        Info,
+        "firmware",
+        "the magnetometer roll aid turned off (or back on): the field across the spin axis is below (above) its gate",
+    ),
 ];
 
 /// The table entry of `name`, if it is a known kind.

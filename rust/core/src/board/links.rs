@@ -24,13 +24,15 @@ pub enum Built {
 /// that cannot sit on that kind of link.
 pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
 
-/// The parts the crate declares: the ADIS16xxx family (`device::part`) and the ADXL345 on SPI, the HMC6343 on I²C, the GR-87 GPS on a UART.
+/// The parts the crate declares: the ADIS16xxx family (`device::part`), the ADS8344 ADC and the ADXL345 on SPI, the HMC6343
+/// on I²C, the GR-87 GPS on a UART.
 pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
     let only = |want: LinkKind, build: fn() -> Built| -> Option<Result<Built>> {
         Some(if kind == want { Ok(build()) } else { Err(Error::Profile(format!("{name}: a part for {want:?} links"))) })
     };
-    // The gyro-free board's parts, one arm each.
+    // The parts of other families, one arm each.
     match name.to_ascii_uppercase().as_str() {
+        "ADS8344" => return only(LinkKind::Spi, || Built::Spi(Box::new(crate::device::ads8344::Ads8344::unconnected()))),
         "ADXL345" => return only(LinkKind::Spi, || Built::Spi(Box::new(adxl345::Adxl345::at_rest()))),
         "HMC6343" => return only(LinkKind::I2c, || Built::I2c(Box::new(hmc6343::Hmc6343::at_rest()))),
         "GR-87" | "GPS" => return only(LinkKind::Uart, || Built::Uart(Box::new(gps::Gps::at_rest()))),

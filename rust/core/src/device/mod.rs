@@ -10,7 +10,9 @@
 //! - [`replay`]: a slave answering recorded burst words instead of the device (raw-register traces).
 
 mod adis;
+pub mod ads8344;
 pub mod adxl345;
+pub mod analog;
 pub mod encoding;
 mod faults;
 pub mod filter;

@@ -17,6 +17,7 @@ pub mod attitude;
 mod dcm;
 mod decode;
 mod euler;
+pub mod geomag;
 pub mod isr;
 mod nav;
 mod quat;
