@@ -231,6 +231,13 @@ pub const KINDS: &[EventKind] = &[
         "harness",
         "the trace has a gap longer than the allowed sample periods: interpolated across",
     ),
+    // A host-built firmware's accesses (rust/core/src/host.rs).
+    kind(
+        "protected_write",
+        Warning,
+        "mcu",
+        "an EALLOW-protected register (PieVectTable) written without EALLOW: ignored, as on the chip",
+    ),
 ];
 
 /// The table entry of `name`, if it is a known kind.
