@@ -335,6 +335,21 @@ enum SinsStatus sins_timer0_ticks(struct SinsBoard *board,
 // `board` is a live handle; `t_ps` points to writable memory.
 enum SinsStatus sins_next_change_ps(struct SinsBoard *board, uint32_t address, uint64_t *t_ps);
 
+// Take the next event (in time order) into `*event`, its message (NUL-terminated, cut to `len`)
+// into `message`, its rule figures into `*measured` and `*required` (NaN when it has none);
+// `*got` is 0 when there was none.
+//
+// # Safety
+// `board` is a live handle; `event`, `measured`, `required` and `got` point to writable memory;
+// `message` is null or points to `len` writable bytes.
+enum SinsStatus sins_take_event(struct SinsBoard *board,
+                                struct SinsEvent *event,
+                                char *message,
+                                size_t len,
+                                double *measured,
+                                double *required,
+                                int *got);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

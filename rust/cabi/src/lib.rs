@@ -791,3 +791,53 @@ pub unsafe extern "C" fn sins_next_change_ps(board: *mut SinsBoard, address: u32
         put(t_ps, t, "t_ps")
     })
 }
+
+/// Take the next event (in time order) into `*event`, its message (NUL-terminated, cut to `len`)
+/// into `message`, its rule figures into `*measured` and `*required` (NaN when it has none);
+/// `*got` is 0 when there was none.
+///
+/// # Safety
+/// `board` is a live handle; `event`, `measured`, `required` and `got` point to writable memory;
+/// `message` is null or points to `len` writable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn sins_take_event(
+    board: *mut SinsBoard,
+    event: *mut SinsEvent,
+    message: *mut c_char,
+    len: usize,
+    measured: *mut f64,
+    required: *mut f64,
+    got: *mut c_int,
+) -> SinsStatus {
+    call(|| {
+        let b = self::board(board)?;
+        b.events.extend(b.board.take_events());
+        let Some(e) = b.events.pop_front() else {
+            return put(got, 0, "got");
+        };
+        let mut kind = [0 as c_char; 40];
+        for (k, byte) in kind.iter_mut().zip(e.event.kind.bytes().take(39)) {
+            *k = byte as c_char;
+        }
+        let ev = SinsEvent {
+            t_ps: e.event.t_ps,
+            frame: e.frame.map_or(-1, |f| f.index as i64),
+            din: e.frame.map_or(0, |f| f.din),
+            severity: e.event.severity as u8,
+            kind,
+        };
+        put(event, ev, "event")?;
+        if !message.is_null() && len > 0 {
+            let text = e.event.message.as_bytes();
+            let n = text.len().min(len - 1);
+            // SAFETY: `message` holds `len` > n bytes (the caller's contract).
+            unsafe {
+                std::ptr::copy_nonoverlapping(text.as_ptr().cast::<c_char>(), message, n);
+                *message.add(n) = 0;
+            }
+        }
+        put(measured, e.event.measured.unwrap_or(f64::NAN), "measured")?;
+        put(required, e.event.required.unwrap_or(f64::NAN), "required")?;
+        put(got, 1, "got")
+    })
+}

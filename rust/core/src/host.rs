@@ -146,6 +146,9 @@ pub struct HostBoard {
     irq: Interrupts,
     /// The device's input when it reads a trace ([`HostBoard::with_input`]).
     feed: Option<InputFeed>,
+    /// Keep the transaction log for [`HostBoard::take_log`] (not on a board reading a trace: a
+    /// firmware run would keep every frame).
+    keep_log: bool,
 }
 
 impl HostBoard {
@@ -183,6 +186,7 @@ impl HostBoard {
             pending: Vec::new(),
             irq: Interrupts::new(clocks.sysclkout),
             feed: None,
+            keep_log: true,
         })
     }
 
@@ -193,6 +197,7 @@ impl HostBoard {
         let (feed, stimulus) = InputFeed::new();
         b.link.slave_mut().set_stimulus(Box::new(stimulus));
         b.feed = Some(feed);
+        b.keep_log = false;
         Ok(b)
     }
 
@@ -694,7 +699,9 @@ impl HostBoard {
             if let LinkRecord::Frame(f) = r {
                 self.recent.push(f);
             }
-            self.log.push(r);
+            if self.keep_log {
+                self.log.push(r);
+            }
         }
         self.pending.extend(self.link.drain_events());
         self.pending.extend(self.link.slave_mut().drain_events());
