@@ -343,6 +343,9 @@ def run_c_firmware(
             offset = int(lib.lib.sins_fw_fault_offset())
             if offset:
                 text += f" (the loop: {_source_line(lib.path, offset)})"
+            ignored = [e for e in _take_events(lib, board, feeder.t0) if e["kind"] == "protected_write"]
+            if ignored:
+                text += f"; before it, at {ignored[0]['t_s']:.9f} s: {ignored[0]['message']}"
             raise InputError(f"{lib.source}: {text}")
         rows.add(feeder.window, _take_rows(lib, n), _take_events(lib, board, feeder.t0))
         now = ctypes.c_uint64()
