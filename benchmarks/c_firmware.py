@@ -83,8 +83,9 @@ def main() -> None:
         f"| {rust_cpu:.3f} | – | {rust_virtual * SYSCLKOUT_HZ / rust_cpu:.3g} "
         f"| {rust_virtual / rust_cpu:.1f} |",
         "",
-        f"The C firmware ran {c.blocks} basic blocks (each a call into the runtime; the idle loop's passes "
-        "are charged at once up to the next interrupt). Its accesses include the polling reads left "
+        f"The C firmware passed {c.blocks} basic blocks (each a call into the runtime, but the idle "
+        "loop's passes, "
+        "charged at once up to the next interrupt). Its accesses include the polling reads left "
         "after the runtime skips the passes that see no change. The Rust model runs event by event (no "
         "idle loop to pass): its cycles per second are virtual time over CPU time, as the C firmware's.",
         "",
