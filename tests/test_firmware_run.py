@@ -205,3 +205,45 @@ def test_load_globals_names_line_and_field(tmp_path: Path):
     )
     with pytest.raises(InputError, match=r"g\.toml:2: \[\[global\]\] 1: unknown field `colour`"):
         load_globals(g)
+
+
+def test_a_tick_that_comes_while_the_last_is_pending_is_lost(tmp_path: Path):
+    """An ISR of 9 ms on a 4 ms timer: the tick during it waits (INTM is set), the next one finds the
+    flag still set: lost, a `tick_lost` event from the core; the budget has one row per ISR run."""
+    fw = _firmware(
+        tmp_path,
+        '#include "DSP2833x_Device.h"\n'
+        '#include "DSP2833x_Examples.h"\n'
+        "Uint16 runs;\n"
+        "interrupt void isr(void) {\n"
+        "    runs++;\n"
+        "    DELAY_US(9000);\n"
+        "    PieCtrlRegs.PIEACK.all = PIEACK_GROUP1;\n"
+        "}\n"
+        "void main(void) {\n"
+        "    EALLOW;\n"
+        "    PieVectTable.TINT0 = &isr;\n"
+        "    EDIS;\n"
+        "    PieCtrlRegs.PIECTRL.bit.ENPIE = 1;\n"
+        "    CpuTimer0Regs.PRD.all = 599999;\n"
+        "    CpuTimer0Regs.TCR.all = 0x4020;\n"
+        "    IER |= M_INT1;\n"
+        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
+        "    EINT;\n"
+        "    for (;;) {\n"
+        "    }\n"
+        "}\n",
+    )
+    parts: list[dict] = []
+    r = run_c_firmware(fw, PITCH_SWEEP, load_profile("reference"), sink=parts.append, until_s=0.1)
+    events = [e for p in parts for e in p["events"]]
+    assert {e["kind"] for e in events} == {"tick_lost"}
+    # Ticks every 4 ms, an ISR of 9 ms + entry and exit: tick 1's ISR runs from 4 to 13 ms, ticks 2
+    # (8 ms) and 3 (12 ms) come meanwhile: 2 is lost, the ISR runs for 3 at 13 ms until 22 ms, for 5
+    # (tick 4 lost) at 22 ms, …
+    ticks = np.concatenate([p["budget_tick"] for p in parts])
+    assert list(ticks[:3]) == [1, 3, 5]
+    assert r.isr_rows == len(ticks)
+    assert "ticks 2…2 came while the interrupt was still pending" in events[0]["message"]
+    overrun = np.concatenate([p["budget_overrun"] for p in parts])
+    assert list(overrun[:3]) == [0, 1, 1]

@@ -486,7 +486,7 @@ class _Rows:
     def __init__(self, watched: list[Global], sink: Callable[[dict[str, Any]], None] | None) -> None:
         self.watched, self.sink = watched, sink
         self.count = 0
-        self.last_tick: int | None = None
+        self.prev_end = 0
         self.has_quat = all(f"q{i}" in {g.column for g in watched} for i in range(4))
 
     def add(
@@ -504,7 +504,7 @@ class _Rows:
 
     def _part(self, times: np.ndarray, values: np.ndarray, events: list[dict[str, Any]]) -> dict[str, Any]:
         col = {name: times[:, i] for i, name in enumerate(ROW_TIMES)}
-        budget, lost = self._budget(col)
+        budget = self._budget(col)
         n = len(times)
         quat = np.full((n, 4), np.nan)
         euler = np.full((n, 3), np.nan)
@@ -530,35 +530,16 @@ class _Rows:
             "read_sample_ps": np.zeros(0, np.uint64),
             "read_assumed_s": np.zeros(0),
             "read_age_ps": np.zeros(0, np.uint64),
-            "events": sorted([*events, *lost], key=lambda e: e["t_s"]),
+            "events": events,
             "firmware_globals": {g.column: values[:, i] for i, g in enumerate(self.watched)},
             **{f"budget_{k}": v for k, v in budget.items()},
         }
         return part
 
-    def _budget(self, col: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], list[dict[str, Any]]]:
+    def _budget(self, col: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """One budget row per ISR, in the Rust model's columns: the entry (context save and prologue),
-        the ISR's body as the `decode` stage (the runtime cannot tell its parts apart), the exit.
-        A tick whose interrupt was never taken (the flag was still set: ticks collapse into one) is a
-        `tick_lost` event; its ISR row is the next one's."""
-        lost: list[dict[str, Any]] = []
-        tick = col["tick"].astype(np.int64)
-        for i, k in enumerate(tick):
-            prev = self.last_tick
-            if prev is not None and k > prev + 1:
-                lost.append(
-                    {
-                        "t_s": float(col["tick_ps"][i]) * PS,
-                        "kind": "tick_lost",
-                        "severity": "error",
-                        "message": f"timer 0 ticks {prev + 1}…{k - 1} came while the interrupt was still "
-                        "pending "
-                        f"or masked: the ISR ran once for ticks {prev + 1}…{k}",
-                        "measured": float(k - prev - 1),
-                        "required": 0.0,
-                    }
-                )
-            self.last_tick = int(k)
+        the ISR's body as the `decode` stage (the runtime cannot tell its parts apart), the exit. (A
+        tick whose interrupt was never taken is the core's `tick_lost` event.)"""
         u = {k: v.astype(np.uint64) for k, v in col.items()}
         b = {
             "tick": u["tick"],
@@ -573,10 +554,15 @@ class _Rows:
             "nav_end_ps": u["body_end_ps"],
             "end_ps": u["end_ps"],
             "deadline_ps": u["deadline_ps"],
-            "step": np.ones(len(tick), np.uint8),
-            "overrun": (u["start_ps"] >= u["deadline_ps"]).astype(np.uint8),
+            "step": np.ones(len(u["tick"]), np.uint8),
+            "overrun": np.zeros(len(u["tick"]), np.uint8),
         }
-        return b, lost
+        # A tick that arrived while the previous ISR was still running.
+        prev_end = np.r_[self.prev_end, u["end_ps"][:-1]].astype(np.uint64)
+        b["overrun"] = (u["tick_ps"] < prev_end).astype(np.uint8)
+        if len(u["tick"]):
+            self.prev_end = int(u["end_ps"][-1])
+        return b
 
 
 class FirmwareRunWriter(RunWriter):

@@ -146,6 +146,8 @@ pub struct HostBoard {
     irq: Interrupts,
     /// The device's input when it reads a trace ([`HostBoard::with_input`]).
     feed: Option<InputFeed>,
+    /// Timer 0's reloads when its interrupt was last taken.
+    tint0_taken: u64,
     /// Keep the transaction log for [`HostBoard::take_log`] (not on a board reading a trace: a
     /// firmware run would keep every frame).
     keep_log: bool,
@@ -186,6 +188,7 @@ impl HostBoard {
             pending: Vec::new(),
             irq: Interrupts::new(clocks.sysclkout),
             feed: None,
+            tint0_taken: 0,
             keep_log: true,
         })
     }
@@ -226,8 +229,29 @@ impl HostBoard {
 
     /// The interrupt the CPU takes now, if any, acknowledged as the CPU and the PIE do it (see
     /// [`crate::dsp::interrupts`]).
+    /// Timer 0's ticks that came while its interrupt was still pending are lost: a `tick_lost` event
+    /// when the ISR is taken.
     pub fn take_interrupt(&mut self) -> Option<Taken> {
-        self.irq.take(self.now)
+        let taken = self.irq.take(self.now)?;
+        if taken.vector == crate::dsp::interrupts::TINT0_VECTOR {
+            let (n, last) = self.irq.underflows();
+            if n > self.tint0_taken + 1 {
+                self.pending.push(Event::new(
+                    last.unwrap_or(self.now),
+                    "tick_lost",
+                    crate::events::Severity::Error,
+                    format!(
+                        "timer 0 ticks {}…{} came while the interrupt was still pending or masked: the ISR runs once \
+                         for ticks {}…{n}",
+                        self.tint0_taken + 1,
+                        n - 1,
+                        self.tint0_taken + 1
+                    ),
+                ));
+            }
+            self.tint0_taken = n;
+        }
+        Some(taken)
     }
 
     /// IRET: the end of the ISR being serviced.
