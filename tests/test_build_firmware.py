@@ -11,7 +11,9 @@ import pytest
 
 from sins_fw.cli import main
 from sins_fw.errors import InputError
-from sins_fw.firmware_build import build_firmware, run_firmware
+from sins_fw.firmware_build import build_firmware
+from sins_fw.firmware_run import run_c_firmware
+from sins_fw.profile import load_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 PROD_ID_EXAMPLE = ROOT / "firmware_c" / "examples" / "prod_id"
@@ -28,13 +30,16 @@ def test_the_prod_id_firmware_reads_0x4017(tmp_path: Path, capsys: pytest.Captur
     out = tmp_path / "fw.so"
     assert main(["build-firmware", str(PROD_ID_EXAMPLE), "-o", str(out)]) == 0
     assert f"built {out}" in capsys.readouterr().out
-    run = run_firmware(out, "reference", until_s=0.05)
-    assert run.global_value("prod_id") == 0x4017
+    watched = _globals(tmp_path, "prod_id", "reads")
+    run = run_c_firmware(out, None, load_profile("reference"), globals_file=watched, until_s=0.05)
+    assert run.final["prod_id"] == 0x4017
     # After the 10 ms start-up delay each loop takes 1000 + 40 µs of DELAY_US plus two 16-bit frames at
     # 0.75 MHz (2 × 21.3 µs) and the polling: ≈ 1.083 ms, so 40 ms hold 36 whole loops and most of a 37th.
-    assert run.global_value("reads") in (36, 37)
-    assert 0.05 <= run.now_s < 0.05 + 1.1e-3
-    assert run.accesses > 1000
+    assert run.final["reads"] in (36, 37)
+    # The run stops before the step that would pass the input's end (a still board sampled at 819.2 SPS:
+    # its last row at or before 0.05 s is at 40/819.2 = 48.8 ms), here a DELAY_US(1000).
+    assert 40 / 819.2 - 1.1e-3 < run.now_s <= 40 / 819.2
+    assert run.accesses > 100
 
 
 def test_a_bit_field_store_is_a_read_modify_write_of_the_word(tmp_path: Path):
@@ -56,22 +61,38 @@ def test_a_bit_field_store_is_a_read_modify_write_of_the_word(tmp_path: Path):
         "    lospcp = SysCtrlRegs.LOSPCP.all;\n"
         "}\n"
     )
-    run = run_firmware(build_firmware([src], tmp_path / "rmw.so"), until_s=1.0)
-    assert (run.global_value("ccr"), run.global_value("ctl"), run.global_value("lospcp")) == (0xCF, 0x0C, 6)
-    assert run.now_s < 1e-6  # main returned: 10 accesses of 3 cycles at 150 MHz (plus the RMW reads)
+    fw = build_firmware([src], tmp_path / "rmw.so")
+    run = run_c_firmware(
+        fw,
+        None,
+        load_profile("reference"),
+        globals_file=_globals(tmp_path, "ccr", "ctl", "lospcp"),
+        until_s=1.0,
+    )
+    assert (run.final["ccr"], run.final["ctl"], run.final["lospcp"]) == (0xCF, 0x0C, 6)
+    assert run.now_s < 2e-6  # main returned: 14 accesses of 3 cycles and a few blocks at 150 MHz
 
 
 def test_a_source_that_does_not_compile_names_file_and_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ):
     src = tmp_path / "bad.c"
-    src.write_text('#include "DSP2833x_Device.h"\nvoid main(void) {\n    CpuTimer0Regs.TCR.bit.TSS = 1;\n}\n')
+    src.write_text('#include "DSP2833x_Device.h"\nvoid main(void) {\n    CpuTimer1Regs.TCR.bit.TSS = 1;\n}\n')
     out = tmp_path / "fw.so"
     assert main(["build-firmware", str(src), "-o", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "bad.c:3" in err and "CpuTimer0Regs" in err
+    assert "bad.c:3" in err and "CpuTimer1Regs" in err
     assert not out.exists()
     empty = tmp_path / "empty"
     empty.mkdir()
     with pytest.raises(InputError, match="no C sources"):
         build_firmware([empty], tmp_path / "x.so")
+
+
+def _globals(folder: Path, *names: str) -> Path:
+    """A globals file watching Uint16 globals."""
+    path = folder / "globals.toml"
+    path.write_text(
+        "".join(f'[[global]]\nname = "{n}"\ntype = "uint16"\ncolumn = "{n}"\nunit = "1"\n' for n in names)
+    )
+    return path

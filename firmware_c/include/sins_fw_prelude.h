@@ -7,22 +7,27 @@
 
 #include <stdint.h>
 
-/* Keywords of TI's compiler: an ISR is an ordinary function on the host; cregister (IER, IFR) an
-   ordinary variable. */
+/* Keywords of TI's compiler: an ISR is an ordinary function on the host (the runtime calls it, and
+   charges the interrupt entry and exit of c28x-costs.toml [interrupt]); `cregister` (IER, IFR) is
+   dropped: the replacement DSP2833x_Device.h declares them as objects reaching the emulated CPU. */
 #define interrupt
 #define __interrupt
 #define cregister
 
-/* Intrinsic instructions: protection (EALLOW/EDIS: not modelled), interrupt masks (EINT/DINT: the
-   host build takes no interrupts yet), the real-time debug mode and emulation stop, inline asm. */
-#define EALLOW
-#define EDIS
-#define EINT
-#define DINT
-#define ERTM
-#define DRTM
-#define ESTOP0
-#define asm(text)
+/* Inline assembly: the instructions TI's headers and typical firmware use are emulated (EALLOW, EDIS,
+   clrc/setc INTM = EINT/DINT, clrc/setc DBGM, NOP, ESTOP0, IDLE); any other stops the run with an
+   error quoting it. */
+void sins_fw_asm(const char *text);
+#define asm(text) sins_fw_asm(text)
+
+/* The intrinsics of TI's DSP2833x_Device.h, as TI defines them. */
+#define EINT asm(" clrc INTM")
+#define DINT asm(" setc INTM")
+#define ERTM asm(" clrc DBGM")
+#define DRTM asm(" setc DBGM")
+#define EALLOW asm(" EALLOW")
+#define EDIS asm(" EDIS")
+#define ESTOP0 asm(" ESTOP0")
 
 /* TI's main may be `void main(void)`, which C++ refuses: the firmware's main is renamed and the
    runtime calls it. */

@@ -12,6 +12,24 @@ uint16_t sins_fw_read16(uint32_t address);
 void sins_fw_write16(uint32_t address, uint16_t value);
 /* DELAY_US: virtual time passes. */
 void sins_fw_delay_us(double microseconds);
+/* PieVectTable: set and read vector n (EALLOW-protected). */
+void sins_fw_set_vector(unsigned n, void (*isr)(void));
+void (*sins_fw_vector(unsigned n))(void);
+/* The CPU's cregisters IER (0) and IFR (1). */
+uint16_t sins_fw_creg_read(int which);
+void sins_fw_creg_write(int which, uint16_t value);
+
+/* A CPU core register (TI's `cregister`): IER or IFR. */
+template <int W>
+struct SinsCReg {
+    operator uint16_t() const volatile { return sins_fw_creg_read(W); }
+    uint16_t operator=(uint16_t v) volatile {
+        sins_fw_creg_write(W, v);
+        return v;
+    }
+    uint16_t operator|=(uint16_t v) volatile { return *this = static_cast<uint16_t>(sins_fw_creg_read(W) | v); }
+    uint16_t operator&=(uint16_t v) volatile { return *this = static_cast<uint16_t>(sins_fw_creg_read(W) & v); }
+};
 
 /* A 16-bit register (`.all`, or a plain Uint16 member of TI's register struct). */
 template <uint32_t A>

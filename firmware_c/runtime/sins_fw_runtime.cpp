@@ -1,15 +1,38 @@
 /* The runtime of a host-built F28335 firmware (sins-fw build-firmware): the register-file objects of
    the replacement headers, each register access a call to the emulated board (the sins-fw C ABI)
-   charged its CPU cycles (firmware_model/c28x-costs.toml [io], passed in as SINS_FW_READ_CYCLES and
-   SINS_FW_WRITE_CYCLES), and the entry point that runs the firmware's main until a virtual time.
+   charged its CPU cycles, the interrupts, and the entry point that runs the firmware's main on a trace.
 
-   extern "C" int sins_fw_run(profile, overrides, n_overrides, until_s, message, message_len):
-       0 when main returned or the time ran out, 2 on an emulator error (the message, naming the
-       register or address, is copied into `message`). One run per loaded library: the firmware's
-       globals are not reset between runs. */
+   Time. Each register access is charged its cycles (c28x-costs.toml [io] peripheral_read /
+   peripheral_write). The firmware's own code is compiled with -fsanitize-coverage=trace-pc: the
+   compiler calls __sanitizer_cov_trace_pc at every basic block, and each call is charged
+   `block_cycles` (c28x-costs.toml [io] frame_loop: a loop pass's increment, compare and taken branch).
+   So straight-line code and loops without any register access (the idle `for (;;) {}`) let virtual
+   time pass and let interrupts in, at basic-block boundaries; DELAY_US lets them in too.
+
+   Interrupts. When the emulated CPU takes one (timer 0 → PIE → IFR/IER/INTM, modelled in the core),
+   the runtime charges the entry (hw_context_save + c_prologue), calls the function PieVectTable holds,
+   charges the exit (c_epilogue + iret), IRETs, and records a row: the timer tick, the ISR's times and
+   the values of the watched globals (after the ISR).
+
+   Polling. A read of the register the previous access read, giving the same value (a polling loop),
+   skips whole loop passes up to the last one before the register may change by itself
+   (sins_next_change_ps) or an interrupt may come: the time reached is the one the loop would have
+   reached pass by pass, as long as its passes take equal time.
+
+   End. When the next step would pass the end of the trace, a C++ exception (TraceEnd) unwinds the
+   firmware's frames back to sins_fw_run: the firmware is C++ here, so its destructors run and nothing
+   is skipped that unwinding would not skip on any C++ code. An emulator error unwinds the same way
+   (Failure) with its message. A loop that makes no register access while nothing can interrupt it
+   (INTM set, the timer or its PIE path disabled) can never end: after `spin_blocks` basic blocks
+   without an access the run stops with an error naming what blocks the interrupts, and the code
+   address of the loop (sins_fw_fault_offset: the harness turns it into file:line with addr2line). */
+#include <dlfcn.h>
+
+#include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 /* The C28x float mode (sins_fw_c28x_float.h) maps `float` and `double` onto the C28x model in the
    firmware's sources only: the runtime keeps the host's. */
@@ -19,29 +42,73 @@
 #include "DSP2833x_Device.h"
 #include "sins_fw.h"
 
-#ifndef SINS_FW_READ_CYCLES
-#error "SINS_FW_READ_CYCLES: build with sins-fw build-firmware (it takes the costs from c28x-costs.toml)"
-#endif
-#ifndef SINS_FW_WRITE_CYCLES
-#error "SINS_FW_WRITE_CYCLES: build with sins-fw build-firmware"
-#endif
-
 volatile struct SPI_REGS SpiaRegs;
 volatile struct GPIO_DATA_REGS GpioDataRegs;
 volatile struct SYS_CTRL_REGS SysCtrlRegs;
+volatile struct CPUTIMER_REGS CpuTimer0Regs;
+volatile struct PIE_CTRL_REGS PieCtrlRegs;
+struct PIE_VECT_TABLE PieVectTable;
+volatile SinsCReg<0> IER;
+volatile SinsCReg<1> IFR;
 
 void sins_fw_user_main(void);
 
+/* What the harness passes to sins_fw_run. */
+extern "C" {
+typedef int (*sins_fw_more_input)(void *ctx);
+struct SinsFwConfig {
+    SinsBoard *board;
+    uint64_t read_cycles;
+    uint64_t write_cycles;
+    uint64_t block_cycles;
+    uint64_t isr_entry_cycles;
+    uint64_t isr_exit_cycles;
+    /* Basic blocks without a register access before the check for a loop that cannot end. */
+    uint64_t spin_blocks;
+    /* Watched globals: their addresses and type codes (0 int16, 1 uint16, 2 int32, 3 uint32,
+       4 int64, 5 uint64, 6 float, 7 double). */
+    size_t n_globals;
+    const void *const *global_addr;
+    const int *global_type;
+    /* Called when the trace pushed so far is used up: push more rows or end the input; nonzero
+       stops the run (the harness keeps its own error). */
+    sins_fw_more_input more_input;
+    void *ctx;
+};
+}
+
+/* The times recorded per ISR, in this order (ps, but the first: the timer's reloads so far). */
+enum { ROW_TICK, ROW_TICK_PS, ROW_START, ROW_ENTRY_END, ROW_BODY_END, ROW_END, ROW_DEADLINE, ROW_TIMES };
+
 namespace {
 
-SinsBoard *board = nullptr;
-uint64_t until_ps = 0;
-uint64_t accesses = 0;
-
-struct TimeUp {};
+struct TraceEnd {};
 struct Failure {
     std::string message;
 };
+
+const SinsFwConfig *cfg = nullptr;
+SinsBoard *board = nullptr;
+uint64_t now_ps = 0;
+uint64_t pending_cycles = 0; /* basic blocks' cycles not yet passed to the board */
+uint64_t flush_cycles = 0;   /* flush the blocks' cycles once this many are pending */
+uint64_t irq_at = 0;         /* an interrupt may be takeable from this time (0: check at once) */
+uint64_t input_until = 0;
+bool input_ended = false;
+uint64_t cycle_ps_ceil = 7; /* one SYSCLKOUT cycle, ps, rounded up */
+uint64_t accesses = 0;
+uint64_t blocks = 0;
+uint64_t blocks_since_access = 0;
+uint64_t fault_offset = 0;
+size_t n_globals = 0;
+int isr_depth = 0;
+/* The polling skip: the last access, when it was a read. */
+bool poll_valid = false;
+uint32_t poll_addr = 0;
+uint16_t poll_value = 0;
+uint64_t poll_t = 0;
+std::vector<uint64_t> row_times;
+std::vector<double> row_values;
 
 void check(SinsStatus status, const char *what) {
     if (status != SINS_OK) {
@@ -49,12 +116,201 @@ void check(SinsStatus status, const char *what) {
     }
 }
 
-/* Virtual time ran out: unwind the firmware back to sins_fw_run. */
-void stop_if_time_up() {
-    uint64_t now = 0;
-    check(sins_now_ps(board, &now), "time");
-    if (now >= until_ps) {
-        throw TimeUp{};
+void refresh_input() {
+    int ended = 0;
+    check(sins_input_until(board, &input_until, &ended), "input");
+    input_ended = ended != 0;
+    if (input_until == UINT64_MAX) {
+        input_until = 0;
+    }
+}
+
+/* Make the input cover time `t` (asking the harness for more), or end the run there. */
+void cover(uint64_t t) {
+    while (t > input_until) {
+        if (input_ended) {
+            throw TraceEnd{};
+        }
+        if (cfg->more_input(cfg->ctx) != 0) {
+            throw Failure{""};
+        }
+        refresh_input();
+    }
+}
+
+void update_flush() {
+    uint64_t limit = irq_at < input_until ? irq_at : input_until;
+    flush_cycles = limit > now_ps ? (limit - now_ps) / cycle_ps_ceil : 0;
+    if (flush_cycles > (1u << 20)) {
+        flush_cycles = 1u << 20; /* keep the spin check and the event flow regular */
+    }
+}
+
+void read_now() { check(sins_now_ps(board, &now_ps), "time"); }
+
+/* Let `cycles` SYSCLKOUT cycles pass (no register access). */
+void pass_cycles(uint64_t cycles) {
+    if (cycles == 0) {
+        return;
+    }
+    cover(now_ps + (cycles + 1) * cycle_ps_ceil);
+    check(sins_advance_cycles(board, cycles), "time");
+    read_now();
+}
+
+void take_interrupts();
+
+void flush_blocks() {
+    uint64_t c = pending_cycles;
+    pending_cycles = 0;
+    pass_cycles(c);
+    take_interrupts();
+}
+
+/* Let `ps` picoseconds pass, taking the interrupts that come meanwhile (DELAY_US, a polling skip). */
+void pass_ps(uint64_t ps) {
+    flush_blocks();
+    uint64_t target = now_ps + ps;
+    while (now_ps < target) {
+        uint64_t step_to = irq_at > now_ps && irq_at < target ? irq_at : target;
+        cover(step_to);
+        check(sins_advance_to_ps(board, step_to), "time");
+        now_ps = step_to;
+        take_interrupts();
+    }
+    update_flush();
+}
+
+void record_row(const uint64_t *times) {
+    row_times.insert(row_times.end(), times, times + ROW_TIMES);
+    for (size_t i = 0; i < n_globals; i++) {
+        const void *p = cfg->global_addr[i];
+        double v = 0;
+        switch (cfg->global_type[i]) {
+            case 0: v = *static_cast<const volatile int16_t *>(p); break;
+            case 1: v = *static_cast<const volatile uint16_t *>(p); break;
+            case 2: v = *static_cast<const volatile int32_t *>(p); break;
+            case 3: v = *static_cast<const volatile uint32_t *>(p); break;
+            case 4: v = static_cast<double>(*static_cast<const volatile int64_t *>(p)); break;
+            case 5: v = static_cast<double>(*static_cast<const volatile uint64_t *>(p)); break;
+            case 6: v = *static_cast<const volatile float *>(p); break;
+            default: v = *static_cast<const volatile double *>(p); break;
+        }
+        row_values.push_back(v);
+    }
+}
+
+void run_isr(int vector, uint64_t isr) {
+    if (isr == 0) {
+        throw Failure{"the CPU took PIE vector " + std::to_string(vector) +
+                      (vector == 38 ? " (TINT0)" : "") +
+                      " but PieVectTable holds no ISR there: set it under EALLOW (PieVectTable.TINT0 = &isr;)"};
+    }
+    uint64_t times[ROW_TIMES] = {};
+    uint64_t next = 0;
+    check(sins_timer0_ticks(board, &times[ROW_TICK], &times[ROW_TICK_PS], &next), "timer 0");
+    times[ROW_DEADLINE] = next == UINT64_MAX ? now_ps : next;
+    times[ROW_START] = now_ps;
+    poll_valid = false;
+    pass_cycles(cfg->isr_entry_cycles);
+    times[ROW_ENTRY_END] = now_ps;
+    isr_depth++;
+    irq_at = 0;
+    update_flush();
+    reinterpret_cast<void (*)(void)>(static_cast<uintptr_t>(isr))();
+    isr_depth--;
+    uint64_t c = pending_cycles;
+    pending_cycles = 0;
+    pass_cycles(c);
+    times[ROW_BODY_END] = now_ps;
+    pass_cycles(cfg->isr_exit_cycles);
+    times[ROW_END] = now_ps;
+    check(sins_iret(board), "IRET");
+    poll_valid = false;
+    record_row(times);
+}
+
+/* Take every interrupt the CPU takes now (one after another: an ISR's exit may let the next in). */
+void take_interrupts() {
+    while (now_ps >= irq_at) {
+        int vector = -1;
+        uint64_t isr = 0;
+        check(sins_take_interrupt(board, &vector, &isr), "interrupt");
+        if (vector < 0) {
+            check(sins_next_interrupt_ps(board, &irq_at, nullptr, 0), "interrupt");
+            if (irq_at <= now_ps) {
+                irq_at = now_ps + 1; /* due at the next step */
+            }
+            break;
+        }
+        run_isr(vector, isr);
+        irq_at = 0;
+    }
+    update_flush();
+}
+
+/* A loop without register access: stop it if nothing can ever interrupt it. */
+void spin_check(const void *pc) {
+    char why[160] = {0};
+    uint64_t next = 0;
+    check(sins_next_interrupt_ps(board, &next, why, sizeof why), "interrupt");
+    if (next != UINT64_MAX) {
+        return;
+    }
+    Dl_info info;
+    if (dladdr(pc, &info) != 0 && info.dli_fbase != nullptr) {
+        fault_offset = reinterpret_cast<uintptr_t>(pc) - reinterpret_cast<uintptr_t>(info.dli_fbase);
+    }
+    throw Failure{"the firmware loops without any register access and nothing can interrupt the loop (" +
+                  std::string(why) + "): it would never leave it (" + std::to_string(blocks_since_access) +
+                  " basic blocks run since the last register access)"};
+}
+
+void before_access(uint64_t cycles) {
+    blocks_since_access = 0;
+    accesses++;
+    cover(now_ps + (pending_cycles + cycles + 1) * cycle_ps_ceil);
+}
+
+void after_access() {
+    if (now_ps >= irq_at) {
+        take_interrupts();
+    } else if (now_ps + flush_cycles * cycle_ps_ceil > irq_at) {
+        update_flush();
+    }
+}
+
+void mark_irq_state_changed() {
+    irq_at = 0;
+    flush_cycles = 0;
+}
+
+/* A polling read that saw no change: skip the passes that would see none. */
+void poll_skip(uint32_t address) {
+    uint64_t period = now_ps - poll_t;
+    uint64_t change = UINT64_MAX;
+    check(sins_next_change_ps(board, address, &change), "poll");
+    if (change == UINT64_MAX && irq_at == UINT64_MAX && isr_depth == 0) {
+        char why[160] = {0};
+        uint64_t next = 0;
+        check(sins_next_interrupt_ps(board, &next, why, sizeof why), "interrupt");
+        char where[64];
+        std::snprintf(where, sizeof where, "0x%04X", static_cast<unsigned>(address));
+        throw Failure{std::string("the firmware polls the register at ") + where +
+                      ", which does not change by itself, and nothing can interrupt the loop (" + why +
+                      "): it would never leave it"};
+    }
+    uint64_t until = change < irq_at ? change : irq_at;
+    if (period == 0 || until == UINT64_MAX || until <= now_ps + period) {
+        poll_t = now_ps;
+        return;
+    }
+    uint64_t passes = (until - now_ps + period - 1) / period; /* the pass that sees the change */
+    uint64_t skip = (passes - 1) * period;
+    poll_t = now_ps + skip;
+    if (skip > 0) {
+        pass_ps(skip);
+        poll_t = now_ps;
     }
 }
 
@@ -62,57 +318,195 @@ void stop_if_time_up() {
 
 uint16_t sins_fw_read16(uint32_t address) {
     uint16_t value = 0;
-    check(sins_advance_cycles(board, SINS_FW_READ_CYCLES), "read");
-    check(sins_read16(board, address, &value), "read");
-    accesses++;
-    stop_if_time_up();
+    uint64_t cycles = pending_cycles + cfg->read_cycles;
+    before_access(cfg->read_cycles);
+    pending_cycles = 0;
+    check(sins_cpu_read16(board, address, cycles, &value, &now_ps), "read");
+    bool polling = poll_valid && poll_addr == address && poll_value == value;
+    if ((address & 0xFF00u) == 0x0C00u) {
+        mark_irq_state_changed();
+    }
+    after_access();
+    if (polling) {
+        poll_skip(address);
+    } else {
+        poll_t = now_ps;
+    }
+    poll_valid = true;
+    poll_addr = address;
+    poll_value = value;
     return value;
 }
 
 void sins_fw_write16(uint32_t address, uint16_t value) {
-    check(sins_advance_cycles(board, SINS_FW_WRITE_CYCLES), "write");
-    check(sins_write16(board, address, value), "write");
-    accesses++;
-    stop_if_time_up();
+    uint64_t cycles = pending_cycles + cfg->write_cycles;
+    before_access(cfg->write_cycles);
+    pending_cycles = 0;
+    check(sins_cpu_write16(board, address, value, cycles, &now_ps), "write");
+    poll_valid = false;
+    if ((address & 0xFF00u) == 0x0C00u) {
+        mark_irq_state_changed();
+    }
+    after_access();
 }
 
 void sins_fw_delay_us(double microseconds) {
     if (!(microseconds >= 0.0)) {
         throw Failure{"DELAY_US(" + std::to_string(microseconds) + "): expected a time >= 0"};
     }
-    check(sins_advance_ps(board, static_cast<uint64_t>(microseconds * 1e6 + 0.5)), "DELAY_US");
-    stop_if_time_up();
+    poll_valid = false;
+    pass_ps(static_cast<uint64_t>(microseconds * 1e6 + 0.5));
 }
 
-extern "C" int sins_fw_run(const char *profile, const char *const *overrides, size_t n_overrides, double until_s,
-                           char *message, size_t message_len) {
+uint16_t sins_fw_creg_read(int which) {
+    uint16_t v = 0;
+    check(sins_creg_read(board, which, &v), which == 0 ? "IER" : "IFR");
+    return v;
+}
+
+void sins_fw_creg_write(int which, uint16_t value) {
+    check(sins_creg_write(board, which, value), which == 0 ? "IER" : "IFR");
+    mark_irq_state_changed();
+    after_access();
+}
+
+void sins_fw_set_vector(unsigned n, void (*isr)(void)) {
+    check(sins_set_vector(board, n, static_cast<uint64_t>(reinterpret_cast<uintptr_t>(isr))), "PieVectTable");
+}
+
+void (*sins_fw_vector(unsigned n))(void) {
+    uint64_t v = 0;
+    check(sins_vector(board, n, &v), "PieVectTable");
+    return reinterpret_cast<void (*)(void)>(static_cast<uintptr_t>(v));
+}
+
+void sins_fw_asm(const char *text) {
+    std::string op;
+    for (const char *c = text; *c != '\0'; c++) {
+        if (!std::isspace(static_cast<unsigned char>(*c))) {
+            op += static_cast<char>(std::toupper(static_cast<unsigned char>(*c)));
+        } else if (!op.empty() && op.back() != ' ') {
+            op += ' ';
+        }
+    }
+    while (!op.empty() && op.back() == ' ') {
+        op.pop_back();
+    }
+    if (op == "EALLOW" || op == "EDIS") {
+        check(sins_set_eallow(board, op == "EALLOW"), "EALLOW");
+    } else if (op == "CLRC INTM" || op == "SETC INTM") {
+        check(sins_set_intm(board, op == "SETC INTM"), "INTM");
+        mark_irq_state_changed();
+        after_access();
+    } else if (op == "CLRC DBGM" || op == "SETC DBGM" || op == "NOP" || op == "ESTOP0") {
+        /* The real-time debug mode and emulation stops have no effect on the emulated board. */
+    } else if (op == "IDLE") {
+        /* Wait for the next interrupt: time passes up to it. */
+        flush_blocks();
+        if (irq_at == UINT64_MAX) {
+            throw Failure{"asm(\" IDLE\"): no interrupt can wake the CPU"};
+        }
+        pass_ps(irq_at > now_ps ? irq_at - now_ps : 0);
+    } else {
+        throw Failure{std::string("asm(\"") + text + "\"): the host build emulates EALLOW, EDIS, clrc/setc INTM, " +
+                      "clrc/setc DBGM, NOP, ESTOP0 and IDLE only"};
+    }
+}
+
+/* Called by the compiler's instrumentation (-fsanitize-coverage=trace-pc) at every basic block of
+   the firmware's own code. */
+extern "C" void __sanitizer_cov_trace_pc(void) {
+    if (cfg == nullptr) {
+        return; /* static constructors, before a run */
+    }
+    blocks++;
+    pending_cycles += cfg->block_cycles;
+    if (++blocks_since_access >= cfg->spin_blocks && blocks_since_access % cfg->spin_blocks == 0) {
+        spin_check(__builtin_return_address(0));
+    }
+    if (pending_cycles >= flush_cycles) {
+        flush_blocks();
+    }
+}
+
+/* Called at each pass of an empty endless loop (the build adds the call before its jump to itself:
+   firmware_build.instrument_self_jumps). The loop does nothing, so the passes up to the next
+   interrupt (or the end of the input pushed so far) are charged at once, in whole passes of
+   `block_cycles`; with no interrupt possible the loop can never end: an error. */
+extern "C" void sins_fw_idle(void) {
+    if (cfg == nullptr) {
+        return;
+    }
+    if (irq_at == UINT64_MAX) {
+        spin_check(__builtin_return_address(0));
+    }
+    uint64_t passes = flush_cycles > pending_cycles
+                          ? (flush_cycles - pending_cycles + cfg->block_cycles - 1) / cfg->block_cycles
+                          : 1;
+    if (passes == 0) {
+        passes = 1;
+    }
+    blocks += passes;
+    blocks_since_access += passes;
+    pending_cycles += passes * cfg->block_cycles;
+    flush_blocks();
+}
+
+extern "C" int sins_fw_run(const SinsFwConfig *config, char *message, size_t message_len) {
     int rc = 0;
     std::string text;
+    cfg = config;
+    board = config->board;
+    n_globals = config->n_globals;
+    accesses = blocks = blocks_since_access = fault_offset = pending_cycles = 0;
+    isr_depth = 0;
+    poll_valid = false;
+    row_times.clear();
+    row_values.clear();
     try {
-        if (!(until_s > 0.0)) {
-            throw Failure{"until_s: expected a time > 0 s"};
+        if (config->spin_blocks == 0 || config->more_input == nullptr) {
+            throw Failure{"sins_fw_run: spin_blocks must be > 0 and more_input set"};
         }
-        until_ps = static_cast<uint64_t>(until_s * 1e12 + 0.5);
-        check(sins_board_new(profile, overrides, n_overrides, &board), profile);
+        /* One cycle in ps, rounded up: the time between two cycle boundaries is at most this. */
+        uint64_t c0 = 0;
+        read_now();
+        c0 = now_ps;
+        check(sins_advance_cycles(board, 1), "time");
+        read_now();
+        cycle_ps_ceil = now_ps - c0 + 1;
+        refresh_input();
+        irq_at = 0;
+        update_flush();
         sins_fw_user_main();
-    } catch (const TimeUp &) {
+    } catch (const TraceEnd &) {
     } catch (const Failure &f) {
         rc = 2;
         text = f.message;
     }
+    cfg = nullptr;
     if (message != nullptr && message_len > 0) {
         std::snprintf(message, message_len, "%s", text.c_str());
     }
     return rc;
 }
 
-/* After a run: virtual time reached, ps, and register accesses made. */
-extern "C" uint64_t sins_fw_now_ps(void) {
-    uint64_t now = 0;
-    if (board != nullptr && sins_now_ps(board, &now) != SINS_OK) {
-        return 0;
+/* The ISR rows recorded since the last call: up to `capacity` rows (ROW_TIMES times and the watched
+   globals' values each) into the arrays; returns how many. */
+extern "C" size_t sins_fw_take_rows(uint64_t *times, double *values, size_t capacity) {
+    size_t per = n_globals;
+    size_t have = row_times.size() / ROW_TIMES;
+    size_t n = have < capacity ? have : capacity;
+    std::memcpy(times, row_times.data(), n * ROW_TIMES * sizeof(uint64_t));
+    if (per > 0) {
+        std::memcpy(values, row_values.data(), n * per * sizeof(double));
     }
-    return now;
+    row_times.erase(row_times.begin(), row_times.begin() + static_cast<long>(n * ROW_TIMES));
+    row_values.erase(row_values.begin(), row_values.begin() + static_cast<long>(n * per));
+    return n;
 }
 
+extern "C" size_t sins_fw_rows_ready(void) { return row_times.size() / ROW_TIMES; }
 extern "C" uint64_t sins_fw_accesses(void) { return accesses; }
+extern "C" uint64_t sins_fw_blocks(void) { return blocks; }
+/* The offset in the firmware library of the loop a spin error names (0: none). */
+extern "C" uint64_t sins_fw_fault_offset(void) { return fault_offset; }

@@ -82,6 +82,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         "firmware starting from Q = [1,0,0,0]), heading (about navigation z), none; auto picks initial "
         "for firmware.initial_attitude = zero, heading for level (default auto)",
     )
+    p.add_argument(
+        "--firmware",
+        type=Path,
+        metavar="FW.so",
+        help="run this host-built C firmware (`sins-fw build-firmware`) instead of the profile's Rust model: "
+        "its main runs until the trace ends, its ISR on CPU timer 0 (docs/c-drivers.md)",
+    )
+    p.add_argument(
+        "--globals",
+        type=Path,
+        metavar="FILE.toml",
+        help="with --firmware: the firmware's globals to read after each ISR, as output columns (default: "
+        "globals.toml beside FW.so, if there)",
+    )
     add_read_options(p)
     add_json_option(p)
     p.set_defaults(func=run)
@@ -171,6 +185,10 @@ def _out_state(out: Path | None, existed: bool) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.firmware is not None:
+        return _run_firmware(args)
+    if args.globals is not None:
+        raise InputError("--globals names the globals of a C firmware: give --firmware too")
     for option, out in (("--out", args.out), ("--raw-out", args.raw_out)):
         if out is not None:
             check_output_path(out)
@@ -279,3 +297,99 @@ def _raw_metadata(args: argparse.Namespace) -> dict[str, str]:
         "generator": " ".join(command),
         "created_by": "sins-fw run --raw-out (no version or time recorded: regeneration is byte-identical)",
     }
+
+
+def _run_firmware(args: argparse.Namespace) -> int:
+    """`run TRACE --firmware FW.so`: the host-built C firmware on the trace, reported as a run of the
+    Rust model is (summary, events, budget, --out in the run output's format)."""
+    from sins_fw.firmware_run import (
+        FirmwareRunWriter,
+        default_globals,
+        firmware_metadata,
+        load_globals,
+        run_c_firmware,
+    )
+
+    if args.raw_out is not None:
+        raise InputError(
+            "--raw-out records the Rust model's burst reads; with --firmware it is not available"
+        )
+    if args.out is not None:
+        check_output_path(args.out)
+        check_output_folder(args.out, "--out")
+    check_distinct(
+        {"TRACE": args.trace, "--profile": profile_file(args), "--firmware": args.firmware},
+        {"--out": args.out},
+    )
+    check_until_s(args.until_s, "--until-s")
+    if not args.trace.is_file():
+        raise TraceError(f"{args.trace}: no such trace file")
+    if is_raw_register_trace(args.trace):
+        raise TraceError(
+            f"{args.trace}: a raw-register trace replays recorded words into the Rust model; a C firmware "
+            "reads the device model: give a physical trace"
+        )
+    if not args.firmware.is_file():
+        raise InputError(
+            f"{args.firmware}: no such firmware library (build it with `sins-fw build-firmware`)"
+        )
+    globals_file = args.globals if args.globals is not None else default_globals(args.firmware)
+    watched = load_globals(globals_file) if globals_file is not None else []
+    profile = profile_from_args(args)
+    read = read_options(args)
+    trace: Any = args.trace
+    if read is not None or args.allow_gaps:
+        trace = PhysicalTrace.iter_chunks(args.trace, CHUNK_ROWS, allow_gaps=args.allow_gaps, read=read)
+    summary_acc = RunSummary(profile, align=args.align)
+    span = progress.trace_span_s(args.trace)
+    with contextlib.ExitStack() as files, progress.trace_bar(progress.wanted(args), span) as bar:
+        writer = None
+        if args.out is not None:
+            meta = {**trace_reference(args.trace, args.out), **firmware_metadata(args.firmware, globals_file)}
+            if args.until_s is not None:
+                meta["until_s"] = repr(args.until_s)
+            t0 = _first_time(args.trace, read) or 0.0
+            writer = files.enter_context(FirmwareRunWriter(args.out, profile, t0, meta, watched))
+
+        def sink(part: dict[str, Any]) -> None:
+            summary_acc.add(part)
+            if writer is not None:
+                writer.add(part)
+
+        def on_chunk(t: float) -> None:
+            bar(t)
+            check_stop()
+
+        result = run_c_firmware(
+            args.firmware,
+            trace,
+            profile,
+            globals_file=globals_file,
+            sink=sink,
+            until_s=args.until_s,
+            on_chunk=on_chunk,
+        )
+        if writer is not None:
+            writer.close()
+    summary = summary_acc.result(trace=str(args.trace), t0_s=result.t0_s, stage_cycles={})
+    summary["firmware"] = {
+        "library": str(args.firmware),
+        "globals": None if globals_file is None else str(globals_file),
+        "isr_runs": result.isr_rows,
+        "register_accesses": result.accesses,
+        "basic_blocks": result.blocks,
+        "virtual_time_s": result.now_s,
+        "final_globals": result.final,
+    }
+    if args.out is not None:
+        summary["out"] = str(args.out)
+    text = render(summary)
+    text = (
+        f"firmware       {args.firmware}: {result.isr_rows} ISR runs, {result.accesses} register accesses, "
+        f"main stopped at {result.now_s:.6f} s (the trace's end)\n" + text
+    )
+    if args.out is not None:
+        text += f"\nwrote          {args.out} ({summary['cycles']} ISR rows)"
+    emit(args, summary, text)
+    check_error_counts(summary_acc.error_counts(), summary_acc.first_error())
+    return 0

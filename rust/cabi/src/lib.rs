@@ -205,6 +205,21 @@ pub unsafe extern "C" fn sins_board_new(
     n_overrides: usize,
     out: *mut *mut SinsBoard,
 ) -> SinsStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe { board_new(profile, overrides, n_overrides, out, false) }
+}
+
+/// `sins_board_new` and `sins_board_new_input`.
+///
+/// # Safety
+/// As `sins_board_new`.
+unsafe fn board_new(
+    profile: *const c_char,
+    overrides: *const *const c_char,
+    n_overrides: usize,
+    out: *mut *mut SinsBoard,
+    streamed: bool,
+) -> SinsStatus {
     call(|| {
         put(out, std::ptr::null_mut(), "out")?;
         let name = c_str(profile, "profile")?;
@@ -221,7 +236,8 @@ pub unsafe extern "C" fn sins_board_new(
         let text = std::fs::read_to_string(&path)
             .map_err(|e| Error::Profile(format!("{}: cannot read the profile: {e}", path.display())))?;
         let p = Profile::from_toml(&text, &path.display().to_string(), &ov)?;
-        let b = Box::new(SinsBoard { board: HostBoard::new(&p)?, events: VecDeque::new() });
+        let board = if streamed { HostBoard::with_input(&p)? } else { HostBoard::new(&p)? };
+        let b = Box::new(SinsBoard { board, events: VecDeque::new() });
         put(out, Box::into_raw(b), "out")
     })
 }
@@ -478,4 +494,354 @@ pub extern "C" fn sins_c28x_div(a: f32, b: f32) -> f32 {
 #[no_mangle]
 pub extern "C" fn sins_c28x_sqrt(x: f32) -> f32 {
     C28xF32Rn::new(x).sqrt().value()
+}
+
+/// Create a board (as `sins_board_new`) whose ADIS16407 reads a streamed input, a trace: push its
+/// rows with `sins_push_input` (time 0 is power-on), then `sins_end_input`.
+///
+/// # Safety
+/// As `sins_board_new`.
+#[no_mangle]
+pub unsafe extern "C" fn sins_board_new_input(
+    profile: *const c_char,
+    overrides: *const *const c_char,
+    n_overrides: usize,
+    out: *mut *mut SinsBoard,
+) -> SinsStatus {
+    // SAFETY: the caller's contract is sins_board_new's.
+    unsafe { board_new(profile, overrides, n_overrides, out, true) }
+}
+
+/// Append `n` rows of input: times (s since power-on, increasing), angular rate (°/s) and
+/// acceleration (g), three per row; magnetic field (gauss, three per row), pressure (mbar) and
+/// temperature (°C) may be null (then the powered-idle values).
+///
+/// # Safety
+/// `board` is a live handle from `sins_board_new_input`; each non-null array holds `n` rows.
+#[no_mangle]
+pub unsafe extern "C" fn sins_push_input(
+    board: *mut SinsBoard,
+    t_s: *const f64,
+    gyro_dps: *const f64,
+    accel_g: *const f64,
+    mag_gauss: *const f64,
+    baro_mbar: *const f64,
+    temp_c: *const f64,
+    n: usize,
+) -> SinsStatus {
+    call(|| {
+        let b = self::board(board)?;
+        let slice = |p: *const f64, len: usize| -> Option<&[f64]> {
+            // SAFETY: when non-null, `len` doubles (the caller's contract).
+            (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts(p, len) })
+        };
+        let t = slice(t_s, n).ok_or(Failure::Null("t_s"))?;
+        let g = slice(gyro_dps, 3 * n).ok_or(Failure::Null("gyro_dps"))?;
+        let a = slice(accel_g, 3 * n).ok_or(Failure::Null("accel_g"))?;
+        let (m, p, tc) = (slice(mag_gauss, 3 * n), slice(baro_mbar, n), slice(temp_c, n));
+        let idle = Physical::powered_idle();
+        let v3 = |s: &[f64], i: usize| [s[3 * i], s[3 * i + 1], s[3 * i + 2]];
+        let rows = (0..n)
+            .map(|i| Physical {
+                gyro_dps: v3(g, i),
+                accel_g: v3(a, i),
+                mag_gauss: m.map_or(idle.mag_gauss, |m| v3(m, i)),
+                baro_mbar: p.map_or(idle.baro_mbar, |p| p[i]),
+                temp_c: tc.map_or(idle.temp_c, |tc| tc[i]),
+                ..idle
+            })
+            .collect();
+        Ok(b.board.push_input(t, rows)?)
+    })
+}
+
+/// No more input will come.
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_end_input(board: *mut SinsBoard) -> SinsStatus {
+    call(|| {
+        self::board(board)?.board.end_input();
+        Ok(())
+    })
+}
+
+/// The last time the input covers (`*t_ps`, rounded down; `UINT64_MAX` before the first row) and
+/// whether it has ended (`*ended` 1 or 0).
+///
+/// # Safety
+/// `board` is a live handle; `t_ps` and `ended` point to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_input_until(board: *mut SinsBoard, t_ps: *mut u64, ended: *mut c_int) -> SinsStatus {
+    call(|| {
+        let (t, e) = self::board(board)?.board.input_until().unwrap_or((u64::MAX, false));
+        put(t_ps, t, "t_ps")?;
+        put(ended, c_int::from(e), "ended")
+    })
+}
+
+/// A CPU read as a host-built firmware makes it: let `cycles` SYSCLKOUT cycles pass (the access's
+/// cost), then read the word at `address` into `*out`; virtual time after it into `*now_ps` (may be
+/// null).
+///
+/// # Safety
+/// `board` is a live handle; `out` points to writable memory; `now_ps` is null or does.
+#[no_mangle]
+pub unsafe extern "C" fn sins_cpu_read16(
+    board: *mut SinsBoard,
+    address: u32,
+    cycles: u64,
+    out: *mut u16,
+    now_ps: *mut u64,
+) -> SinsStatus {
+    call(|| {
+        let b = &mut self::board(board)?.board;
+        b.advance_cycles(cycles)?;
+        put(out, b.read(address)?, "out")?;
+        if !now_ps.is_null() {
+            put(now_ps, b.now(), "now_ps")?;
+        }
+        Ok(())
+    })
+}
+
+/// A CPU write (see `sins_cpu_read16`).
+///
+/// # Safety
+/// `board` is a live handle; `now_ps` is null or points to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_cpu_write16(
+    board: *mut SinsBoard,
+    address: u32,
+    value: u16,
+    cycles: u64,
+    now_ps: *mut u64,
+) -> SinsStatus {
+    call(|| {
+        let b = &mut self::board(board)?.board;
+        b.advance_cycles(cycles)?;
+        b.write(address, value)?;
+        if !now_ps.is_null() {
+            put(now_ps, b.now(), "now_ps")?;
+        }
+        Ok(())
+    })
+}
+
+/// The interrupt the CPU takes now, acknowledged as the CPU and the PIE do it: its PIE vector
+/// number into `*vector` (-1 when none) and the ISR address set in PieVectTable into `*isr` (0 when
+/// none, or never set). The caller runs the ISR, then calls `sins_iret`.
+///
+/// # Safety
+/// `board` is a live handle; `vector` and `isr` point to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_take_interrupt(board: *mut SinsBoard, vector: *mut c_int, isr: *mut u64) -> SinsStatus {
+    call(|| {
+        let taken = self::board(board)?.board.take_interrupt();
+        put(vector, taken.map_or(-1, |t| t.vector as c_int), "vector")?;
+        put(isr, taken.map_or(0, |t| t.isr), "isr")
+    })
+}
+
+/// IRET: IER, INTM and EALLOW back as the interrupt found them.
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_iret(board: *mut SinsBoard) -> SinsStatus {
+    call(|| Ok(self::board(board)?.board.iret()?))
+}
+
+/// The CPU's IER (`which` = 0) or IFR (1) into `*out`.
+///
+/// # Safety
+/// `board` is a live handle; `out` points to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_creg_read(board: *mut SinsBoard, which: c_int, out: *mut u16) -> SinsStatus {
+    call(|| {
+        let b = &mut self::board(board)?.board;
+        let v = match which {
+            0 => b.ier(),
+            1 => b.ifr(),
+            _ => return Err(Error::Input(format!("cregister {which}: expected 0 (IER) or 1 (IFR)")).into()),
+        };
+        put(out, v, "out")
+    })
+}
+
+/// Set the CPU's IER (`which` = 0) or IFR (1).
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_creg_write(board: *mut SinsBoard, which: c_int, value: u16) -> SinsStatus {
+    call(|| {
+        let b = &mut self::board(board)?.board;
+        match which {
+            0 => b.set_ier(value),
+            1 => b.set_ifr(value),
+            _ => return Err(Error::Input(format!("cregister {which}: expected 0 (IER) or 1 (IFR)")).into()),
+        }
+        Ok(())
+    })
+}
+
+/// INTM: `masked` ≠ 0 is DINT, 0 is EINT.
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_set_intm(board: *mut SinsBoard, masked: c_int) -> SinsStatus {
+    call(|| {
+        self::board(board)?.board.set_intm(masked != 0);
+        Ok(())
+    })
+}
+
+/// EALLOW (`on` ≠ 0) and EDIS (0).
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_set_eallow(board: *mut SinsBoard, on: c_int) -> SinsStatus {
+    call(|| {
+        self::board(board)?.board.set_eallow(on != 0);
+        Ok(())
+    })
+}
+
+/// Set PieVectTable vector `n` (0…127; TINT0 is 38) to a host ISR's address: ignored without
+/// EALLOW (a `protected_write` event).
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_set_vector(board: *mut SinsBoard, n: u32, isr: u64) -> SinsStatus {
+    call(|| Ok(self::board(board)?.board.set_vector(n as usize, isr)?))
+}
+
+/// PieVectTable vector `n` into `*out`.
+///
+/// # Safety
+/// `board` is a live handle; `out` points to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_vector(board: *mut SinsBoard, n: u32, out: *mut u64) -> SinsStatus {
+    call(|| {
+        let v = self::board(board)?.board.vector(n as usize);
+        put(out, v, "out")
+    })
+}
+
+/// When an interrupt may next become takeable without a register access (`UINT64_MAX`: none can)
+/// into `*t_ps`; when none can, what blocks it (NUL-terminated, cut to `len`) into `text` (may be
+/// null).
+///
+/// # Safety
+/// `board` is a live handle; `t_ps` points to writable memory; `text` is null or points to `len`
+/// writable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn sins_next_interrupt_ps(
+    board: *mut SinsBoard,
+    t_ps: *mut u64,
+    text: *mut c_char,
+    len: usize,
+) -> SinsStatus {
+    call(|| {
+        let b = &self::board(board)?.board;
+        put(t_ps, b.next_interrupt_ps().unwrap_or(u64::MAX), "t_ps")?;
+        if !text.is_null() && len > 0 {
+            let why = b.interrupts_blocked().map_or("", |w| w.text()).as_bytes();
+            let n = why.len().min(len - 1);
+            // SAFETY: `text` holds `len` > n bytes (the caller's contract).
+            unsafe {
+                std::ptr::copy_nonoverlapping(why.as_ptr().cast::<c_char>(), text, n);
+                *text.add(n) = 0;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// CPU timer 0's reloads since power-on (`*count`), the time of the last one (`*last_ps`, 0 before
+/// the first) and of the next (`*next_ps`, `UINT64_MAX` when stopped).
+///
+/// # Safety
+/// `board` is a live handle; the three pointers point to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_timer0_ticks(
+    board: *mut SinsBoard,
+    count: *mut u64,
+    last_ps: *mut u64,
+    next_ps: *mut u64,
+) -> SinsStatus {
+    call(|| {
+        let (n, last, next) = self::board(board)?.board.timer0_ticks();
+        put(count, n, "count")?;
+        put(last_ps, last.unwrap_or(0), "last_ps")?;
+        put(next_ps, next.unwrap_or(u64::MAX), "next_ps")
+    })
+}
+
+/// The earliest time after now at which the register at `address` may read differently with no
+/// other access in between (`UINT64_MAX`: not by itself), for a polling loop to skip to.
+///
+/// # Safety
+/// `board` is a live handle; `t_ps` points to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_next_change_ps(board: *mut SinsBoard, address: u32, t_ps: *mut u64) -> SinsStatus {
+    call(|| {
+        let t = self::board(board)?.board.next_change_ps(address).unwrap_or(u64::MAX);
+        put(t_ps, t, "t_ps")
+    })
+}
+
+/// Take the next event (in time order) into `*event`, its message (NUL-terminated, cut to `len`)
+/// into `message`, its rule figures into `*measured` and `*required` (NaN when it has none);
+/// `*got` is 0 when there was none.
+///
+/// # Safety
+/// `board` is a live handle; `event`, `measured`, `required` and `got` point to writable memory;
+/// `message` is null or points to `len` writable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn sins_take_event(
+    board: *mut SinsBoard,
+    event: *mut SinsEvent,
+    message: *mut c_char,
+    len: usize,
+    measured: *mut f64,
+    required: *mut f64,
+    got: *mut c_int,
+) -> SinsStatus {
+    call(|| {
+        let b = self::board(board)?;
+        b.events.extend(b.board.take_events());
+        let Some(e) = b.events.pop_front() else {
+            return put(got, 0, "got");
+        };
+        let mut kind = [0 as c_char; 40];
+        for (k, byte) in kind.iter_mut().zip(e.event.kind.bytes().take(39)) {
+            *k = byte as c_char;
+        }
+        let ev = SinsEvent {
+            t_ps: e.event.t_ps,
+            frame: e.frame.map_or(-1, |f| f.index as i64),
+            din: e.frame.map_or(0, |f| f.din),
+            severity: e.event.severity as u8,
+            kind,
+        };
+        put(event, ev, "event")?;
+        if !message.is_null() && len > 0 {
+            let text = e.event.message.as_bytes();
+            let n = text.len().min(len - 1);
+            // SAFETY: `message` holds `len` > n bytes (the caller's contract).
+            unsafe {
+                std::ptr::copy_nonoverlapping(text.as_ptr().cast::<c_char>(), message, n);
+                *message.add(n) = 0;
+            }
+        }
+        put(measured, e.event.measured.unwrap_or(f64::NAN), "measured")?;
+        put(required, e.event.required.unwrap_or(f64::NAN), "required")?;
+        put(got, 1, "got")
+    })
 }

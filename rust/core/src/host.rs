@@ -16,10 +16,12 @@
 //!   to the frame that ended last before it. An event inside a character still shifting waits until
 //!   the character ends.
 
+use crate::board::InputFeed;
 use crate::bus::link::{FrameRecord, LinkRecord, SpiLink};
 use crate::device::error_model::ErrorModel;
 use crate::device::{Adis16407, Constant, Physical};
 use crate::dsp::clocks::DspClocks;
+use crate::dsp::interrupts::{Blocked, Interrupts, Taken};
 use crate::dsp::spi;
 use crate::error::{Error, Result};
 use crate::events::Event;
@@ -64,24 +66,30 @@ pub const LOSPCP: u32 = 0x701B;
 /// The chip select of the ADIS16407 on the reference board.
 pub const CS_GPIO: u32 = 57;
 
-/// A register by name: (address, width in bits).
+fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
+    REGISTERS.iter().chain(crate::dsp::interrupts::REGISTERS)
+}
+
+/// A register by name: (address, width in bits). CPU timer 0's are `TIMER0TIM`, `TIMER0PRD`,
+/// `TIMER0TCR`, `TIMER0TPR`, `TIMER0TPRH`; the PIE's `PIECTRL`, `PIEACK`, `PIEIER1`…, `PIEIFR1`….
 pub fn register(name: &str) -> Result<(u32, u32)> {
     let upper = name.to_ascii_uppercase();
-    REGISTERS.iter().find(|r| r.0 == upper).map(|r| (r.1, r.2)).ok_or_else(|| {
-        let names: Vec<&str> = REGISTERS.iter().map(|r| r.0).collect();
+    all_registers().find(|r| r.0 == upper).map(|r| (r.1, r.2)).ok_or_else(|| {
+        let names: Vec<&str> = all_registers().map(|r| r.0).collect();
         Error::Register(format!("register `{name}`: expected one of {}", names.join(", ")))
     })
 }
 
 /// The name of the register at `addr` (its low word for a 32-bit one), if modelled.
 pub fn register_name(addr: u32) -> Option<&'static str> {
-    REGISTERS.iter().find(|r| addr >= r.1 && addr < r.1 + r.2 / 16).map(|r| r.0)
+    all_registers().find(|r| addr >= r.1 && addr < r.1 + r.2 / 16).map(|r| r.0)
 }
 
 fn no_register(addr: u32) -> Error {
     Error::Register(format!(
         "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, LOSPCP 0x701B, \
-         GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7)"
+         GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timer 0 0x0C00…0x0C07, PIE control \
+         0x0CE0…0x0CF9; PieVectTable 0x0D00… is set through its vectors)"
     ))
 }
 
@@ -134,6 +142,15 @@ pub struct HostBoard {
     recent: Vec<FrameRecord>,
     /// Events not yet tied to their frame or not yet taken.
     pending: Vec<Event>,
+    /// CPU timer 0, the PIE and the CPU's interrupt state.
+    irq: Interrupts,
+    /// The device's input when it reads a trace ([`HostBoard::with_input`]).
+    feed: Option<InputFeed>,
+    /// Timer 0's reloads when its interrupt was last taken.
+    tint0_taken: u64,
+    /// Keep the transaction log for [`HostBoard::take_log`] (not on a board reading a trace: a
+    /// firmware run would keep every frame).
+    keep_log: bool,
 }
 
 impl HostBoard {
@@ -169,7 +186,177 @@ impl HostBoard {
             log: Vec::new(),
             recent: Vec::new(),
             pending: Vec::new(),
+            irq: Interrupts::new(clocks.sysclkout),
+            feed: None,
+            tint0_taken: 0,
+            keep_log: true,
         })
+    }
+
+    /// The board of a profile whose ADIS16407 sees a streamed input (a trace: push its rows with
+    /// [`HostBoard::push_input`], time 0 is power-on) instead of a still, powered part.
+    pub fn with_input(profile: &Profile) -> Result<HostBoard> {
+        let mut b = HostBoard::new(profile)?;
+        let (feed, stimulus) = InputFeed::new();
+        b.link.slave_mut().set_stimulus(Box::new(stimulus));
+        b.feed = Some(feed);
+        b.keep_log = false;
+        Ok(b)
+    }
+
+    /// Append rows of input (times in s since power-on, strictly increasing across calls).
+    pub fn push_input(&mut self, t_s: &[f64], samples: Vec<Physical>) -> Result<()> {
+        match &self.feed {
+            Some(f) => f.push(t_s, samples),
+            None => Err(Error::Input("push_input: this board reads no input stream (build it with an input)".into())),
+        }
+    }
+
+    /// No more input will come.
+    pub fn end_input(&mut self) {
+        if let Some(f) = &self.feed {
+            f.end();
+        }
+    }
+
+    /// The last time the input covers (ps, rounded down), and whether it has ended; None before the
+    /// first row or without an input stream.
+    pub fn input_until(&self) -> Option<(Ps, bool)> {
+        let f = self.feed.as_ref()?;
+        let t = f.last_time_s()?;
+        Some(((t.max(0.0) * PS_PER_S as f64).floor() as Ps, f.ended()))
+    }
+
+    /// The interrupt the CPU takes now, if any, acknowledged as the CPU and the PIE do it (see
+    /// [`crate::dsp::interrupts`]).
+    /// Timer 0's ticks that came while its interrupt was still pending are lost: a `tick_lost` event
+    /// when the ISR is taken.
+    pub fn take_interrupt(&mut self) -> Option<Taken> {
+        let taken = self.irq.take(self.now)?;
+        if taken.vector == crate::dsp::interrupts::TINT0_VECTOR {
+            let (n, last) = self.irq.underflows();
+            if n > self.tint0_taken + 1 {
+                self.pending.push(Event::new(
+                    last.unwrap_or(self.now),
+                    "tick_lost",
+                    crate::events::Severity::Error,
+                    format!(
+                        "timer 0 ticks {}…{} came while the interrupt was still pending or masked: the ISR runs once \
+                         for ticks {}…{n}",
+                        self.tint0_taken + 1,
+                        n - 1,
+                        self.tint0_taken + 1
+                    ),
+                ));
+            }
+            self.tint0_taken = n;
+        }
+        Some(taken)
+    }
+
+    /// IRET: the end of the ISR being serviced.
+    pub fn iret(&mut self) -> Result<()> {
+        self.irq.iret()
+    }
+
+    /// The CPU's IER.
+    pub fn ier(&self) -> u16 {
+        self.irq.ier()
+    }
+
+    /// Set IER.
+    pub fn set_ier(&mut self, value: u16) {
+        self.irq.set_ier(value);
+    }
+
+    /// The CPU's IFR now.
+    pub fn ifr(&mut self) -> u16 {
+        self.irq.ifr(self.now)
+    }
+
+    /// Set IFR.
+    pub fn set_ifr(&mut self, value: u16) {
+        self.irq.set_ifr(value, self.now);
+    }
+
+    /// EINT (`masked = false`) and DINT (`true`).
+    pub fn set_intm(&mut self, masked: bool) {
+        self.irq.set_intm(masked);
+    }
+
+    /// INTM.
+    pub fn intm(&self) -> bool {
+        self.irq.intm()
+    }
+
+    /// EALLOW (`true`) and EDIS (`false`).
+    pub fn set_eallow(&mut self, on: bool) {
+        self.irq.set_eallow(on);
+    }
+
+    /// Set PieVectTable vector `n` to a host ISR address: ignored without EALLOW (an
+    /// `protected_write` event says so).
+    pub fn set_vector(&mut self, n: usize, isr: u64) -> Result<()> {
+        if !self.irq.set_vector(n, isr)? {
+            self.pending.push(Event::new(
+                self.now,
+                "protected_write",
+                crate::events::Severity::Warning,
+                format!(
+                    "PieVectTable vector {n} (0x{:04X}) written without EALLOW: the write is ignored, as on the chip",
+                    crate::dsp::interrupts::PIE_VECT_BASE as usize + 2 * n
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// PieVectTable vector `n`.
+    pub fn vector(&self, n: usize) -> u64 {
+        self.irq.vector(n)
+    }
+
+    /// When an interrupt may next become takeable without a register access (timer 0's next
+    /// reload, when nothing masks it), ps.
+    pub fn next_interrupt_ps(&self) -> Option<Ps> {
+        self.irq.next_interrupt_ps()
+    }
+
+    /// What keeps any interrupt from coming without a register access (None: one can come).
+    pub fn interrupts_blocked(&self) -> Option<Blocked> {
+        self.irq.blocked()
+    }
+
+    /// Timer 0's reloads since power-on and the time of the last one; its next reload (ps).
+    pub fn timer0_ticks(&mut self) -> (u64, Option<Ps>, Option<Ps>) {
+        self.irq.sync(self.now);
+        let (n, last) = self.irq.underflows();
+        (n, last, self.irq.next_reload_ps())
+    }
+
+    /// SYSCLKOUT.
+    pub fn sysclkout(&self) -> Clock {
+        self.sysclkout
+    }
+
+    /// The earliest time after now at which the register at `addr` may read differently with no
+    /// other access in between (a polling loop may skip to it): SPI-A's status changes at the next
+    /// SPI-A event, timer 0's TCR at its next reload; None for a register that does not change by
+    /// itself (or is not modelled); `now` for one that changes continually (TIM).
+    pub fn next_change_ps(&self, addr: u32) -> Option<Ps> {
+        match addr {
+            a if is_spi(a) => {
+                let spi = self.link.spi();
+                [self.link.int_flag_time(), self.link.buffull_clear_time(), spi.current_frame().map(|f| f.end_ps)]
+                    .into_iter()
+                    .flatten()
+                    .filter(|&t| t > self.now)
+                    .min()
+            }
+            0x0C04 | 0x0CE0..=0x0CF9 => self.irq.next_reload_ps().filter(|&t| t > self.now),
+            0x0C00 | 0x0C01 => Some(self.now),
+            _ => None,
+        }
     }
 
     /// Virtual time, ps.
@@ -262,6 +449,7 @@ impl HostBoard {
             LOSPCP => self.set_lospcp(value & 0x7),
             a if is_spi(a) => self.link.write((a - SPIA_BASE) as u16, value, now),
             a if is_gpio(a) => self.write_gpio(a, value),
+            a if Interrupts::owns(a) => self.irq.write(a, value, now),
             a => Err(no_register(a)),
         }
     }
@@ -273,6 +461,7 @@ impl HostBoard {
             LOSPCP => Ok(self.lospcp),
             a if is_spi(a) => self.link.read((a - SPIA_BASE) as u16, now),
             a if is_gpio(a) => Ok(self.read_gpio(a)),
+            a if Interrupts::owns(a) => self.irq.read(a, now),
             a => Err(no_register(a)),
         };
         self.sync();
@@ -534,7 +723,9 @@ impl HostBoard {
             if let LinkRecord::Frame(f) = r {
                 self.recent.push(f);
             }
-            self.log.push(r);
+            if self.keep_log {
+                self.log.push(r);
+            }
         }
         self.pending.extend(self.link.drain_events());
         self.pending.extend(self.link.slave_mut().drain_events());

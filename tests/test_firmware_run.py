@@ -1,0 +1,249 @@
+"""`sins-fw run TRACE --firmware fw.so` (issue 20, items 3 and 5's runner): a user's F28335 C firmware,
+built unmodified, on a trace: CPU timer 0 → PIE → IER/IFR/INTM → the ISR in PieVectTable, the globals
+read after each ISR, the usual summary, budget and --out."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sins_fw import adis16407
+from sins_fw.cli import main
+from sins_fw.errors import InputError
+from sins_fw.firmware_build import build_firmware
+from sins_fw.firmware_run import load_globals, run_c_firmware
+from sins_fw.profile import load_profile
+from sins_fw.tablefile import open_table
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "firmware_c" / "examples" / "timer0_burst"
+PITCH_SWEEP = ROOT / "python" / "sins_fw" / "bundled_traces" / "pitch_sweep.h5"
+#: The pitch sweep is still for its first 6.03 s; 8 s hold 2 s of sweep (gyro y up to ~23 °/s).
+UNTIL_S = "8"
+
+
+@pytest.fixture(scope="module")
+def firmware(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
+    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
+    assert built.returncode == 0, built.stderr
+    return build_firmware([EXAMPLE], tmp_path_factory.mktemp("fw") / "timer0_burst.so")
+
+
+def _run(firmware: Path, out: Path, capsys: pytest.CaptureFixture[str], *extra: str) -> tuple[int, dict, str]:
+    argv = ["run", str(PITCH_SWEEP), "--firmware", str(firmware), "--globals", str(EXAMPLE / "globals.toml")]
+    rc = main([*argv, "--until-s", UNTIL_S, "--out", str(out), "--json", *extra])
+    captured = capsys.readouterr()
+    return rc, json.loads(captured.out) if rc == 0 else {}, captured.err
+
+
+def test_the_timer0_isr_runs_every_4_ms_and_decodes_the_burst(
+    firmware: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    out = tmp_path / "run.csv"
+    rc, summary, err = _run(firmware, out, capsys)
+    assert rc == 0, err
+    # The reference period: PRD = 150·4000 − 1, so a tick every 600 000 SYSCLKOUT cycles = 4 ms exactly.
+    budget = summary["budget"]
+    assert budget["tick_period_s"] == 0.004
+    assert summary["events"]["total"] == 0
+    fw = summary["firmware"]
+    # Ticks from the timer's start (a few µs into main) to 8 s: 1999 whole periods.
+    assert fw["isr_runs"] == summary["cycles"] == 1999
+    # The ISR: entry (14 + 16 cycles), 15 frames of 16 bits at 0.75 MHz (320 µs), 14 × 0.5 µs of
+    # DELAY_US, the polling, the decode, exit (16 + 8): between 327 and 400 µs.
+    busy = budget["detail"]["busy"]
+    assert 327e-6 < busy["min"] <= busy["max"] == budget["isr_max_s"] < 400e-6
+    meta, cols = open_table_all(out)
+    assert meta["firmware"] == str(firmware) and meta["sample_rate_hz"] == "250"
+    t = cols["t_s"]
+    assert np.all(np.diff(np.round(t * 1e12).astype(np.int64)) == 4_000_000_000)
+    assert np.array_equal(cols["isr_count"], np.arange(1, len(t) + 1))
+    # The rates the C ISR decoded are the Rust model's decode of the same words, bit for bit.
+    for axis in "xyz":
+        words = cols[f"{axis}gyro_word"].astype(int)
+        model = np.array([adis16407.decode("gyro", w).value for w in words])
+        assert np.array_equal(cols[f"rate_{axis}_dps"], model)
+    # And they follow the trace: still before 6.03 s, pitching (y) after it.
+    still = t < 6.0
+    assert np.all(cols["rate_y_dps"][still] == 0.0)
+    assert cols["rate_y_dps"][~still].max() > 10.0
+
+
+def open_table_all(path: Path) -> tuple[dict[str, str], dict[str, np.ndarray]]:
+    watched = load_globals(EXAMPLE / "globals.toml")
+    from sins_fw.firmware_run import FirmwareRunWriter
+
+    schema = FirmwareRunWriter(path, load_profile("reference"), 0.0, {}, watched).schema
+    src = open_table(path, schema, 1 << 16, True, 1.5)
+    blocks = list(src.blocks)
+    return src.metadata, {n: np.concatenate([b[n] for b in blocks]) for n in blocks[0]}
+
+
+def test_two_runs_in_one_process_give_the_same_rows(firmware: Path):
+    """Each run loads a fresh copy of the library: the globals (isr_count, CpuTimer0's bookkeeping) start
+    from their initial values again, so the second run's rows equal the first's."""
+    profile = load_profile("reference")
+
+    def rows() -> list[dict]:
+        parts: list[dict] = []
+        run_c_firmware(
+            firmware,
+            PITCH_SWEEP,
+            profile,
+            globals_file=EXAMPLE / "globals.toml",
+            sink=parts.append,
+            until_s=0.5,
+        )
+        return parts
+
+    a, b = rows(), rows()
+    assert len(a) == len(b) and sum(len(p["budget_tick"]) for p in a) == 124
+    for pa, pb in zip(a, b, strict=True):
+        for key in ("budget_tick_ps", "budget_start_ps", "budget_end_ps"):
+            assert np.array_equal(pa[key], pb[key])
+        assert np.array_equal(pa["firmware_globals"]["isr_count"], pb["firmware_globals"]["isr_count"])
+    assert a[0]["firmware_globals"]["isr_count"][0] == 1
+
+
+def _firmware(tmp_path: Path, body: str, name: str = "fw") -> Path:
+    src = tmp_path / f"{name}.c"
+    src.write_text(body)
+    return build_firmware([src], tmp_path / f"{name}.so")
+
+
+def test_an_idle_loop_no_interrupt_can_leave_is_an_error_naming_its_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    fw = _firmware(
+        tmp_path,
+        '#include "DSP2833x_Device.h"\nvoid main(void) {\n    DINT;\n    for (;;) {\n    }\n}\n',
+    )
+    out = tmp_path / "run.csv"
+    rc = main(["run", str(PITCH_SWEEP), "--firmware", str(fw), "--until-s", "1", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert "INTM is set" in err and "fw.c:4" in err, err
+    assert not out.exists()
+
+
+def test_a_busy_loop_without_register_access_and_no_interrupt_is_an_error_naming_its_line(tmp_path: Path):
+    """Not an empty loop: its blocks are instrumented; after 2^24 blocks without an access, with
+    nothing able to interrupt it (the timer never started), the run stops."""
+    fw = _firmware(
+        tmp_path,
+        '#include "DSP2833x_Device.h"\n'
+        "Uint16 flag, spins;\n"
+        "void main(void) {\n"
+        "    EINT;\n"
+        "    while (flag == 0) {\n"
+        "        spins++;\n"
+        "    }\n"
+        "}\n",
+    )
+    with pytest.raises(InputError, match=r"IER has INT1 .* \(the loop: .*fw\.c:[56]"):
+        run_c_firmware(fw, PITCH_SWEEP, load_profile("reference"), until_s=5.0)
+
+
+def test_a_vector_set_without_eallow_is_ignored_and_reported(tmp_path: Path):
+    fw = _firmware(
+        tmp_path,
+        '#include "DSP2833x_Device.h"\n'
+        "interrupt void isr(void) { PieCtrlRegs.PIEACK.all = PIEACK_GROUP1; }\n"
+        "void main(void) {\n"
+        "    PieVectTable.TINT0 = &isr;\n"
+        "    PieCtrlRegs.PIECTRL.bit.ENPIE = 1;\n"
+        "    CpuTimer0Regs.PRD.all = 149999;\n"
+        "    CpuTimer0Regs.TCR.all = 0x4020;\n"
+        "    IER |= M_INT1;\n"
+        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
+        "    EINT;\n"
+        "    for (;;) {\n"
+        "    }\n"
+        "}\n",
+    )
+    with pytest.raises(InputError, match=r"PIE vector 38 \(TINT0\) but PieVectTable holds no ISR") as e:
+        run_c_firmware(fw, PITCH_SWEEP, load_profile("reference"), until_s=1.0)
+    assert "vector 38 (0x0D4C) written without EALLOW: the write is ignored" in str(e.value)
+
+
+def test_bad_input_exits_2_and_writes_nothing(
+    firmware: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    out = tmp_path / "run.csv"
+    base = ["run", str(PITCH_SWEEP), "--until-s", "0.1", "--out", str(out)]
+    assert main([*base, "--firmware", str(tmp_path / "missing.so")]) == 2
+    assert "missing.so: no such firmware library" in capsys.readouterr().err
+    bad = tmp_path / "globals.toml"
+    bad.write_text('[[global]]\nname = "rate_x"\ntype = "double"\ncolumn = "a"\nunit = "1"\n\n'
+                   '[[global]]\nname = "rate_y"\ntype = "real"\ncolumn = "b"\nunit = "1"\n')  # fmt: skip
+    assert main([*base, "--firmware", str(firmware), "--globals", str(bad)]) == 2
+    assert f"{bad}:7: [[global]] 2: field `type` = 'real'" in capsys.readouterr().err
+    bad.write_text('[[global]]\nname = "no_such_global"\ntype = "double"\ncolumn = "a"\nunit = "1"\n')
+    assert main([*base, "--firmware", str(firmware), "--globals", str(bad)]) == 2
+    assert "no global `no_such_global`" in capsys.readouterr().err
+    bad.write_text("[[global]\n")
+    assert main([*base, "--firmware", str(firmware), "--globals", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "not valid TOML" in err and "line 1" in err
+    (tmp_path / "other").mkdir()
+    not_fw = tmp_path / "other" / "libother.so"
+    not_fw.write_bytes((ROOT / "target" / "release" / "libsins_cabi.so").read_bytes())
+    assert main([*base, "--firmware", str(not_fw)]) == 2
+    assert "no symbol `sins_fw_run`" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_load_globals_names_line_and_field(tmp_path: Path):
+    g = tmp_path / "g.toml"
+    g.write_text(
+        '# comment\n[[global]]\nname = "x"\ntype = "float"\ncolumn = "x"\nunit = "1"\ncolour = "red"\n'
+    )
+    with pytest.raises(InputError, match=r"g\.toml:2: \[\[global\]\] 1: unknown field `colour`"):
+        load_globals(g)
+
+
+def test_a_tick_that_comes_while_the_last_is_pending_is_lost(tmp_path: Path):
+    """An ISR of 9 ms on a 4 ms timer: the tick during it waits (INTM is set), the next one finds the
+    flag still set: lost, a `tick_lost` event from the core; the budget has one row per ISR run."""
+    fw = _firmware(
+        tmp_path,
+        '#include "DSP2833x_Device.h"\n'
+        '#include "DSP2833x_Examples.h"\n'
+        "Uint16 runs;\n"
+        "interrupt void isr(void) {\n"
+        "    runs++;\n"
+        "    DELAY_US(9000);\n"
+        "    PieCtrlRegs.PIEACK.all = PIEACK_GROUP1;\n"
+        "}\n"
+        "void main(void) {\n"
+        "    EALLOW;\n"
+        "    PieVectTable.TINT0 = &isr;\n"
+        "    EDIS;\n"
+        "    PieCtrlRegs.PIECTRL.bit.ENPIE = 1;\n"
+        "    CpuTimer0Regs.PRD.all = 599999;\n"
+        "    CpuTimer0Regs.TCR.all = 0x4020;\n"
+        "    IER |= M_INT1;\n"
+        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
+        "    EINT;\n"
+        "    for (;;) {\n"
+        "    }\n"
+        "}\n",
+    )
+    parts: list[dict] = []
+    r = run_c_firmware(fw, PITCH_SWEEP, load_profile("reference"), sink=parts.append, until_s=0.1)
+    events = [e for p in parts for e in p["events"]]
+    assert {e["kind"] for e in events} == {"tick_lost"}
+    # Ticks every 4 ms, an ISR of 9 ms + entry and exit: tick 1's ISR runs from 4 to 13 ms, ticks 2
+    # (8 ms) and 3 (12 ms) come meanwhile: 2 is lost, the ISR runs for 3 at 13 ms until 22 ms, for 5
+    # (tick 4 lost) at 22 ms, …
+    ticks = np.concatenate([p["budget_tick"] for p in parts])
+    assert list(ticks[:3]) == [1, 3, 5]
+    assert r.isr_rows == len(ticks)
+    assert "ticks 2…2 came while the interrupt was still pending" in events[0]["message"]
+    overrun = np.concatenate([p["budget_overrun"] for p in parts])
+    assert list(overrun[:3]) == [0, 1, 1]
