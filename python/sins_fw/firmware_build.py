@@ -103,11 +103,15 @@ def build_firmware(
         f"-I{cabi_include}",
     ]
     with atomic_path(out) as tmp, tempfile.TemporaryDirectory(prefix="sins-fw-build-") as work:
-        language, firmware = firmware_arith.prepare(sources, float_mode, Path(work), common, [include, cabi_include])
+        language, firmware = firmware_arith.prepare(
+            sources, float_mode, Path(work), common, [include, cabi_include]
+        )
         objects = []
         for i, src in enumerate(firmware):
             asm = Path(work) / f"{i}_{Path(src).stem}.s"
-            _compile([*common, "-fsanitize-coverage=trace-pc", "-x", language, "-S", str(src), "-o", str(asm)])
+            _compile(
+                [*common, "-fsanitize-coverage=trace-pc", "-x", language, "-S", str(src), "-o", str(asm)]
+            )
             asm.write_text(instrument_self_jumps(asm.read_text(encoding="utf-8")), encoding="utf-8")
             objects.append(asm.with_suffix(".o"))
             _compile([compiler, "-c", str(asm), "-o", str(objects[-1])])

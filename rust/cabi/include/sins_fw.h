@@ -195,6 +195,161 @@ float sins_c28x_div(float a, float b);
 // C28x square root as fastRTS does it: `EISQRTF32` estimate, two Newton–Raphson steps, times `x`.
 float sins_c28x_sqrt(float x);
 
+// Create a board (as `sins_board_new`) whose ADIS16407 reads a streamed input, a trace: push its
+// rows with `sins_push_input` (time 0 is power-on), then `sins_end_input`.
+//
+// # Safety
+// As `sins_board_new`.
+enum SinsStatus sins_board_new_input(const char *profile,
+                                     const char *const *overrides,
+                                     size_t n_overrides,
+                                     struct SinsBoard **out);
+
+// Append `n` rows of input: times (s since power-on, increasing), angular rate (°/s) and
+// acceleration (g), three per row; magnetic field (gauss, three per row), pressure (mbar) and
+// temperature (°C) may be null (then the powered-idle values).
+//
+// # Safety
+// `board` is a live handle from `sins_board_new_input`; each non-null array holds `n` rows.
+enum SinsStatus sins_push_input(struct SinsBoard *board,
+                                const double *t_s,
+                                const double *gyro_dps,
+                                const double *accel_g,
+                                const double *mag_gauss,
+                                const double *baro_mbar,
+                                const double *temp_c,
+                                size_t n);
+
+// No more input will come.
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_end_input(struct SinsBoard *board);
+
+// The last time the input covers (`*t_ps`, rounded down; `UINT64_MAX` before the first row) and
+// whether it has ended (`*ended` 1 or 0).
+//
+// # Safety
+// `board` is a live handle; `t_ps` and `ended` point to writable memory.
+enum SinsStatus sins_input_until(struct SinsBoard *board, uint64_t *t_ps, int *ended);
+
+// A CPU read as a host-built firmware makes it: let `cycles` SYSCLKOUT cycles pass (the access's
+// cost), then read the word at `address` into `*out`; virtual time after it into `*now_ps` (may be
+// null).
+//
+// # Safety
+// `board` is a live handle; `out` points to writable memory; `now_ps` is null or does.
+enum SinsStatus sins_cpu_read16(struct SinsBoard *board,
+                                uint32_t address,
+                                uint64_t cycles,
+                                uint16_t *out,
+                                uint64_t *now_ps);
+
+// A CPU write (see `sins_cpu_read16`).
+//
+// # Safety
+// `board` is a live handle; `now_ps` is null or points to writable memory.
+enum SinsStatus sins_cpu_write16(struct SinsBoard *board,
+                                 uint32_t address,
+                                 uint16_t value,
+                                 uint64_t cycles,
+                                 uint64_t *now_ps);
+
+// The interrupt the CPU takes now, acknowledged as the CPU and the PIE do it: its PIE vector
+// number into `*vector` (-1 when none) and the ISR address set in PieVectTable into `*isr` (0 when
+// none, or never set). The caller runs the ISR, then calls `sins_iret`.
+//
+// # Safety
+// `board` is a live handle; `vector` and `isr` point to writable memory.
+enum SinsStatus sins_take_interrupt(struct SinsBoard *board, int *vector, uint64_t *isr);
+
+// IRET: IER, INTM and EALLOW back as the interrupt found them.
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_iret(struct SinsBoard *board);
+
+// The CPU's IER (`which` = 0) or IFR (1) into `*out`.
+//
+// # Safety
+// `board` is a live handle; `out` points to writable memory.
+enum SinsStatus sins_creg_read(struct SinsBoard *board, int which, uint16_t *out);
+
+// Set the CPU's IER (`which` = 0) or IFR (1).
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_creg_write(struct SinsBoard *board, int which, uint16_t value);
+
+// INTM: `masked` ≠ 0 is DINT, 0 is EINT.
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_set_intm(struct SinsBoard *board, int masked);
+
+// EALLOW (`on` ≠ 0) and EDIS (0).
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_set_eallow(struct SinsBoard *board, int on);
+
+// Set PieVectTable vector `n` (0…127; TINT0 is 38) to a host ISR's address: ignored without
+// EALLOW (a `protected_write` event).
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_set_vector(struct SinsBoard *board, uint32_t n, uint64_t isr);
+
+// PieVectTable vector `n` into `*out`.
+//
+// # Safety
+// `board` is a live handle; `out` points to writable memory.
+enum SinsStatus sins_vector(struct SinsBoard *board, uint32_t n, uint64_t *out);
+
+// When an interrupt may next become takeable without a register access (`UINT64_MAX`: none can)
+// into `*t_ps`; when none can, what blocks it (NUL-terminated, cut to `len`) into `text` (may be
+// null).
+//
+// # Safety
+// `board` is a live handle; `t_ps` points to writable memory; `text` is null or points to `len`
+// writable bytes.
+enum SinsStatus sins_next_interrupt_ps(struct SinsBoard *board,
+                                       uint64_t *t_ps,
+                                       char *text,
+                                       size_t len);
+
+// CPU timer 0's reloads since power-on (`*count`), the time of the last one (`*last_ps`, 0 before
+// the first) and of the next (`*next_ps`, `UINT64_MAX` when stopped).
+//
+// # Safety
+// `board` is a live handle; the three pointers point to writable memory.
+enum SinsStatus sins_timer0_ticks(struct SinsBoard *board,
+                                  uint64_t *count,
+                                  uint64_t *last_ps,
+                                  uint64_t *next_ps);
+
+// The earliest time after now at which the register at `address` may read differently with no
+// other access in between (`UINT64_MAX`: not by itself), for a polling loop to skip to.
+//
+// # Safety
+// `board` is a live handle; `t_ps` points to writable memory.
+enum SinsStatus sins_next_change_ps(struct SinsBoard *board, uint32_t address, uint64_t *t_ps);
+
+// Take the next event (in time order) into `*event`, its message (NUL-terminated, cut to `len`)
+// into `message`, its rule figures into `*measured` and `*required` (NaN when it has none);
+// `*got` is 0 when there was none.
+//
+// # Safety
+// `board` is a live handle; `event`, `measured`, `required` and `got` point to writable memory;
+// `message` is null or points to `len` writable bytes.
+enum SinsStatus sins_take_event(struct SinsBoard *board,
+                                struct SinsEvent *event,
+                                char *message,
+                                size_t len,
+                                double *measured,
+                                double *required,
+                                int *got);
+
 // A constant or a host `double` as TI's compiler gives it a 32-bit `double`: rounded to nearest
 // f32 (whatever RND32), canonical (NaN → +∞, subnormals and −0 → +0).
 float sins_c28x_from_f64(double x);

@@ -294,6 +294,7 @@ pub const KINDS: &[EventKind] = &[
         Info,
         "firmware",
         "the magnetometer roll aid turned off (or back on): the field across the spin axis is below (above) its gate",
+    ),
     // A host-built firmware's accesses (rust/core/src/host.rs).
     kind(
         "protected_write",

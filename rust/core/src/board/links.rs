@@ -6,7 +6,7 @@
 use crate::bus::i2c::{I2cLink, I2cTarget};
 use crate::bus::uart::{UartLink, UartPeer};
 use crate::bus::{Address, ChipSelects, Link, SpiLink, SpiSlave};
-use crate::device::{adxl345, gps, hmc6343, parts, Adis};
+use crate::device::{ads8344, adxl345, gps, hmc6343, parts, Adis};
 use crate::error::{Error, Result};
 use crate::profile::{self, BoardDevice, LinkKind, Profile, SENSOR_CHIP_SELECT};
 
@@ -32,7 +32,7 @@ pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
     };
     // The parts of other families, one arm each.
     match name.to_ascii_uppercase().as_str() {
-        "ADS8344" => return only(LinkKind::Spi, || Built::Spi(Box::new(crate::device::ads8344::Ads8344::unconnected()))),
+        "ADS8344" => return only(LinkKind::Spi, || Built::Spi(Box::new(ads8344::Ads8344::unconnected()))),
         "ADXL345" => return only(LinkKind::Spi, || Built::Spi(Box::new(adxl345::Adxl345::at_rest()))),
         "HMC6343" => return only(LinkKind::I2c, || Built::I2c(Box::new(hmc6343::Hmc6343::at_rest()))),
         "GR-87" | "GPS" => return only(LinkKind::Uart, || Built::Uart(Box::new(gps::Gps::at_rest()))),
