@@ -16,7 +16,9 @@ import pytest
 from sins_fw.cli import main
 from sins_fw.errors import InputError
 from sins_fw.firmware_arith import diagnose_int, rewrite_literals
-from sins_fw.firmware_build import build_firmware, cabi_library_dir, run_firmware
+from sins_fw.firmware_build import build_firmware, cabi_library_dir
+from sins_fw.firmware_run import run_c_firmware
+from sins_fw.profile import load_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -204,6 +206,19 @@ def test_conversions_to_integers_truncate_and_compare(float_libs: dict[str, ctyp
     assert ctypes.c_uint16.in_dll(lib, "lt").value == 1
 
 
+def run_globals(library: Path, types: dict[str, str]) -> dict[str, float]:
+    """Run the firmware's ``main`` on a still board for 50 ms and read the named globals (name → type
+    of the globals file) when the run ends."""
+    watched = library.with_suffix(".toml")
+    watched.write_text(
+        "".join(
+            f'[[global]]\nname = "{n}"\ntype = "{t}"\ncolumn = "{n.lower()}"\nunit = "1"\n'
+            for n, t in types.items()
+        )
+    )
+    return run_c_firmware(library, None, load_profile("reference"), globals_file=watched, until_s=0.05).final
+
+
 def test_literal_rewrite_leaves_everything_else():
     text = "x = 1e3 + .5f + 0x1E5 + a1e5 + 3.333e-003 + 12 + 0x1.8p3; s = \"2.5\"; // 1.5\n/* 2.0 */ c = '1';"
     assert rewrite_literals(text) == (
@@ -219,8 +234,8 @@ def test_a_literal_in_the_firmwares_own_header_is_rewritten_and_errors_name_the_
         '#include "DSP2833x_Device.h"\n#include "scale.h"\n'
         "Uint16 code = 9;\ndouble x;\nvoid main(void) { x = code * SCALE; }\n"
     )
-    lib = run_firmware(build_firmware([src], tmp_path / "fw.so", float_mode="c28x"), until_s=0.001).library
-    assert bits(ctypes.c_float.in_dll(lib, "x").value) == bits(f32(f32(9.0) * f32(0.05)))
+    final = run_globals(build_firmware([src], tmp_path / "fw.so", float_mode="c28x"), {"x": "float"})
+    assert bits(final["x"]) == bits(f32(f32(9.0) * f32(0.05)))
     bad = tmp_path / "bad.c"
     bad.write_text("double y = 1.5;\n\nvoid main(void) { y = undefined_name * 2.0; }\n")
     with pytest.raises(InputError, match=r"bad\.c:3"):
@@ -261,7 +276,11 @@ void main(void) {
 def test_iqmathlib_is_the_iq_backend(tmp_path: Path, cabi: ctypes.CDLL):
     src = tmp_path / "iq.c"
     src.write_text(IQ_SOURCE)
-    lib = run_firmware(build_firmware([src], tmp_path / "iq.so"), until_s=0.001).library
+    names = ("x", "y", "p", "q", "r", "s", "c", "at", "z30", "back")
+    final = run_globals(
+        build_firmware([src], tmp_path / "iq.so"),
+        {**dict.fromkeys(names, "int32"), "f": "float", "n": "int64"},
+    )
     i32, u8 = ctypes.c_int32, ctypes.c_uint8
     for name, args in {"mpy": [i32, i32, u8], "div": [i32, i32, u8], "atan2": [i32, i32, u8]}.items():
         getattr(cabi, f"sins_iq_{name}").argtypes = args
@@ -271,7 +290,7 @@ def test_iqmathlib_is_the_iq_backend(tmp_path: Path, cabi: ctypes.CDLL):
         getattr(cabi, f"sins_iq_{name}").restype = i32
 
     def g(name: str) -> int:
-        return ctypes.c_int32.in_dll(lib, name).value
+        return int(final[name])
 
     x, y = g("x"), g("y")
     assert (x, y) == (int(1.5 * 2**24), int(-2.25 * 2**24))
@@ -283,13 +302,10 @@ def test_iqmathlib_is_the_iq_backend(tmp_path: Path, cabi: ctypes.CDLL):
     assert g("at") == cabi.sins_iq_atan2(y, x, 24)
     # _IQtoF truncates the mantissa: −2/3 in Q24 to f32 toward zero.
     q = g("q") / 2**24
-    assert (
-        abs(ctypes.c_float.in_dll(lib, "f").value) <= abs(q)
-        and abs(ctypes.c_float.in_dll(lib, "f").value - q) < 2e-7
-    )
+    assert abs(final["f"]) <= abs(q) and abs(final["f"] - q) < 2e-7
     # _IQ30mpy floors: 0.5 × −0.75 = −0.375 exactly; back to Q24 by an arithmetic shift.
     assert g("z30") == int(-0.375 * 2**30) and g("back") == int(-0.375 * 2**24)
-    assert ctypes.c_long.in_dll(lib, "n").value == -3, "_IQint floors (an arithmetic shift)"
+    assert final["n"] == -3, "_IQint floors (an arithmetic shift)"
 
 
 INT16_SOURCE = """#include "DSP2833x_Device.h"
