@@ -54,6 +54,21 @@ pub struct SinsBoard {
     events: VecDeque<HostEvent>,
 }
 
+/// The C form of one event (its kind cut to 39 bytes and NUL-terminated).
+fn sins_event(e: &HostEvent) -> SinsEvent {
+    let mut kind = [0 as c_char; 40];
+    for (k, byte) in kind.iter_mut().zip(e.event.kind.bytes().take(39)) {
+        *k = byte as c_char;
+    }
+    SinsEvent {
+        t_ps: e.event.t_ps,
+        frame: e.frame.map_or(-1, |f| f.index as i64),
+        din: e.frame.map_or(0, |f| f.din),
+        severity: e.event.severity as u8,
+        kind,
+    }
+}
+
 /// What `sins_configure_spi` set.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
@@ -448,17 +463,7 @@ pub unsafe extern "C" fn sins_take_events(
         }
         for i in 0..n {
             let Some(e) = b.events.pop_front() else { break };
-            let mut kind = [0 as c_char; 40];
-            for (k, byte) in kind.iter_mut().zip(e.event.kind.bytes().take(39)) {
-                *k = byte as c_char;
-            }
-            let ev = SinsEvent {
-                t_ps: e.event.t_ps,
-                frame: e.frame.map_or(-1, |f| f.index as i64),
-                din: e.frame.map_or(0, |f| f.din),
-                severity: e.event.severity as u8,
-                kind,
-            };
+            let ev = sins_event(&e);
             // SAFETY: `events` holds `capacity` > i elements (the caller's contract).
             put(unsafe { events.add(i) }, ev, "events")?;
         }
@@ -819,17 +824,7 @@ pub unsafe extern "C" fn sins_take_event(
         let Some(e) = b.events.pop_front() else {
             return put(got, 0, "got");
         };
-        let mut kind = [0 as c_char; 40];
-        for (k, byte) in kind.iter_mut().zip(e.event.kind.bytes().take(39)) {
-            *k = byte as c_char;
-        }
-        let ev = SinsEvent {
-            t_ps: e.event.t_ps,
-            frame: e.frame.map_or(-1, |f| f.index as i64),
-            din: e.frame.map_or(0, |f| f.din),
-            severity: e.event.severity as u8,
-            kind,
-        };
+        let ev = sins_event(&e);
         put(event, ev, "event")?;
         if !message.is_null() && len > 0 {
             let text = e.event.message.as_bytes();

@@ -49,6 +49,13 @@ pub(super) struct Mode {
 pub(super) const STANDARD: Mode = Mode { name: "standard mode", t_low: 4_700_000, t_high: 4_000_000, t_buf: 4_700_000 };
 pub(super) const FAST: Mode = Mode { name: "fast mode", t_low: 1_300_000, t_high: 600_000, t_buf: 1_300_000 };
 
+/// SCL's low and high phases from `bus`, and the rules that apply: up to 100 kHz the standard
+/// mode's, above it the fast mode's.
+pub(super) fn phases(bus: &I2cBus) -> (Ps, Ps, Mode) {
+    let (low, high) = (Ps::from(bus.scl_low_ns) * 1_000, Ps::from(bus.scl_high_ns) * 1_000);
+    (low, high, if low + high >= 10_000_000 { STANDARD } else { FAST })
+}
+
 /// I2C-A and its targets.
 pub struct I2cLink {
     targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
@@ -73,9 +80,7 @@ impl std::fmt::Debug for I2cLink {
 impl I2cLink {
     /// I2C-A with `targets` at their addresses, its SCL phases from `bus`.
     pub fn new(bus: &I2cBus, targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> I2cLink {
-        let (low, high) = (Ps::from(bus.scl_low_ns) * 1_000, Ps::from(bus.scl_high_ns) * 1_000);
-        // Up to 100 kHz the standard mode's rules apply, above it the fast mode's.
-        let mode = if low + high >= 10_000_000 { STANDARD } else { FAST };
+        let (low, high, mode) = phases(bus);
         I2cLink { targets, low, high, mode, last_stop: None, honours_stretching: true, events: EventLog::default() }
     }
 

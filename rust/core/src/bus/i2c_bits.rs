@@ -14,7 +14,7 @@
 //! a master that does not wait for a stretched SCL keeps its own clock (the contention is the
 //! `i2c_stretch_ignored` event).
 
-use super::i2c::{stretch_rule, I2cTarget, Mode, FAST, STANDARD};
+use super::i2c::{phases, stretch_rule, I2cTarget, Mode};
 use super::{Address, Link, Transfer};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -189,8 +189,7 @@ impl std::fmt::Debug for I2cBitLink {
 impl I2cBitLink {
     /// I2C-A with `targets` at their addresses, its SCL phases from `bus` (as `I2cLink::new`).
     pub fn new(bus: &I2cBus, targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> I2cBitLink {
-        let (low, high) = (Ps::from(bus.scl_low_ns) * 1_000, Ps::from(bus.scl_high_ns) * 1_000);
-        let mode = if low + high >= 10_000_000 { STANDARD } else { FAST };
+        let (low, high, mode) = phases(bus);
         I2cBitLink {
             targets,
             low,
