@@ -33,7 +33,6 @@ def test_override_changes_one_field():
         ("spi.spibrr=128", ["spi.spibrr", "0…127"]),
         ("spi.spiccr=0x00C7", ["spi.spiccr", "SPICHAR = 15"]),
         ("timer.period_us=0", ["timer.period_us", "> 0"]),
-        ("firmware.algorithm=rk5", ["firmware.algorithm", "rk4", "rotation-vector"]),
         ("firmware.numeric=f16", ["firmware.numeric", "c28x-f32"]),
         ("firmware.dcm.kp=-0.1", ["firmware.dcm.kp", "≥ 0"]),
         ("firmware.dcm.ki=-1e-3", ["firmware.dcm.ki", "≥ 0"]),

@@ -108,13 +108,13 @@ def build_firmware(
         )
         objects = []
         for i, src in enumerate(firmware):
-            asm = Path(work) / f"{i}_{Path(src).stem}.s"
+            tmp_asm = Path(work) / f"{i}_{Path(src).stem}.s"
             _compile(
-                [*common, "-fsanitize-coverage=trace-pc", "-x", language, "-S", str(src), "-o", str(asm)]
+                [*common, "-fsanitize-coverage=trace-pc", "-x", language, "-S", str(src), "-o", str(tmp_asm)]
             )
-            asm.write_text(instrument_self_jumps(asm.read_text(encoding="utf-8")), encoding="utf-8")
-            objects.append(asm.with_suffix(".o"))
-            _compile([compiler, "-c", str(asm), "-o", str(objects[-1])])
+            tmp_asm.write_text(instrument_self_jumps(tmp_asm.read_text(encoding="utf-8")), encoding="utf-8")
+            objects.append(tmp_asm.with_suffix(".o"))
+            _compile([compiler, "-c", str(tmp_asm), "-o", str(objects[-1])])
         runtime = Path(work) / "sins_fw_runtime.o"
         _compile([*common, "-c", str(FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp"), "-o", str(runtime)])
         _compile(

@@ -24,6 +24,9 @@ pub enum Built {
 /// that cannot sit on that kind of link.
 pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
 
+/// The parts of other families than the ADIS16xxx, one arm each in [`known_parts`].
+const OTHER_PARTS: &[&str] = &["ADS8344", "ADXL345", "HMC6343", "GR-87"];
+
 /// The parts the crate declares: the ADIS16xxx family (`device::part`), the ADS8344 ADC and the ADXL345 on SPI, the HMC6343
 /// on I²C, the GR-87 GPS on a UART.
 pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
@@ -77,7 +80,13 @@ impl BoardLinks {
             let bad_part =
                 |why: String| Error::Profile(format!("key `board.devices[{i}].part` = \"{}\": {why}", d.part));
             let built = match catalogue(&d.part, kind) {
-                None => return Err(bad_part(format!("expected a known part ({})", parts::names()))),
+                None => {
+                    return Err(bad_part(format!(
+                        "expected a known part ({}, {})",
+                        parts::names(),
+                        OTHER_PARTS.join(", ")
+                    )))
+                }
                 Some(Err(e)) => return Err(bad_part(format!("cannot sit on `{}` ({e})", d.link))),
                 Some(Ok(b)) => b,
             };
