@@ -65,7 +65,20 @@ def check_error_counts(
 #   a number with a unit ends in the unit: --duration-s, --rate-hz, --until-s, --max-gap-periods
 #   --json, --debug, --profile, --set on every command that has the idea
 #: Unit suffixes of number-valued options.
-UNIT_SUFFIXES = ("-s", "-us", "-hz", "-deg", "-dps", "-dps2", "-m", "-mps", "-periods", "-gauss", "-c", "-c-per-min")
+UNIT_SUFFIXES = (
+    "-s",
+    "-us",
+    "-hz",
+    "-deg",
+    "-dps",
+    "-dps2",
+    "-m",
+    "-mps",
+    "-periods",
+    "-gauss",
+    "-c",
+    "-c-per-min",
+)
 
 #: Old spellings already warned about by this process (one line each).
 _warned: set[str] = set()
