@@ -8,7 +8,10 @@ BIN    := $(VENV)/bin
 DEPS   := $(VENV)/.deps-installed
 BUILT  := $(VENV)/.extension-built
 RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find rust -name '*.rs' -o -name Cargo.toml)
-# CI has two cores: keep pytest serial and cargo at its default.
+# pytest runs on PYTEST_WORKERS pytest-xdist workers (CI has two cores; most tests use one), whole
+# modules to a worker so that a module's shared set-up is made once; the modules marked `alone`
+# (tests/conftest.py: pools, a cluster or a browser sized for the machine) run after, by themselves.
+PYTEST_WORKERS ?= 2
 export CARGO_TERM_COLOR ?= never
 
 .PHONY: demo test test-rust test-python lint fmt bench clean golden docs wheel
@@ -22,7 +25,8 @@ test-rust:
 	cargo test --workspace --release
 
 test-python: $(BUILT)
-	$(BIN)/pytest -q
+	$(BIN)/pytest -q -m "not alone" -n $(PYTEST_WORKERS) --dist loadscope
+	$(BIN)/pytest -q -m alone
 
 lint: $(DEPS)
 	cargo fmt --all -- --check

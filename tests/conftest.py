@@ -43,3 +43,19 @@ def run_cli(*args: str, cwd: Path | None = None, timeout: float = 600) -> CliRes
 @pytest.fixture
 def cli() -> type:
     return run_cli
+
+
+#: Modules whose tests start what is sized for the whole machine (a process pool and a Dask cluster of
+#: two workers each; a web server and headless Chromium drawing WebGL in software) and wait on it with
+#: deadlines. `make test` runs the rest on two pytest-xdist workers, then these alone (marker `alone`).
+ALONE = frozenset({"test_engines.py", "test_serve.py"})
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", "alone: run after the parallel part, one test at a time (make test)")
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        if item.path.name in ALONE:
+            item.add_marker(pytest.mark.alone)
