@@ -106,7 +106,7 @@ pub const KINDS: &[EventKind] = &[
     kind("i2c_scl_too_fast", Warning, "link", "an I²C SCL phase shorter than its mode's minimum (tLOW, tHIGH)"),
     // The F28335's SPI-A peripheral and the static checks of its registers.
     spi_rule("spi_mode_mismatch", Error, "mcu", "CLKPOLARITY/CLK_PHASE give an SPI mode other than the device's"),
-    spi_rule("spi_char_length", Error, "mcu", "SPICHAR gives characters of other than the device's 16 bits"),
+    spi_rule("spi_char_length", Error, "mcu", "SPICHAR gives characters the part on the chip select is not read with (its data sheet's lengths)"),
     spi_rule(
         "spi_rx_overrun",
         Warning,

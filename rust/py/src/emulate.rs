@@ -14,6 +14,9 @@ use sins_core::device::replay::{ReplaySlave, RECORDED_WORDS};
 use sins_core::device::Physical;
 use sins_core::emulator::{price_list, CostTerm, Emulator as Core, Output, Progress, Sensor};
 use sins_core::events::Event;
+use sins_core::board::analog::AnalogBoard;
+use sins_core::firmware::application::{app_kind, AppKind, Application};
+use sins_core::firmware::geomag_app::GeomagApp;
 use sins_core::firmware::GpsFix;
 use sins_core::numerics::{iq, Scalar};
 use sins_core::profile::{IqFormats, Numeric, Profile};
@@ -56,6 +59,18 @@ impl<T: Scalar> Inputs for Core<T> {
     }
 }
 
+impl<T: Scalar> Inputs for Core<T, AnalogBoard, GeomagApp<T>> {
+    fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error> {
+        self.push_input(t, p)
+    }
+    fn push_words(&mut self, _t: &[f64], _words: &[[u16; RECORDED_WORDS]]) -> Result<(), Error> {
+        Err(Error::Input("push_words: this board reads the ADC's channels from a physical input".into()))
+    }
+    fn end(&mut self) {
+        self.end_input()
+    }
+}
+
 impl<T: Scalar> Inputs for Core<T, ReplaySlave> {
     fn push(&mut self, _t: &[f64], _p: Vec<Physical>) -> Result<(), Error> {
         Err(Error::Input("push: this emulator replays recorded words (replay=True); use push_words".into()))
@@ -68,9 +83,9 @@ impl<T: Scalar> Inputs for Core<T, ReplaySlave> {
     }
 }
 
-impl<T: Scalar + Send + 'static, S: Sensor + 'static> Run for Core<T, S>
+impl<T: Scalar + Send + 'static, S: Sensor + 'static, A: Application<S> + 'static> Run for Core<T, S, A>
 where
-    Core<T, S>: Inputs,
+    Core<T, S, A>: Inputs,
 {
     fn push(&mut self, t: &[f64], p: Vec<Physical>) -> Result<(), Error> {
         Inputs::push(self, t, p)
@@ -150,6 +165,18 @@ fn build(profile: &Profile, costs: &CostTable, replay: bool) -> Result<Box<dyn R
         costs: &CostTable,
         replay: bool,
     ) -> Result<Box<dyn Run>, Error> {
+        // One arm per application (`firmware::application::APPLICATIONS`).
+        match app_kind(&profile.firmware.application)? {
+            AppKind::AdisBurst => {}
+            AppKind::Ads8344Geomag if replay => {
+                return Err(Error::Input(
+                    "replay=True: the ads8344-geomag board reads the ADC's channels, not recorded ADIS16xxx \
+                     bursts; emulate a physical trace"
+                        .into(),
+                ))
+            }
+            AppKind::Ads8344Geomag => return Ok(Box::new(Core::<T, AnalogBoard, GeomagApp<T>>::geomag(profile, costs)?)),
+        }
         Ok(if replay {
             Box::new(Core::<T, ReplaySlave>::replay(profile, costs)?)
         } else {

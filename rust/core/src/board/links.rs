@@ -121,6 +121,18 @@ impl BoardLinks {
         }
     }
 
+    /// Take the events of every link and of the devices on it out (a placed part's rule
+    /// violations reach the run's events this way).
+    pub fn drain_events(&mut self) -> Vec<crate::events::Event> {
+        let mut e = Vec::new();
+        for name in ["spi-a", "i2c-a", "sci-a"] {
+            if let Some(l) = self.link(name) {
+                e.extend(l.drain_events());
+            }
+        }
+        e
+    }
+
     /// Whether no device is built here.
     pub fn is_empty(&self) -> bool {
         self.places.is_empty()

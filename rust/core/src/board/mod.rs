@@ -3,6 +3,7 @@
 //! faults of the wiring (`dropped_burst`: CS glitches), and the other devices `[[board.devices]]`
 //! declares, on their links (`links.rs`).
 
+pub mod analog;
 pub(crate) mod glitch;
 pub mod input;
 pub mod links;

@@ -41,15 +41,14 @@ pub enum Reach {
     },
 }
 
-/// The emulator's sensor: an SPI slave with a frame summary, events and an input horizon.
+/// The emulator's sensor: an SPI slave (its events: [`SpiSlave::drain_events`]) with a frame summary
+/// and an input horizon.
 pub trait Sensor: SpiSlave + Send {
     /// The latest frame clocked at the sensor.
     fn last_frame(&self) -> Option<FrameSummary>;
     /// The second frame clocked since CS last fell (a burst's first data frame), once it has ended:
     /// what [`Sensor::last_frame`] gave right after it, still there after the rest of the burst.
     fn second_frame(&self) -> Option<FrameSummary>;
-    /// Take the sensor's events out.
-    fn drain_events(&mut self) -> Vec<Event>;
     /// How far the input reaches.
     fn reach(&self) -> Reach;
 }
@@ -96,6 +95,9 @@ impl SpiSlave for StreamedDevice {
     fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
         self.device.run_frames(run, din, dout);
     }
+    fn drain_events(&mut self) -> Vec<Event> {
+        self.device.drain_events()
+    }
 }
 
 /// What the read records need of one of the device's frames.
@@ -118,9 +120,6 @@ impl Sensor for StreamedDevice {
     fn second_frame(&self) -> Option<FrameSummary> {
         self.device.second_frame_in_window().map(device_frame)
     }
-    fn drain_events(&mut self) -> Vec<Event> {
-        self.device.drain_events()
-    }
     fn reach(&self) -> Reach {
         Reach::Time { last_s: self.feed.last_time_s(), ended: self.feed.ended() }
     }
@@ -142,9 +141,6 @@ impl Sensor for ReplaySlave {
     #[inline]
     fn second_frame(&self) -> Option<FrameSummary> {
         self.second_frame_in_window().map(|f| self.window_frame(f))
-    }
-    fn drain_events(&mut self) -> Vec<Event> {
-        ReplaySlave::drain_events(self)
     }
     fn reach(&self) -> Reach {
         Reach::Bursts { queued: self.queued(), ended: self.ended() }

@@ -35,6 +35,10 @@ pub trait I2cTarget {
     fn hold_scl(&mut self, t: Ps) -> Ps {
         t
     }
+    /// Take the target's events out (the link hands them to the run's events).
+    fn drain_events(&mut self) -> Vec<Event> {
+        Vec::new()
+    }
 }
 
 /// The minimum phases of one I²C mode (i2c.md, Table 10 as reproduced), ps.
@@ -214,7 +218,11 @@ impl Link for I2cLink {
     }
 
     fn drain_events(&mut self) -> Vec<Event> {
-        self.events.drain()
+        let mut e = self.events.drain();
+        for (_, t) in &mut self.targets {
+            e.extend(t.drain_events());
+        }
+        e
     }
 }
 

@@ -556,6 +556,9 @@ impl SpiSlave for ChipSelects {
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         self.current().end_frame(din, timing);
     }
+    fn drain_events(&mut self) -> Vec<Event> {
+        self.devices.iter_mut().flat_map(|(_, d)| d.drain_events()).collect()
+    }
 }
 
 /// The wait of [`Link::transfer`]'s SPI driver after CS↓, between a frame's INT_FLAG and the next
@@ -603,6 +606,8 @@ impl Link for SpiLink<ChipSelects> {
     }
 
     fn drain_events(&mut self) -> Vec<Event> {
-        SpiLink::drain_events(self)
+        let mut e = SpiLink::drain_events(self);
+        e.extend(self.slave_mut().drain_events());
+        e
     }
 }

@@ -120,6 +120,11 @@ pub trait SpiSlave {
             self.end_frame(din, &timing);
         }
     }
+    /// Take the part's events out (rule violations at the times they happened): the link hands
+    /// them to the run's events. A part without events keeps the default.
+    fn drain_events(&mut self) -> Vec<Event> {
+        Vec::new()
+    }
 }
 
 /// The timings of a run of frames of one shape (the same `bits`, `mode` and `sclk_period`), given as

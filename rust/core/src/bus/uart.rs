@@ -19,6 +19,10 @@ pub trait UartPeer {
     /// The next byte the peer sends after `t` with the end of its stop bit (`None`: it has nothing
     /// to send).
     fn transmit(&mut self, t: Ps) -> Option<(u8, Ps)>;
+    /// Take the peer's events out (the link hands them to the run's events).
+    fn drain_events(&mut self) -> Vec<Event> {
+        Vec::new()
+    }
 }
 
 /// Bit times per character: start, 8 data, 1 stop (8N1).
@@ -88,7 +92,7 @@ impl Link for UartLink {
     }
 
     fn drain_events(&mut self) -> Vec<Event> {
-        Vec::new()
+        self.peer.as_mut().map_or_else(Vec::new, |p| p.drain_events())
     }
 }
 

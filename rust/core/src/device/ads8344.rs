@@ -467,6 +467,9 @@ impl SpiSlave for Ads8344 {
             ));
         }
     }
+    fn drain_events(&mut self) -> Vec<Event> {
+        Ads8344::drain_events(self)
+    }
 }
 
 impl Ads8344 {

@@ -699,6 +699,9 @@ impl SpiSlave for Adxl345 {
             }
         };
     }
+    fn drain_events(&mut self) -> Vec<Event> {
+        Adxl345::drain_events(self)
+    }
 }
 
 #[cfg(test)]

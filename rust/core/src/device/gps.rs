@@ -327,6 +327,9 @@ impl UartPeer for Gps {
         }
         self.queue.pop_front()
     }
+    fn drain_events(&mut self) -> Vec<Event> {
+        Gps::drain_events(self)
+    }
 }
 
 /// The receiving side's sentence assembler: bytes in, checked sentence bodies out; a bad checksum

@@ -473,6 +473,9 @@ impl I2cTarget for Hmc6343 {
     fn stop(&mut self, _t: Ps) {
         self.phase = Phase::Address;
     }
+    fn drain_events(&mut self) -> Vec<Event> {
+        Hmc6343::drain_events(self)
+    }
 }
 
 #[cfg(test)]

@@ -223,6 +223,9 @@ impl SpiSlave for ReplaySlave {
         self.frame_in_window += 1;
         self.frames += 1;
     }
+    fn drain_events(&mut self) -> Vec<Event> {
+        ReplaySlave::drain_events(self)
+    }
 }
 
 #[cfg(test)]

@@ -5,7 +5,8 @@
 use super::clocks::DspClocks;
 use super::spi::{ClockScheme, Frame, SpiA, SpiWire};
 use super::timer::CpuTimer;
-use crate::error::Result;
+use crate::device::parts::spi_needs::spi_needs;
+use crate::error::{Error, Result};
 use crate::events::{Event, Severity};
 use crate::profile::Profile;
 use crate::time::Ps;
@@ -34,7 +35,7 @@ pub struct BoardSummary {
     pub scheme: ClockScheme,
     /// Standard SPI mode of the scheme.
     pub spi_mode: u8,
-    /// The mode is the device's (mode 3).
+    /// The mode is one the part on the acquisition chip select accepts.
     pub mode_matches_device: bool,
     /// Bits per character.
     pub char_bits: u8,
@@ -71,12 +72,21 @@ impl BoardSummary {
         let spi_baud_hz = lsp.hz() / shape.divisor as f64;
         let frame_ps = lsp.cycles_to_ps(shape.length_cycles());
         let dev = &profile.device;
-        let part = dev.part_decl()?;
-        let name = part.name;
-        let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * part.burst_frames() as u64);
+        // The part on the acquisition chip select: an ADIS16xxx part configured by `[device]`, or a
+        // part of another family with its data sheet's needs (`device::parts::spi_needs`).
+        let adis = profile.board.spi_device().is_none_or(|d| crate::device::parts::by_name(&d.part).is_some());
+        let needs = match profile.board.sensor_needs() {
+            Some(n) => n,
+            None => spi_needs(&dev.part_decl()?.name).ok_or_else(|| Error::Profile("device.part: unknown".into()))?,
+        };
+        let name = needs.part;
+        let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * u64::from(needs.chars_per_read));
+        // An ADIS16xxx part's limits are `[device]`'s keys (the part's figures by default).
+        let (sclk_max_hz, sclk_burst_max_hz) =
+            if adis { (dev.sclk_max_hz, Some(dev.sclk_burst_max_hz)) } else { (needs.sclk_max_hz, None) };
 
         let mut violations = Vec::new();
-        if spi_baud_hz > dev.sclk_burst_max_hz {
+        if let Some(burst_max) = sclk_burst_max_hz.filter(|&m| spi_baud_hz > m) {
             violations.push(Event::rule(
                 0,
                 "sclk_burst_too_fast",
@@ -86,51 +96,56 @@ impl BoardSummary {
                     spi_baud_hz,
                     profile.spi.spibrr,
                     lsp.hz(),
-                    dev.sclk_burst_max_hz
+                    burst_max
                 ),
                 spi_baud_hz,
-                dev.sclk_burst_max_hz,
+                burst_max,
             ));
         }
-        if spi_baud_hz > dev.sclk_max_hz {
+        if spi_baud_hz > sclk_max_hz {
             violations.push(Event::rule(
                 0,
                 "sclk_too_fast",
                 Severity::Error,
                 format!(
-                    "SPI clock {:.0} Hz exceeds the {name} normal-mode limit {:.0} Hz",
-                    spi_baud_hz, dev.sclk_max_hz
+                    "SPI clock {:.0} Hz exceeds the {name} {}limit {:.0} Hz",
+                    spi_baud_hz,
+                    if adis { "normal-mode " } else { "" },
+                    sclk_max_hz
                 ),
                 spi_baud_hz,
-                dev.sclk_max_hz,
+                sclk_max_hz,
             ));
         }
         let spi_mode = scheme.standard_mode();
-        if spi_mode != DEVICE_SPI_MODE {
+        let mode_matches_device = needs.modes.contains(&spi_mode);
+        if !mode_matches_device {
+            let wanted: Vec<String> = needs.modes.iter().map(|m| format!("mode {m}")).collect();
             violations.push(Event::rule(
                 0,
                 "spi_mode_mismatch",
                 Severity::Error,
                 format!(
-                    "CLKPOLARITY = {}, CLK_PHASE = {} is TI's \"{}\" = SPI mode {}; the {name} needs mode 3 \
-                     (CLKPOLARITY = 1, CLK_PHASE = 0)",
+                    "CLKPOLARITY = {}, CLK_PHASE = {} is TI's \"{}\" = SPI mode {}; the {name} needs {}{}",
                     u8::from(scheme.polarity),
                     u8::from(scheme.phase),
                     scheme.ti_name(),
-                    spi_mode
+                    spi_mode,
+                    wanted.join(" or "),
+                    if adis { " (CLKPOLARITY = 1, CLK_PHASE = 0)" } else { "" }
                 ),
                 spi_mode as f64,
-                DEVICE_SPI_MODE as f64,
+                needs.modes[0] as f64,
             ));
         }
-        if shape.bits != DEVICE_FRAME_BITS {
+        if !needs.char_bits.contains(&shape.bits) {
             violations.push(Event::rule(
                 0,
                 "spi_char_length",
                 Severity::Error,
-                format!("SPICHAR gives {}-bit characters; the {name} uses 16-bit frames", shape.bits),
+                format!("SPICHAR gives {}-bit characters; the {name} needs {}", shape.bits, needs.expects),
                 shape.bits as f64,
-                DEVICE_FRAME_BITS as f64,
+                needs.char_bits[0] as f64,
             ));
         }
         Ok(BoardSummary {
@@ -139,7 +154,7 @@ impl BoardSummary {
             spi_baud_hz,
             scheme,
             spi_mode,
-            mode_matches_device: spi_mode == DEVICE_SPI_MODE,
+            mode_matches_device,
             char_bits: shape.bits,
             frame_ps,
             burst_clocking_ps,

@@ -1,7 +1,10 @@
 //! `sins-fw board`: what a profile's registers produce, with the burst measured by running the
 //! firmware's own acquisition ISR once on the emulated board (one burst model, the real one).
 
-use super::{Emulator, Progress};
+use super::{Emulator, Progress, Sensor};
+use crate::board::analog::AnalogBoard;
+use crate::firmware::application::{app_kind, AppKind, Application};
+use crate::firmware::geomag_app::{self, GeomagApp};
 use crate::device::Physical;
 use crate::dsp::summary::BoardSummary;
 use crate::error::Result;
@@ -15,7 +18,8 @@ use crate::timing::costs::CostTable;
 pub struct BoardReport {
     /// Clocks, baud, mode, frame time and the configuration's rule violations.
     pub summary: BoardSummary,
-    /// First SCLK edge to last SCLK edge of one 15-frame burst as the firmware performs it.
+    /// First SCLK edge to last SCLK edge of one read as the firmware performs it (the ADIS16407's
+    /// 15-frame burst; the geomag board's eight conversions).
     pub burst_ps: Ps,
     /// Longest last-edge-to-first-edge gap between two frames of that burst.
     pub frame_gap_ps: Ps,
@@ -30,25 +34,33 @@ impl BoardReport {
         let mut p = profile.clone();
         // The burst does not depend on the arithmetic; f64 keeps this independent of the backend.
         p.firmware.numeric = Numeric::F64;
-        let mut emu = Emulator::<f64>::new(&p, costs)?;
-        emu.enable_bus_log();
         let tick_s = summary.timer_period_ps as f64 * 1e-12;
         let still = Physical { accel_g: [0.0, 0.0, 1.0], ..Physical::powered_idle() };
-        emu.push_input(&[0.0, 2.5 * tick_s], vec![still, still])?;
-        emu.end_input();
-        let mut progress = emu.run()?;
-        while progress != Progress::Finished {
-            progress = emu.run()?;
-        }
-        let out = emu.take_output();
-        let frames: Vec<_> = emu
-            .take_bus_log()
+        let (t, input) = ([0.0, 2.5 * tick_s], vec![still, still]);
+        // The acquisition of the profile's application (`firmware.application`), and its frames of a read.
+        let (out, log, frames_per_read) = match app_kind(&p.firmware.application)? {
+            AppKind::AdisBurst => {
+                let mut emu = Emulator::<f64>::new(&p, costs)?;
+                emu.push_input(&t, input)?;
+                emu.end_input();
+                let (out, log) = first_ticks(&mut emu)?;
+                (out, log, super::BURST_FRAMES)
+            }
+            AppKind::Ads8344Geomag => {
+                let mut emu = Emulator::<f64, AnalogBoard, GeomagApp<f64>>::geomag(&p, costs)?;
+                emu.push_input(&t, input)?;
+                emu.end_input();
+                let (out, log) = first_ticks(&mut emu)?;
+                (out, log, geomag_app::CHANNELS * geomag_app::CHARS)
+            }
+        };
+        let frames: Vec<_> = log
             .into_iter()
             .filter_map(|r| match r {
                 crate::bus::link::LinkRecord::Frame(f) => Some(f),
                 _ => None,
             })
-            .take(super::BURST_FRAMES)
+            .take(frames_per_read)
             .collect();
         let burst_ps = match (frames.first(), frames.last()) {
             (Some(a), Some(b)) => b.timing.last_edge - a.timing.first_edge,
@@ -59,6 +71,18 @@ impl BoardReport {
         let burst_events = out.events.into_iter().filter(|e| e.t_ps <= first_tick_end).collect();
         Ok(BoardReport { summary, burst_ps, frame_gap_ps, burst_events })
     }
+}
+
+/// Run an emulator fed its input to the end with the bus log on: its output and the log.
+fn first_ticks<S: Sensor, A: Application<S>>(
+    emu: &mut Emulator<f64, S, A>,
+) -> Result<(crate::output::Output, Vec<crate::bus::link::LinkRecord>)> {
+    emu.enable_bus_log();
+    let mut progress = emu.run()?;
+    while progress != Progress::Finished {
+        progress = emu.run()?;
+    }
+    Ok((emu.take_output(), emu.take_bus_log()))
 }
 
 #[cfg(test)]

@@ -31,12 +31,15 @@ pub use prices::{price_list, PriceList, StagePrice};
 /// (8 192 rows, 10 s) never fills a block.
 pub const BLOCK_TICKS: u64 = 1 << 15;
 
+use crate::board::analog::AnalogBoard;
 use crate::board::Board;
 use crate::device::error_model::ErrorModel;
 use crate::device::replay::{ReplaySlave, RECORDED_WORDS};
 use crate::device::{Adis16407, Physical};
 use crate::error::{Error, Result};
 use crate::events::{Event, Severity};
+use crate::firmware::application::Application;
+use crate::firmware::geomag_app::GeomagApp;
 use crate::firmware::isr::Isr;
 use crate::firmware::isr::StageCosts;
 use crate::numerics::Scalar;
@@ -47,9 +50,12 @@ use crate::timing::stages::stage_costs;
 
 /// The emulated board running its firmware in the numeric backend `T`, reading the sensor `S`: the
 /// ADIS16407 model fed a physical input (the default), or a [`ReplaySlave`] answering recorded words.
-pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice> {
+/// The firmware is the application `A` (`firmware::application`): the reference ADIS burst reader
+/// by default.
+pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice, A: Application<S> = Isr<T>> {
     board: Board<S>,
-    fw: Isr<T>,
+    fw: A,
+    _numeric: std::marker::PhantomData<fn() -> T>,
     /// Next timer tick to service.
     tick: u64,
     /// SYSCLKOUT cycle at which the CPU finishes the ISR it is running.
@@ -93,12 +99,12 @@ impl<T: Scalar> Emulator<T> {
     }
 }
 
-impl<T: Scalar, S: Sensor> Emulator<T, S> {
+impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
     /// Append fixes of the board's GPS stream (times on the input's clock; see
     /// [`crate::firmware::Firmware::push_gps`]). From the first call on, the board has a GPS; give each
     /// chunk's fixes before the chunk's physical input, so every fix is there before it is due.
     pub fn push_gps(&mut self, fixes: &[crate::firmware::GpsFix]) -> Result<()> {
-        self.fw.firmware_mut().push_gps(fixes)
+        self.fw.push_gps(fixes)
     }
 }
 
@@ -130,12 +136,50 @@ impl<T: Scalar> Emulator<T, ReplaySlave> {
     }
 }
 
+impl<T: Scalar> Emulator<T, AnalogBoard, GeomagApp<T>> {
+    /// The geomagnetic–gyro board (`firmware.application = "ads8344-geomag"`): the ADS8344 and its
+    /// analogue front end on SPI-A's acquisition chip select, running the geomag firmware.
+    pub fn geomag(profile: &Profile, costs: &CostTable) -> Result<Self> {
+        if let Some(f) = profile.faults.list.first() {
+            return Err(Error::Config(format!(
+                "faults.list: the `{}` fault acts on the ADIS16xxx device model; the ads8344-geomag board takes none",
+                f.kind.as_str()
+            )));
+        }
+        let board = Board::from_profile(profile, AnalogBoard::from_profile(profile)?)?;
+        let fw = GeomagApp::new(profile, &board, stage_costs(profile, costs)?, &costs.io)?;
+        Ok(Emulator::of(board, fw))
+    }
+
+    /// Append a chunk of physical input (times in s; rates, field and temperature are read).
+    pub fn push_input(&mut self, t_s: &[f64], samples: Vec<Physical>) -> Result<()> {
+        self.board.link.slave().feed().push(t_s, samples)
+    }
+
+    /// Declare the end of the input.
+    pub fn end_input(&mut self) {
+        self.board.link.slave().feed().end();
+    }
+}
+
 impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// The board and firmware of a profile reading `sensor`.
     fn with_sensor(profile: &Profile, costs: &CostTable, sensor: S) -> Result<Self> {
         let board = Board::from_profile(profile, sensor)?;
         let fw = Isr::new(profile, &board, stage_costs(profile, costs)?, &costs.io)?;
-        Ok(Emulator { board, fw, tick: 1, cpu_free: 0 })
+        Ok(Emulator::of(board, fw))
+    }
+}
+
+impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
+    /// The emulator of a built board and the application running on it, at power-on.
+    pub fn of(board: Board<S>, fw: A) -> Self {
+        Emulator { board, fw, _numeric: std::marker::PhantomData, tick: 1, cpu_free: 0 }
+    }
+
+    /// The sensor on the acquisition chip select (its input feed, its recording).
+    pub fn sensor_mut(&mut self) -> &mut S {
+        self.board.link.slave_mut()
     }
 
     /// The compute-stage costs in use.
@@ -161,7 +205,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// The output accumulated since the last [`Emulator::take_output`].
     pub fn take_output(&mut self) -> Output {
         self.collect_events();
-        std::mem::take(&mut self.fw.out)
+        std::mem::take(self.fw.output())
     }
 
     /// Run the timer ticks the input covers, at most [`BLOCK_TICKS`] of them per call (then
@@ -178,17 +222,17 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     }
 
     fn run_bursts(&mut self, queued: usize, ended: bool) -> Result<Progress> {
-        self.reserve_rows(queued / self.fw.bursts_per_tick());
+        self.reserve_rows(queued / self.fw.reads_per_tick());
         for _ in 0..BLOCK_TICKS {
             let queued = match self.board.link.slave().reach() {
                 Reach::Bursts { queued, .. } => queued,
                 Reach::Time { .. } => 0,
             };
-            if queued < self.fw.bursts_per_tick() {
+            if queued < self.fw.reads_per_tick() {
                 return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
             }
             self.run_tick()?;
-            self.tick = self.fw.next_pending;
+            self.tick = self.fw.next_pending();
         }
         Ok(Progress::BlockFull)
     }
@@ -197,9 +241,11 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// them again and again.
     fn reserve_rows(&mut self, ticks_ahead: usize) {
         let ticks_ahead = ticks_ahead.min(BLOCK_TICKS as usize);
-        self.fw.out.budget.reserve(ticks_ahead);
-        self.fw.out.reads.reserve(ticks_ahead * self.fw.bursts_per_tick());
-        self.fw.out.cycles.reserve(ticks_ahead);
+        let reads = ticks_ahead * self.fw.reads_per_tick();
+        let out = self.fw.output();
+        out.budget.reserve(ticks_ahead);
+        out.reads.reserve(reads);
+        out.cycles.reserve(ticks_ahead);
     }
 
     fn run_to_time(&mut self, last_s: Option<f64>, ended: bool) -> Result<Progress> {
@@ -214,7 +260,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
                 return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
             }
             self.run_tick()?;
-            self.tick = self.fw.next_pending;
+            self.tick = self.fw.next_pending();
         }
         Ok(Progress::BlockFull)
     }
@@ -223,7 +269,7 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// step, runs the attitude, Euler and navigation stages), unless the overrun policy loses it.
     fn run_tick(&mut self) -> Result<()> {
         let k = self.tick;
-        self.fw.next_pending = k + 1;
+        self.fw.set_next_pending(k + 1);
         let tick_cycle = self.board.tick_cycle(k);
         let tick_ps = self.board.tick_ps(k);
         let busy = tick_cycle < self.cpu_free;
@@ -257,30 +303,32 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
         };
         if busy {
             let late = self.board.ps(self.cpu_free) - tick_ps;
-            self.fw.events.push(Event::rule(
+            let policy = self.fw.overrun();
+            self.fw.events().push(Event::rule(
                 tick_ps,
                 "overrun",
                 Severity::Error,
                 format!(
                     "tick {k}: the previous ISR ran {:.1} µs past this tick ({:?})",
                     late as f64 / 1e6,
-                    self.fw.overrun()
+                    policy
                 ),
                 ps_to_s(late),
                 0.0,
             ));
         }
 
-        let (budget_at, reads_at, cycles_at) =
-            (self.fw.out.budget.len(), self.fw.out.reads.len(), self.fw.out.cycles.len());
-        let nested_before = self.fw.nested;
+        let out = self.fw.output();
+        let (budget_at, reads_at, cycles_at) = (out.budget.len(), out.reads.len(), out.cycles.len());
+        let nested_before = self.fw.nested();
         let end = self.fw.isr(&mut self.board, k, tick_ps, start, busy)?;
         self.cpu_free = end;
-        if self.fw.nested != nested_before {
+        if self.fw.nested() != nested_before {
             // A nested ISR wrote its rows inside this one's: put every row back in tick/time order.
-            self.fw.out.budget[budget_at..].sort_by_key(|r| r.tick);
-            self.fw.out.reads[reads_at..].sort_by_key(|r| r.tick);
-            self.fw.out.cycles[cycles_at..].sort_by_key(|r| r.t_ps);
+            let out = self.fw.output();
+            out.budget[budget_at..].sort_by_key(|r| r.tick);
+            out.reads[reads_at..].sort_by_key(|r| r.tick);
+            out.cycles[cycles_at..].sort_by_key(|r| r.t_ps);
         }
         Ok(())
     }
@@ -288,17 +336,18 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
     /// Tick `k` is not serviced (`kind`, `why`): an error event and a skipped budget row.
     #[cold]
     fn skip_tick(&mut self, k: u64, tick_ps: Ps, kind: &'static str, why: &str) {
-        self.fw.events.push(Event::new(tick_ps, kind, Severity::Error, format!("tick {k}: {why}")));
-        self.fw.out.budget.push(BudgetRow::skipped(k, tick_ps));
+        self.fw.events().push(Event::new(tick_ps, kind, Severity::Error, format!("tick {k}: {why}")));
+        self.fw.output().budget.push(BudgetRow::skipped(k, tick_ps));
     }
 
     /// Move the models' events into the output, in time order.
     fn collect_events(&mut self) {
-        let mut all = self.fw.events.drain();
+        let mut all = self.fw.events().drain();
         all.extend(self.board.link.drain_events());
         all.extend(self.board.link.slave_mut().drain_events());
+        all.extend(self.board.links.drain_events());
         all.sort_by_key(|e| e.t_ps);
-        self.fw.out.events.extend(all);
+        self.fw.output().events.extend(all);
     }
 }
 

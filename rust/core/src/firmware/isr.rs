@@ -80,6 +80,13 @@ pub struct Isr<T: Scalar> {
 impl<T: Scalar> Isr<T> {
     /// The firmware of a profile on `board`, with the stage and I/O costs of the timing model.
     pub fn new<S: Sensor>(profile: &Profile, board: &Board<S>, stages: StageCosts, io: &IoCosts) -> Result<Self> {
+        let app = super::application::app_kind(&profile.firmware.application)?;
+        if app != super::application::AppKind::AdisBurst {
+            return Err(Error::Profile(format!(
+                "key `firmware.application` = \"{}\": this is the \"adis-burst\" firmware's build",
+                profile.firmware.application
+            )));
+        }
         let fw = Firmware::<T>::new(profile)?;
         let zero = T::from_f64(0.0, crate::numerics::QClass::Rate);
         let schedule = RateSchedule::new(profile.firmware.schedule, samples_per_update(&profile.firmware)?)?;
@@ -148,6 +155,7 @@ impl<T: Scalar> Isr<T> {
     }
 
     /// The firmware's variables (the GPS stream's fixes; tests that force a state).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn firmware_mut(&mut self) -> &mut Firmware<T> {
         &mut self.fw
     }
@@ -483,11 +491,50 @@ impl<T: Scalar> Isr<T> {
     }
 }
 
+impl<T: Scalar, S: Sensor> super::application::Application<S> for Isr<T> {
+    #[inline]
+    fn isr(&mut self, board: &mut Board<S>, k: u64, tick_ps: Ps, start: u64, overrun: bool) -> Result<u64> {
+        Isr::isr(self, board, k, tick_ps, start, overrun)
+    }
+    fn overrun(&self) -> OverrunPolicy {
+        self.overrun
+    }
+    fn reads_per_tick(&self) -> usize {
+        self.bursts_per_tick
+    }
+    #[inline]
+    fn next_pending(&self) -> u64 {
+        self.next_pending
+    }
+    #[inline]
+    fn set_next_pending(&mut self, k: u64) {
+        self.next_pending = k;
+    }
+    #[inline]
+    fn nested(&self) -> u64 {
+        self.nested
+    }
+    #[inline]
+    fn output(&mut self) -> &mut Output {
+        &mut self.out
+    }
+    #[inline]
+    fn events(&mut self) -> &mut EventLog {
+        &mut self.events
+    }
+    fn stage_costs(&self) -> &StageCosts {
+        &self.stages
+    }
+    fn push_gps(&mut self, fixes: &[super::GpsFix]) -> Result<()> {
+        self.fw.push_gps(fixes)
+    }
+}
+
 /// The timing of the firmware's status-polling loops (a copy, so it can be used while the link is
 /// borrowed).
 #[derive(Clone, Copy)]
-struct Poller {
-    sysclk: Clock,
+pub(crate) struct Poller {
+    pub(crate) sysclk: Clock,
     /// `timing.poll_loop_cycles`, as a divisor (one division per poll).
     poll_cycles: Divisor,
     /// SYSCLKOUT cycles per LSPCLK cycle, when whole (always on this board: LSPCLK is SYSCLKOUT
@@ -498,11 +545,21 @@ struct Poller {
 // The per-frame helpers below are `inline(always)`: they are a few instructions each, and left to
 // its heuristics the compiler kept them out of line (a call per poll, measured with callgrind).
 impl Poller {
+    /// The polling loops of a profile's firmware on `board` (`timing.poll_loop_cycles`).
+    pub(crate) fn of<S: Sensor>(profile: &Profile, board: &Board<S>) -> Poller {
+        let clocks = &board.clocks;
+        Poller {
+            sysclk: clocks.sysclkout,
+            poll_cycles: Divisor::new(u64::from(profile.timing.poll_loop_cycles)),
+            sysclk_per_lspclk: clocks.sysclkout.cycles_per_cycle_of(clocks.lspclk),
+        }
+    }
+
     /// A status-polling loop starting at cycle `c`: each iteration (call, register read, test,
     /// branch) takes `poll_loop_cycles` and reads the register at its start; the loop exits at the
     /// end of the first iteration whose read sees the flag (set at `flag_ps`).
     #[inline]
-    fn until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
+    pub(crate) fn until(&self, c: u64, flag_ps: Option<Ps>, what: &str) -> Result<u64> {
         let Some(flag_ps) = flag_ps else {
             return Err(self.hang(c, what, false));
         };
@@ -513,7 +570,7 @@ impl Poller {
     /// (BUFFULL, clear since the previous read) ends the loop after one iteration without a
     /// conversion, exactly as `until` finds (⌈f/P⌉ ≤ seen.0 when f ≤ ⌊seen.0·P⌋, f whole).
     #[inline(always)]
-    fn until_seen(&self, c: u64, flag_ps: Option<Ps>, seen: (u64, Ps), what: &str) -> Result<u64> {
+    pub(crate) fn until_seen(&self, c: u64, flag_ps: Option<Ps>, seen: (u64, Ps), what: &str) -> Result<u64> {
         match flag_ps {
             Some(f) if f <= seen.1 && seen.0 <= c => Ok(c + self.poll_cycles.get()),
             _ => self.until(c, flag_ps, what),
@@ -523,7 +580,7 @@ impl Poller {
     /// [`Poller::until`] for a flag SPI-A sets on an LSPCLK cycle it names (a character's end): its
     /// SYSCLKOUT cycle is then a product, not a conversion from picoseconds.
     #[inline(always)]
-    fn until_flag(&self, c: u64, flag: Option<FlagTime>, what: &str) -> Result<u64> {
+    pub(crate) fn until_flag(&self, c: u64, flag: Option<FlagTime>, what: &str) -> Result<u64> {
         let Some(flag) = flag else {
             return Err(self.hang(c, what, false));
         };

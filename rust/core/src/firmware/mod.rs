@@ -12,12 +12,14 @@
 #[cfg(test)]
 mod acceptance;
 pub mod algorithms;
+pub mod application;
 mod align;
 pub mod attitude;
 mod dcm;
 mod decode;
 mod euler;
 pub mod geomag;
+pub mod geomag_app;
 pub mod isr;
 mod nav;
 mod quat;

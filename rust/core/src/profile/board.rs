@@ -7,6 +7,7 @@
 
 use super::sections::bad;
 use super::Profile;
+use crate::device::parts::spi_needs::{spi_needs, SpiNeeds};
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
@@ -129,6 +130,27 @@ impl Board {
         self.devices.iter().find(|d| d.link == "spi-a" && d.chip_select_gpio() == Some(SENSOR_CHIP_SELECT))
     }
 
+    /// What the part on the acquisition chip select needs of SPI-A (its data sheet's character
+    /// lengths, modes, SCLK limit), when the part is known.
+    pub fn sensor_needs(&self) -> Option<SpiNeeds> {
+        spi_needs(&self.spi_device()?.part)
+    }
+
+    /// SPI-A's character length against the part on the acquisition chip select: an error naming
+    /// `spi.spiccr` and what the part's data sheet expects.
+    pub(crate) fn validate_spi(&self, spi: &super::Spi) -> Result<()> {
+        let Some(needs) = self.sensor_needs() else { return Ok(()) };
+        let bits = (spi.spiccr & 0xF) as u8 + 1;
+        if !needs.char_bits.contains(&bits) {
+            return Err(bad(
+                "spi.spiccr",
+                format!("0x{:X} (SPICHAR = {}: {bits}-bit characters)", spi.spiccr, bits - 1),
+                &format!("for the {} on GPIO57: {}", needs.part, needs.expects),
+            ));
+        }
+        Ok(())
+    }
+
     /// I2C-A's SCL phases (declared or default).
     pub fn i2c_bus(&self) -> I2cBus {
         self.i2c.unwrap_or_default()
@@ -166,7 +188,10 @@ impl Board {
                     let Some(gpio) = d.chip_select_gpio() else {
                         return Err(bad(&key("chip_select"), format!("\"{cs}\""), "\"GPIO0\" … \"GPIO87\""));
                     };
-                    if gpio == SENSOR_CHIP_SELECT && d.part != profile.device.part {
+                    // The ADIS16xxx part the ISR reads is configured by `[device]`; another
+                    // family's part there is read by its own application (`firmware.application`).
+                    let adis = crate::device::parts::by_name(&d.part).is_some();
+                    if gpio == SENSOR_CHIP_SELECT && adis && d.part != profile.device.part {
                         return Err(bad(
                             &key("part"),
                             format!("\"{}\"", d.part),

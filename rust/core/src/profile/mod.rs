@@ -5,10 +5,12 @@
 
 mod board;
 mod faults;
+mod geomag;
 mod sections;
 
 pub use board::{Board, BoardDevice, I2cBus, LinkKind, SciPort, LINKS, SENSOR_CHIP_SELECT};
 pub use faults::*;
+pub use geomag::{AxisCal, Geomag};
 pub use sections::*;
 
 use crate::error::{Error, Result};
@@ -43,6 +45,10 @@ pub struct Profile {
     pub timing: Timing,
     /// Device-side faults injected into the run (none by default).
     pub faults: Faults,
+    /// The geomagnetic–gyro board's front end and firmware constants (`firmware.application =
+    /// "ads8344-geomag"`; absent on the other boards).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geomag: Option<Geomag>,
 }
 
 impl Profile {
@@ -100,6 +106,7 @@ impl Profile {
         self.clocks.validate()?;
         self.spi.validate()?;
         self.board.validate(self)?;
+        self.board.validate_spi(&self.spi)?;
         self.timer.validate()?;
         self.device.validate()?;
         self.device.validate_power_on_sens_avg()?;
@@ -109,6 +116,9 @@ impl Profile {
         self.iq.validate()?;
         self.timing.validate()?;
         self.faults.validate()?;
+        if let Some(g) = &self.geomag {
+            g.validate()?;
+        }
         Ok(())
     }
 }

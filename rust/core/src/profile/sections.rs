@@ -196,13 +196,6 @@ impl Spi {
                 "MASTER_SLAVE (bit 2) = 1: the firmware is the SPI master",
             ));
         }
-        if self.spiccr & 0xF != 15 {
-            return Err(bad(
-                "spi.spiccr",
-                format!("0x{:X} (SPICHAR = {})", self.spiccr, self.spiccr & 0xF),
-                "SPICHAR = 15 (16-bit characters): the ADIS16407 uses 16-bit frames",
-            ));
-        }
         if self.start_latency_lspclk > 64 {
             return Err(bad("spi.start_latency_lspclk", self.start_latency_lspclk, "0…64 LSPCLK cycles"));
         }
@@ -708,10 +701,21 @@ pub enum QuatDerivative {
     Published,
 }
 
+/// The reference application's name (`firmware.application`).
+pub const ADIS_BURST: &str = "adis-burst";
+
+fn is_adis_burst(name: &str) -> bool {
+    name == ADIS_BURST
+}
+
 /// Firmware choices.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Firmware {
+    /// The application the board runs (`firmware::application::APPLICATIONS`): its acquisition and
+    /// loop; looked up when the firmware is built.
+    #[serde(skip_serializing_if = "is_adis_burst")]
+    pub application: String,
     /// Acquisition schedule.
     pub schedule: Schedule,
     /// Output-word decode.
@@ -758,6 +762,7 @@ pub struct Firmware {
 impl Default for Firmware {
     fn default() -> Self {
         Firmware {
+            application: ADIS_BURST.into(),
             schedule: Schedule::HalfStep,
             decode: Decode::Published,
             algorithm: "rk4".into(),

@@ -5,6 +5,8 @@
 //! plain data ([`StageCosts`], declared beside it in `firmware::isr`).
 
 use crate::error::Result;
+use crate::firmware::application::{app_kind, AppKind};
+use crate::firmware::geomag_app::GeomagLoop;
 use crate::firmware::isr::{StageCost, StageCosts};
 use crate::firmware::schedule::{interpolate, MAX_SAMPLES};
 use crate::firmware::{Firmware, GpsFix, Vec3};
@@ -142,7 +144,39 @@ const RATES: [[f64; 3]; 3] = [[0.010, -0.005, 0.020], [0.011, -0.004, 0.021], [0
 /// Count and price every stage of the profile's firmware (the fixed-point firmware's operations for
 /// `iq`, see [`count_as`]).
 pub fn stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
-    count_as(arith_section(profile.firmware.numeric) == ArithSection::Iq, || counted_stage_costs(profile, table))
+    let iq = arith_section(profile.firmware.numeric) == ArithSection::Iq;
+    match app_kind(&profile.firmware.application)? {
+        AppKind::AdisBurst => count_as(iq, || counted_stage_costs(profile, table)),
+        AppKind::Ads8344Geomag => count_as(iq, || geomag_stage_costs(profile, table)),
+    }
+}
+
+/// The counting inputs of the geomagnetic–gyro firmware: gyro codes about ±100 °/s off null, a field
+/// of (0.2, −0.1, 0.4) gauss, 25 °C, VREF/2 (codes at VREF = 5 V).
+const GEOMAG_CODES: [u16; 8] = [34_000, 31_500, 33_100, 35_389, 31_457, 38_011, 9_830, 32_768];
+
+/// The geomagnetic–gyro firmware's stages (`firmware/geomag_app.rs`): decode is one tick's codes
+/// (volts, rates, compensation, field, temperature), attitude the three-sample rotation vector with
+/// the roll aid, Euler the spin-body angles; no navigation, no interpolation.
+fn geomag_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
+    let arith = arith_for(profile.firmware.numeric, table);
+    let factor = location_factor(profile, table);
+    let mut lp = GeomagLoop::<Counted>::new(profile, profile.timer.period_us * 1e-6)?;
+    let (d, decode) = count(|| lp.decode(&GEOMAG_CODES));
+    let dtheta = [d.1; 3];
+    let (r, attitude) = count(|| lp.update(&dtheta, 0));
+    r?;
+    let (_, euler) = count(|| lp.euler());
+    let stage = |counts: OpCounts| StageCost { counts, cycles: price(&counts, arith, factor) };
+    Ok(StageCosts {
+        entry: price_terms(&entry_terms(&table.interrupt), factor),
+        exit: price_terms(&exit_terms(&table.interrupt), factor),
+        decode: stage(decode),
+        attitude: stage(attitude),
+        euler: stage(euler),
+        navigation: stage(OpCounts::default()),
+        interpolation: stage(OpCounts::default()),
+    })
 }
 
 /// X/Y/Z MAGN_OUT of the counting inputs: 0.25, −0.05, −0.4 gauss (positive and negative codes).

@@ -2,6 +2,7 @@
 
 pub mod adis16362;
 pub mod adis16407;
+pub mod spi_needs;
 
 use super::part::Part;
 

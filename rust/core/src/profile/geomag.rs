@@ -1,0 +1,124 @@
+//! `[geomag]`: the geomagnetic–gyro board's analogue front end and its firmware's constants
+//! (`firmware.application = "ads8344-geomag"`; algorithms.md §1). The ADS8344's channels
+//! (single-ended against COM): CH0–CH2 the gyro's x, y, z; CH3–CH5 the magnetometer's x, y, z;
+//! CH6 the board temperature sensor (0.5 V + 10 mV/°C); CH7 spare, wired to VREF/2 as a
+//! ratiometric check (`device::analog::FrontEnd`).
+
+use super::sections::bad;
+use crate::error::Result;
+use serde::{Deserialize, Serialize};
+
+/// The board's front end and the firmware's constants.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Geomag {
+    /// The spin-axis (x) gyro's preset (`device::analog::GyroPreset`): `spin1200` or `adxrs300`.
+    pub gyro_x: String,
+    /// The cross-axis (y, z) gyros' preset.
+    pub gyro_yz: String,
+    /// The magnetometer's preset: `amr`.
+    pub magnetometer: String,
+    /// Sensors without their unit errors and noise (the presets' sensitivities, ranges and
+    /// bandwidths kept); the unit's errors are drawn from `errors.seed` otherwise.
+    pub ideal_sensors: bool,
+    /// The ADC's reference, V.
+    pub vref_v: f64,
+    /// The earth's field the firmware expects, navigation frame east-north-up, gauss (the aid
+    /// compares the measured field with it).
+    pub field_enu_gauss: [f64; 3],
+    /// Roll aid proportional gain K_p, 1/s.
+    pub aid_kp: f64,
+    /// Roll aid integral gain K_i, 1/s².
+    pub aid_ki: f64,
+    /// The aid runs while the expected field across the spin axis exceeds this, gauss.
+    pub aid_gate_gauss: f64,
+    /// The magnetometer chain's bandwidth the firmware compensates the lag of, Hz (0: none).
+    pub mag_cutoff_hz: f64,
+    /// The gyro calibration table, x, y, z (the firmware inverts the sensor law with it).
+    pub calibration: [AxisCal; 3],
+}
+
+/// One gyro axis's calibration row.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisCal {
+    /// Bias at the reference temperature, °/s.
+    pub bias_dps: f64,
+    /// Bias temperature coefficient, °/s per °C.
+    pub bias_temp_dps_per_c: f64,
+    /// Reference temperature, °C.
+    pub ref_temp_c: f64,
+    /// Scale-factor error δk.
+    pub scale_error: f64,
+    /// Nonlinearity k₂ (bow at full scale, fraction of FS).
+    pub nonlinearity: f64,
+    /// Full scale, °/s.
+    pub full_scale_dps: f64,
+}
+
+impl AxisCal {
+    /// A nominal row: no bias, no scale error, no bow, full scale `fs`.
+    pub fn nominal(full_scale_dps: f64) -> AxisCal {
+        AxisCal {
+            bias_dps: 0.0,
+            bias_temp_dps_per_c: 0.0,
+            ref_temp_c: 25.0,
+            scale_error: 0.0,
+            nonlinearity: 0.0,
+            full_scale_dps,
+        }
+    }
+}
+
+impl Default for Geomag {
+    /// The board of `firmware_model/geomag.toml` without its field: the aid's gains of the issue-21
+    /// tests (K_p 2/s, K_i 1/s², gate 0.05 gauss), nominal calibration.
+    fn default() -> Self {
+        Geomag {
+            gyro_x: "spin1200".into(),
+            gyro_yz: "adxrs300".into(),
+            magnetometer: "amr".into(),
+            ideal_sensors: false,
+            vref_v: 5.0,
+            field_enu_gauss: [0.0, 0.0, 0.0],
+            aid_kp: 2.0,
+            aid_ki: 1.0,
+            aid_gate_gauss: 0.05,
+            mag_cutoff_hz: 0.0,
+            calibration: [AxisCal::nominal(1200.0), AxisCal::nominal(300.0), AxisCal::nominal(300.0)],
+        }
+    }
+}
+
+impl Geomag {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !(self.vref_v.is_finite() && (0.1..=5.0).contains(&self.vref_v)) {
+            return Err(bad("geomag.vref_v", self.vref_v, "0.1 … 5 V (ads8344.md)"));
+        }
+        for (k, v) in [("aid_kp", self.aid_kp), ("aid_ki", self.aid_ki), ("aid_gate_gauss", self.aid_gate_gauss)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(bad(&format!("geomag.{k}"), v, "a finite number ≥ 0"));
+            }
+        }
+        if !(self.mag_cutoff_hz.is_finite() && self.mag_cutoff_hz >= 0.0) {
+            return Err(bad("geomag.mag_cutoff_hz", self.mag_cutoff_hz, "a bandwidth ≥ 0 Hz (0: no compensation)"));
+        }
+        if !self.field_enu_gauss.iter().all(|x| x.is_finite() && x.abs() <= 1.0) {
+            return Err(bad("geomag.field_enu_gauss", format!("{:?}", self.field_enu_gauss), "|B| ≤ 1 gauss per axis"));
+        }
+        for (i, c) in self.calibration.iter().enumerate() {
+            let ok = [c.bias_dps, c.bias_temp_dps_per_c, c.ref_temp_c, c.nonlinearity].iter().all(|x| x.is_finite())
+                && c.scale_error > -0.5
+                && c.scale_error < 0.5
+                && c.full_scale_dps > 0.0;
+            if !ok {
+                return Err(bad(
+                    &format!("geomag.calibration[{i}]"),
+                    format!("{c:?}"),
+                    "finite values, |scale_error| < 0.5, full_scale_dps > 0",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
