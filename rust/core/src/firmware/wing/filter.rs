@@ -189,10 +189,10 @@ pub fn check_fixed_point_span<T: Scalar>(variances: &[(&str, f64)]) -> Result<()
 /// What one filter step gives.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WingOutput<T> {
-    /// α, rad.
-    pub alpha: T,
-    /// The axis in use (unit, r axes).
-    pub axis: Vec3<T>,
+    /// α, rad (None while the filter has no axis).
+    pub alpha: Option<T>,
+    /// The axis in use (unit, r axes), if any.
+    pub axis: Option<Vec3<T>>,
     /// Whether the step was detected at rest (mode C).
     pub at_rest: bool,
 }
@@ -205,7 +205,8 @@ pub struct WingFilter<T> {
     cfg: FilterConfig,
     q_wr: Quat<T>,
     c_wr: Mat3<T>,
-    axis: Vec3<T>,
+    /// The hinge axis; None until one is estimated (then Z₁ and Z₂ wait: only the rest measurements run).
+    axis: Option<Vec3<T>>,
     q: Quat<T>,
     v: Vec3<T>,
     eps: Vec3<T>,
@@ -215,6 +216,8 @@ pub struct WingFilter<T> {
     dt: T,
     g: T,
     still: u32,
+    /// Held at rest whatever the inputs (the timing model's count of the costliest step).
+    held_at_rest: bool,
 }
 
 fn skew<T: Scalar>(v: &Vec3<T>) -> Mat3<T> {
@@ -239,6 +242,14 @@ impl<T: Scalar> WingFilter<T> {
     /// estimate and `axis` (unit, r axes) as the hinge axis. Errors under a fixed-point backend
     /// ([`check_fixed_point_span`]).
     pub fn new(zero: &WingZero<T>, axis: Vec3<T>, cfg: FilterConfig) -> Result<Self> {
+        let mut f = Self::without_axis(zero, cfg)?;
+        f.axis = Some(axis);
+        Ok(f)
+    }
+
+    /// [`WingFilter::new`] with no axis yet ([`WingFilter::set_axis`] gives one): until then the filter
+    /// integrates the gyro and recalibrates at rest, and gives no α.
+    pub fn without_axis(zero: &WingZero<T>, cfg: FilterConfig) -> Result<Self> {
         let (p0, qd, r) = cfg.variances();
         let mut all: Vec<(&str, f64)> = Vec::new();
         all.extend(p0.iter().map(|v| ("P₀", *v)));
@@ -254,7 +265,7 @@ impl<T: Scalar> WingFilter<T> {
             cfg,
             q_wr: zero.q_wr,
             c_wr: transpose(&dcm(&zero.q_wr)),
-            axis,
+            axis: None,
             q: zero.q_wr,
             v: [z; 3],
             eps: zero.gyro_mean,
@@ -264,12 +275,24 @@ impl<T: Scalar> WingFilter<T> {
             dt: T::from_f64(cfg.step_s, QClass::Generic),
             g: T::from_f64(cfg.gravity, QClass::Accel),
             still: 0,
+            held_at_rest: false,
         })
     }
 
     /// Use another axis estimate (B1 or B2) from now on.
     pub fn set_axis(&mut self, axis: Vec3<T>) {
-        self.axis = axis;
+        self.axis = Some(axis);
+    }
+
+    /// Whether the step detector holds the board at rest (mode C: the rest measurements run).
+    pub fn at_rest(&self) -> bool {
+        self.cfg.mode == Mode::Full && (self.still >= self.cfg.rest_steps || self.held_at_rest)
+    }
+
+    /// Hold the filter at rest whatever its inputs (the costliest step: the rest measurements run
+    /// too). Only for the timing model's count of one step.
+    pub fn hold_at_rest(&mut self) {
+        self.held_at_rest = true;
     }
 
     /// q_wb as the filter holds it.
@@ -312,7 +335,7 @@ impl<T: Scalar> WingFilter<T> {
         let rest_now = dot(&w_hat, &w_hat) < lit(self.cfg.rest_rate_threshold.powi(2))
             && (dot(&f_hat, &f_hat).sqrt() - self.g).abs() < lit(self.cfg.rest_force_threshold);
         self.still = if rest_now { self.still.saturating_add(1) } else { 0 };
-        let at_rest = self.cfg.mode == Mode::Full && self.still >= self.cfg.rest_steps;
+        let at_rest = self.at_rest();
 
         // Nominal propagation.
         let dt = self.dt;
@@ -344,23 +367,25 @@ impl<T: Scalar> WingFilter<T> {
         // Measurements.
         let mut x = [lit::<T>(0.0); STATES];
         let u_w = mv3(&c, &w_hat);
-        let c_wr = self.c_wr;
-        let ax = skew(&self.axis);
-        let z1 = cross(&mv3(&c_wr, &u_w), &self.axis);
-        let h_phi = mm3(&mm3(&ax, &c_wr), &skew(&u_w));
-        let h_eps = mm3(&mm3(&ax, &c_wr), &c).map(|r| r.map(|x| -x));
-        let r1 = lit(self.cfg.rate_constraint_sigma.powi(2));
-        for i in 0..3 {
-            let mut h = [lit::<T>(0.0); STATES];
-            h[PHI..PHI + 3].copy_from_slice(&h_phi[i]);
-            h[EPS..EPS + 3].copy_from_slice(&h_eps[i]);
-            self.update(&mut x, &h, z1[i], r1);
-        }
-        if full {
-            let a_w: Vec3<T> = std::array::from_fn(|j| dot(&[c_wr[0][j], c_wr[1][j], c_wr[2][j]], &self.axis));
-            let mut h = [lit::<T>(0.0); STATES];
-            h[DV..DV + 3].copy_from_slice(&a_w);
-            self.update(&mut x, &h, dot(&a_w, &self.v), lit(self.cfg.velocity_constraint_sigma.powi(2)));
+        if let Some(axis) = self.axis {
+            let c_wr = self.c_wr;
+            let ax = skew(&axis);
+            let z1 = cross(&mv3(&c_wr, &u_w), &axis);
+            let h_phi = mm3(&mm3(&ax, &c_wr), &skew(&u_w));
+            let h_eps = mm3(&mm3(&ax, &c_wr), &c).map(|r| r.map(|x| -x));
+            let r1 = lit(self.cfg.rate_constraint_sigma.powi(2));
+            for i in 0..3 {
+                let mut h = [lit::<T>(0.0); STATES];
+                h[PHI..PHI + 3].copy_from_slice(&h_phi[i]);
+                h[EPS..EPS + 3].copy_from_slice(&h_eps[i]);
+                self.update(&mut x, &h, z1[i], r1);
+            }
+            if full {
+                let a_w: Vec3<T> = std::array::from_fn(|j| dot(&[c_wr[0][j], c_wr[1][j], c_wr[2][j]], &axis));
+                let mut h = [lit::<T>(0.0); STATES];
+                h[DV..DV + 3].copy_from_slice(&a_w);
+                self.update(&mut x, &h, dot(&a_w, &self.v), lit(self.cfg.velocity_constraint_sigma.powi(2)));
+            }
         }
         if at_rest {
             let (rw, rv, rf) = (
@@ -394,7 +419,7 @@ impl<T: Scalar> WingFilter<T> {
             self.eps[i] = (self.eps[i] + x[EPS + i]).to_class(QClass::Rate);
             self.nab[i] = (self.nab[i] + x[NAB + i]).to_class(QClass::Accel);
         }
-        WingOutput { alpha: hinge_angle(&self.q_wr, &self.axis, &self.q), axis: self.axis, at_rest }
+        WingOutput { alpha: self.axis.map(|a| hinge_angle(&self.q_wr, &a, &self.q)), axis: self.axis, at_rest }
     }
 
     /// P ← (I + A dt) P (I + A dt)ᵀ + Qd, as P' = P + dt·A P, then P' + dt·P' Aᵀ (A is sparse: only

@@ -41,11 +41,13 @@
 //! profile runs `c28x-f32`. The geometry ([`hinge_angle`], [`static_axis`], [`ZeroAcquisition`]) is
 //! generic over every backend.
 
+mod app;
 mod filter;
 mod geometry;
 #[cfg(test)]
 mod tests;
 
+pub use app::{AxisSource, WingUnit};
 pub use filter::{check_fixed_point_span, FilterConfig, Mode, WingFilter, WingOutput, STATES};
 pub use geometry::{
     axis_of_rotation, hinge_angle, samples_needed, static_axis, up_vector, DynamicAxis, WingZero, ZeroAcquisition,
