@@ -316,6 +316,7 @@ def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterat
             moving=None if trace.moving is None else trace.moving[s],
             metadata=trace.metadata,
             gps=None if trace.gps is None else trace.gps[s],
+            truth_alpha_deg=None if trace.truth_alpha_deg is None else trace.truth_alpha_deg[s],
         )
 
 
@@ -486,7 +487,10 @@ def emulate(
         for s in _pieces(t, bus):
             if window is not None and chunk.truth_q is not None:
                 window.feed(
-                    t[s], chunk.truth_q[s], None if chunk.moving is None else chunk.moving[s], _alpha(chunk, s)
+                    t[s],
+                    chunk.truth_q[s],
+                    None if chunk.moving is None else chunk.moving[s],
+                    _alpha(chunk, s),
                 )
             emu.push(
                 t[s],

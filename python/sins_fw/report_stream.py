@@ -566,10 +566,10 @@ class RunSummary:
             "stage_cycles": dict(stage_cycles),
         }
         if self.alpha:  # the wing unit on a trace with α truth
-            out["wing_alpha_error"] = self._alpha_result()
+            out["wing_alpha_error"] = self.alpha_result()
         return out
 
-    def _alpha_result(self) -> dict[str, Any]:
+    def alpha_result(self) -> dict[str, Any]:
         """The wing unit's α error (:func:`sins_fw.metrics.alpha_errors`)."""
         from sins_fw.metrics import alpha_errors
 

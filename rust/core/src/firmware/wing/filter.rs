@@ -410,6 +410,8 @@ impl<T: Scalar> WingFilter<T> {
             }
         }
 
+        self.condition();
+
         // Feedback into the nominal state; the error state restarts at zero.
         let phi = [x[PHI], x[PHI + 1], x[PHI + 2]].map(|v| -v);
         self.q = quat_mul(&quat_from_rotvec(&phi), &self.q);
@@ -448,6 +450,25 @@ impl<T: Scalar> WingFilter<T> {
             p2[i][i] = p2[i][i] + *qd;
         }
         self.p = p2;
+    }
+
+    /// Keep P a covariance in single precision: the update P − K Kᵀ s subtracts nearly equal numbers
+    /// (the rest measurements' variances are 1e-6 against P's 1e-4), and in float32 its round-off left
+    /// P asymmetric with negative variances, from which the filter diverged (α 60° off at rest, seed 1
+    /// of the `adis16362` preset on the `synth wing` steps). Symmetrise, and floor each variance at one
+    /// step's process noise (no state is known better than one step's noise after a step).
+    fn condition(&mut self) {
+        let half = lit::<T>(0.5);
+        for i in 0..STATES {
+            for j in i + 1..STATES {
+                let m = (self.p[i][j] + self.p[j][i]) * half;
+                self.p[i][j] = m;
+                self.p[j][i] = m;
+            }
+            if self.p[i][i] < self.qd[i] {
+                self.p[i][i] = self.qd[i];
+            }
+        }
     }
 
     /// One scalar measurement z = h·x + noise (variance r): x and P updated (P − K Kᵀ s, symmetric).
