@@ -11,6 +11,7 @@ import math
 from pathlib import Path
 
 import pytest
+
 from conftest import run_cli
 from sins_fw import _core
 from sins_fw.run_output import RUN_COLUMNS

@@ -243,7 +243,8 @@ def _alpha_panel(ax: Axes, data: PageData) -> None:
     ax.set_ylabel("α − truth (°)")
     w = data.summary.alpha_result()
     figures = "; ".join(
-        f"{name} RMS {w[name]['rms_deg']:.3g}°, max {w[name]['max_abs_deg']:.3g}°, p95 {w[name]['p95_abs_deg']:.3g}°"
+        f"{name} RMS {w[name]['rms_deg']:.3g}°, max {w[name]['max_abs_deg']:.3g}°, "
+        f"p95 {w[name]['p95_abs_deg']:.3g}°"
         for name in ("static", "dynamic")
         if w[name]["steps"]
     )
