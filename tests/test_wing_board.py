@@ -65,7 +65,7 @@ def test_run_reports_alpha_against_the_truth(cli, wing_trace: Path, tmp_path: Pa
     accelerometer-bias check: a body-fixed bias b moves α by ≤ 2 sin(α/2)·|b|/(g cos β); the preset's
     initial bias is 4 mg 1σ per axis, so |b| ≤ 3·4·√3 mg at 3σ: 0.762° at α = 35°, β = 20°. The moves
     (≤ 1.5 s each, ARW 2 °/√h) add ≤ 3·2·√(1.5/3600) = 0.12° (3σ). Seed 1 draws a large bias
-    (measured static max 0.68°). Before the covariance was conditioned, the float32 filter diverged
+    (measured static max 0.576°). Before the covariance was conditioned, the float32 filter diverged
     on this run (α 63.7° off at a rest)."""
     out = tmp_path / "run.csv"
     r = cli(
