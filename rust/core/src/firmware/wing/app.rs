@@ -87,8 +87,8 @@ impl<T: Scalar> WingUnit<T> {
     /// The unit for an update period of `step_s` s, gravity `gravity` m/s² (the firmware's g), and a zero
     /// of `zero_s` s at least.
     pub fn new(step_s: f64, gravity: f64, zero_s: f64) -> Result<Self> {
-        let sigma = ((ADIS16362_VRW * ADIS16362_SPS.sqrt()).powi(2) + (ADIS16362_ACCEL_LSB_G * gravity).powi(2) / 12.0)
-            .sqrt();
+        let sigma =
+            ((ADIS16362_VRW * ADIS16362_SPS.sqrt()).powi(2) + (ADIS16362_ACCEL_LSB_G * gravity).powi(2) / 12.0).sqrt();
         let acquisition = ZeroAcquisition::new(sigma, ZERO_TARGET_G * gravity)?;
         if !(zero_s.is_finite() && zero_s >= 0.0) {
             return Err(Error::Profile(format!(
