@@ -47,6 +47,6 @@ def test_the_published_time_is_compared_only_on_the_published_configuration():
     r = run_cli("budget", "--json", "--profile", "wing")
     wing = json.loads(r.out)["solution"]
     assert not wing["published_applies"] and wing["ratio"] is None and wing["within_tolerance"] is None
-    assert wing["published_differs"] == ["device.part = ADIS16362"]
+    assert wing["published_differs"] == ["device.part = ADIS16362", "firmware.algorithm = wing"]
     text = run_cli("budget", "--profile", "wing").out
     assert "× the published" not in text and "not compared with the published 0.35 ms" in text

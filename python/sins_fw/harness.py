@@ -98,6 +98,13 @@ class Run:
     #: prefix: ``step``, ``omega_p``, ``omega_i`` rad/s, ``error_rp``, ``error_yaw``, ``orthogonality``);
     #: empty for the open-loop algorithms.
     dcm: dict[str, NDArray[Any]] = field(default_factory=dict)
+    #: The wing unit's rows, one per step (the core's `wing_*` columns without the prefix: ``step``,
+    #: ``alpha_deg``, ``axis``, ``axis_source``, ``at_rest``); empty for the other algorithms.
+    wing: dict[str, NDArray[Any]] = field(default_factory=dict)
+    #: The trace's hinge angle truth at the step times, degrees, and whether it is still there
+    #: (:func:`alpha_truth_at`); None when the trace has no ``truth_alpha_deg``.
+    truth_alpha_deg: Array | None = None
+    alpha_still: NDArray[np.bool_] | None = None
 
     @property
     def cycles(self) -> int:
@@ -175,6 +182,26 @@ def has_dcm(profile: Profile) -> bool:
     rows, :attr:`Run.dcm`): the DCM. Known before the run, so that a file or a viewer layout can
     make room for them from the start."""
     return profile.get("firmware.algorithm") == "dcm"
+
+
+def has_wing(profile: Profile) -> bool:
+    """Whether the profile runs the wing-angle unit (the core's `wing_*` rows, :attr:`Run.wing`)."""
+    return profile.get("firmware.algorithm") == "wing"
+
+
+def alpha_truth_at(t: Array, alpha_deg: Array, at: Array) -> tuple[Array, NDArray[np.bool_]]:
+    """The hinge angle truth (degrees) at times ``at``, linearly interpolated (NaN outside the trace),
+    and whether the hinge is still there: the trace's rows around the time and the row before them hold
+    the same α (the synthetic flap profiles hold α exactly constant at rest)."""
+    out = np.full(len(at), np.nan)
+    still = np.zeros(len(at), dtype=bool)
+    if len(t) < 3:
+        return out, still
+    i = np.clip(np.searchsorted(t, at, side="right") - 1, 1, len(t) - 2)
+    inside = (at >= t[0]) & (at <= t[-1])
+    out[inside] = np.interp(at[inside], t, alpha_deg)
+    still[inside] = ((alpha_deg[i - 1] == alpha_deg[i]) & (alpha_deg[i] == alpha_deg[i + 1]))[inside]
+    return out, still
 
 
 def _rate_text(rate: Fraction) -> str:
@@ -289,6 +316,7 @@ def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterat
             moving=None if trace.moving is None else trace.moving[s],
             metadata=trace.metadata,
             gps=None if trace.gps is None else trace.gps[s],
+            truth_alpha_deg=None if trace.truth_alpha_deg is None else trace.truth_alpha_deg[s],
         )
 
 
@@ -438,6 +466,7 @@ def emulate(
     truth: list[Array] = []
     moving: list[NDArray[np.bool_]] = []
     truth_t: list[Array] = []
+    alphas: list[Array] = []
     t0: float | None = None
     truth_q0: Array | None = None
     chunks = _slices(trace, chunk_rows) if checked else _chunks(trace, chunk_rows, allow_gaps)
@@ -457,7 +486,12 @@ def emulate(
             emu.push_gps(fixes[0], gps_latency_s(chunk.metadata, "trace metadata"), fixes[1], fixes[2])
         for s in _pieces(t, bus):
             if window is not None and chunk.truth_q is not None:
-                window.feed(t[s], chunk.truth_q[s], None if chunk.moving is None else chunk.moving[s])
+                window.feed(
+                    t[s],
+                    chunk.truth_q[s],
+                    None if chunk.moving is None else chunk.moving[s],
+                    _alpha(chunk, s),
+                )
             emu.push(
                 t[s],
                 np.ascontiguousarray(chunk.gyro_dps[s]),
@@ -479,6 +513,8 @@ def emulate(
             truth_t.append(t)
             if chunk.moving is not None:
                 moving.append(chunk.moving)
+            if chunk.truth_alpha_deg is not None:
+                alphas.append(chunk.truth_alpha_deg)
         if on_chunk is not None:
             on_chunk(float(chunk.t_s[-1]))
         if until_s is not None and chunk.t_s[-1] - t0 >= until_s:
@@ -492,6 +528,8 @@ def emulate(
             mv = np.concatenate(moving)
             idx = np.clip(np.searchsorted(tt, run.time_s, side="right") - 1, 0, len(tt) - 1)
             run.moving = mv[idx]
+        if alphas:
+            run.truth_alpha_deg, run.alpha_still = alpha_truth_at(tt, np.concatenate(alphas), run.time_s)
     return run
 
 
@@ -611,11 +649,16 @@ class _TruthWindow:
         self.q: Array = np.empty((0, 4))
         self.moving: NDArray[np.bool_] | None = None
         self.q0: Array | None = None
+        self.alpha: Array | None = None
 
-    def feed(self, t: Array, q: Array, moving: NDArray[np.bool_] | None) -> None:
+    def feed(
+        self, t: Array, q: Array, moving: NDArray[np.bool_] | None, alpha_deg: Array | None = None
+    ) -> None:
         if self.t is None:
             self.q0 = q[0].copy()
         keep = slice(max(len(self.q) - FEED_ROWS, 0), None)
+        if alpha_deg is not None:
+            self.alpha = alpha_deg if self.alpha is None else np.concatenate([self.alpha[keep], alpha_deg])
         self.t = t if self.t is None else np.concatenate([self.t[keep], t])
         self.q = np.concatenate([self.q[keep], q])
         if moving is not None:
@@ -629,6 +672,12 @@ class _TruthWindow:
         if self.moving is not None:
             idx = np.clip(np.searchsorted(self.t, at, side="right") - 1, 0, len(self.t) - 1)
             part["moving"] = self.moving[idx]
+        if self.alpha is not None:
+            part["truth_alpha_deg"], part["alpha_still"] = alpha_truth_at(self.t, self.alpha, at)
+
+
+def _alpha(chunk: PhysicalTrace, s: slice) -> Array | None:
+    return None if chunk.truth_alpha_deg is None else chunk.truth_alpha_deg[s]
 
 
 def _truth_at(t: Array, q: Array, at: Array) -> Array:
@@ -680,6 +729,7 @@ def _assemble(profile: Profile, t0: float, parts: list[dict[str, Any]], stage_cy
         events=[e for p in parts for e in p["events"]],
         stage_cycles=stage_cycles,
         dcm={k.removeprefix("dcm_"): _cat(parts, k) for k in parts[0] if k.startswith("dcm_")},
+        wing={k.removeprefix("wing_"): _cat(parts, k) for k in parts[0] if k.startswith("wing_")},
     )
 
 

@@ -196,3 +196,34 @@ def accuracy(
         heading_alignment_deg=delta,
         alignment_row=row,
     )
+
+
+def alpha_error_stats(error_deg: ArrayLike) -> dict[str, Any]:
+    """RMS, largest |e|, 95th percentile of |e| (degrees) and the count of a set of hinge-angle errors
+    (None for the figures of an empty set)."""
+    e = np.abs(np.asarray(error_deg, dtype=np.float64))
+    if not len(e):
+        return {"steps": 0, "rms_deg": None, "max_abs_deg": None, "p95_abs_deg": None}
+    return {
+        "steps": len(e),
+        "rms_deg": float(np.sqrt(np.mean(e * e))),
+        "max_abs_deg": float(e.max()),
+        "p95_abs_deg": float(np.percentile(e, 95)),
+    }
+
+
+def alpha_errors(alpha_deg: ArrayLike, truth_deg: ArrayLike, still: ArrayLike) -> dict[str, Any]:
+    """The wing unit's α error against the trace's truth (estimate − truth, wrapped to (−180, 180]) over
+    the steps with both: all of them, the static ones (the hinge still, ``still``) and the dynamic
+    ones; and the steps with no α yet (the zero acquisition and the first motion)."""
+    a, t = np.asarray(alpha_deg, dtype=np.float64), np.asarray(truth_deg, dtype=np.float64)
+    st = np.asarray(still, dtype=bool)
+    have = np.isfinite(a) & np.isfinite(t)
+    e = wrap_deg(a - t)
+    return {
+        "steps_without_alpha": int(np.sum(~np.isfinite(a) & np.isfinite(t))),
+        "all": alpha_error_stats(e[have]),
+        "static": alpha_error_stats(e[have & st]),
+        "dynamic": alpha_error_stats(e[have & ~st]),
+        "final_error_deg": float(e[have][-1]) if have.any() else None,
+    }

@@ -201,6 +201,19 @@ def render(s: dict[str, Any]) -> str:
             f"  BROAD RMSE over {br['mask']} ({br['samples']} steps): total {br['rmse_total_deg']:.4f}°, "
             f"heading {br['rmse_heading_deg']:.4f}°, inclination {br['rmse_inclination_deg']:.4f}°"
         )
+    w = s.get("wing_alpha_error")
+    if w is not None:
+        lines.append(
+            f"hinge angle α  against the trace's truth_alpha_deg ({w['steps_without_alpha']} steps before "
+            "an axis: no α)"
+        )
+        lines.append(f"  {'':<12} {'steps':>8} {'RMS':>10} {'max |e|':>10} {'p95 |e|':>10}  (degrees)")
+        for name in ("all", "static", "dynamic"):
+            e = w[name]
+            lines.append(
+                f"  {name:<12} {e['steps']:>8} {_fmt(e['rms_deg'], 1, '.4f'):>10} "
+                f"{_fmt(e['max_abs_deg'], 1, '.4f'):>10} {_fmt(e['p95_abs_deg'], 1, '.4f'):>10}"
+            )
     b = s["budget"]
     lines += [
         f"budget         ISR {_fmt(b['isr_max_s'], 1e6)} µs max, {_fmt(b['isr_mean_s'], 1e6)} µs mean of a "

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from sins_fw import quaternion
 from sins_fw.atomic import atomic_path
 from sins_fw.harness import PS, Run
+from sins_fw.metrics import wrap_deg
 from sins_fw.profile import Profile
 from sins_fw.report_stream import RunSummary, run_part
 
@@ -172,6 +173,7 @@ class PageData:
         self.margin_min: tuple[float, int] | None = None
         self.ticks = 0
         self.events: dict[tuple[str, str], Series] = {}
+        self.alpha_error = Series()  # the wing unit's α − truth, degrees
 
     def add(self, part: dict[str, Any]) -> None:
         if "cycle_t_s" not in part:
@@ -180,6 +182,10 @@ class PageData:
         t = part["cycle_t_s"]
         for k in range(3):
             self.euler[k].add(t, part["cycle_euler_deg"][:, k])
+        if "wing_alpha_deg" in part and "truth_alpha_deg" in part:
+            e = wrap_deg(part["wing_alpha_deg"] - part["truth_alpha_deg"])
+            known = np.isfinite(e)
+            self.alpha_error.add(t[known], e[known])
         self._budget({k.removeprefix("budget_"): v for k, v in part.items() if k.startswith("budget_")})
         for e in part["events"]:
             key = (e["severity"], e["kind"])
@@ -231,7 +237,28 @@ class PageData:
         return data
 
 
+def _alpha_panel(ax: Axes, data: PageData) -> None:
+    """The wing unit's α error against the trace's truth, with its static and dynamic figures."""
+    ax.plot(*data.alpha_error.points(), color="black", lw=0.8, label="α − truth")
+    ax.set_ylabel("α − truth (°)")
+    w = data.summary.alpha_result()
+    figures = "; ".join(
+        f"{name} RMS {w[name]['rms_deg']:.3g}°, max {w[name]['max_abs_deg']:.3g}°, "
+        f"p95 {w[name]['p95_abs_deg']:.3g}°"
+        for name in ("static", "dynamic")
+        if w[name]["steps"]
+    )
+    ax.set_title(_wrap(f"Hinge angle α error: {figures}"), loc="left", fontsize=10)
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + LEGEND_ROOM * (hi - lo))
+    ax.legend(loc="upper left", fontsize=8)
+    ax.grid(alpha=0.3)
+
+
 def _attitude_panel(ax: Axes, data: PageData) -> None:
+    if data.alpha_error.rows:  # the wing unit: its output is α
+        _alpha_panel(ax, data)
+        return
     if data.worst is None:
         for k, name in enumerate(("roll", "pitch", "yaw")):
             ax.plot(*data.euler[k].points(), color=ANGLE_COLORS[k], lw=0.8, label=name)

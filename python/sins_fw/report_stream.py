@@ -495,6 +495,8 @@ class RunSummary:
         self.error_order: list[str] = []
         self.budget = _Budget()
         self.attitude = _Attitude(profile, align)
+        # The wing unit's α and its truth, one per step (a float pair per step: 16 bytes).
+        self.alpha: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]] = []
 
     def add(self, part: dict[str, Any]) -> None:
         """One part of the output (``cycle_t_s``, the step times in seconds, may stand for
@@ -508,6 +510,8 @@ class RunSummary:
         self.add_events(part["events"])
         self.budget.add(b, part["cycle_t_s"], part)
         self.attitude.add(part)
+        if "wing_alpha_deg" in part and "truth_alpha_deg" in part:
+            self.alpha.append((part["wing_alpha_deg"], part["truth_alpha_deg"], part["alpha_still"]))
 
     def add_events(self, events: list[dict[str, Any]]) -> None:
         """Events in time order (those of a part, or extra ones such as a trace's gaps)."""
@@ -548,7 +552,7 @@ class RunSummary:
         from sins_fw.report import flat_budget
 
         full = self.budget.result(self.violations())
-        return {
+        out = {
             "trace": trace,
             "profile": self.profile.source,
             "overrides": list(self.profile.overrides),
@@ -561,6 +565,16 @@ class RunSummary:
             "budget": flat_budget(full),
             "stage_cycles": dict(stage_cycles),
         }
+        if self.alpha:  # the wing unit on a trace with α truth
+            out["wing_alpha_error"] = self.alpha_result()
+        return out
+
+    def alpha_result(self) -> dict[str, Any]:
+        """The wing unit's α error (:func:`sins_fw.metrics.alpha_errors`)."""
+        from sins_fw.metrics import alpha_errors
+
+        a, t, st = (np.concatenate([x[i] for x in self.alpha]) for i in range(3))
+        return alpha_errors(a, t, st)
 
 
 def tally_event(kinds: dict[str, dict[str, Any]], e: dict[str, Any]) -> None:
@@ -600,7 +614,11 @@ def run_part(run: Any) -> dict[str, Any]:
         "events": run.events,
         **{f"budget_{k}": v for k, v in run.budget.items()},
         **{f"dcm_{k}": v for k, v in run.dcm.items()},
+        **{f"wing_{k}": v for k, v in run.wing.items()},
     }
+    if run.truth_alpha_deg is not None:
+        part["truth_alpha_deg"] = run.truth_alpha_deg
+        part["alpha_still"] = run.alpha_still
     if run.truth_q is not None:
         part["truth_q"] = run.truth_q
         part["truth_q0"] = run.truth_q0

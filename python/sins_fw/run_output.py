@@ -17,7 +17,7 @@ import numpy as np
 
 from sins_fw import _core
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate, has_dcm
+from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
 from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, write_table
@@ -27,7 +27,8 @@ RUN_FORMAT = "sins-fw-run-output/1"
 
 #: The core's output columns that the file holds (`_core.OUTPUT_COLUMNS`, the ones with file
 #: columns): core column name → its file columns, one per component. The per-step (`cycle_`) ones
-#: are in every file; the DCM's (`dcm_`, one row per step, the step's row) only in the DCM's.
+#: are in every file; the DCM's (`dcm_`, one row per step, the step's row) only in the DCM's, the wing
+#: unit's (`wing_`, likewise) only in the wing unit's.
 CORE_FILE_COLUMNS: dict[str, list[tuple[str, str]]] = {
     c["name"]: c["file"] for c in _core.OUTPUT_COLUMNS if c["file"]
 }
@@ -57,6 +58,15 @@ RUN_COLUMNS: tuple[Column, ...] = (
     ),
     Column("moving", "0/1", "the trace's movement mask at the step time", "flag", "moving", False),
     *_core_file_columns("dcm_", group="dcm", required=False),
+    *_core_file_columns("wing_", group="wing", required=False, nan_allowed=True),
+    Column(
+        "truth_alpha_deg",
+        "°",
+        "the trace's hinge angle truth at the step time (wing unit, trace with truth_alpha_deg)",
+        group="truth_alpha",
+        required=False,
+        nan_allowed=True,
+    ),
 )
 RUN_SCHEMA = Schema("run output", RUN_FORMAT, RUN_COLUMNS, checks=(check_truth,))
 
@@ -77,7 +87,11 @@ def run_columns(run: Run) -> dict[str, np.ndarray]:
         if run.moving is not None:
             cols["moving"] = run.moving.astype(np.uint8)
     if has_dcm(run.profile):
-        cols |= _dcm_columns(run.step, {f"dcm_{k}": v for k, v in run.dcm.items()})
+        cols |= _group_columns(run.step, {f"dcm_{k}": v for k, v in run.dcm.items()}, "dcm_")
+    if has_wing(run.profile):
+        cols |= _group_columns(run.step, {f"wing_{k}": v for k, v in run.wing.items()}, "wing_")
+        if run.truth_alpha_deg is not None:
+            cols["truth_alpha_deg"] = run.truth_alpha_deg
     return cols
 
 
@@ -92,11 +106,13 @@ def _file_columns(values: dict[str, np.ndarray], prefix: str) -> dict[str, np.nd
     return cols
 
 
-def _dcm_columns(step: np.ndarray, dcm: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """The DCM's file columns, on the rows of their steps (the core gives one row per step)."""
-    if not np.array_equal(dcm["dcm_step"], step):
-        raise CheckFailed("run output: the DCM's rows are not one per attitude step")
-    return _file_columns(dcm, "dcm_")
+def _group_columns(step: np.ndarray, values: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
+    """An algorithm's own file columns (the DCM's `dcm_`, the wing unit's `wing_`), on the rows of their
+    steps (the core gives one row per step)."""
+    if not np.array_equal(values[f"{prefix}step"], step):
+        raise CheckFailed(f"run output: the `{prefix}` rows are not one per attitude step")
+    cols = _file_columns(values, prefix)
+    return {k: v.astype(np.uint8) if v.dtype == bool else v for k, v in cols.items()}
 
 
 def save_run(run: Run, path: str | os.PathLike[str], metadata: dict[str, str] | None = None) -> None:
@@ -120,9 +136,9 @@ def _run_metadata(profile: Profile, step_s: Fraction, t0_s: float, extra: dict[s
     }
 
 
-def _step_columns(part: dict[str, Any], dcm: bool) -> dict[str, np.ndarray]:
+def _step_columns(part: dict[str, Any], dcm: bool, wing: bool = False) -> dict[str, np.ndarray]:
     """The file columns of one part of streamed output (as :func:`run_columns` of a whole run;
-    ``dcm``: the DCM's columns too)."""
+    ``dcm``, ``wing``: the DCM's or the wing unit's columns too)."""
     values = {
         "cycle_t_ps": (part["cycle_t_ps"].astype(np.float64) * PS)[:, None],
         "cycle_quat": part["cycle_quat"],
@@ -137,7 +153,11 @@ def _step_columns(part: dict[str, Any], dcm: bool) -> dict[str, np.ndarray]:
         if "moving" in part:
             cols["moving"] = part["moving"].astype(np.uint8)
     if dcm:
-        cols |= _dcm_columns(part["cycle_step"], part)
+        cols |= _group_columns(part["cycle_step"], part, "dcm_")
+    if wing:
+        cols |= _group_columns(part["cycle_step"], part, "wing_")
+        if "truth_alpha_deg" in part:
+            cols["truth_alpha_deg"] = part["truth_alpha_deg"]
     return cols
 
 
@@ -233,7 +253,7 @@ class RunWriter(_Deferred):
         return RUN_SCHEMA, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
-        return _step_columns(part, has_dcm(self.profile))
+        return _step_columns(part, has_dcm(self.profile), has_wing(self.profile))
 
 
 class RawWriter(_Deferred):

@@ -172,6 +172,13 @@ def render(r: dict[str, Any]) -> str:
             f"  {s:<13} {st['cycles']:6d} cycles {st['time_s'] * 1e6:9.3f} µs  ({est:.0f} % estimate-priced)"
         )
         lines.append(f"      {terms}")
+        # The stage's parts, each counted and priced like a stage (the DCM's; the wing unit's filter).
+        tick_s = r["tick_period_s"]
+        for part, p in st.get("parts", {}).items():
+            lines.append(
+                f"      part {part:<13} {p['cycles']:6d} cycles {p['time_s'] * 1e6:9.3f} µs, "
+                f"{100 * p['time_s'] / tick_s:.2f} % of the tick"
+            )
 
     rd = su["reads"]
     if rd["reads"]:

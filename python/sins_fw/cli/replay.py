@@ -33,7 +33,7 @@ from sins_fw.cli.common import (
     profile_from_args,
 )
 from sins_fw.errors import InputError, TraceError
-from sins_fw.harness import CHUNK_ROWS, Run, emulate, has_dcm
+from sins_fw.harness import CHUNK_ROWS, Run, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile
 from sins_fw.run_output import RUN_FORMAT, recorded_trace, replay_check, resolve_trace
 from sins_fw.traces import PhysicalTrace, read_metadata
@@ -328,7 +328,9 @@ def _record(
     from sins_fw.viewer import recording  # rerun is a heavy import
     from sins_fw.viewer.layout import default_blueprint
 
-    blueprint = default_blueprint(bus=window is not None, parity=names, dcm=has_dcm(profile))
+    blueprint = default_blueprint(
+        bus=window is not None, parity=names, dcm=has_dcm(profile), wing=has_wing(profile)
+    )
     # The id is derived from what the recording is made of (docs/traces.md, "Determinism").
     rid = recording.recording_id(
         profile.text,

@@ -19,7 +19,9 @@ def _events(name: str = "Events") -> rrb.TextLogView:
     return rrb.TextLogView(origin=paths.EVENTS, name=name)
 
 
-def default_blueprint(*, bus: bool, parity: Iterable[str] = (), dcm: bool = False) -> rrb.Blueprint:
+def default_blueprint(
+    *, bus: bool, parity: Iterable[str] = (), dcm: bool = False, wing: bool = False
+) -> rrb.Blueprint:
     """Tabs Attitude, Sensor, Budget, and DCM / Bus / Parity when the recording has them (``dcm``:
     the firmware is the DCM, :func:`sins_fw.harness.has_dcm`; ``bus``: a bus window was recorded;
     ``parity``: the other backends' names); emulated time selected."""
@@ -81,6 +83,17 @@ def default_blueprint(*, bus: bool, parity: Iterable[str] = (), dcm: bool = Fals
                 ),
                 rrb.TimeSeriesView(name="|R·Rᵀ − I| after renormalisation", origin=paths.DCM_ORTHOGONALITY),
                 name="DCM",
+            )
+        )
+    if wing:  # the wing unit: :func:`sins_fw.harness.has_wing`
+        tabs.append(
+            rrb.Vertical(
+                rrb.TimeSeriesView(name="Hinge angle α: estimate and truth (°)", origin=paths.WING_ALPHA),
+                rrb.TimeSeriesView(name="α error against the truth (°)", origin=paths.WING_ALPHA_ERROR),
+                rrb.TimeSeriesView(
+                    name="Estimated hinge axis (IMU axes at the zero)", origin=paths.WING_AXIS
+                ),
+                name="Wing",
             )
         )
     if bus:

@@ -50,6 +50,11 @@ DCM_OMEGA_I = "dcm/omega_i"
 DCM_ERROR_RP = "dcm/error_rp"
 DCM_ERROR_YAW = "dcm/error_yaw"
 DCM_ORTHOGONALITY = "dcm/orthogonality"
+#: The wing unit's hinge angle (estimate and the trace's truth, degrees), its error against the truth
+#: (degrees) and the estimated axis (unit, IMU axes at the zero); none for the other algorithms.
+WING_ALPHA = "wing/alpha"
+WING_ALPHA_ERROR = "wing/alpha_error"
+WING_AXIS = "wing/axis"
 
 BUDGET_BUSY = "budget/busy"
 BUDGET_FINISH = "budget/finish"

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from sins_fw import quaternion
 from sins_fw.atomic import atomic_path
-from sins_fw.harness import CHUNK_ROWS, Run, TraceInput, _chunks, has_dcm
+from sins_fw.harness import CHUNK_ROWS, Run, TraceInput, _chunks, has_dcm, has_wing
 from sins_fw.metrics import AttitudeErrors, attitude_errors, wrap_deg
 from sins_fw.profile import Profile
 from sins_fw.report_stream import _Attitude, run_part
@@ -275,6 +275,7 @@ class Recorder:
             cyc_ps, cyc_tick = tick_ps[i], ticks[i].astype(np.int64)
             self._log_cycles(part, cyc_ps, cyc_tick)
             self._log_dcm(part, cyc_ps, cyc_tick)
+            self._log_wing(part, cyc_ps, cyc_tick)
             for name, mine in self.mine.items():
                 mine.add(
                     {
@@ -365,6 +366,29 @@ class Recorder:
         ):
             self._scalars(path, index, scale(part[key]), [what.format(a) for a in AXES], colors)
         self._scalars(paths.DCM_ORTHOGONALITY, index, part["dcm_orthogonality"], ["|R·Rᵀ − I|"])
+
+    def _log_wing(self, part: Mapping[str, Any], cyc_ps: NDArray[Any], cyc_tick: NDArray[Any]) -> None:
+        """The wing unit's rows (its ``wing_*`` columns, none for the other algorithms) at the index of their
+        steps: α with the trace's truth beside it and their difference (where both are known), the axis."""
+        wing_step = part.get("wing_step")
+        if wing_step is None or not len(wing_step):
+            return
+        i = np.searchsorted(part["cycle_step"], wing_step)
+        index = [_time(cyc_ps[i]), _seq(paths.CYCLE, wing_step), _seq(paths.TICK, cyc_tick[i])]
+        alpha = np.asarray(part["wing_alpha_deg"], dtype=np.float64)
+        truth = part.get("truth_alpha_deg")
+        if truth is None:
+            self._scalars(paths.WING_ALPHA, index, alpha, ["α (°)"], [AXIS_COLORS[0]])
+        else:
+            truth = np.asarray(truth, dtype=np.float64)[i]
+            both = np.stack([alpha, truth], axis=1)
+            self._scalars(
+                paths.WING_ALPHA, index, both, ["α (°)", "α truth (°)"], [AXIS_COLORS[0], TRUTH_COLOR[:3]]
+            )
+            self._scalars(paths.WING_ALPHA_ERROR, index, wrap_deg(alpha - truth), ["α − truth (°)"])
+        self._scalars(
+            paths.WING_AXIS, index, part["wing_axis"], [f"axis {a}" for a in AXES], list(AXIS_COLORS)
+        )
 
     def _log_errors(self, rows: dict[str, Any], valid: NDArray[np.bool_], err: AttitudeErrors) -> None:
         index = [
@@ -768,7 +792,9 @@ def save_recording(
     bp = (
         blueprint
         if blueprint is not None
-        else default_blueprint(bus=run.bus is not None, parity=parity or (), dcm=has_dcm(run.profile))
+        else default_blueprint(
+            bus=run.bus is not None, parity=parity or (), dcm=has_dcm(run.profile), wing=has_wing(run.profile)
+        )
     )
     with recording_file(path, recording_id=rid, blueprint=bp, name=name) as rec:
         log_run(rec, run, trace=trace, parity=parity)

@@ -39,6 +39,23 @@ pub struct CorrectionRow {
     pub orthogonality: f64,
 }
 
+/// One attitude step of the wing-angle unit (`firmware.algorithm = "wing"`; no rows for the other
+/// algorithms): the hinge angle and the axis it is measured about.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WingRow {
+    /// The step (as [`CycleRow::step`]).
+    pub step: u64,
+    /// α, degrees, from the zero pose; NaN while no axis is estimated (during the zero acquisition and
+    /// the first motion).
+    pub alpha_deg: f64,
+    /// The estimated hinge axis, unit, IMU axes at the zero pose (a·up ≥ 0); NaN while none.
+    pub axis: [f64; 3],
+    /// Where the axis comes from: 0 none yet, 1 dynamic (B2, integrated motion), 2 static (B1, rest poses).
+    pub axis_source: u64,
+    /// The step was detected at rest (the filter's rest recalibration ran).
+    pub at_rest: bool,
+}
+
 /// One burst read.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReadRow {
@@ -135,6 +152,8 @@ pub struct Output {
     pub corrections: Vec<CorrectionRow>,
     /// Events of every model, in time order.
     pub events: Vec<Event>,
+    /// One row per attitude step of the wing-angle unit.
+    pub wing: Vec<WingRow>,
 }
 
 impl Output {
@@ -145,6 +164,7 @@ impl Output {
         self.budget.extend(other.budget);
         self.corrections.extend(other.corrections);
         self.events.extend(other.events);
+        self.wing.extend(other.wing);
     }
 }
 
@@ -152,11 +172,11 @@ impl Output {
 pub const READ_WORDS: usize = 15;
 
 /// One output column as the binding hands it to Python (`sins_fw._core.OUTPUT_COLUMNS`): a field of
-/// [`CycleRow`], [`ReadRow`], [`BudgetRow`] or [`CorrectionRow`] under its table's prefix, in the order `Emulator.take`
-/// returns them.
+/// [`CycleRow`], [`ReadRow`], [`BudgetRow`], [`CorrectionRow`] or [`WingRow`] under its table's prefix, in the order
+/// `Emulator.take` returns them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Column {
-    /// Key in `Emulator.take`'s dict: `cycle_`, `read_`, `budget_` or `dcm_` and the row's field.
+    /// Key in `Emulator.take`'s dict: `cycle_`, `read_`, `budget_`, `dcm_` or `wing_` and the row's field.
     pub name: &'static str,
     /// Unit of its values.
     pub unit: &'static str,
@@ -273,6 +293,30 @@ pub const COLUMNS: &[Column] = &[
         "DCM: |R·Rᵀ − I| (largest element) after renormalisation",
         &[("dcm_orthogonality", "1")],
     ),
+    col(
+        "wing_step",
+        "1",
+        "wing unit only (no rows for the other algorithms): the attitude step of the row (in the run output file, the row of that step)",
+    ),
+    filed(
+        "wing_alpha_deg",
+        "°",
+        "wing: the hinge angle α from the zero pose (NaN until an axis is estimated)",
+        &[("wing_alpha_deg", "°")],
+    ),
+    filed(
+        "wing_axis",
+        "1",
+        "wing: the estimated hinge axis, unit, IMU axes at the zero pose, a·up ≥ 0 (NaN until estimated)",
+        &[("wing_axis_x", "1"), ("wing_axis_y", "1"), ("wing_axis_z", "1")],
+    ),
+    filed(
+        "wing_axis_source",
+        "1",
+        "wing: where the axis comes from: 0 none yet, 1 dynamic (B2, integrated motion), 2 static (B1, rest poses)",
+        &[("wing_axis_source", "1")],
+    ),
+    filed("wing_at_rest", "0/1", "wing: the step was detected at rest (rest recalibration ran)", &[("wing_at_rest", "0/1")]),
 ];
 
 /// Whether `names` are the names of [`COLUMNS`], in order: lets the binding check its column list

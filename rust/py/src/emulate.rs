@@ -593,6 +593,11 @@ output_columns! {
     dcm_error_rp: [f64; 3] = corrections.error_rp,
     dcm_error_yaw: [f64; 3] = corrections.error_yaw,
     dcm_orthogonality: f64 = corrections.orthogonality,
+    wing_step: u64 = wing.step,
+    wing_alpha_deg: f64 = wing.alpha_deg,
+    wing_axis: [f64; 3] = wing.axis,
+    wing_axis_source: u64 = wing.axis_source,
+    wing_at_rest: bool = wing.at_rest,
 }
 
 fn bus_log_dict<'py>(py: Python<'py>, log: &[LinkRecord]) -> PyResult<Bound<'py, PyDict>> {

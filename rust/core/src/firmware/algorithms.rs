@@ -10,6 +10,7 @@ use super::attitude::AttitudeUpdate;
 use super::dcm::Dcm;
 use super::quat::Rk4;
 use super::rotvec::RotationVector;
+use super::wing::WingUnit;
 use crate::error::{Error, Result};
 use crate::numerics::Scalar;
 use crate::profile;
@@ -21,7 +22,7 @@ pub struct Algorithm<T> {
     /// What `firmware_model/SCHEMA.md` says of it.
     pub doc: &'static str,
     /// The update for the profile's `[firmware]` section and an update period of `step_s` seconds.
-    pub make: fn(fw: &profile::Firmware, step_s: f64) -> Box<dyn AttitudeUpdate<T>>,
+    pub make: fn(fw: &profile::Firmware, step_s: f64) -> Result<Box<dyn AttitudeUpdate<T>>>,
 }
 
 /// The registry: every attitude algorithm, one row each.
@@ -30,19 +31,24 @@ pub fn algorithms<T: Scalar>() -> Vec<Algorithm<T>> {
         Algorithm {
             name: "rk4",
             doc: "RK4 on the quaternion equation (the reference design; `firmware.quat_derivative`)",
-            make: |fw, step_s| Box::new(Rk4::<T>::new(step_s, fw.quat_derivative)),
+            make: |fw, step_s| Ok(Box::new(Rk4::<T>::new(step_s, fw.quat_derivative))),
         },
         Algorithm {
             name: "rotation-vector",
             doc: "rotation vector with coning correction (`firmware.coning_samples`, `firmware.increment_rule`)",
             make: |fw, step_s| {
-                Box::new(RotationVector::<T>::new(fw.coning_samples as usize, fw.increment_rule, step_s))
+                Ok(Box::new(RotationVector::<T>::new(fw.coning_samples as usize, fw.increment_rule, step_s)))
             },
         },
         Algorithm {
             name: "dcm",
             doc: "direction cosine matrix with drift cancellation (`[firmware.dcm]`)",
-            make: |fw, step_s| Box::new(Dcm::<T>::new(&fw.dcm, step_s)),
+            make: |fw, step_s| Ok(Box::new(Dcm::<T>::new(&fw.dcm, step_s))),
+        },
+        Algorithm {
+            name: "wing",
+            doc: "the wing-angle unit: zero, hinge axis and 12-state filter, α out every update (`firmware.alignment_s`: the zero's time)",
+            make: |fw, step_s| Ok(Box::new(WingUnit::<T>::new(step_s, fw.accel_g_m_s2, fw.alignment_s)?)),
         },
     ]
 }
@@ -55,7 +61,7 @@ pub fn algorithm_names() -> String {
 /// The update `firmware.algorithm` names, for an update period of `step_s` seconds.
 pub fn attitude_update<T: Scalar>(fw: &profile::Firmware, step_s: f64) -> Result<Box<dyn AttitudeUpdate<T>>> {
     match algorithms::<T>().into_iter().find(|a| a.name == fw.algorithm) {
-        Some(a) => Ok((a.make)(fw, step_s)),
+        Some(a) => (a.make)(fw, step_s),
         None => Err(Error::Profile(format!(
             "key `firmware.algorithm` = \"{}\": expected one of {}",
             fw.algorithm,
@@ -101,7 +107,7 @@ mod tests {
         let fw = profile::Firmware { algorithm: "rk5".into(), ..Default::default() };
         let err = attitude_update::<f64>(&fw, 0.008).unwrap_err().to_string();
         assert!(
-            err.contains("key `firmware.algorithm` = \"rk5\": expected one of `rk4`, `rotation-vector`, `dcm`"),
+            err.contains("key `firmware.algorithm` = \"rk5\": expected one of `rk4`, `rotation-vector`, `dcm`, `wing`"),
             "{err}"
         );
     }

@@ -82,6 +82,12 @@ pub trait AttitudeUpdate<T: Scalar>: std::fmt::Debug + Send {
     fn correction(&self) -> Option<Correction> {
         None
     }
+    /// Push this step's rows of the algorithm's own output tables (an application's extra outputs,
+    /// e.g. the wing unit's α and axis) into `out`; `step` is the cycle row's step. None by default.
+    fn record(&self, _step: u64, _out: &mut crate::output::Output) {}
+    /// Put the update in its costliest state (the timing model counts one update from there: an
+    /// algorithm whose work depends on its state must fit the tick in its worst one). Nothing by default.
+    fn to_costliest(&mut self) {}
 }
 
 /// The drift-cancellation terms of one update (f64 whatever the backend: a report, not firmware state).

@@ -456,6 +456,7 @@ impl<T: Scalar> Isr<T> {
             self.report_state_out_of_range(&row);
         }
         self.out.cycles.push(row);
+        self.fw.record_outputs(self.step, &mut self.out);
         if let Some(c) = self.fw.correction() {
             self.out.corrections.push(crate::output::CorrectionRow {
                 step: self.step,

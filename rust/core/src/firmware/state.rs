@@ -261,6 +261,17 @@ impl<T: Scalar> Firmware<T> {
         self.attitude.correction()
     }
 
+    /// Push the attitude algorithm's own rows of this step (see [`AttitudeUpdate::record`]).
+    pub fn record_outputs(&self, step: u64, out: &mut crate::output::Output) {
+        self.attitude.record(step, out);
+    }
+
+    /// Put the attitude algorithm in its costliest state (the timing model's count; see
+    /// [`AttitudeUpdate::to_costliest`]).
+    pub(crate) fn attitude_to_costliest(&mut self) {
+        self.attitude.to_costliest();
+    }
+
     /// Stage 3: Euler angles of the current attitude (radians).
     pub fn euler(&self) -> EulerAngles<T> {
         self.euler.extract(&self.c_bn)

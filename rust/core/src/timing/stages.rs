@@ -196,6 +196,7 @@ struct Counting {
 
 fn counting_firmware(profile: &Profile) -> Result<Counting> {
     let mut fw = Firmware::<Counted>::new(profile)?;
+    fw.attitude_to_costliest();
     fw.push_gps(&[GPS_FIX])?;
     fw.receive_gps(GPS_FIX.available_s());
     let lit = |x: f64| Counted(x);

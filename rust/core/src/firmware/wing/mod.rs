@@ -28,6 +28,10 @@
 //!   rest recalibration (C): zero velocity, zero rate (the gyro bias, earth rate included) and the
 //!   level from the accelerometer. α every step is [`hinge_angle`] of the filtered attitude.
 //!
+//! - On the board, [`WingUnit`] (`app.rs`, the `wing` row of the algorithm registry) runs them in
+//!   order every update: the zero, then the filter, with the axis from B2 and, once two rest poses
+//!   give one, from B1; its α and axis are the run's `wing_*` output rows.
+//!
 //! Earth rate (correction to §3: Z₁ uses ω_ib, which holds it). It is removed, not budgeted: at rest
 //! the gyro reads ε + C_r^b Ω_ie^r and the zero-rate measurement puts the sum into the bias estimate.
 //! A rotation about a leaves a·Ω_ie^r unchanged, so the part that integrates into α is removed exactly
@@ -41,11 +45,13 @@
 //! profile runs `c28x-f32`. The geometry ([`hinge_angle`], [`static_axis`], [`ZeroAcquisition`]) is
 //! generic over every backend.
 
+mod app;
 mod filter;
 mod geometry;
 #[cfg(test)]
 mod tests;
 
+pub use app::{AxisSource, WingUnit};
 pub use filter::{check_fixed_point_span, FilterConfig, Mode, WingFilter, WingOutput, STATES};
 pub use geometry::{
     axis_of_rotation, hinge_angle, samples_needed, static_axis, up_vector, DynamicAxis, WingZero, ZeroAcquisition,

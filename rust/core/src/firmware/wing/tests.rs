@@ -331,7 +331,7 @@ fn flap(h: &Hinge, alpha: impl Fn(f64) -> f64, drift: [f64; 3], earth_in_zero: b
         let (a0, a1) = (alpha(t0), alpha(t1));
         // Lever arm 0 (the IMU on the hinge line): f = C_w^b g_up.
         let out = filter.step(&gyro(a0, a1, true, true), &h.f_rest(a1));
-        last = wrap(out.alpha - a1).abs();
+        last = wrap(out.alpha.unwrap() - a1).abs();
         worst = worst.max(last);
     }
     (worst, last)
@@ -546,7 +546,7 @@ fn dynamic_run(sensor: &mut Adis16362, h: &Hinge, rest_s: f64) -> f64 {
                 f[i] += fj[i] / step as f64;
             });
         }
-        out = filter.step(&w, &f).alpha;
+        out = filter.step(&w, &f).alpha.unwrap();
     }
     wrap(out - alpha((steps * step) as f64 * dt)).abs()
 }
