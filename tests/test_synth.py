@@ -47,7 +47,13 @@ CASES = [
     (
         "spin",
         "819.2",
-        {"path": "ballistic", "duration_s": 4.0, "spin_up_s": 1.0, "sway_hz": 1.0, "elevation_deg": 80.0},
+        {
+            "trajectory": "ballistic",
+            "duration_s": 4.0,
+            "spin_up_s": 1.0,
+            "sway_hz": 1.0,
+            "elevation_deg": 80.0,
+        },
     ),
 ]
 
@@ -215,14 +221,14 @@ def test_spin_body_x_holds_the_swinging_axis_and_the_roll_is_the_spin_angle():
 
 
 def test_spin_ballistic_arc_follows_the_velocity_and_falls_freely():
-    """The ballistic path without nodding: body x along v^n = [V cos γ₀ sin β, V cos γ₀ cos β,
+    """The ballistic arc without nodding: body x along v^n = [V cos γ₀ sin β, V cos γ₀ cos β,
     V sin γ₀ − g t] at every sample (f64 round-off of a few rotations: 1e-12), the flight-path angle
     falling from +γ₀ through 0 at the apex (t = V sin γ₀/g); in free fall the accelerometers read only
     gravity's change with height and the Coriolis and transport terms: f^n = [0, 0, g(h) − g(h₀)] +
     (2ω_ie + ω_en) × v (1e-12 m/s²). A flight longer than the landing time is refused."""
     v, gam, beta, lat, h0 = 300.0, math.radians(30.0), math.radians(40.0), 40.8, 1050.0
     m = synth.spin_motion(
-        path="ballistic",
+        trajectory="ballistic",
         spin_dps=500.0,
         duration_s=25.0,
         pitch_amplitude_deg=0.0,
@@ -251,6 +257,6 @@ def test_spin_ballistic_arc_follows_the_velocity_and_falls_freely():
     apex = v * math.sin(gam) / g
     assert m.height_m.max() == pytest.approx(h0 + v * math.sin(gam) * apex / 2.0, abs=0.01)
     with pytest.raises(synth.ConfigError, match=r"lands after 30\.6"):
-        synth.spin_motion(path="ballistic", launch_speed_mps=v, elevation_deg=30.0, duration_s=31.0)
-    with pytest.raises(synth.ConfigError, match="--path"):
-        synth.spin_motion(path="rocket")
+        synth.spin_motion(trajectory="ballistic", launch_speed_mps=v, elevation_deg=30.0, duration_s=31.0)
+    with pytest.raises(synth.ConfigError, match="--trajectory"):
+        synth.spin_motion(trajectory="rocket")

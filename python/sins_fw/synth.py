@@ -427,13 +427,13 @@ def coning_motion(
     return _ground(t, q, w, latitude_deg, height_m)
 
 
-#: The spin scenario's paths (``--path``).
-SPIN_PATHS = ("turntable", "ballistic")
+#: The spin scenario's trajectories (``--trajectory``).
+SPIN_TRAJECTORIES = ("turntable", "ballistic")
 
 
 def spin_motion(
     *,
-    path: str = "turntable",
+    trajectory: str = "turntable",
     spin_dps: float = 1000.0,
     spin_up_s: float = 2.0,
     duration_s: float = 60.0,
@@ -452,19 +452,21 @@ def spin_motion(
     """A body spinning about its x axis (the geomagnetic–gyro board's test, algorithms.md §1): from
     rest, a septic spin-up to ``spin_dps`` over ``spin_up_s``, held.
 
-    ``path = turntable``: on a two-axis turntable, the spin axis swings in yaw ψ(t) = A_ψ sin 2πft
+    ``trajectory = turntable``: on a two-axis turntable, the spin axis swings in yaw ψ(t) = A_ψ sin 2πft
     and pitch θ(t) = A_θ sin 2πft about the mount (``attitude_deg``). q = q_mount ⊗ q_z(ψ) ⊗
     q_y(θ) ⊗ q_x(φ) and, exactly, ω_nb^b = R_x(φ)ᵀ(R_y(θ)ᵀ ψ̇ e_z + θ̇ e_y) + φ̇ e_x. The spin
     angle φ is the profile's integral; the sway's phase is reduced as 2π·frac(f·t).
 
-    ``path = ballistic``: see :func:`_ballistic` (``attitude_deg`` is not used)."""
-    if path not in SPIN_PATHS:
-        raise ConfigError(f"spin: --path `{path}`; expected one of {', '.join(SPIN_PATHS)}")
+    ``trajectory = ballistic``: see :func:`_ballistic` (``attitude_deg`` is not used)."""
+    if trajectory not in SPIN_TRAJECTORIES:
+        raise ConfigError(
+            f"spin: --trajectory `{trajectory}`; expected one of {', '.join(SPIN_TRAJECTORIES)}"
+        )
     if not 0.0 <= spin_dps <= 1000.0:
         raise ConfigError(f"spin: --spin-dps {spin_dps}: expected 0…1000 °/s")
     if spin_up_s <= 0 or duration_s <= spin_up_s or sway_hz < 0:
         raise ConfigError("spin: spin-up must be positive and shorter than the duration, sway frequency ≥ 0")
-    if path == "ballistic":
+    if trajectory == "ballistic":
         return _ballistic(
             spin_dps=spin_dps,
             spin_up_s=spin_up_s,
@@ -526,14 +528,14 @@ def _ballistic(
     q_x(φ) and, exactly, ω_nb^b = R_x(φ)ᵀ(R_y(−θ)ᵀ ψ̇ e_z − θ̇ e_y) + φ̇ e_x. The flight must not
     outlast the landing, t = 2V sin γ₀ / g."""
     if launch_speed_mps <= 0 or not 0.0 < elevation_deg < 90.0:
-        raise ConfigError("spin: ballistic path needs --launch-speed-mps > 0 and 0 < --elevation-deg < 90")
+        raise ConfigError("spin: the ballistic arc needs --launch-speed-mps > 0 and 0 < --elevation-deg < 90")
     g = float(earth.normal_gravity(math.radians(latitude_deg), height_m))
     gamma0 = math.radians(elevation_deg)
     v_h, v_up0 = launch_speed_mps * math.cos(gamma0), launch_speed_mps * math.sin(gamma0)
     landing = 2.0 * v_up0 / g
     if duration_s > landing:
         raise ConfigError(
-            f"spin: ballistic path lands after {landing:.3f} s; --duration-s {_num(duration_s)} is longer"
+            f"spin: the ballistic arc lands after {landing:.3f} s; --duration-s {_num(duration_s)} is longer"
         )
     t = sample_times(duration_s, rate_hz, rows)
     ramps = [(0.0, spin_up_s, math.radians(spin_dps))] if spin_dps else []
@@ -903,7 +905,7 @@ class Param:
     """One scenario parameter: Python name (the CLI option is ``--name-with-dashes``)."""
 
     name: str
-    kind: str  # "float", "floats", "triple", "axis", "rate", "field", "flap", "path"
+    kind: str  # "float", "floats", "triple", "axis", "rate", "field", "flap", "trajectory"
     default: Any
     help: str
     #: Named in the generator command only when not at its default (the aiding keys: traces made
@@ -929,9 +931,9 @@ class Param:
             if text not in _AXES:
                 raise ValueError(f"expected x, y or z, got `{text}`")
             return text
-        if self.kind == "path":
-            if text not in SPIN_PATHS:
-                raise ValueError(f"expected one of {', '.join(SPIN_PATHS)}, got `{text}`")
+        if self.kind == "trajectory":
+            if text not in SPIN_TRAJECTORIES:
+                raise ValueError(f"expected one of {', '.join(SPIN_TRAJECTORIES)}, got `{text}`")
             return text
         if self.kind == "flap":
             if text not in FLAP_PROFILES:
@@ -1076,7 +1078,9 @@ SCENARIOS: dict[str, Scenario] = {
             "spin",
             _kinematic(spin_motion),
             (
-                Param("path", "path", "turntable", "turntable, or ballistic (a drag-free arc)", True),
+                Param(
+                    "trajectory", "trajectory", "turntable", "turntable, or ballistic (a drag-free arc)", True
+                ),
                 Param("spin_dps", "float", 1000.0, "spin rate about body x, °/s (0…1000)"),
                 Param("spin_up_s", "float", 2.0, "spin-up time from rest, s"),
                 Param("duration_s", "float", 60.0, "duration, s"),
@@ -1328,7 +1332,7 @@ def _metadata(name: str, values: dict[str, Any]) -> dict[str, str]:
         "gravity": "WGS-84 normal gravity with free-air correction",
         "earth_rate_rad_s": repr(earth.OMEGA_IE),
         "transport_rate": "included"
-        if scenario.transport_rate or values.get("path") == "ballistic"
+        if scenario.transport_rate or values.get("trajectory") == "ballistic"
         else "zero (the board stays at one place)",
         "latitude_deg": _num(values["latitude_deg"]),
         "height_m": _num(values["height_m"]),
