@@ -44,6 +44,17 @@ CASES = [
         {"flap": "sweep", "duration_s": 8.0, "rest_s": 1.0, "base_amplitude_deg": 2.0, "base_period_s": 5.0},
     ),
     ("spin", "819.2", {"duration_s": 4.0, "spin_up_s": 1.0, "sway_hz": 1.0, "attitude_deg": (0, 10, 30)}),
+    (
+        "spin",
+        "819.2",
+        {
+            "trajectory": "ballistic",
+            "duration_s": 4.0,
+            "spin_up_s": 1.0,
+            "sway_hz": 1.0,
+            "elevation_deg": 80.0,
+        },
+    ),
 ]
 
 
@@ -207,3 +218,45 @@ def test_spin_body_x_holds_the_swinging_axis_and_the_roll_is_the_spin_angle():
     assert np.abs(m.w_nb_b[held, 0] - np.radians(720.0) - w_swing_x[held]).max() < 1e-12
     with pytest.raises(synth.ConfigError, match="0…1000"):
         synth.spin_motion(spin_dps=1200.0)
+
+
+def test_spin_ballistic_arc_follows_the_velocity_and_falls_freely():
+    """The ballistic arc without nodding: body x along v^n = [V cos γ₀ sin β, V cos γ₀ cos β,
+    V sin γ₀ − g t] at every sample (f64 round-off of a few rotations: 1e-12), the flight-path angle
+    falling from +γ₀ through 0 at the apex (t = V sin γ₀/g); in free fall the accelerometers read only
+    gravity's change with height and the Coriolis and transport terms: f^n = [0, 0, g(h) − g(h₀)] +
+    (2ω_ie + ω_en) × v (1e-12 m/s²). A flight longer than the landing time is refused."""
+    v, gam, beta, lat, h0 = 300.0, math.radians(30.0), math.radians(40.0), 40.8, 1050.0
+    m = synth.spin_motion(
+        trajectory="ballistic",
+        spin_dps=500.0,
+        duration_s=25.0,
+        pitch_amplitude_deg=0.0,
+        yaw_amplitude_deg=0.0,
+        launch_speed_mps=v,
+        elevation_deg=30.0,
+        azimuth_deg=40.0,
+        rate_hz="100",
+    )
+    g = float(earth.normal_gravity(math.radians(lat), h0))
+    v_n = np.stack(
+        [
+            np.full_like(m.t_s, v * math.cos(gam) * math.sin(beta)),
+            np.full_like(m.t_s, v * math.cos(gam) * math.cos(beta)),
+            v * math.sin(gam) - g * m.t_s,
+        ],
+        axis=1,
+    )
+    x_n = quat.rotate(m.q_nb, np.array([1.0, 0.0, 0.0]))
+    np.testing.assert_allclose(x_n, v_n / np.linalg.norm(v_n, axis=1)[:, None], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(m.v_n, v_n, rtol=0, atol=1e-12 * v)
+    f_n = quat.rotate(m.q_nb, m.specific_force())
+    expected = np.cross(2.0 * m.w_ie_n + m.w_en_n, m.v_n)
+    expected[:, 2] += earth.normal_gravity(m.lat_rad, m.height_m) - g
+    np.testing.assert_allclose(f_n, expected, rtol=0, atol=1e-12)
+    apex = v * math.sin(gam) / g
+    assert m.height_m.max() == pytest.approx(h0 + v * math.sin(gam) * apex / 2.0, abs=0.01)
+    with pytest.raises(synth.ConfigError, match=r"lands after 30\.6"):
+        synth.spin_motion(trajectory="ballistic", launch_speed_mps=v, elevation_deg=30.0, duration_s=31.0)
+    with pytest.raises(synth.ConfigError, match="--trajectory"):
+        synth.spin_motion(trajectory="rocket")

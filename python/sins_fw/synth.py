@@ -427,30 +427,61 @@ def coning_motion(
     return _ground(t, q, w, latitude_deg, height_m)
 
 
+#: The spin scenario's trajectories (``--trajectory``).
+SPIN_TRAJECTORIES = ("turntable", "ballistic")
+
+
 def spin_motion(
     *,
+    trajectory: str = "turntable",
     spin_dps: float = 1000.0,
     spin_up_s: float = 2.0,
     duration_s: float = 60.0,
     pitch_amplitude_deg: float = 5.0,
     yaw_amplitude_deg: float = 5.0,
     sway_hz: float = 0.2,
+    launch_speed_mps: float = 500.0,
+    elevation_deg: float = 45.0,
+    azimuth_deg: float = 0.0,
     attitude_deg: Sequence[float] = (0.0, 0.0, 0.0),
     latitude_deg: float = DEFAULT_LATITUDE_DEG,
     height_m: float = DEFAULT_HEIGHT_M,
     rate_hz: str = DEFAULT_RATE_HZ,
     rows: slice | None = None,
 ) -> Motion:
-    """A body spinning about its x axis on a two-axis turntable (the geomagnetic–gyro board's test,
-    algorithms.md §1): from rest, a septic spin-up to ``spin_dps`` over ``spin_up_s``, held; the
-    spin axis swings in yaw ψ(t) = A_ψ sin 2πft and pitch θ(t) = A_θ sin 2πft about the mount
-    (``attitude_deg``). q = q_mount ⊗ q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ) and, exactly,
-    ω_nb^b = R_x(φ)ᵀ(R_y(θ)ᵀ ψ̇ e_z + θ̇ e_y) + φ̇ e_x. The spin angle φ is the profile's integral;
-    the sway's phase is reduced as 2π·frac(f·t)."""
+    """A body spinning about its x axis (the geomagnetic–gyro board's test, algorithms.md §1): from
+    rest, a septic spin-up to ``spin_dps`` over ``spin_up_s``, held.
+
+    ``trajectory = turntable``: on a two-axis turntable, the spin axis swings in yaw ψ(t) = A_ψ sin 2πft
+    and pitch θ(t) = A_θ sin 2πft about the mount (``attitude_deg``). q = q_mount ⊗ q_z(ψ) ⊗
+    q_y(θ) ⊗ q_x(φ) and, exactly, ω_nb^b = R_x(φ)ᵀ(R_y(θ)ᵀ ψ̇ e_z + θ̇ e_y) + φ̇ e_x. The spin
+    angle φ is the profile's integral; the sway's phase is reduced as 2π·frac(f·t).
+
+    ``trajectory = ballistic``: see :func:`_ballistic` (``attitude_deg`` is not used)."""
+    if trajectory not in SPIN_TRAJECTORIES:
+        raise ConfigError(
+            f"spin: --trajectory `{trajectory}`; expected one of {', '.join(SPIN_TRAJECTORIES)}"
+        )
     if not 0.0 <= spin_dps <= 1000.0:
         raise ConfigError(f"spin: --spin-dps {spin_dps}: expected 0…1000 °/s")
     if spin_up_s <= 0 or duration_s <= spin_up_s or sway_hz < 0:
         raise ConfigError("spin: spin-up must be positive and shorter than the duration, sway frequency ≥ 0")
+    if trajectory == "ballistic":
+        return _ballistic(
+            spin_dps=spin_dps,
+            spin_up_s=spin_up_s,
+            duration_s=duration_s,
+            pitch_amplitude_deg=pitch_amplitude_deg,
+            yaw_amplitude_deg=yaw_amplitude_deg,
+            sway_hz=sway_hz,
+            launch_speed_mps=launch_speed_mps,
+            elevation_deg=elevation_deg,
+            azimuth_deg=azimuth_deg,
+            latitude_deg=latitude_deg,
+            height_m=height_m,
+            rate_hz=rate_hz,
+            rows=rows,
+        )
     t = sample_times(duration_s, rate_hz, rows)
     ramps = [(0.0, spin_up_s, math.radians(spin_dps))] if spin_dps else []
     phi, phi_dot, _, _ = MotionProfile.build(0.0, 0.0, ramps)(t)
@@ -469,6 +500,92 @@ def spin_motion(
     w_b = quat.rotate(quat.conjugate(q_x), swing)
     w_b[:, 0] += phi_dot
     return _ground(t, q, w_b, latitude_deg, height_m)
+
+
+def _ballistic(
+    *,
+    spin_dps: float,
+    spin_up_s: float,
+    duration_s: float,
+    pitch_amplitude_deg: float,
+    yaw_amplitude_deg: float,
+    sway_hz: float,
+    launch_speed_mps: float,
+    elevation_deg: float,
+    azimuth_deg: float,
+    latitude_deg: float,
+    height_m: float,
+    rate_hz: str,
+    rows: slice | None,
+) -> Motion:
+    """A simple ballistic arc: no drag, launched from the start point at speed V, elevation γ₀ and
+    azimuth β (clockwise from north), under the start point's normal gravity g:
+    v^n = [V cos γ₀ sin β, V cos γ₀ cos β, V sin γ₀ − g t], v̇^n = [0, 0, −g], the position its exact
+    integral (latitude and transport rate from the start point's radii, as ``flight``). The spin
+    axis (body x) follows the velocity, its flight-path angle γ(t) = atan2(V sin γ₀ − g t,
+    V cos γ₀) (γ̇ = −g V cos γ₀ / |v|²), and nods about it: pitch θ(t) = γ(t) + A_θ sin 2πft, yaw
+    ψ(t) = 90° − β + A_ψ sin 2πft (about up, counter-clockwise from east). q = q_z(ψ) ⊗ q_y(−θ) ⊗
+    q_x(φ) and, exactly, ω_nb^b = R_x(φ)ᵀ(R_y(−θ)ᵀ ψ̇ e_z − θ̇ e_y) + φ̇ e_x. The flight must not
+    outlast the landing, t = 2V sin γ₀ / g."""
+    if launch_speed_mps <= 0 or not 0.0 < elevation_deg < 90.0:
+        raise ConfigError("spin: the ballistic arc needs --launch-speed-mps > 0 and 0 < --elevation-deg < 90")
+    g = float(earth.normal_gravity(math.radians(latitude_deg), height_m))
+    gamma0 = math.radians(elevation_deg)
+    v_h, v_up0 = launch_speed_mps * math.cos(gamma0), launch_speed_mps * math.sin(gamma0)
+    landing = 2.0 * v_up0 / g
+    if duration_s > landing:
+        raise ConfigError(
+            f"spin: the ballistic arc lands after {landing:.3f} s; --duration-s {_num(duration_s)} is longer"
+        )
+    t = sample_times(duration_s, rate_hz, rows)
+    ramps = [(0.0, spin_up_s, math.radians(spin_dps))] if spin_dps else []
+    phi, phi_dot, _, _ = MotionProfile.build(0.0, 0.0, ramps)(t)
+    w = 2.0 * math.pi * sway_hz
+    phase = 2.0 * math.pi * np.mod(sway_hz * t, 1.0)
+    nod, nod_dot = np.sin(phase), w * np.cos(phase)
+    v_up = v_up0 - g * t
+    gamma = np.arctan2(v_up, v_h)
+    gamma_dot = -g * v_h / (v_h * v_h + v_up * v_up)
+    a_psi, a_theta = math.radians(yaw_amplitude_deg), math.radians(pitch_amplitude_deg)
+    psi = math.radians(90.0 - azimuth_deg) + a_psi * nod
+    psi_dot = a_psi * nod_dot
+    theta, theta_dot = gamma + a_theta * nod, gamma_dot + a_theta * nod_dot
+    q_x = quat.from_axis_angle(_X, phi)
+    q_y = quat.from_axis_angle(_Y, -theta)
+    q_z = quat.from_axis_angle(_Z, psi)
+    q = quat.multiply(q_z, quat.multiply(q_y, q_x))
+    zeros = np.zeros_like(t)
+    swing = quat.rotate(quat.conjugate(q_y), np.stack([zeros, zeros, psi_dot], axis=1))
+    swing[:, 1] -= theta_dot
+    w_b = quat.rotate(quat.conjugate(q_x), swing)
+    w_b[:, 0] += phi_dot
+    beta = math.radians(azimuth_deg)
+    horizontal = np.array([math.sin(beta), math.cos(beta), 0.0])
+    v_n = v_h * horizontal + v_up[:, None] * _Z
+    a_n = np.broadcast_to(-g * _Z, v_n.shape).copy()
+    disp = v_h * t[:, None] * horizontal + (v_up0 * t - 0.5 * g * t * t)[:, None] * _Z
+    lat0 = math.radians(latitude_deg)
+    r_n, r_e = (float(r) for r in earth.radii(lat0))
+    lat = lat0 + disp[:, 1] / (r_n + height_m)
+    w_en = np.stack(
+        [
+            -v_n[:, 1] / (r_n + height_m),
+            v_n[:, 0] / (r_e + height_m),
+            v_n[:, 0] * np.tan(lat) / (r_e + height_m),
+        ],
+        axis=1,
+    )
+    return Motion(
+        t_s=t,
+        q_nb=q,
+        w_nb_b=w_b,
+        v_n=v_n,
+        a_n=a_n,
+        lat_rad=lat,
+        height_m=height_m + disp[:, 2],
+        w_en_n=w_en,
+        east_m=disp[:, 0],
+    )
 
 
 # Gauss–Legendre nodes on [0, 1] for the position quadrature of ``flight`` (degree-7 exact).
@@ -788,7 +905,7 @@ class Param:
     """One scenario parameter: Python name (the CLI option is ``--name-with-dashes``)."""
 
     name: str
-    kind: str  # "float", "floats", "triple", "axis", "rate", "field", "flap"
+    kind: str  # "float", "floats", "triple", "axis", "rate", "field", "flap", "trajectory"
     default: Any
     help: str
     #: Named in the generator command only when not at its default (the aiding keys: traces made
@@ -813,6 +930,10 @@ class Param:
         if self.kind == "axis":
             if text not in _AXES:
                 raise ValueError(f"expected x, y or z, got `{text}`")
+            return text
+        if self.kind == "trajectory":
+            if text not in SPIN_TRAJECTORIES:
+                raise ValueError(f"expected one of {', '.join(SPIN_TRAJECTORIES)}, got `{text}`")
             return text
         if self.kind == "flap":
             if text not in FLAP_PROFILES:
@@ -957,16 +1078,28 @@ SCENARIOS: dict[str, Scenario] = {
             "spin",
             _kinematic(spin_motion),
             (
+                Param(
+                    "trajectory", "trajectory", "turntable", "turntable, or ballistic (a drag-free arc)", True
+                ),
                 Param("spin_dps", "float", 1000.0, "spin rate about body x, °/s (0…1000)"),
                 Param("spin_up_s", "float", 2.0, "spin-up time from rest, s"),
                 Param("duration_s", "float", 60.0, "duration, s"),
                 Param("pitch_amplitude_deg", "float", 5.0, "pitch swing of the spin axis, degrees"),
                 Param("yaw_amplitude_deg", "float", 5.0, "yaw swing of the spin axis, degrees"),
                 Param("sway_hz", "float", 0.2, "frequency of the pitch and yaw swing, Hz"),
+                Param("launch_speed_mps", "float", 500.0, "ballistic: launch speed, m/s", True),
+                Param("elevation_deg", "float", 45.0, "ballistic: launch elevation, degrees (0…90)", True),
+                Param(
+                    "azimuth_deg",
+                    "float",
+                    0.0,
+                    "ballistic: launch azimuth, degrees clockwise from north",
+                    True,
+                ),
                 _ATTITUDE,
                 *_COMMON,
             ),
-            "a body spinning about x on a two-axis turntable, its axis swinging in pitch and yaw",
+            "a body spinning about x on a turntable or a ballistic arc, its axis swinging in pitch and yaw",
         ),
         Scenario(
             "flight",
@@ -1198,7 +1331,9 @@ def _metadata(name: str, values: dict[str, Any]) -> dict[str, str]:
         "g0_m_s2": repr(earth.G0),
         "gravity": "WGS-84 normal gravity with free-air correction",
         "earth_rate_rad_s": repr(earth.OMEGA_IE),
-        "transport_rate": "included" if scenario.transport_rate else "zero (the board stays at one place)",
+        "transport_rate": "included"
+        if scenario.transport_rate or values.get("trajectory") == "ballistic"
+        else "zero (the board stays at one place)",
         "latitude_deg": _num(values["latitude_deg"]),
         "height_m": _num(values["height_m"]),
         **_aiding_metadata(values),

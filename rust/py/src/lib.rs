@@ -17,6 +17,7 @@ static ALLOC: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
 mod board;
 mod emulate;
 mod errors;
+mod geomag;
 
 use errors::{guard, to_py};
 
@@ -298,6 +299,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(dcm_orientation, m)?)?;
     m.add_function(wrap_pyfunction!(gps_nmea_lines, m)?)?;
     m.add_function(wrap_pyfunction!(nmea_read, m)?)?;
+    m.add_function(wrap_pyfunction!(geomag::geomag_spin_chain, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;

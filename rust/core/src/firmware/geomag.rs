@@ -126,6 +126,10 @@ pub struct Spin<T> {
     gated: bool,
     /// The spin-axis rate of the last update (ΣΔθ_x/T), rad/s.
     spin_rate: T,
+    /// The gyro chain's group delay τ_g to compensate on the spin axis, s ([`Spin::with_gyro_delay`]).
+    gyro_delay: Option<T>,
+    /// The measured spin-axis rate of the previous update (before the aid's correction), rad/s.
+    measured_rate: Option<T>,
 }
 
 impl<T: Scalar> Spin<T> {
@@ -142,14 +146,36 @@ impl<T: Scalar> Spin<T> {
             correction: lit(0.0),
             gated: false,
             spin_rate: lit(0.0),
+            gyro_delay: None,
+            measured_rate: None,
         }
     }
 
+    /// Compensate the gyro chain's group delay `tau_s` (s) on the spin axis: a low-pass H with
+    /// H(0) = 1 and τ_g = −H'(0) (1/ω_c first order, 2ζ/ω_n second order) passes a rate that settles
+    /// at ω with ∫(ω − ω_m) dt = τ_g·ω lost for good, so the integrated roll trails by τ_g·ω after a
+    /// spin-up. Each update adds the lead τ_g·(ω_k − ω_{k−1}) of the measured spin rates to the x
+    /// angle; the sum telescopes to τ_g·(ω_now − ω_first), exactly the lost angle once the rate has
+    /// settled (from rest, ω_first = 0; from a settled spin nothing is lost and nothing is added).
+    pub fn with_gyro_delay(mut self, tau_s: f64) -> Self {
+        self.gyro_delay = Some(lit(tau_s));
+        self
+    }
+
     /// One update from three angle increments (rad) over the interval: the aid's spin-axis
-    /// correction is added to the x increments (its angle spread over the three), then
+    /// correction (and the gyro-delay lead, when set) is added to the x increments (its angle
+    /// spread over the three), then
     /// Φ = ΣΔθᵢ + (9/20) Δθ₁×Δθ₃ + (27/40) Δθ₂×(Δθ₃ − Δθ₁) and Q ← Q ⊗ q(Φ).
     pub fn propagate(&mut self, dtheta: &[Vec3<T>; 3]) -> Result<()> {
-        let third = (self.correction * self.step / lit(3.0)).to_class(QClass::Rate);
+        let mut angle = self.correction * self.step;
+        if let Some(tau) = self.gyro_delay {
+            let measured = ((dtheta[0][0] + dtheta[1][0] + dtheta[2][0]) / self.step).to_class(QClass::Rate);
+            if let Some(previous) = self.measured_rate {
+                angle = angle + tau * (measured - previous);
+            }
+            self.measured_rate = Some(measured);
+        }
+        let third = (angle / lit(3.0)).to_class(QClass::Rate);
         let mut d = *dtheta;
         for di in d.iter_mut() {
             di[0] = (di[0] + third).to_class(QClass::Rate);

@@ -20,6 +20,7 @@ mod decode;
 mod euler;
 pub mod geomag;
 pub mod geomag_app;
+pub mod geomag_chain;
 pub mod isr;
 mod nav;
 mod quat;
