@@ -31,6 +31,18 @@ from sins_fw.errors import ConfigError, InputError
 ROOT = Path(__file__).resolve().parents[2]
 FIRMWARE_C = Path(os.environ.get("SINS_FW_C_DIR") or ROOT / "firmware_c")
 SOURCE_SUFFIXES = (".c", ".cpp")
+#: The host replacements of TI's support sources (DSP2833x_common/source), linked into every firmware.
+TI_SUPPORT = FIRMWARE_C / "ti"
+#: TI's support sources that cannot build on the host (Uint32-pointer copies of the vector table,
+#: registers the emulator does not model): a firmware source of one of these names is left out, the
+#: replacement of the same name stands in (firmware_c/ti/README.md).
+REPLACED_TI_SOURCES = (
+    "DSP2833x_CpuTimers.c",
+    "DSP2833x_GlobalVariableDefs.c",
+    "DSP2833x_PieVect.c",
+    "DSP2833x_Spi.c",
+    "DSP2833x_SysCtrl.c",
+)
 #: How many of the compiler's error lines a build error quotes.
 QUOTED_ERRORS = 5
 
@@ -62,6 +74,17 @@ def sources_of(paths: Sequence[str | os.PathLike[str]]) -> list[Path]:
     return found
 
 
+def with_ti_support(sources: Sequence[Path]) -> tuple[list[Path], list[str]]:
+    """The firmware's sources plus the host replacements of TI's support sources (``firmware_c/ti``),
+    and the names of the firmware's own copies of TI's sources that are left out for them
+    (:data:`REPLACED_TI_SOURCES`). The replacements' definitions are weak: a firmware's own
+    ``InitPieCtrl`` or ``TINT0_ISR`` (its own copy of TI's DSP2833x_PieCtrl.c or DSP2833x_DefaultIsr.c,
+    which build on the host) takes the place of the replacement's."""
+    kept = [s for s in sources if s.name not in REPLACED_TI_SOURCES]
+    replaced = sorted({s.name for s in sources if s.name in REPLACED_TI_SOURCES})
+    return kept + sorted(TI_SUPPORT.glob("*.c")), replaced
+
+
 def build_firmware(
     paths: Sequence[str | os.PathLike[str]],
     out: str | os.PathLike[str],
@@ -80,14 +103,18 @@ def build_firmware(
     header comment says how); the idle ``for (;;) {}``, which GCC leaves uninstrumented, gets the
     call added in the assembly (:func:`instrument_self_jumps`). ``-g`` keeps the sources' lines, for
     the error that names a loop that can never end. The runtime is compiled without the
-    instrumentation."""
-    sources = sources_of(paths)
+    instrumentation.
+
+    TI's support sources (``InitSysCtrl``, ``InitPieCtrl``, ``InitPieVectTable``, ``InitCpuTimers``,
+    ``ConfigCpuTimer``, the default ISRs, ...) come from their host replacements
+    (:func:`with_ti_support`), so a TI-style project links as it is."""
+    sources, _ = with_ti_support(sources_of(paths))
     firmware_arith.check_float_mode(float_mode)
     if shutil.which(compiler) is None:
         raise ConfigError(f"`{compiler}` not found: a host C++ compiler is needed (Debian: build-essential)")
     libdir = cabi_library_dir()
     include = FIRMWARE_C / "include"
-    folders = sorted({str(s.parent) for s in sources})
+    folders = sorted({str(s.parent) for s in sources if s.parent != TI_SUPPORT})
     cabi_include = ROOT / "rust" / "cabi" / "include"
     common = [
         compiler,
