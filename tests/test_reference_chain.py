@@ -69,6 +69,8 @@ def run_both(fw: Path, mode: str, *extra: str) -> tuple[FirmwareResult, dict[str
         k: np.concatenate([p["firmware_globals"][k] for p in parts]) for k in parts[0]["firmware_globals"]
     }
     rows["tick_ps"] = np.concatenate([p["budget_tick_ps"] for p in parts])
+    for k in ("entry_end_ps", "spi_start_ps", "spi_end_ps", "decode_end_ps"):
+        rows[k] = np.concatenate([p[f"budget_{k}"] for p in parts])
     rows["events"] = [e for p in parts for e in p["events"]]
     model = emulate(
         STATIC, "reference", overrides=overrides, until_s=UNTIL_S, bus_window=(1, result.isr_rows)
@@ -128,3 +130,32 @@ def test_with_the_timing_rules_enforced_the_first_differing_frame_is_the_first_d
         diff.firmware["gap_ps"] * 1e-12
     )
     assert str(diff).startswith("frame 1 (frame_dout differs): firmware t = 0.004")
+
+
+def spi_stage_from_bus(bus: dict[str, np.ndarray], ticks: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each ISR's first frame start and the CS rise after its last frame, from a bus log of one
+    15-frame burst per ISR."""
+    starts = bus["frame_start_ps"].reshape(ticks, 15)[:, 0]
+    rises = bus["cs_t_ps"][~bus["cs_low"]]
+    return starts, rises
+
+
+def test_the_budgets_spi_stage_is_the_models(firmware: dict[str, Path]):
+    """Issue 20's SPI stage split: the C ISR's budget row bounds its SPI stage as the model's does,
+    from the burst's first frame to the chip select's rise, so the register waits and transfers are
+    the `spi` stage, not the decode's."""
+    result, rows, model = run_both(firmware["host"], "host", LENIENT)
+    assert result.bus is not None and model.bus is not None
+    for budget, bus in ((rows, result.bus), (model.budget, model.bus)):
+        starts, rises = spi_stage_from_bus(bus, 499)
+        assert np.array_equal(budget["spi_start_ps"], starts)
+        assert np.array_equal(budget["spi_end_ps"], rises)
+    spi_c = (rows["spi_end_ps"] - rows["spi_start_ps"]).astype(np.int64)
+    spi_model = (model.budget["spi_end_ps"] - model.budget["spi_start_ps"]).astype(np.int64)
+    # 15 frames of 16 SCLK periods (320 µs) and 14 gaps in both; the C's gaps are 0.45–0.48 µs
+    # shorter each (module doc: 1.093–1.120 µs against 1.573–1.600 µs) and its CS rises 0.39 µs
+    # sooner after the last frame: 6.7–7.1 µs less in all (measured: 6.92 µs).
+    assert np.all(spi_c > 320_000_000) and np.all(spi_model > 320_000_000)
+    assert 6e6 < np.median(spi_model - spi_c) < 7.5e6
+    # The decode stage keeps what follows the CS rise (decode, update, Euler, navigation).
+    assert np.all(rows["decode_end_ps"] > rows["spi_end_ps"])

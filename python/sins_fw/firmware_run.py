@@ -363,18 +363,24 @@ def run_c_firmware(
         ):
             raise ProfileError(f"{profile.source}: {lib.error()}")
         feeder = _Feeder(lib, board, trace, until_s, on_chunk, len(watched))
+        n = len(watched)
         result = FirmwareResult()
         rows = _Rows(watched, sink)
         callback_error: list[BaseException] = []
         bus: list[np.ndarray] | None = [] if bus_log else None
-        if bus is not None:
-            lib.lib.sins_set_bus_log(board, 1)
+        # The budget's SPI stage comes from the bus log (_Rows._spi_stage): always kept, taken piece
+        # by piece.
+        lib.lib.sins_set_bus_log(board, 1)
+
+        def take_all() -> None:
+            records = _take_bus_log(lib, board)
+            if bus is not None:
+                bus.append(records)
+            rows.add(feeder.window, _take_rows(lib, n), _take_events(lib, board, feeder.t0), records)
 
         def more_input(_ctx: Any) -> int:
             try:
-                if bus is not None:
-                    bus.append(_take_bus_log(lib, board))
-                rows.add(feeder.window, _take_rows(lib, len(watched)), _take_events(lib, board, feeder.t0))
+                take_all()
                 feeder.push_next()
                 return 0
             except BaseException as e:
@@ -382,7 +388,6 @@ def run_c_firmware(
                 return 1
 
         callback = _MORE_INPUT(more_input)
-        n = len(watched)
         cfg = _Config(
             board=board,
             spin_blocks=SPIN_BLOCKS,
@@ -406,7 +411,7 @@ def run_c_firmware(
             if ignored:
                 text += f"; before it, at {ignored[0]['t_s']:.9f} s: {ignored[0]['message']}"
             raise InputError(f"{lib.source}: {text}")
-        rows.add(feeder.window, _take_rows(lib, n), _take_events(lib, board, feeder.t0))
+        take_all()
         now = ctypes.c_uint64()
         lib.lib.sins_now_ps(board, ctypes.byref(now))
         result.now_s = now.value * PS
@@ -419,7 +424,6 @@ def run_c_firmware(
             for g, a in zip(watched, addrs, strict=True)
         }
         if bus is not None:
-            bus.append(_take_bus_log(lib, board))
             result.bus = _bus_columns(np.concatenate(bus))
         return result
     finally:
@@ -646,12 +650,19 @@ class _Rows:
         self.watched, self.sink = watched, sink
         self.count = 0
         self.prev_end = 0
+        #: Bus-log records not yet past the last ISR turned into a row.
+        self.bus = np.zeros(0, dtype=_BUS_RECORD)
         self.has_quat = all(f"q{i}" in {g.column for g in watched} for i in range(4))
 
     def add(
-        self, window: _TruthWindow, rows: tuple[np.ndarray, np.ndarray], events: list[dict[str, Any]]
+        self,
+        window: _TruthWindow,
+        rows: tuple[np.ndarray, np.ndarray],
+        events: list[dict[str, Any]],
+        bus: np.ndarray,
     ) -> None:
         times, values = rows
+        self.bus = np.concatenate([self.bus, bus]) if len(self.bus) else bus
         if not len(times) and not events:
             return
         self.count += len(times)
@@ -695,18 +706,46 @@ class _Rows:
         }
         return part
 
+    def _spi_stage(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The SPI stage of ISRs whose bodies run from ``lo`` to ``hi`` (ps), as the model's budget
+        bounds it: from the start of the ISR's first SPI frame to the chip select's last rise after
+        its last frame (or that frame's end when CS does not rise). An ISR without a frame has an
+        empty stage at ``lo``. The records up to the last ISR are dropped afterwards."""
+        rec = self.bus
+        frames = rec[rec["kind"] == 1]
+        rises = rec[(rec["kind"] == 0) & (rec["cs_low"] == 0)]["t_ps"]
+        starts, ends = frames["t_ps"], frames["end_ps"]
+        start, end = lo.copy(), lo.copy()
+        if len(starts):
+            first = np.searchsorted(starts, lo, side="left")
+            last = np.searchsorted(starts, hi, side="right") - 1
+            has = (first < len(starts)) & (last >= first)
+            start[has] = starts[first[has]]
+            end[has] = ends[last[has]]
+            if len(rises):
+                rise = np.searchsorted(rises, hi, side="right") - 1
+                ok = has & (rise >= 0)
+                ok[ok] = rises[rise[ok]] >= end[ok]
+                end[ok] = rises[rise[ok]]
+        if len(hi):
+            self.bus = rec[rec["t_ps"] > hi[-1]]
+        return start, end
+
     def _budget(self, col: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """One budget row per ISR, in the Rust model's columns: the entry (context save and prologue),
-        the ISR's body as the `decode` stage (the runtime cannot tell its parts apart), the exit. (A
-        tick whose interrupt was never taken is the core's `tick_lost` event.)"""
+        the wait for CS and the first frame (`cs_setup`), the SPI transfers and their register waits
+        (`spi`, from the bus log: :meth:`_spi_stage`), the rest of the ISR's body as the `decode`
+        stage (the runtime cannot tell the decode from the attitude code), the exit. (A tick whose
+        interrupt was never taken is the core's `tick_lost` event.)"""
         u = {k: v.astype(np.uint64) for k, v in col.items()}
+        spi_start, spi_end = self._spi_stage(u["entry_end_ps"], u["body_end_ps"])
         b = {
             "tick": u["tick"],
             "tick_ps": u["tick_ps"],
             "start_ps": u["start_ps"],
             "entry_end_ps": u["entry_end_ps"],
-            "spi_start_ps": u["entry_end_ps"],
-            "spi_end_ps": u["entry_end_ps"],
+            "spi_start_ps": spi_start,
+            "spi_end_ps": spi_end,
             "decode_end_ps": u["body_end_ps"],
             "attitude_end_ps": u["body_end_ps"],
             "euler_end_ps": u["body_end_ps"],
