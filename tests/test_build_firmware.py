@@ -146,5 +146,5 @@ def test_the_wheel_ships_what_build_firmware_needs():
     package = Path("python") / "sins_fw"
     for folder in ("firmware_c/include", "firmware_c/runtime", "firmware_c/ti", "cabi"):
         assert package / folder in shipped, folder
-    assert FIRMWARE_C == (ROOT / "firmware_c").resolve() and PACKAGE == (ROOT / package).resolve()
+    assert (ROOT / "firmware_c").resolve() == FIRMWARE_C and (ROOT / package).resolve() == PACKAGE
     assert (FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp").is_file()
