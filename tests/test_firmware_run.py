@@ -332,3 +332,16 @@ def test_a_firmwares_own_definition_takes_the_place_of_the_replacement(
     # 1 ms ticks from a start a few µs into main, to the last sample at or before 50 ms (48.8 ms at
     # 819.2 SPS): 48.
     assert result.isr_rows == 48 and result.final["ticks"] == 48
+
+
+def test_a_run_shorter_than_one_sample_period_still_runs_main(tmp_path: Path):
+    """A run without a trace reads a still board; its input used to end at the last 819.2-SPS sample
+    at or before until_s, so a 1 ms run covered no time at all and ended at main's first basic block,
+    its globals unset. The still board's input now reaches until_s itself."""
+    fw = _firmware(
+        tmp_path, '#include "DSP2833x_Device.h"\nUint16 started;\nvoid main(void) {\n    started = 1;\n}\n'
+    )
+    globals_file = tmp_path / "globals.toml"
+    globals_file.write_text('[[global]]\nname = "started"\ntype = "uint16"\ncolumn = "started"\nunit = "1"\n')
+    result = run_c_firmware(fw, None, load_profile("reference"), globals_file=globals_file, until_s=0.001)
+    assert result.final["started"] == 1

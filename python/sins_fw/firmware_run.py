@@ -318,9 +318,14 @@ class FirmwareResult:
 
 
 def _still_trace(until_s: float) -> PhysicalTrace:
-    """A still, level board for ``until_s`` seconds at 819.2 SPS (a run without a trace)."""
-    n = int(until_s * 819.2) + 2
-    t = np.arange(n) / 819.2
+    """A still, level board for ``until_s`` seconds (a run without a trace): samples at 819.2 SPS and
+    a last one at ``until_s`` itself, so that the input covers the whole run. (A run ends at the
+    trace's last sample at or before ``until_s``: with samples at 819.2 SPS only, a run shorter than
+    one sample period, 1.22 ms, would cover no time at all and end at the firmware's first basic
+    block.)"""
+    t = np.arange(int(np.ceil(until_s * 819.2))) / 819.2
+    t = np.r_[t[t < until_s], until_s]
+    n = len(t)
     return PhysicalTrace(
         t_s=t,
         gyro_dps=np.zeros((n, 3)),
