@@ -43,10 +43,16 @@ bench: $(BUILT)
 	$(BIN)/sins-fw bench --out benchmarks/results.md
 
 # The abi3 wheel (one file for every CPython >= 3.11 on this platform; the bundled profiles and
-# traces inside): `pip install dist/sins_fw-*.whl` needs no Rust toolchain.
+# traces inside, and the C ABI library with its header for `sins-fw build-firmware`, copied into
+# python/sins_fw/cabi for the build and removed after it): `pip install dist/sins_fw-*.whl` needs no
+# Rust toolchain.
 WHEEL_DIR ?= dist
+CABI_STAGE := python/sins_fw/cabi
 wheel: $(DEPS)
-	$(BIN)/maturin build --profile dist --quiet --out $(WHEEL_DIR)
+	cargo build --release -p sins-cabi
+	mkdir -p $(CABI_STAGE)
+	cp $${CARGO_TARGET_DIR:-target}/release/libsins_cabi.so rust/cabi/include/sins_fw.h $(CABI_STAGE)/
+	$(BIN)/maturin build --profile dist --quiet --out $(WHEEL_DIR); rc=$$?; rm -rf $(CABI_STAGE); exit $$rc
 
 # Regenerate tests/golden/hashes.toml (f64 output hashes on the bundled traces), printing old → new.
 golden: $(BUILT)

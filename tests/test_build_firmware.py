@@ -5,13 +5,14 @@ against the emulated board."""
 from __future__ import annotations
 
 import subprocess
+import tomllib
 from pathlib import Path
 
 import pytest
 
 from sins_fw.cli import main
-from sins_fw.errors import InputError
-from sins_fw.firmware_build import build_firmware
+from sins_fw.errors import ConfigError, InputError
+from sins_fw.firmware_build import CABI_HEADER, CABI_LIBRARY, FIRMWARE_C, PACKAGE, build_firmware, cabi_dirs
 from sins_fw.firmware_run import run_c_firmware
 from sins_fw.profile import load_profile
 
@@ -36,9 +37,9 @@ def test_the_prod_id_firmware_reads_0x4017(tmp_path: Path, capsys: pytest.Captur
     # After the 10 ms start-up delay each loop takes 1000 + 40 µs of DELAY_US plus two 16-bit frames at
     # 0.75 MHz (2 × 21.3 µs) and the polling: ≈ 1.083 ms, so 40 ms hold 36 whole loops and most of a 37th.
     assert run.final["reads"] in (36, 37)
-    # The run stops before the step that would pass the input's end (a still board sampled at 819.2 SPS:
-    # its last row at or before 0.05 s is at 40/819.2 = 48.8 ms), here a DELAY_US(1000).
-    assert 40 / 819.2 - 1.1e-3 < run.now_s <= 40 / 819.2
+    # The run stops before the step that would pass the input's end (a still board whose input reaches
+    # until_s = 0.05 s itself), here a DELAY_US(1000).
+    assert 0.05 - 1.1e-3 < run.now_s <= 0.05
     assert run.accesses > 100
 
 
@@ -96,3 +97,54 @@ def _globals(folder: Path, *names: str) -> Path:
         "".join(f'[[global]]\nname = "{n}"\ntype = "uint16"\ncolumn = "{n}"\nunit = "1"\n' for n in names)
     )
     return path
+
+
+def test_the_c_abi_library_is_found_in_an_installed_package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """A wheel ships libsins_cabi.so and sins_fw.h in the package's `cabi` folder; outside a source
+    tree that is where build-firmware takes them from (no Rust toolchain needed)."""
+    monkeypatch.delenv("SINS_FW_CABI_DIR", raising=False)
+    site = tmp_path / "site-packages"
+    package = site / "sins_fw"
+    (package / "cabi").mkdir(parents=True)
+    with pytest.raises(
+        ConfigError, match=r"sins_fw/cabi/libsins_cabi\.so: the C ABI library is missing \(the installed"
+    ):
+        cabi_dirs(site, package)
+    for name in (CABI_LIBRARY, CABI_HEADER):
+        (package / "cabi" / name).write_bytes(b"")
+    assert cabi_dirs(site, package) == (package / "cabi", package / "cabi")
+
+
+def test_in_a_source_tree_the_c_abi_library_is_cargos(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """In the repository, cargo's build is taken (never a copy a wheel build left in the package), and
+    SINS_FW_CABI_DIR overrides both."""
+    monkeypatch.delenv("SINS_FW_CABI_DIR", raising=False)
+    tree = tmp_path / "tree"
+    (tree / "rust" / "cabi").mkdir(parents=True)
+    (tree / "rust" / "cabi" / "Cargo.toml").write_text("")
+    (tree / "python" / "sins_fw" / "cabi").mkdir(parents=True)
+    (tree / "python" / "sins_fw" / "cabi" / CABI_LIBRARY).write_bytes(b"")
+    target = tmp_path / "cargo-target" / "release"
+    target.mkdir(parents=True)
+    (target / CABI_LIBRARY).write_bytes(b"")
+    monkeypatch.setenv("CARGO_TARGET_DIR", str(target.parent))
+    assert cabi_dirs(tree, tree / "python" / "sins_fw") == (target, tree / "rust" / "cabi" / "include")
+    own = tmp_path / "own"
+    own.mkdir()
+    (own / CABI_LIBRARY).write_bytes(b"")
+    (own / CABI_HEADER).write_bytes(b"")
+    monkeypatch.setenv("SINS_FW_CABI_DIR", str(own))
+    assert cabi_dirs(tree, tree / "python" / "sins_fw") == (own, own)
+
+
+def test_the_wheel_ships_what_build_firmware_needs():
+    """pyproject's wheel includes name the package folders build-firmware reads (the replacement
+    headers, the runtime, TI's replacements, the C ABI library and header), and the package's
+    firmware_c is the repository's (a link in the source tree)."""
+    include = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["maturin"]["include"]
+    shipped = {Path(i["path"]).parent for i in include if i["format"] == "wheel"}
+    package = Path("python") / "sins_fw"
+    for folder in ("firmware_c/include", "firmware_c/runtime", "firmware_c/ti", "cabi"):
+        assert package / folder in shipped, folder
+    assert (ROOT / "firmware_c").resolve() == FIRMWARE_C and (ROOT / package).resolve() == PACKAGE
+    assert (FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp").is_file()

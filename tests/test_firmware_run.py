@@ -247,3 +247,101 @@ def test_a_tick_that_comes_while_the_last_is_pending_is_lost(tmp_path: Path):
     assert "ticks 2…2 came while the interrupt was still pending" in events[0]["message"]
     overrun = np.concatenate([p["budget_overrun"] for p in parts])
     assert list(overrun[:3]) == [0, 1, 1]
+
+
+def test_tis_support_sources_link_from_their_host_replacements(tmp_path: Path):
+    """A TI-style project: main calls TI's InitSysCtrl, InitPieCtrl, InitPieVectTable, InitCpuTimers
+    and ConfigCpuTimer, and its folder holds a copy of TI's DSP2833x_PieVect.c (the vector table
+    copied through Uint32 pointers, which does not build on the host): the copy is left out, the
+    host replacements link. The firmware never sets its own TINT0 vector, so InitPieVectTable's
+    default TI's TINT0_ISR takes the tick and, as on the chip, never returns: the run stops naming
+    it in DSP2833x_DefaultIsr.c."""
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "DSP2833x_PieVect.c").write_text(
+        '#include "DSP2833x_Device.h"\n'
+        "void InitPieVectTable(void) {\n"
+        "    Uint32 *Source = (void *)&PieVectTableInit;\n"
+        "    Uint32 *Dest = (void *)&PieVectTable;\n"
+        "    for (int16 i = 0; i < 128; i++) *Dest++ = *Source++;\n"
+        "}\n"
+    )
+    (project / "main.c").write_text(
+        '#include "DSP2833x_Device.h"\n'
+        '#include "DSP2833x_Examples.h"\n'
+        "void main(void) {\n"
+        "    InitSysCtrl();\n"
+        "    InitPieCtrl();\n"
+        "    IER = 0x0000;\n"
+        "    IFR = 0x0000;\n"
+        "    InitPieVectTable();\n"
+        "    InitCpuTimers();\n"
+        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
+        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
+        "    IER |= M_INT1;\n"
+        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
+        "    EINT;\n"
+        "    for (;;) {\n"
+        "    }\n"
+        "}\n"
+    )
+    fw = build_firmware([project], tmp_path / "fw.so")
+    with pytest.raises(
+        InputError, match=r"INTM is set .*the loop: .*DSP2833x_DefaultIsr\.c:\d+ in TINT0_ISR"
+    ):
+        run_c_firmware(fw, PITCH_SWEEP, load_profile("reference"), until_s=0.1)
+
+
+def test_a_firmwares_own_definition_takes_the_place_of_the_replacement(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    """The replacements are weak: the firmware's own TINT0_ISR (as in its copy of TI's
+    DSP2833x_DefaultIsr.c) is the one InitPieVectTable installs; the CLI names the TI copy it left
+    out."""
+    (tmp_path / "DSP2833x_GlobalVariableDefs.c").write_text('#pragma DATA_SECTION(AdcRegs, "AdcRegsFile");\n')
+    (tmp_path / "main.c").write_text(
+        '#include "DSP2833x_Device.h"\n'
+        '#include "DSP2833x_Examples.h"\n'
+        "Uint32 ticks;\n"
+        "interrupt void TINT0_ISR(void) {\n"
+        "    ticks++;\n"
+        "    PieCtrlRegs.PIEACK.all = PIEACK_GROUP1;\n"
+        "}\n"
+        "void main(void) {\n"
+        "    InitSysCtrl();\n"
+        "    InitPieCtrl();\n"
+        "    InitPieVectTable();\n"
+        "    InitCpuTimers();\n"
+        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
+        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
+        "    IER |= M_INT1;\n"
+        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
+        "    EINT;\n"
+        "    for (;;) {\n"
+        "    }\n"
+        "}\n"
+    )
+    out = tmp_path / "fw.so"
+    assert main(["build-firmware", str(tmp_path), "-o", str(out)]) == 0
+    assert "TI's DSP2833x_GlobalVariableDefs.c left out" in capsys.readouterr().out
+    globals_file = tmp_path / "globals.toml"
+    globals_file.write_text('[[global]]\nname = "ticks"\ntype = "uint32"\ncolumn = "ticks"\nunit = "1"\n')
+    result = run_c_firmware(
+        out, PITCH_SWEEP, load_profile("reference"), globals_file=globals_file, until_s=0.05
+    )
+    # 1 ms ticks from a start a few µs into main, to the last sample at or before 50 ms (48.8 ms at
+    # 819.2 SPS): 48.
+    assert result.isr_rows == 48 and result.final["ticks"] == 48
+
+
+def test_a_run_shorter_than_one_sample_period_still_runs_main(tmp_path: Path):
+    """A run without a trace reads a still board; its input used to end at the last 819.2-SPS sample
+    at or before until_s, so a 1 ms run covered no time at all and ended at main's first basic block,
+    its globals unset. The still board's input now reaches until_s itself."""
+    fw = _firmware(
+        tmp_path, '#include "DSP2833x_Device.h"\nUint16 started;\nvoid main(void) {\n    started = 1;\n}\n'
+    )
+    globals_file = tmp_path / "globals.toml"
+    globals_file.write_text('[[global]]\nname = "started"\ntype = "uint16"\ncolumn = "started"\nunit = "1"\n')
+    result = run_c_firmware(fw, None, load_profile("reference"), globals_file=globals_file, until_s=0.001)
+    assert result.final["started"] == 1

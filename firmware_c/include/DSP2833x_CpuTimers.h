@@ -76,6 +76,10 @@ struct CPUTIMER_VARS {
 };
 
 extern volatile struct CPUTIMER_REGS CpuTimer0Regs;
+/* TI's bookkeeping of the three timers (DSP2833x_CpuTimers.c; timers 1 and 2 have no registers here). */
+extern struct CPUTIMER_VARS CpuTimer0;
+extern struct CPUTIMER_VARS CpuTimer1;
+extern struct CPUTIMER_VARS CpuTimer2;
 
 #define ReloadCpuTimer0() CpuTimer0Regs.TCR.bit.TRB = 1
 #define StartCpuTimer0() CpuTimer0Regs.TCR.bit.TSS = 0

@@ -505,6 +505,14 @@ extern "C" size_t sins_fw_take_rows(uint64_t *times, double *values, size_t capa
     return n;
 }
 
+/* The size of the firmware's `double`, bytes: 4 in the C28x float mode (TI's COFF ABI), else the
+   host's 8. The harness reads a watched global of type "double" with it. */
+#ifdef SINS_FW_C28X_FLOAT_H
+extern "C" const int sins_fw_double_bytes = 4;
+#else
+extern "C" const int sins_fw_double_bytes = static_cast<int>(sizeof(double));
+#endif
+
 extern "C" size_t sins_fw_rows_ready(void) { return row_times.size() / ROW_TIMES; }
 extern "C" uint64_t sins_fw_accesses(void) { return accesses; }
 extern "C" uint64_t sins_fw_blocks(void) { return blocks; }

@@ -135,7 +135,7 @@ def diagnose_int(paths: Sequence[str | os.PathLike[str]], compiler: str = "g++")
     (``file:line:column: warning: …``) for the firmware sources (files or folders): a syntax-only
     compile of each with ``int`` mapped to ``short`` (``sins_fw_int16.h``). An empty list: none found.
     A source that does not compile raises :class:`~sins_fw.errors.InputError` quoting the compiler."""
-    from sins_fw.firmware_build import FIRMWARE_C, ROOT, sources_of
+    from sins_fw.firmware_build import FIRMWARE_C, cabi_dirs, sources_of
 
     sources = sources_of(paths)
     include = FIRMWARE_C / "include"
@@ -153,7 +153,7 @@ def diagnose_int(paths: Sequence[str | os.PathLike[str]], compiler: str = "g++")
             str(include / "sins_fw_int16.h"),
             f"-I{include}",
             *(f"-I{d}" for d in folders),
-            f"-I{ROOT / 'rust' / 'cabi' / 'include'}",
+            f"-I{cabi_dirs()[1]}",
             "-x",
             "c++",
             str(s),

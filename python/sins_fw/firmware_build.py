@@ -28,23 +28,64 @@ from sins_fw import firmware_arith
 from sins_fw.atomic import atomic_path
 from sins_fw.errors import ConfigError, InputError
 
-ROOT = Path(__file__).resolve().parents[2]
-FIRMWARE_C = Path(os.environ.get("SINS_FW_C_DIR") or ROOT / "firmware_c")
+#: The package's folder: in an installed wheel it holds ``firmware_c`` (the replacement headers, the
+#: runtime, TI's replacements) and ``cabi`` (``libsins_cabi.so`` and ``sins_fw.h``); in the source tree
+#: ``firmware_c`` links to the repository's and the C ABI library is cargo's.
+PACKAGE = Path(__file__).resolve().parent
+ROOT = PACKAGE.parents[1]
+FIRMWARE_C = Path(os.environ.get("SINS_FW_C_DIR") or PACKAGE / "firmware_c").resolve()
+CABI_LIBRARY = "libsins_cabi.so"
+CABI_HEADER = "sins_fw.h"
 SOURCE_SUFFIXES = (".c", ".cpp")
+#: The host replacements of TI's support sources (DSP2833x_common/source), linked into every firmware.
+TI_SUPPORT = FIRMWARE_C / "ti"
+#: TI's support sources that cannot build on the host (Uint32-pointer copies of the vector table,
+#: registers the emulator does not model): a firmware source of one of these names is left out, the
+#: replacement of the same name stands in (firmware_c/ti/README.md).
+REPLACED_TI_SOURCES = (
+    "DSP2833x_CpuTimers.c",
+    "DSP2833x_GlobalVariableDefs.c",
+    "DSP2833x_PieVect.c",
+    "DSP2833x_Spi.c",
+    "DSP2833x_SysCtrl.c",
+)
 #: How many of the compiler's error lines a build error quotes.
 QUOTED_ERRORS = 5
 
 
-def cabi_library_dir() -> Path:
-    """The folder of ``libsins_cabi.so`` (``$SINS_FW_CABI_DIR``, else this tree's ``target/release``)."""
-    target = Path(os.environ.get("CARGO_TARGET_DIR") or ROOT / "target") / "release"
-    folder = Path(os.environ.get("SINS_FW_CABI_DIR") or target)
-    if not (folder / "libsins_cabi.so").is_file():
+def cabi_dirs(root: Path = ROOT, package: Path = PACKAGE) -> tuple[Path, Path]:
+    """The folders of the C ABI library (``libsins_cabi.so``) and of its header (``sins_fw.h``):
+
+    1. ``$SINS_FW_CABI_DIR`` (the header beside the library, else the source tree's);
+    2. in a source tree (``root`` holds ``rust/cabi``): cargo's ``$CARGO_TARGET_DIR/release`` or
+       ``target/release``, the header ``rust/cabi/include``;
+    3. in an installed wheel: the package's ``cabi`` folder, which holds both (``make wheel``).
+
+    A missing library is a ConfigError saying where it was looked for and how to get it."""
+    tree_header = root / "rust" / "cabi" / "include"
+    env = os.environ.get("SINS_FW_CABI_DIR")
+    if env:
+        folder = Path(env)
+        header = folder if (folder / CABI_HEADER).is_file() else tree_header
+        where = "SINS_FW_CABI_DIR"
+    elif (root / "rust" / "cabi" / "Cargo.toml").is_file():
+        folder = Path(os.environ.get("CARGO_TARGET_DIR") or root / "target") / "release"
+        header, where = tree_header, "the source tree's cargo target"
+    else:
+        folder = header = package / "cabi"
+        where = "the installed package"
+    if not (folder / CABI_LIBRARY).is_file():
         raise ConfigError(
-            f"{folder / 'libsins_cabi.so'}: the C ABI library is missing; build it with "
-            "`cargo build --release -p sins-cabi` (or set SINS_FW_CABI_DIR to its folder)"
+            f"{folder / CABI_LIBRARY}: the C ABI library is missing ({where}); in the source tree build it "
+            "with `cargo build --release -p sins-cabi`, or install a wheel built by `make wheel` (it ships "
+            "the library), or set SINS_FW_CABI_DIR to its folder"
         )
-    return folder
+    return folder, header
+
+
+def cabi_library_dir() -> Path:
+    """The folder of ``libsins_cabi.so`` (:func:`cabi_dirs`)."""
+    return cabi_dirs()[0]
 
 
 def sources_of(paths: Sequence[str | os.PathLike[str]]) -> list[Path]:
@@ -60,6 +101,17 @@ def sources_of(paths: Sequence[str | os.PathLike[str]]) -> list[Path]:
     if not found:
         raise InputError(f"{', '.join(map(str, paths))}: no C sources (*.c, *.cpp) there")
     return found
+
+
+def with_ti_support(sources: Sequence[Path]) -> tuple[list[Path], list[str]]:
+    """The firmware's sources plus the host replacements of TI's support sources (``firmware_c/ti``),
+    and the names of the firmware's own copies of TI's sources that are left out for them
+    (:data:`REPLACED_TI_SOURCES`). The replacements' definitions are weak: a firmware's own
+    ``InitPieCtrl`` or ``TINT0_ISR`` (its own copy of TI's DSP2833x_PieCtrl.c or DSP2833x_DefaultIsr.c,
+    which build on the host) takes the place of the replacement's."""
+    kept = [s for s in sources if s.name not in REPLACED_TI_SOURCES]
+    replaced = sorted({s.name for s in sources if s.name in REPLACED_TI_SOURCES})
+    return kept + sorted(TI_SUPPORT.glob("*.c")), replaced
 
 
 def build_firmware(
@@ -80,15 +132,18 @@ def build_firmware(
     header comment says how); the idle ``for (;;) {}``, which GCC leaves uninstrumented, gets the
     call added in the assembly (:func:`instrument_self_jumps`). ``-g`` keeps the sources' lines, for
     the error that names a loop that can never end. The runtime is compiled without the
-    instrumentation."""
-    sources = sources_of(paths)
+    instrumentation.
+
+    TI's support sources (``InitSysCtrl``, ``InitPieCtrl``, ``InitPieVectTable``, ``InitCpuTimers``,
+    ``ConfigCpuTimer``, the default ISRs, ...) come from their host replacements
+    (:func:`with_ti_support`), so a TI-style project links as it is."""
+    sources, _ = with_ti_support(sources_of(paths))
     firmware_arith.check_float_mode(float_mode)
     if shutil.which(compiler) is None:
         raise ConfigError(f"`{compiler}` not found: a host C++ compiler is needed (Debian: build-essential)")
-    libdir = cabi_library_dir()
+    libdir, cabi_include = cabi_dirs()
     include = FIRMWARE_C / "include"
-    folders = sorted({str(s.parent) for s in sources})
-    cabi_include = ROOT / "rust" / "cabi" / "include"
+    folders = sorted({str(s.parent) for s in sources if s.parent != TI_SUPPORT})
     common = [
         compiler,
         "-std=c++17",

@@ -11,8 +11,9 @@ budget and ``--out`` are the ones of the Rust model.
 The globals file (TOML, beside the sources; ``globals.toml`` there is found by default)::
 
     [[global]]
-    name = "rate_x"        # the C global (file scope, not static)
-    type = "float"         # int16, uint16, int32, uint32, int64, uint64, float, double
+    name = "rate_x"        # the C global (file scope, not static), or an array's element: "Q[0]"
+    type = "float"         # int16, uint16, int32, uint32, int64, uint64, float, double (the
+                           # firmware's: 32-bit when built with --float c28x)
     column = "rate_x_dps"  # the output column
     unit = "deg/s"
     description = "…"      # optional
@@ -73,6 +74,26 @@ SPIN_BLOCKS = 1 << 24
 SEVERITIES = ("info", "warning", "error")
 
 _MORE_INPUT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)
+#: The C ABI's SinsBusRecord (rust/cabi/include/sins_fw.h), one bus-log record.
+_BUS_RECORD = np.dtype(
+    [
+        ("kind", np.uint8),
+        ("cs_low", np.uint8),
+        ("selected", np.uint8),
+        ("bits", np.uint8),
+        ("master_tx", np.uint16),
+        ("master_rx", np.uint16),
+        ("din", np.uint16),
+        ("dout", np.uint16),
+        ("t_ps", np.uint64),
+        ("end_ps", np.uint64),
+        ("first_edge_ps", np.uint64),
+        ("last_edge_ps", np.uint64),
+        ("sclk_period_ps", np.uint64),
+        ("index", np.uint64),
+    ],
+    align=True,
+)
 
 
 class _Config(ctypes.Structure):
@@ -141,8 +162,11 @@ def load_globals(path: str | os.PathLike[str]) -> list[Global]:
         for f in ("name", "type", "column", "unit"):
             if not isinstance(entry.get(f), str) or not entry[f]:
                 raise InputError(f"{where}: field `{f}` missing or not a text")
-        if not re.fullmatch(r"[A-Za-z_]\w*", entry["name"]):
-            raise InputError(f"{where}: field `name` = {entry['name']!r}: expected a C identifier")
+        if not re.fullmatch(r"[A-Za-z_]\w*(\[\d+\])?", entry["name"]):
+            raise InputError(
+                f"{where}: field `name` = {entry['name']!r}: expected a C identifier, or one element "
+                "of an array (Q[0])"
+            )
         if entry["type"] not in TYPES:
             raise InputError(f"{where}: field `type` = {entry['type']!r}: expected one of {', '.join(TYPES)}")
         if not re.fullmatch(r"[a-z][a-z0-9_]*", entry["column"]) or entry["column"] == "t_s":
@@ -214,6 +238,10 @@ class _Library:
         for f in ("sins_fw_accesses", "sins_fw_blocks", "sins_fw_fault_offset"):
             getattr(lib, f).restype = ctypes.c_uint64
         lib.sins_last_error.restype = ctypes.c_char_p
+        try:
+            self.double_bytes = ctypes.c_int.in_dll(lib, "sins_fw_double_bytes").value
+        except ValueError:
+            self.double_bytes = 8
         lib.sins_board_new_input.argtypes = [
             ctypes.c_char_p,
             ctypes.POINTER(ctypes.c_char_p),
@@ -222,6 +250,13 @@ class _Library:
         ]
         lib.sins_push_input.argtypes = [ctypes.c_void_p, *([ctypes.c_void_p] * 6), ctypes.c_size_t]
         lib.sins_end_input.argtypes = [ctypes.c_void_p]
+        lib.sins_set_bus_log.argtypes = [ctypes.c_void_p, ctypes.c_int]
+        lib.sins_take_bus_log.argtypes = [
+            ctypes.c_void_p,
+            ctypes.c_void_p,
+            ctypes.c_size_t,
+            ctypes.POINTER(ctypes.c_size_t),
+        ]
         lib.sins_board_free.argtypes = [ctypes.c_void_p]
         lib.sins_now_ps.argtypes = [ctypes.c_void_p, ctypes.POINTER(ctypes.c_uint64)]
         lib.sins_take_event.argtypes = [
@@ -234,9 +269,22 @@ class _Library:
             ctypes.POINTER(ctypes.c_int),
         ]
 
+    def ctype(self, type_name: str) -> Any:
+        """The ctypes type of a watched global's type: ``double`` is the firmware's (32-bit in the
+        C28x float mode, ``sins_fw_double_bytes``)."""
+        if type_name == "double" and self.double_bytes == 4:
+            return ctypes.c_float
+        return _CTYPES[type_name]
+
+    def type_code(self, type_name: str) -> int:
+        """The runtime's code of a watched global's type (see :meth:`ctype`)."""
+        return TYPES["float"] if self.ctype(type_name) is ctypes.c_float else TYPES[type_name]
+
     def address(self, g: Global, globals_file: Path | None) -> int:
+        name, _, index = g.name.partition("[")
         try:
-            return ctypes.addressof(ctypes.c_char.in_dll(self.lib, g.name))
+            base = ctypes.addressof(ctypes.c_char.in_dll(self.lib, name))
+            return base + int(index.rstrip("]") or 0) * ctypes.sizeof(self.ctype(g.type))
         except ValueError:
             where = f" ({globals_file})" if globals_file else ""
             raise InputError(
@@ -263,12 +311,21 @@ class FirmwareResult:
     isr_rows: int = 0
     t0_s: float = 0.0
     final: dict[str, float] = field(default_factory=dict)
+    #: The SPI bus log when the run kept one (``bus_log=True``), in the keys of
+    #: :attr:`sins_fw.harness.Run.bus` (``cs_t_ps``, ``cs_low``, ``frame_index``, ``frame_start_ps``,
+    #: ``frame_din``, ``frame_dout``, ...), times in ps since power-on.
+    bus: dict[str, np.ndarray] | None = None
 
 
 def _still_trace(until_s: float) -> PhysicalTrace:
-    """A still, level board for ``until_s`` seconds at 819.2 SPS (a run without a trace)."""
-    n = int(until_s * 819.2) + 2
-    t = np.arange(n) / 819.2
+    """A still, level board for ``until_s`` seconds (a run without a trace): samples at 819.2 SPS and
+    a last one at ``until_s`` itself, so that the input covers the whole run. (A run ends at the
+    trace's last sample at or before ``until_s``: with samples at 819.2 SPS only, a run shorter than
+    one sample period, 1.22 ms, would cover no time at all and end at the firmware's first basic
+    block.)"""
+    t = np.arange(int(np.ceil(until_s * 819.2))) / 819.2
+    t = np.r_[t[t < until_s], until_s]
+    n = len(t)
     return PhysicalTrace(
         t_s=t,
         gyro_dps=np.zeros((n, 3)),
@@ -286,12 +343,14 @@ def run_c_firmware(
     sink: Callable[[dict[str, Any]], None] | None = None,
     until_s: float | None = None,
     on_chunk: Callable[[float], None] | None = None,
+    bus_log: bool = False,
 ) -> FirmwareResult:
     """Run the firmware library on ``trace`` (None: a still board for ``until_s`` s) with the board
     of ``profile``; each part of the output (see the module's doc) goes to ``sink``. Bad input (the
     library, a symbol, the globals file) raises InputError before anything runs; an emulator error
     while the firmware runs (an unmodelled register, a loop that cannot end) raises InputError with
-    the emulator's message, the loop's file and line when it names one."""
+    the emulator's message, the loop's file and line when it names one. ``bus_log`` keeps the SPI bus
+    log of the whole run (:attr:`FirmwareResult.bus`)."""
     gfile = Path(globals_file) if globals_file is not None else None
     watched = load_globals(gfile) if gfile is not None else []
     costs = _costs(profile)
@@ -309,13 +368,24 @@ def run_c_firmware(
         ):
             raise ProfileError(f"{profile.source}: {lib.error()}")
         feeder = _Feeder(lib, board, trace, until_s, on_chunk, len(watched))
+        n = len(watched)
         result = FirmwareResult()
         rows = _Rows(watched, sink)
         callback_error: list[BaseException] = []
+        bus: list[np.ndarray] | None = [] if bus_log else None
+        # The budget's SPI stage comes from the bus log (_Rows._spi_stage): always kept, taken piece
+        # by piece.
+        lib.lib.sins_set_bus_log(board, 1)
+
+        def take_all() -> None:
+            records = _take_bus_log(lib, board)
+            if bus is not None:
+                bus.append(records)
+            rows.add(feeder.window, _take_rows(lib, n), _take_events(lib, board, feeder.t0), records)
 
         def more_input(_ctx: Any) -> int:
             try:
-                rows.add(feeder.window, _take_rows(lib, len(watched)), _take_events(lib, board, feeder.t0))
+                take_all()
                 feeder.push_next()
                 return 0
             except BaseException as e:
@@ -323,13 +393,12 @@ def run_c_firmware(
                 return 1
 
         callback = _MORE_INPUT(more_input)
-        n = len(watched)
         cfg = _Config(
             board=board,
             spin_blocks=SPIN_BLOCKS,
             n_globals=n,
             global_addr=(ctypes.c_void_p * max(1, n))(*addrs),
-            global_type=(ctypes.c_int * max(1, n))(*(TYPES[g.type] for g in watched)),
+            global_type=(ctypes.c_int * max(1, n))(*(lib.type_code(g.type) for g in watched)),
             more_input=callback,
             **costs,
         )
@@ -347,7 +416,7 @@ def run_c_firmware(
             if ignored:
                 text += f"; before it, at {ignored[0]['t_s']:.9f} s: {ignored[0]['message']}"
             raise InputError(f"{lib.source}: {text}")
-        rows.add(feeder.window, _take_rows(lib, n), _take_events(lib, board, feeder.t0))
+        take_all()
         now = ctypes.c_uint64()
         lib.lib.sins_now_ps(board, ctypes.byref(now))
         result.now_s = now.value * PS
@@ -356,13 +425,78 @@ def run_c_firmware(
         result.isr_rows = rows.count
         result.t0_s = feeder.t0 or 0.0
         result.final = {
-            g.name: float(_CTYPES[g.type].from_address(a).value) for g, a in zip(watched, addrs, strict=True)
+            g.name: float(lib.ctype(g.type).from_address(a).value)
+            for g, a in zip(watched, addrs, strict=True)
         }
+        if bus is not None:
+            result.bus = _bus_columns(np.concatenate(bus))
         return result
     finally:
         if board:
             lib.lib.sins_board_free(board)
         lib.close()
+
+
+#: What a bus-log comparison compares, frame by frame: the words on the wires. Times are not
+#: compared: a host-built firmware's time comes from the runtime's estimates (a basic block, a
+#: register access; docs/c-drivers.md), the model's from its cost table, so the two logs agree on the
+#: words and their order, not on the picosecond.
+BUS_WORDS = ("frame_selected", "frame_master_tx", "frame_din", "frame_dout", "frame_master_rx")
+
+
+@dataclass(frozen=True)
+class FrameDifference:
+    """The first frame where two bus logs differ: its position (0-based, in both logs), the column
+    that differs (``frames`` when one log ends first) and each log's frame there."""
+
+    position: int
+    column: str
+    firmware: dict[str, int]
+    model: dict[str, int]
+
+    def __str__(self) -> str:
+        def text(f: dict[str, int]) -> str:
+            if not f:
+                return "no frame"
+            gap = f.get("gap_ps")
+            gap_text = (
+                "" if gap is None else f", {gap / 1e6:.3f} µs after the previous frame's last SCLK edge"
+            )
+            return (
+                f"t = {f['start_ps'] * PS:.9f} s, DIN 0x{f['din']:04X}, DOUT 0x{f['dout']:04X}, "
+                f"received 0x{f['master_rx']:04X}{gap_text}"
+            )
+
+        return (
+            f"frame {self.position} ({self.column} differs): firmware {text(self.firmware)}; "
+            f"model {text(self.model)}"
+        )
+
+
+def first_frame_difference(
+    firmware: dict[str, np.ndarray], model: dict[str, np.ndarray]
+) -> FrameDifference | None:
+    """The first frame whose words (:data:`BUS_WORDS`) differ between a firmware run's bus log
+    (:attr:`FirmwareResult.bus`) and the model's (:attr:`sins_fw.harness.Run.bus`), None when every
+    frame agrees and both logs have as many."""
+    n = min(len(firmware["frame_din"]), len(model["frame_din"]))
+    first, column = n, "frames"
+    for c in BUS_WORDS:
+        bad = np.nonzero(firmware[c][:n] != model[c][:n])[0]
+        if len(bad) and bad[0] < first:
+            first, column = int(bad[0]), c
+    if first == n and len(firmware["frame_din"]) == len(model["frame_din"]):
+        return None
+
+    def frame(log: dict[str, np.ndarray]) -> dict[str, int]:
+        if first >= len(log["frame_din"]):
+            return {}
+        f = {k: int(log[f"frame_{k}"][first]) for k in ("start_ps", "din", "dout", "master_rx")}
+        if first > 0:
+            f["gap_ps"] = int(log["frame_first_edge_ps"][first]) - int(log["frame_last_edge_ps"][first - 1])
+        return f
+
+    return FrameDifference(first, column, frame(firmware), frame(model))
 
 
 def _source_line(library: Path, offset: int) -> str:
@@ -455,6 +589,40 @@ def _take_rows(lib: _Library, n: int) -> tuple[np.ndarray, np.ndarray]:
     return times[:got], values[:got]
 
 
+def _take_bus_log(lib: _Library, board: ctypes.c_void_p) -> np.ndarray:
+    """The bus-log records the board has kept since the last call."""
+    chunks = []
+    while True:
+        buf = np.zeros(1 << 14, dtype=_BUS_RECORD)
+        n = ctypes.c_size_t()
+        if lib.lib.sins_take_bus_log(board, buf.ctypes.data, len(buf), ctypes.byref(n)) != 0:
+            raise InputError(f"bus log: {lib.error()}")
+        chunks.append(buf[: n.value])
+        if n.value < len(buf):
+            return np.concatenate(chunks)
+
+
+def _bus_columns(records: np.ndarray) -> dict[str, np.ndarray]:
+    """Bus-log records as the columns of the model's bus log (sins_fw.harness.Run.bus)."""
+    cs, fr = records[records["kind"] == 0], records[records["kind"] == 1]
+    return {
+        "cs_t_ps": cs["t_ps"].copy(),
+        "cs_low": cs["cs_low"].astype(bool),
+        "frame_index": fr["index"].copy(),
+        "frame_start_ps": fr["t_ps"].copy(),
+        "frame_end_ps": fr["end_ps"].copy(),
+        "frame_first_edge_ps": fr["first_edge_ps"].copy(),
+        "frame_last_edge_ps": fr["last_edge_ps"].copy(),
+        "frame_sclk_period_ps": fr["sclk_period_ps"].copy(),
+        "frame_bits": fr["bits"].copy(),
+        "frame_selected": fr["selected"].astype(bool),
+        "frame_master_tx": fr["master_tx"].copy(),
+        "frame_master_rx": fr["master_rx"].copy(),
+        "frame_din": fr["din"].copy(),
+        "frame_dout": fr["dout"].copy(),
+    }
+
+
 def _take_events(lib: _Library, board: ctypes.c_void_p, t0: float | None) -> list[dict[str, Any]]:
     out = []
     ev, measured, required, got = _Event(), ctypes.c_double(), ctypes.c_double(), ctypes.c_int()
@@ -487,12 +655,19 @@ class _Rows:
         self.watched, self.sink = watched, sink
         self.count = 0
         self.prev_end = 0
+        #: Bus-log records not yet past the last ISR turned into a row.
+        self.bus = np.zeros(0, dtype=_BUS_RECORD)
         self.has_quat = all(f"q{i}" in {g.column for g in watched} for i in range(4))
 
     def add(
-        self, window: _TruthWindow, rows: tuple[np.ndarray, np.ndarray], events: list[dict[str, Any]]
+        self,
+        window: _TruthWindow,
+        rows: tuple[np.ndarray, np.ndarray],
+        events: list[dict[str, Any]],
+        bus: np.ndarray,
     ) -> None:
         times, values = rows
+        self.bus = np.concatenate([self.bus, bus]) if len(self.bus) else bus
         if not len(times) and not events:
             return
         self.count += len(times)
@@ -536,18 +711,46 @@ class _Rows:
         }
         return part
 
+    def _spi_stage(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The SPI stage of ISRs whose bodies run from ``lo`` to ``hi`` (ps), as the model's budget
+        bounds it: from the start of the ISR's first SPI frame to the chip select's last rise after
+        its last frame (or that frame's end when CS does not rise). An ISR without a frame has an
+        empty stage at ``lo``. The records up to the last ISR are dropped afterwards."""
+        rec = self.bus
+        frames = rec[rec["kind"] == 1]
+        rises = rec[(rec["kind"] == 0) & (rec["cs_low"] == 0)]["t_ps"]
+        starts, ends = frames["t_ps"], frames["end_ps"]
+        start, end = lo.copy(), lo.copy()
+        if len(starts):
+            first = np.searchsorted(starts, lo, side="left")
+            last = np.searchsorted(starts, hi, side="right") - 1
+            has = (first < len(starts)) & (last >= first)
+            start[has] = starts[first[has]]
+            end[has] = ends[last[has]]
+            if len(rises):
+                rise = np.searchsorted(rises, hi, side="right") - 1
+                ok = has & (rise >= 0)
+                ok[ok] = rises[rise[ok]] >= end[ok]
+                end[ok] = rises[rise[ok]]
+        if len(hi):
+            self.bus = rec[rec["t_ps"] > hi[-1]]
+        return start, end
+
     def _budget(self, col: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """One budget row per ISR, in the Rust model's columns: the entry (context save and prologue),
-        the ISR's body as the `decode` stage (the runtime cannot tell its parts apart), the exit. (A
-        tick whose interrupt was never taken is the core's `tick_lost` event.)"""
+        the wait for CS and the first frame (`cs_setup`), the SPI transfers and their register waits
+        (`spi`, from the bus log: :meth:`_spi_stage`), the rest of the ISR's body as the `decode`
+        stage (the runtime cannot tell the decode from the attitude code), the exit. (A tick whose
+        interrupt was never taken is the core's `tick_lost` event.)"""
         u = {k: v.astype(np.uint64) for k, v in col.items()}
+        spi_start, spi_end = self._spi_stage(u["entry_end_ps"], u["body_end_ps"])
         b = {
             "tick": u["tick"],
             "tick_ps": u["tick_ps"],
             "start_ps": u["start_ps"],
             "entry_end_ps": u["entry_end_ps"],
-            "spi_start_ps": u["entry_end_ps"],
-            "spi_end_ps": u["entry_end_ps"],
+            "spi_start_ps": spi_start,
+            "spi_end_ps": spi_end,
             "decode_end_ps": u["body_end_ps"],
             "attitude_end_ps": u["body_end_ps"],
             "euler_end_ps": u["body_end_ps"],
@@ -613,9 +816,11 @@ def firmware_metadata(library: str | os.PathLike[str], globals_file: Path | None
 __all__ = [
     "FirmwareResult",
     "FirmwareRunWriter",
+    "FrameDifference",
     "Global",
     "default_globals",
     "firmware_metadata",
+    "first_frame_difference",
     "load_globals",
     "run_c_firmware",
 ]

@@ -1,9 +1,9 @@
 /* A user firmware written as for the real board against TI's DSP2833x headers, built unmodified by
    `sins-fw build-firmware` and run by `sins-fw run TRACE --firmware fw.so`: the set-up of TI's
-   examples (InitSysCtrl, InitPieCtrl, the PIE vector, ConfigCpuTimer) as far as the emulator models
-   it, CPU timer 0 at the reference period (4 ms), and an ISR that reads the ADIS16407's burst over
-   SPI-A with GPIO57 as the chip select and stores the decoded rates in globals (globals.toml names
-   them for the run's output). main then idles in `for (;;) {}`, as TI's examples do. */
+   examples (InitSysCtrl, InitPieCtrl, the PIE vector, InitCpuTimers, ConfigCpuTimer: TI's support
+   functions, from their host replacements in firmware_c/ti), CPU timer 0 at the reference period
+   (4 ms), and an ISR that reads the ADIS16407's burst over SPI-A with GPIO57 as the chip select and
+   stores the decoded rates in globals (globals.toml names them for the run's output). main then idles in `for (;;) {}`, as TI's examples do. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
 
@@ -12,50 +12,10 @@
 
 interrupt void cpu_timer0_isr(void);
 
-struct CPUTIMER_VARS CpuTimer0;
 Uint16 burst[BURST_WORDS];
 Uint16 xgyro_word, ygyro_word, zgyro_word;
 float64 rate_x, rate_y, rate_z; /* °/s */
 Uint32 isr_count;
-
-/* InitSysCtrl as far as the emulator models it: LSPCLK = SYSCLKOUT / 4 = 37.5 MHz. (The PLL, the
-   watchdog and the peripheral clocks are not modelled: SYSCLKOUT is the profile's.) */
-static void InitSysCtrl(void) {
-    EALLOW;
-    SysCtrlRegs.LOSPCP.all = 0x0002;
-    EDIS;
-}
-
-/* TI's InitPieCtrl: PIE off, every PIEIER and PIEIFR cleared. */
-static void InitPieCtrl(void) {
-    DINT;
-    PieCtrlRegs.PIECTRL.bit.ENPIE = 0;
-    PieCtrlRegs.PIEIER1.all = 0;
-    PieCtrlRegs.PIEIER2.all = 0;
-    PieCtrlRegs.PIEIER3.all = 0;
-    PieCtrlRegs.PIEIER6.all = 0;
-    PieCtrlRegs.PIEIFR1.all = 0;
-    PieCtrlRegs.PIEIFR2.all = 0;
-    PieCtrlRegs.PIEIFR3.all = 0;
-    PieCtrlRegs.PIEIFR6.all = 0;
-}
-
-/* TI's ConfigCpuTimer (C2000Ware's rule: the counter runs PRD+1 counts a period). */
-static void ConfigCpuTimer(struct CPUTIMER_VARS *Timer, float Freq, float Period) {
-    Uint32 temp;
-    Timer->CPUFreqInMHz = Freq;
-    Timer->PeriodInUSec = Period;
-    temp = (long)(Freq * Period);
-    Timer->RegsAddr->PRD.all = temp - 1;
-    Timer->RegsAddr->TPR.all = 0;
-    Timer->RegsAddr->TPRH.all = 0;
-    Timer->RegsAddr->TCR.bit.TSS = 1;
-    Timer->RegsAddr->TCR.bit.TRB = 1;
-    Timer->RegsAddr->TCR.bit.SOFT = 0;
-    Timer->RegsAddr->TCR.bit.FREE = 0;
-    Timer->RegsAddr->TCR.bit.TIE = 1;
-    Timer->InterruptCount = 0;
-}
 
 /* The reference design's InitSpi: mode 3, 16-bit, 0.75 MHz at LSPCLK 37.5 MHz. */
 static void InitSpi(void) {
@@ -95,7 +55,7 @@ void main(void) {
     GpioDataRegs.GPBSET.bit.GPIO57 = 1; /* CS high */
     InitSpi();
 
-    CpuTimer0.RegsAddr = &CpuTimer0Regs;
+    InitCpuTimers();
     ConfigCpuTimer(&CpuTimer0, 150, 4000);
     CpuTimer0Regs.TCR.all = 0x4001; /* TSS = 0: start, TIE = 1 */
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.firmware_arith import FLOAT_MODES, diagnose_int
-from sins_fw.firmware_build import build_firmware, sources_of
+from sins_fw.firmware_build import build_firmware, sources_of, with_ti_support
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -48,11 +48,19 @@ def run(args: argparse.Namespace) -> int:
     sources = sources_of(args.sources)
     findings = diagnose_int(args.sources) if args.diagnose_int else []
     out = build_firmware(args.sources, args.out, float_mode=args.float_mode)
+    _, replaced = with_ti_support(sources)
     text = f"built {out} from {len(sources)} source(s), float mode {args.float_mode}"
+    if replaced:
+        text += f"\nTI's {', '.join(replaced)} left out: their host replacements (firmware_c/ti) stand in"
     if args.diagnose_int:
         text += f"\n16-bit int check: {len(findings)} conversion(s) that lose bits on the C28x"
         text += "".join(f"\n  {f}" for f in findings)
-    result = {"output": str(out), "sources": [str(s) for s in sources], "float_mode": args.float_mode}
+    result = {
+        "output": str(out),
+        "sources": [str(s) for s in sources],
+        "float_mode": args.float_mode,
+        "replaced_ti_sources": replaced,
+    }
     if args.diagnose_int:
         result["int16_conversions"] = findings
     emit(args, result, text)

@@ -56,6 +56,39 @@ typedef struct SinsEvent {
   char kind[40];
 } SinsEvent;
 
+// One record of the SPI bus log: a chip-select edge (`kind` 0: `t_ps`, `cs_low`) or a frame
+// (`kind` 1: the other fields), as the emulator's own bus log gives them.
+typedef struct SinsBusRecord {
+  // 0: a chip-select edge; 1: a frame.
+  uint8_t kind;
+  // The edge: 1 when CS fell (asserted).
+  uint8_t cs_low;
+  // The frame: 1 when CS was asserted at its start (the slave took part).
+  uint8_t selected;
+  // The frame's character length (SCLK cycles).
+  uint8_t bits;
+  // SPIDAT at the frame's start (the master's word, left-justified).
+  uint16_t master_tx;
+  // The bits the master received, right-justified.
+  uint16_t master_rx;
+  // The bits the slave sampled on DIN.
+  uint16_t din;
+  // The word the slave shifted out on DOUT.
+  uint16_t dout;
+  // The edge's time, or the frame's start (first SCLK edge without delay), ps.
+  uint64_t t_ps;
+  // The frame's end (INT_FLAG), ps.
+  uint64_t end_ps;
+  // The frame's first and last SCLK edges, ps.
+  uint64_t first_edge_ps;
+  // See `first_edge_ps`.
+  uint64_t last_edge_ps;
+  // The frame's SCLK period, ps.
+  uint64_t sclk_period_ps;
+  // The frame's SPI-A character index since power-on.
+  uint64_t index;
+} SinsBusRecord;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -349,6 +382,25 @@ enum SinsStatus sins_take_event(struct SinsBoard *board,
                                 double *measured,
                                 double *required,
                                 int *got);
+
+// Keep the SPI bus log from now on (`on` ≠ 0) or stop keeping it. A board built on a streamed input
+// (`sins_board_new_input`) starts without it; `sins_board_new`'s keeps it from power-on.
+//
+// # Safety
+// `board` is a live handle.
+enum SinsStatus sins_set_bus_log(struct SinsBoard *board,
+                                 int on);
+
+// Take up to `capacity` records of the bus log (in time order, the oldest first) into `records`;
+// `*n` is how many were written (fewer than `capacity`: none is left).
+//
+// # Safety
+// `board` is a live handle; `records` points to `capacity` writable records (or is null with
+// `capacity` 0); `n` points to writable memory.
+enum SinsStatus sins_take_bus_log(struct SinsBoard *board,
+                                  struct SinsBusRecord *records,
+                                  size_t capacity,
+                                  size_t *n);
 
 // A constant or a host `double` as TI's compiler gives it a 32-bit `double`: rounded to nearest
 // f32 (whatever RND32), canonical (NaN → +∞, subnormals and −0 → +0).

@@ -18,6 +18,7 @@ use std::ffi::{c_char, c_int, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
+use sins_core::bus::link::LinkRecord;
 use sins_core::device::Physical;
 use sins_core::host::{HostBoard, HostEvent};
 use sins_core::numerics::{C28xF32Rn, Scalar};
@@ -52,6 +53,8 @@ pub enum SinsStatus {
 pub struct SinsBoard {
     board: HostBoard,
     events: VecDeque<HostEvent>,
+    /// Bus-log records taken from the board and not yet handed out.
+    bus: VecDeque<LinkRecord>,
 }
 
 /// The C form of one event (its kind cut to 39 bytes and NUL-terminated).
@@ -99,6 +102,67 @@ pub struct SinsEvent {
     pub severity: u8,
     /// The event kind (`stall_too_short`, `cs_hold`, …; see docs/events.md), NUL-terminated.
     pub kind: [c_char; 40],
+}
+
+/// One record of the SPI bus log: a chip-select edge (`kind` 0: `t_ps`, `cs_low`) or a frame
+/// (`kind` 1: the other fields), as the emulator's own bus log gives them.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SinsBusRecord {
+    /// 0: a chip-select edge; 1: a frame.
+    pub kind: u8,
+    /// The edge: 1 when CS fell (asserted).
+    pub cs_low: u8,
+    /// The frame: 1 when CS was asserted at its start (the slave took part).
+    pub selected: u8,
+    /// The frame's character length (SCLK cycles).
+    pub bits: u8,
+    /// SPIDAT at the frame's start (the master's word, left-justified).
+    pub master_tx: u16,
+    /// The bits the master received, right-justified.
+    pub master_rx: u16,
+    /// The bits the slave sampled on DIN.
+    pub din: u16,
+    /// The word the slave shifted out on DOUT.
+    pub dout: u16,
+    /// The edge's time, or the frame's start (first SCLK edge without delay), ps.
+    pub t_ps: u64,
+    /// The frame's end (INT_FLAG), ps.
+    pub end_ps: u64,
+    /// The frame's first and last SCLK edges, ps.
+    pub first_edge_ps: u64,
+    /// See `first_edge_ps`.
+    pub last_edge_ps: u64,
+    /// The frame's SCLK period, ps.
+    pub sclk_period_ps: u64,
+    /// The frame's SPI-A character index since power-on.
+    pub index: u64,
+}
+
+impl SinsBusRecord {
+    fn of(r: &LinkRecord) -> SinsBusRecord {
+        match *r {
+            LinkRecord::Cs { t_ps, low } => {
+                SinsBusRecord { kind: 0, cs_low: u8::from(low), t_ps, ..Default::default() }
+            }
+            LinkRecord::Frame(f) => SinsBusRecord {
+                kind: 1,
+                cs_low: 0,
+                selected: u8::from(f.selected),
+                bits: f.timing.bits,
+                master_tx: f.master_tx,
+                master_rx: f.master_rx,
+                din: f.din,
+                dout: f.dout,
+                t_ps: f.start_ps,
+                end_ps: f.end_ps,
+                first_edge_ps: f.timing.first_edge,
+                last_edge_ps: f.timing.last_edge,
+                sclk_period_ps: f.timing.sclk_period,
+                index: f.index,
+            },
+        }
+    }
 }
 
 thread_local! {
@@ -252,7 +316,7 @@ unsafe fn board_new(
             .map_err(|e| Error::Profile(format!("{}: cannot read the profile: {e}", path.display())))?;
         let p = Profile::from_toml(&text, &path.display().to_string(), &ov)?;
         let board = if streamed { HostBoard::with_input(&p)? } else { HostBoard::new(&p)? };
-        let b = Box::new(SinsBoard { board, events: VecDeque::new() });
+        let b = Box::new(SinsBoard { board, events: VecDeque::new(), bus: VecDeque::new() });
         put(out, Box::into_raw(b), "out")
     })
 }
@@ -838,5 +902,49 @@ pub unsafe extern "C" fn sins_take_event(
         put(measured, e.event.measured.unwrap_or(f64::NAN), "measured")?;
         put(required, e.event.required.unwrap_or(f64::NAN), "required")?;
         put(got, 1, "got")
+    })
+}
+
+/// Keep the SPI bus log from now on (`on` ≠ 0) or stop keeping it. A board built on a streamed input
+/// (`sins_board_new_input`) starts without it; `sins_board_new`'s keeps it from power-on.
+///
+/// # Safety
+/// `board` is a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn sins_set_bus_log(board: *mut SinsBoard, on: c_int) -> SinsStatus {
+    call(|| {
+        self::board(board)?.board.set_keep_log(on != 0);
+        Ok(())
+    })
+}
+
+/// Take up to `capacity` records of the bus log (in time order, the oldest first) into `records`;
+/// `*n` is how many were written (fewer than `capacity`: none is left).
+///
+/// # Safety
+/// `board` is a live handle; `records` points to `capacity` writable records (or is null with
+/// `capacity` 0); `n` points to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_take_bus_log(
+    board: *mut SinsBoard,
+    records: *mut SinsBusRecord,
+    capacity: usize,
+    n: *mut usize,
+) -> SinsStatus {
+    call(|| {
+        let b = self::board(board)?;
+        b.bus.extend(b.board.take_log());
+        let k = capacity.min(b.bus.len());
+        if k > 0 {
+            if records.is_null() {
+                return Err(Failure::Null("records"));
+            }
+            // SAFETY: `records` holds `capacity` ≥ k writable records (the caller's contract).
+            let out = unsafe { std::slice::from_raw_parts_mut(records, k) };
+            for (slot, r) in out.iter_mut().zip(b.bus.drain(..k)) {
+                *slot = SinsBusRecord::of(&r);
+            }
+        }
+        put(n, k, "n")
     })
 }

@@ -683,6 +683,14 @@ impl HostBoard {
         self.link.slave().peek(a)
     }
 
+    /// Keep the transaction log for [`HostBoard::take_log`] from now on (`on`), or stop keeping it
+    /// (what was kept stays until taken). A board reading a trace starts without it: a firmware run
+    /// that wants its bus log switches it on.
+    pub fn set_keep_log(&mut self, on: bool) {
+        self.sync();
+        self.keep_log = on;
+    }
+
     /// The transaction log (frames and CS edges) since the last call, in time order.
     pub fn take_log(&mut self) -> Vec<LinkRecord> {
         self.sync();
