@@ -17,6 +17,7 @@ static ALLOC: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
 mod board;
 mod emulate;
 mod errors;
+mod gfsins;
 
 use errors::{guard, to_py};
 
@@ -298,6 +299,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(dcm_orientation, m)?)?;
     m.add_function(wrap_pyfunction!(gps_nmea_lines, m)?)?;
     m.add_function(wrap_pyfunction!(nmea_read, m)?)?;
+    m.add_function(wrap_pyfunction!(gfsins::gfsins_run, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;

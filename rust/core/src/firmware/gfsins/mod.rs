@@ -182,10 +182,9 @@ impl Budget {
                 sums[p][c] += t as f64;
             }
         }
-        for p in 0..2 {
-            for c in 0..3 {
-                let l = &mut b.load[p][c];
-                l.mean_ps = if l.ticks > 0 { sums[p][c] / l.ticks as f64 } else { 0.0 };
+        for (loads, sums) in b.load.iter_mut().zip(&sums) {
+            for (l, sum) in loads.iter_mut().zip(sums) {
+                l.mean_ps = if l.ticks > 0 { sum / l.ticks as f64 } else { 0.0 };
             }
         }
         b

@@ -35,14 +35,16 @@
 
 use super::frame::{self, GpsWords, Packet};
 use super::profile::GfsinsProfile;
-use crate::bus::i2c::I2cLink;
+use crate::bus::i2c::{I2cLink, I2cTarget};
 use crate::bus::{Address, FrameTiming, Link, SpiSlave};
 use crate::device::adxl345::{self, Adxl345, ErrorPreset};
 use crate::device::gps::{Gps, NmeaReader};
+use crate::device::hmc6343::Hmc6343;
 use crate::error::Result;
 use crate::events::{Event, EventLog, Severity};
 use crate::profile::I2cBus;
 use crate::time::{Clock, Ps};
+use std::sync::{Arc, Mutex};
 
 /// Positions of the six outer parts in units of l (algorithms.md §4: u₁…u₆); the centre part is at 0.
 pub const POSITIONS: [[f64; 3]; 6] =
@@ -55,6 +57,34 @@ const COMPASS_DIVIDER: u64 = 20;
 const POST_HEADING: u8 = 0x50;
 /// The multi-byte read of DATAX0…DATAZ1.
 const READ_DATA: u8 = adxl345::spi::READ | adxl345::spi::MULTI_BYTE | 0x32;
+
+/// The compass shared by the I²C link, which drives it, and the node, which takes its events out.
+struct SharedCompass(Arc<Mutex<Hmc6343>>);
+
+impl SharedCompass {
+    fn part(&self) -> std::sync::MutexGuard<'_, Hmc6343> {
+        // Only this thread ever holds the lock, so it cannot be poisoned by another.
+        self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
+impl I2cTarget for SharedCompass {
+    fn start(&mut self, t: Ps) {
+        self.part().start(t);
+    }
+    fn write(&mut self, byte: u8, t: Ps) -> bool {
+        self.part().write(byte, t)
+    }
+    fn read(&mut self, t: Ps, ack: bool) -> u8 {
+        self.part().read(t, ack)
+    }
+    fn stop(&mut self, t: Ps) {
+        self.part().stop(t);
+    }
+    fn hold_scl(&mut self, t: Ps) -> Ps {
+        self.part().hold_scl(t)
+    }
+}
 
 /// What one tick did and when (the budget's raw material and the timing test's subject).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -85,9 +115,9 @@ pub struct Node {
     cpu: Clock,
     plb: Clock,
     cfg: super::profile::Node,
-    data_format: u8,
     parts: Vec<Adxl345>,
     iic: I2cLink,
+    compass_part: Arc<Mutex<Hmc6343>>,
     gps: Gps,
     nmea: NmeaReader,
     baud_mismatch: bool,
@@ -112,16 +142,13 @@ impl std::fmt::Debug for Node {
     }
 }
 
-/// The truth the parts feel, per part (specific force, g, in each part's axes = the body's).
-pub type ArrayStimulus = Box<dyn FnMut(usize, Ps) -> [f64; 3] + Send>;
-
 impl Node {
     /// The node of `profile` at power-up with its parts: `array(i, t)` is the force part `i` feels
     /// (0–5 outer, 6 centre), `compass` and `gps` the other parts' stimuli. Sets the parts up as
     /// the firmware's initialisation does (before the first tick at `node.start_ms`).
     pub fn new(
         profile: &GfsinsProfile,
-        array: std::sync::Arc<dyn Fn(usize, Ps) -> [f64; 3] + Send + Sync>,
+        array: Arc<dyn Fn(usize, Ps) -> [f64; 3] + Send + Sync>,
         compass: crate::device::hmc6343::Stimulus,
         gps: crate::device::gps::Stimulus,
     ) -> Result<Node> {
@@ -136,9 +163,9 @@ impl Node {
             .collect();
         let revision = if profile.compass.revision == "earlier" { h::Revision::Earlier } else { h::Revision::Later };
         let errors = if profile.compass.errors == "ideal" { h::IDEAL } else { h::HMC6343_ERRORS };
-        let hmc = h::Hmc6343::new(revision, compass, errors, profile.compass.seed);
+        let hmc = Arc::new(Mutex::new(h::Hmc6343::new(revision, compass, errors, profile.compass.seed)));
         let bus = I2cBus { scl_low_ns: cfg.iic_scl_low_ns, scl_high_ns: cfg.iic_scl_high_ns };
-        let iic = I2cLink::new(&bus, vec![(h::ADDRESS, Box::new(hmc))]);
+        let iic = I2cLink::new(&bus, vec![(h::ADDRESS, Box::new(SharedCompass(hmc.clone())))]);
         let settings = g::Settings {
             latency_ps: profile.gps.latency_ms * 1_000_000_000,
             cep_m: profile.gps.cep_m,
@@ -153,9 +180,9 @@ impl Node {
             plb: Clock::from_hz(cfg.plb_hz),
             baud_mismatch: cfg.uart_baud != profile.gps.baud,
             cfg,
-            data_format: profile.array.data_format,
             parts,
             iic,
+            compass_part: hmc,
             gps: Gps::new(settings, gps),
             nmea: NmeaReader::default(),
             start: profile.node.start_ms * 1_000_000_000,
@@ -249,11 +276,11 @@ impl Node {
         let mut t = t0 + self.cycles(self.cfg.isr_entry_cycles);
         // 2. Load and start the seven cores; 3. collect them.
         let mut raw = [[0u8; 7]; 7];
-        for i in 0..7 {
+        for (i, rx) in raw.iter_mut().enumerate() {
             t += self.accesses(9);
             let mut tx = [0u8; 7];
             tx[0] = READ_DATA;
-            let end = self.spi(i, &tx, &mut raw[i], t);
+            let end = self.spi(i, &tx, rx, t);
             timing.spi[i] = (t, end);
         }
         for (_, end) in timing.spi {
@@ -419,6 +446,7 @@ impl Node {
             out.extend(p.drain_events());
         }
         out.extend(self.iic.drain_events());
+        out.extend(self.compass_part.lock().unwrap_or_else(std::sync::PoisonError::into_inner).drain_events());
         out.extend(self.gps.drain_events());
         out
     }

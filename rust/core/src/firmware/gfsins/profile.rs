@@ -228,7 +228,7 @@ impl GfsinsProfile {
                 return bad(key, format!("{v}: expected 1 MHz … 1 GHz"));
             }
         }
-        if !(1..=10_000).contains(&n.timer_hz) || n.plb_hz % n.timer_hz != 0 {
+        if !(1..=10_000).contains(&n.timer_hz) || !n.plb_hz.is_multiple_of(n.timer_hz) {
             return bad("node.timer_hz", format!("{}: expected 1…10000 Hz dividing node.plb_hz", n.timer_hz));
         }
         for (key, r) in [("node.adxl_sck_ratio", n.adxl_sck_ratio), ("node.dsp_sck_ratio", n.dsp_sck_ratio)] {
