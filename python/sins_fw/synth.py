@@ -21,7 +21,7 @@ import itertools
 import math
 import shlex
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from typing import Any
 
@@ -173,6 +173,8 @@ class Motion:
     alpha_rad: Array | None = None
     #: Sensor temperature, °C (None: the trace has no temperature column).
     temp_c: Array | None = None
+    #: Specific force at the gyro-free array's seven ADXL345, g, (n, 21) (the ``vehicle`` scenario).
+    array_g: Array | None = None
 
     def rows(self, rows: slice) -> Motion:
         """These rows of the motion."""
@@ -692,6 +694,58 @@ def turn_motion(
     return _plan_motion(plan, latitude_deg, height_m, rate_hz, rows)
 
 
+#: The gyro-free array's outer parts' positions in units of the lever arm l (algorithms.md §4:
+#: u₁…u₆, body axes); the seventh part is at the centre.
+ARRAY_POSITIONS = np.array(
+    [[0, 1, 0], [0, 0, 1], [1, 0, 0], [0, 0, -1], [-1, 0, 0], [0, -1, 0], [0, 0, 0]], float
+)
+#: The thesis's chapter-5 scenario (algorithms.md §4 corrections): 80 km/h, heading 30°, its place.
+VEHICLE_SPEED_MPS = 80.0 / 3.6
+VEHICLE_LATITUDE_DEG = 28.20021
+VEHICLE_LONGITUDE_DEG = 112.92647
+VEHICLE_HEIGHT_M = 5.13145
+
+
+def vehicle_motion(
+    *,
+    speed_mps: float = VEHICLE_SPEED_MPS,
+    heading_deg: float = 30.0,
+    turn_rate_dps: float = 0.0,
+    duration_s: float = 60.0,
+    lever_arm_m: float = 0.1,
+    latitude_deg: float = VEHICLE_LATITUDE_DEG,
+    height_m: float = VEHICLE_HEIGHT_M,
+    rate_hz: str = "1000",
+    rows: slice | None = None,
+) -> Motion:
+    """The gyro-free vehicle board's scenario (issue 25; the thesis's chapter 5 by default): a level
+    vehicle at constant speed on a straight line (``turn_rate_dps`` = 0) or a coordinated turn, with
+    the specific force at each of the seven ADXL345 of the array at lever arm l: f_p = f_c + ω̇×r_p +
+    ω×(ω×r_p) (rigid body, ω = ω_ib^b, r_p = l u_p in body axes, gravity uniform over the array).
+    ω is exact; ω̇ is its second-order central difference on the sample grid, exact to O(h² ω⃛/6):
+    in a turn ω_ib^b turns with the body against the earth rate (|ω̇| ≈ |ω_nb × ω_in| ≈ 1.3e-5 rad/s²
+    at 10 °/s, ω⃛ ≈ 4e-7 rad/s³), so at 1 kHz the difference is off by ≈ 1e-13 rad/s², 2e-15 g at
+    l = 0.2 m: a few units in the last place of f."""
+    if speed_mps <= 0 or duration_s <= 0 or not 0.0 < lever_arm_m <= 1.0:
+        raise ConfigError("vehicle: speed and duration must be positive, the lever arm 0 < l ≤ 1 m")
+    plan = _FlightPlan(
+        speed=MotionProfile.build(0.0, speed_mps, []),
+        gamma=MotionProfile.build(0.0, 0.0, []),
+        heading=MotionProfile.build(math.radians(heading_deg), math.radians(turn_rate_dps), []),
+        end=duration_s,
+    )
+    m = _plan_motion(plan, latitude_deg, height_m, rate_hz, None)
+    w = m.gyro_rad_s()
+    dw = np.gradient(w, m.t_s, axis=0, edge_order=2) if len(m.t_s) > 2 else np.zeros_like(w)
+    f_c = m.specific_force()
+    forces = []
+    for u in ARRAY_POSITIONS:
+        r = np.broadcast_to(lever_arm_m * u, w.shape)
+        forces.append(f_c + np.cross(dw, r) + np.cross(w, np.cross(w, r)))
+    m.array_g = np.concatenate(forces, axis=1) / earth.G0
+    return m if rows is None else m.rows(rows)
+
+
 def _plan_motion(
     plan: _FlightPlan, latitude_deg: float, height_m: float, rate_hz: str, rows: slice | None
 ) -> Motion:
@@ -987,6 +1041,16 @@ _AIDING = (
     ),
     Param("gps_latency_s", "float", 0.1, "GPS latency: a fix reaches the firmware this late, s (0…10)", True),
 )
+#: The vehicle scenario's aiding defaults: the thesis's longitude, a field for the compass (WMM-2020
+#: at the place, rounded [unconfirmed: the thesis gives none]) and the GPS at 1 Hz.
+VEHICLE_AIDING = {
+    "longitude_deg": VEHICLE_LONGITUDE_DEG,
+    "mag_field": "custom",
+    "mag_intensity_gauss": 0.49,
+    "mag_inclination_deg": 43.0,
+    "mag_declination_deg": -3.0,
+    "gps_rate_hz": 1.0,
+}
 _COMMON = (
     Param("latitude_deg", "float", DEFAULT_LATITUDE_DEG, "geodetic latitude, degrees"),
     Param("height_m", "float", DEFAULT_HEIGHT_M, "height above the ellipsoid, m"),
@@ -1176,6 +1240,27 @@ SCENARIOS: dict[str, Scenario] = {
                 *_COMMON,
             ),
             "a wing on a hinge of any axis, IMU at any mount: flap steps, sines or sweeps; exact α truth",
+        ),
+        Scenario(
+            "vehicle",
+            _kinematic(vehicle_motion),
+            (
+                Param("speed_mps", "float", VEHICLE_SPEED_MPS, "ground speed, m/s (thesis: 80 km/h)"),
+                Param("heading_deg", "float", 30.0, "heading at t = 0, degrees from north clockwise"),
+                Param("turn_rate_dps", "float", 0.0, "turn rate, °/s (0: straight line)"),
+                Param("duration_s", "float", 60.0, "duration, s"),
+                Param("lever_arm_m", "float", 0.1, "array lever arm l, m (gfsins.toml array.lever_arm_m)"),
+                Param("latitude_deg", "float", VEHICLE_LATITUDE_DEG, "geodetic latitude, degrees"),
+                Param("height_m", "float", VEHICLE_HEIGHT_M, "height above the ellipsoid, m"),
+                Param("rate_hz", "rate", "1000", "sample rate, Hz (exact decimal)"),
+                *(
+                    replace(p, default=VEHICLE_AIDING[p.name]) if p.name in VEHICLE_AIDING else p
+                    for p in _AIDING
+                ),
+            ),
+            "gyro-free vehicle board: straight line or turn, 7 ADXL345 at lever arm l, compass field, GPS",
+            transport_rate=True,
+            chunked=False,
         ),
     )
 }
@@ -1369,6 +1454,7 @@ def to_trace(motion: Motion, metadata: dict[str, str], values: dict[str, Any] | 
         else quat.rotate(quat.conjugate(motion.q_nb), np.broadcast_to(m, motion.v_n.shape)),
         truth_q=motion.q_nb,
         truth_alpha_deg=None if motion.alpha_rad is None else np.degrees(motion.alpha_rad),
+        array_g=motion.array_g,
         temp_c=motion.temp_c,
         moving=motion.moving(),
         metadata=metadata,

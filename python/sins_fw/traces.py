@@ -109,6 +109,18 @@ PHYSICAL_COLUMNS: tuple[Column, ...] = (
             ("gps_height_m", "m", "GPS height above the WGS-84 ellipsoid"),
         )
     ),
+    *(
+        Column(
+            f"array{p}_{a}_g",
+            "g (9.80665 m/s²)",
+            f"specific force at the gyro-free array's ADXL345 #{p} ({'centre' if p == 7 else 'outer'}), "
+            f"part {a} axis = body {a} axis (vehicle scenario)",
+            group="array",
+            required=False,
+        )
+        for p in range(1, 8)
+        for a in "xyz"
+    ),
 )
 #: The GPS stream's columns (:func:`check_gps`).
 GPS_COLUMNS: tuple[str, ...] = (
@@ -474,6 +486,7 @@ class PhysicalTrace(_TraceFile):
     metadata: dict[str, str] = field(default_factory=dict)
     gps: Array | None = None
     truth_alpha_deg: Array | None = None
+    array_g: Array | None = None
 
     schema: ClassVar[Schema] = PHYSICAL_SCHEMA
     _GROUPS: ClassVar[dict[str, tuple[str, ...]]] = {
@@ -486,6 +499,7 @@ class PhysicalTrace(_TraceFile):
         "moving": ("moving",),
         "gps": GPS_COLUMNS,
         "truth_alpha_deg": ("truth_alpha_deg",),
+        "array_g": tuple(f"array{p}_{a}_g" for p in range(1, 8) for a in "xyz"),
     }
 
     def __post_init__(self) -> None:
@@ -565,6 +579,7 @@ class PhysicalTrace(_TraceFile):
             "truth_q",
             "gps",
             "truth_alpha_deg",
+            "array_g",
         ):
             if attr in fields:
                 fields[attr] = fields[attr].astype(np.float64)

@@ -302,6 +302,9 @@ pub const KINDS: &[EventKind] = &[
         "mcu",
         "an EALLOW-protected register (PieVectTable) written without EALLOW: ignored, as on the chip",
     ),
+    // The gyro-free board's DSP (firmware/gfsins/dsp.rs).
+    kind("packet_missing", Error, "firmware", "the C6727 got no node packet in a period, or a sequence number was skipped"),
+    kind("packet_refused", Error, "firmware", "a node packet with a wrong length, sync word or CRC: dropped by the C6727"),
 ];
 
 /// The table entry of `name`, if it is a known kind.

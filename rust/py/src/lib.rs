@@ -18,6 +18,7 @@ mod board;
 mod emulate;
 mod errors;
 mod geomag;
+mod gfsins;
 
 use errors::{guard, to_py};
 
@@ -300,6 +301,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gps_nmea_lines, m)?)?;
     m.add_function(wrap_pyfunction!(nmea_read, m)?)?;
     m.add_function(wrap_pyfunction!(geomag::geomag_spin_chain, m)?)?;
+    m.add_function(wrap_pyfunction!(gfsins::gfsins_run, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;

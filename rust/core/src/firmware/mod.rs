@@ -21,6 +21,7 @@ mod euler;
 pub mod geomag;
 pub mod geomag_app;
 pub mod geomag_chain;
+pub mod gfsins;
 pub mod isr;
 mod nav;
 mod quat;

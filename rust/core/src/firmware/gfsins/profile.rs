@@ -1,0 +1,274 @@
+//! The gyro-free board's profile (`firmware_model/gfsins.toml`): the acquisition node's clocks, IP
+//! core settings and cost estimates, the array, the compass, the GPS and the DSP. Every key has the
+//! thesis's value as its default, or a marked choice; SCHEMA.md-style notes are in the TOML itself.
+
+use crate::error::{Error, Result};
+use serde::Deserialize;
+
+/// The whole profile.
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct GfsinsProfile {
+    /// Name and description.
+    pub meta: Meta,
+    /// The acquisition node (XC3S400AN + MicroBlaze).
+    pub node: Node,
+    /// The accelerometer array.
+    pub array: Array,
+    /// The HMC6343.
+    pub compass: Compass,
+    /// The GR-87.
+    pub gps: Gps,
+    /// The TMS320C6727B.
+    pub dsp: Dsp,
+}
+
+/// `[meta]`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Meta {
+    /// Profile name.
+    pub name: String,
+    /// One line.
+    pub description: String,
+    /// The board family member (`gfsins`): what a board dispatch keys on.
+    pub board: String,
+}
+
+impl Default for Meta {
+    fn default() -> Self {
+        Meta {
+            name: "gfsins".into(),
+            description: "XC3S400AN MicroBlaze acquisition node + TMS320C6727B, 7 ADXL345, HMC6343, GR-87".into(),
+            board: "gfsins".into(),
+        }
+    }
+}
+
+/// `[node]`: the MicroBlaze and its PLB IP cores.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Node {
+    /// MicroBlaze clock, Hz (one clock with the PLB: see the TOML for the 70/75 MHz disagreement).
+    pub cpu_hz: u64,
+    /// PLB clock, Hz (UART Lite C_CLK_FREQ 75 000 000, thesis).
+    pub plb_hz: u64,
+    /// Timer interrupt rate, Hz (thesis: 200).
+    pub timer_hz: u64,
+    /// First timer interrupt after power-up, ms (after the parts are set up) [unconfirmed].
+    pub start_ms: u64,
+    /// Interrupt to the first instruction of the handler, CPU cycles [estimate].
+    pub isr_entry_cycles: u64,
+    /// One PLB register access from the MicroBlaze, CPU cycles [estimate].
+    pub plb_access_cycles: u64,
+    /// Pre-processing per tick (axis selection, packet build), CPU cycles [estimate].
+    pub preprocess_cycles: u64,
+    /// NMEA handling per received byte (DMA1 already moved it), CPU cycles [estimate].
+    pub nmea_cycles_per_byte: u64,
+    /// Parsing one complete sentence into the packet's fields, CPU cycles [estimate].
+    pub nmea_cycles_per_sentence: u64,
+    /// xps_spi C_SCK_RATIO of SPI #1–#7 (PLB / SCK; even) : 54 → 1.389 MHz (thesis: 1.4 MHz).
+    pub adxl_sck_ratio: u64,
+    /// xps_spi C_SCK_RATIO of SPI #8 to the DSP (thesis: left blank) [unconfirmed].
+    pub dsp_sck_ratio: u64,
+    /// SS↓ to the first SCK edge, SCK half-periods [unconfirmed: xps_spi timing diagram not read].
+    pub ss_setup_half_periods: u64,
+    /// I²C #1 SCL low and high phases, ns (100 kHz, thesis).
+    pub iic_scl_low_ns: u32,
+    /// SCL high phase, ns.
+    pub iic_scl_high_ns: u32,
+    /// UART Lite C_BAUD_RATE (thesis: 19 200; 8N1).
+    pub uart_baud: u32,
+}
+
+impl Default for Node {
+    fn default() -> Self {
+        Node {
+            cpu_hz: 75_000_000,
+            plb_hz: 75_000_000,
+            timer_hz: 200,
+            start_ms: 600,
+            isr_entry_cycles: 30,
+            plb_access_cycles: 6,
+            preprocess_cycles: 600,
+            nmea_cycles_per_byte: 20,
+            nmea_cycles_per_sentence: 2_000,
+            adxl_sck_ratio: 54,
+            dsp_sck_ratio: 8,
+            ss_setup_half_periods: 1,
+            iic_scl_low_ns: 5_000,
+            iic_scl_high_ns: 5_000,
+            uart_baud: 19_200,
+        }
+    }
+}
+
+/// `[array]`: the seven ADXL345.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Array {
+    /// Lever arm l of the six outer parts, m (not published) [unconfirmed].
+    pub lever_arm_m: f64,
+    /// BW_RATE written at set-up (0x0B: 200 Hz, thesis).
+    pub bw_rate: u8,
+    /// DATA_FORMAT written at set-up (0x0B: full resolution, ±16 g) [unconfirmed].
+    pub data_format: u8,
+    /// FIFO_CTL written at set-up (0x80: stream mode, thesis).
+    pub fifo_ctl: u8,
+    /// The parts' error preset (`ideal`, `adxl345`).
+    pub preset: String,
+    /// Seed of the parts' errors (part i uses seed + i).
+    pub seed: u64,
+}
+
+impl Default for Array {
+    fn default() -> Self {
+        Array { lever_arm_m: 0.1, bw_rate: 0x0B, data_format: 0x0B, fifo_ctl: 0x80, preset: "adxl345".into(), seed: 1 }
+    }
+}
+
+/// `[compass]`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Compass {
+    /// Command set: `later` or `earlier` (the thesis's Table 4.3).
+    pub revision: String,
+    /// Error model: `hmc6343` or `ideal`.
+    pub errors: String,
+    /// Seed of its errors.
+    pub seed: u64,
+}
+
+impl Default for Compass {
+    fn default() -> Self {
+        Compass { revision: "later".into(), errors: "hmc6343".into(), seed: 2 }
+    }
+}
+
+/// `[gps]`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Gps {
+    /// The receiver's line rate (19 200 on the board; HOLUX default 4 800).
+    pub baud: u32,
+    /// Fix epoch to the first character, ms [unconfirmed].
+    pub latency_ms: u64,
+    /// Horizontal CEP, m.
+    pub cep_m: f64,
+    /// Velocity 1σ, m/s.
+    pub velocity_sigma_m_s: f64,
+    /// Noise seed.
+    pub seed: u64,
+}
+
+impl Default for Gps {
+    fn default() -> Self {
+        Gps { baud: 19_200, latency_ms: 200, cep_m: 5.0, velocity_sigma_m_s: 0.1, seed: 3 }
+    }
+}
+
+/// `[dsp]`: the C6727B as far as the packets and the timing budget need it.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Dsp {
+    /// SYSCLK1, the CPU clock, Hz (thesis appendix B: 25 MHz × 18 / 2).
+    pub cpu_hz: u64,
+    /// SPI1 (slave) SCLK ceiling, Hz (thesis: 10 MHz).
+    pub spi_max_hz: u64,
+    /// dMAX: one SPI word to memory, CPU cycles [estimate].
+    pub dmax_word_cycles: u64,
+    /// The packet interrupt to the handler's first instruction, CPU cycles [estimate].
+    pub isr_entry_cycles: u64,
+    /// CRC check per word, CPU cycles [estimate: table-less bitwise loop, 8 × 2 cycles per byte].
+    pub crc_cycles_per_word: u64,
+    /// One count to a scaled double (INTDP 5 + MPYDP 10, GCC c6x.md latencies).
+    pub convert_cycles: u64,
+    /// atan2 in double (MATHLIB C674x report, RTS column) [approximate for the C67x+].
+    pub atan2dp_cycles: u64,
+    /// sqrt in double: RSQRDP + 3 Newton steps (3 × (3 MPYDP + SUBDP)) + MPYDP [estimate].
+    pub sqrtdp_cycles: u64,
+}
+
+impl Default for Dsp {
+    fn default() -> Self {
+        Dsp {
+            cpu_hz: 225_000_000,
+            spi_max_hz: 10_000_000,
+            dmax_word_cycles: 10,
+            isr_entry_cycles: 40,
+            crc_cycles_per_word: 32,
+            convert_cycles: 15,
+            atan2dp_cycles: 875,
+            sqrtdp_cycles: 122,
+        }
+    }
+}
+
+impl GfsinsProfile {
+    /// The profile in `text` (read from `origin`, named in errors), checked.
+    pub fn parse(text: &str, origin: &str) -> Result<GfsinsProfile> {
+        let de = toml::Deserializer::new(text);
+        let p: GfsinsProfile = serde_path_to_error::deserialize(de)
+            .map_err(|e| Error::Profile(format!("{origin}: `{}`: {}", e.path(), e.inner().message())))?;
+        p.check(origin)?;
+        Ok(p)
+    }
+
+    fn check(&self, origin: &str) -> Result<()> {
+        let bad = |key: &str, why: String| Err(Error::Profile(format!("{origin}: `{key}`: {why}")));
+        let n = &self.node;
+        if self.meta.board != "gfsins" {
+            return bad(
+                "meta.board",
+                format!("`{}`: this profile kind is the gyro-free board, `gfsins`", self.meta.board),
+            );
+        }
+        for (key, v) in [("node.cpu_hz", n.cpu_hz), ("node.plb_hz", n.plb_hz), ("dsp.cpu_hz", self.dsp.cpu_hz)] {
+            if !(1_000_000..=1_000_000_000).contains(&v) {
+                return bad(key, format!("{v}: expected 1 MHz … 1 GHz"));
+            }
+        }
+        if !(1..=10_000).contains(&n.timer_hz) || !n.plb_hz.is_multiple_of(n.timer_hz) {
+            return bad("node.timer_hz", format!("{}: expected 1…10000 Hz dividing node.plb_hz", n.timer_hz));
+        }
+        for (key, r) in [("node.adxl_sck_ratio", n.adxl_sck_ratio), ("node.dsp_sck_ratio", n.dsp_sck_ratio)] {
+            if r < 2 || r % 2 != 0 || r > 65_536 {
+                return bad(key, format!("{r}: xps_spi's C_SCK_RATIO is an even number ≥ 2"));
+            }
+        }
+        if n.iic_scl_low_ns == 0 || n.iic_scl_high_ns == 0 {
+            return bad("node.iic_scl_low_ns", "SCL phases must be positive".into());
+        }
+        if n.uart_baud == 0 || self.gps.baud == 0 {
+            return bad("node.uart_baud", "baud rates must be positive".into());
+        }
+        let l = self.array.lever_arm_m;
+        if !(l.is_finite() && l > 0.0 && l <= 1.0) {
+            return bad("array.lever_arm_m", format!("{l}: expected 0 < l ≤ 1 m"));
+        }
+        if self.array.bw_rate & 0xE0 != 0 {
+            return bad("array.bw_rate", format!("0x{:02X}: BW_RATE is 0x00–0x1F", self.array.bw_rate));
+        }
+        if self.array.fifo_ctl >> 6 != 0b10 {
+            let v = self.array.fifo_ctl;
+            return bad("array.fifo_ctl", format!("0x{v:02X}: the board runs the FIFO in stream mode (0x80–0xBF)"));
+        }
+        if crate::device::adxl345::ErrorPreset::by_name(&self.array.preset).is_none() {
+            return bad("array.preset", format!("`{}`: known presets: ideal, adxl345", self.array.preset));
+        }
+        if !["later", "earlier"].contains(&self.compass.revision.as_str()) {
+            return bad("compass.revision", format!("`{}`: expected later or earlier", self.compass.revision));
+        }
+        if !["hmc6343", "ideal"].contains(&self.compass.errors.as_str()) {
+            return bad("compass.errors", format!("`{}`: expected hmc6343 or ideal", self.compass.errors));
+        }
+        let spi8 = n.plb_hz / n.dsp_sck_ratio;
+        if spi8 > self.dsp.spi_max_hz {
+            return bad(
+                "node.dsp_sck_ratio",
+                format!("SPI #8 at {spi8} Hz is above the DSP SPI1 slave's {} Hz", self.dsp.spi_max_hz),
+            );
+        }
+        Ok(())
+    }
+}

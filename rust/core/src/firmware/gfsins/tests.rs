@@ -1,0 +1,182 @@
+//! The board's checks: the node's timing against a hand computation from the link rates, the
+//! channels, compass and GPS reaching the DSP, the budget's peaks per rate class, the rules that
+//! can fail (overrun, wrong baud rate), the profile's errors.
+
+use super::*;
+use crate::device::{gps, hmc6343};
+
+const MS: Ps = 1_000_000_000;
+
+fn ideal() -> GfsinsProfile {
+    let mut p = GfsinsProfile::default();
+    p.array.preset = "ideal".into();
+    p.compass.errors = "ideal".into();
+    p.gps.cep_m = 0.0;
+    p.gps.velocity_sigma_m_s = 0.0;
+    p
+}
+
+/// A vehicle at rest, heading 30°, at the thesis's place; part i feels a force whose axes differ.
+fn vehicle() -> Source {
+    Arc::new(|_| Truth {
+        array_g: std::array::from_fn(|i| {
+            let k = i as f64 + 1.0;
+            [0.01 * k, -0.02 * k, 0.9 + 0.01 * k]
+        }),
+        compass: hmc6343::Truth {
+            heading_deg: 30.0,
+            pitch_deg: 1.5,
+            roll_deg: -2.0,
+            accel_g: [0.0, 0.0, 1.0],
+            mag_gauss: [0.2, 0.0, 0.4],
+            temp_c: 25.0,
+        },
+        gps: gps::Truth { lat_deg: 28.20021, lon_deg: 112.92647, alt_m: 5.13145, speed_m_s: 22.2, course_deg: 30.0 },
+    })
+}
+
+/// Tick 20 (0.7 s: the compass is still starting, no NMEA in flight) against the hand computation:
+/// PLB = CPU = 75 MHz (13⅓ ns), handler entry 30 cycles = 400 ns, an access 6 cycles = 80 ns, SCK
+/// 54 cycles = 720 ns. Core i starts after its 9 accesses: 400 + 720 (i + 1) ns; a 7-byte read
+/// lasts ½ (SS set-up) + 6·8 + 7½ (the last byte's edges) + ½ (SS hold) = 56½ SCK = 40 680 ns.
+/// Core 6 ends at 400 + 5040 + 40 680 = 46 120 ns; collecting each takes 720 ns and each core ends
+/// as the previous is collected, so all are in at 46 840 ns. Then 600 cycles (8 µs) + 3 accesses:
+/// DMA2 starts at 55 080 ns; 26 words × 16 bits at 8 cycles (106 666 ps floored) + ½ SCK set-up.
+#[test]
+fn node_timing_is_the_hand_computation() {
+    let mut board = Board::new(&ideal(), vehicle()).unwrap();
+    let steps: Vec<Step> = (0..21).map(|_| board.step().unwrap()).collect();
+    let t = steps[20].timing;
+    let ns = 1_000;
+    assert_eq!(t.t0, 600 * MS + 20 * 5 * MS);
+    assert_eq!((t.nmea_bytes, t.compass_phase), (0, 3), "a plain tick");
+    for (i, &(start, end)) in t.spi.iter().enumerate() {
+        assert_eq!(start - t.t0, (400 + 720 * (i as u64 + 1)) * ns, "core {i}");
+        assert_eq!(end - start, 40_680 * ns, "core {i}");
+    }
+    assert_eq!(t.collected - t.t0, 46_840 * ns);
+    assert_eq!(t.dma_start - t.t0, 55_080 * ns);
+    assert_eq!(t.packet_end - t.dma_start, 53_333 + 26 * 16 * 106_666);
+    // CPU: to DMA2's start, then DMA2's completion interrupt (entry + 2 accesses).
+    assert_eq!(t.cpu_ps, (55_080 + 400 + 160) * ns);
+    let out = steps[20].out.unwrap();
+    assert_eq!(out.t_irq, t.packet_end + 44_444, "dMAX: 10 cycles at 225 MHz");
+    assert_eq!(out.rti, (t.packet_end + 44_444) * 1125 / 10_000_000, "RTI at 112.5 MHz");
+    assert!(board.drain_events().is_empty());
+}
+
+/// A₁…A₆ are the outer parts' sensing axes (x y z x y z), A₇…A₉ the centre's three; counts at
+/// 3.9 mg (256/g); the compass's heading and tilt in tenths of a degree; GPS fixes once a second.
+#[test]
+fn readings_reach_the_dsp() {
+    let (steps, _, events) = run(&ideal(), vehicle(), 600).unwrap();
+    assert!(events.is_empty(), "{events:?}");
+    let last = steps.last().unwrap().out.unwrap();
+    let count = |g: f64| (g * 256.0).round() as i16;
+    for i in 0..6 {
+        let k = i as f64 + 1.0;
+        let f = [0.01 * k, -0.02 * k, 0.9 + 0.01 * k];
+        assert_eq!(last.packet.accel[i], count(f[node::AXES[i]]), "A{}", i + 1);
+    }
+    assert_eq!(&last.packet.accel[6..], &[count(0.07), count(-0.14), count(0.97)]);
+    assert_eq!(last.packet.compass, [300, 15, -20]);
+    assert!((last.gps[0] - 28.20021).abs() < 1e-6 && (last.gps[1] - 112.92647).abs() < 1e-6, "{:?}", last.gps);
+    assert!((last.gps[3] - 22.2).abs() < 0.01 && (last.gps[4] - 30.0).abs() < 0.01, "{:?}", last.gps);
+    let fixes: Vec<u16> =
+        steps.iter().filter(|s| s.packet.flags & frame::NEW_GPS != 0).map(|s| s.packet.sequence).collect();
+    // Tick 0 (0.6 s) takes epoch 0's backlog; epoch e's RMC ends at e + 0.2 s (latency) + 190
+    // characters or so (GGA, GSA, RMC) × 520.8 µs ≈ e + 0.3 s: ticks 141 + 200 (e − 1).
+    assert_eq!(fixes, [0, 141, 341, 541], "one a second");
+    let compass = steps.iter().filter(|s| s.packet.flags & frame::NEW_COMPASS != 0).count();
+    assert!((50..=52).contains(&compass), "10 Hz from ≈ 1.01 s: {compass}");
+    // The pass-through's tilt: the centre's level formula.
+    let [p, r] = dsp::tilt(last.accel_g[6..].try_into().unwrap());
+    assert_eq!(last.tilt, [p, r]);
+}
+
+/// The budget per rate class, hand-computed from the profile's costs. Node: a plain tick is
+/// 55 640 ns (above); a compass tick adds at most 7 accesses (560 ns); a GPS tick adds 20 cycles per
+/// NMEA byte (≤ 10 bytes in 5 ms at 1920 characters/s) and 2000 per sentence (≤ 1: the shortest
+/// is 36 characters). DSP: 40 + 32·26 + 9·15 + (3·10 + 2·7 + 122 + 2·875) = 2923 cycles; +3·15
+/// with compass words, +6·15 with a fix.
+#[test]
+fn budget_peaks_per_rate_class() {
+    let profile = ideal();
+    let mut board = Board::new(&profile, vehicle()).unwrap();
+    let mut steps: Vec<Step> = (0..800).map(|_| board.step().unwrap()).collect();
+    steps.drain(..100); // tick 0 takes the first epoch's backlog; steady state from 1.1 s
+    let b = Budget::of(&steps, board.node().period());
+    let cyc = |n: u64| n * 40_000 / 3; // 75 MHz
+    let plain = 55_640_000;
+    let node = b.load[0];
+    assert!(node.iter().all(|c| c.ticks > 0), "{node:?}");
+    assert_eq!(node[0].peak_ps, plain);
+    assert_eq!(node[1].peak_ps, plain + 560_000);
+    assert!(node[2].peak_ps >= plain + cyc(2000) && node[2].peak_ps <= plain + cyc(10 * 20 + 2000) + 560_000);
+    let dsp_ps = |n: u64| n * 1_000_000 / 225 * 1_000 / 1_000; // floor to ps at 225 MHz
+    let d = b.load[1];
+    assert_eq!(d[0].peak_ps, board.dsp().handler_cycles(0) * 40_000 / 9);
+    assert_eq!(board.dsp().handler_cycles(0), 2923);
+    assert_eq!(board.dsp().handler_cycles(frame::NEW_COMPASS), 2968);
+    assert_eq!(board.dsp().handler_cycles(frame::NEW_GPS), 3013);
+    assert!(d[1].peak_ps <= dsp_ps(2968) + 1 && d[2].peak_ps >= dsp_ps(3013) - 1);
+    // Both processors far inside the 5 ms period (1.7 % and 0.3 %).
+    assert!(node[2].peak_ps < b.period_ps / 50 && d[2].peak_ps < b.period_ps / 100);
+}
+
+/// A slow SCK breaks the 5 ms period: an `overrun` event (the rule can fail).
+#[test]
+fn a_slow_bus_overruns_the_tick() {
+    let mut p = ideal();
+    p.node.adxl_sck_ratio = 8192; // 9.16 kHz: 7 bytes take 6.2 ms
+    let (_, _, events) = run(&p, vehicle(), 3).unwrap();
+    assert!(events.iter().any(|e| e.kind == "overrun"), "{events:?}");
+}
+
+/// The receiver at HOLUX's default 4800 baud against the UART Lite's 19 200: framing errors, no fix.
+#[test]
+fn a_wrong_baud_rate_gives_no_fix() {
+    let mut p = ideal();
+    p.gps.baud = 4800;
+    let (steps, _, events) = run(&p, vehicle(), 300).unwrap();
+    assert!(events.iter().any(|e| e.kind == "uart_framing_error"));
+    assert!(steps.iter().all(|s| s.packet.flags & (frame::NEW_GPS | frame::GPS_VALID) == 0));
+}
+
+/// A damaged packet is refused by the DSP and the next one is counted as following a gap.
+#[test]
+fn the_dsp_refuses_a_damaged_packet() {
+    let p = ideal();
+    let mut node = Node::new(
+        &p,
+        Arc::new(|_, _| [0.0, 0.0, 1.0]),
+        Box::new(|_| vehicle()(0).compass),
+        Box::new(|_| vehicle()(0).gps),
+    )
+    .unwrap();
+    let mut dsp = Dsp::new(&p, node.period());
+    let (a, ta) = node.tick().unwrap();
+    assert!(dsp.receive(&a.encode(), &ta).is_some());
+    let (b, tb) = node.tick().unwrap();
+    let mut w = b.encode();
+    w[5] ^= 0x0100;
+    assert!(dsp.receive(&w, &tb).is_none());
+    let (c, tc) = node.tick().unwrap();
+    assert!(dsp.receive(&c.encode(), &tc).is_some());
+    let kinds: Vec<&str> = dsp.drain_events().iter().map(|e| e.kind).collect();
+    assert_eq!(kinds, ["packet_refused", "packet_missing"]);
+}
+
+#[test]
+fn profile_errors_name_the_key() {
+    let e = GfsinsProfile::parse("[node]\nadxl_sck_ratio = 53\n", "gfsins.toml").unwrap_err().to_string();
+    assert!(e.contains("gfsins.toml") && e.contains("node.adxl_sck_ratio") && e.contains("even"), "{e}");
+    let e = GfsinsProfile::parse("[array]\nlever = 0.1\n", "x.toml").unwrap_err().to_string();
+    assert!(e.contains("x.toml") && e.contains("lever"), "{e}");
+    let e = GfsinsProfile::parse("[node]\ndsp_sck_ratio = 4\n", "x.toml").unwrap_err().to_string();
+    assert!(e.contains("node.dsp_sck_ratio") && e.contains("10000000"), "{e}");
+    let e = GfsinsProfile::parse("[array]\nfifo_ctl = 0x00\n", "x.toml").unwrap_err().to_string();
+    assert!(e.contains("array.fifo_ctl") && e.contains("stream"), "{e}");
+    let shipped = include_str!("../../../../../firmware_model/gfsins.toml");
+    assert_eq!(GfsinsProfile::parse(shipped, "gfsins.toml").unwrap(), GfsinsProfile::default());
+}
