@@ -302,6 +302,13 @@ pub const KINDS: &[EventKind] = &[
         "mcu",
         "an EALLOW-protected register (PieVectTable) written without EALLOW: ignored, as on the chip",
     ),
+    // The gyro-free navigation firmware (firmware/gfnav).
+    kind(
+        "rate_singular",
+        Warning,
+        "firmware",
+        "rate recovery from the accelerometer array's products is 0/0 (the products do not change): bridged by ω̇",
+    ),
 ];
 
 /// The table entry of `name`, if it is a known kind.

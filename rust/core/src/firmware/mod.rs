@@ -18,6 +18,7 @@ mod dcm;
 mod decode;
 mod euler;
 pub mod geomag;
+pub mod gfnav;
 pub mod isr;
 mod nav;
 mod quat;
