@@ -305,6 +305,13 @@ pub const KINDS: &[EventKind] = &[
     // The gyro-free board's DSP (firmware/gfsins/dsp.rs).
     kind("packet_missing", Error, "firmware", "the C6727 got no node packet in a period, or a sequence number was skipped"),
     kind("packet_refused", Error, "firmware", "a node packet with a wrong length, sync word or CRC: dropped by the C6727"),
+    // The gyro-free navigation firmware (firmware/gfnav).
+    kind(
+        "rate_singular",
+        Warning,
+        "firmware",
+        "rate recovery from the accelerometer array's products is 0/0 (the products do not change): bridged by ω̇",
+    ),
 ];
 
 /// The table entry of `name`, if it is a known kind.

@@ -22,6 +22,7 @@ pub mod geomag;
 pub mod geomag_app;
 pub mod geomag_chain;
 pub mod gfsins;
+pub mod gfnav;
 pub mod isr;
 mod nav;
 mod quat;
