@@ -15,6 +15,9 @@ use crate::error::{Error, Result};
 use crate::numerics::Scalar;
 use crate::profile;
 
+/// An attitude update made for a profile (an error when the profile's values do not make one).
+pub type MadeUpdate<T> = Result<Box<dyn AttitudeUpdate<T>>>;
+
 /// One attitude algorithm of the registry.
 pub struct Algorithm<T> {
     /// Its value of `firmware.algorithm`.
@@ -22,7 +25,7 @@ pub struct Algorithm<T> {
     /// What `firmware_model/SCHEMA.md` says of it.
     pub doc: &'static str,
     /// The update for the profile's `[firmware]` section and an update period of `step_s` seconds.
-    pub make: fn(fw: &profile::Firmware, step_s: f64) -> Result<Box<dyn AttitudeUpdate<T>>>,
+    pub make: fn(fw: &profile::Firmware, step_s: f64) -> MadeUpdate<T>,
 }
 
 /// The registry: every attitude algorithm, one row each.
@@ -59,7 +62,7 @@ pub fn algorithm_names() -> String {
 }
 
 /// The update `firmware.algorithm` names, for an update period of `step_s` seconds.
-pub fn attitude_update<T: Scalar>(fw: &profile::Firmware, step_s: f64) -> Result<Box<dyn AttitudeUpdate<T>>> {
+pub fn attitude_update<T: Scalar>(fw: &profile::Firmware, step_s: f64) -> MadeUpdate<T> {
     match algorithms::<T>().into_iter().find(|a| a.name == fw.algorithm) {
         Some(a) => (a.make)(fw, step_s),
         None => Err(Error::Profile(format!(
