@@ -246,11 +246,12 @@ impl GfsinsProfile {
         if !(l.is_finite() && l > 0.0 && l <= 1.0) {
             return bad("array.lever_arm_m", format!("{l}: expected 0 < l ≤ 1 m"));
         }
-        if self.array.bw_rate & 0xE0 != 0 || self.array.fifo_ctl >> 6 != 0b10 {
-            return bad(
-                "array.fifo_ctl",
-                "BW_RATE is 0x00–0x1F and the board runs the FIFO in stream mode (0x80–0xBF)".into(),
-            );
+        if self.array.bw_rate & 0xE0 != 0 {
+            return bad("array.bw_rate", format!("0x{:02X}: BW_RATE is 0x00–0x1F", self.array.bw_rate));
+        }
+        if self.array.fifo_ctl >> 6 != 0b10 {
+            let v = self.array.fifo_ctl;
+            return bad("array.fifo_ctl", format!("0x{v:02X}: the board runs the FIFO in stream mode (0x80–0xBF)"));
         }
         if crate::device::adxl345::ErrorPreset::by_name(&self.array.preset).is_none() {
             return bad("array.preset", format!("`{}`: known presets: ideal, adxl345", self.array.preset));

@@ -175,6 +175,8 @@ fn profile_errors_name_the_key() {
     assert!(e.contains("x.toml") && e.contains("lever"), "{e}");
     let e = GfsinsProfile::parse("[node]\ndsp_sck_ratio = 4\n", "x.toml").unwrap_err().to_string();
     assert!(e.contains("node.dsp_sck_ratio") && e.contains("10000000"), "{e}");
+    let e = GfsinsProfile::parse("[array]\nfifo_ctl = 0x00\n", "x.toml").unwrap_err().to_string();
+    assert!(e.contains("array.fifo_ctl") && e.contains("stream"), "{e}");
     let shipped = include_str!("../../../../../firmware_model/gfsins.toml");
     assert_eq!(GfsinsProfile::parse(shipped, "gfsins.toml").unwrap(), GfsinsProfile::default());
 }
