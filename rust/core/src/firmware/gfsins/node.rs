@@ -125,6 +125,8 @@ pub struct Node {
     start: Ps,
     period: Ps,
     tick: u64,
+    /// The end of the last tick's work: a late handler delays the next (one CPU, one handler at a time).
+    busy_until: Ps,
     compass_ready: Ps,
     compass: [i16; 3],
     /// A 6-byte compass read in flight: its bytes and when they are in the core's RX FIFO.
@@ -188,6 +190,7 @@ impl Node {
             start: profile.node.start_ms * 1_000_000_000,
             period,
             tick: 0,
+            busy_until: 0,
             compass_ready: 0,
             compass: [0; 3],
             compass_read: None,
@@ -271,7 +274,8 @@ impl Node {
     pub fn tick(&mut self) -> Result<(Packet, TickTiming)> {
         let k = self.tick;
         self.tick += 1;
-        let t0 = self.tick_time(k);
+        // The interrupt waits while the previous tick's handler still runs.
+        let t0 = self.tick_time(k).max(self.busy_until);
         let mut timing = TickTiming { t0, compass_phase: 3, ..TickTiming::default() };
         let mut t = t0 + self.cycles(self.cfg.isr_entry_cycles);
         // 2. Load and start the seven cores; 3. collect them.
@@ -368,6 +372,7 @@ impl Node {
         // DMA2's completion interrupt.
         let cpu = (t - t0) + self.cycles(self.cfg.isr_entry_cycles) + self.accesses(2);
         timing.cpu_ps = cpu;
+        self.busy_until = t0 + cpu;
         if t0 + cpu > t0 + self.period || timing.packet_end > t0 + self.period {
             let what = format!("acquisition node: tick {k} busy {cpu} ps, packet out at {} ps", timing.packet_end);
             self.events.push(Event::new(t0, "overrun", Severity::Error, what));

@@ -88,7 +88,8 @@ fn readings_reach_the_dsp() {
     // characters or so (GGA, GSA, RMC) × 520.8 µs ≈ e + 0.3 s: ticks 141 + 200 (e − 1).
     assert_eq!(fixes, [0, 141, 341, 541], "one a second");
     let compass = steps.iter().filter(|s| s.packet.flags & frame::NEW_COMPASS != 0).count();
-    assert!((50..=52).contains(&compass), "10 Hz from ≈ 1.01 s: {compass}");
+    // Ready at ≈ 1.02 s (tick 84); taken on ticks 20n + 2 from 102 to 582: 25 at 10 Hz.
+    assert_eq!(compass, 25, "10 Hz from ≈ 1.02 s");
     // The pass-through's tilt: the centre's level formula.
     let [p, r] = dsp::tilt(last.accel_g[6..].try_into().unwrap());
     assert_eq!(last.tilt, [p, r]);
