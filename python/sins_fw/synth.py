@@ -954,6 +954,74 @@ def wing_motion(
     return motion
 
 
+def _quat_from_dcm(c: Array) -> Array:
+    """The unit quaternion of a rotation matrix (Shepperd: from the largest of 1 + trace and
+    1 + 2Cᵢᵢ − trace)."""
+    t = np.trace(c)
+    k = int(np.argmax([t, c[0, 0], c[1, 1], c[2, 2]]))
+    if k == 0:
+        r = math.sqrt(1.0 + t)
+        q = [
+            r / 2,
+            (c[2, 1] - c[1, 2]) / (2 * r),
+            (c[0, 2] - c[2, 0]) / (2 * r),
+            (c[1, 0] - c[0, 1]) / (2 * r),
+        ]
+    else:
+        i, j, m = k - 1, k % 3, (k + 1) % 3
+        r = math.sqrt(1.0 + 2.0 * c[i, i] - t)
+        q = [0.0] * 4
+        q[0] = (c[m, j] - c[j, m]) / (2 * r)
+        q[1 + i], q[1 + j], q[1 + m] = r / 2, (c[j, i] + c[i, j]) / (2 * r), (c[m, i] + c[i, m]) / (2 * r)
+    return quat.normalize(np.array(q))
+
+
+def twelve_position_duration(dwell_s: float, move_s: float) -> float:
+    """The twelve-position scenario's duration: twelve dwells, eleven moves."""
+    return 12.0 * dwell_s + 11.0 * move_s
+
+
+def twelve_position_motion(
+    *,
+    dwell_s: float = 10.0,
+    move_s: float = 4.0,
+    latitude_deg: float = 28.20021,
+    height_m: float = 5.13145,
+    rate_hz: str = "200",
+    rows: slice | None = None,
+) -> Motion:
+    """The twelve-position turntable calibration (algorithms.md §4, thesis Table 3.1 with its
+    earth-rate column corrected): a dwell at each position in table order, smooth moves between them
+    (the septic smoothstep over ``move_s``, a rotation about one body axis each). The orientations
+    come from the core's table (``gfnav::calib::ORIENTATIONS``), so the trace and ``sins-fw calibrate``
+    cannot disagree on them. The default place is the thesis's (chapter 5)."""
+    if dwell_s <= 0 or move_s <= 0:
+        raise ConfigError("twelve-position: dwell_s and move_s must be positive")
+    t = sample_times(twelve_position_duration(dwell_s, move_s), rate_hz, rows)
+    # C_b^n has the body axes (rows of each table entry, ENU) as its columns.
+    qs = [_quat_from_dcm(np.array(axes).T) for axes in _core.gfnav_orientations()]
+    q = np.empty((len(t), 4))
+    w = np.zeros((len(t), 3))
+    period = dwell_s + move_s
+    k = np.minimum((t // period).astype(np.int64), 11)
+    tau = t - k * period - dwell_s  # time into the move after dwell k (negative: dwelling)
+    for i in range(12):
+        at = k == i
+        q[at] = qs[i]
+        if i == 11:
+            continue
+        rel = quat.multiply(quat.conjugate(qs[i]), qs[i + 1])
+        rel = rel if rel[0] >= 0 else -rel
+        angle = 2.0 * math.atan2(float(np.linalg.norm(rel[1:])), float(rel[0]))
+        axis = rel[1:] / np.linalg.norm(rel[1:])
+        moving = at & (tau > 0)
+        u = tau[moving] / move_s
+        _, s, ds, _ = _smoothstep(u)
+        q[moving] = quat.multiply(qs[i], quat.from_axis_angle(axis, angle * s))
+        w[moving] = np.outer(angle * ds / move_s, axis)
+    return _ground(t, q, w, latitude_deg, height_m)
+
+
 @dataclass(frozen=True)
 class Param:
     """One scenario parameter: Python name (the CLI option is ``--name-with-dashes``)."""
@@ -1192,6 +1260,19 @@ SCENARIOS: dict[str, Scenario] = {
             "level coordinated turn at constant speed and rate (with transport rate)",
             transport_rate=True,
             chunked=False,
+        ),
+        Scenario(
+            "twelve-position",
+            _kinematic(twelve_position_motion),
+            (
+                Param("dwell_s", "float", 10.0, "time at each of the twelve positions, s"),
+                Param("move_s", "float", 4.0, "time of each move between positions, s"),
+                Param("latitude_deg", "float", 28.20021, "geodetic latitude, degrees"),
+                Param("height_m", "float", 5.13145, "height above the ellipsoid, m"),
+                Param("rate_hz", "rate", "200", "sample rate, Hz (exact decimal)"),
+                *_AIDING,
+            ),
+            "the twelve-position turntable calibration of the gyro-free array (thesis Table 3.1, corrected)",
         ),
         Scenario(
             "wing",

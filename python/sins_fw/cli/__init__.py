@@ -26,6 +26,7 @@ from sins_fw.cli import (
     board,
     budget,
     build_firmware,
+    calibrate,
     demo,
     importer,
     montecarlo,
@@ -60,6 +61,7 @@ COMMANDS = (
     bench,
     broad_eval,
     build_firmware,
+    calibrate,
 )
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_USAGE, EXIT_BUG = 0, 1, 2, 3

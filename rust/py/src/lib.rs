@@ -281,6 +281,55 @@ fn nmea_read<'py>(py: Python<'py>, text: &str) -> PyResult<(Vec<String>, Vec<Bou
     Ok((bodies, events))
 }
 
+/// The twelve turntable positions (Table 3.1, corrected): per position, the body x, y, z axes as
+/// (east, north, up) unit vectors.
+#[pyfunction]
+fn gfnav_orientations() -> Vec<[[f64; 3]; 3]> {
+    sins_core::firmware::gfnav::calib::ORIENTATIONS.to_vec()
+}
+
+/// Twelve-position calibration from the positions' mean rate (rad/s) and specific force (m/s²), 12×3
+/// each, at latitude `lat_rad` with gravity `g`; `printed` uses the thesis's bias sets. Returns
+/// {"rate"|"accel": {"bias": [3], "scale": [3], "misalignment": {"xy": …, …}}}.
+#[pyfunction]
+fn gfnav_calibrate<'py>(
+    py: Python<'py>,
+    rate: Vec<[f64; 3]>,
+    force: Vec<[f64; 3]>,
+    lat_rad: f64,
+    g: f64,
+    printed: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    use sins_core::firmware::gfnav::calib::{calibrate, BiasSets, TriadErrors};
+    let (Ok(rate), Ok(force)) = (<[[f64; 3]; 12]>::try_from(rate), <[[f64; 3]; 12]>::try_from(force)) else {
+        return Err(to_py(sins_core::Error::Input("gfnav_calibrate: expected 12 positions of rate and force".into())));
+    };
+    let sets = if printed { BiasSets::Printed } else { BiasSets::Corrected };
+    let cal = guard(|| calibrate(&rate, &force, lat_rad, g, sets))?;
+    let triad = |e: &TriadErrors| -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("bias", e.bias.to_vec())?;
+        d.set_item("scale", e.scale.to_vec())?;
+        let m = PyDict::new(py);
+        let a = e.misalignment;
+        for (k, v) in [("xy", a.xy), ("xz", a.xz), ("yx", a.yx), ("yz", a.yz), ("zx", a.zx), ("zy", a.zy)] {
+            m.set_item(k, v)?;
+        }
+        d.set_item("misalignment", m)?;
+        Ok(d)
+    };
+    let d = PyDict::new(py);
+    d.set_item("rate", triad(&cal.rate)?)?;
+    d.set_item("accel", triad(&cal.accel)?)?;
+    Ok(d)
+}
+
+/// (Ω², product resolution, orders between them) for a reading LSB (m/s²) at lever `lever_m`.
+#[pyfunction]
+fn gfnav_earth_rate_observability(lsb_m_s2: f64, lever_m: f64) -> (f64, f64, f64) {
+    sins_core::firmware::gfnav::calib::earth_rate_observability(lsb_m_s2, lever_m)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("EVENT_KINDS", event_kinds(m.py())?)?;
@@ -302,6 +351,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nmea_read, m)?)?;
     m.add_function(wrap_pyfunction!(geomag::geomag_spin_chain, m)?)?;
     m.add_function(wrap_pyfunction!(gfsins::gfsins_run, m)?)?;
+    m.add_function(wrap_pyfunction!(gfnav_orientations, m)?)?;
+    m.add_function(wrap_pyfunction!(gfnav_calibrate, m)?)?;
+    m.add_function(wrap_pyfunction!(gfnav_earth_rate_observability, m)?)?;
     m.add_class::<emulate::Emulator>()?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(board::encode, m)?)?;

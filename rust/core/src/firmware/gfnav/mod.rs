@@ -10,9 +10,15 @@
 //! Parts:
 //! - [`array`]: the nine readings' forward model and its exact inversion (A, ω̇, rate products);
 //! - [`rate`]: the rate from the products and their backward differences (corrected ω̂z), with
-//!   singular steps bridged and reported.
+//!   singular steps bridged and reported;
+//! - [`calib`]: twelve-position turntable calibration of the rate meter and the accelerometers;
+//! - [`compass`]: tilt compensation and the 24-point deviation least squares;
+//! - [`federated`]: the federated Kalman filter (compass and GPS sub-filters, fusion, no reset).
 
 pub mod array;
+pub mod calib;
+pub mod compass;
+pub mod federated;
 pub mod rate;
 
 pub use array::{invert, readings, ArrayMotion};

@@ -1,0 +1,339 @@
+//! The federated Kalman filter (thesis §3.4–3.5 with the spec's corrections): sub-filter 1
+//! GFSINS/compass (18 states, 10 Hz), sub-filter 2 GFSINS/GPS (15 states, 1 Hz, loose coupling),
+//! fusion at 1 Hz with β_master = 0, β₁ = β₂ = ½ and no reset. Module docs: `gfnav/mod.rs`.
+//!
+//! States (ENU, right-handed; the spec's correction of the thesis's mixed frames): φ (attitude error,
+//! rad), δv (m/s), δp (east, north, up position error in metres: the thesis's δL, δλ, δh times
+//! R_M + h, (R_N + h) cos L, 1, which keeps single precision well scaled), ε (the solved rate's drift,
+//! body, rad/s), ∇ (accelerometer bias, body, m/s²); sub-filter 1 adds the compass errors φ_e (first
+//! order Markov, T_ec). Error model (the standard ψ-angle equations, ENU):
+//!
+//!   φ̇ = −ω_in × φ + δω_in − C ε,   δv̇ = f × φ − (2ω_ie + ω_en) × δv + C ∇,   δṗ = δv,
+//!
+//! δω_in the rate error from δv and the north position error (eq. 3.33 in ENU). Left out: the
+//! v × (2δω_ie + δω_en) terms of δv̇ (≤ 2Ω·v ≈ 3e-3 m/s² per radian-equivalent, below the 5 mg bias's
+//! 4.9e-2 by far at the scenario's 22 m/s). F's lower right block is 0 (spec: 0₆ₓ₆); the compass block
+//! is diag(−1/T_ec). Measurements: compass Z = φ − φ_e (H 3×18, spec), GPS Z = [δp; δv] (H 6×15).
+//!
+//! Updates are Joseph form, one scalar row at a time (the measurement noises are independent, so
+//! sequential rows equal the batch update): P ← (I − k h) P (I − k h)ᵀ + k r kᵀ. Propagation at the
+//! compass rate with Φ = I + F Δt + (F Δt)²/2 and Q_d = G Q Gᵀ Δt.
+//!
+//! Fusion (eq. 3.31 with β_m = 0: the master holds no information): on the 15 common states,
+//! P_f = (P₁⁻¹ + P₂⁻¹)⁻¹, x_f = P_f (P₁⁻¹ x₁ + P₂⁻¹ x₂). Information sharing (eq. 3.27) happens once,
+//! at the start (P_i(0) = P₀/β_i, and Q_i = Q/β_i throughout); no reset feeds x_f, P_f back. The bound
+//! Q/β, P₀/β keeps block-diag(P₁, P₂) above the sub-filters' joint error covariance, so P_f is never
+//! below the centralised filter's covariance (checked).
+
+use super::super::lit;
+use crate::numerics::{QClass, Scalar};
+
+/// Full state count of sub-filter 1 (and of the centralised filter).
+pub const N_COMPASS: usize = 18;
+/// State count of sub-filter 2 (the states both share).
+pub const N_GPS: usize = 15;
+/// Offsets of the state groups.
+pub const PHI: usize = 0;
+/// δv.
+pub const DV: usize = 3;
+/// δp (metres east, north, up).
+pub const DP: usize = 6;
+/// ε.
+pub const EPS: usize = 9;
+/// ∇.
+pub const NAB: usize = 12;
+/// φ_e (compass).
+pub const PHI_E: usize = 15;
+
+const D: f64 = std::f64::consts::PI / 180.0;
+const OMEGA: f64 = 7.292_115e-5;
+const RE: f64 = 6_378_137.0;
+const F_FLAT: f64 = 1.0 / 298.257_223_563;
+
+/// The scenario and the noise figures (chapter 5, every parameter the corrections list).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scenario {
+    /// Latitude, rad.
+    pub lat: f64,
+    /// Height, m.
+    pub height: f64,
+    /// Speed, m/s (straight line, level).
+    pub speed: f64,
+    /// Heading, rad from north, clockwise.
+    pub heading: f64,
+    /// Gravity, m/s².
+    pub g: f64,
+    /// Solved-rate drift: constant 1σ (rad/s) and white 1σ per 200 Hz sample (rad/s).
+    pub drift_const: f64,
+    /// See `drift_const`.
+    pub drift_white: f64,
+    /// Accelerometer bias: constant 1σ and white 1σ per 200 Hz sample, m/s².
+    pub accel_const: f64,
+    /// See `accel_const`.
+    pub accel_white: f64,
+    /// Sensor rate, Hz (the white figures are per sample at this rate).
+    pub sensor_hz: f64,
+    /// Compass white noise 1σ per axis (E, N, U), rad.
+    pub compass_white: [f64; 3],
+    /// Compass Markov error steady 1σ per axis (the thesis's "attitude measurement error"), rad.
+    pub compass_markov: [f64; 3],
+    /// Compass Markov correlation time, s [unconfirmed: not published; chosen].
+    pub compass_tau: f64,
+    /// Initial errors: attitude (rad per axis), velocity (m/s), position (m).
+    pub init_attitude: [f64; 3],
+    /// See `init_attitude`.
+    pub init_velocity: f64,
+    /// See `init_attitude`.
+    pub init_position: f64,
+    /// GPS position and velocity noise 1σ.
+    pub gps_position: f64,
+    /// See `gps_position`.
+    pub gps_velocity: f64,
+}
+
+impl Scenario {
+    /// Chapter 5: heading 30°, 80 km/h, latitude 28.20021°, height 5.13145 m; attitude errors 10′, 10′,
+    /// 20′; 0.02 m/s; 1 m; drift 0.1 °/s + 0.02 °/s; accelerometers 5 mg + 1 mg; compass white 0.03°,
+    /// 0.04°, 0.1° (the last unit is missing: degrees taken), measurement error 0.5°, 0.5°, 1°; GPS 10 m,
+    /// 0.1 m/s. The compass's correlation time (100 s) is not published.
+    pub fn chapter5() -> Self {
+        let lat = 28.20021 * D;
+        let s2 = lat.sin().powi(2);
+        let g = 9.780_325_3 * (1.0 + 0.001_931_853 * s2) / (1.0 - 0.006_694_38 * s2).sqrt() - 3.086e-6 * 5.13145;
+        Scenario {
+            lat,
+            height: 5.13145,
+            speed: 80.0 / 3.6,
+            heading: 30.0 * D,
+            g,
+            drift_const: 0.1 * D,
+            drift_white: 0.02 * D,
+            accel_const: 5e-3 * 9.80665,
+            accel_white: 1e-3 * 9.80665,
+            sensor_hz: 200.0,
+            compass_white: [0.03 * D, 0.04 * D, 0.1 * D],
+            compass_markov: [0.5 * D, 0.5 * D, 1.0 * D],
+            compass_tau: 100.0,
+            init_attitude: [10.0 / 60.0 * D, 10.0 / 60.0 * D, 20.0 / 60.0 * D],
+            init_velocity: 0.02,
+            init_position: 1.0,
+            gps_position: 10.0,
+            gps_velocity: 0.1,
+        }
+    }
+
+    /// The error model's F (18×18) on the straight line, and G·Q·Gᵀ's diagonal (continuous, per s).
+    pub fn model(&self) -> ([[f64; N_COMPASS]; N_COMPASS], [f64; N_COMPASS]) {
+        let (sl, cl) = (self.lat.sin(), self.lat.cos());
+        let rm = RE * (1.0 - 2.0 * F_FLAT + 3.0 * F_FLAT * sl * sl) + self.height;
+        let rn = RE * (1.0 + F_FLAT * sl * sl) + self.height;
+        let (ve, vn) = (self.speed * self.heading.sin(), self.speed * self.heading.cos());
+        let w_ie = [0.0, OMEGA * cl, OMEGA * sl];
+        let w_en = [-vn / rm, ve / rn, ve * sl / cl / rn];
+        let w_in: [f64; 3] = std::array::from_fn(|i| w_ie[i] + w_en[i]);
+        let f = [0.0, 0.0, self.g];
+        // Body (x right, y forward, z up) to ENU at heading ψ (clockwise from north), level.
+        let (sh, ch) = (self.heading.sin(), self.heading.cos());
+        let c = [[ch, sh, 0.0], [-sh, ch, 0.0], [0.0, 0.0, 1.0]];
+        let mut a = [[0.0; N_COMPASS]; N_COMPASS];
+        let skew = |v: &[f64; 3]| [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
+        let (sw, sf) = (skew(&w_in), skew(&f));
+        let coriolis: [f64; 3] = std::array::from_fn(|i| 2.0 * w_ie[i] + w_en[i]);
+        let sc = skew(&coriolis);
+        for i in 0..3 {
+            for j in 0..3 {
+                a[PHI + i][PHI + j] = -sw[i][j];
+                a[PHI + i][EPS + j] = -c[i][j];
+                a[DV + i][PHI + j] = sf[i][j];
+                a[DV + i][DV + j] = -sc[i][j];
+                a[DV + i][NAB + j] = c[i][j];
+            }
+            a[DP + i][DV + i] = 1.0;
+            a[PHI_E + i][PHI_E + i] = -1.0 / self.compass_tau;
+        }
+        // δω_in: from δv_N, δv_E and the north position error δN = (R_M + h) δL.
+        a[PHI][DV + 1] += -1.0 / rm;
+        a[PHI + 1][DV] += 1.0 / rn;
+        a[PHI + 2][DV] += sl / cl / rn;
+        a[PHI + 1][DP + 1] += -OMEGA * sl / rm;
+        a[PHI + 2][DP + 1] += (OMEGA * cl + ve / (rn * cl * cl)) / rm;
+        let dt_s = 1.0 / self.sensor_hz;
+        let mut q = [0.0; N_COMPASS];
+        for i in 0..3 {
+            q[PHI + i] = self.drift_white.powi(2) * dt_s;
+            q[DV + i] = self.accel_white.powi(2) * dt_s;
+            q[PHI_E + i] = 2.0 * self.compass_markov[i].powi(2) / self.compass_tau;
+        }
+        (a, q)
+    }
+
+    /// P₀'s diagonal (18 states).
+    pub fn p0(&self) -> [f64; N_COMPASS] {
+        let mut p = [0.0; N_COMPASS];
+        for i in 0..3 {
+            p[PHI + i] = self.init_attitude[i].powi(2);
+            p[DV + i] = self.init_velocity.powi(2);
+            p[DP + i] = self.init_position.powi(2);
+            p[EPS + i] = self.drift_const.powi(2);
+            p[NAB + i] = self.accel_const.powi(2);
+            p[PHI_E + i] = self.compass_markov[i].powi(2);
+        }
+        p
+    }
+
+    /// Φ = I + F Δt + (F Δt)²/2 and Q_d = diag(q) Δt (n ≤ 18 leading states).
+    pub fn discrete(&self, dt: f64) -> (Vec<Vec<f64>>, Vec<f64>) {
+        let (a, q) = self.model();
+        let n = N_COMPASS;
+        let fd: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| a[i][j] * dt).collect()).collect();
+        let phi = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| {
+                        let sq: f64 = (0..n).map(|k| fd[i][k] * fd[k][j]).sum();
+                        f64::from(u8::from(i == j)) + fd[i][j] + 0.5 * sq
+                    })
+                    .collect()
+            })
+            .collect();
+        (phi, q.iter().map(|x| x * dt).collect())
+    }
+}
+
+/// A Kalman filter of n states in the firmware's arithmetic.
+#[derive(Debug, Clone)]
+pub struct Kf<T> {
+    /// State estimate.
+    pub x: Vec<T>,
+    /// Covariance.
+    pub p: Vec<Vec<T>>,
+}
+
+impl<T: Scalar> Kf<T> {
+    /// A filter with x = 0 and diagonal P₀ scaled by 1/β.
+    pub fn new(p0: &[f64], beta: f64) -> Self {
+        let n = p0.len();
+        let z: T = lit(0.0);
+        let mut p = vec![vec![z; n]; n];
+        for i in 0..n {
+            p[i][i] = T::from_f64(p0[i] / beta, QClass::Generic);
+        }
+        Kf { x: vec![z; n], p }
+    }
+
+    /// x ← Φx, P ← ΦPΦᵀ + Q_d/β (the leading n×n of Φ and Q_d).
+    pub fn predict(&mut self, phi: &[Vec<f64>], qd: &[f64], beta: f64) {
+        let n = self.x.len();
+        let z: T = lit(0.0);
+        let f: Vec<Vec<T>> =
+            (0..n).map(|i| (0..n).map(|j| T::from_f64(phi[i][j], QClass::Generic)).collect()).collect();
+        let nz: Vec<Vec<(usize, T)>> =
+            f.iter().map(|r| r.iter().copied().enumerate().filter(|(_, v)| *v != z).collect()).collect();
+        self.x = nz.iter().map(|r| r.iter().fold(z, |s, &(k, v)| s + v * self.x[k])).collect();
+        let fp: Vec<Vec<T>> =
+            nz.iter().map(|r| (0..n).map(|j| r.iter().fold(z, |s, &(k, v)| s + v * self.p[k][j])).collect()).collect();
+        let mut p: Vec<Vec<T>> =
+            (0..n).map(|i| (0..n).map(|j| nz[j].iter().fold(z, |s, &(k, v)| s + fp[i][k] * v)).collect()).collect();
+        for (i, row) in p.iter_mut().enumerate() {
+            row[i] = row[i] + T::from_f64(qd[i] / beta, QClass::Generic);
+        }
+        self.p = p;
+    }
+
+    /// One scalar measurement z = h·x + v (variance r), Joseph form.
+    #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
+    pub fn update(&mut self, h: &[(usize, f64)], z: f64, r: f64) {
+        let n = self.x.len();
+        let zero: T = lit(0.0);
+        let h: Vec<(usize, T)> = h.iter().map(|&(k, v)| (k, T::from_f64(v, QClass::Generic))).collect();
+        let r = T::from_f64(r, QClass::Generic);
+        let ph: Vec<T> = (0..n).map(|i| h.iter().fold(zero, |s, &(k, v)| s + self.p[i][k] * v)).collect();
+        let s = h.iter().fold(r, |acc, &(k, v)| acc + v * ph[k]);
+        let k: Vec<T> = ph.iter().map(|&v| v / s).collect();
+        let innov = h.iter().fold(T::from_f64(z, QClass::Generic), |acc, &(j, v)| acc - v * self.x[j]);
+        for i in 0..n {
+            self.x[i] = self.x[i] + k[i] * innov;
+        }
+        // A = (I − k h) P = P − k (hP); P' = A − (A hᵀ) kᵀ + r k kᵀ.
+        let a: Vec<Vec<T>> = (0..n).map(|i| (0..n).map(|j| self.p[i][j] - k[i] * ph[j]).collect()).collect();
+        let ah: Vec<T> = (0..n).map(|i| h.iter().fold(zero, |s, &(c, v)| s + a[i][c] * v)).collect();
+        self.p = (0..n).map(|i| (0..n).map(|j| a[i][j] - ah[i] * k[j] + r * k[i] * k[j]).collect()).collect();
+    }
+
+    /// The compass measurement Z = φ − φ_e (three rows; 18-state filters only).
+    pub fn update_compass(&mut self, z: &[f64; 3], r: &[f64; 3]) {
+        for i in 0..3 {
+            self.update(&[(PHI + i, 1.0), (PHI_E + i, -1.0)], z[i], r[i]);
+        }
+    }
+
+    /// The GPS measurement Z = [δp; δv] (six rows).
+    pub fn update_gps(&mut self, z: &[f64; 6], r_pos: f64, r_vel: f64) {
+        for i in 0..3 {
+            self.update(&[(DP + i, 1.0)], z[i], r_pos);
+            self.update(&[(DV + i, 1.0)], z[3 + i], r_vel);
+        }
+    }
+}
+
+/// The inverse of a symmetric positive definite matrix, None if it is not. Equilibrated first
+/// (C = S A S with S = diag(1/√aᵢᵢ), so C has a unit diagonal; A⁻¹ = S C⁻¹ S): the covariances mix
+/// rad² ~1e-8 with m² ~1e2, and single precision's Cholesky needs the scaling.
+pub fn spd_inverse<T: Scalar>(a: &[Vec<T>]) -> Option<Vec<Vec<T>>> {
+    let zero: T = lit(0.0);
+    if a.iter().enumerate().any(|(i, r)| r[i] <= zero) {
+        return None;
+    }
+    let sc: Vec<T> = a.iter().enumerate().map(|(i, r)| lit::<T>(1.0) / r[i].sqrt()).collect();
+    let c: Vec<Vec<T>> =
+        a.iter().enumerate().map(|(i, r)| r.iter().enumerate().map(|(j, v)| sc[i] * *v * sc[j]).collect()).collect();
+    let ci = cholesky_inverse(&c)?;
+    Some(ci.iter().enumerate().map(|(i, r)| r.iter().enumerate().map(|(j, v)| sc[i] * *v * sc[j]).collect()).collect())
+}
+
+#[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
+fn cholesky_inverse<T: Scalar>(a: &[Vec<T>]) -> Option<Vec<Vec<T>>> {
+    let n = a.len();
+    let zero: T = lit(0.0);
+    let mut l = vec![vec![zero; n]; n];
+    for i in 0..n {
+        for j in 0..=i {
+            let s = (0..j).fold(a[i][j], |s, k| s - l[i][k] * l[j][k]);
+            if i == j {
+                if s <= zero {
+                    return None;
+                }
+                l[i][i] = s.sqrt();
+            } else {
+                l[i][j] = s / l[j][j];
+            }
+        }
+    }
+    // inv(A) = inv(L)ᵀ inv(L).
+    let mut li = vec![vec![zero; n]; n];
+    for i in 0..n {
+        li[i][i] = lit::<T>(1.0) / l[i][i];
+        for j in 0..i {
+            let s = (j..i).fold(zero, |s, k| s + l[i][k] * li[k][j]);
+            li[i][j] = -s / l[i][i];
+        }
+    }
+    Some((0..n).map(|i| (0..n).map(|j| (i.max(j)..n).fold(zero, |s, k| s + li[k][i] * li[k][j])).collect()).collect())
+}
+
+/// The fusion of eq. 3.31 with β_m = 0 on the first `n` states of each filter: (x_f, P_f). None if a
+/// covariance is not positive definite.
+pub fn fuse<T: Scalar>(a: &Kf<T>, b: &Kf<T>, n: usize) -> Option<(Vec<T>, Vec<Vec<T>>)> {
+    let zero: T = lit(0.0);
+    let block = |f: &Kf<T>| -> Vec<Vec<T>> { (0..n).map(|i| f.p[i][..n].to_vec()).collect() };
+    let (ia, ib) = (spd_inverse(&block(a))?, spd_inverse(&block(b))?);
+    let info: Vec<Vec<T>> = (0..n).map(|i| (0..n).map(|j| ia[i][j] + ib[i][j]).collect()).collect();
+    let pf = spd_inverse(&info)?;
+    let y: Vec<T> = (0..n).map(|i| (0..n).fold(zero, |s, j| s + ia[i][j] * a.x[j] + ib[i][j] * b.x[j])).collect();
+    let xf = (0..n).map(|i| (0..n).fold(zero, |s, j| s + pf[i][j] * y[j])).collect();
+    Some((xf, pf))
+}
+
+#[cfg(test)]
+#[path = "federated_tests.rs"]
+mod tests;
