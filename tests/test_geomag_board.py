@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sins_fw.harness import emulate
 from conftest import ROOT, run_cli
+from sins_fw.harness import emulate
 
 PROFILE = str(ROOT / "firmware_model" / "geomag.toml")
 SPIN_DPS = 500.0

@@ -3,12 +3,12 @@
 
 use super::{Emulator, Progress, Sensor};
 use crate::board::analog::AnalogBoard;
-use crate::firmware::application::{app_kind, AppKind, Application};
-use crate::firmware::geomag_app::GeomagApp;
 use crate::device::Physical;
 use crate::dsp::summary::BoardSummary;
 use crate::error::Result;
 use crate::events::Event;
+use crate::firmware::application::{app_kind, AppKind, Application};
+use crate::firmware::geomag_app::GeomagApp;
 use crate::profile::{Numeric, Profile};
 use crate::time::Ps;
 use crate::timing::costs::CostTable;
