@@ -31,10 +31,12 @@ def run(args: argparse.Namespace) -> int:
         f"SYSCLKOUT      {s['sysclkout_hz'] / 1e6:.3f} MHz",
         f"LSPCLK         {s['lspclk_hz'] / 1e6:.3f} MHz",
         f"SPI baud       {s['spi_baud_hz'] / 1e3:.3f} kHz (LSPCLK / {s['spi_divisor']})",
-        f"SPI mode       {s['spi_mode']} ({s['clock_scheme']}); device needs mode 3: "
+        f"SPI mode       {s['spi_mode']} ({s['clock_scheme']}); the {s['part']} needs mode "
+        f"{' or '.join(str(m) for m in s['part_modes'])}: "
         f"{'matches' if s['mode_matches_device'] else 'DOES NOT MATCH'}",
         f"frame          {s['char_bits']} bits, {s['frame_s'] * 1e6:.3f} µs",
-        f"burst (15)     {s['burst_s'] * 1e6:.3f} µs first to last SCLK edge, as the firmware polls "
+        f"{'read (' + str(s['read_frames']) + ')':15}{s['burst_s'] * 1e6:.3f} µs first to last SCLK edge, "
+        "as the firmware polls "
         f"({s['burst_clocking_s'] * 1e6:.3f} µs of clocking)",
         f"frame gap      {s['frame_gap_s'] * 1e6:.3f} µs longest, last to first SCLK edge",
         f"timer period   {s['timer_period_s'] * 1e6:.3f} µs",

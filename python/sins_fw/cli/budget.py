@@ -188,7 +188,9 @@ def render(r: dict[str, Any]) -> str:
             f"reads     {rd['reads']}: first SCLK edge {o['min'] * 1e6:.3f}…{o['max'] * 1e6:.3f} µs "
             f"after the tick, jitter {rd['jitter_s'] * 1e6:.3f} µs",
             f"sample age min {a['min'] * 1e6:.3f}, mean {a['mean'] * 1e6:.3f}, max {a['max'] * 1e6:.3f} µs "
-            f"({rd['sample_age_distinct']} distinct values)",
+            f"({rd['sample_age_distinct']} distinct values)"
+            if a["min"] is not None
+            else "sample age none: the part converts on demand (no sample clock of its own)",
         ]
     ov = su["overruns"]
     if ov["count"]:

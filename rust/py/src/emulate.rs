@@ -9,12 +9,12 @@ use std::sync::Mutex;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use sins_core::board::analog::AnalogBoard;
 use sins_core::bus::link::{FrameRecord, LinkRecord};
 use sins_core::device::replay::{ReplaySlave, RECORDED_WORDS};
 use sins_core::device::Physical;
 use sins_core::emulator::{price_list, CostTerm, Emulator as Core, Output, Progress, Sensor};
 use sins_core::events::Event;
-use sins_core::board::analog::AnalogBoard;
 use sins_core::firmware::application::{app_kind, AppKind, Application};
 use sins_core::firmware::geomag_app::GeomagApp;
 use sins_core::firmware::GpsFix;
@@ -175,7 +175,9 @@ fn build(profile: &Profile, costs: &CostTable, replay: bool) -> Result<Box<dyn R
                         .into(),
                 ))
             }
-            AppKind::Ads8344Geomag => return Ok(Box::new(Core::<T, AnalogBoard, GeomagApp<T>>::geomag(profile, costs)?)),
+            AppKind::Ads8344Geomag => {
+                return Ok(Box::new(Core::<T, AnalogBoard, GeomagApp<T>>::geomag(profile, costs)?))
+            }
         }
         Ok(if replay {
             Box::new(Core::<T, ReplaySlave>::replay(profile, costs)?)

@@ -73,6 +73,9 @@ fn board_summary<'py>(
     d.set_item("spi_mode", s.spi_mode)?;
     d.set_item("mode_matches_device", s.mode_matches_device)?;
     d.set_item("char_bits", s.char_bits)?;
+    d.set_item("part", s.part)?;
+    d.set_item("part_modes", s.part_modes.iter().map(|&m| u32::from(m)).collect::<Vec<u32>>())?;
+    d.set_item("read_frames", s.read_frames)?;
     d.set_item("frame_s", ps_to_s(s.frame_ps))?;
     d.set_item("burst_clocking_s", ps_to_s(s.burst_clocking_ps))?;
     d.set_item("burst_s", ps_to_s(r.burst_ps))?;

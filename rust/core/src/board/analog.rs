@@ -41,7 +41,9 @@ impl AnalogInputs for LazyFrontEnd {
 /// A gyro preset by its `[geomag]` name.
 pub fn gyro_preset(key: &str, name: &str) -> Result<GyroPreset> {
     [GyroPreset::SPIN1200, GyroPreset::ADXRS300].into_iter().find(|p| p.name == name).ok_or_else(|| {
-        Error::Profile(format!("key `{key}` = \"{name}\": expected \"spin1200\" or \"adxrs300\" (device/analog/gyro.rs)"))
+        Error::Profile(format!(
+            "key `{key}` = \"{name}\": expected \"spin1200\" or \"adxrs300\" (device/analog/gyro.rs)"
+        ))
     })
 }
 
@@ -96,13 +98,7 @@ impl AnalogBoard {
         });
         let inputs = LazyFrontEnd::Waiting(Some((scene, gyro, mag, g.vref_v)));
         let config = Ads8344Config { vref_v: g.vref_v, ..Ads8344Config::default() };
-        Ok(AnalogBoard {
-            adc: Ads8344::new(config, Box::new(inputs)),
-            feed,
-            last: None,
-            second: None,
-            frames_in_cs: 0,
-        })
+        Ok(AnalogBoard { adc: Ads8344::new(config, Box::new(inputs)), feed, last: None, second: None, frames_in_cs: 0 })
     }
 
     /// The input stream.

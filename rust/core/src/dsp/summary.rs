@@ -35,6 +35,12 @@ pub struct BoardSummary {
     pub scheme: ClockScheme,
     /// Standard SPI mode of the scheme.
     pub spi_mode: u8,
+    /// The part on the acquisition chip select (GPIO57), its modes and the characters of one read.
+    pub part: &'static str,
+    /// The SPI modes the part accepts.
+    pub part_modes: &'static [u8],
+    /// Characters of one read (the ADIS16xxx burst; one ADS8344 conversion).
+    pub read_frames: u32,
     /// The mode is one the part on the acquisition chip select accepts.
     pub mode_matches_device: bool,
     /// Bits per character.
@@ -155,6 +161,9 @@ impl BoardSummary {
             scheme,
             spi_mode,
             mode_matches_device,
+            part: needs.part,
+            part_modes: needs.modes,
+            read_frames: needs.chars_per_read,
             char_bits: shape.bits,
             frame_ps,
             burst_clocking_ps,

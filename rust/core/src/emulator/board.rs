@@ -3,12 +3,12 @@
 
 use super::{Emulator, Progress, Sensor};
 use crate::board::analog::AnalogBoard;
-use crate::firmware::application::{app_kind, AppKind, Application};
-use crate::firmware::geomag_app::{self, GeomagApp};
 use crate::device::Physical;
 use crate::dsp::summary::BoardSummary;
 use crate::error::Result;
 use crate::events::Event;
+use crate::firmware::application::{app_kind, AppKind, Application};
+use crate::firmware::geomag_app::GeomagApp;
 use crate::profile::{Numeric, Profile};
 use crate::time::Ps;
 use crate::timing::costs::CostTable;
@@ -44,14 +44,14 @@ impl BoardReport {
                 emu.push_input(&t, input)?;
                 emu.end_input();
                 let (out, log) = first_ticks(&mut emu)?;
-                (out, log, super::BURST_FRAMES)
+                (out, log, summary.read_frames as usize)
             }
             AppKind::Ads8344Geomag => {
                 let mut emu = Emulator::<f64, AnalogBoard, GeomagApp<f64>>::geomag(&p, costs)?;
                 emu.push_input(&t, input)?;
                 emu.end_input();
                 let (out, log) = first_ticks(&mut emu)?;
-                (out, log, geomag_app::CHANNELS * geomag_app::CHARS)
+                (out, log, summary.read_frames as usize)
             }
         };
         let frames: Vec<_> = log

@@ -308,11 +308,7 @@ impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
                 tick_ps,
                 "overrun",
                 Severity::Error,
-                format!(
-                    "tick {k}: the previous ISR ran {:.1} µs past this tick ({:?})",
-                    late as f64 / 1e6,
-                    policy
-                ),
+                format!("tick {k}: the previous ISR ran {:.1} µs past this tick ({:?})", late as f64 / 1e6, policy),
                 ps_to_s(late),
                 0.0,
             ));

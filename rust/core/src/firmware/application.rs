@@ -20,11 +20,11 @@
 use crate::board::{Board, Sensor};
 use crate::error::{Error, Result};
 use crate::events::EventLog;
+use crate::firmware::isr::StageCosts;
 use crate::firmware::GpsFix;
 use crate::output::Output;
 use crate::profile::OverrunPolicy;
 use crate::time::Ps;
-use crate::firmware::isr::StageCosts;
 
 /// A board's firmware as the emulator runs it: one interrupt per timer tick.
 pub trait Application<S: Sensor>: Send {

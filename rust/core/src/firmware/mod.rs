@@ -12,8 +12,8 @@
 #[cfg(test)]
 mod acceptance;
 pub mod algorithms;
-pub mod application;
 mod align;
+pub mod application;
 pub mod attitude;
 mod dcm;
 mod decode;

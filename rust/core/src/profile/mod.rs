@@ -98,6 +98,10 @@ impl Profile {
             flatten_keys(&v, "board", &mut more);
             keys.extend(more.into_iter().filter(|k| !k.starts_with("board.devices")));
         }
+        keys.push("firmware.application".into());
+        if let Ok(v) = toml::Value::try_from(Geomag::default()) {
+            flatten_keys(&v, "geomag", &mut keys);
+        }
         keys
     }
 
