@@ -20,8 +20,8 @@
 use crate::board::{Board, Sensor};
 use crate::error::{Error, Result};
 use crate::events::EventLog;
-use crate::firmware::isr::StageCosts;
 use crate::firmware::GpsFix;
+use crate::numerics::counter::OpCounts;
 use crate::output::Output;
 use crate::profile::OverrunPolicy;
 use crate::time::Ps;
@@ -82,4 +82,32 @@ pub fn app_kind(name: &str) -> Result<AppKind> {
         let names: Vec<String> = APPLICATIONS.iter().map(|a| format!("\"{}\"", a.0)).collect();
         Error::Profile(format!("key `firmware.application` = \"{name}\": expected one of {}", names.join(", ")))
     })
+}
+
+/// Operation counts and cycles of one stage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StageCost {
+    /// Operations the stage executes.
+    pub counts: OpCounts,
+    /// SYSCLKOUT cycles they cost.
+    pub cycles: u64,
+}
+
+/// Cycles of every part of the ISR that is not SPI traffic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StageCosts {
+    /// Hardware context save and the C prologue.
+    pub entry: u64,
+    /// Epilogue, PIE acknowledge and IRET.
+    pub exit: u64,
+    /// Decode of one burst (three gyro and three accel words).
+    pub decode: StageCost,
+    /// One attitude update (rate correction, RK4 or rotation vector, normalisation, DCM).
+    pub attitude: StageCost,
+    /// Euler extraction.
+    pub euler: StageCost,
+    /// One navigation step.
+    pub navigation: StageCost,
+    /// Midpoint interpolation of the `endpoint` schedule.
+    pub interpolation: StageCost,
 }

@@ -8,6 +8,7 @@
 //! The ISR writes what it did to the run output (one budget row per tick, one read row per burst,
 //! one cycle row per update) and its events; the emulator decides when it runs (`emulator`).
 
+pub use super::application::{StageCost, StageCosts};
 use super::schedule::{RateSchedule, MAX_SAMPLES};
 use super::state_check;
 use super::{samples_per_update, Firmware, Vec3};
@@ -16,7 +17,6 @@ use crate::board::{Board, FrameSummary, Sensor};
 use crate::dsp::spi::{FlagTime, PollSteps, PolledLoop, SPIRXBUF, SPITXBUF};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
-use crate::numerics::counter::OpCounts;
 use crate::numerics::Scalar;
 use crate::output::{BudgetRow, CycleRow, Output, ReadRow};
 use crate::profile::{InitialAttitude, OverrunPolicy, Profile};
@@ -676,34 +676,6 @@ impl Burst {
             self.t_end_ps = f.t_end;
         }
     }
-}
-
-/// Operation counts and cycles of one stage.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct StageCost {
-    /// Operations the stage executes.
-    pub counts: OpCounts,
-    /// SYSCLKOUT cycles they cost.
-    pub cycles: u64,
-}
-
-/// Cycles of every part of the ISR that is not SPI traffic.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct StageCosts {
-    /// Hardware context save and the C prologue.
-    pub entry: u64,
-    /// Epilogue, PIE acknowledge and IRET.
-    pub exit: u64,
-    /// Decode of one burst (three gyro and three accel words).
-    pub decode: StageCost,
-    /// One attitude update (rate correction, RK4 or rotation vector, normalisation, DCM).
-    pub attitude: StageCost,
-    /// Euler extraction.
-    pub euler: StageCost,
-    /// One navigation step.
-    pub navigation: StageCost,
-    /// Midpoint interpolation of the `endpoint` schedule.
-    pub interpolation: StageCost,
 }
 
 #[cfg(test)]
