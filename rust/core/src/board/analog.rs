@@ -20,14 +20,15 @@ type SceneFn = Box<dyn FnMut(f64) -> Scene + Send>;
 /// The front end, built at the first conversion (the input has arrived by then, so it settles on the
 /// input's first row, not on an empty stream).
 enum LazyFrontEnd {
-    Waiting(Option<(SceneFn, Gyro, Magnetometer, f64)>),
+    Waiting(Option<Box<(SceneFn, Gyro, Magnetometer, f64)>>),
     Running(Box<FrontEnd<SceneFn>>),
 }
 
 impl AnalogInputs for LazyFrontEnd {
     fn volts(&mut self, channel: usize, t: Ps) -> f64 {
         if let LazyFrontEnd::Waiting(parts) = self {
-            if let Some((scene, gyro, mag, vref)) = parts.take() {
+            if let Some(parts) = parts.take() {
+                let (scene, gyro, mag, vref) = *parts;
                 *self = LazyFrontEnd::Running(Box::new(FrontEnd::new(scene, gyro, mag, vref)));
             }
         }
@@ -96,7 +97,7 @@ impl AnalogBoard {
             let p = stimulus.at(0, s_to_ps(t_s));
             Scene { rate_rad_s: p.gyro_dps.map(f64::to_radians), field_gauss: p.mag_gauss, temp_c: p.temp_c }
         });
-        let inputs = LazyFrontEnd::Waiting(Some((scene, gyro, mag, g.vref_v)));
+        let inputs = LazyFrontEnd::Waiting(Some(Box::new((scene, gyro, mag, g.vref_v))));
         let config = Ads8344Config { vref_v: g.vref_v, ..Ads8344Config::default() };
         Ok(AnalogBoard { adc: Ads8344::new(config, Box::new(inputs)), feed, last: None, second: None, frames_in_cs: 0 })
     }

@@ -83,7 +83,7 @@ impl BoardSummary {
         let adis = profile.board.spi_device().is_none_or(|d| crate::device::parts::by_name(&d.part).is_some());
         let needs = match profile.board.sensor_needs() {
             Some(n) => n,
-            None => spi_needs(&dev.part_decl()?.name).ok_or_else(|| Error::Profile("device.part: unknown".into()))?,
+            None => spi_needs(dev.part_decl()?.name).ok_or_else(|| Error::Profile("device.part: unknown".into()))?,
         };
         let name = needs.part;
         let burst_clocking_ps = lsp.cycles_to_ps(shape.length_cycles() * u64::from(needs.chars_per_read));
