@@ -302,6 +302,13 @@ pub const KINDS: &[EventKind] = &[
         "mcu",
         "an EALLOW-protected register (PieVectTable) written without EALLOW: ignored, as on the chip",
     ),
+    // The wing unit (firmware/wing/app.rs).
+    kind(
+        "wing_zero_lengthened",
+        Warning,
+        "firmware",
+        "firmware.alignment_s is shorter than the zero needs to average the accelerometer noise to 0.5 mg: it waits longer",
+    ),
     // The gyro-free board's DSP (firmware/gfsins/dsp.rs).
     kind("packet_missing", Error, "firmware", "the C6727 got no node packet in a period, or a sequence number was skipped"),
     kind("packet_refused", Error, "firmware", "a node packet with a wrong length, sync word or CRC: dropped by the C6727"),

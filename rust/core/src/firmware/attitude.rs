@@ -85,6 +85,11 @@ pub trait AttitudeUpdate<T: Scalar>: std::fmt::Debug + Send {
     /// Push this step's rows of the algorithm's own output tables (an application's extra outputs,
     /// e.g. the wing unit's α and axis) into `out`; `step` is the cycle row's step. None by default.
     fn record(&self, _step: u64, _out: &mut crate::output::Output) {}
+    /// What the update changed of the profile's request when it was built, as (event kind, message):
+    /// the run reports each as a warning at its start. None by default.
+    fn notices(&self) -> Vec<(&'static str, String)> {
+        Vec::new()
+    }
     /// Put the update in its costliest state (the timing model counts one update from there: an
     /// algorithm whose work depends on its state must fit the tick in its worst one). Nothing by default.
     fn to_costliest(&mut self) {}

@@ -117,7 +117,7 @@ impl<T: Scalar> Isr<T> {
                 profile.device.part
             )));
         }
-        Ok(Isr {
+        let mut isr = Isr {
             fw,
             stages,
             io: io.clone(),
@@ -146,7 +146,11 @@ impl<T: Scalar> Isr<T> {
             out: Output::default(),
             events: EventLog::default(),
             state_in_range: true,
-        })
+        };
+        for (kind, message) in isr.fw.attitude_notices() {
+            isr.events.push(Event::new(0, kind, Severity::Warning, message));
+        }
+        Ok(isr)
     }
 
     /// The compute-stage costs in use.

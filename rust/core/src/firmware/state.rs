@@ -266,6 +266,11 @@ impl<T: Scalar> Firmware<T> {
         self.attitude.record(step, out);
     }
 
+    /// What the attitude algorithm changed of the profile's request (see [`AttitudeUpdate::notices`]).
+    pub fn attitude_notices(&self) -> Vec<(&'static str, String)> {
+        self.attitude.notices()
+    }
+
     /// Put the attitude algorithm in its costliest state (the timing model's count; see
     /// [`AttitudeUpdate::to_costliest`]).
     pub(crate) fn attitude_to_costliest(&mut self) {

@@ -65,6 +65,8 @@ pub enum AxisSource {
 pub struct WingUnit<T: Scalar> {
     cfg: FilterConfig,
     zero_steps: u32,
+    /// `firmware.alignment_s` as the profile gave it, and the update period (for the notice).
+    asked: (f64, f64),
     acquisition: ZeroAcquisition<T>,
     filter: Option<WingFilter<T>>,
     up_r: Vec3<T>,
@@ -100,6 +102,7 @@ impl<T: Scalar> WingUnit<T> {
         Ok(WingUnit {
             cfg: FilterConfig::adis16362(step_s, gravity, Mode::Full),
             zero_steps,
+            asked: (zero_s, step_s),
             acquisition,
             filter: None,
             up_r: [z; 3],
@@ -241,6 +244,23 @@ impl<T: Scalar> AttitudeUpdate<T> for WingUnit<T> {
             *q = q_wb;
         }
         Ok(())
+    }
+
+    fn notices(&self) -> Vec<(&'static str, String)> {
+        let (asked_s, step_s) = self.asked;
+        if ((asked_s / step_s).ceil() as u32) >= self.zero_steps {
+            return Vec::new();
+        }
+        vec![(
+            "wing_zero_lengthened",
+            format!(
+                "key `firmware.alignment_s` = {asked_s} s: the zero averages {} updates ({:.3} s) to bring the \
+                 accelerometer noise to {} mg; α stays NaN until then",
+                self.zero_steps,
+                f64::from(self.zero_steps) * step_s,
+                ZERO_TARGET_G * 1e3
+            ),
+        )]
     }
 
     fn record(&self, step: u64, out: &mut Output) {

@@ -701,3 +701,22 @@ fn monte_carlo_with_the_adis16362_preset() {
     }
     assert!(b2_by[2] < b2_by[1] && b2_by[1] < b2_by[0], "{b2_by:?}");
 }
+
+/// The zero acquisition says when it waits longer than `firmware.alignment_s` (the issue: "must wait that
+/// long, and says so"): a zero of 0 s asked is lengthened to the (σ/0.5 mg)² samples and named in a
+/// notice; a zero longer than that is taken as asked, with no notice.
+#[test]
+fn a_lengthened_zero_is_a_notice() {
+    use crate::firmware::attitude::AttitudeUpdate;
+    let step_s = 0.008;
+    let short = WingUnit::<f64>::new(step_s, G, 0.0).unwrap();
+    assert!(short.zero_steps() > 1, "the ADIS16362's noise needs more than one update");
+    let notices = short.notices();
+    assert_eq!(notices.len(), 1);
+    assert_eq!(notices[0].0, "wing_zero_lengthened");
+    assert!(notices[0].1.contains("firmware.alignment_s") && notices[0].1.contains(&short.zero_steps().to_string()));
+    let long_s = f64::from(short.zero_steps()) * step_s * 2.0;
+    let long = WingUnit::<f64>::new(step_s, G, long_s).unwrap();
+    assert!(long.zero_steps() >= short.zero_steps());
+    assert!(long.notices().is_empty());
+}
