@@ -191,7 +191,8 @@ impl Board {
                     // The ADIS16xxx part the ISR reads is configured by `[device]`; another
                     // family's part there is read by its own application (`firmware.application`).
                     let adis = crate::device::parts::by_name(&d.part).is_some();
-                    if gpio == SENSOR_CHIP_SELECT && adis && d.part != profile.device.part {
+                    let reads_adis = profile.firmware.application == "adis-burst";
+                    if gpio == SENSOR_CHIP_SELECT && (adis || reads_adis) && d.part != profile.device.part {
                         return Err(bad(
                             &key("part"),
                             format!("\"{}\"", d.part),

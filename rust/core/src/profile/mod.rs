@@ -64,6 +64,15 @@ impl Profile {
             Error::Profile(m) => Error::Profile(format!("{source}: {m}")),
             other => other,
         })?;
+        // A board with a schema of its own (`meta.board`, e.g. the gyro-free board's gfsins.toml) is
+        // not an F28335 profile: say so rather than list its keys as unknown.
+        if let Some(board) = table.get("meta").and_then(|m| m.get("board")).and_then(|b| b.as_str()) {
+            return Err(Error::Profile(format!(
+                "{source}: key `meta.board` = \"{board}\": a board with a schema of its own, not run by \
+                 `board`, `budget`, `run` or `replay` yet (expected an F28335 profile without `meta.board`; \
+                 the gyro-free board runs through `sins_fw.gfsins.run`)"
+            )));
+        }
         fill_part_defaults(&mut table);
         check_keys(&table, source)?;
         let de = toml::Value::Table(table);
