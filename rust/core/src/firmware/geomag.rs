@@ -24,23 +24,8 @@ use crate::numerics::{QClass, Scalar};
 use crate::time::Ps;
 use crate::Result;
 
-/// One gyro axis's calibration (the profile's table row).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct AxisCalibration {
-    /// Bias at the reference temperature, °/s.
-    pub bias_dps: f64,
-    /// Bias temperature coefficient, °/s per °C.
-    pub bias_temp_dps_per_c: f64,
-    /// Reference temperature, °C.
-    pub ref_temp_c: f64,
-    /// Scale-factor error δk (measured = (1 + δk)·true).
-    pub scale_error: f64,
-    /// Nonlinearity k₂ (bow at full scale, fraction of FS).
-    pub nonlinearity: f64,
-    /// Full scale, °/s.
-    pub full_scale_dps: f64,
-}
+/// One gyro axis's calibration: the profile's `geomag.calibration` row.
+pub use crate::profile::AxisCal as AxisCalibration;
 
 /// The three axes' calibration.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -15,7 +15,7 @@
 //! start), a budget row per tick, the aid's gate events and the ADC's rule events.
 
 use super::application::{app_kind, AppKind, Application};
-use super::geomag::{spin_euler, AidGains, AxisCalibration, GyroCalibration, Spin};
+use super::geomag::{spin_euler, AidGains, GyroCalibration, Spin};
 use super::isr::{Poller, StageCosts};
 use super::{lit, Quat, Vec3};
 use crate::board::analog::geomag_section;
@@ -68,14 +68,7 @@ impl<T: Scalar> GeomagLoop<T> {
         let gyro = [x, yz, yz].map(|p| {
             (T::from_f64(p.null_v, QClass::Generic), T::from_f64(1.0 / p.volts_per_dps.to_degrees(), QClass::Generic))
         });
-        let axes = g.calibration.map(|c| AxisCalibration {
-            bias_dps: c.bias_dps,
-            bias_temp_dps_per_c: c.bias_temp_dps_per_c,
-            ref_temp_c: c.ref_temp_c,
-            scale_error: c.scale_error,
-            nonlinearity: c.nonlinearity,
-            full_scale_dps: c.full_scale_dps,
-        });
+        let axes = g.calibration;
         let q0 = initial_attitude(profile);
         Ok(GeomagLoop {
             volts_per_code: g.vref_v / 65536.0,

@@ -48,7 +48,7 @@ pub struct AxisCal {
     pub bias_temp_dps_per_c: f64,
     /// Reference temperature, °C.
     pub ref_temp_c: f64,
-    /// Scale-factor error δk.
+    /// Scale-factor error δk (measured = (1 + δk)·true).
     pub scale_error: f64,
     /// Nonlinearity k₂ (bow at full scale, fraction of FS).
     pub nonlinearity: f64,
