@@ -254,7 +254,7 @@ pub fn spin_quat(yaw: f64, pitch: f64, roll: f64) -> Quat<f64> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::device::analog::{LowPass, LowPassState};
     use rand::{Rng, SeedableRng};
@@ -264,7 +264,7 @@ mod tests {
 
     /// The earth's field at Beijing (≈ IGRF 2014: 0.54 gauss, inclination 58.5°, declination −6.5°
     /// [unconfirmed: rounded]), navigation frame east-north-up.
-    fn beijing() -> Vec3<f64> {
+    pub(crate) fn beijing() -> Vec3<f64> {
         let (h, inc, dec) = (0.54, 58.5 * DEG, -6.5 * DEG);
         [h * inc.cos() * dec.sin(), h * inc.cos() * dec.cos(), -h * inc.sin()]
     }

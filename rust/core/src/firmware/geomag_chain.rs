@@ -329,12 +329,7 @@ mod tests {
 
     const DEG: f64 = std::f64::consts::PI / 180.0;
 
-    /// The earth's field at Beijing (as `geomag`'s tests: 0.54 gauss, inclination 58.5°, declination
-    /// −6.5° [unconfirmed: rounded IGRF 2014]), east-north-up.
-    fn beijing() -> Vec3<f64> {
-        let (h, inc, dec) = (0.54, 58.5 * DEG, -6.5 * DEG);
-        [h * inc.cos() * dec.sin(), h * inc.cos() * dec.cos(), -h * inc.sin()]
-    }
+    use crate::firmware::geomag::tests::beijing;
 
     const GAINS: AidGains = AidGains { kp: 1.0, ki: 0.25, gate_gauss: 0.05, mag_cutoff_hz: None };
 
