@@ -76,9 +76,20 @@ pub struct I2cLink {
 
 impl std::fmt::Debug for I2cLink {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let addresses: Vec<u8> = self.targets.iter().map(|(a, _)| *a).collect();
-        f.debug_struct("I2cLink").field("addresses", &addresses).field("low", &self.low).finish()
+        debug_link(f, "I2cLink", &self.targets, self.low)
     }
+}
+
+/// An I²C link as `{:?}` shows it (both levels): its targets' addresses and SCL's low phase (the
+/// targets themselves are trait objects).
+pub(super) fn debug_link(
+    f: &mut std::fmt::Formatter<'_>,
+    name: &str,
+    targets: &[(u8, Box<dyn I2cTarget + Send>)],
+    low: Ps,
+) -> std::fmt::Result {
+    let addresses: Vec<u8> = targets.iter().map(|(a, _)| *a).collect();
+    f.debug_struct(name).field("addresses", &addresses).field("low", &low).finish()
 }
 
 impl I2cLink {

@@ -181,8 +181,7 @@ pub struct I2cBitLink {
 
 impl std::fmt::Debug for I2cBitLink {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let addresses: Vec<u8> = self.targets.iter().map(|(a, _)| *a).collect();
-        f.debug_struct("I2cBitLink").field("addresses", &addresses).field("low", &self.low).finish()
+        super::i2c::debug_link(f, "I2cBitLink", &self.targets, self.low)
     }
 }
 
