@@ -132,6 +132,9 @@ impl SpiSlave for AnalogBoard {
         }
         self.last = Some(f);
     }
+    fn answers_as_sampled(&self) -> bool {
+        self.adc.answers_as_sampled()
+    }
     fn drain_events(&mut self) -> Vec<Event> {
         self.adc.drain_events()
     }

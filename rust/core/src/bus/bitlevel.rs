@@ -7,7 +7,9 @@
 //!   samples on each trailing edge; with delay it puts bit 0 out at the start, samples on each
 //!   leading edge and drives the next bit on each trailing edge;
 //! - slave (ADIS16407, SPI mode 3): MSB valid on DOUT from CS↓; its n-th falling edge drives bit n;
-//!   every rising edge samples DIN;
+//!   every rising edge samples DIN. A slave that answers as sampled (`Lines::dout_as_sampled`, the
+//!   ADS8344, whose word already follows the frame's mode) drives instead on the edges the master
+//!   does not sample on: bit 0 valid from CS↓, bit n + 1 after the master's n-th sample;
 //! - at one edge, every sample happens before every drive (outputs change after the hold time).
 
 use super::transaction::TimingOf;
@@ -145,7 +147,7 @@ fn walk<const POLARITY: bool, const DELAY: bool, const USUAL: bool>(
     let bits = frame.shape.bits as u32;
     let (talk, loopback, selected) =
         if USUAL { (true, false, true) } else { (frame.talk, frame.loopback, lines.selected) };
-    let floating = lines.floating;
+    let (floating, as_sampled) = (lines.floating, lines.dout_as_sampled);
     let tx = frame.tx;
     // The shifter's output bit; SPISIMO shows it only with TALK (loopback takes it internally).
     let mut out = if DELAY { tx & 0x8000 != 0 } else { lines.simo_before };
@@ -169,11 +171,15 @@ fn walk<const POLARITY: bool, const DELAY: bool, const USUAL: bool>(
         // edge puts out the next one; after the last bit the output holds it (the `min`: bit
         // `bits − 1` is what it already shows), which keeps the edge free of branches.
         if !master_samples {
-            let next = if DELAY { bit + 1 } else { bit };
-            out = (tx << next.min(bits - 1)) & 0x8000 != 0;
+            let next = (if DELAY { bit + 1 } else { bit }).min(bits - 1);
+            out = (tx << next) & 0x8000 != 0;
+            // A slave answering as sampled moves on with the master: the bit of the next sample.
+            if selected && as_sampled {
+                somi = (dout << next) & 0x8000 != 0;
+            }
         }
         // The slave's n-th falling edge drives bit n: at most `bits` ≤ 16 falling edges, so n < 16.
-        if selected && !rising {
+        if selected && !rising && !as_sampled {
             somi = (dout << falls) & 0x8000 != 0;
             falls += 1;
         }
@@ -195,14 +201,14 @@ mod tests {
     use rand::{Rng, SeedableRng};
 
     /// The map gives what the walk gives, for every scheme, character length, TALK, loopback and
-    /// lines, for random words and every single-bit and all-ones word.
+    /// lines (either kind of slave), for random words and every single-bit and all-ones word.
     #[test]
     fn exchange_map_equals_the_walk() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-        for code in 0..(1 << 7) {
+        for code in 0..(1 << 8) {
             let flag = |b: u32| code >> b & 1 == 1;
             let scheme = ClockScheme { polarity: flag(0), phase: flag(1) };
-            let lines = Lines { selected: flag(4), simo_before: flag(5), floating: flag(6) };
+            let lines = Lines { selected: flag(4), simo_before: flag(5), floating: flag(6), dout_as_sampled: flag(7) };
             for bits in 1..=16u8 {
                 let frame = Frame {
                     index: 0,

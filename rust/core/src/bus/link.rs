@@ -114,7 +114,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
 
     fn transfer_run(&mut self, run: &FrameRun, rx: &mut [u16]) {
         let first = &run.first;
-        let lines = Lines { selected: self.cs_low, simo_before: self.simo, floating: self.floating };
+        let lines = self.lines(self.cs_low);
         // What the slave samples does not depend on what it answers: at the bit level one walk of
         // the word tells it (and where SPISIMO is left).
         let (din, simo_after) = match self.level {
@@ -154,6 +154,17 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
 }
 
 impl<S: SpiSlave> Wires<S> {
+    /// The lines around a frame that starts now, with the slave `selected` or not.
+    #[inline(always)]
+    fn lines(&self, selected: bool) -> Lines {
+        Lines {
+            selected,
+            simo_before: self.simo,
+            floating: self.floating,
+            dout_as_sampled: self.slave.answers_as_sampled(),
+        }
+    }
+
     /// The frame starts: what the slave is shown and what it answers. `start` and `end` are forced
     /// inline: each runs once per frame and the compiler kept them out of line (measured).
     #[inline(always)]
@@ -206,7 +217,7 @@ impl<S: SpiSlave> Wires<S> {
     /// The frame `f` ends: what both sides sampled; returns the master's bits.
     #[inline(always)]
     fn end(&mut self, frame: &Frame, f: InFlight) -> u16 {
-        let lines = Lines { selected: f.selected, simo_before: self.simo, floating: self.floating };
+        let lines = self.lines(f.selected);
         let ex: Exchange = match self.level {
             BusLevel::Bit => bitlevel::exchange(frame, f.dout, lines),
             BusLevel::Transaction => transaction::exchange(frame, f.dout, lines),
@@ -555,6 +566,10 @@ impl SpiSlave for ChipSelects {
     }
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         self.current().end_frame(din, timing);
+    }
+    /// The selected slave's (none selected: no frame reaches a slave, the default).
+    fn answers_as_sampled(&self) -> bool {
+        self.selected.is_some_and(|i| self.devices[i].1.answers_as_sampled())
     }
     fn drain_events(&mut self) -> Vec<Event> {
         self.devices.iter_mut().flat_map(|(_, d)| d.drain_events()).collect()

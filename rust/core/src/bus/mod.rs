@@ -105,8 +105,16 @@ pub trait SpiSlave {
     /// Chip select changes at time `t` (`low == true`: asserted).
     fn set_cs(&mut self, low: bool, t: Ps);
     /// A frame is about to be clocked: return the 16-bit word the slave shifts out on DOUT
-    /// (MSB first, in its own SPI mode).
+    /// (MSB first, in its own SPI mode; see [`SpiSlave::answers_as_sampled`]).
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16;
+    /// Whether the slave's word is already what the master samples, bit by bit, in the frame's own
+    /// clock mode (the part works out each clock's edges in `FrameTiming::mode` itself, as the
+    /// ADS8344 does): the link then hands it over as it is, in any mode. `false` (the default, the
+    /// ADIS16xxx family): the word as the part shifts it out on falling edges, its MSB valid from
+    /// CS↓, which the master reads one bit late in any scheme but mode 3 (`bus::transaction`).
+    fn answers_as_sampled(&self) -> bool {
+        false
+    }
     /// The frame is over; `din` is the word the slave sampled on DIN.
     fn end_frame(&mut self, din: u16, timing: &FrameTiming);
     /// Frames of one shape clocked one after another in one chip select, each with DIN `din`:
@@ -221,6 +229,10 @@ pub struct Lines {
     pub simo_before: bool,
     /// The level an undriven line reads as (SPISIMO with TALK = 0, DOUT with CS high).
     pub floating: bool,
+    /// The selected slave moves DOUT on the edges the master does not sample on, in whatever mode
+    /// the frame is clocked, so the master reads its word as it is ([`SpiSlave::answers_as_sampled`]);
+    /// `false`: it moves DOUT on falling edges only, the MSB valid from CS↓ (the ADIS16xxx).
+    pub dout_as_sampled: bool,
 }
 
 /// What one frame exchanged, as both sides sampled it.
@@ -309,6 +321,8 @@ mod tests {
         din: Vec<u16>,
         timings: Vec<FrameTiming>,
         cs: Vec<(bool, Ps)>,
+        /// Answer as sampled in the frame's mode (as the ADS8344) rather than as the ADIS16xxx.
+        as_sampled: bool,
     }
 
     impl SpiSlave for Recorder {
@@ -324,6 +338,9 @@ mod tests {
         fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
             assert_eq!(Some(timing), self.timings.last());
             self.din.push(din);
+        }
+        fn answers_as_sampled(&self) -> bool {
+            self.as_sampled
         }
     }
 
@@ -372,8 +389,12 @@ mod tests {
     /// read SPIRXBUF; CS high. `think_ps` is the firmware's time between reading one word and
     /// writing the next.
     fn run(setup: Setup, level: BusLevel, t0: Ps, tx: &[u16], dout: &[u16], think_ps: Ps) -> Outcome {
+        run_with(Recorder { answers: dout.to_vec(), ..Default::default() }, setup, level, t0, tx, think_ps)
+    }
+
+    /// [`run`] with `slave` answering.
+    fn run_with(slave: Recorder, setup: Setup, level: BusLevel, t0: Ps, tx: &[u16], think_ps: Ps) -> Outcome {
         let p = setup.profile(level);
-        let slave = Recorder { answers: dout.to_vec(), ..Default::default() };
         let mut link = SpiLink::from_profile(&p, slave).unwrap();
         link.enable_log();
         link.init_from_profile(&p.spi, 0).unwrap();
@@ -497,20 +518,44 @@ mod tests {
             prop_assert_eq!(&a.slave.din, &tx);
         }
 
-        /// Any scheme, character length, loopback and TALK: the closed forms equal the edge walk.
+        /// Any scheme, character length, loopback and TALK, either kind of slave (the ADIS16xxx's
+        /// falling-edge DOUT or a word answered as sampled): the closed forms equal the edge walk.
         #[test]
         fn levels_agree_everywhere(
             spibrr in 0u32..128, lospcp in 0u32..8, chr in 0u32..16, ccr_bits in 0u32..4, ctl_bits in 0u32..4,
-            t0 in 0u64..1_000_000_000_000, w in words(),
+            t0 in 0u64..1_000_000_000_000, w in words(), as_sampled in any::<bool>(),
         ) {
             let spiccr = 0x80 | chr | ((ccr_bits & 1) << 6) | ((ccr_bits >> 1) << 4);
             let spictl = 0x05 | ((ctl_bits & 1) << 3) | ((ctl_bits >> 1) << 1);
             let setup = Setup { lospcp, spibrr, spiccr, spictl, latency: 1 };
             let tx: Vec<u16> = w.iter().map(|p| p.0).collect();
-            let dout: Vec<u16> = w.iter().map(|p| p.1).collect();
-            let a = run(setup, BusLevel::Transaction, t0, &tx, &dout, 0);
-            let b = run(setup, BusLevel::Bit, t0, &tx, &dout, 0);
+            let slave = Recorder { answers: w.iter().map(|p| p.1).collect(), as_sampled, ..Default::default() };
+            let a = run_with(slave.clone(), setup, BusLevel::Transaction, t0, &tx, 0);
+            let b = run_with(slave, setup, BusLevel::Bit, t0, &tx, 0);
             prop_assert_eq!(a, b);
+        }
+
+        /// A slave answering as sampled is read as it answers in every scheme, at both levels, with the
+        /// same times: in 16-bit characters its words, in shorter ones their top bits.
+        #[test]
+        fn a_slave_answering_as_sampled_is_read_as_it_answers(
+            spibrr in 0u32..128, chr in 0u32..16, ccr_pol in any::<bool>(), ctl_phase in any::<bool>(),
+            t0 in 0u64..1_000_000_000_000, think in 0u64..20_000_000, w in words(),
+        ) {
+            let spiccr = 0x80 | chr | (u32::from(ccr_pol) << 6);
+            let spictl = 0x07 | (u32::from(ctl_phase) << 3);
+            let setup = Setup { spibrr, spiccr, spictl, ..Setup::reference() };
+            let tx: Vec<u16> = w.iter().map(|p| p.0).collect();
+            let dout: Vec<u16> = w.iter().map(|p| p.1).collect();
+            let slave = Recorder { answers: dout.clone(), as_sampled: true, ..Default::default() };
+            let a = run_with(slave.clone(), setup, BusLevel::Transaction, t0, &tx, think);
+            let b = run_with(slave, setup, BusLevel::Bit, t0, &tx, think);
+            prop_assert_eq!(&a, &b);
+            // SPIRXBUF right-justifies the character (above it, what the shifter held before).
+            let mask = (1u32 << (chr + 1)) - 1;
+            let top: Vec<u16> = dout.iter().map(|d| d >> (15 - chr)).collect();
+            let read: Vec<u16> = a.rx.iter().map(|r| (u32::from(*r) & mask) as u16).collect();
+            prop_assert_eq!(read, top);
         }
     }
 

@@ -11,6 +11,10 @@
 //! reads the MSB twice and loses the LSB: `rx = (dout >> 1) | (dout & 0x8000)`. With "rising edge
 //! without delay" (mode 1) the slave also samples each DIN bit on the edge the master changes it,
 //! so it reads the previous SPISIMO level first and loses the LSB.
+//!
+//! A slave whose word is already what the master samples in the frame's own mode
+//! ([`Lines::dout_as_sampled`], the ADS8344: it works out each clock's edges itself) moves DOUT on
+//! the edges the master does not sample on: the master reads its word as it is, in every scheme.
 
 use super::{Exchange, FrameTiming, Lines};
 use crate::dsp::spi::{CharShape, Frame};
@@ -132,7 +136,7 @@ pub fn master_rx(frame: &Frame, dout: u16, lines: Lines) -> u16 {
         frame.tx >> drop
     } else if !lines.selected {
         floating_bits(lines)
-    } else if scheme.polarity && !scheme.phase {
+    } else if (scheme.polarity && !scheme.phase) || lines.dout_as_sampled {
         dout >> drop
     } else {
         ((dout >> 1) | (dout & 0x8000)) >> drop
@@ -141,12 +145,15 @@ pub fn master_rx(frame: &Frame, dout: u16, lines: Lines) -> u16 {
 }
 
 /// Whether the master samples the slave's word unchanged ([`master_rx`] is the identity): a selected
-/// 16-bit character in the slave's own mode (SPICLK idles high, no delay), not looped back. A run of
-/// such characters needs no pass over its words.
+/// 16-bit character, not looped back, in the slave's own mode (SPICLK idles high, no delay) or from
+/// a slave that answers as sampled. A run of such characters needs no pass over its words.
 #[inline]
 pub fn master_rx_is_dout(frame: &Frame, lines: Lines) -> bool {
     let scheme = frame.shape.scheme;
-    lines.selected && !frame.loopback && frame.shape.bits == 16 && scheme.polarity && !scheme.phase
+    lines.selected
+        && !frame.loopback
+        && frame.shape.bits == 16
+        && ((scheme.polarity && !scheme.phase) || lines.dout_as_sampled)
 }
 
 /// The bits the slave samples on DIN, right-justified (0 when it is not selected).
@@ -247,8 +254,9 @@ mod tests {
     }
 
     /// Where `master_rx_is_dout` says so, the master reads every word the slave shifts out as it is:
-    /// over every character length, scheme, loopback, TALK and state of the lines; and it says so for
-    /// the reference setup (16 bits, mode 3, selected), where a run skips the pass over its words.
+    /// over every character length, scheme, loopback, TALK and state of the lines (a slave answering
+    /// as sampled or not); and it says so for the reference setup (16 bits, mode 3, selected), where
+    /// a run skips the pass over its words.
     #[test]
     fn the_master_reads_the_word_unchanged_where_said() {
         let mut rng = ChaCha8Rng::seed_from_u64(63);
@@ -264,11 +272,12 @@ mod tests {
         };
         let mut said = 0;
         for bits in 1..=16u8 {
-            for flags in 0..64u32 {
+            for flags in 0..128u32 {
                 let bit = |i: u32| flags >> i & 1 == 1;
                 let shape = CharShape { bits, divisor: 4, scheme: ClockScheme { polarity: bit(0), phase: bit(1) } };
                 let frame = frame_of(shape, rng.gen(), bit(2), bit(3));
-                let lines = Lines { selected: bit(4), simo_before: bit(5), floating: rng.gen() };
+                let lines =
+                    Lines { selected: bit(4), simo_before: bit(5), floating: rng.gen(), dout_as_sampled: bit(6) };
                 if !master_rx_is_dout(&frame, lines) {
                     continue;
                 }
@@ -278,9 +287,11 @@ mod tests {
                 }
             }
         }
-        assert_eq!(said, 4, "TALK and SPISIMO's level do not matter");
+        // Mode 3 with either slave (2 × 4 of TALK and SPISIMO's level, which do not matter), and
+        // the three other schemes with a slave that answers as sampled (3 × 4).
+        assert_eq!(said, 20);
         let reference = CharShape { bits: 16, divisor: 50, scheme: ClockScheme { polarity: true, phase: false } };
-        let lines = Lines { selected: true, simo_before: false, floating: true };
+        let lines = Lines { selected: true, simo_before: false, floating: true, dout_as_sampled: false };
         assert!(master_rx_is_dout(&frame_of(reference, 0, true, false), lines));
     }
 }

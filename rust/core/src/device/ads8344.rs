@@ -23,6 +23,10 @@
 //! ≥ t_CSS (`cs_setup`), SPI mode 0 or 3 (`spi_mode` otherwise; mode 3 is electrically the same
 //! here: DIN sampled on rising edges, DOUT moved on falling ones).
 //!
+//! `begin_frame`'s word holds, clock by clock, the bit the master samples at each rising edge in the
+//! frame's own mode: the part answers as sampled ([`SpiSlave::answers_as_sampled`]), and the link
+//! hands its word over unshifted in mode 0 as in mode 3.
+//!
 //! The slave-side SPI contract hands a slave its DIN word only when the frame ends
 //! ([`SpiSlave::end_frame`]), after it has answered. A conversion whose S bit and result bits fall
 //! in one frame (16-bit characters with the control byte in the high byte) therefore cannot have
@@ -467,6 +471,10 @@ impl SpiSlave for Ads8344 {
             ));
         }
     }
+    /// `clock` gives the bit the master samples at each rising edge in the frame's own mode.
+    fn answers_as_sampled(&self) -> bool {
+        true
+    }
     fn drain_events(&mut self) -> Vec<Event> {
         Ads8344::drain_events(self)
     }
@@ -487,7 +495,7 @@ impl Ads8344 {
 mod tests {
     use super::*;
     use crate::board::links::{known_parts, BoardLinks, Built};
-    use crate::bus::Address;
+    use crate::bus::{Address, BusLevel, Link, LinkRecord};
     use crate::profile::{LinkKind, Profile};
 
     /// A frame of `bits` clocks of `period` ps, its first edge at `first`, SPI mode `mode`.
@@ -672,5 +680,64 @@ mod tests {
         assert!(spi.drain_events().is_empty());
         assert!(matches!(known_parts("ADS8344", LinkKind::Spi), Some(Ok(Built::Spi(_)))));
         assert!(matches!(known_parts("ADS8344", LinkKind::I2c), Some(Err(_))));
+    }
+
+    /// CH0–CH6 at 0.1 V + 0.25 V·channel, CH7 tied to VREF/2 (1.25 V: code 32768), as the board wires it.
+    fn check_inputs() -> Box<FixedInputs> {
+        Box::new(FixedInputs(std::array::from_fn(|c| if c == 7 { 1.25 } else { 0.1 + 0.25 * c as f64 })))
+    }
+
+    /// The eight channels read through SPI-A at `level` with SPICCR `spiccr` and SPICTL `spictl` (8-bit
+    /// characters, SPIBRR = 15) by the generic driver: the codes, the link's log (every frame's
+    /// words and the times the part was shown) and the events.
+    fn read_through_the_link(spiccr: u32, spictl: u32, level: BusLevel) -> ([u16; 8], Vec<LinkRecord>, Vec<Event>) {
+        let text = "[[board.devices]]\npart = \"ADIS16407\"\nlink = \"spi-a\"\nchip_select = \"GPIO57\"\n\n\
+                    [[board.devices]]\npart = \"ADS8344\"\nlink = \"spi-a\"\nchip_select = \"GPIO58\"\n";
+        let mut profile = Profile::from_toml(text, "geomag.toml", &[]).unwrap();
+        (profile.spi.spiccr, profile.spi.spictl, profile.spi.spibrr, profile.spi.level) = (spiccr, spictl, 15, level);
+        let catalogue = |name: &str, _kind: LinkKind| {
+            (name == "ADS8344")
+                .then(|| Ok(Built::Spi(Box::new(Ads8344::new(Ads8344Config::default(), check_inputs())))))
+        };
+        let mut links = BoardLinks::from_profile(&profile, &catalogue, true).unwrap();
+        let spi = links.spi.as_mut().unwrap();
+        spi.enable_log();
+        let (mut codes, mut t) = ([0u16; 8], 0);
+        for (ch, code) in codes.iter_mut().enumerate() {
+            let mut rx = [0u16; 4];
+            let c = u16::from(Control::single_ended(ch, 3)) << 8;
+            t = Link::transfer(spi, Address::ChipSelect(58), &[c, 0, 0, 0], &mut rx, t).unwrap().end + 1_000_000;
+            *code = rx[1] << 9 | rx[2] << 1 | rx[3] >> 7;
+        }
+        let log = spi.take_log();
+        (codes, log, Link::drain_events(spi))
+    }
+
+    /// SPI mode 0 (the data sheet's drawing: SPICCR 0x87, CLKPOLARITY 0; SPICTL 0x0F, CLK_PHASE 1,
+    /// TI's "rising edge with delay") and mode 3 (SPICCR 0xC7, SPICTL 0x07) read every channel's code
+    /// at both link levels: CH7 at VREF/2 reads 32768. The part works out the bit the master samples
+    /// at each clock in the frame's own mode, and the link keeps its word as it is (it read CH7 as
+    /// 16384 in mode 0 when the link also applied the ADIS16xxx's falling-edge shift). The two
+    /// levels agree frame for frame: words and the times shown to the part.
+    #[test]
+    fn modes_0_and_3_read_the_codes_at_both_link_levels() {
+        let expected: [u16; 8] = std::array::from_fn(|c| {
+            Ads8344::new(Ads8344Config::default(), check_inputs())
+                .code_of(if c == 7 { 1.25 } else { 0.1 + 0.25 * c as f64 })
+                .0
+        });
+        assert_eq!(expected[7], 32768);
+        for (mode, spiccr, spictl) in [(0, 0x87, 0x0F), (3, 0xC7, 0x07)] {
+            let (codes, log, events) = read_through_the_link(spiccr, spictl, BusLevel::Transaction);
+            assert_eq!(codes, expected, "mode {mode}, transaction level");
+            assert!(events.is_empty(), "mode {mode}: {events:?}");
+            let frames = log.iter().filter_map(|r| if let LinkRecord::Frame(f) = r { Some(f) } else { None });
+            assert!(frames.clone().all(|f| f.timing.mode == mode), "mode {mode}");
+            assert_eq!(frames.count(), 32);
+            let (bit_codes, bit_log, bit_events) = read_through_the_link(spiccr, spictl, BusLevel::Bit);
+            assert_eq!(bit_codes, expected, "mode {mode}, bit level");
+            assert_eq!(bit_log, log, "mode {mode}: the levels agree word for word and time for time");
+            assert!(bit_events.is_empty(), "mode {mode}: {bit_events:?}");
+        }
     }
 }

@@ -1143,6 +1143,15 @@ fn lot_and_serial_numbers_read_back_and_peek_names_the_map() {
 /// so that the words are what the wires carry): the two words the master receives and the device's
 /// events. Frames 50 µs apart, each in its own CS window.
 fn prod_id_through_the_link(ov: &[&str], level: crate::profile::BusLevel) -> (Vec<u16>, Vec<crate::events::Event>) {
+    let (rx, events, _) = prod_id_logged(ov, level);
+    (rx, events)
+}
+
+/// [`prod_id_through_the_link`] and the link's log (frames: words and the times shown to the part).
+fn prod_id_logged(
+    ov: &[&str],
+    level: crate::profile::BusLevel,
+) -> (Vec<u16>, Vec<crate::events::Event>, Vec<crate::bus::LinkRecord>) {
     use crate::bus::SpiLink;
     use crate::dsp::spi::{SPIRXBUF, SPITXBUF};
     let mut ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
@@ -1151,6 +1160,7 @@ fn prod_id_through_the_link(ov: &[&str], level: crate::profile::BusLevel) -> (Ve
     p.spi.level = level;
     let mut link = SpiLink::from_profile(&p, Adis16407::new(&p.device).unwrap()).unwrap();
     link.init_from_profile(&p.spi, 0).unwrap();
+    link.enable_log();
     let mut t = MS;
     let mut rx = Vec::new();
     for din in [0x5600, 0x0000] {
@@ -1161,7 +1171,23 @@ fn prod_id_through_the_link(ov: &[&str], level: crate::profile::BusLevel) -> (Ve
         link.set_gpio57(true, flag + US).unwrap();
         t = flag + 50 * US;
     }
-    (rx, link.slave_mut().drain_events())
+    (rx, link.slave_mut().drain_events(), link.take_log())
+}
+
+/// The ADIS16407 (it does not answer as sampled: the link shifts its words in modes 0, 1, 2) in all
+/// four SPI modes: the transaction and bit levels agree word for word, time for time and event for
+/// event.
+#[test]
+fn the_adis_in_every_spi_mode_reads_alike_at_both_link_levels() {
+    use crate::profile::BusLevel;
+    for (spiccr, spictl, mode) in [(0xCF, 0x07, 3), (0xCF, 0x0F, 2), (0x8F, 0x07, 1), (0x8F, 0x0F, 0)] {
+        let ov = [format!("spi.spiccr={spiccr}"), format!("spi.spictl={spictl}")];
+        let ov = [ov[0].as_str(), ov[1].as_str()];
+        let transaction = prod_id_logged(&ov, BusLevel::Transaction);
+        let bit = prod_id_logged(&ov, BusLevel::Bit);
+        assert_eq!(transaction, bit, "mode {mode}");
+        assert_eq!(transaction.2.len(), 6, "mode {mode}: two CS windows of one frame");
+    }
 }
 
 /// A master clocking in another SPI mode than the part's mode 3 gets shifted words, and the part
