@@ -75,7 +75,13 @@ impl<T: Scalar> GeomagLoop<T> {
             gyro,
             mag: (T::from_f64(m.null_v, QClass::Generic), T::from_f64(1.0 / m.volts_per_gauss, QClass::Generic)),
             cal: GyroCalibration::new(&axes),
-            spin: Spin::new(q0.map(|x| T::from_f64(x, QClass::Quat)), SAMPLES as f64 * tick_s, gains(g)),
+            spin: {
+                let spin = Spin::new(q0.map(|x| T::from_f64(x, QClass::Quat)), SAMPLES as f64 * tick_s, gains(g));
+                match g.gyro_delay_s {
+                    Some(tau) => spin.with_gyro_delay(tau),
+                    None => spin,
+                }
+            },
             mag_n: g.field_enu_gauss.map(|x| T::from_f64(x, QClass::Nav)),
             mag_b: [lit(0.0); 3],
             temp_c: lit(25.0),

@@ -34,6 +34,10 @@ pub struct Geomag {
     pub aid_gate_gauss: f64,
     /// The magnetometer chain's bandwidth the firmware compensates the lag of, Hz (0: none).
     pub mag_cutoff_hz: f64,
+    /// The spin gyro chain's group delay τ_g the firmware compensates, s (`Spin::with_gyro_delay`;
+    /// 2ζ/ω_n of a second-order preset, `LowPass::group_delay_s`); none: not compensated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gyro_delay_s: Option<f64>,
     /// The gyro calibration table, x, y, z (the firmware inverts the sensor law with it).
     pub calibration: [AxisCal; 3],
 }
@@ -85,6 +89,7 @@ impl Default for Geomag {
             aid_ki: 1.0,
             aid_gate_gauss: 0.05,
             mag_cutoff_hz: 0.0,
+            gyro_delay_s: None,
             calibration: [AxisCal::nominal(1200.0), AxisCal::nominal(300.0), AxisCal::nominal(300.0)],
         }
     }
@@ -102,6 +107,13 @@ impl Geomag {
         }
         if !(self.mag_cutoff_hz.is_finite() && self.mag_cutoff_hz >= 0.0) {
             return Err(bad("geomag.mag_cutoff_hz", self.mag_cutoff_hz, "a bandwidth ≥ 0 Hz (0: no compensation)"));
+        }
+        if let Some(tau) = self.gyro_delay_s.filter(|t| !(t.is_finite() && (0.0..=0.1).contains(t))) {
+            return Err(bad(
+                "geomag.gyro_delay_s",
+                tau,
+                "a group delay of 0 … 0.1 s (τ_g = 2ζ/ω_n of the gyro preset: 2.228e-3 s for spin1200)",
+            ));
         }
         if !self.field_enu_gauss.iter().all(|x| x.is_finite() && x.abs() <= 1.0) {
             return Err(bad("geomag.field_enu_gauss", format!("{:?}", self.field_enu_gauss), "|B| ≤ 1 gauss per axis"));

@@ -108,7 +108,8 @@ impl Profile {
             keys.extend(more.into_iter().filter(|k| !k.starts_with("board.devices")));
         }
         keys.push("firmware.application".into());
-        if let Ok(v) = toml::Value::try_from(Geomag::default()) {
+        // Its optional keys too (absent from the defaults' text).
+        if let Ok(v) = toml::Value::try_from(Geomag { gyro_delay_s: Some(0.0), ..Geomag::default() }) {
             flatten_keys(&v, "geomag", &mut keys);
         }
         keys
