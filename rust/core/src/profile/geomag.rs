@@ -134,3 +134,22 @@ impl Geomag {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::profile::Profile;
+
+    /// `geomag.gyro_delay_s` is optional (none by default), set by the file or an override, and a
+    /// value outside 0…0.1 s is refused naming the key.
+    #[test]
+    fn gyro_delay_is_an_optional_key() {
+        let text =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../firmware_model/geomag.toml")).unwrap();
+        let p = Profile::from_toml(&text, "geomag.toml", &[]).unwrap();
+        assert_eq!(p.geomag.unwrap().gyro_delay_s, None);
+        let p = Profile::from_toml(&text, "geomag.toml", &["geomag.gyro_delay_s=2.228e-3".into()]).unwrap();
+        assert_eq!(p.geomag.unwrap().gyro_delay_s, Some(2.228e-3));
+        let e = Profile::from_toml(&text, "geomag.toml", &["geomag.gyro_delay_s=-1.0".into()]).unwrap_err();
+        assert!(e.to_string().contains("key `geomag.gyro_delay_s` = -1"), "{e}");
+    }
+}
