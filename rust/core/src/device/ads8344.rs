@@ -486,9 +486,9 @@ impl Ads8344 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::board::links::{known_parts, BoardLinks, Built};
-    use crate::bus::Address;
-    use crate::profile::{LinkKind, Profile};
+    use crate::board::links::{known_parts, BoardLinks};
+    use crate::bus::{Address, Device, SpiSlave};
+    use crate::profile::{link_kind, LinkKind, Profile};
 
     /// A frame of `bits` clocks of `period` ps, its first edge at `first`, SPI mode `mode`.
     fn frame(first: Ps, period: Ps, bits: u8, mode: u8) -> FrameTiming {
@@ -651,8 +651,10 @@ mod tests {
         // 8-bit characters: the profile's own check still ties SPICHAR to the `[device]` ADIS part
         // (16-bit), so the registers are set past it here.
         (profile.spi.spiccr, profile.spi.spibrr) = (0x00C7, 15);
-        let catalogue = |name: &str, _kind: LinkKind| {
-            (name == "ADS8344").then(|| Ok(Built::Spi(Box::new(Ads8344::new(Ads8344Config::default(), ramp())))))
+        let catalogue = |name: &str, _kind: &LinkKind| {
+            (name == "ADS8344").then(|| {
+                Ok(Device::new::<dyn SpiSlave + Send>(Box::new(Ads8344::new(Ads8344Config::default(), ramp()))))
+            })
         };
         let mut links = BoardLinks::from_profile(&profile, &catalogue, true).unwrap();
         let spi = links.link("spi-a").unwrap();
@@ -670,7 +672,8 @@ mod tests {
             assert_eq!(rx[1] << 9 | rx[2] << 1 | rx[3] >> 7, adc.code_of(0.1 + 0.25 * ch as f64).0, "CH{ch}");
         }
         assert!(spi.drain_events().is_empty());
-        assert!(matches!(known_parts("ADS8344", LinkKind::Spi), Some(Ok(Built::Spi(_)))));
-        assert!(matches!(known_parts("ADS8344", LinkKind::I2c), Some(Err(_))));
+        let (spi, i2c) = (link_kind("spi-a").unwrap(), link_kind("i2c-a").unwrap());
+        assert!(matches!(known_parts("ADS8344", spi), Some(Ok(d)) if d.is::<dyn SpiSlave + Send>()));
+        assert!(matches!(known_parts("ADS8344", i2c), Some(Err(_))));
     }
 }
