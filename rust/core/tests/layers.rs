@@ -14,7 +14,9 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("base", &["time", "error", "events", "output"]),
     // The parts' declarations as data (register maps, burst lists, ranges, timing figures) and the
     // output words' encoding they name: the profile validates its `[device]` keys against them.
-    ("declarations", &["device::encoding", "device::part", "device::parts"]),
+    // The links' common door (`bus::door`: `Link`, `Address`, a built `Device`), in whose terms the
+    // profile's link-kind registry is written.
+    ("declarations", &["device::encoding", "device::part", "device::parts", "bus::door"]),
     // The board as data: the profile and the cost table (both read from TOML).
     ("profile", &["profile", "timing::costs"]),
     // The wires and the MCU's end of them: the link kinds with the slave-side contracts the parts

@@ -1,64 +1,65 @@
-//! The board's links and the devices on them, built from the profile's `[[board.devices]]`: SPI-A
-//! with a device per chip select, I2C-A with a device per address, SCI-A with its peer. Each is
+//! The board's links and the devices on them, built from the profile's `[[board.devices]]`: each
+//! declared link (SPI-A with a device per chip select, I2C-A with a device per address, SCI-A with
+//! its peer, or a link of any other registered kind) built by its kind (`profile::LinkKind`) and
 //! reached through [`Link`]. Which part a name builds is a [`Catalogue`]'s answer: [`known_parts`]
-//! for the parts of `device::part`, or any other (a test declares its own).
+//! for the parts the crate declares, or any other (a test declares its own).
 
-use crate::bus::i2c::{I2cLink, I2cTarget};
-use crate::bus::uart::{UartLink, UartPeer};
-use crate::bus::{Address, ChipSelects, Link, SpiLink, SpiSlave};
+use crate::bus::i2c::I2cTarget;
+use crate::bus::uart::UartPeer;
+use crate::bus::{Address, Device, Link, SpiSlave};
 use crate::device::{ads8344, adxl345, gps, hmc6343, parts, Adis};
 use crate::error::{Error, Result};
-use crate::profile::{self, BoardDevice, LinkKind, Profile, SENSOR_CHIP_SELECT};
-
-/// A device built for the kind of link it sits on.
-pub enum Built {
-    /// An SPI slave.
-    Spi(Box<dyn SpiSlave + Send>),
-    /// An I²C target.
-    I2c(Box<dyn I2cTarget + Send>),
-    /// A UART peer.
-    Uart(Box<dyn UartPeer + Send>),
-}
+use crate::events::Event;
+use crate::profile::{self, BoxedLink, Devices, LinkKind, Profile, SENSOR_CHIP_SELECT};
 
 /// What builds a part for a link kind: `None` for a part it does not know, an error for a part
 /// that cannot sit on that kind of link.
-pub type Catalogue<'a> = &'a dyn Fn(&str, LinkKind) -> Option<Result<Built>>;
+pub type Catalogue<'a> = &'a dyn Fn(&str, &LinkKind) -> Option<Result<Device>>;
 
 /// The parts of other families than the ADIS16xxx, one arm each in [`known_parts`].
 const OTHER_PARTS: &[&str] = &["ADS8344", "ADXL345", "HMC6343", "GR-87"];
 
 /// The parts the crate declares: the ADIS16xxx family (`device::part`), the ADS8344 ADC and the ADXL345 on SPI, the HMC6343
 /// on I²C, the GR-87 GPS on a UART.
-pub fn known_parts(name: &str, kind: LinkKind) -> Option<Result<Built>> {
-    let only = |want: LinkKind, build: fn() -> Built| -> Option<Result<Built>> {
-        Some(if kind == want { Ok(build()) } else { Err(Error::Profile(format!("{name}: a part for {want:?} links"))) })
+pub fn known_parts(name: &str, kind: &LinkKind) -> Option<Result<Device>> {
+    let only = |want: &str, build: fn() -> Device| -> Option<Result<Device>> {
+        Some(if kind.name == want {
+            Ok(build())
+        } else {
+            Err(Error::Profile(format!("{name}: a part for {want} links")))
+        })
     };
     // The parts of other families, one arm each.
     match name.to_ascii_uppercase().as_str() {
-        "ADS8344" => return only(LinkKind::Spi, || Built::Spi(Box::new(ads8344::Ads8344::unconnected()))),
-        "ADXL345" => return only(LinkKind::Spi, || Built::Spi(Box::new(adxl345::Adxl345::at_rest()))),
-        "HMC6343" => return only(LinkKind::I2c, || Built::I2c(Box::new(hmc6343::Hmc6343::at_rest()))),
-        "GR-87" | "GPS" => return only(LinkKind::Uart, || Built::Uart(Box::new(gps::Gps::at_rest()))),
+        "ADS8344" => {
+            return only("spi", || Device::new::<dyn SpiSlave + Send>(Box::new(ads8344::Ads8344::unconnected())))
+        }
+        "ADXL345" => return only("spi", || Device::new::<dyn SpiSlave + Send>(Box::new(adxl345::Adxl345::at_rest()))),
+        "HMC6343" => return only("i2c", || Device::new::<dyn I2cTarget + Send>(Box::new(hmc6343::Hmc6343::at_rest()))),
+        "GR-87" | "GPS" => return only("uart", || Device::new::<dyn UartPeer + Send>(Box::new(gps::Gps::at_rest()))),
         _ => {}
     }
     let p = parts::by_name(name)?;
-    Some(match kind {
-        LinkKind::Spi => Adis::new(&profile::Device::of_part(p)).map(|d| Built::Spi(Box::new(d))),
+    Some(match kind.name {
+        "spi" => Adis::new(&profile::Device::of_part(p)).map(|d| Device::new::<dyn SpiSlave + Send>(Box::new(d))),
         _ => Err(Error::Profile(format!("{}: an SPI part", p.name))),
     })
 }
 
 /// The devices of `[[board.devices]]` on their links.
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct BoardLinks {
-    /// SPI-A with its devices by chip select (none: no SPI device here).
-    pub spi: Option<SpiLink<ChipSelects>>,
-    /// I2C-A with its devices by address.
-    pub i2c: Option<I2cLink>,
-    /// SCI-A with its peer.
-    pub sci: Option<UartLink>,
+    /// Each link with a device on it, by name, in the order the declaration first names them.
+    links: Vec<(String, BoxedLink)>,
     /// Each device built: its part, link name and address, in declaration order.
     pub places: Vec<(String, String, Address)>,
+}
+
+impl std::fmt::Debug for BoardLinks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = self.links.iter().map(|(n, _)| n.as_str()).collect();
+        f.debug_struct("BoardLinks").field("links", &names).field("places", &self.places).finish()
+    }
 }
 
 impl BoardLinks {
@@ -67,14 +68,14 @@ impl BoardLinks {
     /// A part the catalogue does not know, or one on the wrong kind of link, is a profile error
     /// naming `board.devices[i].part`.
     pub fn from_profile(profile: &Profile, catalogue: Catalogue, skip_sensor: bool) -> Result<BoardLinks> {
-        let mut spi = Vec::new();
-        let mut i2c = Vec::new();
-        let mut sci = None;
+        let mut groups: Vec<(&'static LinkKind, String, Devices)> = Vec::new();
         let mut places = Vec::new();
         for (i, d) in profile.board.devices.iter().enumerate() {
             let kind = d.kind().ok_or_else(|| Error::Profile(format!("key `board.devices[{i}].link`: unknown")))?;
-            let address = address_of(d, kind);
-            if skip_sensor && address == Some(Address::ChipSelect(SENSOR_CHIP_SELECT)) && kind == LinkKind::Spi {
+            let address = (kind.place)(d).map_err(|(key, value, expected)| {
+                Error::Profile(format!("key `board.devices[{i}].{key}` = {value}: expected {expected}"))
+            })?;
+            if skip_sensor && d.link == "spi-a" && address == Address::ChipSelect(SENSOR_CHIP_SELECT) {
                 continue;
             }
             let bad_part =
@@ -90,61 +91,37 @@ impl BoardLinks {
                 Some(Err(e)) => return Err(bad_part(format!("cannot sit on `{}` ({e})", d.link))),
                 Some(Ok(b)) => b,
             };
-            let address = address.ok_or_else(|| bad_part("no place on its link".into()))?;
-            match (built, address) {
-                (Built::Spi(s), Address::ChipSelect(gpio)) => spi.push((gpio, s)),
-                (Built::I2c(t), Address::I2c(a)) => i2c.push((a, t)),
-                (Built::Uart(u), Address::Port) => sci = Some(u),
-                _ => return Err(bad_part(format!("the part is not built for `{}`", d.link))),
+            if !(kind.fits)(&built) {
+                return Err(bad_part(format!("the part is not built for `{}` (a {} link)", d.link, kind.name)));
             }
             places.push((d.part.clone(), d.link.clone(), address));
+            match groups.iter_mut().find(|g| g.1 == d.link) {
+                Some(g) => g.2.push((address, built)),
+                None => groups.push((kind, d.link.clone(), vec![(address, built)])),
+            }
         }
-        let spi = if spi.is_empty() {
-            None
-        } else {
-            let mut link = SpiLink::from_profile(profile, ChipSelects::new(spi))?;
-            link.init_from_profile(&profile.spi, 0)?;
-            Some(link)
-        };
-        let i2c = (!i2c.is_empty()).then(|| I2cLink::new(&profile.board.i2c_bus(), i2c));
-        let sci = sci.map(|peer| UartLink::new(&profile.board.sci_port(), Some(peer)));
-        Ok(BoardLinks { spi, i2c, sci, places })
+        let mut links = Vec::new();
+        for (kind, name, devices) in groups {
+            let link = (kind.build)(profile, &name, devices)?;
+            links.push((name, link));
+        }
+        Ok(BoardLinks { links, places })
     }
 
-    /// The link named `name` (`spi-a`, `i2c-a`, `sci-a`), when a device sits on it.
+    /// The link named `name` (`spi-a`, `i2c-a`, `sci-a`, …), when a device sits on it.
     pub fn link(&mut self, name: &str) -> Option<&mut dyn Link> {
-        match name {
-            "spi-a" => self.spi.as_mut().map(|l| l as &mut dyn Link),
-            "i2c-a" => self.i2c.as_mut().map(|l| l as &mut dyn Link),
-            "sci-a" => self.sci.as_mut().map(|l| l as &mut dyn Link),
-            _ => None,
-        }
+        self.links.iter_mut().find(|(n, _)| n == name).map(|(_, l)| l.as_mut() as &mut dyn Link)
     }
 
     /// Take the events of every link and of the devices on it out (a placed part's rule
     /// violations reach the run's events this way).
-    pub fn drain_events(&mut self) -> Vec<crate::events::Event> {
-        let mut e = Vec::new();
-        for name in ["spi-a", "i2c-a", "sci-a"] {
-            if let Some(l) = self.link(name) {
-                e.extend(l.drain_events());
-            }
-        }
-        e
+    pub fn drain_events(&mut self) -> Vec<Event> {
+        self.links.iter_mut().flat_map(|(_, l)| l.drain_events()).collect()
     }
 
     /// Whether no device is built here.
     pub fn is_empty(&self) -> bool {
         self.places.is_empty()
-    }
-}
-
-/// A validated declaration's place on its link.
-fn address_of(d: &BoardDevice, kind: LinkKind) -> Option<Address> {
-    match kind {
-        LinkKind::Spi => d.chip_select_gpio().map(Address::ChipSelect),
-        LinkKind::I2c => d.address.map(Address::I2c),
-        LinkKind::Uart => Some(Address::Port),
     }
 }
 
@@ -237,7 +214,7 @@ address = 0x1E
 
     /// The test's catalogue: the crate's parts plus three register files tagged 0xA1, 0xB2, 0xC3;
     /// the register handles are kept so the test can look inside each device.
-    fn catalogue(handles: &Mutex<Handles>, name: &str, kind: LinkKind) -> Option<Result<Built>> {
+    fn catalogue(handles: &Mutex<Handles>, name: &str, kind: &LinkKind) -> Option<Result<Device>> {
         let tag = match name {
             "REGFILE-A" => 0xA1,
             "REGFILE-B" => 0xB2,
@@ -246,10 +223,10 @@ address = 0x1E
         };
         let (file, regs) = RegisterFile::new(tag);
         handles.lock().unwrap().push((name.to_string(), regs));
-        Some(Ok(match kind {
-            LinkKind::Spi => Built::Spi(Box::new(file)),
-            LinkKind::I2c => Built::I2c(Box::new(file)),
-            LinkKind::Uart => return Some(Err(Error::Profile("not a UART part".into()))),
+        Some(Ok(match kind.name {
+            "spi" => Device::new::<dyn SpiSlave + Send>(Box::new(file)),
+            "i2c" => Device::new::<dyn I2cTarget + Send>(Box::new(file)),
+            _ => return Some(Err(Error::Profile("not a UART part".into()))),
         }))
     }
 
@@ -310,7 +287,7 @@ address = 0x1E
     #[test]
     fn the_reference_board_has_only_the_sensor() {
         let links = BoardLinks::from_profile(&Profile::default(), &known_parts, true).unwrap();
-        assert!(links.is_empty() && links.spi.is_none() && links.i2c.is_none() && links.sci.is_none());
+        assert!(links.is_empty() && links.links.is_empty());
         let all = BoardLinks::from_profile(&Profile::default(), &known_parts, false).unwrap();
         assert_eq!(all.places, [("ADIS16407".to_string(), "spi-a".to_string(), Address::ChipSelect(57))]);
     }

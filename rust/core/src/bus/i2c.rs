@@ -12,10 +12,10 @@
 //! (`i2c_stretch_ignored`). The bit level (`i2c_bits.rs`) walks the same traffic on SCL and SDA.
 //! Not modelled: arbitration, bus clear.
 
-use super::{Address, Link, Transfer};
+use super::{Address, Device, Link, Transfer};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
-use crate::profile::I2cBus;
+use crate::profile::{Board, BoardDevice, BoxedLink, Devices, I2cBus, LinkKind, Placed, Profile};
 use crate::time::Ps;
 
 /// The target (slave) side of an I²C link, at byte level.
@@ -39,6 +39,58 @@ pub trait I2cTarget {
     fn drain_events(&mut self) -> Vec<Event> {
         Vec::new()
     }
+}
+
+inventory::submit! {
+    LinkKind {
+        name: "i2c",
+        links: &["i2c-a"],
+        keys: &["address"],
+        section: Some(("i2c", Board::defaults_of::<I2cBus>)),
+        place: address,
+        check: check_bus,
+        fits: Device::is::<dyn I2cTarget + Send>,
+        build: i2c_a,
+    }
+}
+
+/// An I²C device's place: its 7-bit address (`address = 0x19`). 0x00-0x07 and 0x78-0x7F are
+/// reserved [UM10204, unconfirmed here].
+fn address(d: &BoardDevice) -> Placed {
+    let expected = || "a 7-bit address 0x08…0x77".to_string();
+    match d.keys.get("address") {
+        None => Err(("address", "(missing)".into(), expected())),
+        Some(v) => match v.as_integer().and_then(|a| u8::try_from(a).ok()) {
+            Some(a @ 0x08..=0x77) => Ok(Address::I2c(a)),
+            _ => Err(("address", v.to_string(), expected())),
+        },
+    }
+}
+
+/// `[board.i2c]`: phases the master can make and the fast mode allows.
+fn check_bus(board: &Board) -> Result<()> {
+    let i2c: I2cBus = board.section("i2c")?;
+    let period = u64::from(i2c.scl_low_ns) + u64::from(i2c.scl_high_ns);
+    if i2c.scl_low_ns == 0 || i2c.scl_high_ns == 0 || period < 2_500 {
+        return Err(Error::Profile(format!(
+            "key `board.i2c` = SCL low {} ns, high {} ns: expected phases of at least 1 ns and a period of at \
+             least 2 500 ns (fast mode: 400 kHz at most, i2c.md)",
+            i2c.scl_low_ns, i2c.scl_high_ns
+        )));
+    }
+    Ok(())
+}
+
+/// I2C-A with its targets by address, at `[board.i2c]`'s SCL phases.
+fn i2c_a(profile: &Profile, link: &str, devices: Devices) -> Result<BoxedLink> {
+    let mut targets = Vec::new();
+    for (address, device) in devices {
+        match (address, device.take::<dyn I2cTarget + Send>()) {
+            (Address::I2c(a), Some(target)) => targets.push((a, target)),
+            _ => return Err(Error::Profile(format!("{link}: the device at {address} is not an I²C target"))),
+        }
+    }
+    Ok(Box::new(I2cLink::new(&profile.board.section("i2c")?, targets)))
 }
 
 /// The minimum phases of one I²C mode (i2c.md, Table 10 as reproduced), ps.

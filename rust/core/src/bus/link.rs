@@ -6,7 +6,7 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{
-    bitlevel, transaction, Address, BusLevel, Exchange, FrameTiming, Lines, Link, RunTiming, SpiSlave, Transfer,
+    bitlevel, transaction, Address, BusLevel, Device, Exchange, FrameTiming, Lines, Link, RunTiming, SpiSlave, Transfer,
 };
 use crate::dsp::spi::{
     self, CharShape, FlagTime, Frame, FrameRun, PollSteps, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF,
@@ -14,7 +14,7 @@ use crate::dsp::spi::{
 use crate::dsp::DspClocks;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
-use crate::profile::{self, Profile};
+use crate::profile::{self, BoardDevice, BoxedLink, Devices, LinkKind, Placed, Profile};
 use crate::time::{Clock, Ps};
 
 /// One frame on the wires, as logged.
@@ -625,4 +625,47 @@ impl Link for SpiLink<ChipSelects> {
         e.extend(self.slave_mut().drain_events());
         e
     }
+}
+
+inventory::submit! {
+    LinkKind {
+        name: "spi",
+        links: &["spi-a"],
+        keys: &["chip_select"],
+        section: None,
+        place: chip_select,
+        check: |_| Ok(()),
+        fits: Device::is::<dyn SpiSlave + Send>,
+        build: spi_a,
+    }
+}
+
+/// The highest GPIO number of the F28335 (GPIO0…GPIO87).
+const LAST_GPIO: u8 = 87;
+
+/// An SPI device's place: the GPIO the firmware drives as its chip select (`chip_select = "GPIO58"`).
+fn chip_select(d: &BoardDevice) -> Placed {
+    let value = d.keys.get("chip_select");
+    let gpio = value
+        .and_then(|v| v.as_str())
+        .and_then(|t| t.strip_prefix("GPIO"))
+        .and_then(|n| n.parse::<u8>().ok().filter(|&g| g <= LAST_GPIO && (n == "0" || !n.starts_with('0'))));
+    gpio.map(Address::ChipSelect).ok_or_else(|| {
+        let given = value.map_or("\"\"".to_string(), |v| v.to_string());
+        ("chip_select", given, "\"GPIO0\" … \"GPIO87\"".to_string())
+    })
+}
+
+/// SPI-A with its devices by chip select, initialised as InitSpi leaves it at power-on.
+fn spi_a(profile: &Profile, link: &str, devices: Devices) -> Result<BoxedLink> {
+    let mut slaves = Vec::new();
+    for (address, device) in devices {
+        match (address, device.take::<dyn SpiSlave + Send>()) {
+            (Address::ChipSelect(gpio), Some(slave)) => slaves.push((gpio, slave)),
+            _ => return Err(Error::Profile(format!("{link}: the device at {address} is not an SPI slave"))),
+        }
+    }
+    let mut spi = SpiLink::from_profile(profile, ChipSelects::new(slaves))?;
+    spi.init_from_profile(&profile.spi, 0)?;
+    Ok(Box::new(spi))
 }

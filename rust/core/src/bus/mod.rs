@@ -11,69 +11,25 @@
 //! a transaction level (one computation per frame, the fast path) and a bit level (every SCLK edge).
 
 pub mod bitlevel;
+pub mod door;
 pub mod i2c;
 pub mod i2c_bits;
 pub mod link;
+#[cfg(test)]
+mod tests_kind;
 pub mod transaction;
 pub mod uart;
 pub mod uart_bits;
 
 pub use crate::profile::BusLevel;
+pub use door::{Address, Device, Link, Transfer};
 pub use link::{ChipSelects, FrameRecord, LinkRecord, SpiLink};
 
 use crate::dsp::spi::closest_spacing;
-use crate::error::Result;
 use crate::events::Event;
 use crate::time::Ps;
 use std::ops::Range;
 use transaction::TimingOf;
-
-/// Where a device sits on its link: how the MCU side addresses it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Address {
-    /// SPI: the GPIO number driven as the device's chip select (`GPIO57` → 57).
-    ChipSelect(u8),
-    /// I²C: the device's 7-bit address.
-    I2c(u8),
-    /// UART: the link's one peer (a UART has no addressing; the port is the link itself).
-    Port,
-}
-
-impl std::fmt::Display for Address {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Address::ChipSelect(gpio) => write!(f, "chip select GPIO{gpio}"),
-            Address::I2c(a) => write!(f, "address 0x{a:02X}"),
-            Address::Port => write!(f, "the port's peer"),
-        }
-    }
-}
-
-/// What one transaction on a link took.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Transfer {
-    /// When the transaction began on the wires (CS↓, START, the first start bit).
-    pub start: Ps,
-    /// When it ended (CS↑, STOP, the last stop bit).
-    pub end: Ps,
-    /// Whether the device took part throughout (I²C: every byte ACKed; UART: every byte asked for
-    /// came; SPI: always).
-    pub complete: bool,
-}
-
-/// The narrow door common to every link kind: what the firmware's drivers need of a link.
-pub trait Link {
-    /// One transaction with the device at `to`, beginning at `t`: the words of `tx` go out and `rx`
-    /// is filled with what comes back. SPI: one frame per word under the device's chip select
-    /// (`rx.len() == tx.len()`); I²C: a write of the `tx` bytes, then, if `rx` is not empty, a
-    /// repeated START and a read of `rx.len()` bytes, then STOP; UART: the `tx` bytes sent, then the
-    /// next `rx.len()` bytes the peer sends. Bytes travel in the low 8 bits of each word.
-    /// An address no device answers to is an error (SPI, UART: the wiring is the profile's) or a
-    /// NACK (I²C: the protocol's answer, reported as an event).
-    fn transfer(&mut self, to: Address, tx: &[u16], rx: &mut [u16], t: Ps) -> Result<Transfer>;
-    /// Take the link's events out.
-    fn drain_events(&mut self) -> Vec<Event>;
-}
 
 /// What the wires show the slave about one frame, computed by the bus from the master's registers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,10 +6,10 @@
 //! MCU sends with its stop bit's end, back to back, and takes the peer's bytes at the end of theirs.
 //! Not modelled: the SCI's receive buffer and its overrun rule (the MCU's side), parity, break.
 
-use super::{Address, Link, Transfer};
+use super::{Address, Device, Link, Transfer};
 use crate::error::{Error, Result};
 use crate::events::Event;
-use crate::profile::SciPort;
+use crate::profile::{Board, BoxedLink, Devices, LinkKind, Profile, SciPort};
 use crate::time::Ps;
 
 /// The peer of a UART link.
@@ -23,6 +23,40 @@ pub trait UartPeer {
     fn drain_events(&mut self) -> Vec<Event> {
         Vec::new()
     }
+}
+
+inventory::submit! {
+    LinkKind {
+        name: "uart",
+        links: &["sci-a"],
+        keys: &[],
+        section: Some(("sci", Board::defaults_of::<SciPort>)),
+        place: |_| Ok(Address::Port),
+        check: check_port,
+        fits: Device::is::<dyn UartPeer + Send>,
+        build: sci_a,
+    }
+}
+
+/// `[board.sci]`: a baud rate the SCI can make.
+fn check_port(board: &Board) -> Result<()> {
+    let baud = board.section::<SciPort>("sci")?.baud;
+    if !(300..=1_000_000).contains(&baud) {
+        return Err(Error::Profile(format!("key `board.sci.baud` = {baud}: expected 300 … 1 000 000 bits per second")));
+    }
+    Ok(())
+}
+
+/// SCI-A with its peer, at `[board.sci]`'s baud rate.
+fn sci_a(profile: &Profile, link: &str, devices: Devices) -> Result<BoxedLink> {
+    let mut peer = None;
+    for (address, device) in devices {
+        match (address, device.take::<dyn UartPeer + Send>()) {
+            (Address::Port, Some(p)) if peer.is_none() => peer = Some(p),
+            _ => return Err(Error::Profile(format!("{link}: the device at {address} is not its one peer"))),
+        }
+    }
+    Ok(Box::new(UartLink::new(&profile.board.section("sci")?, peer)))
 }
 
 /// Bit times per character: start, 8 data, 1 stop (8N1).

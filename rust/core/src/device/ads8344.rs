@@ -494,9 +494,9 @@ impl Ads8344 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::board::links::{known_parts, BoardLinks, Built};
-    use crate::bus::{Address, BusLevel, Link, LinkRecord};
-    use crate::profile::{LinkKind, Profile};
+    use crate::board::links::{known_parts, BoardLinks};
+    use crate::bus::{Address, BusLevel, ChipSelects, Device, Link, LinkRecord, SpiLink, SpiSlave};
+    use crate::profile::{link_kind, LinkKind, Profile};
 
     /// A frame of `bits` clocks of `period` ps, its first edge at `first`, SPI mode `mode`.
     fn frame(first: Ps, period: Ps, bits: u8, mode: u8) -> FrameTiming {
@@ -659,8 +659,10 @@ mod tests {
         // 8-bit characters: the profile's own check still ties SPICHAR to the `[device]` ADIS part
         // (16-bit), so the registers are set past it here.
         (profile.spi.spiccr, profile.spi.spibrr) = (0x00C7, 15);
-        let catalogue = |name: &str, _kind: LinkKind| {
-            (name == "ADS8344").then(|| Ok(Built::Spi(Box::new(Ads8344::new(Ads8344Config::default(), ramp())))))
+        let catalogue = |name: &str, _kind: &LinkKind| {
+            (name == "ADS8344").then(|| {
+                Ok(Device::new::<dyn SpiSlave + Send>(Box::new(Ads8344::new(Ads8344Config::default(), ramp()))))
+            })
         };
         let mut links = BoardLinks::from_profile(&profile, &catalogue, true).unwrap();
         let spi = links.link("spi-a").unwrap();
@@ -678,8 +680,9 @@ mod tests {
             assert_eq!(rx[1] << 9 | rx[2] << 1 | rx[3] >> 7, adc.code_of(0.1 + 0.25 * ch as f64).0, "CH{ch}");
         }
         assert!(spi.drain_events().is_empty());
-        assert!(matches!(known_parts("ADS8344", LinkKind::Spi), Some(Ok(Built::Spi(_)))));
-        assert!(matches!(known_parts("ADS8344", LinkKind::I2c), Some(Err(_))));
+        let (spi, i2c) = (link_kind("spi-a").unwrap(), link_kind("i2c-a").unwrap());
+        assert!(matches!(known_parts("ADS8344", spi), Some(Ok(d)) if d.is::<dyn SpiSlave + Send>()));
+        assert!(matches!(known_parts("ADS8344", i2c), Some(Err(_))));
     }
 
     /// CH0–CH6 at 0.1 V + 0.25 V·channel, CH7 tied to VREF/2 (1.25 V: code 32768), as the board wires it.
@@ -695,12 +698,10 @@ mod tests {
                     [[board.devices]]\npart = \"ADS8344\"\nlink = \"spi-a\"\nchip_select = \"GPIO58\"\n";
         let mut profile = Profile::from_toml(text, "geomag.toml", &[]).unwrap();
         (profile.spi.spiccr, profile.spi.spictl, profile.spi.spibrr, profile.spi.level) = (spiccr, spictl, 15, level);
-        let catalogue = |name: &str, _kind: LinkKind| {
-            (name == "ADS8344")
-                .then(|| Ok(Built::Spi(Box::new(Ads8344::new(Ads8344Config::default(), check_inputs())))))
-        };
-        let mut links = BoardLinks::from_profile(&profile, &catalogue, true).unwrap();
-        let spi = links.spi.as_mut().unwrap();
+        let adc: Box<dyn SpiSlave + Send> = Box::new(Ads8344::new(Ads8344Config::default(), check_inputs()));
+        let mut spi = SpiLink::from_profile(&profile, ChipSelects::new(vec![(58, adc)])).unwrap();
+        spi.init_from_profile(&profile.spi, 0).unwrap();
+        let spi = &mut spi;
         spi.enable_log();
         let (mut codes, mut t) = ([0u16; 8], 0);
         for (ch, code) in codes.iter_mut().enumerate() {

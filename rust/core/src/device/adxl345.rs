@@ -1013,9 +1013,11 @@ mod tests {
     /// A `[[board.devices]]` table places the part by name on SPI, and refuses it on another link.
     #[test]
     fn a_board_declaration_builds_the_part_on_spi() {
-        use crate::board::links::{known_parts, Built};
-        use crate::profile::LinkKind;
-        assert!(matches!(known_parts("adxl345", LinkKind::Spi), Some(Ok(Built::Spi(_)))));
-        assert!(matches!(known_parts("ADXL345", LinkKind::I2c), Some(Err(_))));
+        use crate::board::links::known_parts;
+        use crate::bus::SpiSlave;
+        use crate::profile::link_kind;
+        let (spi, i2c) = (link_kind("spi-a").unwrap(), link_kind("i2c-a").unwrap());
+        assert!(matches!(known_parts("adxl345", spi), Some(Ok(d)) if d.is::<dyn SpiSlave + Send>()));
+        assert!(matches!(known_parts("ADXL345", i2c), Some(Err(_))));
     }
 }

@@ -350,6 +350,8 @@ impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_drain;
+#[cfg(test)]
 mod tests_faults;
 #[cfg(test)]
 mod tests_replay;

@@ -1,46 +1,92 @@
-//! `[[board.devices]]`: which part sits on which link of the board, with its chip select (SPI) or
-//! address (I²C). The reference board declares one ADIS16407 on SPI-A, chip select GPIO57.
+//! `[[board.devices]]`: which part sits on which link of the board, with its place there (a chip
+//! select on SPI, an address on I²C). The reference board declares one ADIS16407 on SPI-A, chip
+//! select GPIO57.
 //!
-//! The F28335's links are SPI-A, I2C-A and SCI-A (UART). The device on SPI-A's GPIO57 is the sensor
-//! the firmware's ISR reads; any other device is built on its link by `board::links` and reached
-//! through `bus::Link`. Places are unique per link (a chip select, an address, a UART's one peer).
+//! The link kinds are not listed here: each kind's file under `bus/` declares a [`LinkKind`] (its
+//! link names, the keys that place a device on it, its `[board.<section>]`, how its link is built)
+//! and registers it with `inventory::submit!`; the profile validates the declarations against the
+//! registered kinds, and `board::links` builds them. The device on SPI-A's GPIO57 is the sensor
+//! the firmware's ISR reads; any other device is built on its link and reached through `bus::Link`.
+//! Places are unique per link.
 
 use super::sections::bad;
 use super::Profile;
+use crate::bus::door::{Address, Device, Link};
 use crate::device::parts::spi_needs::{spi_needs, SpiNeeds};
 use crate::error::{Error, Result};
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-/// The kind of a link, from its name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LinkKind {
-    /// SPI: 16-bit frames under a chip select.
-    Spi,
-    /// I²C: addressed byte transfers.
-    I2c,
-    /// UART (the F28335's SCI): asynchronous bytes.
-    Uart,
+/// A kind of link (SPI, I²C, UART, …), declared in its own file under `bus/` and registered there:
+/// `inventory::submit! { LinkKind { … } }`. What the profile and the board need of the kind, so
+/// that neither lists the kinds (a new kind is its file and its `mod` line in `bus/mod.rs`).
+pub struct LinkKind {
+    /// The kind's name ("spi", "i2c", "uart"), as messages give it.
+    pub name: &'static str,
+    /// The board's links of this kind, as `board.devices[].link` names them (`spi-a`).
+    pub links: &'static [&'static str],
+    /// The keys beside `part` and `link` that place a device on such a link (`chip_select`).
+    pub keys: &'static [&'static str],
+    /// The kind's section `[board.<name>]` and its keys with their defaults (`None`: no section).
+    pub section: Option<Section>,
+    /// The device's place on its link from its declaration's keys; the error is the key (one of
+    /// `keys`), the value given and what was expected.
+    pub place: fn(&BoardDevice) -> Placed,
+    /// Check the kind's section of the board (an error names its key).
+    pub check: fn(&Board) -> Result<()>,
+    /// Whether a built device is one of this kind's (its device trait object).
+    pub fits: fn(&Device) -> bool,
+    /// The link named `link` with its devices at their places.
+    pub build: fn(&Profile, &str, Devices) -> Result<BoxedLink>,
 }
 
-/// The board's links by name, and their kind.
-pub const LINKS: [(&str, LinkKind); 3] =
-    [("spi-a", LinkKind::Spi), ("i2c-a", LinkKind::I2c), ("sci-a", LinkKind::Uart)];
+inventory::collect!(LinkKind);
+
+/// A device's place on its link ([`LinkKind::place`]), or why not: the key, the value given and
+/// what was expected.
+pub type Placed = std::result::Result<Address, (&'static str, String, String)>;
+
+/// A kind's section: its name under `board.` and its keys with their defaults.
+pub type Section = (&'static str, fn() -> toml::Table);
+
+/// The devices of one link at their places, as the board hands them to [`LinkKind::build`].
+pub type Devices = Vec<(Address, Device)>;
+
+/// A built link.
+pub type BoxedLink = Box<dyn Link + Send>;
+
+/// The registered link kinds, by name (the registry's order is the linker's).
+pub fn link_kinds() -> Vec<&'static LinkKind> {
+    let mut kinds: Vec<&'static LinkKind> = inventory::iter::<LinkKind>.into_iter().collect();
+    kinds.sort_by_key(|k| k.name);
+    kinds
+}
+
+/// The kind of the link named `link` (`None`: no registered kind has it).
+pub fn link_kind(link: &str) -> Option<&'static LinkKind> {
+    inventory::iter::<LinkKind>.into_iter().find(|k| k.links.contains(&link))
+}
+
+/// Every link name of the registered kinds, sorted.
+pub fn link_names() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = link_kinds().iter().flat_map(|k| k.links.iter().copied()).collect();
+    names.sort_unstable();
+    names
+}
 
 /// The board's composition.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct Board {
     /// The devices and where each sits.
     pub devices: Vec<BoardDevice>,
-    /// I2C-A's clock (`[board.i2c]`; absent: the defaults of [`I2cBus`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub i2c: Option<I2cBus>,
-    /// SCI-A's line (`[board.sci]`; absent: the defaults of [`SciPort`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub sci: Option<SciPort>,
+    /// The link kinds' sections as given (`[board.i2c]`, `[board.sci]`: [`LinkKind::section`]),
+    /// read by their kinds ([`Board::section`]); an unknown section is refused by the key check.
+    #[serde(flatten)]
+    pub sections: toml::Table,
 }
 
-/// I2C-A, the master's SCL phases. The defaults are 100 kHz with equal halves: the HMC6343's bus
+/// I2C-A's section `[board.i2c]` (the I²C kind's, `bus/i2c.rs`), the master's SCL phases. The defaults are 100 kHz with equal halves: the HMC6343's bus
 /// rate (i2c.md, hmc6343.md); the split of the master's period into low and high is
 /// [unconfirmed] (the F28335's ICCL/ICCH setting of a board that uses it is not at hand).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -58,7 +104,7 @@ impl Default for I2cBus {
     }
 }
 
-/// SCI-A, the UART line: 8 data bits, no parity, 1 stop bit, at `baud`. The default 19 200 is the
+/// SCI-A's section `[board.sci]` (the UART kind's, `bus/uart.rs`), the UART line: 8 data bits, no parity, 1 stop bit, at `baud`. The default 19 200 is the
 /// GPS line of the gyro-free board (gps-nmea.md: 19200 8N1; the stop-bit count is [unconfirmed]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -75,25 +121,19 @@ impl Default for SciPort {
 
 /// One device on one link.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct BoardDevice {
     /// The part (as `device.part` names it for the sensor on SPI-A).
     pub part: String,
-    /// The link it sits on (`spi-a`, `i2c-a`, `sci-a`).
+    /// The link it sits on (a name of a registered kind's [`LinkKind::links`]).
     pub link: String,
-    /// SPI: the GPIO the firmware drives as its chip select (`GPIO0`…`GPIO87`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub chip_select: Option<String>,
-    /// I²C: its 7-bit address.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub address: Option<u8>,
+    /// Its place on the link, in its kind's keys ([`LinkKind::keys`]: `chip_select = "GPIO58"` on
+    /// SPI, `address = 0x19` on I²C, none on a UART).
+    #[serde(flatten)]
+    pub keys: toml::Table,
 }
 
 /// The chip select the acquisition ISR drives: the sensor's (GPIO57 on the F28335 boards).
 pub const SENSOR_CHIP_SELECT: u8 = 57;
-
-/// The highest GPIO number of the F28335 (GPIO0…GPIO87).
-const LAST_GPIO: u8 = 87;
 
 impl Default for Board {
     fn default() -> Self {
@@ -101,25 +141,23 @@ impl Default for Board {
             devices: vec![BoardDevice {
                 part: "ADIS16407".into(),
                 link: "spi-a".into(),
-                chip_select: Some("GPIO57".into()),
-                address: None,
+                keys: toml::Table::from_iter([("chip_select".to_string(), toml::Value::from("GPIO57"))]),
             }],
-            i2c: None,
-            sci: None,
+            sections: toml::Table::new(),
         }
     }
 }
 
 impl BoardDevice {
-    /// The link's kind (the profile is validated: the link is one of [`LINKS`]).
-    pub fn kind(&self) -> Option<LinkKind> {
-        LINKS.iter().find(|(n, _)| *n == self.link).map(|&(_, k)| k)
+    /// The link's kind (`None`: no registered kind has the link).
+    pub fn kind(&self) -> Option<&'static LinkKind> {
+        link_kind(&self.link)
     }
 
-    /// The chip select's GPIO number (`"GPIO58"` → 58).
-    pub fn chip_select_gpio(&self) -> Option<u8> {
-        let n = self.chip_select.as_deref()?.strip_prefix("GPIO")?;
-        n.parse::<u8>().ok().filter(|&g| g <= LAST_GPIO && (n == "0" || !n.starts_with('0')))
+    /// Its place on its link (`None`: an unknown link or a bad place; the validated profile has
+    /// none).
+    pub fn place(&self) -> Option<Address> {
+        (self.kind()?.place)(self).ok()
     }
 }
 
@@ -127,7 +165,7 @@ impl Board {
     /// The device on SPI-A's chip select GPIO57 (the one the firmware's ISR reads), once the profile
     /// is validated.
     pub fn spi_device(&self) -> Option<&BoardDevice> {
-        self.devices.iter().find(|d| d.link == "spi-a" && d.chip_select_gpio() == Some(SENSOR_CHIP_SELECT))
+        self.devices.iter().find(|d| d.link == "spi-a" && d.place() == Some(Address::ChipSelect(SENSOR_CHIP_SELECT)))
     }
 
     /// What the part on the acquisition chip select needs of SPI-A (its data sheet's character
@@ -151,14 +189,30 @@ impl Board {
         Ok(())
     }
 
-    /// I2C-A's SCL phases (declared or default).
-    pub fn i2c_bus(&self) -> I2cBus {
-        self.i2c.unwrap_or_default()
+    /// The section `[board.<name>]` as `T` (absent: `T::default()`); an error names the key.
+    pub fn section<T: DeserializeOwned + Default>(&self, name: &str) -> Result<T> {
+        let Some(value) = self.sections.get(name) else { return Ok(T::default()) };
+        serde_path_to_error::deserialize(value.clone()).map_err(|e| {
+            let path = e.path().to_string();
+            let key = if path == "." { format!("board.{name}") } else { format!("board.{name}.{path}") };
+            Error::Profile(format!("key `{key}`: {}", e.inner().to_string().trim()))
+        })
     }
 
-    /// SCI-A's line (declared or default).
-    pub fn sci_port(&self) -> SciPort {
-        self.sci.unwrap_or_default()
+    /// Every registered kind's section keys with their defaults, dotted (`board.i2c.scl_low_ns`).
+    pub(crate) fn section_keys() -> Vec<String> {
+        let mut out = Vec::new();
+        for kind in link_kinds() {
+            if let Some((name, defaults)) = kind.section {
+                out.extend(defaults().into_iter().map(|(k, _)| format!("board.{name}.{k}")));
+            }
+        }
+        out
+    }
+
+    /// A section's defaults as a table (for [`LinkKind::section`]).
+    pub fn defaults_of<T: Serialize + Default>() -> toml::Table {
+        toml::Value::try_from(T::default()).ok().and_then(|v| v.as_table().cloned()).unwrap_or_default()
     }
 
     pub(crate) fn validate(&self, profile: &Profile) -> Result<()> {
@@ -169,72 +223,55 @@ impl Board {
                     .into(),
             ));
         }
-        let mut taken: Vec<(&str, String)> = Vec::new();
+        let mut taken: Vec<(&str, Address)> = Vec::new();
         for (i, d) in self.devices.iter().enumerate() {
             let key = |field: &str| format!("board.devices[{i}].{field}");
-            let names = LINKS.map(|(n, _)| format!("\"{n}\"")).join(", ");
             let Some(kind) = d.kind() else {
-                return Err(bad(&key("link"), format!("\"{}\"", d.link), &format!("one of {names}")));
+                let names: Vec<String> = link_names().iter().map(|n| format!("\"{n}\"")).collect();
+                return Err(bad(&key("link"), format!("\"{}\"", d.link), &format!("one of {}", names.join(", "))));
             };
             if d.part.trim().is_empty() {
                 return Err(bad(&key("part"), "\"\"", "a part name"));
             }
-            let place = match kind {
-                LinkKind::Spi => {
-                    if let Some(a) = d.address {
-                        return Err(bad(&key("address"), a, "no address on an SPI link (a chip select)"));
-                    }
-                    let cs = d.chip_select.as_deref().unwrap_or("");
-                    let Some(gpio) = d.chip_select_gpio() else {
-                        return Err(bad(&key("chip_select"), format!("\"{cs}\""), "\"GPIO0\" … \"GPIO87\""));
-                    };
-                    // The ADIS16xxx part the ISR reads is configured by `[device]`; another
-                    // family's part there is read by its own application (`firmware.application`).
-                    let adis = crate::device::parts::by_name(&d.part).is_some();
-                    let reads_adis = profile.firmware.application == "adis-burst";
-                    if gpio == SENSOR_CHIP_SELECT && (adis || reads_adis) && d.part != profile.device.part {
-                        return Err(bad(
-                            &key("part"),
-                            format!("\"{}\"", d.part),
-                            &format!(
-                                "the part `device.part` configures (\"{}\"): the ISR reads the device on GPIO57",
-                                profile.device.part
-                            ),
-                        ));
-                    }
-                    (key("chip_select"), format!("GPIO{gpio}"))
+            if let Some(k) = d.keys.keys().find(|k| !kind.keys.contains(&k.as_str())) {
+                let expected = match kind.keys {
+                    [] => format!("no key beside `part` and `link` on `{}` (a {} link)", d.link, kind.name),
+                    keys => format!("`{}` on `{}` (a {} link)", keys.join("`, `"), d.link, kind.name),
+                };
+                return Err(bad(&key(k), "(given)", &expected));
+            }
+            let place = (kind.place)(d).map_err(|(k, value, expected)| bad(&key(k), value, &expected))?;
+            // The ADIS16xxx part the ISR reads is configured by `[device]`; another family's part
+            // there is read by its own application (`firmware.application`).
+            if d.link == "spi-a" && place == Address::ChipSelect(SENSOR_CHIP_SELECT) {
+                let adis = crate::device::parts::by_name(&d.part).is_some();
+                let reads_adis = profile.firmware.application == "adis-burst";
+                if (adis || reads_adis) && d.part != profile.device.part {
+                    return Err(bad(
+                        &key("part"),
+                        format!("\"{}\"", d.part),
+                        &format!(
+                            "the part `device.part` configures (\"{}\"): the ISR reads the device on GPIO57",
+                            profile.device.part
+                        ),
+                    ));
                 }
-                LinkKind::I2c => {
-                    if let Some(cs) = &d.chip_select {
-                        return Err(bad(
-                            &key("chip_select"),
-                            format!("\"{cs}\""),
-                            "no chip select on I²C (an address)",
-                        ));
-                    }
-                    // 0x00-0x07 and 0x78-0x7F are reserved [UM10204, unconfirmed here].
-                    match d.address {
-                        Some(a @ 0x08..=0x77) => (key("address"), format!("0x{a:02X}")),
-                        Some(a) => return Err(bad(&key("address"), a, "a 7-bit address 0x08…0x77")),
-                        None => return Err(bad(&key("address"), "(missing)", "a 7-bit address 0x08…0x77")),
-                    }
-                }
-                LinkKind::Uart => {
-                    if d.chip_select.is_some() || d.address.is_some() {
-                        let field = if d.address.is_some() { "address" } else { "chip_select" };
-                        return Err(bad(&key(field), "(given)", "nothing: a UART has one peer"));
-                    }
-                    (key("link"), "its peer".to_string())
-                }
-            };
-            if taken.iter().any(|(link, p)| *link == d.link && *p == place.1) {
+            }
+            if taken.iter().any(|(link, p)| *link == d.link && *p == place) {
+                let (field, value) = match place {
+                    Address::ChipSelect(gpio) => ("chip_select", format!("GPIO{gpio}")),
+                    Address::I2c(a) => ("address", format!("0x{a:02X}")),
+                    Address::Port => ("link", "its peer".to_string()),
+                    Address::Id(n) => ("link", n.to_string()),
+                };
+                let field = kind.keys.first().copied().unwrap_or(field);
                 return Err(bad(
-                    &place.0,
-                    &place.1,
+                    &key(field),
+                    value,
                     &format!("a place on `{}` no other device of `board.devices` takes", d.link),
                 ));
             }
-            taken.push((&d.link, place.1));
+            taken.push((&d.link, place));
         }
         if self.spi_device().is_none() {
             return Err(bad(
@@ -246,17 +283,8 @@ impl Board {
                 ),
             ));
         }
-        let i2c = self.i2c_bus();
-        let period = u64::from(i2c.scl_low_ns) + u64::from(i2c.scl_high_ns);
-        if i2c.scl_low_ns == 0 || i2c.scl_high_ns == 0 || period < 2_500 {
-            return Err(bad(
-                "board.i2c",
-                format!("SCL low {} ns, high {} ns", i2c.scl_low_ns, i2c.scl_high_ns),
-                "phases of at least 1 ns and a period of at least 2 500 ns (fast mode: 400 kHz at most, i2c.md)",
-            ));
-        }
-        if !(300..=1_000_000).contains(&self.sci_port().baud) {
-            return Err(bad("board.sci.baud", self.sci_port().baud, "300 … 1 000 000 bits per second"));
+        for kind in link_kinds() {
+            (kind.check)(self)?;
         }
         Ok(())
     }

@@ -8,7 +8,10 @@ mod faults;
 mod geomag;
 mod sections;
 
-pub use board::{Board, BoardDevice, I2cBus, LinkKind, SciPort, LINKS, SENSOR_CHIP_SELECT};
+pub use board::{
+    link_kind, link_kinds, link_names, Board, BoardDevice, BoxedLink, Devices, I2cBus, LinkKind, Placed, SciPort,
+    Section, SENSOR_CHIP_SELECT,
+};
 pub use faults::*;
 pub use geomag::{AxisCal, Geomag};
 pub use sections::*;
@@ -100,13 +103,8 @@ impl Profile {
         let value = toml::Value::try_from(Profile::default()).unwrap_or(toml::Value::Table(Default::default()));
         let mut keys = Vec::new();
         flatten_keys(&value, "", &mut keys);
-        // Optional tables, absent from the defaults' text (the reference profile stays as it is).
-        let optional = Board { i2c: Some(I2cBus::default()), sci: Some(SciPort::default()), devices: vec![] };
-        if let Ok(v) = toml::Value::try_from(optional) {
-            let mut more = Vec::new();
-            flatten_keys(&v, "board", &mut more);
-            keys.extend(more.into_iter().filter(|k| !k.starts_with("board.devices")));
-        }
+        // The link kinds' sections, absent from the defaults' text (the reference profile stays as it is).
+        keys.extend(Board::section_keys());
         keys.push("firmware.application".into());
         // Its optional keys too (absent from the defaults' text).
         if let Ok(v) = toml::Value::try_from(Geomag { gyro_delay_s: Some(0.0), ..Geomag::default() }) {
