@@ -14,15 +14,26 @@ RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find ru
 PYTEST_WORKERS ?= 2
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test test-rust test-python lint fmt bench clean golden docs wheel
+.PHONY: demo test test-rust test-rust-built test-python lint fmt bench clean golden docs wheel
 
 demo: $(BUILT)
 	$(BIN)/sins-fw demo
 
-test: test-rust test-python
+# The two Rust builds `make test` needs, the Rust tests (`release`) and the extension (`dist`: fat LTO in
+# one codegen unit, whose long single-threaded compile and link of the core leave a core idle), run at
+# the same time, sharing make's two job slots with the cargo processes (`+`: cargo reads make's
+# jobserver, so two compilers run at a time, not four); then the tests run.
+CARGO_TEST := cargo test --workspace --release
+
+test:
+	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT)
+	$(MAKE) --no-print-directory test-rust test-python
+
+test-rust-built:
+	+$(CARGO_TEST) --no-run
 
 test-rust:
-	cargo test --workspace --release
+	$(CARGO_TEST)
 
 test-python: $(BUILT)
 	$(BIN)/pytest -q -m "not alone" -n $(PYTEST_WORKERS) --dist loadscope
@@ -74,5 +85,5 @@ $(DEPS): requirements.txt | $(VENV)/bin/python
 	touch $@
 
 $(BUILT): $(DEPS) $(RUST_SOURCES)
-	VIRTUAL_ENV=$(abspath $(VENV)) $(BIN)/maturin develop --profile dist --quiet
+	+VIRTUAL_ENV=$(abspath $(VENV)) $(BIN)/maturin develop --profile dist --quiet
 	touch $@
