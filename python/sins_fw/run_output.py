@@ -17,10 +17,10 @@ import numpy as np
 
 from sins_fw import _core
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate, has_dcm, has_wing
+from sins_fw.harness import PS, Run, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
-from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, write_table
+from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, rate_text, write_table
 from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth
 
 RUN_FORMAT = "sins-fw-run-output/1"
@@ -274,7 +274,7 @@ class RawWriter(_Deferred):
 
     def _header(self) -> tuple[Schema, dict[str, str]]:
         rate = Fraction(10**12, self._ticks[1] - self._ticks[0])
-        meta = {"sample_rate_hz": _rate_text(rate), **self.metadata}
+        meta = {"sample_rate_hz": rate_text(rate), **self.metadata}
         empty = RawRegisterTrace(
             t_s=np.zeros(0), words=np.zeros((0, _core.READ_WORDS), np.uint16), metadata=meta
         )

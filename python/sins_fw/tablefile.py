@@ -22,6 +22,7 @@ import re
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
+from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 from typing import IO, Any, Protocol
@@ -414,8 +415,17 @@ def rate_of_step(step: float) -> Fraction:
 
 
 def rate_text(rate: Fraction) -> str:
-    """A rate as the metadata writes it: ``819`` or ``4096/5`` (exact)."""
-    return str(rate.numerator) if rate.denominator == 1 else f"{rate.numerator}/{rate.denominator}"
+    """A rate as the metadata writes it, exact: a decimal when it has one (``250``, ``819.2``), else
+    ``num/den`` (``2000/7``)."""
+    den = rate.denominator
+    while den % 2 == 0:
+        den //= 2
+    while den % 5 == 0:
+        den //= 5
+    if den != 1:
+        return f"{rate.numerator}/{rate.denominator}"
+    text = f"{Decimal(rate.numerator) / Decimal(rate.denominator):f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
 
 
 def _time_hint(step: float, t: Field, want_hz: float | None) -> str:
