@@ -10,11 +10,14 @@ import sys
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sins_fw.errors import CheckFailed, ProfileError
 from sins_fw.profile import Profile, load_profile, resolve_profile_path
 from sins_fw.traces import ReadOptions
+
+if TYPE_CHECKING:
+    from sins_fw.synth import Param
 
 #: What exit status 1 means for a command that emulates a run (`run`, `replay`, `report`, `demo`).
 EVENTS_CHECK = (
@@ -144,6 +147,20 @@ def add_out_option(p: Any, help: str, **kwargs: Any) -> argparse.Action:
 def add_plot_option(p: Any, help: str, **kwargs: Any) -> argparse.Action:
     """`--plot FILE.png`: a picture drawn beside the command's result."""
     return add_option(p, "--plot", **{"type": Path, "metavar": "FILE.png", **kwargs, "help": help})
+
+
+def param_type(param: Param) -> Callable[[str], Any]:
+    """An argparse ``type`` parsing a value as ``param`` does (:meth:`sins_fw.synth.Param.parse`): a
+    bad value's message says what was expected; its name is the kind (``float``, ``floats``, ...)."""
+
+    def parse(text: str) -> Any:
+        try:
+            return param.parse(text)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+
+    parse.__name__ = param.kind
+    return parse
 
 
 def add_debug_option(p: argparse.ArgumentParser, *, top: bool = False) -> None:

@@ -6,24 +6,11 @@ from __future__ import annotations
 import argparse
 
 from sins_fw import spin_table
-from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, emit, exit_epilog, param_type
 from sins_fw.synth import Param
 
-_RATES = Param("rates_dps", "floats", spin_table.DEFAULT_RATES_DPS, "")
-
-
-def _rates(text: str) -> tuple[float, ...]:
-    return tuple(_RATES.parse(text))
-
-
-_rates.__name__ = "floats"
-
-
-def _float(text: str) -> float:
-    return float(Param("x", "float", 0.0, "").parse(text))
-
-
-_float.__name__ = "float"
+_RATES = param_type(Param("rates_dps", "floats", spin_table.DEFAULT_RATES_DPS, ""))
+_FLOAT = param_type(Param("x", "float", 0.0, ""))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -40,7 +27,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--rates-dps",
-        type=_rates,
+        type=_RATES,
         default=spin_table.DEFAULT_RATES_DPS,
         metavar="FLOATS",
         help="spin rates, °/s, comma-separated (0 < rate ≤ 1000; default 50,100,200,500,1000)",
@@ -48,32 +35,32 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--runs", type=int, default=20, help="sensor units per rate (default 20)")
     p.add_argument("--seed", type=int, default=0, help="the first unit's seed (default 0)")
     p.add_argument(
-        "--duration-s", type=_float, default=60.0, metavar="FLOAT", help="run length, s (default 60)"
+        "--duration-s", type=_FLOAT, default=60.0, metavar="FLOAT", help="run length, s (default 60)"
     )
     p.add_argument(
-        "--yaw-deg", type=_float, default=90.0, metavar="FLOAT", help="spin axis yaw, ° (default 90: north)"
+        "--yaw-deg", type=_FLOAT, default=90.0, metavar="FLOAT", help="spin axis yaw, ° (default 90: north)"
     )
     p.add_argument(
-        "--pitch-deg", type=_float, default=0.0, metavar="FLOAT", help="spin axis pitch, ° (default 0)"
+        "--pitch-deg", type=_FLOAT, default=0.0, metavar="FLOAT", help="spin axis pitch, ° (default 0)"
     )
     intensity, inclination, declination = spin_table.DEFAULT_FIELD
     p.add_argument(
         "--mag-intensity-gauss",
-        type=_float,
+        type=_FLOAT,
         default=intensity,
         metavar="FLOAT",
         help=f"the earth's field F, gauss (default {intensity})",
     )
     p.add_argument(
         "--mag-inclination-deg",
-        type=_float,
+        type=_FLOAT,
         default=inclination,
         metavar="FLOAT",
         help=f"its inclination I, ° down (default {inclination})",
     )
     p.add_argument(
         "--mag-declination-deg",
-        type=_float,
+        type=_FLOAT,
         default=declination,
         metavar="FLOAT",
         help=f"its declination D, ° east (default {declination})",
