@@ -60,6 +60,13 @@ def test_every_number_with_a_unit_names_the_unit():
             )
 
 
+def test_the_first_seed_of_a_series_of_runs_has_one_name():
+    for command, a in _options():
+        for opt in a.option_strings:
+            if "seed" in opt:
+                assert opt == "--first-seed", f"`{command} {opt}`: the first seed of --runs is --first-seed"
+
+
 def test_every_command_takes_debug_after_its_name():
     for command, p in walk_parsers(build_parser()):
         assert "--debug" in p._option_string_actions, f"`{command}` has no --debug"
@@ -72,6 +79,7 @@ def test_the_old_spellings_are_the_documented_ones():
         ("sins-fw report", "--png", "--out"),
         ("sins-fw bench", "--output", "--out"),
         ("sins-fw budget", "--seconds", "--duration-s"),
+        ("sins-fw spin-table", "--seed", "--first-seed"),
     }
 
 
@@ -92,6 +100,32 @@ WARNING = "is deprecated, use"
     ("old", "new"),
     [
         (["budget", "--seconds", "0.05", "--json"], ["budget", "--duration-s", "0.05", "--json"]),
+        (
+            [
+                "spin-table",
+                "--seed",
+                "3",
+                "--runs",
+                "1",
+                "--duration-s",
+                "0.5",
+                "--rates-dps",
+                "100",
+                "--json",
+            ],
+            [
+                "spin-table",
+                "--first-seed",
+                "3",
+                "--runs",
+                "1",
+                "--duration-s",
+                "0.5",
+                "--rates-dps",
+                "100",
+                "--json",
+            ],
+        ),
         (
             ["montecarlo", "static", "--param", "duration_s=0.5", "--runs", "1", "--workers", "1", "--json"],
             ["montecarlo", "static", "--param", "duration-s=0.5", "--runs", "1", "--workers", "1", "--json"],

@@ -163,6 +163,22 @@ def param_type(param: Param) -> Callable[[str], Any]:
     return parse
 
 
+def add_runs_options(
+    p: Any, runs: str, first_seed: str, *, default_first_seed: int = 1, **kwargs: Any
+) -> None:
+    """`--runs N` and `--first-seed S` (seeds S … S + N − 1): ``runs`` and ``first_seed`` say what a
+    run and its seed are; ``kwargs`` go to `--first-seed` (:func:`add_option`: ``formerly``)."""
+    p.add_argument("--runs", type=int, default=20, help=f"{runs} (default 20)")
+    add_option(
+        p,
+        "--first-seed",
+        type=int,
+        default=default_first_seed,
+        help=f"{first_seed} (default {default_first_seed})",
+        **kwargs,
+    )
+
+
 def add_debug_option(p: argparse.ArgumentParser, *, top: bool = False) -> None:
     """`--debug`, before or after the subcommand (a subcommand's copy leaves an earlier one alone)."""
     p.add_argument(

@@ -21,6 +21,7 @@ from sins_fw.cli.common import (
     add_out_option,
     add_plot_option,
     add_profile_options,
+    add_runs_options,
     deprecated,
     emit,
     engine_from_args,
@@ -57,8 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("scenario", help=f"`published` or a synth scenario: {', '.join(synth.SCENARIOS)}")
-    p.add_argument("--runs", type=int, default=20, help="realisations per case (default 20)")
-    p.add_argument("--first-seed", type=int, default=1, help="seed of the first realisation (default 1)")
+    add_runs_options(p, "realisations per case", "seed of the first realisation")
     add_realisation_options(p, plot_help="error bands over time and histograms")
     p.set_defaults(func=run)
 

@@ -13,6 +13,7 @@ from typing import Any
 from sins_fw import montecarlo as mc
 from sins_fw import sweep, synth
 from sins_fw.cli.common import (
+    add_runs_options,
     engine_from_args,
     exit_epilog,
     profile_from_args,
@@ -63,10 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar='"KEY=VALUE ..."',
         help="one grid point as profile overrides (repeatable: a list of points; with --grid, the product)",
     )
-    p.add_argument(
-        "--runs", type=int, default=20, help="seeds per grid point without errors.seed in --grid (20)"
-    )
-    p.add_argument("--first-seed", type=int, default=1, help="first seed with --runs (default 1)")
+    add_runs_options(p, "seeds per grid point without errors.seed in --grid", "first seed with --runs")
     add_realisation_options(p, plot_help="percentiles at each grid point")
     p.set_defaults(func=run)
 
