@@ -47,7 +47,7 @@ from sins_fw import synth
 from sins_fw.errors import InputError, ProfileError
 from sins_fw.harness import FEED_ROWS, PS, _chunks, _TruthWindow
 from sins_fw.profile import Profile
-from sins_fw.run_output import RUN_SCHEMA, RunWriter, _run_metadata
+from sins_fw.run_output import RUN_SCHEMA, RunWriter
 from sins_fw.tablefile import Column, Schema
 from sins_fw.traces import PhysicalTrace
 
@@ -791,11 +791,6 @@ class FirmwareRunWriter(RunWriter):
                     Column(g.column, g.unit, g.description or f"firmware global `{g.name}` after the ISR")
                 )
         self.schema = Schema(RUN_SCHEMA.title, RUN_SCHEMA.format, tuple(columns))
-
-    def _header(self) -> tuple[Schema, dict[str, str]]:
-        ticks = self._steps if len(self._steps) >= 2 else self._ticks
-        step_s = Fraction(ticks[1] - ticks[0], 10**12)
-        return self.schema, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
         cols = {"t_s": part["cycle_t_ps"].astype(np.float64) * PS}

@@ -231,6 +231,8 @@ class RunWriter(_Deferred):
     missing (an overrun drops one): gaps are allowed, as :func:`load_run` allows them."""
 
     _gaps = True
+    #: The columns written (a firmware run's writer declares its own).
+    schema = RUN_SCHEMA
 
     def __init__(
         self, path: str | os.PathLike[str], profile: Profile, t0_s: float, metadata: dict[str, str]
@@ -250,7 +252,7 @@ class RunWriter(_Deferred):
     def _header(self) -> tuple[Schema, dict[str, str]]:
         ticks = self._steps if len(self._steps) >= 2 else self._ticks
         step_s = Fraction(ticks[1] - ticks[0], 10**12)
-        return RUN_SCHEMA, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
+        return self.schema, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
         return _step_columns(part, has_dcm(self.profile), has_wing(self.profile))
