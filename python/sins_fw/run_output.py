@@ -6,7 +6,6 @@ shortest round-trip float text, one dataset per column, written atomically and b
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import json
 import os
 from fractions import Fraction
@@ -21,7 +20,7 @@ from sins_fw.harness import PS, Run, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
 from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, rate_text, write_table
-from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth
+from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth, file_sha256
 
 RUN_FORMAT = "sins-fw-run-output/1"
 
@@ -305,12 +304,6 @@ def trace_reference(trace: str | os.PathLike[str], out: str | os.PathLike[str]) 
         "trace_abs": str(t),
         "trace_sha256": file_sha256(t),
     }
-
-
-def file_sha256(path: str | os.PathLike[str]) -> str:
-    """The SHA-256 of a file's bytes (hex), read in blocks."""
-    with open(path, "rb") as fh:
-        return hashlib.file_digest(fh, "sha256").hexdigest()
 
 
 def resolve_trace(path: str | os.PathLike[str], meta: dict[str, str]) -> Path:
