@@ -26,7 +26,7 @@ from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from sins_fw import quaternion
-from sins_fw.atomic import atomic_path
+from sins_fw.atomic import save_png
 from sins_fw.harness import PS, Run
 from sins_fw.metrics import wrap_deg
 from sins_fw.profile import Profile
@@ -394,9 +394,5 @@ def save_report(
     """Render the report of ``run`` to a PNG at ``path`` (temporary file + rename)."""
     out = Path(path)
     fig, axes = report_figure(run, title=title)
-    try:
-        with atomic_path(out) as tmp:
-            fig.savefig(tmp, format="png", dpi=DPI)
-    finally:
-        plt.close(fig)
+    save_png(fig, out, DPI)
     return out, axes
