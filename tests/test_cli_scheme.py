@@ -155,3 +155,14 @@ def test_old_output_spellings_still_write_their_file(tmp_path):
     assert r.code == 2 and "--out" in r.err and "--png" not in r.err
     r = run_cli("report", str(short_trace), "--out", str(png), "--png", str(png))
     assert r.code == 2 and "not allowed" in r.err
+
+
+@pytest.mark.parametrize(
+    "command",
+    [["montecarlo", "static", "--plot"], ["sweep", "static", "--plot"], ["report", "x.h5", "--out"]],
+)
+def test_a_picture_that_is_no_png_is_refused_in_one_message(tmp_path, command):
+    r = run_cli(*command, str(tmp_path / "p.svg"))
+    assert (
+        r.code == 2 and f"{command[-1]} {tmp_path / 'p.svg'}: expected a file name ending in .png" in r.err
+    ), r.err

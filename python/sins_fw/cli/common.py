@@ -12,7 +12,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from sins_fw.errors import CheckFailed, ProfileError
+from sins_fw.errors import CheckFailed, InputError, ProfileError
 from sins_fw.profile import Profile, load_profile, resolve_profile_path
 from sins_fw.traces import ReadOptions
 
@@ -177,6 +177,12 @@ def add_runs_options(
         help=f"{first_seed} (default {default_first_seed})",
         **kwargs,
     )
+
+
+def check_png(path: str | Path | None, option: str) -> None:
+    """Refuse, before anything runs, a picture's file name that does not end in .png or is a folder."""
+    if path is not None and (Path(path).suffix.lower() != ".png" or Path(path).is_dir()):
+        raise InputError(f"{option} {path}: expected a file name ending in .png")
 
 
 def add_debug_option(p: argparse.ArgumentParser, *, top: bool = False) -> None:
@@ -345,7 +351,6 @@ def add_engine_options(p: argparse.ArgumentParser) -> None:
 
 def engine_from_args(args: argparse.Namespace) -> Any:
     """The engine the options ask for (a context manager; closing it stops a cluster it started)."""
-    from sins_fw.errors import InputError
     from sins_fw.montecarlo import make_engine
 
     if args.engine == "dask" and args.workers is not None:

@@ -22,6 +22,7 @@ from sins_fw.cli.common import (
     add_plot_option,
     add_profile_options,
     add_runs_options,
+    check_png,
     deprecated,
     emit,
     engine_from_args,
@@ -107,13 +108,6 @@ def scenario_case(name: str, preset: str | None, params: list[str]) -> mc.Case:
     return mc.Case(name, name, None, tuple(values.items()), (0.0, 0.0, 0.0))
 
 
-def check_plot(path: str | None) -> None:
-    if path is not None and Path(path).suffix.lower() != ".png":
-        raise InputError(f"--plot {path}: expected a .png file")
-    if path is not None and Path(path).is_dir():
-        raise InputError(f"--plot {path}: is a folder; expected a file name")
-
-
 def run(args: argparse.Namespace) -> int:
     from sins_fw import sweep
 
@@ -121,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--runs {args.runs}: expected at least 1")
     if args.out is not None:
         sweep.check_output(args.out)
-    check_plot(args.plot)
+    check_png(args.plot, "--plot")
     profile = profile_from_args(args).with_overrides(f"errors.preset={args.errors}")
     if args.scenario == "published":
         cases = mc.published_cases()

@@ -14,6 +14,7 @@ from sins_fw import montecarlo as mc
 from sins_fw import sweep, synth
 from sins_fw.cli.common import (
     add_runs_options,
+    check_png,
     engine_from_args,
     exit_epilog,
     profile_from_args,
@@ -22,7 +23,6 @@ from sins_fw.cli.common import (
 from sins_fw.cli.montecarlo import (
     EXPLAINED,
     add_realisation_options,
-    check_plot,
     scenario_case,
     write_and_emit,
 )
@@ -72,7 +72,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         sweep.check_output(args.out)
-    check_plot(args.plot)
+    check_png(args.plot, "--plot")
     profile = profile_from_args(args).with_overrides(f"errors.preset={args.errors}")
     grid = sweep.parse_grid(args.grid)
     if sweep.SEED_KEY in grid:
