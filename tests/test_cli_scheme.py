@@ -60,6 +60,13 @@ def test_every_number_with_a_unit_names_the_unit():
             )
 
 
+def test_the_first_seed_of_a_series_of_runs_has_one_name():
+    for command, a in _options():
+        for opt in a.option_strings:
+            if "seed" in opt:
+                assert opt == "--first-seed", f"`{command} {opt}`: the first seed of --runs is --first-seed"
+
+
 def test_every_command_takes_debug_after_its_name():
     for command, p in walk_parsers(build_parser()):
         assert "--debug" in p._option_string_actions, f"`{command}` has no --debug"
@@ -72,6 +79,7 @@ def test_the_old_spellings_are_the_documented_ones():
         ("sins-fw report", "--png", "--out"),
         ("sins-fw bench", "--output", "--out"),
         ("sins-fw budget", "--seconds", "--duration-s"),
+        ("sins-fw spin-table", "--seed", "--first-seed"),
     }
 
 
@@ -92,6 +100,32 @@ WARNING = "is deprecated, use"
     ("old", "new"),
     [
         (["budget", "--seconds", "0.05", "--json"], ["budget", "--duration-s", "0.05", "--json"]),
+        (
+            [
+                "spin-table",
+                "--seed",
+                "3",
+                "--runs",
+                "1",
+                "--duration-s",
+                "0.5",
+                "--rates-dps",
+                "100",
+                "--json",
+            ],
+            [
+                "spin-table",
+                "--first-seed",
+                "3",
+                "--runs",
+                "1",
+                "--duration-s",
+                "0.5",
+                "--rates-dps",
+                "100",
+                "--json",
+            ],
+        ),
         (
             ["montecarlo", "static", "--param", "duration_s=0.5", "--runs", "1", "--workers", "1", "--json"],
             ["montecarlo", "static", "--param", "duration-s=0.5", "--runs", "1", "--workers", "1", "--json"],
@@ -121,3 +155,14 @@ def test_old_output_spellings_still_write_their_file(tmp_path):
     assert r.code == 2 and "--out" in r.err and "--png" not in r.err
     r = run_cli("report", str(short_trace), "--out", str(png), "--png", str(png))
     assert r.code == 2 and "not allowed" in r.err
+
+
+@pytest.mark.parametrize(
+    "command",
+    [["montecarlo", "static", "--plot"], ["sweep", "static", "--plot"], ["report", "x.h5", "--out"]],
+)
+def test_a_picture_that_is_no_png_is_refused_in_one_message(tmp_path, command):
+    r = run_cli(*command, str(tmp_path / "p.svg"))
+    assert (
+        r.code == 2 and f"{command[-1]} {tmp_path / 'p.svg'}: expected a file name ending in .png" in r.err
+    ), r.err

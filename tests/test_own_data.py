@@ -57,6 +57,15 @@ def test_units_named_in_the_header_are_converted(tmp_path):
     assert "gyro_x_dps from `gyro_x_rad_s` in rad_s" in trace.metadata["read_as"]
 
 
+def test_a_rate_from_the_times_is_written_as_every_other_writer_writes_it(tmp_path):
+    """819.2 Hz from the times is `819.2` in the metadata, as synth, the bundled traces and a run's
+    output write it (the times' rate was `4096/5` before: the same value in a second spelling)."""
+    t, w, f = _motion(rate=819.2)
+    header = ["t_s", *(f"gyro_{a}_dps" for a in "xyz"), *(f"accel_{a}_g" for a in "xyz")]
+    trace = _load_quiet(_csv(tmp_path / "r.csv", header, _columns(t, w, f)))
+    assert trace.metadata["sample_rate_hz"] == "819.2"
+
+
 def test_units_by_option_override_the_names(tmp_path):
     t, w, f = _motion()
     header = ["t_s", *(f"gyro_{a}_dps" for a in "xyz"), *(f"accel_{a}" for a in "xyz")]

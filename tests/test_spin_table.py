@@ -40,7 +40,8 @@ def test_the_table_is_reproducible_and_has_the_issue_shape():
         ("--runs", "0", "--runs 0"),
         ("--duration-s", "0", "--duration-s 0"),
         ("--mag-inclination-deg", "95", "−90…90"),
-        ("--rates-dps", "fast", "invalid"),
+        ("--rates-dps", "fast", "--rates-dps: expected a number, got `fast`"),
+        ("--duration-s", "inf", "--duration-s: expected a finite number, got `inf`"),
     ],
 )
 def test_bad_options_exit_2_with_a_clear_message(option, value, message):

@@ -12,7 +12,6 @@ Rows where the markers were lost keep their IMU samples and get NaN truth. ``mov
 
 from __future__ import annotations
 
-import hashlib
 import os
 from collections.abc import Iterator
 from fractions import Fraction
@@ -24,20 +23,12 @@ import numpy as np
 
 from sins_fw import earth
 from sins_fw.errors import TraceError
-from sins_fw.traces import PhysicalTrace, _concat, validated
+from sins_fw.traces import PhysicalTrace, _concat, file_sha256, validated
 
 _DATASETS = {"imu_gyr": 3, "imu_acc": 3, "imu_mag": 3, "opt_quat": 4, "movement": 0}
 #: Largest denominator accepted when recovering the exact sample rate from the stored float.
 _RATE_DENOMINATOR = 1000
 MICROTESLA_PER_GAUSS = 100.0
-
-
-def _sha256(path: Path) -> str:
-    h = hashlib.sha256()
-    with path.open("rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
 
 
 def exact_rate(rate: float, where: str) -> Fraction:
@@ -99,7 +90,7 @@ def iter_broad(path: str | os.PathLike[str], rows: int | None = 1 << 16) -> Iter
             else str(rate.numerator),
             "source": f"BROAD trial {trial} (Laidig et al. 2021, doi:10.3390/data6070072, CC BY 4.0)",
             "source_file": p.name,
-            "source_sha256": _sha256(p),
+            "source_sha256": file_sha256(p),
             "generator": f"sins-fw import broad {p.name}",
             "frame": "sensor axes = IMU axes (myon aktos-t); truth C_b^n w.r.t. the optical ENU frame",
             "g0_m_s2": repr(earth.G0),

@@ -28,6 +28,7 @@ new ``dlopen`` with its own data segment), so two runs in one process give the s
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import re
 import shutil
@@ -42,10 +43,11 @@ from typing import Any
 
 import numpy as np
 
+from sins_fw import synth
 from sins_fw.errors import InputError, ProfileError
 from sins_fw.harness import FEED_ROWS, PS, _chunks, _TruthWindow
 from sins_fw.profile import Profile
-from sins_fw.run_output import RUN_SCHEMA, RunWriter, _run_metadata
+from sins_fw.run_output import RUN_SCHEMA, RunWriter
 from sins_fw.tablefile import Column, Schema
 from sins_fw.traces import PhysicalTrace
 
@@ -318,20 +320,16 @@ class FirmwareResult:
 
 
 def _still_trace(until_s: float) -> PhysicalTrace:
-    """A still, level board for ``until_s`` seconds (a run without a trace): samples at 819.2 SPS and
-    a last one at ``until_s`` itself, so that the input covers the whole run. (A run ends at the
-    trace's last sample at or before ``until_s``: with samples at 819.2 SPS only, a run shorter than
-    one sample period, 1.22 ms, would cover no time at all and end at the firmware's first basic
-    block.)"""
-    t = np.arange(int(np.ceil(until_s * 819.2))) / 819.2
-    t = np.r_[t[t < until_s], until_s]
-    n = len(t)
-    return PhysicalTrace(
-        t_s=t,
-        gyro_dps=np.zeros((n, 3)),
-        accel_g=np.tile([0.0, 0.0, 1.0], (n, 1)),
-        metadata={"sample_rate_hz": "819.2"},
-    )
+    """A board at rest, level, for ``until_s`` seconds (a run without a trace): `sins-fw synth static`
+    (earth rate, normal gravity at the default site, its truth) on its 819.2 SPS grid, the last
+    sample moved to ``until_s`` itself so that the input covers the whole run. (A run ends at the
+    trace's last sample at or before ``until_s``: with grid samples only, a run shorter than one
+    sample period, 1.22 ms, would cover no time at all and end at the firmware's first basic block.)"""
+    rate = Fraction(synth.DEFAULT_RATE_HZ)
+    below = math.ceil(Fraction(until_s) * rate)  # grid samples before until_s
+    motion = synth.static_motion(duration_s=float((below + 2) / rate), rows=slice(0, below + 1))
+    motion.t_s[-1] = until_s  # at rest: every sample reads the same, wherever it lies
+    return synth.to_trace(motion, {"sample_rate_hz": synth.DEFAULT_RATE_HZ})
 
 
 def run_c_firmware(
@@ -793,11 +791,6 @@ class FirmwareRunWriter(RunWriter):
                     Column(g.column, g.unit, g.description or f"firmware global `{g.name}` after the ISR")
                 )
         self.schema = Schema(RUN_SCHEMA.title, RUN_SCHEMA.format, tuple(columns))
-
-    def _header(self) -> tuple[Schema, dict[str, str]]:
-        ticks = self._steps if len(self._steps) >= 2 else self._ticks
-        step_s = Fraction(ticks[1] - ticks[0], 10**12)
-        return self.schema, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
         cols = {"t_s": part["cycle_t_ps"].astype(np.float64) * PS}

@@ -20,7 +20,6 @@ import tomllib
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
-from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -32,6 +31,7 @@ from sins_fw import _core
 from sins_fw.errors import InputError, ProfileError, TraceError
 from sins_fw.metrics import AttitudeErrors
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
+from sins_fw.tablefile import rate_text
 from sins_fw.traces import (
     CheckedTrace,
     PhysicalTrace,
@@ -163,7 +163,7 @@ class Run:
         if len(ticks) < 2:
             raise InputError("raw-register trace: the run is too short (fewer than two timer ticks)")
         rate = Fraction(10**12, int(ticks[1]) - int(ticks[0]))
-        meta = {"sample_rate_hz": _rate_text(rate), **(metadata or {})}
+        meta = {"sample_rate_hz": rate_text(rate), **(metadata or {})}
         return RawRegisterTrace(
             t_s=self.read_t_cs_ps.astype(np.float64) / 1e12,
             words=np.ascontiguousarray(self.read_words, dtype=np.uint16),
@@ -202,19 +202,6 @@ def alpha_truth_at(t: Array, alpha_deg: Array, at: Array) -> tuple[Array, NDArra
     out[inside] = np.interp(at[inside], t, alpha_deg)
     still[inside] = ((alpha_deg[i - 1] == alpha_deg[i]) & (alpha_deg[i] == alpha_deg[i + 1]))[inside]
     return out, still
-
-
-def _rate_text(rate: Fraction) -> str:
-    """A rate as exact text: a decimal when it has one (``250``, ``819.2``), else ``num/den``."""
-    den = rate.denominator
-    while den % 2 == 0:
-        den //= 2
-    while den % 5 == 0:
-        den //= 5
-    if den != 1:
-        return f"{rate.numerator}/{rate.denominator}"
-    text = f"{Decimal(rate.numerator) / Decimal(rate.denominator):f}"
-    return text.rstrip("0").rstrip(".") if "." in text else text
 
 
 #: What `emulate` accepts: a whole trace, a trace file, or an iterable of consecutive chunks (a

@@ -107,10 +107,40 @@ def align_heading(
     if not valid.any():
         raise InputError("heading alignment: no sample with valid truth inside the movement mask")
     k = int(np.argmax(valid))
-    err = quat.multiply(est[k], quat.conjugate(np.asarray(q_truth, dtype=np.float64)[k]))
+    turn, delta_deg = heading_turn(est[k], np.asarray(q_truth, dtype=np.float64)[k])
+    return quat.multiply(turn, est), delta_deg, k
+
+
+def heading_turn(q_est: Array, q_truth: Array) -> tuple[Array, float]:
+    """The rotation R_z(−δ) about navigation z that zeroes the heading error δ of one sample (see
+    :func:`align_heading`), and δ in degrees."""
+    err = quat.multiply(q_est, quat.conjugate(q_truth))
     delta = 2.0 * math.atan2(err[3], err[0])
     turn = quat.from_axis_angle(np.array([0.0, 0.0, 1.0]), -delta)
-    return quat.multiply(turn, est), float(wrap_deg(math.degrees(delta))), k
+    return turn, float(wrap_deg(math.degrees(delta)))
+
+
+def alignment_record(
+    method: str, row: int | None = None, *, t_s: float = 0.0, heading_deg: float = 0.0
+) -> dict[str, Any]:
+    """How an estimate was aligned to the truth, as every report (whole or streamed) records it: the
+    method, the step row it used (None: the truth at power-on), the heading turned, a description."""
+    if method == "heading":
+        text = (
+            f"heading: rotated about navigation z by {heading_deg:.3f}° (the heading error at step row "
+            f"{row}, the first valid movement sample)"
+        )
+        return {"method": method, "row": row, "heading_deg": heading_deg, "description": text}
+    if method == "initial":
+        text = (
+            "initial attitude: the firmware starts from Q = [1, 0, 0, 0], so its estimate is premultiplied "
+            "by the truth at power-on (the trace's first sample)"
+            if row is None
+            else f"initial attitude: no truth at power-on, so the estimate is rotated to match the truth at "
+            f"step row {row} (t = {t_s:.3f} s)"
+        )
+        return {"method": method, "row": row, "description": text}
+    return {"method": "none", "row": None, "description": "none: estimate compared as is"}
 
 
 def align_initial(q_est: ArrayLike, q_truth_start: ArrayLike) -> Array:

@@ -83,26 +83,14 @@ def _alignment(run: Run, method: str) -> tuple[np.ndarray, dict[str, Any]]:
     if method == "initial":
         q0 = run.truth_q0
         if q0 is not None and np.isfinite(q0).all():
-            text = (
-                "initial attitude: the firmware starts from Q = [1, 0, 0, 0], so its estimate is "
-                "premultiplied by the truth at power-on (the trace's first sample)"
-            )
-            return metrics.align_initial(est, q0), {"method": "initial", "row": None, "description": text}
+            return metrics.align_initial(est, q0), metrics.alignment_record("initial")
         k = int(np.argmax(np.isfinite(truth).all(axis=1)))
         start = quat.multiply(truth[k], quat.conjugate(est[k]))
-        text = (
-            f"initial attitude: no truth at power-on, so the estimate is rotated to match the truth at "
-            f"step row {k} (t = {run.time_s[k]:.3f} s)"
-        )
-        return metrics.align_initial(est, start), {"method": "initial", "row": k, "description": text}
+        return metrics.align_initial(est, start), metrics.alignment_record("initial", k, t_s=run.time_s[k])
     if method == "heading":
         aligned, delta, row = metrics.align_heading(est, truth, run.moving)
-        text = (
-            f"heading: rotated about navigation z by {delta:.3f}° (the heading error at step row {row}, "
-            "the first valid movement sample)"
-        )
-        return aligned, {"method": "heading", "row": row, "heading_deg": delta, "description": text}
-    return est, {"method": "none", "row": None, "description": "none: estimate compared as is"}
+        return aligned, metrics.alignment_record("heading", row, heading_deg=delta)
+    return est, metrics.alignment_record("none")
 
 
 def aligned_estimate(run: Run, align: str = "auto") -> tuple[np.ndarray, dict[str, Any]]:

@@ -26,7 +26,7 @@ from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from sins_fw import quaternion
-from sins_fw.atomic import atomic_path
+from sins_fw.atomic import save_png
 from sins_fw.harness import PS, Run
 from sins_fw.metrics import wrap_deg
 from sins_fw.profile import Profile
@@ -319,29 +319,10 @@ def _budget_panel(ax: Axes, margin_ax: Axes, data: PageData) -> None:
     span = (hi - lo) or 1.0
     # Room at the top for the strip of marks.
     margin_ax.set_ylim(lo - HEADROOM * span, hi + MARK_STRIP * span)
-    strip = margin_ax.get_xaxis_transform()  # x in data, y in axes fraction
     if data.late_count:
-        t_late = data.late.points()[0]
-        margin_ax.plot(
-            t_late,
-            np.full(len(t_late), 0.93),
-            "|",
-            color="tab:red",
-            ms=7,
-            transform=strip,
-            label=f"missed deadline ({data.late_count})",
-        )
+        _marks(margin_ax, data.late, 0.93, "tab:red", f"missed deadline ({data.late_count})")
     if data.lost_count:
-        t_lost = data.lost.points()[0]
-        margin_ax.plot(
-            t_lost,
-            np.full(len(t_lost), 0.83),
-            "|",
-            color="black",
-            ms=7,
-            transform=strip,
-            label=f"tick lost or dropped ({data.lost_count})",
-        )
+        _marks(margin_ax, data.lost, 0.83, "black", f"tick lost or dropped ({data.lost_count})")
     smallest = (
         f"smallest {data.margin_min[0]:.1f} µs at tick {data.margin_min[1]}"
         if data.margin_min is not None
@@ -351,6 +332,13 @@ def _budget_panel(ax: Axes, margin_ax: Axes, data: PageData) -> None:
     margin_ax.set_ylabel("µs")
     margin_ax.legend(loc="lower left", fontsize=8, ncol=4)
     margin_ax.grid(alpha=0.3)
+
+
+def _marks(ax: Axes, times: Series, height: float, color: str, label: str) -> None:
+    """A row of ticks at the times of ``times`` in the mark strip, ``height`` up the axes (a fraction)."""
+    t = times.points()[0]
+    strip = ax.get_xaxis_transform()  # x in data, y in axes fraction
+    ax.plot(t, np.full(len(t), height), "|", color=color, ms=7, transform=strip, label=label)
 
 
 def _events_panel(ax: Axes, data: PageData) -> None:
@@ -406,9 +394,5 @@ def save_report(
     """Render the report of ``run`` to a PNG at ``path`` (temporary file + rename)."""
     out = Path(path)
     fig, axes = report_figure(run, title=title)
-    try:
-        with atomic_path(out) as tmp:
-            fig.savefig(tmp, format="png", dpi=DPI)
-    finally:
-        plt.close(fig)
+    save_png(fig, out, DPI)
     return out, axes

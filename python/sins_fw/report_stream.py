@@ -383,16 +383,10 @@ class _Attitude:
             valid = metrics.valid_mask(rows["truth"], rows["moving"])
             if valid.any():
                 k = int(np.argmax(valid))
-                err = quat.multiply(rows["est"][k], quat.conjugate(np.asarray(rows["truth"], np.float64)[k]))
-                delta = 2.0 * math.atan2(err[3], err[0])
-                self.turn = quat.from_axis_angle(np.array([0.0, 0.0, 1.0]), -delta)
-                row = rows["row0"] + k
-                deg = float(metrics.wrap_deg(math.degrees(delta)))
-                text = (
-                    f"heading: rotated about navigation z by {deg:.3f}° (the heading error at step row "
-                    f"{row}, the first valid movement sample)"
+                self.turn, deg = metrics.heading_turn(
+                    rows["est"][k], np.asarray(rows["truth"], np.float64)[k]
                 )
-                self.alignment = {"method": "heading", "row": row, "heading_deg": deg, "description": text}
+                self.alignment = metrics.alignment_record("heading", rows["row0"] + k, heading_deg=deg)
                 held, self.held = self.held, []
                 for r in held:
                     self._rows(r)
@@ -408,25 +402,16 @@ class _Attitude:
                 q0 = rows["q0"]
                 if q0 is not None and np.isfinite(q0).all():
                     self.start = np.asarray(q0, dtype=np.float64)
-                    text = (
-                        "initial attitude: the firmware starts from Q = [1, 0, 0, 0], so its estimate is "
-                        "premultiplied by the truth at power-on (the trace's first sample)"
-                    )
-                    self.alignment = {"method": "initial", "row": None, "description": text}
+                    self.alignment = metrics.alignment_record("initial")
                 else:
                     ok = np.isfinite(rows["truth"]).all(axis=1)
                     if not ok.any():
                         return np.asarray(est, dtype=np.float64)  # no row counts yet
                     k = int(np.argmax(ok))
                     self.start = quat.multiply(rows["truth"][k], quat.conjugate(est[k]))
-                    row = rows["row0"] + k
-                    text = (
-                        f"initial attitude: no truth at power-on, so the estimate is rotated to match the "
-                        f"truth at step row {row} (t = {rows['t'][k]:.3f} s)"
-                    )
-                    self.alignment = {"method": "initial", "row": row, "description": text}
+                    self.alignment = metrics.alignment_record("initial", rows["row0"] + k, t_s=rows["t"][k])
             return metrics.align_initial(est, self.start)
-        self.alignment = {"method": "none", "row": None, "description": "none: estimate compared as is"}
+        self.alignment = metrics.alignment_record("none")
         return np.asarray(est, dtype=np.float64)
 
     def _rows(self, rows: dict[str, Any]) -> None:

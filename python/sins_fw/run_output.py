@@ -6,7 +6,6 @@ shortest round-trip float text, one dataset per column, written atomically and b
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import json
 import os
 from fractions import Fraction
@@ -17,11 +16,11 @@ import numpy as np
 
 from sins_fw import _core
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import PS, Run, _rate_text, check_until_s, emulate, has_dcm, has_wing
+from sins_fw.harness import PS, Run, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
-from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, write_table
-from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth
+from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, rate_text, write_table
+from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth, file_sha256
 
 RUN_FORMAT = "sins-fw-run-output/1"
 
@@ -231,6 +230,8 @@ class RunWriter(_Deferred):
     missing (an overrun drops one): gaps are allowed, as :func:`load_run` allows them."""
 
     _gaps = True
+    #: The columns written (a firmware run's writer declares its own).
+    schema = RUN_SCHEMA
 
     def __init__(
         self, path: str | os.PathLike[str], profile: Profile, t0_s: float, metadata: dict[str, str]
@@ -250,7 +251,7 @@ class RunWriter(_Deferred):
     def _header(self) -> tuple[Schema, dict[str, str]]:
         ticks = self._steps if len(self._steps) >= 2 else self._ticks
         step_s = Fraction(ticks[1] - ticks[0], 10**12)
-        return RUN_SCHEMA, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
+        return self.schema, _run_metadata(self.profile, step_s, self.t0_s, self.metadata)
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
         return _step_columns(part, has_dcm(self.profile), has_wing(self.profile))
@@ -274,7 +275,7 @@ class RawWriter(_Deferred):
 
     def _header(self) -> tuple[Schema, dict[str, str]]:
         rate = Fraction(10**12, self._ticks[1] - self._ticks[0])
-        meta = {"sample_rate_hz": _rate_text(rate), **self.metadata}
+        meta = {"sample_rate_hz": rate_text(rate), **self.metadata}
         empty = RawRegisterTrace(
             t_s=np.zeros(0), words=np.zeros((0, _core.READ_WORDS), np.uint16), metadata=meta
         )
@@ -303,12 +304,6 @@ def trace_reference(trace: str | os.PathLike[str], out: str | os.PathLike[str]) 
         "trace_abs": str(t),
         "trace_sha256": file_sha256(t),
     }
-
-
-def file_sha256(path: str | os.PathLike[str]) -> str:
-    """The SHA-256 of a file's bytes (hex), read in blocks."""
-    with open(path, "rb") as fh:
-        return hashlib.file_digest(fh, "sha256").hexdigest()
 
 
 def resolve_trace(path: str | os.PathLike[str], meta: dict[str, str]) -> Path:

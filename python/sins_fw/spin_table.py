@@ -51,7 +51,7 @@ def _check(
     if not 1 <= runs <= 10_000:
         raise ConfigError(f"spin-table: --runs {runs}; expected 1…10000 units")
     if not 0 <= seed < 2**63:
-        raise ConfigError(f"spin-table: --seed {seed}; expected 0 ≤ seed < 2⁶³")
+        raise ConfigError(f"spin-table: --first-seed {seed}; expected 0 ≤ seed < 2⁶³")
     if not (math.isfinite(duration_s) and 0.01 <= duration_s <= 3600.0):
         raise ConfigError(f"spin-table: --duration-s {duration_s}; expected 0.01…3600 s")
     intensity, inclination, declination = field

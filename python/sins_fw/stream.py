@@ -37,6 +37,7 @@ from sins_fw.tablefile import (
     PathLike,
     Schema,
     check_metadata,
+    csv_header,
     csv_lines,
     h5_create,
     parse_rate,
@@ -143,10 +144,7 @@ class TableWriter:
         if self._csv is None:
             assert self._tmp is not None and self._names is not None
             self._csv = self._tmp.open("w", encoding="utf-8", newline="\n")
-            self._csv.write(f"# sins-fw {self.schema.title} (format described in docs/traces.md)\n")
-            for k, v in self.metadata.items():
-                self._csv.write(f"# {k}: {v}\n")
-            self._csv.write(",".join(self._names) + "\n")
+            self._csv.write(csv_header(self.schema, self.metadata, self._names))
         self._csv.write(csv_lines(self.schema, block))
 
     # HDF5 -----------------------------------------------------------------------------------------

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw.atomic import atomic_path, write_text
+from sins_fw.atomic import atomic_path, save_png, write_text
 from sins_fw.errors import InputError
 from sins_fw.montecarlo import ERRORS, PERCENTILES, Distribution, Outcome
 from sins_fw.profile import Profile
@@ -249,17 +249,6 @@ def write_tables(path: str | os.PathLike[str], outcomes: Sequence[Outcome]) -> l
 DRAWN = ("total", "heading", "inclination")
 
 
-def _save(fig: Any, path: str | os.PathLike[str]) -> Path:
-    import matplotlib.pyplot as plt
-
-    try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, format="png", dpi=110)
-    finally:
-        plt.close(fig)
-    return Path(path)
-
-
 def _pyplot() -> Any:
     import matplotlib
 
@@ -302,7 +291,7 @@ def plot_bands(dists: dict[str, Distribution], path: str | os.PathLike[str], tit
         hist.legend(fontsize=7, frameon=False)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path, dpi=110)
 
 
 def plot_sweep(outcomes: Sequence[Outcome], path: str | os.PathLike[str], title: str) -> Path:
@@ -341,4 +330,4 @@ def plot_sweep(outcomes: Sequence[Outcome], path: str | os.PathLike[str], title:
             ax.set_ylim(bottom=0.0)
     fig.suptitle(title + "\nbars: p5–p95 (thin), p25–p75 (thick); dots: median", fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path, dpi=110)

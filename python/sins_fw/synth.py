@@ -1081,7 +1081,10 @@ class Param:
 
 
 def _finite(text: str) -> float:
-    x = float(text)
+    try:
+        x = float(text)
+    except ValueError:
+        raise ValueError(f"expected a number, got `{text}`") from None
     if not math.isfinite(x):
         raise ValueError(f"expected a finite number, got `{text}`")
     return x

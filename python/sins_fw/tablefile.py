@@ -22,6 +22,7 @@ import re
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
+from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 from typing import IO, Any, Protocol
@@ -414,8 +415,17 @@ def rate_of_step(step: float) -> Fraction:
 
 
 def rate_text(rate: Fraction) -> str:
-    """A rate as the metadata writes it: ``819`` or ``4096/5`` (exact)."""
-    return str(rate.numerator) if rate.denominator == 1 else f"{rate.numerator}/{rate.denominator}"
+    """A rate as the metadata writes it, exact: a decimal when it has one (``250``, ``819.2``), else
+    ``num/den`` (``2000/7``)."""
+    den = rate.denominator
+    while den % 2 == 0:
+        den //= 2
+    while den % 5 == 0:
+        den //= 5
+    if den != 1:
+        return f"{rate.numerator}/{rate.denominator}"
+    text = f"{Decimal(rate.numerator) / Decimal(rate.denominator):f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
 
 
 def _time_hint(step: float, t: Field, want_hz: float | None) -> str:
@@ -1064,6 +1074,12 @@ def _format_column(c: Column, arr: np.ndarray) -> NDArray[np.str_]:
     return np.strings.add("0x", np.ascontiguousarray(digits[nibbles]).view("<U4").reshape(len(arr)))
 
 
+def csv_header(schema: Schema, metadata: Mapping[str, str], names: list[str]) -> str:
+    """A CSV table's head: the title line, the metadata as ``# key: value`` lines, the column names."""
+    title = f"# sins-fw {schema.title} (format described in docs/traces.md)"
+    return "\n".join([title, *(f"# {k}: {v}" for k, v in metadata.items()), ",".join(names)]) + "\n"
+
+
 def csv_lines(schema: Schema, cols: Mapping[str, np.ndarray]) -> str:
     """The CSV data lines of a block of rows (each line depends on its row only)."""
     names = list(cols)
@@ -1084,13 +1100,9 @@ def csv_lines(schema: Schema, cols: Mapping[str, np.ndarray]) -> str:
 
 def write_csv(path: Path, schema: Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:
     """Write a table as CSV with its metadata header, atomically (no validation: :func:`write_table`)."""
-    names = list(cols)
     n = len(cols["t_s"])
     with atomic_path(path) as tmp, tmp.open("w", encoding="utf-8", newline="\n") as out:
-        out.write(f"# sins-fw {schema.title} (format described in docs/traces.md)\n")
-        for k, v in metadata.items():
-            out.write(f"# {k}: {v}\n")
-        out.write(",".join(names) + "\n")
+        out.write(csv_header(schema, metadata, list(cols)))
         for start in range(0, n, BLOCK_ROWS):
             out.write(csv_lines(schema, {k: a[start : start + BLOCK_ROWS] for k, a in cols.items()}))
 

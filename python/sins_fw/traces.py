@@ -11,6 +11,7 @@ from 0 (the first data row is row 0); CSV line numbers from 1.
 
 from __future__ import annotations
 
+import hashlib
 import math
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping
@@ -643,6 +644,12 @@ def check_output_path(path: PathLike) -> Path:
     if p.is_dir():
         raise TraceError(f"{p}: is a directory; expected a trace file name ending in .csv or .h5")
     return p
+
+
+def file_sha256(path: PathLike) -> str:
+    """The SHA-256 of a file's bytes (hex), read in blocks."""
+    with open(path, "rb") as fh:
+        return hashlib.file_digest(fh, "sha256").hexdigest()
 
 
 def is_raw_register_trace(path: PathLike) -> bool:

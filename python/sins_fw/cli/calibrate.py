@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -36,7 +37,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=exit_epilog(None),
     )
     p.add_argument(
-        "trace", help="a twelve-position trace (.csv or .h5), e.g. from `sins-fw synth twelve-position`"
+        "trace",
+        type=Path,
+        help="a twelve-position trace (.csv or .h5), e.g. from `sins-fw synth twelve-position`",
     )
     p.add_argument(
         "--part",

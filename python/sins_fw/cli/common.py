@@ -10,11 +10,14 @@ import sys
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from sins_fw.errors import CheckFailed, ProfileError
+from sins_fw.errors import CheckFailed, InputError, ProfileError
 from sins_fw.profile import Profile, load_profile, resolve_profile_path
 from sins_fw.traces import ReadOptions
+
+if TYPE_CHECKING:
+    from sins_fw.synth import Param
 
 #: What exit status 1 means for a command that emulates a run (`run`, `replay`, `report`, `demo`).
 EVENTS_CHECK = (
@@ -144,6 +147,42 @@ def add_out_option(p: Any, help: str, **kwargs: Any) -> argparse.Action:
 def add_plot_option(p: Any, help: str, **kwargs: Any) -> argparse.Action:
     """`--plot FILE.png`: a picture drawn beside the command's result."""
     return add_option(p, "--plot", **{"type": Path, "metavar": "FILE.png", **kwargs, "help": help})
+
+
+def param_type(param: Param) -> Callable[[str], Any]:
+    """An argparse ``type`` parsing a value as ``param`` does (:meth:`sins_fw.synth.Param.parse`): a
+    bad value's message says what was expected; its name is the kind (``float``, ``floats``, ...)."""
+
+    def parse(text: str) -> Any:
+        try:
+            return param.parse(text)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+
+    parse.__name__ = param.kind
+    return parse
+
+
+def add_runs_options(
+    p: Any, runs: str, first_seed: str, *, default_first_seed: int = 1, **kwargs: Any
+) -> None:
+    """`--runs N` and `--first-seed S` (seeds S … S + N − 1): ``runs`` and ``first_seed`` say what a
+    run and its seed are; ``kwargs`` go to `--first-seed` (:func:`add_option`: ``formerly``)."""
+    p.add_argument("--runs", type=int, default=20, help=f"{runs} (default 20)")
+    add_option(
+        p,
+        "--first-seed",
+        type=int,
+        default=default_first_seed,
+        help=f"{first_seed} (default {default_first_seed})",
+        **kwargs,
+    )
+
+
+def check_png(path: str | Path | None, option: str) -> None:
+    """Refuse, before anything runs, a picture's file name that does not end in .png or is a folder."""
+    if path is not None and (Path(path).suffix.lower() != ".png" or Path(path).is_dir()):
+        raise InputError(f"{option} {path}: expected a file name ending in .png")
 
 
 def add_debug_option(p: argparse.ArgumentParser, *, top: bool = False) -> None:
@@ -312,7 +351,6 @@ def add_engine_options(p: argparse.ArgumentParser) -> None:
 
 def engine_from_args(args: argparse.Namespace) -> Any:
     """The engine the options ask for (a context manager; closing it stops a cluster it started)."""
-    from sins_fw.errors import InputError
     from sins_fw.montecarlo import make_engine
 
     if args.engine == "dask" and args.workers is not None:

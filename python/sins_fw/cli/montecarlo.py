@@ -21,6 +21,8 @@ from sins_fw.cli.common import (
     add_out_option,
     add_plot_option,
     add_profile_options,
+    add_runs_options,
+    check_png,
     deprecated,
     emit,
     engine_from_args,
@@ -57,8 +59,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("scenario", help=f"`published` or a synth scenario: {', '.join(synth.SCENARIOS)}")
-    p.add_argument("--runs", type=int, default=20, help="realisations per case (default 20)")
-    p.add_argument("--first-seed", type=int, default=1, help="seed of the first realisation (default 1)")
+    add_runs_options(p, "realisations per case", "seed of the first realisation")
     add_realisation_options(p, plot_help="error bands over time and histograms")
     p.set_defaults(func=run)
 
@@ -107,13 +108,6 @@ def scenario_case(name: str, preset: str | None, params: list[str]) -> mc.Case:
     return mc.Case(name, name, None, tuple(values.items()), (0.0, 0.0, 0.0))
 
 
-def check_plot(path: str | None) -> None:
-    if path is not None and Path(path).suffix.lower() != ".png":
-        raise InputError(f"--plot {path}: expected a .png file")
-    if path is not None and Path(path).is_dir():
-        raise InputError(f"--plot {path}: is a folder; expected a file name")
-
-
 def run(args: argparse.Namespace) -> int:
     from sins_fw import sweep
 
@@ -121,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--runs {args.runs}: expected at least 1")
     if args.out is not None:
         sweep.check_output(args.out)
-    check_plot(args.plot)
+    check_png(args.plot, "--plot")
     profile = profile_from_args(args).with_overrides(f"errors.preset={args.errors}")
     if args.scenario == "published":
         cases = mc.published_cases()

@@ -36,7 +36,7 @@ from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import CHUNK_ROWS, Run, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile
 from sins_fw.run_output import RUN_FORMAT, recorded_trace, replay_check, resolve_trace
-from sins_fw.traces import PhysicalTrace, read_metadata
+from sins_fw.traces import PhysicalTrace, file_sha256, read_metadata
 from sins_fw.viewer import serve
 
 if TYPE_CHECKING:
@@ -336,7 +336,7 @@ def _record(
         profile.text,
         "\n".join(profile.overrides),
         args.trace.name,
-        recording.file_digest(trace),
+        bytes.fromhex(file_sha256(trace)),
         repr(window),
         ",".join(names),
     )

@@ -13,6 +13,7 @@ from sins_fw.cli.common import (
     add_profile_options,
     add_trace_or_run_argument,
     check_error_counts,
+    check_png,
     emit,
     exit_epilog,
     profile_file,
@@ -38,8 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.out.suffix.lower() != ".png" or args.out.is_dir():
-        raise InputError(f"--out {args.out}: expected a file name ending in .png")
+    check_png(args.out, "--out")
     if not args.out.parent.is_dir() and str(args.out.parent):
         raise InputError(f"--out {args.out}: directory {args.out.parent} does not exist")
     saved_run = read_metadata(args.trace).get("format") == RUN_FORMAT if args.trace.is_file() else False

@@ -6,24 +6,11 @@ from __future__ import annotations
 import argparse
 
 from sins_fw import spin_table
-from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, add_runs_options, emit, exit_epilog, param_type
 from sins_fw.synth import Param
 
-_RATES = Param("rates_dps", "floats", spin_table.DEFAULT_RATES_DPS, "")
-
-
-def _rates(text: str) -> tuple[float, ...]:
-    return tuple(_RATES.parse(text))
-
-
-_rates.__name__ = "floats"
-
-
-def _float(text: str) -> float:
-    return float(Param("x", "float", 0.0, "").parse(text))
-
-
-_float.__name__ = "float"
+_RATES = param_type(Param("rates_dps", "floats", spin_table.DEFAULT_RATES_DPS, ""))
+_FLOAT = param_type(Param("x", "float", 0.0, ""))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -32,7 +19,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="spin rate → roll error without and with the magnetometer aid (Monte Carlo percentiles)",
         description="The geomagnetic–gyro board's spin-rate table: for each spin rate, the gyro-only roll "
         "error at the end of the run and the aided run's largest roll error, as p50, p95 and max over "
-        "sensor units (seeds SEED … SEED + RUNS − 1, the same units at every rate). It runs the "
+        "sensor units (seeds FIRST_SEED … FIRST_SEED + RUNS − 1, the same units at every rate). It runs the "
         "sensor chain (analogue gyro and magnetometer models, the ADS8344's 16 bits) and "
         "firmware/geomag.rs without the bus: no SPI timing, every channel of an instant read at that "
         "instant. The same options give byte-identical output.",
@@ -40,40 +27,41 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--rates-dps",
-        type=_rates,
+        type=_RATES,
         default=spin_table.DEFAULT_RATES_DPS,
         metavar="FLOATS",
         help="spin rates, °/s, comma-separated (0 < rate ≤ 1000; default 50,100,200,500,1000)",
     )
-    p.add_argument("--runs", type=int, default=20, help="sensor units per rate (default 20)")
-    p.add_argument("--seed", type=int, default=0, help="the first unit's seed (default 0)")
-    p.add_argument(
-        "--duration-s", type=_float, default=60.0, metavar="FLOAT", help="run length, s (default 60)"
+    add_runs_options(
+        p, "sensor units per rate", "the first unit's seed", default_first_seed=0, formerly="--seed"
     )
     p.add_argument(
-        "--yaw-deg", type=_float, default=90.0, metavar="FLOAT", help="spin axis yaw, ° (default 90: north)"
+        "--duration-s", type=_FLOAT, default=60.0, metavar="FLOAT", help="run length, s (default 60)"
     )
     p.add_argument(
-        "--pitch-deg", type=_float, default=0.0, metavar="FLOAT", help="spin axis pitch, ° (default 0)"
+        "--yaw-deg", type=_FLOAT, default=90.0, metavar="FLOAT", help="spin axis yaw, ° (default 90: north)"
+    )
+    p.add_argument(
+        "--pitch-deg", type=_FLOAT, default=0.0, metavar="FLOAT", help="spin axis pitch, ° (default 0)"
     )
     intensity, inclination, declination = spin_table.DEFAULT_FIELD
     p.add_argument(
         "--mag-intensity-gauss",
-        type=_float,
+        type=_FLOAT,
         default=intensity,
         metavar="FLOAT",
         help=f"the earth's field F, gauss (default {intensity})",
     )
     p.add_argument(
         "--mag-inclination-deg",
-        type=_float,
+        type=_FLOAT,
         default=inclination,
         metavar="FLOAT",
         help=f"its inclination I, ° down (default {inclination})",
     )
     p.add_argument(
         "--mag-declination-deg",
-        type=_float,
+        type=_FLOAT,
         default=declination,
         metavar="FLOAT",
         help=f"its declination D, ° east (default {declination})",
@@ -91,7 +79,7 @@ def run(args: argparse.Namespace) -> int:
     table = spin_table.spin_table(
         args.rates_dps,
         runs=args.runs,
-        seed=args.seed,
+        seed=args.first_seed,
         duration_s=args.duration_s,
         yaw_deg=args.yaw_deg,
         pitch_deg=args.pitch_deg,

@@ -13,6 +13,8 @@ from typing import Any
 from sins_fw import montecarlo as mc
 from sins_fw import sweep, synth
 from sins_fw.cli.common import (
+    add_runs_options,
+    check_png,
     engine_from_args,
     exit_epilog,
     profile_from_args,
@@ -21,7 +23,6 @@ from sins_fw.cli.common import (
 from sins_fw.cli.montecarlo import (
     EXPLAINED,
     add_realisation_options,
-    check_plot,
     scenario_case,
     write_and_emit,
 )
@@ -63,10 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar='"KEY=VALUE ..."',
         help="one grid point as profile overrides (repeatable: a list of points; with --grid, the product)",
     )
-    p.add_argument(
-        "--runs", type=int, default=20, help="seeds per grid point without errors.seed in --grid (20)"
-    )
-    p.add_argument("--first-seed", type=int, default=1, help="first seed with --runs (default 1)")
+    add_runs_options(p, "seeds per grid point without errors.seed in --grid", "first seed with --runs")
     add_realisation_options(p, plot_help="percentiles at each grid point")
     p.set_defaults(func=run)
 
@@ -74,7 +72,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         sweep.check_output(args.out)
-    check_plot(args.plot)
+    check_png(args.plot, "--plot")
     profile = profile_from_args(args).with_overrides(f"errors.preset={args.errors}")
     grid = sweep.parse_grid(args.grid)
     if sweep.SEED_KEY in grid:

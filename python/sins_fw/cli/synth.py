@@ -6,7 +6,7 @@ import argparse
 
 from sins_fw import progress, synth
 from sins_fw.atomic import check_output_folder
-from sins_fw.cli.common import add_json_option, add_out_option, emit, exit_epilog
+from sins_fw.cli.common import add_json_option, add_out_option, emit, exit_epilog, param_type
 from sins_fw.stream import save_chunks
 from sins_fw.traces import check_output_path
 
@@ -28,7 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
             s.add_argument(
                 param.option,
                 dest=param.name,
-                type=_parser(param),
+                type=param_type(param),
                 default=None,
                 metavar=param.kind.upper() if param.kind != "axis" else "{x,y,z}",
                 help=f"{param.help} (default {param.render(param.default)})",
@@ -44,17 +44,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         add_out_option(s, "output trace, .csv or .h5", required=True)
         add_json_option(s)
         s.set_defaults(func=run)
-
-
-def _parser(param: synth.Param) -> object:
-    def parse(text: str) -> object:
-        try:
-            return param.parse(text)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e)) from None
-
-    parse.__name__ = param.kind
-    return parse
 
 
 def run(args: argparse.Namespace) -> int:

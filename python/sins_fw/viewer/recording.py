@@ -690,15 +690,6 @@ def derived_recording_id(run: Run, name: str | None = None) -> str:
     )
 
 
-def file_digest(path: str | os.PathLike[str]) -> bytes:
-    """SHA-256 of a file's bytes, read a MiB at a time."""
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.digest()
-
-
 class _Pump:
     """A pipe whose far end Rerun's file writer opens as a file (``/dev/fd/N``), pumped by a thread
     into ``tmp`` (the temporary file of :func:`~sins_fw.atomic.atomic_path`): Rerun writes the
