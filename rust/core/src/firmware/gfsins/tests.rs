@@ -201,7 +201,7 @@ fn stages_add_up_to_each_processors_time() {
     assert!(b.stages.iter().any(|r| r.processor == 1), "the DSP's rows");
     assert!(b.stages.windows(2).all(|w| w[0].processor <= w[1].processor), "the node's rows first");
     for r in &b.stages {
-        for c in 0..3 {
+        for (c, class) in CLASSES.iter().enumerate() {
             let peak = steps
                 .iter()
                 .filter(|s| Budget::class(s) == c)
@@ -212,7 +212,7 @@ fn stages_add_up_to_each_processors_time() {
                 .map(|(_, t)| t)
                 .max()
                 .unwrap_or(0);
-            assert_eq!(r.load[c].peak_ps, peak, "{} {}", r.name, CLASSES[c]);
+            assert_eq!(r.load[c].peak_ps, peak, "{} {class}", r.name);
             assert!(r.load[c].peak_ps <= b.load[r.processor][c].peak_ps);
         }
     }
