@@ -92,6 +92,7 @@ def test_board_input_errors(turn: synth.PhysicalTrace) -> None:
         _core.gfsins_run(
             "[node]\nadxl_sck_ratio = 3\n",
             "bad.toml",
+            [],
             turn.t_s,
             turn.array_g,
             gfsins.compass_truth(turn),

@@ -10,17 +10,79 @@ own epochs)."""
 
 from __future__ import annotations
 
+import json
+import os
+import tomllib
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from sins_fw import _core
-from sins_fw.errors import TraceError
+from sins_fw.errors import ProfileError, TraceError
+from sins_fw.profile import resolve_profile_path
+from sins_fw.tablefile import Column, Schema, write_table
 from sins_fw.traces import PhysicalTrace
 
 #: The shipped profile.
 PROFILE = Path(__file__).parent / "firmware_model" / "gfsins.toml"
+
+
+def has_own_schema(name_or_path: str | os.PathLike[str]) -> bool:
+    """Whether the profile names a board with a schema of its own (``meta.board``): the commands
+    that take ``--profile`` dispatch it here. False when the file cannot be read as TOML (the F28335
+    loader then says why)."""
+    try:
+        text = resolve_profile_path(name_or_path).read_text(encoding="utf-8")
+        meta = tomllib.loads(text).get("meta")
+    except (ProfileError, OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return False
+    return isinstance(meta, dict) and "board" in meta
+
+
+@dataclass(frozen=True)
+class GfsinsProfile:
+    """A checked gyro-free board profile: its file, text, ``--set`` overrides and every value."""
+
+    source: str
+    text: str
+    overrides: tuple[str, ...] = ()
+    values: dict[str, Any] = field(default_factory=dict)
+
+    def get(self, dotted: str) -> Any:
+        node: Any = self.values
+        for part in dotted.split("."):
+            node = node[part]
+        return node
+
+    @property
+    def period_s(self) -> float:
+        return 1.0 / float(self.get("node.timer_hz"))
+
+    @property
+    def start_s(self) -> float:
+        """The first timer tick after power-up."""
+        return float(self.get("node.start_ms")) * 1e-3
+
+
+def load(
+    name_or_path: str | os.PathLike[str] = PROFILE, overrides: tuple[str, ...] | list[str] = ()
+) -> GfsinsProfile:
+    """Load and check a gyro-free board profile (errors name the file and key: ProfileError)."""
+    path = resolve_profile_path(name_or_path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as e:
+        raise ProfileError(f"{path}: not UTF-8 text (byte {e.start})") from None
+    resolved = _core.gfsins_profile(text, str(path), list(overrides))
+    return GfsinsProfile(str(path), text, tuple(overrides), tomllib.loads(resolved))
+
+
+def ticks_in(trace: PhysicalTrace, profile: GfsinsProfile) -> int:
+    """The node's timer ticks that fall within the trace (the first at ``node.start_ms``)."""
+    end = float(trace.t_s[-1] - trace.t_s[0])
+    return max(0, int(np.floor((end - profile.start_s) / profile.period_s + 1e-9)) + 1)
 
 
 def compass_truth(trace: PhysicalTrace) -> np.ndarray:
@@ -47,18 +109,162 @@ def held_gps(trace: PhysicalTrace) -> np.ndarray:
     return np.ascontiguousarray(trace.gps[index])
 
 
-def run(trace: PhysicalTrace, ticks: int, profile: Path = PROFILE) -> dict[str, Any]:
-    """Run the board over ``trace`` for ``ticks`` 5 ms cycles (see ``_core.gfsins_run``)."""
+def run(trace: PhysicalTrace, ticks: int, profile: Path | GfsinsProfile = PROFILE) -> dict[str, Any]:
+    """Run the board over ``trace`` for ``ticks`` 5 ms cycles (see ``_core.gfsins_run``); virtual
+    time 0 is the trace's first sample."""
+    prof = profile if isinstance(profile, GfsinsProfile) else load(profile)
     compass = compass_truth(trace)  # checks that the trace has the array columns
     assert trace.array_g is not None
     return dict(
         _core.gfsins_run(
-            profile.read_text(encoding="utf-8"),
-            str(profile),
-            np.ascontiguousarray(trace.t_s),
+            prof.text,
+            prof.source,
+            list(prof.overrides),
+            np.ascontiguousarray(trace.t_s - trace.t_s[0]),
             np.ascontiguousarray(trace.array_g),
             compass,
             held_gps(trace),
             int(ticks),
         )
     )
+
+
+#: The trace columns the board needs (``sins-fw synth vehicle`` writes them all).
+NEEDED = "truth_q, the array columns array1…array7 and a GPS stream"
+
+
+def budget_rows(out: dict[str, Any]) -> list[dict[str, Any]]:
+    """The budget as rows: each processor's stages as the Rust budget gives them (names and order
+    are the processors', nothing here knows them), then the processor's total; each row has
+    ``processor``, ``stage`` and per rate class ``ticks``, ``peak_s``, ``mean_s``, ``peak_fraction``."""
+    rows: list[dict[str, Any]] = []
+    for proc, classes in out["budget"].items():
+        rows += [r for r in out["stages"] if r["processor"] == proc]
+        rows.append({"processor": proc, "stage": "total", **classes})
+    return rows
+
+
+def render_budget(out: dict[str, Any]) -> list[str]:
+    """The budget table: peak and mean µs per rate class, the totals' peaks in % of the period."""
+    classes = out["classes"]
+    head = "".join(f"{c + ' peak':>13}{'mean':>9}" for c in classes)
+    lines = [f"{'processor':<10}{'stage':<16}{head}   (µs; ticks per class: "
+             + ", ".join(f"{c} {out['budget']['node'][c]['ticks']}" for c in classes) + ")"]  # fmt: skip
+    for r in budget_rows(out):
+        cells = "".join(
+            f"{r[c]['peak_s'] * 1e6:13.3f}{r[c]['mean_s'] * 1e6:9.3f}"
+            if r[c]["ticks"]
+            else f"{'—':>13}{'—':>9}"
+            for c in classes
+        )
+        lines.append(f"{r['processor']:<10}{r['stage']:<16}{cells}")
+    period = out["period_s"]
+    for proc, per in out["budget"].items():
+        peaks = ", ".join(f"{c} {100 * per[c]['peak_fraction']:.3f} %" for c in classes if per[c]["ticks"])
+        lines.append(f"{proc} peak in % of the {period * 1e3:g} ms period: {peaks}")
+    return lines
+
+
+# ------------------------------------------------------------------------------------- the run output
+
+#: The ``format`` of the gyro-free board's run output.
+RUN_FORMAT = "sins-fw-gfsins-run-output/1"
+
+
+def _col(name: str, unit: str, what: str, kind: str = "float", nan: bool = False) -> Column:
+    return Column(name, unit, what, kind, nan_allowed=nan)
+
+
+#: One row per 5 ms cycle: the packet as the DSP decoded it (NaN: refused), the DSP's tilt, both
+#: processors' time, and the bus log of the cycle (each link's activity; NaN: the link was idle).
+RUN_COLUMNS: tuple[Column, ...] = (
+    _col("t_s", "s", "the node's timer interrupt (virtual time; 0 is the trace's first sample)"),
+    _col("sequence", "1", "packet sequence number"),
+    _col(
+        "flags", "1", "packet flags (bit 0 new compass, 1 new GPS fix, 2 GPS valid, 3 NMEA dropped)", "word"
+    ),
+    *(_col(f"a{i}_g", "g", f"A{i} as the DSP decoded it", nan=True) for i in range(1, 10)),
+    _col("heading_deg", "°", "compass heading in the packet", nan=True),
+    _col("compass_pitch_deg", "°", "compass pitch in the packet", nan=True),
+    _col("compass_roll_deg", "°", "compass roll in the packet", nan=True),
+    _col("lat_deg", "°", "GPS latitude in the packet", nan=True),
+    _col("lon_deg", "°", "GPS longitude in the packet", nan=True),
+    _col("alt_m", "m", "GPS altitude in the packet", nan=True),
+    _col("speed_mps", "m/s", "GPS speed in the packet", nan=True),
+    _col("course_deg", "°", "GPS course in the packet", nan=True),
+    _col("utc_s", "s", "GPS UTC time of day in the packet", nan=True),
+    _col("pitch_deg", "°", "the DSP's pitch (level formula on A7…A9)", nan=True),
+    _col("roll_deg", "°", "the DSP's roll (level formula on A7…A9)", nan=True),
+    _col("truth_pitch_deg", "°", "the trace's pitch at the tick"),
+    _col("truth_roll_deg", "°", "the trace's roll at the tick"),
+    _col("rate_class", "1", "budget rate class: 0 = 200 Hz, 1 = 10 Hz, 2 = 1 Hz"),
+    _col("node_busy_s", "s", "the node's CPU time in the cycle"),
+    _col("dsp_irq_s", "s", "the DSP's packet interrupt", nan=True),
+    _col("dsp_busy_s", "s", "the DSP's packet handler time", nan=True),
+    *(_col(f"spi{i}_ss_low_s", "s", f"SPI #{i}: SS low (the ADXL345 read starts)") for i in range(1, 8)),
+    *(_col(f"spi{i}_ss_high_s", "s", f"SPI #{i}: SS high (the read is over)") for i in range(1, 8)),
+    _col("spi8_start_s", "s", "SPI #8: DMA2 starts the packet to the DSP"),
+    _col("spi8_end_s", "s", "SPI #8: SS high after the packet's last word"),
+    _col("iic_start_s", "s", "I²C: START of the compass transaction started in the cycle", nan=True),
+    _col("iic_end_s", "s", "I²C: its STOP", nan=True),
+    _col("uart_start_s", "s", "UART: start bit of the first NMEA character handled in the cycle", nan=True),
+    _col("uart_end_s", "s", "UART: stop bit of the last one", nan=True),
+    _col("nmea_bytes", "1", "NMEA characters handled in the cycle"),
+    _col("nmea_sentences", "1", "complete sentences handled in the cycle"),
+)
+RUN_SCHEMA = Schema("gyro-free board run output", RUN_FORMAT, RUN_COLUMNS)
+
+
+def truth_tilt_deg(trace: PhysicalTrace, t_s: np.ndarray) -> np.ndarray:
+    """(n, 2): the trace's pitch and roll (as :func:`compass_truth` defines them) held at ``t_s``."""
+    c = compass_truth(trace)
+    i = np.clip(np.searchsorted(trace.t_s - trace.t_s[0], t_s, side="right") - 1, 0, len(trace) - 1)
+    return c[i, 1:3]
+
+
+def run_columns(out: dict[str, Any], truth_tilt: np.ndarray) -> dict[str, np.ndarray]:
+    """The run output's columns, in file order."""
+    one = {
+        k: np.asarray(v)[:, 0] for k, v in out.items() if isinstance(v, np.ndarray) and v.shape[1:] == (1,)
+    }
+    cols: dict[str, np.ndarray] = {"t_s": one["t0_s"], "sequence": one["sequence"], "flags": one["flags"]}
+    cols |= {f"a{i + 1}_g": out["accel_g"][:, i] for i in range(9)}
+    cols |= dict(
+        zip(("heading_deg", "compass_pitch_deg", "compass_roll_deg"), out["compass_deg"].T, strict=True)
+    )
+    names = ("lat_deg", "lon_deg", "alt_m", "speed_mps", "course_deg", "utc_s")
+    cols |= dict(zip(names, out["gps"].T, strict=True))
+    cols |= {"pitch_deg": out["tilt_deg"][:, 0], "roll_deg": out["tilt_deg"][:, 1]}
+    cols |= {"truth_pitch_deg": truth_tilt[:, 0], "truth_roll_deg": truth_tilt[:, 1]}
+    cols |= {
+        "rate_class": one["class"],
+        "node_busy_s": one["node_cpu_s"],
+        "dsp_irq_s": one["t_irq_s"],
+        "dsp_busy_s": one["t_done_s"] - one["t_irq_s"],
+    }
+    cols |= {f"spi{i + 1}_ss_low_s": out["spi_start_s"][:, i] for i in range(7)}
+    cols |= {f"spi{i + 1}_ss_high_s": out["spi_end_s"][:, i] for i in range(7)}
+    for link, pair in (("spi8", out["packet_s"]), ("iic", out["iic_s"]), ("uart", out["uart_s"])):
+        cols |= {f"{link}_start_s": pair[:, 0], f"{link}_end_s": pair[:, 1]}
+    cols |= {"nmea_bytes": one["nmea_bytes"], "nmea_sentences": one["nmea_sentences"]}
+    return {c.name: np.ascontiguousarray(cols[c.name]) for c in RUN_COLUMNS}
+
+
+def save_run(
+    path: str | os.PathLike[str],
+    out: dict[str, Any],
+    truth_tilt: np.ndarray,
+    profile: GfsinsProfile,
+    extra: dict[str, str],
+) -> None:
+    """Write the run output (``.csv`` or ``.h5``, by extension) atomically, as the other boards' run
+    output is written (tablefile: metadata header, shortest round-trip floats)."""
+    meta = {
+        "sample_rate_hz": str(profile.get("node.timer_hz")),
+        "profile": profile.source,
+        "overrides": json.dumps(list(profile.overrides), ensure_ascii=False),
+        "board": "gfsins",
+        "created_by": "sins-fw run",
+        **extra,
+    }
+    write_table(path, RUN_SCHEMA, meta, run_columns(out, truth_tilt))

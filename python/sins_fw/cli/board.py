@@ -5,7 +5,9 @@ from __future__ import annotations
 import argparse
 from collections import Counter
 
-from sins_fw import _core
+import numpy as np
+
+from sins_fw import _core, gfsins
 from sins_fw.cli.common import add_json_option, add_profile_options, emit, exit_epilog, profile_from_args
 from sins_fw.errors import CheckFailed
 from sins_fw.harness import cost_table_text
@@ -22,7 +24,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+#: Cycles of the gyro-free board `board` emulates on a vehicle at rest: 3 s, past the compass's
+#: start-up (about 1 s) and through three GPS fixes.
+GFSINS_SECONDS = 3.0
+
+
 def run(args: argparse.Namespace) -> int:
+    if gfsins.has_own_schema(args.profile):
+        return _gfsins(args)
     profile = profile_from_args(args)
     s = _core.board_summary(profile.text, profile.source, list(profile.overrides), *cost_table_text(profile))
     report = {"profile": profile.source, "overrides": list(profile.overrides), **s}
@@ -51,5 +60,77 @@ def run(args: argparse.Namespace) -> int:
         kinds = Counter(str(v["kind"]) for v in s["violations"])
         raise CheckFailed(
             "the configuration breaks rules: " + ", ".join(f"{k} ×{n}" for k, n in kinds.items())
+        )
+    return 0
+
+
+def _gfsins(args: argparse.Namespace) -> int:
+    """The gyro-free board: both processors, the links, the parts, the rules its settings are
+    checked against, and the rules the parts and links checked on a few seconds at rest."""
+    prof = gfsins.load(args.profile, args.overrides)
+    ticks = round(GFSINS_SECONDS / prof.period_s)
+    s = _core.gfsins_board(prof.text, prof.source, list(prof.overrides), ticks)
+    em = s.pop("emulated")
+    broken = [e for e in em["events"] if e["severity"] != "info"]
+    kinds = Counter(str(e["kind"]) for e in broken)
+    first = {k: next(e for e in broken if e["kind"] == k) for k in kinds}
+    worst = float(np.nanmax(em["packet_s"][:, 1] - em["t0_s"][:, 0]))
+    report = {
+        "profile": prof.source,
+        "overrides": list(prof.overrides),
+        "board": "gfsins",
+        **s,
+        "emulated": {
+            "ticks": ticks,
+            "packet_out_max_s": worst,
+            "period_s": em["period_s"],
+            "events": [{"kind": k, "count": n, "first": first[k]} for k, n in kinds.items()],
+        },
+    }
+    name_w = max(len(x["name"]) for x in s["links"])
+    lines = [
+        f"profile        {prof.source} {' '.join(prof.overrides)}".rstrip(),
+        "board          gfsins: two processors, the node's packet every tick to the DSP",
+    ]
+    for p in s["processors"]:
+        lines.append(
+            f"  {p['name']:<6} {p['part']}: CPU {p['clock_hz'] / 1e6:g} MHz, bus {p['bus_hz'] / 1e6:g} MHz, "
+            f"{p['tick_hz']:g} Hz packets"
+        )
+    lines.append("links")
+    for x in s["links"]:
+        rate = f"{x['rate_hz'] / 1e3:.3f} kHz" if x["kind"] != "uart" else f"{x['rate_hz']:g} baud"
+        lines.append(
+            f"  {x['name']:<{name_w}} {x['kind']:<5} {rate:>14}  "
+            f"{x['transfer_s'] * 1e6:10.3f} µs  {x['what']}"
+        )
+    lines.append(
+        "  (time: one 7-byte read; one 6-byte compass read with its address; one character; one packet)"
+    )
+    lines.append("parts")
+    lines += [f"  {p['part']:<11} on {p['links']}: {p['settings']}" for p in s["parts"]]
+    lines.append("rules checked (settings)")
+    for r in s["rules"]:
+        lines.append(
+            f"  {'ok    ' if r['ok'] else 'BROKEN'} {r['rule']}: {r['measured']:g} against {r['limit']:g} "
+            f"{r['unit']} ({r['source']})"
+        )
+    lines.append(
+        f"rules checked (emulated {GFSINS_SECONDS:g} s at rest, {ticks} ticks): SPI timing and mode at each "
+        "ADXL345, I²C timing, ACK and response delay at the HMC6343, UART framing, NMEA checksums, "
+        "packet CRC and sequence at the C6727B, the node's tick"
+    )
+    lines.append(
+        f"  packet out at most {worst * 1e6:.3f} µs after its tick (period {em['period_s'] * 1e6:.0f} µs)"
+    )
+    if kinds:
+        lines += [f"  BROKEN {k} ×{n}: {first[k]['message']}" for k, n in kinds.items()]
+    else:
+        lines.append("  none broken")
+    emit(args, report, "\n".join(lines))
+    bad = [r["rule"] for r in s["rules"] if not r["ok"]]
+    if bad or kinds:
+        raise CheckFailed(
+            "the configuration breaks rules: " + ", ".join([*bad, *(f"{k} ×{n}" for k, n in kinds.items())])
         )
     return 0

@@ -6,7 +6,7 @@ import argparse
 import math
 from typing import Any
 
-from sins_fw import budget
+from sins_fw import budget, gfsins
 from sins_fw.atomic import check_distinct
 from sins_fw.cli.common import (
     add_json_option,
@@ -57,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
     if args.plot is not None and (args.plot.suffix.lower() != ".png" or args.plot.is_dir()):
         raise InputError(f"--plot {args.plot}: expected a file name ending in .png")
     check_distinct({"--profile": profile_file(args)}, {"--plot": args.plot})
+    if gfsins.has_own_schema(args.profile):
+        return _gfsins(args)
     report = budget.budget_report(profile_from_args(args), seconds=args.duration_s)
     if args.plot is not None:
         budget.plot_report(report, args.plot)
@@ -213,3 +215,54 @@ def render(r: dict[str, Any]) -> str:
     if "plot" in r:
         lines.append(f"plot      {r['plot']}")
     return "\n".join(lines)
+
+
+def _gfsins(args: argparse.Namespace) -> int:
+    """The gyro-free board: both processors' stages at 200 Hz / 10 Hz / 1 Hz (peak and mean) on
+    ``sins-fw synth vehicle``'s default scenario (the thesis's chapter 5 drive)."""
+    from sins_fw import synth
+
+    if args.plot is not None:
+        raise InputError(
+            f"--plot {args.plot}: the plot draws the F28335 ISR's timeline; the gyro-free board's budget is "
+            "the table (--json for every figure)"
+        )
+    prof = gfsins.load(args.profile, args.overrides)
+    seconds = args.duration_s
+    trace = synth.generate(
+        "vehicle", duration_s=prof.start_s + seconds, lever_arm_m=float(prof.get("array.lever_arm_m"))
+    )
+    out = gfsins.run(trace, gfsins.ticks_in(trace, prof), prof)
+    errors = [e for e in out["events"] if e["severity"] == "error"]
+    kinds: dict[str, int] = {}
+    for e in errors:
+        kinds[e["kind"]] = kinds.get(e["kind"], 0) + 1
+    report = {
+        "profile": prof.source,
+        "overrides": list(prof.overrides),
+        "board": "gfsins",
+        "emulated_s": seconds,
+        "ticks": len(out["sequence"]),
+        "period_s": out["period_s"],
+        "classes": out["classes"],
+        "processors": out["budget"],
+        "stages": gfsins.budget_rows(out),
+        "rules_broken": [{"kind": k, "count": n} for k, n in kinds.items()],
+    }
+    lines = [
+        f"profile   {prof.source} {' '.join(prof.overrides)}".rstrip(),
+        f"board     gfsins: acquisition node (MicroBlaze {prof.get('node.cpu_hz') / 1e6:g} MHz) and "
+        f"C6727B DSP ({prof.get('dsp.cpu_hz') / 1e6:g} MHz), one packet per {out['period_s'] * 1e3:g} ms",
+        f"emulated  {seconds:g} s after the first tick of the chapter 5 drive (synth vehicle): "
+        f"{report['ticks']} ticks; rate class "
+        "of a tick: 1 Hz when NMEA bytes came or the DSP took a fix, 10 Hz on the compass's three ticks "
+        "of twenty, 200 Hz otherwise",
+        "",
+        *gfsins.render_budget(out),
+        "",
+        "rules broken: " + (", ".join(f"{k} ×{n}" for k, n in kinds.items()) or "none"),
+    ]
+    emit(args, report, "\n".join(lines))
+    if kinds:
+        raise CheckFailed("rules broken: " + ", ".join(f"{k} ×{n}" for k, n in kinds.items()))
+    return 0

@@ -18,7 +18,7 @@ from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from sins_fw import parity, progress
+from sins_fw import gfsins, parity, progress
 from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
@@ -27,6 +27,7 @@ from sins_fw.cli.common import (
     add_profile_options,
     add_trace_or_run_argument,
     check_error_counts,
+    check_events,
     emit,
     exit_epilog,
     profile_file,
@@ -237,6 +238,13 @@ def run(args: argparse.Namespace) -> int:
             "with `rerun FILE.rrd` where a display is available"
         )
     meta = read_metadata(args.trace)
+    if meta.get("format") == gfsins.RUN_FORMAT:
+        raise InputError(
+            f"{args.trace}: a saved run of the gyro-free board; replay the trace it records "
+            f"({meta.get('trace', 'its `trace` metadata')}) with --profile {meta.get('profile', 'gfsins')}"
+        )
+    if gfsins.has_own_schema(args.profile) and meta.get("format") != RUN_FORMAT:
+        return _replay_gfsins(args, window, problem)
     # The trace a saved run records, found where the replay will find it (run_output.resolve_trace).
     recorded = resolve_trace(args.trace, meta) if meta.get("format") == RUN_FORMAT else None
     check_distinct(
@@ -384,3 +392,102 @@ def _record(
         if args.spawn and spawn:
             streams[-1].flush()
     return tally, 0 if bus is None else len(bus["frame_index"])
+
+
+def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, problem: str | None) -> int:
+    """`replay TRACE --profile gfsins.toml`: the gyro-free board's run as a Rerun recording with a
+    bus lane per link (sins_fw.viewer.gfsins)."""
+    from sins_fw.viewer import gfsins as view
+    from sins_fw.viewer import recording
+
+    if args.parity:
+        raise InputError(
+            "--parity runs the F28335 firmware's other numeric backends; the gyro-free board has none"
+        )
+    check_distinct({"TRACE_OR_RUN": args.trace, "--profile": profile_file(args)}, {"--out": args.out})
+    if not args.trace.is_file():
+        raise TraceError(f"{args.trace}: no such trace file")
+    prof = gfsins.load(args.profile, args.overrides)
+    trace = PhysicalTrace.load(args.trace)
+    try:
+        out = gfsins.run(trace, gfsins.ticks_in(trace, prof), prof)
+    except TraceError as e:
+        raise TraceError(f"{args.trace}: {e}") from None
+    truth = gfsins.truth_tilt_deg(trace, out["t0_s"][:, 0])
+    rid = recording.recording_id(
+        prof.text, "\n".join(prof.overrides), args.trace.name, recording.file_digest(args.trace), repr(window)
+    )
+    bp = view.blueprint(bus=window is not None)
+    with contextlib.ExitStack() as keep:
+        served = args.out
+        if served is None and args.serve:
+            tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
+            served = Path(tmp) / f"{args.trace.stem}.rrd"
+        logged = 0
+        with contextlib.ExitStack() as files:  # the file is complete once this block ends
+            streams = []
+            if served is not None:
+                out_file = recording.recording_file(
+                    served, recording_id=rid, blueprint=bp, name=args.trace.name
+                )
+                streams.append(files.enter_context(out_file))
+            if args.spawn and problem is None:
+                import rerun as rr
+
+                rec = rr.RecordingStream("sins-fw", recording_id=rid)
+                try:
+                    rec.spawn(default_blueprint=bp)
+                except Exception as e:  # the viewer failed to start: say why, no traceback
+                    raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
+                streams.append(rec)
+            for r in streams:
+                logged = view.record(r, out, truth, window)
+            if args.spawn and problem is None:
+                streams[-1].flush()
+        kinds = Counter(str(e["kind"]) for e in out["events"])
+        ticks = len(out["sequence"])
+        report = {
+            "trace": str(args.trace),
+            "profile": prof.source,
+            "overrides": list(prof.overrides),
+            "board": "gfsins",
+            "cycles": ticks,
+            "ticks": ticks,
+            "events": dict(sorted(kinds.items())),
+            "bus_ticks": list(window) if window else None,
+            "bus_links": list(view.paths.GFSINS_LINKS) if window else [],
+            "bus_transactions": logged,
+            "parity": [],
+            "saved": None if args.out is None else str(args.out),
+        }
+        lines = [
+            f"replay of {args.trace} on the gyro-free board: {ticks} cycles, {sum(kinds.values())} events "
+            f"{report['events'] or ''}".rstrip(),
+            f"bus window: ticks {window[0]}…{window[1]}, {logged} transactions on "
+            f"{', '.join(view.paths.GFSINS_LINKS)}"
+            if window
+            else "bus: not recorded",
+        ]
+        if args.out is not None:
+            lines.append(f"saved {args.out} (open it with `rerun {args.out}`)")
+        if args.spawn:
+            if problem is not None:
+                emit(args, report, "\n".join(lines))
+                raise ViewerUnavailableError(
+                    f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.out}"
+                )
+            lines.append("sent to the Rerun viewer")
+        emit(args, report, "\n".join(lines))
+        if args.serve:
+            assert served is not None
+
+            def ready(url: str) -> None:
+                print(f"serving {served.name} in Rerun's web viewer at {url} (Ctrl-C stops it)", flush=True)
+
+            code = serve.serve(
+                served, bind=args.bind, web_port=args.port, grpc_port=args.grpc_port, on_ready=ready
+            )
+            if code != 0:
+                return code
+    check_events(out["events"])
+    return 0

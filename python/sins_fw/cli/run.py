@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+from collections import Counter
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from sins_fw import progress
+from sins_fw import gfsins, progress
 from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
@@ -19,6 +20,7 @@ from sins_fw.cli.common import (
     add_profile_options,
     add_read_options,
     check_error_counts,
+    check_events,
     emit,
     exit_epilog,
     profile_file,
@@ -185,6 +187,8 @@ def _out_state(out: Path | None, existed: bool) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    if gfsins.has_own_schema(args.profile):
+        return _run_gfsins(args)
     if args.firmware is not None:
         return _run_firmware(args)
     if args.globals is not None:
@@ -392,4 +396,111 @@ def _run_firmware(args: argparse.Namespace) -> int:
         text += f"\nwrote          {args.out} ({summary['cycles']} ISR rows)"
     emit(args, summary, text)
     check_error_counts(summary_acc.error_counts(), summary_acc.first_error())
+    return 0
+
+
+def _run_gfsins(args: argparse.Namespace) -> int:
+    """`run TRACE --profile gfsins.toml`: the gyro-free board on a `synth vehicle` trace: the packets
+    as the DSP decoded them with its tilt against the truth, the events, both processors' budget per
+    rate class; --out writes one row per 5 ms cycle with the cycle's bus log."""
+    for option, given in (
+        ("--firmware", args.firmware),
+        ("--globals", args.globals),
+        ("--raw-out", args.raw_out),
+    ):
+        if given is not None:
+            raise InputError(
+                f"{option} concerns the F28335 boards (its C firmware, its ADIS16407 burst words); the "
+                f"gyro-free board ({args.profile}) runs its own firmware models"
+            )
+    if args.out is not None:
+        check_output_path(args.out)
+        check_output_folder(args.out, "--out")
+    check_distinct({"TRACE": args.trace, "--profile": profile_file(args)}, {"--out": args.out})
+    check_until_s(args.until_s, "--until-s")
+    if not args.trace.is_file():
+        raise TraceError(f"{args.trace}: no such trace file")
+    prof = gfsins.load(args.profile, args.overrides)
+    if is_raw_register_trace(args.trace):
+        raise TraceError(
+            f"{args.trace}: a raw-register trace holds ADIS16407 words; the gyro-free board needs a "
+            f"physical trace with {gfsins.NEEDED} (sins-fw synth vehicle)"
+        )
+    trace = PhysicalTrace.load(args.trace, allow_gaps=args.allow_gaps, read=read_options(args))
+    if trace.array_g is None or trace.truth_q is None or trace.gps is None:
+        groups = (("truth_q*", trace.truth_q), ("array*", trace.array_g), ("gps_*", trace.gps))
+        missing = [n for n, v in groups if v is None]
+        raise TraceError(
+            f"{args.trace}: the gyro-free board needs {gfsins.NEEDED}; missing column group(s): "
+            f"{', '.join(missing)} (make one with `sins-fw synth vehicle`)"
+        )
+    ticks = gfsins.ticks_in(trace, prof)
+    if args.until_s is not None:
+        ticks = min(ticks, max(0, int((args.until_s - prof.start_s) / prof.period_s + 1e-9) + 1))
+    if ticks == 0:
+        raise TraceError(
+            f"{args.trace}: {float(trace.t_s[-1] - trace.t_s[0]):.6g} s long: the node's first tick is at "
+            f"{prof.start_s:g} s (node.start_ms)"
+        )
+    try:
+        out = gfsins.run(trace, ticks, prof)
+    except TraceError as e:
+        raise TraceError(f"{args.trace}: {e}") from None
+    t = out["t0_s"][:, 0]
+    truth = gfsins.truth_tilt_deg(trace, t)
+    if args.out is not None:
+        extra = {**trace_reference(args.trace, args.out)}
+        if args.until_s is not None:
+            extra["until_s"] = repr(args.until_s)
+        gfsins.save_run(args.out, out, truth, prof, extra)
+    events = out["events"]
+    kinds = Counter(str(e["kind"]) for e in events)
+    first = {k: next(e for e in events if e["kind"] == k) for k in kinds}
+    accepted = ~np.isnan(out["t_irq_s"][:, 0])
+    err = out["tilt_deg"][accepted] - truth[accepted]
+    tilt = {
+        name: {"rms_deg": float(np.sqrt(np.mean(e**2))), "max_abs_deg": float(np.abs(e).max())}
+        for name, e in zip(("pitch", "roll"), err.T, strict=True)
+    } if accepted.any() else {}  # fmt: skip
+    summary = {
+        "trace": str(args.trace),
+        "profile": prof.source,
+        "overrides": list(prof.overrides),
+        "board": "gfsins",
+        "cycles": ticks,
+        "virtual_time_s": float(t[-1]),
+        "packets_accepted": int(accepted.sum()),
+        "packets_refused": int((~accepted).sum()),
+        "gps_fixes": int(np.count_nonzero(out["flags"][:, 0].astype(int) & 2)),
+        "compass_updates": int(np.count_nonzero(out["flags"][:, 0].astype(int) & 1)),
+        "tilt_error": tilt,
+        "events": {k: {"count": n, "first": first[k]} for k, n in kinds.items()},
+        "budget": {"period_s": out["period_s"], "classes": out["classes"], "rows": gfsins.budget_rows(out)},
+    }
+    lines = [
+        f"trace          {args.trace}",
+        f"profile        {prof.source} {' '.join(prof.overrides)}".rstrip(),
+        f"cycles         {ticks} of {out['period_s'] * 1e3:g} ms, the last at {t[-1]:.3f} s; packets "
+        f"{summary['packets_accepted']} accepted, {summary['packets_refused']} refused by the DSP; "
+        f"{summary['compass_updates']} compass updates, {summary['gps_fixes']} GPS fixes",
+    ]
+    if tilt:
+        lines.append(
+            "tilt (DSP)     "
+            + "; ".join(
+                f"{k} error rms {v['rms_deg']:.4f}°, max {v['max_abs_deg']:.4f}°" for k, v in tilt.items()
+            )
+            + " (level formula on the centre part: attitude only when the vehicle does not accelerate)"
+        )
+    if kinds:
+        lines.append("events         " + ", ".join(f"{k} ×{n}" for k, n in kinds.items()))
+        lines += [f"  first {k} at {first[k]['t_s']:.6f} s: {first[k]['message']}" for k in kinds]
+    else:
+        lines.append("events         none")
+    lines += ["budget", *("  " + x for x in gfsins.render_budget(out))]
+    if args.out is not None:
+        lines.append(f"wrote          {args.out} ({ticks} cycles)")
+        summary["out"] = str(args.out)
+    emit(args, summary, "\n".join(lines))
+    check_events(events)
     return 0

@@ -73,3 +73,18 @@ BUS_STALL_MIN = "bus/stall_min"
 def parity(backend: str, what: str) -> str:
     """``parity/<backend>/<euler|angle>``: that backend minus this run."""
     return f"parity/{backend}/{what}"
+
+
+#: The gyro-free board (issue 25): one bus lane per link (``bus/<link>``: spi1…spi7 to the ADXL345s,
+#: iic1 to the HMC6343, uart from the GR-87, spi8 to the C6727B), the array's channels as the DSP
+#: decoded them, the compass, both processors' time per cycle.
+GFSINS_LINKS = ("spi1", "spi2", "spi3", "spi4", "spi5", "spi6", "spi7", "iic1", "uart", "spi8")
+GFSINS_ARRAY = "array/decoded"
+GFSINS_COMPASS = "compass/heading"
+GFSINS_NODE_BUSY = "budget/node_busy"
+GFSINS_DSP_BUSY = "budget/dsp_busy"
+
+
+def bus_lane(link: str) -> str:
+    """``bus/<link>``: the link's state over time (what it carries, or idle)."""
+    return f"bus/{link}"

@@ -7,10 +7,12 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use sins_core::device::adxl345;
 use sins_core::device::{gps, hmc6343};
-use sins_core::firmware::gfsins::{self, Budget, GfsinsProfile, Samples, Truth, CLASSES};
-use sins_core::time::{ps_to_s, s_to_ps};
+use sins_core::firmware::gfsins::{self, frame, Budget, GfsinsProfile, Samples, Truth, CLASSES, PROCESSORS};
+use sins_core::time::{ps_to_s, s_to_ps, Clock, Ps, PS_PER_S};
 use sins_core::Error;
+use std::sync::Arc;
 
 fn shape(a: &PyReadonlyArray2<'_, f64>, n: usize, cols: usize, name: &str) -> PyResult<()> {
     let s = a.as_array().shape().to_vec();
@@ -20,7 +22,7 @@ fn shape(a: &PyReadonlyArray2<'_, f64>, n: usize, cols: usize, name: &str) -> Py
     Ok(())
 }
 
-/// Run the board of profile `text` (named `source` in messages) for `ticks` 5 ms cycles on the
+/// Run the board of profile `text` (named `source` in messages; `overrides` as `--set` gives them) for `ticks` 5 ms cycles on the
 /// vehicle: `t_s` (n) sample times from 0; `array_g` (n, 21) the seven parts' specific force, g;
 /// `compass` (n, 9) heading, pitch, roll (°), specific force (g) and field (gauss) at the compass;
 /// `gps` (n, 5) speed (m/s), course (°), latitude, longitude (°), height (m), every row filled.
@@ -32,6 +34,7 @@ pub fn gfsins_run<'py>(
     py: Python<'py>,
     text: &str,
     source: &str,
+    overrides: Vec<String>,
     t_s: PyReadonlyArray1<'_, f64>,
     array_g: PyReadonlyArray2<'_, f64>,
     compass: PyReadonlyArray2<'_, f64>,
@@ -74,18 +77,31 @@ pub fn gfsins_run<'py>(
         .collect();
     let times: Vec<u64> = t.iter().map(|&s| s_to_ps(s)).collect();
     let (steps, budget, events) = guard(|| -> Result<_, Error> {
-        let profile = GfsinsProfile::parse(text, source)?;
+        let profile = GfsinsProfile::parse_with(text, source, &overrides)?;
         let samples = Samples::new(times, rows)?;
         gfsins::run(&profile, samples.source(), ticks)
     })?
     .map_err(to_py)?;
+    steps_dict(py, &steps, &budget, &events)
+}
+
+/// The per-cycle arrays, the budget and the events of a run as the Python side takes them.
+fn steps_dict<'py>(
+    py: Python<'py>,
+    steps: &[gfsins::Step],
+    budget: &Budget,
+    events: &[sins_core::events::Event],
+) -> PyResult<Bound<'py, PyDict>> {
     let m = steps.len();
     let cols = |w: usize, f: &dyn Fn(&gfsins::Step, usize) -> f64| -> Array2<f64> {
         Array2::from_shape_fn((m, w), |(i, j)| f(&steps[i], j))
     };
     let d = PyDict::new(py);
     let nan = f64::NAN;
+    let span = |(a, b): (Ps, Ps), j: usize| if a == b { nan } else { ps_to_s(if j == 0 { a } else { b }) };
+    d.set_item("t0_s", cols(1, &|s, _| ps_to_s(s.timing.t0)).into_pyarray(py))?;
     d.set_item("t_irq_s", cols(1, &|s, _| s.out.map_or(nan, |o| ps_to_s(o.t_irq))).into_pyarray(py))?;
+    d.set_item("t_done_s", cols(1, &|s, _| s.out.map_or(nan, |o| ps_to_s(o.t_done))).into_pyarray(py))?;
     d.set_item("sequence", cols(1, &|s, _| f64::from(s.packet.sequence)).into_pyarray(py))?;
     d.set_item("flags", cols(1, &|s, _| f64::from(s.packet.flags)).into_pyarray(py))?;
     d.set_item("accel_g", cols(9, &|s, j| s.out.map_or(nan, |o| o.accel_g[j])).into_pyarray(py))?;
@@ -95,23 +111,256 @@ pub fn gfsins_run<'py>(
     d.set_item("node_cpu_s", cols(1, &|s, _| ps_to_s(s.timing.cpu_ps)).into_pyarray(py))?;
     d.set_item("dsp_cycles", cols(1, &|s, _| s.out.map_or(nan, |o| o.cycles as f64)).into_pyarray(py))?;
     d.set_item("class", cols(1, &|s, _| Budget::class(s) as f64).into_pyarray(py))?;
+    // The links' activity per cycle (the bus lanes): each SPI core's SS↓/SS↑, the packet on SPI #8
+    // (DMA2's start to SS↑), the compass's I²C transaction, the NMEA characters (NaN: none).
+    d.set_item("spi_start_s", cols(7, &|s, j| ps_to_s(s.timing.spi[j].0)).into_pyarray(py))?;
+    d.set_item("spi_end_s", cols(7, &|s, j| ps_to_s(s.timing.spi[j].1)).into_pyarray(py))?;
+    d.set_item("packet_s", cols(2, &|s, j| span((s.timing.dma_start, s.timing.packet_end), j)).into_pyarray(py))?;
+    d.set_item("iic_s", cols(2, &|s, j| span(s.timing.iic, j)).into_pyarray(py))?;
+    d.set_item("uart_s", cols(2, &|s, j| span(s.timing.uart, j)).into_pyarray(py))?;
+    d.set_item("nmea_bytes", cols(1, &|s, _| f64::from(s.timing.nmea_bytes)).into_pyarray(py))?;
+    d.set_item("nmea_sentences", cols(1, &|s, _| f64::from(s.timing.nmea_sentences)).into_pyarray(py))?;
+    d.set_item("compass_phase", cols(1, &|s, _| f64::from(s.timing.compass_phase)).into_pyarray(py))?;
+    let load = |l: &gfsins::ClassLoad| -> PyResult<Bound<'py, PyDict>> {
+        let e = PyDict::new(py);
+        e.set_item("ticks", l.ticks)?;
+        e.set_item("peak_s", ps_to_s(l.peak_ps))?;
+        e.set_item("mean_s", l.mean_ps * 1e-12)?;
+        e.set_item("peak_fraction", l.peak_ps as f64 / budget.period_ps as f64)?;
+        Ok(e)
+    };
     let rows = PyDict::new(py);
-    for (p, name) in ["node", "dsp"].iter().enumerate() {
+    for (p, name) in PROCESSORS.iter().enumerate() {
         let per = PyDict::new(py);
         for (k, class) in CLASSES.iter().enumerate() {
-            let l = budget.load[p][k];
-            let e = PyDict::new(py);
-            e.set_item("ticks", l.ticks)?;
-            e.set_item("peak_s", ps_to_s(l.peak_ps))?;
-            e.set_item("mean_s", l.mean_ps * 1e-12)?;
-            e.set_item("peak_fraction", l.peak_ps as f64 / budget.period_ps as f64)?;
-            per.set_item(*class, e)?;
+            per.set_item(*class, load(&budget.load[p][k])?)?;
         }
         rows.set_item(*name, per)?;
     }
     d.set_item("budget", rows)?;
+    let stages = budget
+        .stages
+        .iter()
+        .map(|r| -> PyResult<Bound<'py, PyDict>> {
+            let e = PyDict::new(py);
+            e.set_item("processor", PROCESSORS[r.processor])?;
+            e.set_item("stage", r.name)?;
+            for (k, class) in CLASSES.iter().enumerate() {
+                e.set_item(*class, load(&r.load[k])?)?;
+            }
+            Ok(e)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    d.set_item("stages", stages)?;
+    d.set_item("classes", CLASSES.to_vec())?;
     d.set_item("period_s", ps_to_s(budget.period_ps))?;
     let ev = events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
     d.set_item("events", ev)?;
+    Ok(d)
+}
+
+/// The profile `text` with `overrides`, checked, every default filled in, as TOML text.
+#[pyfunction]
+pub fn gfsins_profile(text: &str, source: &str, overrides: Vec<String>) -> PyResult<String> {
+    GfsinsProfile::parse_with(text, source, &overrides).map(|p| p.to_toml()).map_err(to_py)
+}
+
+/// What `sins-fw board` shows of the gyro-free board: both processors, the links with the rates
+/// their settings give, the parts, the rules the settings are checked against (measured, limit,
+/// whether kept) and `emulated`: a run of `ticks` cycles on a vehicle at rest (the per-cycle arrays,
+/// the budget and the events, as `gfsins_run` gives them), whose events are the rules the parts and
+/// links check as they run.
+#[pyfunction]
+pub fn gfsins_board<'py>(
+    py: Python<'py>,
+    text: &str,
+    source: &str,
+    overrides: Vec<String>,
+    ticks: u64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let p = GfsinsProfile::parse_with(text, source, &overrides).map_err(to_py)?;
+    let n = &p.node;
+    let plb = Clock::from_hz(n.plb_hz);
+    let hz = |period: Ps| PS_PER_S as f64 / period as f64;
+    let adxl_sck = plb.cycles_to_ps(n.adxl_sck_ratio);
+    let dsp_sck = plb.cycles_to_ps(n.dsp_sck_ratio);
+    let scl_ps = (u64::from(n.iic_scl_low_ns) + u64::from(n.iic_scl_high_ns)) * 1_000;
+    let d = PyDict::new(py);
+    let item = |pairs: &[(&str, Bound<'py, PyAny>)]| -> PyResult<Bound<'py, PyDict>> {
+        let e = PyDict::new(py);
+        for (k, v) in pairs {
+            e.set_item(*k, v)?;
+        }
+        Ok(e)
+    };
+    let v = |x: f64| x.into_pyobject(py).map(|o| o.into_any());
+    let s = |x: &str| x.into_pyobject(py).map(|o| o.into_any());
+    d.set_item(
+        "processors",
+        vec![
+            item(&[
+                ("name", s("node")?),
+                ("part", s("XC3S400AN FPGA, MicroBlaze + PLB IP cores")?),
+                ("clock_hz", v(n.cpu_hz as f64)?),
+                ("bus_hz", v(n.plb_hz as f64)?),
+                ("tick_hz", v(n.timer_hz as f64)?),
+            ])?,
+            item(&[
+                ("name", s("dsp")?),
+                ("part", s("TMS320C6727B")?),
+                ("clock_hz", v(p.dsp.cpu_hz as f64)?),
+                ("bus_hz", v(p.dsp.cpu_hz as f64 / 2.0)?),
+                ("tick_hz", v(n.timer_hz as f64)?),
+            ])?,
+        ],
+    )?;
+    let words = frame::WORDS as f64;
+    let link = |name: &str, kind: &str, rate: f64, what: String, transfer_s: f64| {
+        item(&[
+            ("name", s(name)?),
+            ("kind", s(kind)?),
+            ("rate_hz", v(rate)?),
+            ("what", s(&what)?),
+            ("transfer_s", v(transfer_s)?),
+        ])
+    };
+    let mut links = Vec::new();
+    for i in 0..7 {
+        let part = if i < 6 { format!("ADXL345 #{} (outer)", i + 1) } else { "ADXL345 #7 (centre)".into() };
+        let read = (0.5 * n.ss_setup_half_periods as f64 + 56.0) * adxl_sck as f64 * 1e-12;
+        links.push(link(
+            &format!("spi{}", i + 1),
+            "spi",
+            hz(adxl_sck),
+            format!(
+                "node SPI #{} → {part}, mode {}, 7-byte read (PLB / {})",
+                i + 1,
+                adxl345::spi::MODE,
+                n.adxl_sck_ratio
+            ),
+            read,
+        )?);
+    }
+    links.push(link(
+        "iic1",
+        "i2c",
+        hz(scl_ps),
+        format!("node IIC #1 → HMC6343 at 0x{:02X}", sins_core::device::hmc6343::ADDRESS),
+        ps_to_s(9 * 7 * scl_ps),
+    )?);
+    links.push(link(
+        "uart",
+        "uart",
+        f64::from(n.uart_baud),
+        format!("GR-87 → node UART Lite, {} baud 8N1 (the receiver sends at {})", n.uart_baud, p.gps.baud),
+        10.0 / f64::from(n.uart_baud),
+    )?);
+    links.push(link(
+        "spi8",
+        "spi",
+        hz(dsp_sck),
+        format!("node SPI #8 (DMA2) → C6727B SPI1 slave, {} × 16-bit words (PLB / {})", frame::WORDS, n.dsp_sck_ratio),
+        (0.5 * n.ss_setup_half_periods as f64 + words * 16.0) * dsp_sck as f64 * 1e-12,
+    )?);
+    d.set_item("links", links)?;
+    let odr = adxl345::odr_hz(p.array.bw_rate & 0x0F);
+    d.set_item(
+        "parts",
+        vec![
+            item(&[
+                ("part", s("ADXL345 ×7")?),
+                ("links", s("spi1…spi7")?),
+                ("settings", s(&format!(
+                    "ODR {odr} Hz (BW_RATE 0x{:02X}), DATA_FORMAT 0x{:02X}, FIFO_CTL 0x{:02X}, lever arm {} m, errors {}",
+                    p.array.bw_rate, p.array.data_format, p.array.fifo_ctl, p.array.lever_arm_m, p.array.preset
+                ))?),
+            ])?,
+            item(&[
+                ("part", s("HMC6343")?),
+                ("links", s("iic1")?),
+                ("settings", s(&format!(
+                    "10 Hz (OP mode 2 in EEPROM), {} command set, errors {}",
+                    p.compass.revision, p.compass.errors
+                ))?),
+            ])?,
+            item(&[
+                ("part", s("GR-87 GPS")?),
+                ("links", s("uart")?),
+                ("settings", s(&format!(
+                    "1 Hz fixes, {} baud, latency {} ms, CEP {} m",
+                    p.gps.baud, p.gps.latency_ms, p.gps.cep_m
+                ))?),
+            ])?,
+        ],
+    )?;
+    let rule = |name: &str, measured: f64, limit: f64, unit: &str, ok: bool, source: &str| {
+        item(&[
+            ("rule", s(name)?),
+            ("measured", v(measured)?),
+            ("limit", v(limit)?),
+            ("unit", s(unit)?),
+            ("ok", ok.into_pyobject(py)?.to_owned().into_any()),
+            ("source", s(source)?),
+        ])
+    };
+    let sclk_min = adxl345::spi::T_SCLK_MIN;
+    let rules = vec![
+        rule(
+            "SPI #1–#7 SCLK within the ADXL345's 5 MHz (tSCLK ≥ 200 ns)",
+            hz(adxl_sck),
+            hz(sclk_min),
+            "Hz",
+            adxl_sck >= sclk_min,
+            "adxl345.md",
+        )?,
+        rule(
+            "ADXL345 output data rate at least the node's read rate",
+            odr,
+            n.timer_hz as f64,
+            "Hz",
+            odr >= n.timer_hz as f64,
+            "adxl345.md, thesis §4.3",
+        )?,
+        rule(
+            "I²C SCL within standard mode's 100 kHz (HMC6343)",
+            hz(scl_ps),
+            100e3,
+            "Hz",
+            hz(scl_ps) <= 100e3,
+            "i2c.md, hmc6343.md",
+        )?,
+        rule(
+            "UART Lite baud rate equals the GPS receiver's",
+            f64::from(n.uart_baud),
+            f64::from(p.gps.baud),
+            "baud",
+            n.uart_baud == p.gps.baud,
+            "gps-nmea.md",
+        )?,
+        rule(
+            "SPI #8 SCLK within the C6727B SPI1 slave's ceiling",
+            hz(dsp_sck),
+            p.dsp.spi_max_hz as f64,
+            "Hz",
+            hz(dsp_sck) <= p.dsp.spi_max_hz as f64,
+            "c6727.md, thesis",
+        )?,
+    ];
+    d.set_item("rules", rules)?;
+    // A vehicle at rest, level, heading 30°, at the thesis's test place.
+    let rest = Truth {
+        array_g: [[0.0, 0.0, 1.0]; 7],
+        compass: hmc6343::Truth {
+            heading_deg: 30.0,
+            pitch_deg: 0.0,
+            roll_deg: 0.0,
+            accel_g: [0.0, 0.0, 1.0],
+            mag_gauss: [0.18, 0.31, -0.33],
+            temp_c: 25.0,
+        },
+        gps: gps::Truth { speed_m_s: 0.0, course_deg: 30.0, lat_deg: 28.20021, lon_deg: 112.92647, alt_m: 5.13145 },
+    };
+    let (steps, budget, events) = guard(|| gfsins::run(&p, Arc::new(move |_| rest), ticks))?.map_err(to_py)?;
+    d.set_item("emulated", steps_dict(py, &steps, &budget, &events)?)?;
     Ok(d)
 }

@@ -71,9 +71,9 @@ impl Profile {
         // not an F28335 profile: say so rather than list its keys as unknown.
         if let Some(board) = table.get("meta").and_then(|m| m.get("board")).and_then(|b| b.as_str()) {
             return Err(Error::Profile(format!(
-                "{source}: key `meta.board` = \"{board}\": a board with a schema of its own, not run by \
-                 `board`, `budget`, `run` or `replay` yet (expected an F28335 profile without `meta.board`; \
-                 the gyro-free board runs through `sins_fw.gfsins.run`)"
+                "{source}: key `meta.board` = \"{board}\": a board with a schema of its own; `board`, \
+                 `budget`, `run` and `replay` take it, this command takes an F28335 profile (without \
+                 `meta.board`)"
             )));
         }
         fill_part_defaults(&mut table);

@@ -74,6 +74,44 @@ impl Samples {
     }
 }
 
+/// Most stages a processor's cycle is split into.
+pub const MAX_STAGES: usize = 12;
+
+/// One processor's time in one cycle split into named stages, in execution order, ps (the budget's
+/// stage rows: each processor names its own, the budget shows whatever it finds). Fixed capacity so
+/// a [`Step`] stays `Copy`; a stage pushed beyond [`MAX_STAGES`] is added to the last row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Stages {
+    names: [&'static str; MAX_STAGES],
+    ps: [Ps; MAX_STAGES],
+    len: usize,
+}
+
+impl Stages {
+    /// Add a stage of `ps` named `name` (a name already there adds to its row).
+    pub fn push(&mut self, name: &'static str, ps: Ps) {
+        if let Some(i) = self.names[..self.len].iter().position(|&n| n == name) {
+            self.ps[i] += ps;
+        } else if self.len < MAX_STAGES {
+            self.names[self.len] = name;
+            self.ps[self.len] = ps;
+            self.len += 1;
+        } else {
+            self.ps[MAX_STAGES - 1] += ps;
+        }
+    }
+
+    /// The stages, in order.
+    pub fn iter(&self) -> impl Iterator<Item = (&'static str, Ps)> + '_ {
+        self.names[..self.len].iter().copied().zip(self.ps[..self.len].iter().copied())
+    }
+
+    /// Their sum, ps.
+    pub fn total(&self) -> Ps {
+        self.ps[..self.len].iter().sum()
+    }
+}
+
 /// One 5 ms cycle of the board.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Step {
@@ -83,6 +121,18 @@ pub struct Step {
     pub packet: Packet,
     /// The DSP's output (`None`: packet refused).
     pub out: Option<DspOutput>,
+}
+
+impl Step {
+    /// The DSP's packet handler by stage (none when the packet was refused): one `handler` row
+    /// until the DSP's output gives its own stages.
+    pub fn dsp_stages(&self) -> Stages {
+        let mut s = Stages::default();
+        if let Some(o) = &self.out {
+            s.push("handler", o.t_done - o.t_irq);
+        }
+        s
+    }
 }
 
 /// The node and the DSP.
@@ -146,13 +196,29 @@ pub struct ClassLoad {
     pub mean_ps: f64,
 }
 
-/// Both processors' time per rate class over a run: [node, DSP] × [`CLASSES`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// The processors of the budget, in [`Budget::load`]'s order.
+pub const PROCESSORS: [&str; 2] = ["node", "dsp"];
+
+/// One stage of one processor per rate class (ticks: the ticks of the class that ran it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageLoad {
+    /// Index into [`PROCESSORS`].
+    pub processor: usize,
+    /// The stage's name, as the processor gave it.
+    pub name: &'static str,
+    /// Per rate class.
+    pub load: [ClassLoad; 3],
+}
+
+/// Both processors' time per rate class over a run: [node, DSP] × [`CLASSES`], in total and by stage.
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Budget {
     /// The tick period, ps.
     pub period_ps: Ps,
     /// [node, DSP][class].
     pub load: [[ClassLoad; 3]; 2],
+    /// Every stage either processor reported, the node's first, each in first-seen order.
+    pub stages: Vec<StageLoad>,
 }
 
 impl Budget {
@@ -172,20 +238,38 @@ impl Budget {
     pub fn of(steps: &[Step], period_ps: Ps) -> Budget {
         let mut b = Budget { period_ps, ..Budget::default() };
         let mut sums = [[0.0f64; 3]; 2];
+        let mut stage_sums: Vec<[f64; 3]> = Vec::new();
+        let add = |l: &mut ClassLoad, sum: &mut f64, t: Ps| {
+            l.ticks += 1;
+            l.peak_ps = l.peak_ps.max(t);
+            *sum += t as f64;
+        };
         for s in steps {
             let c = Budget::class(s);
             let dsp_ps = s.out.map_or(0, |o| o.t_done - o.t_irq);
             for (p, t) in [s.timing.cpu_ps, dsp_ps].into_iter().enumerate() {
-                let l = &mut b.load[p][c];
-                l.ticks += 1;
-                l.peak_ps = l.peak_ps.max(t);
-                sums[p][c] += t as f64;
+                add(&mut b.load[p][c], &mut sums[p][c], t);
+            }
+            for (p, stages) in [s.timing.stages, s.dsp_stages()].iter().enumerate() {
+                for (name, t) in stages.iter() {
+                    let i = match b.stages.iter().position(|r| r.processor == p && r.name == name) {
+                        Some(i) => i,
+                        None => {
+                            // The node's rows before the DSP's, each processor's in first-seen order.
+                            let at = b.stages.iter().take_while(|r| r.processor <= p).count();
+                            b.stages.insert(at, StageLoad { processor: p, name, load: Default::default() });
+                            stage_sums.insert(at, [0.0; 3]);
+                            at
+                        }
+                    };
+                    add(&mut b.stages[i].load[c], &mut stage_sums[i][c], t);
+                }
             }
         }
-        for (loads, sums) in b.load.iter_mut().zip(&sums) {
-            for (l, sum) in loads.iter_mut().zip(sums) {
-                l.mean_ps = if l.ticks > 0 { sum / l.ticks as f64 } else { 0.0 };
-            }
+        let loads = b.load.iter_mut().flatten().zip(sums.iter().flatten());
+        let stage_loads = b.stages.iter_mut().flat_map(|r| r.load.iter_mut()).zip(stage_sums.iter().flatten());
+        for (l, sum) in loads.chain(stage_loads) {
+            l.mean_ps = if l.ticks > 0 { sum / l.ticks as f64 } else { 0.0 };
         }
         b
     }

@@ -35,6 +35,7 @@
 
 use super::frame::{self, GpsWords, Packet};
 use super::profile::GfsinsProfile;
+use super::Stages;
 use crate::bus::i2c::{I2cLink, I2cTarget};
 use crate::bus::{Address, FrameTiming, Link, SpiSlave};
 use crate::device::adxl345::{self, Adxl345, ErrorPreset};
@@ -108,6 +109,13 @@ pub struct TickTiming {
     pub nmea_bytes: u32,
     /// Complete sentences handled.
     pub nmea_sentences: u32,
+    /// The I²C transaction the tick started (START to STOP; equal times when none).
+    pub iic: (Ps, Ps),
+    /// The NMEA characters handled: the first one's start bit to the last one's stop bit (equal
+    /// times when none).
+    pub uart: (Ps, Ps),
+    /// The CPU time by stage (their sum is `cpu_ps`).
+    pub stages: Stages,
 }
 
 /// The node and the parts it drives.
@@ -121,6 +129,8 @@ pub struct Node {
     gps: Gps,
     nmea: NmeaReader,
     baud_mismatch: bool,
+    /// One UART character (start, 8 data, stop bits) at the UART Lite's baud, ps.
+    char_ps: Ps,
     /// The first tick's time and the tick period, ps.
     start: Ps,
     period: Ps,
@@ -181,6 +191,7 @@ impl Node {
             cpu: Clock::from_hz(cfg.cpu_hz),
             plb: Clock::from_hz(cfg.plb_hz),
             baud_mismatch: cfg.uart_baud != profile.gps.baud,
+            char_ps: 10 * crate::time::PS_PER_S / u64::from(cfg.uart_baud),
             cfg,
             parts,
             iic,
@@ -278,6 +289,7 @@ impl Node {
         let t0 = self.tick_time(k).max(self.busy_until);
         let mut timing = TickTiming { t0, compass_phase: 3, ..TickTiming::default() };
         let mut t = t0 + self.cycles(self.cfg.isr_entry_cycles);
+        timing.stages.push("entry", t - t0);
         // 2. Load and start the seven cores; 3. collect them.
         let mut raw = [[0u8; 7]; 7];
         for (i, rx) in raw.iter_mut().enumerate() {
@@ -291,6 +303,7 @@ impl Node {
             t = t.max(end) + self.accesses(9);
         }
         timing.collected = t;
+        timing.stages.push("accelerometers", t - (t0 + timing.stages.total()));
         // 4. The compass.
         let mut flags = 0;
         if t0 >= self.compass_ready {
@@ -299,12 +312,14 @@ impl Node {
             match phase {
                 0 => {
                     t += self.accesses(4);
-                    self.iic.transfer(hmc, &[u16::from(POST_HEADING)], &mut [], t)?;
+                    let tr = self.iic.transfer(hmc, &[u16::from(POST_HEADING)], &mut [], t)?;
+                    timing.iic = (tr.start, tr.end);
                 }
                 1 => {
                     t += self.accesses(4);
                     let mut rx = [0u16; 6];
                     let tr = self.iic.transfer(hmc, &[], &mut rx, t)?;
+                    timing.iic = (tr.start, tr.end);
                     self.compass_read = Some((rx.map(|w| w as u8), tr.end));
                 }
                 2 => {
@@ -318,6 +333,7 @@ impl Node {
             }
             timing.compass_phase = phase.min(3) as u8;
         }
+        timing.stages.push("compass", t - timing.collected);
         // 5. The GPS bytes DMA1 has moved since the last tick.
         let bytes = self.gps.bytes_until(t);
         if self.baud_mismatch && !bytes.is_empty() {
@@ -342,10 +358,15 @@ impl Node {
             }
         }
         timing.nmea_bytes = bytes.len() as u32;
+        if let (Some(first), Some(last)) = (bytes.first(), bytes.last()) {
+            timing.uart = (first.1 - self.char_ps, last.1);
+        }
+        let before_gps = t;
         t += self.cycles(
             u64::from(timing.nmea_bytes) * self.cfg.nmea_cycles_per_byte
                 + u64::from(timing.nmea_sentences) * self.cfg.nmea_cycles_per_sentence,
         );
+        timing.stages.push("gps", t - before_gps);
         // 6. Pre-processing: the nine channels.
         let counts: [[i16; 3]; 7] = std::array::from_fn(|i| {
             std::array::from_fn(|ax| i16::from_le_bytes([raw[i][1 + 2 * ax], raw[i][2 + 2 * ax]]))
@@ -362,15 +383,19 @@ impl Node {
             flags |= frame::NMEA_DROPPED;
         }
         let packet = Packet { sequence: k as u16, flags, accel, compass: self.compass, gps: self.gps_words };
+        let before_packet = t;
         t += self.cycles(self.cfg.preprocess_cycles) + self.accesses(3);
         timing.dma_start = t;
+        timing.stages.push("packet", t - before_packet);
         let sck8 = self.sck(self.cfg.dsp_sck_ratio);
         let words = frame::WORDS as u64;
         let first = t + self.cfg.ss_setup_half_periods * sck8 / 2;
         // The last bit's rising edge is half a period before the end; SS↑ half a period after it.
         timing.packet_end = first + words * 16 * sck8;
         // DMA2's completion interrupt.
-        let cpu = (t - t0) + self.cycles(self.cfg.isr_entry_cycles) + self.accesses(2);
+        let dma_irq = self.cycles(self.cfg.isr_entry_cycles) + self.accesses(2);
+        timing.stages.push("dma_irq", dma_irq);
+        let cpu = (t - t0) + dma_irq;
         timing.cpu_ps = cpu;
         self.busy_until = t0 + cpu;
         if t0 + cpu > t0 + self.period || timing.packet_end > t0 + self.period {

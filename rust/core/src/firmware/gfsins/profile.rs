@@ -3,10 +3,10 @@
 //! thesis's value as its default, or a marked choice; SCHEMA.md-style notes are in the TOML itself.
 
 use crate::error::{Error, Result};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The whole profile.
-#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields, default)]
 pub struct GfsinsProfile {
     /// Name and description.
@@ -24,7 +24,7 @@ pub struct GfsinsProfile {
 }
 
 /// `[meta]`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Meta {
     /// Profile name.
@@ -46,7 +46,7 @@ impl Default for Meta {
 }
 
 /// `[node]`: the MicroBlaze and its PLB IP cores.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Node {
     /// MicroBlaze clock, Hz (one clock with the PLB: see the TOML for the 70/75 MHz disagreement).
@@ -104,7 +104,7 @@ impl Default for Node {
 }
 
 /// `[array]`: the seven ADXL345.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Array {
     /// Lever arm l of the six outer parts, m (not published) [unconfirmed].
@@ -128,7 +128,7 @@ impl Default for Array {
 }
 
 /// `[compass]`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Compass {
     /// Command set: `later` or `earlier` (the thesis's Table 4.3).
@@ -146,7 +146,7 @@ impl Default for Compass {
 }
 
 /// `[gps]`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Gps {
     /// The receiver's line rate (19 200 on the board; HOLUX default 4 800).
@@ -168,7 +168,7 @@ impl Default for Gps {
 }
 
 /// `[dsp]`: the C6727B as far as the packets and the timing budget need it.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Dsp {
     /// SYSCLK1, the CPU clock, Hz (thesis appendix B: 25 MHz × 18 / 2).
@@ -207,11 +207,29 @@ impl Default for Dsp {
 impl GfsinsProfile {
     /// The profile in `text` (read from `origin`, named in errors), checked.
     pub fn parse(text: &str, origin: &str) -> Result<GfsinsProfile> {
-        let de = toml::Deserializer::new(text);
-        let p: GfsinsProfile = serde_path_to_error::deserialize(de)
+        GfsinsProfile::parse_with(text, origin, &[])
+    }
+
+    /// The profile in `text` with `key=value` overrides (as `--set` gives them, the F28335
+    /// profile's [`apply_override`](crate::profile::apply_override)), checked.
+    pub fn parse_with(text: &str, origin: &str, overrides: &[String]) -> Result<GfsinsProfile> {
+        let mut table: toml::Table =
+            text.parse().map_err(|e: toml::de::Error| Error::Profile(format!("{origin}: {}", e.to_string().trim())))?;
+        for ov in overrides {
+            crate::profile::apply_override(&mut table, ov).map_err(|e| match e {
+                Error::Profile(m) => Error::Profile(format!("{origin}: {m}")),
+                other => other,
+            })?;
+        }
+        let p: GfsinsProfile = serde_path_to_error::deserialize(toml::Value::Table(table))
             .map_err(|e| Error::Profile(format!("{origin}: `{}`: {}", e.path(), e.inner().message())))?;
         p.check(origin)?;
         Ok(p)
+    }
+
+    /// The profile with every default filled in, as TOML text.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
     }
 
     fn check(&self, origin: &str) -> Result<()> {

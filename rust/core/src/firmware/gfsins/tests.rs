@@ -181,3 +181,63 @@ fn profile_errors_name_the_key() {
     let shipped = include_str!("../../../../../firmware_model/gfsins.toml");
     assert_eq!(GfsinsProfile::parse(shipped, "gfsins.toml").unwrap(), GfsinsProfile::default());
 }
+
+/// Each processor's stages add up to its time in every tick (nothing lost or counted twice), the
+/// node's in execution order; the budget's stage rows carry each class's peak of those times, and a
+/// stage's peak is never above its processor's.
+#[test]
+fn stages_add_up_to_each_processors_time() {
+    let mut board = Board::new(&ideal(), vehicle()).unwrap();
+    let steps: Vec<Step> = (0..500).map(|_| board.step().unwrap()).collect();
+    for s in &steps {
+        assert_eq!(s.timing.stages.total(), s.timing.cpu_ps, "tick at {}", s.timing.t0);
+        let out = s.out.unwrap();
+        assert_eq!(s.dsp_stages().total(), out.t_done - out.t_irq);
+    }
+    let names: Vec<&str> = steps[0].timing.stages.iter().map(|(n, _)| n).collect();
+    assert_eq!(names, ["entry", "accelerometers", "compass", "gps", "packet", "dma_irq"]);
+    let b = Budget::of(&steps, board.node().period());
+    assert_eq!(b.stages.iter().filter(|r| r.processor == 0).count(), 6);
+    assert!(b.stages.iter().any(|r| r.processor == 1), "the DSP's rows");
+    assert!(b.stages.windows(2).all(|w| w[0].processor <= w[1].processor), "the node's rows first");
+    for r in &b.stages {
+        for (c, class) in CLASSES.iter().enumerate() {
+            let peak = steps
+                .iter()
+                .filter(|s| Budget::class(s) == c)
+                .flat_map(|s| {
+                    if r.processor == 0 { s.timing.stages } else { s.dsp_stages() }.iter().collect::<Vec<_>>()
+                })
+                .filter(|&(n, _)| n == r.name)
+                .map(|(_, t)| t)
+                .max()
+                .unwrap_or(0);
+            assert_eq!(r.load[c].peak_ps, peak, "{} {class}", r.name);
+            assert!(r.load[c].peak_ps <= b.load[r.processor][c].peak_ps);
+        }
+    }
+    // The compass's I²C transaction and the NMEA characters are where the node says.
+    let compass = steps.iter().find(|s| s.timing.compass_phase == 0).unwrap().timing;
+    assert!(compass.iic.0 >= compass.collected && compass.iic.1 > compass.iic.0);
+    let gps = steps.iter().find(|s| s.timing.nmea_bytes > 0).unwrap().timing;
+    let char_ps = 10 * 1_000_000_000_000 / 19_200; // 520.833 µs, floored to ps
+    assert!(
+        gps.uart.1 - gps.uart.0 >= u64::from(gps.nmea_bytes) * char_ps,
+        "{:?} for {} bytes",
+        gps.uart,
+        gps.nmea_bytes
+    );
+}
+
+/// `--set key=value` on the board's own schema: the value is taken, and a bad key is named.
+#[test]
+fn overrides_apply_and_name_a_bad_key() {
+    let shipped = include_str!("../../../../../firmware_model/gfsins.toml");
+    let p = GfsinsProfile::parse_with(shipped, "gfsins.toml", &["node.adxl_sck_ratio=60".into()]).unwrap();
+    assert_eq!(p.node.adxl_sck_ratio, 60);
+    let e = GfsinsProfile::parse_with(shipped, "gfsins.toml", &["node.sck=60".into()]).unwrap_err().to_string();
+    assert!(e.contains("gfsins.toml") && e.contains("node.sck"), "{e}");
+    let e = GfsinsProfile::parse_with(shipped, "gfsins.toml", &["node".into()]).unwrap_err().to_string();
+    assert!(e.contains("gfsins.toml") && e.contains("key=value"), "{e}");
+    assert_eq!(GfsinsProfile::parse(&p.to_toml(), "round trip").unwrap(), p);
+}
