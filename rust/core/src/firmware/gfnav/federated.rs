@@ -234,6 +234,7 @@ impl<T: Scalar> Kf<T> {
     }
 
     /// The covariance U D Uᵀ (symmetric by construction: each element computed once and mirrored).
+    #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
     pub fn p(&self) -> Vec<Vec<T>> {
         let n = self.x.len();
         let zero: T = lit(0.0);
