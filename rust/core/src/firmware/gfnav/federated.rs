@@ -15,12 +15,14 @@
 //! 4.9e-2 by far at the scenario's 22 m/s). F's lower right block is 0 (spec: 0₆ₓ₆); the compass block
 //! is diag(−1/T_ec). Measurements: compass Z = φ − φ_e (H 3×18, spec), GPS Z = [δp; δv] (H 6×15).
 //!
-//! Updates are Joseph form, one scalar row at a time (the measurement noises are independent, so
-//! sequential rows equal the batch update): P ← (I − k h) P (I − k h)ᵀ + k r kᵀ. Propagation at the
-//! compass rate with Φ = I + F Δt + (F Δt)²/2 and Q_d = G Q Gᵀ Δt.
+//! Covariances are held as UD factors ([`Kf`]): updates one scalar row at a time (the measurement
+//! noises are independent, so sequential rows equal the batch update) by Bierman's factored update,
+//! equal in exact arithmetic to the Joseph form P ← (I − k h) P (I − k h)ᵀ + k r kᵀ and, like it,
+//! positive semidefinite whatever the round-off. Propagation at the compass rate with
+//! Φ = I + F Δt + (F Δt)²/2 and Q_d = G Q Gᵀ Δt (Thornton).
 //!
 //! Fusion (eq. 3.31 with β_m = 0: the master holds no information): on the 15 common states,
-//! P_f = (P₁⁻¹ + P₂⁻¹)⁻¹, x_f = P_f (P₁⁻¹ x₁ + P₂⁻¹ x₂). Information sharing (eq. 3.27) happens once,
+//! P_f = (P₁⁻¹ + P₂⁻¹)⁻¹, x_f = P_f (P₁⁻¹ x₁ + P₂⁻¹ x₂), computed in factored form ([`fuse`]). Information sharing (eq. 3.27) happens once,
 //! at the start (P_i(0) = P₀/β_i, and Q_i = Q/β_i throughout); no reset feeds x_f, P_f back. The bound
 //! Q/β, P₀/β keeps block-diag(P₁, P₂) above the sub-filters' joint error covariance, so P_f is never
 //! below the centralised filter's covariance (checked).
@@ -200,13 +202,26 @@ impl Scenario {
     }
 }
 
-/// A Kalman filter of n states in the firmware's arithmetic.
+/// A Kalman filter of n states in the firmware's arithmetic, its covariance held as P = U D Uᵀ (U unit
+/// upper triangular, D diagonal ≥ 0: Bierman–Thornton UD factors).
+///
+/// Why factors: each sub-filter leaves whole blocks unobserved (the compass sub-filter's δv, δp, ∇
+/// grow together as ∇t, ∇t²/2; the GPS sub-filter knows the tilt and horizontal ∇ only as g·φ + ∇),
+/// so P's correlation matrix has pivots near 1e-5 (`fusion_conditioning` measures them). A covariance
+/// form in single precision rounds every element of ΦPΦᵀ and of the update by 2⁻²⁴ of the element,
+/// 10 times a second; those errors pile up in the near-null directions until P is no longer
+/// positive definite and the fusion's Cholesky fails (the C6727 float test did at first). The factors
+/// carry the same information with the square root of the condition number and D ≥ 0 by
+/// construction: Thornton's modified weighted Gram–Schmidt propagates them, Bierman's scalar update
+/// measures. In exact arithmetic both equal the covariance form's ΦPΦᵀ + Q and the Joseph update.
 #[derive(Debug, Clone)]
 pub struct Kf<T> {
     /// State estimate.
     pub x: Vec<T>,
-    /// Covariance.
-    pub p: Vec<Vec<T>>,
+    /// Unit upper triangular factor.
+    pub u: Vec<Vec<T>>,
+    /// Diagonal factor.
+    pub d: Vec<T>,
 }
 
 impl<T: Scalar> Kf<T> {
@@ -214,14 +229,30 @@ impl<T: Scalar> Kf<T> {
     pub fn new(p0: &[f64], beta: f64) -> Self {
         let n = p0.len();
         let z: T = lit(0.0);
-        let mut p = vec![vec![z; n]; n];
-        for i in 0..n {
-            p[i][i] = T::from_f64(p0[i] / beta, QClass::Generic);
-        }
-        Kf { x: vec![z; n], p }
+        let u = (0..n).map(|i| (0..n).map(|j| if i == j { lit(1.0) } else { z }).collect()).collect();
+        Kf { x: vec![z; n], u, d: p0.iter().map(|v| T::from_f64(v / beta, QClass::Generic)).collect() }
     }
 
-    /// x ← Φx, P ← ΦPΦᵀ + Q_d/β (the leading n×n of Φ and Q_d).
+    /// The covariance U D Uᵀ (symmetric by construction: each element computed once and mirrored).
+    #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
+    pub fn p(&self) -> Vec<Vec<T>> {
+        let n = self.x.len();
+        let zero: T = lit(0.0);
+        let mut p = vec![vec![zero; n]; n];
+        for i in 0..n {
+            for j in i..n {
+                // U is upper triangular: U[i][k] U[j][k] is zero below k = j.
+                let v = (j..n).fold(zero, |s, k| s + self.u[i][k] * self.d[k] * self.u[j][k]);
+                p[i][j] = v;
+                p[j][i] = v;
+            }
+        }
+        p
+    }
+
+    /// x ← Φx; P ← ΦPΦᵀ + Q_d/β (the leading n×n of Φ and Q_d), by Thornton's modified weighted
+    /// Gram–Schmidt on W = [ΦU | I] with weights diag(D, Q_d/β), from the last row up.
+    #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
     pub fn predict(&mut self, phi: &[Vec<f64>], qd: &[f64], beta: f64) {
         let n = self.x.len();
         let z: T = lit(0.0);
@@ -230,34 +261,73 @@ impl<T: Scalar> Kf<T> {
         let nz: Vec<Vec<(usize, T)>> =
             f.iter().map(|r| r.iter().copied().enumerate().filter(|(_, v)| *v != z).collect()).collect();
         self.x = nz.iter().map(|r| r.iter().fold(z, |s, &(k, v)| s + v * self.x[k])).collect();
-        let fp: Vec<Vec<T>> =
-            nz.iter().map(|r| (0..n).map(|j| r.iter().fold(z, |s, &(k, v)| s + v * self.p[k][j])).collect()).collect();
-        let mut p: Vec<Vec<T>> =
-            (0..n).map(|i| (0..n).map(|j| nz[j].iter().fold(z, |s, &(k, v)| s + fp[i][k] * v)).collect()).collect();
-        for (i, row) in p.iter_mut().enumerate() {
-            row[i] = row[i] + T::from_f64(qd[i] / beta, QClass::Generic);
+        // W's left half ΦU (row i: Σ_k Φ[i][k] U[k][j], U[k][j] = 0 for k > j); its right half is I.
+        let mut w: Vec<Vec<T>> = nz
+            .iter()
+            .map(|r| {
+                let mut row: Vec<T> = (0..n).map(|j| r.iter().fold(z, |s, &(k, v)| s + v * self.u[k][j])).collect();
+                row.resize(2 * n, z);
+                row
+            })
+            .collect();
+        for (i, row) in w.iter_mut().enumerate() {
+            row[n + i] = lit(1.0);
         }
-        self.p = p;
+        let weights: Vec<T> =
+            self.d.iter().copied().chain(qd[..n].iter().map(|q| T::from_f64(q / beta, QClass::Generic))).collect();
+        let mut u = vec![vec![z; n]; n];
+        let mut d = vec![z; n];
+        for j in (0..n).rev() {
+            let dw: Vec<T> = (0..2 * n).map(|k| w[j][k] * weights[k]).collect();
+            d[j] = (0..2 * n).fold(z, |s, k| s + w[j][k] * dw[k]);
+            u[j][j] = lit(1.0);
+            if d[j] <= z {
+                continue; // a direction without variance: U's column stays the unit vector
+            }
+            for i in 0..j {
+                let uij = (0..2 * n).fold(z, |s, k| s + w[i][k] * dw[k]) / d[j];
+                u[i][j] = uij;
+                let wj = w[j].clone();
+                for (a, b) in w[i].iter_mut().zip(&wj) {
+                    *a = *a - uij * *b;
+                }
+            }
+        }
+        self.u = u;
+        self.d = d;
     }
 
-    /// One scalar measurement z = h·x + v (variance r), Joseph form.
+    /// One scalar measurement z = h·x + v (variance r), Bierman's update of U and D.
     #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
     pub fn update(&mut self, h: &[(usize, f64)], z: f64, r: f64) {
         let n = self.x.len();
         let zero: T = lit(0.0);
         let h: Vec<(usize, T)> = h.iter().map(|&(k, v)| (k, T::from_f64(v, QClass::Generic))).collect();
-        let r = T::from_f64(r, QClass::Generic);
-        let ph: Vec<T> = (0..n).map(|i| h.iter().fold(zero, |s, &(k, v)| s + self.p[i][k] * v)).collect();
-        let s = h.iter().fold(r, |acc, &(k, v)| acc + v * ph[k]);
-        let k: Vec<T> = ph.iter().map(|&v| v / s).collect();
+        // f = Uᵀhᵀ, v = D f.
+        let f: Vec<T> = (0..n).map(|j| h.iter().fold(zero, |s, &(k, v)| s + self.u[k][j] * v)).collect();
+        let v: Vec<T> = (0..n).map(|j| self.d[j] * f[j]).collect();
+        let mut alpha = T::from_f64(r, QClass::Generic);
+        let mut b = vec![zero; n];
+        for j in 0..n {
+            let before = alpha;
+            alpha = alpha + f[j] * v[j];
+            if f[j] == zero && v[j] == zero {
+                b[j] = zero;
+                continue; // column untouched by this measurement
+            }
+            let lambda = -f[j] / before;
+            self.d[j] = self.d[j] * before / alpha;
+            for i in 0..j {
+                let uij = self.u[i][j];
+                self.u[i][j] = uij + b[i] * lambda;
+                b[i] = b[i] + uij * v[j];
+            }
+            b[j] = v[j];
+        }
         let innov = h.iter().fold(T::from_f64(z, QClass::Generic), |acc, &(j, v)| acc - v * self.x[j]);
         for i in 0..n {
-            self.x[i] = self.x[i] + k[i] * innov;
+            self.x[i] = self.x[i] + b[i] / alpha * innov;
         }
-        // A = (I − k h) P = P − k (hP); P' = A − (A hᵀ) kᵀ + r k kᵀ.
-        let a: Vec<Vec<T>> = (0..n).map(|i| (0..n).map(|j| self.p[i][j] - k[i] * ph[j]).collect()).collect();
-        let ah: Vec<T> = (0..n).map(|i| h.iter().fold(zero, |s, &(c, v)| s + a[i][c] * v)).collect();
-        self.p = (0..n).map(|i| (0..n).map(|j| a[i][j] - ah[i] * k[j] + r * k[i] * k[j]).collect()).collect();
     }
 
     /// The compass measurement Z = φ − φ_e (three rows; 18-state filters only).
@@ -321,17 +391,41 @@ fn cholesky_inverse<T: Scalar>(a: &[Vec<T>]) -> Option<Vec<Vec<T>>> {
     Some((0..n).map(|i| (0..n).map(|j| (i.max(j)..n).fold(zero, |s, k| s + li[k][i] * li[k][j])).collect()).collect())
 }
 
-/// The fusion of eq. 3.31 with β_m = 0 on the first `n` states of each filter: (x_f, P_f). None if a
-/// covariance is not positive definite.
+/// The fusion of eq. 3.31 with β_m = 0 on the first `n` states (sub-filter 2's, all of them):
+/// (x_f, P_f) with P_f = (P₁⁻¹ + P₂⁻¹)⁻¹ and x_f = P_f (P₁⁻¹ x₁ + P₂⁻¹ x₂); None if a factor of
+/// sub-filter 2 has D ≤ 0.
+///
+/// Computed in factored form, as sub-filter 2's estimate measuring sub-filter 1's state: x₂ = x + e,
+/// cov e = P₂ = U₂D₂U₂ᵀ, so U₂⁻¹x₂ = U₂⁻¹x + e′ with cov e′ = D₂ diagonal: n independent scalar rows
+/// (h = row i of U₂⁻¹, r = D₂ᵢ), each a Bierman update of a copy of sub-filter 1's factors. In exact
+/// arithmetic this is the information form (the conditional of the common states given both); it
+/// inverts no covariance. The covariance forms need (P₁ + P₂)⁻¹ or P₁⁻¹, P₂⁻¹, whose equilibrated
+/// pivots fall to 1e-5 (`fusion_conditioning`): in single precision the gain then carries a
+/// relative error near n·2⁻²⁴/1e-5 ≈ 9 %, and the Joseph form's excess (δK)(P₁ + P₂)(δK)ᵀ ≈ 0.09²·P₁
+/// on the position (P₁ ≈ 1e5 m² in the compass sub-filter) made the f32 fused position variance
+/// 576 times the f64 one; the information form failed outright (a non-positive pivot).
+#[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
 pub fn fuse<T: Scalar>(a: &Kf<T>, b: &Kf<T>, n: usize) -> Option<(Vec<T>, Vec<Vec<T>>)> {
     let zero: T = lit(0.0);
-    let block = |f: &Kf<T>| -> Vec<Vec<T>> { (0..n).map(|i| f.p[i][..n].to_vec()).collect() };
-    let (ia, ib) = (spd_inverse(&block(a))?, spd_inverse(&block(b))?);
-    let info: Vec<Vec<T>> = (0..n).map(|i| (0..n).map(|j| ia[i][j] + ib[i][j]).collect()).collect();
-    let pf = spd_inverse(&info)?;
-    let y: Vec<T> = (0..n).map(|i| (0..n).fold(zero, |s, j| s + ia[i][j] * a.x[j] + ib[i][j] * b.x[j])).collect();
-    let xf = (0..n).map(|i| (0..n).fold(zero, |s, j| s + pf[i][j] * y[j])).collect();
-    Some((xf, pf))
+    if b.d[..n].iter().any(|&d| d <= zero) {
+        return None;
+    }
+    // V = U₂⁻¹ (unit upper triangular): from U V = I, row by row from the last.
+    let mut v = vec![vec![zero; n]; n];
+    for i in (0..n).rev() {
+        v[i][i] = lit(1.0);
+        for j in i + 1..n {
+            v[i][j] = -(i + 1..=j).fold(zero, |s, k| s + b.u[i][k] * v[k][j]);
+        }
+    }
+    let mut f = a.clone();
+    for (i, row) in v.iter().enumerate() {
+        let z = (i..n).fold(zero, |s, j| s + row[j] * b.x[j]);
+        let h: Vec<(usize, f64)> = (i..n).map(|j| (j, row[j].to_f64())).collect();
+        f.update(&h, z.to_f64(), b.d[i].to_f64());
+    }
+    let p = f.p();
+    Some((f.x[..n].to_vec(), p[..n].iter().map(|r| r[..n].to_vec()).collect()))
 }
 
 #[cfg(test)]
