@@ -238,7 +238,11 @@ impl GfsinsProfile {
         if self.meta.board != "gfsins" {
             return bad(
                 "meta.board",
-                format!("`{}`: this profile kind is the gyro-free board, `gfsins`", self.meta.board),
+                format!(
+                    "\"{}\": expected \"gfsins\" (the one board with a schema of its own; an F28335 \
+                     board's profile has no `meta.board`)",
+                    self.meta.board
+                ),
             );
         }
         for (key, v) in [("node.cpu_hz", n.cpu_hz), ("node.plb_hz", n.plb_hz), ("dsp.cpu_hz", self.dsp.cpu_hz)] {
