@@ -414,9 +414,9 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
     except TraceError as e:
         raise TraceError(f"{args.trace}: {e}") from None
     truth = gfsins.truth_tilt_deg(trace, out["t0_s"][:, 0])
-    rid = recording.recording_id(
-        prof.text, "\n".join(prof.overrides), args.trace.name, bytes.fromhex(file_sha256(args.trace)), repr(window)
-    )
+    trace_hash = bytes.fromhex(file_sha256(args.trace))
+    overrides = "\n".join(prof.overrides)
+    rid = recording.recording_id(prof.text, overrides, args.trace.name, trace_hash, repr(window))
     bp = view.blueprint(bus=window is not None)
     with contextlib.ExitStack() as keep:
         served = args.out
