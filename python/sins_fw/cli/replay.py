@@ -292,27 +292,9 @@ def run(args: argparse.Namespace) -> int:
             if window
             else "bus: not recorded",
         ]
-        if args.out is not None:
-            lines.append(f"saved {args.out} (open it with `rerun {args.out}`)")
-        if args.spawn:
-            if problem is not None:
-                emit(args, report, "\n".join(lines))
-                raise ViewerUnavailableError(
-                    f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.out}"
-                )
-            lines.append("sent to the Rerun viewer")
-        emit(args, report, "\n".join(lines))
-        if args.serve:
-            assert served is not None
-
-            def ready(url: str) -> None:
-                print(f"serving {served.name} in Rerun's web viewer at {url} (Ctrl-C stops it)", flush=True)
-
-            code = serve.serve(
-                served, bind=args.bind, web_port=args.port, grpc_port=args.grpc_port, on_ready=ready
-            )
-            if code != 0:
-                return code
+        code = _report_and_serve(args, report, lines, problem, served)
+        if code != 0:
+            return code
     # The recording is shown first, whatever its events.
     check_error_counts(dict(tally.errors), tally.first_error)
     return 0
@@ -468,26 +450,37 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
             if window
             else "bus: not recorded",
         ]
-        if args.out is not None:
-            lines.append(f"saved {args.out} (open it with `rerun {args.out}`)")
-        if args.spawn:
-            if problem is not None:
-                emit(args, report, "\n".join(lines))
-                raise ViewerUnavailableError(
-                    f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.out}"
-                )
-            lines.append("sent to the Rerun viewer")
-        emit(args, report, "\n".join(lines))
-        if args.serve:
-            assert served is not None
-
-            def ready(url: str) -> None:
-                print(f"serving {served.name} in Rerun's web viewer at {url} (Ctrl-C stops it)", flush=True)
-
-            code = serve.serve(
-                served, bind=args.bind, web_port=args.port, grpc_port=args.grpc_port, on_ready=ready
-            )
-            if code != 0:
-                return code
+        code = _report_and_serve(args, report, lines, problem, served)
+        if code != 0:
+            return code
     check_events(out["events"])
     return 0
+
+
+def _report_and_serve(
+    args: argparse.Namespace,
+    report: dict[str, Any],
+    lines: list[str],
+    problem: str | None,
+    served: Path | None,
+) -> int:
+    """Say where the recording went (saved, sent to the viewer), print the report, then serve the
+    recording when `--serve` asks: the exit code of the server, 0 without one."""
+    if args.out is not None:
+        lines.append(f"saved {args.out} (open it with `rerun {args.out}`)")
+    if args.spawn:
+        if problem is not None:
+            emit(args, report, "\n".join(lines))
+            raise ViewerUnavailableError(
+                f"cannot open the Rerun viewer: {problem}; the recording was saved to {args.out}"
+            )
+        lines.append("sent to the Rerun viewer")
+    emit(args, report, "\n".join(lines))
+    if not args.serve:
+        return 0
+    assert served is not None
+
+    def ready(url: str) -> None:
+        print(f"serving {served.name} in Rerun's web viewer at {url} (Ctrl-C stops it)", flush=True)
+
+    return serve.serve(served, bind=args.bind, web_port=args.port, grpc_port=args.grpc_port, on_ready=ready)
