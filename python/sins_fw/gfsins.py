@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 import os
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +21,7 @@ import numpy as np
 
 from sins_fw import _core
 from sins_fw.errors import ProfileError, TraceError
-from sins_fw.profile import resolve_profile_path
+from sins_fw.profile import ProfileValues, read_profile_text, resolve_profile_path
 from sins_fw.tablefile import Column, Schema, write_table
 from sins_fw.traces import PhysicalTrace
 
@@ -42,19 +42,8 @@ def has_own_schema(name_or_path: str | os.PathLike[str]) -> bool:
 
 
 @dataclass(frozen=True)
-class GfsinsProfile:
-    """A checked gyro-free board profile: its file, text, ``--set`` overrides and every value."""
-
-    source: str
-    text: str
-    overrides: tuple[str, ...] = ()
-    values: dict[str, Any] = field(default_factory=dict)
-
-    def get(self, dotted: str) -> Any:
-        node: Any = self.values
-        for part in dotted.split("."):
-            node = node[part]
-        return node
+class GfsinsProfile(ProfileValues):
+    """A checked gyro-free board profile."""
 
     @property
     def period_s(self) -> float:
@@ -70,11 +59,7 @@ def load(
     name_or_path: str | os.PathLike[str] = PROFILE, overrides: tuple[str, ...] | list[str] = ()
 ) -> GfsinsProfile:
     """Load and check a gyro-free board profile (errors name the file and key: ProfileError)."""
-    path = resolve_profile_path(name_or_path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as e:
-        raise ProfileError(f"{path}: not UTF-8 text (byte {e.start})") from None
+    path, text = read_profile_text(name_or_path)
     resolved = _core.gfsins_profile(text, str(path), list(overrides))
     return GfsinsProfile(str(path), text, tuple(overrides), tomllib.loads(resolved))
 

@@ -44,8 +44,8 @@ def _is_profile(path: Path) -> bool:
 
 
 @dataclass(frozen=True)
-class Profile:
-    """A validated profile: the source text, the overrides, and the resolved values."""
+class ProfileValues:
+    """A checked profile of any board: its file, text, ``--set`` overrides and every value."""
 
     source: str
     text: str
@@ -61,6 +61,21 @@ class Profile:
             node = node[part]
         return node
 
+
+def read_profile_text(name_or_path: str | os.PathLike[str]) -> tuple[Path, str]:
+    """A profile's file (a name in the model folder or a path) and its text (ProfileError when it
+    is not UTF-8)."""
+    path = resolve_profile_path(name_or_path)
+    try:
+        return path, path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as e:
+        raise ProfileError(f"{path}: not UTF-8 text (byte {e.start})") from None
+
+
+@dataclass(frozen=True)
+class Profile(ProfileValues):
+    """A validated F28335 board profile."""
+
     def with_overrides(self, *overrides: str) -> Profile:
         """The same profile with more ``key=value`` overrides (validated)."""
         return _build(self.source, self.text, (*self.overrides, *overrides))
@@ -70,11 +85,7 @@ def load_profile(
     name_or_path: str | os.PathLike[str] = "reference", overrides: tuple[str, ...] | list[str] = ()
 ) -> Profile:
     """Load, override and validate a profile. Raises ProfileError naming the file and key."""
-    path = resolve_profile_path(name_or_path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as e:
-        raise ProfileError(f"{path}: not UTF-8 text (byte {e.start})") from None
+    path, text = read_profile_text(name_or_path)
     return _build(str(path), text, tuple(overrides))
 
 
