@@ -19,10 +19,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="spin rate → roll error without and with the magnetometer aid (Monte Carlo percentiles)",
         description="The geomagnetic–gyro board's spin-rate table: for each spin rate, the gyro-only roll "
         "error at the end of the run and the aided run's largest roll error, as p50, p95 and max over "
-        "sensor units (seeds FIRST_SEED … FIRST_SEED + RUNS − 1, the same units at every rate). It runs the "
-        "sensor chain (analogue gyro and magnetometer models, the ADS8344's 16 bits) and "
-        "firmware/geomag.rs without the bus: no SPI timing, every channel of an instant read at that "
-        "instant. The same options give byte-identical output.",
+        "sensor units (seeds FIRST_SEED … FIRST_SEED + RUNS − 1, the same units at every rate). By default "
+        "it runs the whole board (firmware_model/geomag.toml through the emulator, as `sins-fw run`: the "
+        "ADS8344 read over SPI, the ads8344-geomag firmware) on a `synth spin` turntable trace per rate "
+        "(the axis level, spun up from rest over 1 s); --engine chain runs the sensor chain and "
+        "firmware/geomag.rs without the bus (every channel of an instant read at that instant; faster, any "
+        "pitch). The events column counts the board's events over every run of the rate (the chain has "
+        "none). The same options give byte-identical output.",
         epilog=exit_epilog(None),
     )
     p.add_argument(
@@ -42,7 +45,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--yaw-deg", type=_FLOAT, default=90.0, metavar="FLOAT", help="spin axis yaw, ° (default 90: north)"
     )
     p.add_argument(
-        "--pitch-deg", type=_FLOAT, default=0.0, metavar="FLOAT", help="spin axis pitch, ° (default 0)"
+        "--pitch-deg",
+        type=_FLOAT,
+        default=0.0,
+        metavar="FLOAT",
+        help="spin axis pitch, ° (default 0; the board: 0 only)",
     )
     intensity, inclination, declination = spin_table.DEFAULT_FIELD
     p.add_argument(
@@ -67,6 +74,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         help=f"its declination D, ° east (default {declination})",
     )
     p.add_argument(
+        "--engine",
+        choices=spin_table.ENGINES,
+        default="board",
+        help="board: the emulated board (default); chain: the sensor chain and firmware without the bus",
+    )
+    p.add_argument(
         "--compensate",
         action="store_true",
         help="the firmware's group-delay compensation on (spin gyro's τ_g on the x rate, magnetometer lag)",
@@ -85,6 +98,7 @@ def run(args: argparse.Namespace) -> int:
         pitch_deg=args.pitch_deg,
         field=(args.mag_intensity_gauss, args.mag_inclination_deg, args.mag_declination_deg),
         compensate=args.compensate,
+        engine=args.engine,
     )
     emit(args, table, spin_table.render(table))
     return 0
