@@ -109,6 +109,20 @@ impl<T: Scalar> RateRecovery<T> {
         }
     }
 
+    /// The same recovery, state and settings, in the arithmetic `S` (values through f64: exact from
+    /// a narrower float). The timing model runs a copy in the counting type.
+    pub fn cast<S: Scalar>(&self) -> RateRecovery<S> {
+        let c = |x: T| S::from_f64(x.to_f64(), QClass::Rate);
+        RateRecovery {
+            cfg: self.cfg,
+            dt: c(self.dt),
+            dt2: c(self.dt2),
+            eps: c(self.eps),
+            prev: self.prev.map(|p| p.map(c)),
+            rate: self.rate.map(c),
+        }
+    }
+
     /// One step with the array's inversion at this instant.
     pub fn step(&mut self, m: &ArrayMotion<T>) -> RateOutput<T> {
         let [pxy, pyz, pxz] = m.products;
