@@ -415,7 +415,11 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
         raise TraceError(f"{args.trace}: {e}") from None
     truth = gfsins.truth_tilt_deg(trace, out["t0_s"][:, 0])
     rid = recording.recording_id(
-        prof.text, "\n".join(prof.overrides), args.trace.name, bytes.fromhex(file_sha256(args.trace)), repr(window)
+        prof.text,
+        "\n".join(prof.overrides),
+        args.trace.name,
+        bytes.fromhex(file_sha256(args.trace)),
+        repr(window),
     )
     bp = view.blueprint(bus=window is not None)
     with contextlib.ExitStack() as keep:

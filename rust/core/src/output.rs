@@ -353,12 +353,7 @@ pub const GFSINS_COLUMNS: &[Column] = &[
         "the navigation's latitude, longitude, height",
         &[("nav_lat_deg", "°"), ("nav_lon_deg", "°"), ("nav_height_m", "m")],
     ),
-    filed(
-        "nav_fused",
-        "−1/0/1",
-        "the fusion on this packet: −1 not run, 0 refused, 1 done",
-        &[("nav_fused", "1")],
-    ),
+    filed("nav_fused", "−1/0/1", "the fusion on this packet: −1 not run, 0 refused, 1 done", &[("nav_fused", "1")]),
     filed("dsp_flushes", "1", "denormals flushed by the C6727's navigation since power-up", &[("dsp_flushes", "1")]),
 ];
 

@@ -243,8 +243,8 @@ mod tests {
     #[test]
     fn denormals_flush_to_zero_and_are_counted() {
         take_flushes();
-        let tiny = f32::MIN_POSITIVE; // 2⁻¹²⁶, the smallest normal
-        // A result below the normal range: 2⁻¹²⁶ · 0.5 = 2⁻¹²⁷ is subnormal in IEEE.
+        // 2⁻¹²⁶, the smallest normal; 2⁻¹²⁶ · 0.5 = 2⁻¹²⁷ is below the normal range (IEEE: subnormal).
+        let tiny = f32::MIN_POSITIVE;
         let r = c(tiny) * c(0.5);
         assert_eq!(r.to_bits(), 0, "flushed to +0");
         assert_eq!(flushes(), 1);

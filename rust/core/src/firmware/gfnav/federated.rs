@@ -130,7 +130,8 @@ impl Scenario {
         // Body (x right, y forward, z up) to ENU at heading ψ (clockwise from north), level.
         let (sh, ch) = (self.heading.sin(), self.heading.cos());
         let c_bn = [[ch, sh, 0.0], [-sh, ch, 0.0], [0.0, 0.0, 1.0]];
-        let at = Linearisation { lat: self.lat, height: self.height, vel: [ve, vn, 0.0], c_bn, f_n: [0.0, 0.0, self.g] };
+        let at =
+            Linearisation { lat: self.lat, height: self.height, vel: [ve, vn, 0.0], c_bn, f_n: [0.0, 0.0, self.g] };
         error_model(&at, self)
     }
 
@@ -357,10 +358,10 @@ impl<T: Scalar> Kf<T> {
             if d[j] <= z {
                 continue; // a direction without variance: U's column stays the unit vector
             }
+            let wj = w[j].clone(); // row j is not changed by the rows above it
             for i in 0..j {
                 let uij = (0..2 * n).fold(z, |s, k| s + w[i][k] * dw[k]) / d[j];
                 u[i][j] = uij;
-                let wj = w[j].clone();
                 for (a, b) in w[i].iter_mut().zip(&wj) {
                     *a = *a - uij * *b;
                 }

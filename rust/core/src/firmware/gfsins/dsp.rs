@@ -175,7 +175,11 @@ impl Dsp {
                 .1
             });
         if !self.nav.start(packet, &d) {
-            return self.nav.solution(&gfnav::RateOutput { rate: [C67xF32::default(); 3], bridged: [Bridge::No; 3], denominators: [C67xF32::default(); 3] });
+            return self.nav.solution(&gfnav::RateOutput {
+                rate: [C67xF32::default(); 3],
+                bridged: [Bridge::No; 3],
+                denominators: [C67xF32::default(); 3],
+            });
         }
         let before = self.nav.ins().clone();
         let out = self.nav.strapdown(&d.accel);
@@ -184,7 +188,8 @@ impl Dsp {
         stages[1].1 = self.cost(Stage::Strapdown, pattern, || count(|| before.cast::<Counted>().step(&accel)).1);
         if self.nav.spell(&out) {
             if let Some(mut e) = gfnav::singular_event(t_irq, &out, self.cfg.min_denominator) {
-                e.message = format!("{} (a spell begins: reported once until a step is solved on every axis)", e.message);
+                e.message =
+                    format!("{} (a spell begins: reported once until a step is solved on every axis)", e.message);
                 self.events.push(e);
             }
         }

@@ -168,7 +168,10 @@ pub fn decode<T: Scalar>(p: &Packet, lsb_g: f64) -> Decoded<T> {
     let tenth_deg: T = lit(0.1f64.to_radians());
     let compass = (p.flags & frame::NEW_COMPASS != 0).then(|| p.compass.map(|n| tenth_deg.mul_i32(i32::from(n))));
     let gps_vel = (p.flags & frame::NEW_GPS != 0 && p.flags & frame::GPS_VALID != 0).then(|| {
-        [lit::<T>(0.01).mul_i32(i32::from(p.gps.speed_cm_s)), lit::<T>(0.01f64.to_radians()).mul_i32(i32::from(p.gps.course_cdeg))]
+        [
+            lit::<T>(0.01).mul_i32(i32::from(p.gps.speed_cm_s)),
+            lit::<T>(0.01f64.to_radians()).mul_i32(i32::from(p.gps.course_cdeg)),
+        ]
     });
     Decoded { accel: p.accel.map(|n| k.mul_i32(i32::from(n))), compass, gps_vel }
 }
@@ -209,7 +212,9 @@ impl<T: Scalar> Ins<T> {
         let m = gfnav::invert(a, self.lever_arm_m);
         let out = match self.rate.as_mut() {
             Some(r) => r.step(&m),
-            None => return RateOutput { rate: [lit(0.0); 3], bridged: [Bridge::Start; 3], denominators: [lit(0.0); 3] },
+            None => {
+                return RateOutput { rate: [lit(0.0); 3], bridged: [Bridge::Start; 3], denominators: [lit(0.0); 3] }
+            }
         };
         let s = self.nav_state();
         let r = self.earth.rates(&s);
@@ -235,7 +240,6 @@ impl<T: Scalar> Ins<T> {
         self.f_n = f_n;
         out
     }
-
 }
 
 impl<T: Scalar> Nav<T> {
@@ -457,7 +461,8 @@ impl<T: Scalar> Nav<T> {
         let roll = ct[2][1].atan2(ct[2][2]);
         let vel: [f64; 3] = std::array::from_fn(|i| self.ins.vel[i].to_f64() - x[federated::DV + i]);
         let pm: [f64; 3] = std::array::from_fn(|i| self.ins.pos[i].to_f64() - x[federated::DP + i]);
-        let pos = [o.lat + pm[1] * self.ins.per_m[0].to_f64(), o.lon + pm[0] * self.ins.per_m[1].to_f64(), o.height + pm[2]];
+        let pos =
+            [o.lat + pm[1] * self.ins.per_m[0].to_f64(), o.lon + pm[0] * self.ins.per_m[1].to_f64(), o.height + pm[2]];
         NavOutput {
             rate: out.rate.map(T::to_f64),
             bridged: out.bridged.map(|b| b != Bridge::No),

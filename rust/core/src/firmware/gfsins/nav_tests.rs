@@ -34,11 +34,8 @@ fn straight_line() -> Source {
     let gamma = 9.780_325_335_9 * (1.0 + SOMIGLIANA_K * s2) / (1.0 - e2 * s2).sqrt() * (1.0 - 2.0 * H0 / re);
     let f_n = [w[1] * v[2] - w[2] * v[1], w[2] * v[0] - w[0] * v[2], w[0] * v[1] - w[1] * v[0] + gamma];
     // Body x forward = (sin ψ, cos ψ, 0), y left = (−cos ψ, sin ψ, 0), z up.
-    let f_b = [
-        (psi.sin() * f_n[0] + psi.cos() * f_n[1]) / G0,
-        (-psi.cos() * f_n[0] + psi.sin() * f_n[1]) / G0,
-        f_n[2] / G0,
-    ];
+    let f_b =
+        [(psi.sin() * f_n[0] + psi.cos() * f_n[1]) / G0, (-psi.cos() * f_n[0] + psi.sin() * f_n[1]) / G0, f_n[2] / G0];
     Arc::new(move |t| {
         let ts = t as f64 * 1e-12;
         let lat_t = lat + v[1] * ts / rn;
@@ -86,7 +83,8 @@ fn minute(p: &GfsinsProfile) -> (Vec<Step>, Budget, Vec<Event>) {
 fn the_dsp_budget_shows_the_multi_rate_peaks() {
     let (steps, b, _) = minute(&ideal());
     let row = |name: &str| b.stages.iter().find(|r| r.processor == 1 && r.name == name).unwrap().load;
-    let (dec, sd, cf, gf, fu) = (row("decode"), row("strapdown"), row("compass filter"), row("GPS filter"), row("fusion"));
+    let (dec, sd, cf, gf, fu) =
+        (row("decode"), row("strapdown"), row("compass filter"), row("GPS filter"), row("fusion"));
     let d = b.load[1];
     let us = |ps: Ps| ps as f64 * 1e-6;
     for (c, class) in CLASSES.iter().enumerate() {
@@ -148,7 +146,8 @@ fn dsp_navigation_is_the_gfnav_modules_offline() {
         }
         started += 1;
         let r = rates.get_or_insert_with(|| {
-            let rc = RateConfig { dt: 0.005, min_denominator: p.dsp.min_denominator, z_numerator: ZNumerator::Corrected };
+            let rc =
+                RateConfig { dt: 0.005, min_denominator: p.dsp.min_denominator, z_numerator: ZNumerator::Corrected };
             RateRecovery::new(rc, offline.initial_rate())
         });
         let by_modules = r.step(&gfnav::invert(&d.accel, p.array.lever_arm_m));
