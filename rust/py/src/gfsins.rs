@@ -85,6 +85,9 @@ pub fn gfsins_run<'py>(
     steps_dict(py, &steps, &budget, &events)
 }
 
+/// A navigation column: its name, its width and its value (row of the DSP's output, index in the row).
+type NavColumn<'a> = (&'a str, usize, &'a dyn Fn(&gfsins::DspOutput, usize) -> f64);
+
 /// The per-cycle arrays, the budget and the events of a run as the Python side takes them.
 fn steps_dict<'py>(
     py: Python<'py>,
@@ -109,7 +112,7 @@ fn steps_dict<'py>(
     d.set_item("gps", cols(6, &|s, j| s.out.map_or(nan, |o| o.gps[j])).into_pyarray(py))?;
     d.set_item("tilt_deg", cols(2, &|s, j| s.out.map_or(nan, |o| o.tilt[j].to_degrees())).into_pyarray(py))?;
     // The navigation (sins_core::output::GFSINS_COLUMNS, checked below).
-    let nav_cols: [(&str, usize, &dyn Fn(&gfsins::DspOutput, usize) -> f64); 7] = [
+    let nav_cols: [NavColumn<'_>; 7] = [
         ("nav_rate", 3, &|o, j| o.nav.rate[j]),
         ("nav_bridged", 1, &|o, _| {
             if o.nav.rate[0].is_nan() {
