@@ -329,46 +329,61 @@ impl<T: Scalar> Kf<T> {
     }
 
     /// [`Kf::predict`] with Φ (at least n×n) and Q_d/β (at least n) already in the firmware's arithmetic.
+    ///
+    /// W is one n × 2n block (row i at `w[i·2n..]`) and U, D are overwritten in place: the same
+    /// operations in the same order as with a fresh matrix per row, without the allocations.
     #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
     pub fn predict_with(&mut self, f: &[Vec<T>], qd_beta: &[T]) {
         let n = self.x.len();
+        let m = 2 * n;
         let z: T = lit(0.0);
-        let nz: Vec<Vec<(usize, T)>> =
-            f[..n].iter().map(|r| r[..n].iter().copied().enumerate().filter(|(_, v)| *v != z).collect()).collect();
-        self.x = nz.iter().map(|r| r.iter().fold(z, |s, &(k, v)| s + v * self.x[k])).collect();
+        // Φ's nonzero elements (column, value), row i at nz[start[i]..start[i + 1]].
+        let mut nz: Vec<(usize, T)> = Vec::with_capacity(n * n);
+        let mut start = Vec::with_capacity(n + 1);
+        for r in &f[..n] {
+            start.push(nz.len());
+            nz.extend(r[..n].iter().copied().enumerate().filter(|(_, v)| *v != z));
+        }
+        start.push(nz.len());
+        let row = |i: usize| &nz[start[i]..start[i + 1]];
+        self.x = (0..n).map(|i| row(i).iter().fold(z, |s, &(k, v)| s + v * self.x[k])).collect();
         // W's left half ΦU (row i: Σ_k Φ[i][k] U[k][j], U[k][j] = 0 for k > j); its right half is I.
-        let mut w: Vec<Vec<T>> = nz
-            .iter()
-            .map(|r| {
-                let mut row: Vec<T> = (0..n).map(|j| r.iter().fold(z, |s, &(k, v)| s + v * self.u[k][j])).collect();
-                row.resize(2 * n, z);
-                row
-            })
-            .collect();
-        for (i, row) in w.iter_mut().enumerate() {
-            row[n + i] = lit(1.0);
+        let mut w = vec![z; n * m];
+        for (i, wi) in w.chunks_exact_mut(m).enumerate() {
+            for j in 0..n {
+                wi[j] = row(i).iter().fold(z, |s, &(k, v)| s + v * self.u[k][j]);
+            }
+        }
+        for i in 0..n {
+            w[i * m + n + i] = lit(1.0);
         }
         let weights: Vec<T> = self.d.iter().copied().chain(qd_beta[..n].iter().copied()).collect();
-        let mut u = vec![vec![z; n]; n];
-        let mut d = vec![z; n];
+        let mut dw = vec![z; m];
         for j in (0..n).rev() {
-            let dw: Vec<T> = (0..2 * n).map(|k| w[j][k] * weights[k]).collect();
-            d[j] = (0..2 * n).fold(z, |s, k| s + w[j][k] * dw[k]);
-            u[j][j] = lit(1.0);
-            if d[j] <= z {
-                continue; // a direction without variance: U's column stays the unit vector
+            // Rows above j are changed; row j is not changed by them.
+            let (above, rest) = w.split_at_mut(j * m);
+            let wj = &rest[..m];
+            for ((o, &a), &b) in dw.iter_mut().zip(wj).zip(&weights) {
+                *o = a * b;
             }
-            let wj = w[j].clone(); // row j is not changed by the rows above it
-            for i in 0..j {
-                let uij = (0..2 * n).fold(z, |s, k| s + w[i][k] * dw[k]) / d[j];
-                u[i][j] = uij;
-                for (a, b) in w[i].iter_mut().zip(&wj) {
-                    *a = *a - uij * *b;
+            let dj = wj.iter().zip(&dw).fold(z, |s, (&a, &b)| s + a * b);
+            self.d[j] = dj;
+            self.u[j][j] = lit(1.0);
+            if dj <= z {
+                // A direction without variance: U's column stays the unit vector.
+                for i in 0..j {
+                    self.u[i][j] = z;
+                }
+                continue;
+            }
+            for (i, wi) in above.chunks_exact_mut(m).enumerate() {
+                let uij = wi.iter().zip(&dw).fold(z, |s, (&a, &b)| s + a * b) / dj;
+                self.u[i][j] = uij;
+                for (a, &b) in wi.iter_mut().zip(wj) {
+                    *a = *a - uij * b;
                 }
             }
         }
-        self.u = u;
-        self.d = d;
     }
 
     /// One scalar measurement z = h·x + v (variance r), Bierman's update of U and D.
