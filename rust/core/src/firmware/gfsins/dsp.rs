@@ -188,12 +188,11 @@ impl Dsp {
         stages[1].1 = self.cost(Stage::Strapdown, pattern, || count(|| before.cast::<Counted>().step(&accel)).1);
         if self.nav.spell(&out) {
             if let Some(mut e) = gfnav::singular_event(t_irq, &out, self.cfg.min_denominator) {
-                e.message =
-                    format!("{} (a spell begins: reported once until a step is solved on every axis)", e.message);
+                e.message.push_str(" (a spell begins: reported once until a step is solved on every axis)");
                 self.events.push(e);
             }
         }
-        let mut o = self.nav.solution(&out);
+        let (mut compass_update, mut gps_update, mut fused) = (false, false, None);
         if let Some(hpr) = d.compass {
             let nav = &self.nav;
             let h = hpr.map(|x| Counted(x.to_f64()));
@@ -204,7 +203,7 @@ impl Dsp {
             };
             stages[2].1 = self.cost(Stage::Compass, 0, c);
             self.nav.compass_filter(packet.sequence, &hpr);
-            o.compass_update = true;
+            compass_update = true;
         }
         if let Some(sc) = d.gps_vel {
             let seq = packet.sequence;
@@ -214,17 +213,16 @@ impl Dsp {
             let mut copy = self.nav.cast::<Counted>();
             stages[4].1 = self.cost(Stage::Fusion, 0, || count(|| copy.fusion()).1);
             self.nav.gps_filter(packet.sequence, packet, &sc);
-            let fused = self.nav.fusion();
-            if !fused {
+            let done = self.nav.fusion();
+            if !done {
                 let what = "C6727: fusion refused: sub-filter 2's factor D has an element ≤ 0 (the fused estimate keeps its last value)";
                 self.events.push(Event::new(t_irq, "fusion_refused", Severity::Warning, what.to_string()));
             }
-            o.gps_update = true;
-            o.fused = Some(fused);
+            gps_update = true;
+            fused = Some(done);
         }
         // The solution after the filters (the fusion may have moved it).
-        let s = self.nav.solution(&out);
-        NavOutput { attitude: s.attitude, vel: s.vel, pos: s.pos, ..o }
+        NavOutput { compass_update, gps_update, fused, ..self.nav.solution(&out) }
     }
 
     /// The packet `words` clocked in by SPI1 as `timing` says (SCLK period `sck`): the output, or
