@@ -21,7 +21,8 @@
 //! - Start: at the first packet that has both a compass reading and a valid GPS fix. Attitude from
 //!   the centre part's tilt (pitch atan2(f_x, √(f_y² + f_z²)), roll atan2(f_y, f_z)) and the
 //!   compass heading; velocity from the fix's speed and course (no vertical speed in NMEA: 0);
-//!   position at the fix; the recovered rate starts at the earth and transport rate in body axes.
+//!   position at the fix moved forward by v·`gps_age_ms` (the fix is that old); the recovered rate
+//!   starts at the earth and transport rate in body axes.
 //! - Position is held as metres east, north, up from the first fix: in single precision a latitude
 //!   in radians has an ulp of 3e-8 rad (0.19 m), and a 5 ms step at 22 m/s moves 1.7e-8 rad north,
 //!   1e-8 rad east (longitude ulp 1.2e-7 rad): integrated in radians the position would not move.
@@ -341,7 +342,9 @@ impl<T: Scalar> Nav<T> {
         ins.q = euler_quat(heading, pitch, roll);
         let [speed, course] = d.gps_vel.unwrap_or([lit(0.0); 2]);
         ins.vel = [speed * course.sin(), speed * course.cos(), lit(0.0)];
-        ins.pos = zero3;
+        // The fix is `gps_age_s` old (as in the GPS filter's measurement): the vehicle is v·age past it.
+        let age: T = lit(self.cfg.gps_age_s);
+        ins.pos = [ins.vel[0] * age, ins.vel[1] * age, lit(0.0)];
         let r = ins.earth.rates(&ins.nav_state());
         // ω_ib^b = C_n^b ω_in^n at the start (ω_nb^b = 0: the vehicle does not turn).
         let w_ib = body_rate_nav(&dcm(&ins.q), &zero3, &r.w_in()).map(|x| -x);
