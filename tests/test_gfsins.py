@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from sins_fw import earth, gfsins, quaternion, synth
+from sins_fw import _core, earth, gfsins, quaternion, synth
 from sins_fw.errors import ConfigError, ProfileError, TraceError
 
 
@@ -65,10 +65,11 @@ def test_vehicle_defaults_are_the_thesis_scenario() -> None:
 def test_board_runs_on_the_vehicle_trace(turn: synth.PhysicalTrace) -> None:
     """The straight-line scenario through the board: the DSP sees heading 30° from the compass,
     the GPS fixes near the trace's, a tilt near level; the budget has both processors' three rate
-    classes; no event with the shipped profile."""
+    classes; with the shipped profile the only events are the navigation's spells of bridged rate
+    steps (the array's noise makes the products' change cross the singular threshold now and then)."""
     trace = synth.generate("vehicle", duration_s=3.0)
     out = gfsins.run(trace, ticks=400)
-    assert out["events"] == []
+    assert {e["kind"] for e in out["events"]} <= {"rate_singular"}
     flags = out["flags"][:, 0].astype(int)
     compass = out["compass_deg"][flags & 1 == 1]
     assert len(compass) > 0
@@ -82,7 +83,7 @@ def test_board_runs_on_the_vehicle_trace(turn: synth.PhysicalTrace) -> None:
         classes = out["budget"][proc]
         assert all(classes[c]["ticks"] > 0 for c in ("200 Hz", "10 Hz", "1 Hz"))
         assert classes["1 Hz"]["peak_s"] >= classes["200 Hz"]["peak_s"]
-        assert classes["1 Hz"]["peak_fraction"] < 0.1
+        assert classes["1 Hz"]["peak_fraction"] < 0.2  # the DSP's filter stages: 12.5 % (nav_tests.rs)
 
 
 def test_board_input_errors(turn: synth.PhysicalTrace) -> None:
@@ -101,3 +102,27 @@ def test_board_input_errors(turn: synth.PhysicalTrace) -> None:
         )
     with pytest.raises(TraceError, match="array columns"):
         gfsins.run(synth.generate("static", duration_s=1.0), ticks=1)
+
+
+def test_navigation_columns_follow_the_vehicle() -> None:
+    """With ideal parts on the straight line (chapter 5's 80 km/h, heading 30°), the C6727's
+    navigation columns follow the vehicle within the fused filter's chapter 5 bounds (docs/gfnav.md,
+    federated_tests.rs: position ≲ 10 m, velocity ≲ 0.1 m/s, level ≲ 0.5°, heading < 1.5°) after
+    its first fusion; the recovered rate is the earth and transport rate (≤ 1e-4 rad/s), bridged on
+    every axis (a constant rate: one reported spell); every column of _core.GFSINS_COLUMNS is in the
+    run output."""
+    trace = synth.generate("vehicle", duration_s=20.0)
+    ideal = ("array.preset=ideal", "compass.errors=ideal", "gps.cep_m=0", "gps.velocity_sigma_m_s=0")
+    prof = gfsins.load(gfsins.PROFILE, ideal)
+    out = gfsins.run(trace, gfsins.ticks_in(trace, prof), prof)
+    err = gfsins.nav_errors(trace, out)
+    assert err["horizontal_m"]["max_abs"] < 10.0 and err["velocity_mps"]["max_abs"] < 0.1
+    assert max(err["roll_deg"]["max_abs"], err["pitch_deg"]["max_abs"]) < 0.5
+    assert err["heading_deg"]["max_abs"] < 1.5
+    started = ~np.isnan(out["nav_rate"][:, 0])
+    assert started.sum() > 3000
+    assert np.abs(out["nav_rate"][started]).max() < 1e-4
+    assert set(out["nav_bridged"][started, 0]) == {7.0}
+    assert [e["kind"] for e in out["events"]] == ["rate_singular"]
+    names = {n for c in _core.GFSINS_COLUMNS for n, _ in c["file"]}
+    assert names <= {c.name for c in gfsins.RUN_COLUMNS}

@@ -160,7 +160,8 @@ def _col(name: str, unit: str, what: str, kind: str = "float", nan: bool = False
     return Column(name, unit, what, kind, nan_allowed=nan)
 
 
-#: One row per 5 ms cycle: the packet as the DSP decoded it (NaN: refused), the DSP's tilt, both
+#: One row per 5 ms cycle: the packet as the DSP decoded it (NaN: refused), the DSP's tilt, its
+#: navigation (the columns of ``_core.GFSINS_COLUMNS``, declared in Rust), both
 #: processors' time, and the bus log of the cycle (each link's activity; NaN: the link was idle).
 RUN_COLUMNS: tuple[Column, ...] = (
     _col("t_s", "s", "the node's timer interrupt (virtual time; 0 is the trace's first sample)"),
@@ -180,6 +181,11 @@ RUN_COLUMNS: tuple[Column, ...] = (
     _col("utc_s", "s", "GPS UTC time of day in the packet", nan=True),
     _col("pitch_deg", "°", "the DSP's pitch (level formula on A7…A9)", nan=True),
     _col("roll_deg", "°", "the DSP's roll (level formula on A7…A9)", nan=True),
+    *(
+        _col(name, unit, f"{c['meaning']} ({c['unit']})", nan=True)
+        for c in _core.GFSINS_COLUMNS
+        for name, unit in c["file"]
+    ),
     _col("truth_pitch_deg", "°", "the trace's pitch at the tick"),
     _col("truth_roll_deg", "°", "the trace's roll at the tick"),
     _col("rate_class", "1", "budget rate class: 0 = 200 Hz, 1 = 10 Hz, 2 = 1 Hz"),
@@ -220,6 +226,9 @@ def run_columns(out: dict[str, Any], truth_tilt: np.ndarray) -> dict[str, np.nda
     names = ("lat_deg", "lon_deg", "alt_m", "speed_mps", "course_deg", "utc_s")
     cols |= dict(zip(names, out["gps"].T, strict=True))
     cols |= {"pitch_deg": out["tilt_deg"][:, 0], "roll_deg": out["tilt_deg"][:, 1]}
+    for c in _core.GFSINS_COLUMNS:
+        values = np.asarray(out[c["name"]])
+        cols |= {name: values[:, i] for i, (name, _) in enumerate(c["file"])}
     cols |= {"truth_pitch_deg": truth_tilt[:, 0], "truth_roll_deg": truth_tilt[:, 1]}
     cols |= {
         "rate_class": one["class"],
@@ -253,3 +262,49 @@ def save_run(
         **extra,
     }
     write_table(path, RUN_SCHEMA, meta, run_columns(out, truth_tilt))
+
+
+def nav_errors(trace: PhysicalTrace, out: dict[str, Any]) -> dict[str, dict[str, float]]:
+    """The C6727's navigation against the trace's truth, after its first fusion: attitude (roll,
+    pitch, heading, °) at every tick; position (horizontal and vertical, m) and velocity (m/s) at
+    the ticks that start within one period after a truth GPS row (the trace's exact fixes). Each
+    as ``rms`` and ``max_abs``; empty when the navigation never fused."""
+    t = out["t0_s"][:, 0]
+    fused = np.maximum.accumulate(np.nan_to_num(out["nav_fused"][:, 0], nan=-1.0) == 1.0)
+    if not fused.any():
+        return {}
+    t_tr = trace.t_s - trace.t_s[0]
+    i = np.clip(np.searchsorted(t_tr, t, side="right") - 1, 0, len(trace) - 1)
+    c = compass_truth(trace)[i]
+    att = out["nav_attitude_deg"]
+    errs: dict[str, np.ndarray] = {
+        "roll_deg": att[:, 0] - c[:, 2],
+        "pitch_deg": att[:, 1] - c[:, 1],
+        "heading_deg": np.mod(att[:, 2] - c[:, 0] + 180.0, 360.0) - 180.0,
+    }
+    errs = {k: v[fused] for k, v in errs.items()}
+    assert trace.gps is not None
+    rows = np.flatnonzero(~np.isnan(trace.gps[:, 0]))
+    period = float(np.median(np.diff(t))) if len(t) > 1 else 0.005
+    k = np.searchsorted(t, t_tr[rows])
+    ok = (k < len(t)) & fused[np.minimum(k, len(t) - 1)]
+    k, rows = k[ok], rows[ok]
+    ok = t[k] - t_tr[rows] < period
+    k, rows = k[ok], rows[ok]
+    if len(k):
+        g = trace.gps[rows]
+        pos = out["nav_pos"][k]
+        r_e = 6_378_137.0
+        dn = np.radians(pos[:, 0] - g[:, 2]) * r_e
+        de = np.radians(pos[:, 1] - g[:, 3]) * r_e * np.cos(np.radians(g[:, 2]))
+        errs["horizontal_m"] = np.hypot(dn, de)
+        errs["vertical_m"] = pos[:, 2] - g[:, 4]
+        course = np.radians(g[:, 1])
+        v = out["nav_vel_enu"][k]
+        ve, vn = g[:, 0] * np.sin(course), g[:, 0] * np.cos(course)
+        errs["velocity_mps"] = np.sqrt((v[:, 0] - ve) ** 2 + (v[:, 1] - vn) ** 2 + v[:, 2] ** 2)
+    return {
+        name: {"rms": float(np.sqrt(np.mean(e**2))), "max_abs": float(np.abs(e).max())}
+        for name, e in errs.items()
+        if len(e)
+    }

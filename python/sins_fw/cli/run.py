@@ -474,6 +474,8 @@ def _run_gfsins(args: argparse.Namespace) -> int:
         "gps_fixes": int(np.count_nonzero(out["flags"][:, 0].astype(int) & 2)),
         "compass_updates": int(np.count_nonzero(out["flags"][:, 0].astype(int) & 1)),
         "tilt_error": tilt,
+        "navigation_error": gfsins.nav_errors(trace, out),
+        "denormals_flushed": int(np.nan_to_num(out["dsp_flushes"][:, 0]).max(initial=0)),
         "events": {k: {"count": n, "first": first[k]} for k, n in kinds.items()},
         "budget": {"period_s": out["period_s"], "classes": out["classes"], "rows": gfsins.budget_rows(out)},
     }
@@ -492,6 +494,15 @@ def _run_gfsins(args: argparse.Namespace) -> int:
             )
             + " (level formula on the centre part: attitude only when the vehicle does not accelerate)"
         )
+    nav = summary["navigation_error"]
+    if nav:
+        lines.append(
+            "navigation     after the first fusion: "
+            + "; ".join(f"{k} rms {v['rms']:.4g}, max {v['max_abs']:.4g}" for k, v in nav.items())
+            + f"; {summary['denormals_flushed']} denormals flushed"
+        )
+    else:
+        lines.append("navigation     never fused (no compass reading and valid GPS fix reached the DSP)")
     if kinds:
         lines.append("events         " + ", ".join(f"{k} ×{n}" for k, n in kinds.items()))
         lines += [f"  first {k} at {first[k]['t_s']:.6f} s: {first[k]['message']}" for k in kinds]

@@ -317,7 +317,13 @@ pub const KINDS: &[EventKind] = &[
         "rate_singular",
         Warning,
         "firmware",
-        "rate recovery from the accelerometer array's products is 0/0 (the products do not change): bridged by ω̇",
+        "rate recovery from the accelerometer array's products is 0/0 (the products do not change): bridged by ω̇; the C6727 reports a spell of such steps once",
+    ),
+    kind(
+        "fusion_refused",
+        Warning,
+        "firmware",
+        "the C6727's federated fusion found sub-filter 2's covariance factor not positive: the fused estimate keeps its last value",
     ),
 ];
 

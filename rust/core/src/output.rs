@@ -319,6 +319,44 @@ pub const COLUMNS: &[Column] = &[
     filed("wing_at_rest", "0/1", "wing: the step was detected at rest (rest recalibration ran)", &[("wing_at_rest", "0/1")]),
 ];
 
+/// The gyro-free board's navigation columns (`sins_fw._core.GFSINS_COLUMNS`): keys of
+/// `_core.gfsins_run`'s dict (one row per 5 ms cycle, NaN until the C6727's navigation starts or
+/// when a packet was refused) and their columns in the board's run output file.
+pub const GFSINS_COLUMNS: &[Column] = &[
+    filed(
+        "nav_rate",
+        "rad/s",
+        "ω_ib^b recovered from the accelerometer array (body axes of the array: x forward, y left, z up)",
+        &[("rate_x_rad_s", "rad/s"), ("rate_y_rad_s", "rad/s"), ("rate_z_rad_s", "rad/s")],
+    ),
+    filed(
+        "nav_bridged",
+        "0…7",
+        "axes whose rate was bridged by ω̇ (bit 0 x, 1 y, 2 z): the products did not change",
+        &[("rate_bridged", "1")],
+    ),
+    filed(
+        "nav_attitude_deg",
+        "°",
+        "the navigation's roll (right side down), pitch (nose up), heading (clockwise from north)",
+        &[("nav_roll_deg", "°"), ("nav_pitch_deg", "°"), ("nav_heading_deg", "°")],
+    ),
+    filed(
+        "nav_vel_enu",
+        "m/s",
+        "the navigation's velocity east, north, up",
+        &[("nav_vel_e_mps", "m/s"), ("nav_vel_n_mps", "m/s"), ("nav_vel_u_mps", "m/s")],
+    ),
+    filed(
+        "nav_pos",
+        "°, °, m",
+        "the navigation's latitude, longitude, height",
+        &[("nav_lat_deg", "°"), ("nav_lon_deg", "°"), ("nav_height_m", "m")],
+    ),
+    filed("nav_fused", "−1/0/1", "the fusion on this packet: −1 not run, 0 refused, 1 done", &[("nav_fused", "1")]),
+    filed("dsp_flushes", "1", "denormals flushed by the C6727's navigation since power-up", &[("dsp_flushes", "1")]),
+];
+
 /// Whether `names` are the names of [`COLUMNS`], in order: lets the binding check its column list
 /// against this table at compile time.
 pub const fn is_column_list(names: &[&str]) -> bool {

@@ -85,6 +85,9 @@ pub fn gfsins_run<'py>(
     steps_dict(py, &steps, &budget, &events)
 }
 
+/// A navigation column: its name, its width and its value (row of the DSP's output, index in the row).
+type NavColumn<'a> = (&'a str, usize, &'a dyn Fn(&gfsins::DspOutput, usize) -> f64);
+
 /// The per-cycle arrays, the budget and the events of a run as the Python side takes them.
 fn steps_dict<'py>(
     py: Python<'py>,
@@ -100,16 +103,36 @@ fn steps_dict<'py>(
     let nan = f64::NAN;
     let span = |(a, b): (Ps, Ps), j: usize| if a == b { nan } else { ps_to_s(if j == 0 { a } else { b }) };
     d.set_item("t0_s", cols(1, &|s, _| ps_to_s(s.timing.t0)).into_pyarray(py))?;
-    d.set_item("t_irq_s", cols(1, &|s, _| s.out.map_or(nan, |o| ps_to_s(o.t_irq))).into_pyarray(py))?;
-    d.set_item("t_done_s", cols(1, &|s, _| s.out.map_or(nan, |o| ps_to_s(o.t_done))).into_pyarray(py))?;
+    d.set_item("t_irq_s", cols(1, &|s, _| s.out.as_ref().map_or(nan, |o| ps_to_s(o.t_irq))).into_pyarray(py))?;
+    d.set_item("t_done_s", cols(1, &|s, _| s.out.as_ref().map_or(nan, |o| ps_to_s(o.t_done))).into_pyarray(py))?;
     d.set_item("sequence", cols(1, &|s, _| f64::from(s.packet.sequence)).into_pyarray(py))?;
     d.set_item("flags", cols(1, &|s, _| f64::from(s.packet.flags)).into_pyarray(py))?;
-    d.set_item("accel_g", cols(9, &|s, j| s.out.map_or(nan, |o| o.accel_g[j])).into_pyarray(py))?;
-    d.set_item("compass_deg", cols(3, &|s, j| s.out.map_or(nan, |o| o.compass_deg[j])).into_pyarray(py))?;
-    d.set_item("gps", cols(6, &|s, j| s.out.map_or(nan, |o| o.gps[j])).into_pyarray(py))?;
-    d.set_item("tilt_deg", cols(2, &|s, j| s.out.map_or(nan, |o| o.tilt[j].to_degrees())).into_pyarray(py))?;
+    d.set_item("accel_g", cols(9, &|s, j| s.out.as_ref().map_or(nan, |o| o.accel_g[j])).into_pyarray(py))?;
+    d.set_item("compass_deg", cols(3, &|s, j| s.out.as_ref().map_or(nan, |o| o.compass_deg[j])).into_pyarray(py))?;
+    d.set_item("gps", cols(6, &|s, j| s.out.as_ref().map_or(nan, |o| o.gps[j])).into_pyarray(py))?;
+    d.set_item("tilt_deg", cols(2, &|s, j| s.out.as_ref().map_or(nan, |o| o.tilt[j].to_degrees())).into_pyarray(py))?;
+    // The navigation (sins_core::output::GFSINS_COLUMNS, checked below).
+    let nav_cols: [NavColumn<'_>; 7] = [
+        ("nav_rate", 3, &|o, j| o.nav.rate[j]),
+        ("nav_bridged", 1, &|o, _| {
+            if o.nav.rate[0].is_nan() {
+                nan
+            } else {
+                o.nav.bridged.iter().enumerate().map(|(i, &b)| f64::from(u8::from(b) << i)).sum()
+            }
+        }),
+        ("nav_attitude_deg", 3, &|o, j| o.nav.attitude[j].to_degrees()),
+        ("nav_vel_enu", 3, &|o, j| o.nav.vel[j]),
+        ("nav_pos", 3, &|o, j| if j < 2 { o.nav.pos[j].to_degrees() } else { o.nav.pos[j] }),
+        ("nav_fused", 1, &|o, _| o.nav.fused.map_or(-1.0, |f| f64::from(u8::from(f)))),
+        ("dsp_flushes", 1, &|o, _| o.flushes as f64),
+    ];
+    for (c, (name, w, f)) in sins_core::output::GFSINS_COLUMNS.iter().zip(nav_cols) {
+        debug_assert_eq!((c.name, c.file.len()), (name, w));
+        d.set_item(name, cols(w, &|s, j| s.out.as_ref().map_or(nan, |o| f(o, j))).into_pyarray(py))?;
+    }
     d.set_item("node_cpu_s", cols(1, &|s, _| ps_to_s(s.timing.cpu_ps)).into_pyarray(py))?;
-    d.set_item("dsp_cycles", cols(1, &|s, _| s.out.map_or(nan, |o| o.cycles as f64)).into_pyarray(py))?;
+    d.set_item("dsp_cycles", cols(1, &|s, _| s.out.as_ref().map_or(nan, |o| o.cycles as f64)).into_pyarray(py))?;
     d.set_item("class", cols(1, &|s, _| Budget::class(s) as f64).into_pyarray(py))?;
     // The links' activity per cycle (the bus lanes): each SPI core's SS↓/SS↑, the packet on SPI #8
     // (DMA2's start to SS↑), the compass's I²C transaction, the NMEA characters (NaN: none).

@@ -212,7 +212,12 @@ fn event_kinds(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 /// The output columns (`sins_core::emulator::COLUMNS`) as dicts: name, unit, meaning, file (the
 /// run output file's (name, unit) per component).
 fn output_columns(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
-    sins_core::emulator::COLUMNS
+    column_dicts(py, sins_core::emulator::COLUMNS)
+}
+
+/// A column table as dicts (name, unit, meaning, file).
+fn column_dicts<'py>(py: Python<'py>, table: &[sins_core::output::Column]) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    table
         .iter()
         .map(|c| {
             let d = PyDict::new(py);
@@ -337,6 +342,7 @@ fn gfnav_earth_rate_observability(lsb_m_s2: f64, lever_m: f64) -> (f64, f64, f64
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("EVENT_KINDS", event_kinds(m.py())?)?;
     m.add("OUTPUT_COLUMNS", output_columns(m.py())?)?;
+    m.add("GFSINS_COLUMNS", column_dicts(m.py(), sins_core::output::GFSINS_COLUMNS)?)?;
     m.add("READ_WORDS", sins_core::emulator::READ_WORDS)?;
     m.add("PARTS", parts(m.py())?)?;
     m.add("__version__", sins_core::VERSION)?;

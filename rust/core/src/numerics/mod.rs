@@ -4,6 +4,8 @@
 //! - `c28x::C28xF32`: IEEE single precision as the C28x FPU computes it (rounding mode, flush to zero,
 //!   fastRTS division and square root);
 //! - `iq::Iq`: TI IQmath fixed point, a Q per quantity class;
+//! - `c67x::C67xF32`: IEEE single precision as the C67x+ (the gyro-free board's C6727B) computes it
+//!   (denormals flushed and counted, one NaN pattern); run by that board's DSP, not a `Numeric`;
 //! - `counter::Counted`: f64 values that tally every operation, for the timing model.
 //!
 //! `profile::Numeric` selects one of the first four for a run; [`dispatch_numeric!`](crate::dispatch_numeric) turns that runtime
@@ -11,10 +13,12 @@
 //! runs the same generic code with it to count operations per stage.
 
 pub mod c28x;
+pub mod c67x;
 pub mod counter;
 pub mod iq;
 
 pub use c28x::{C28xF32, C28xF32Rn, C28xF32Rz, EstimateModel};
+pub use c67x::C67xF32;
 pub use counter::{Counted, OpCounts};
 pub use iq::Iq;
 

@@ -126,47 +126,13 @@ impl Scenario {
 
     /// The error model's F (18×18) on the straight line, and G·Q·Gᵀ's diagonal (continuous, per s).
     pub fn model(&self) -> ([[f64; N_COMPASS]; N_COMPASS], [f64; N_COMPASS]) {
-        let (sl, cl) = (self.lat.sin(), self.lat.cos());
-        let rm = RE * (1.0 - 2.0 * F_FLAT + 3.0 * F_FLAT * sl * sl) + self.height;
-        let rn = RE * (1.0 + F_FLAT * sl * sl) + self.height;
         let (ve, vn) = (self.speed * self.heading.sin(), self.speed * self.heading.cos());
-        let w_ie = [0.0, OMEGA * cl, OMEGA * sl];
-        let w_en = [-vn / rm, ve / rn, ve * sl / cl / rn];
-        let w_in: [f64; 3] = std::array::from_fn(|i| w_ie[i] + w_en[i]);
-        let f = [0.0, 0.0, self.g];
         // Body (x right, y forward, z up) to ENU at heading ψ (clockwise from north), level.
         let (sh, ch) = (self.heading.sin(), self.heading.cos());
-        let c = [[ch, sh, 0.0], [-sh, ch, 0.0], [0.0, 0.0, 1.0]];
-        let mut a = [[0.0; N_COMPASS]; N_COMPASS];
-        let skew = |v: &[f64; 3]| [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
-        let (sw, sf) = (skew(&w_in), skew(&f));
-        let coriolis: [f64; 3] = std::array::from_fn(|i| 2.0 * w_ie[i] + w_en[i]);
-        let sc = skew(&coriolis);
-        for i in 0..3 {
-            for j in 0..3 {
-                a[PHI + i][PHI + j] = -sw[i][j];
-                a[PHI + i][EPS + j] = -c[i][j];
-                a[DV + i][PHI + j] = sf[i][j];
-                a[DV + i][DV + j] = -sc[i][j];
-                a[DV + i][NAB + j] = c[i][j];
-            }
-            a[DP + i][DV + i] = 1.0;
-            a[PHI_E + i][PHI_E + i] = -1.0 / self.compass_tau;
-        }
-        // δω_in: from δv_N, δv_E and the north position error δN = (R_M + h) δL.
-        a[PHI][DV + 1] += -1.0 / rm;
-        a[PHI + 1][DV] += 1.0 / rn;
-        a[PHI + 2][DV] += sl / cl / rn;
-        a[PHI + 1][DP + 1] += -OMEGA * sl / rm;
-        a[PHI + 2][DP + 1] += (OMEGA * cl + ve / (rn * cl * cl)) / rm;
-        let dt_s = 1.0 / self.sensor_hz;
-        let mut q = [0.0; N_COMPASS];
-        for i in 0..3 {
-            q[PHI + i] = self.drift_white.powi(2) * dt_s;
-            q[DV + i] = self.accel_white.powi(2) * dt_s;
-            q[PHI_E + i] = 2.0 * self.compass_markov[i].powi(2) / self.compass_tau;
-        }
-        (a, q)
+        let c_bn = [[ch, sh, 0.0], [-sh, ch, 0.0], [0.0, 0.0, 1.0]];
+        let at =
+            Linearisation { lat: self.lat, height: self.height, vel: [ve, vn, 0.0], c_bn, f_n: [0.0, 0.0, self.g] };
+        error_model(&at, self)
     }
 
     /// P₀'s diagonal (18 states).
@@ -200,6 +166,107 @@ impl Scenario {
             .collect();
         (phi, q.iter().map(|x| x * dt).collect())
     }
+}
+
+/// Where the error model is linearised: the navigation state the firmware holds (latitude in rad,
+/// height in m, velocity ENU in m/s, the attitude C_b^n in whatever body axes the firmware's rates are
+/// in, the specific force in ENU, m/s²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Linearisation<T> {
+    /// Latitude, rad.
+    pub lat: T,
+    /// Height, m.
+    pub height: T,
+    /// Velocity east, north, up, m/s.
+    pub vel: [T; 3],
+    /// C_b^n.
+    pub c_bn: [[T; 3]; 3],
+    /// Specific force, ENU, m/s².
+    pub f_n: [T; 3],
+}
+
+/// The error model's F (18×18) at `at` and G·Q·Gᵀ's diagonal (continuous, per s) with the noise
+/// figures of `s` (the module docs' equations), in the firmware's arithmetic.
+#[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
+pub fn error_model<T: Scalar>(at: &Linearisation<T>, s: &Scenario) -> ([[T; N_COMPASS]; N_COMPASS], [T; N_COMPASS]) {
+    let zero: T = lit(0.0);
+    let (sl, cl) = (at.lat.sin(), at.lat.cos());
+    let (re, ff, om): (T, T, T) = (lit(RE), lit(F_FLAT), lit(OMEGA));
+    let (one, two, three): (T, T, T) = (lit(1.0), lit(2.0), lit(3.0));
+    let rm = re * (one - two * ff + three * ff * sl * sl) + at.height;
+    let rn = re * (one + ff * sl * sl) + at.height;
+    let [ve, vn, _] = at.vel;
+    let w_ie = [zero, om * cl, om * sl];
+    let w_en = [-vn / rm, ve / rn, ve * sl / cl / rn];
+    let w_in: [T; 3] = std::array::from_fn(|i| w_ie[i] + w_en[i]);
+    let c = &at.c_bn;
+    let mut a = [[zero; N_COMPASS]; N_COMPASS];
+    let skew = |v: &[T; 3]| [[zero, -v[2], v[1]], [v[2], zero, -v[0]], [-v[1], v[0], zero]];
+    let (sw, sf) = (skew(&w_in), skew(&at.f_n));
+    let coriolis: [T; 3] = std::array::from_fn(|i| two * w_ie[i] + w_en[i]);
+    let sc = skew(&coriolis);
+    for i in 0..3 {
+        for j in 0..3 {
+            a[PHI + i][PHI + j] = -sw[i][j];
+            a[PHI + i][EPS + j] = -c[i][j];
+            a[DV + i][PHI + j] = sf[i][j];
+            a[DV + i][DV + j] = -sc[i][j];
+            a[DV + i][NAB + j] = c[i][j];
+        }
+        a[DP + i][DV + i] = one;
+        a[PHI_E + i][PHI_E + i] = lit(-1.0 / s.compass_tau);
+    }
+    // δω_in: from δv_N, δv_E and the north position error δN = (R_M + h) δL.
+    a[PHI][DV + 1] = a[PHI][DV + 1] - one / rm;
+    a[PHI + 1][DV] = a[PHI + 1][DV] + one / rn;
+    a[PHI + 2][DV] = a[PHI + 2][DV] + sl / cl / rn;
+    a[PHI + 1][DP + 1] = a[PHI + 1][DP + 1] - om * sl / rm;
+    a[PHI + 2][DP + 1] = a[PHI + 2][DP + 1] + (om * cl + ve / (rn * cl * cl)) / rm;
+    let dt_s = 1.0 / s.sensor_hz;
+    let mut q = [zero; N_COMPASS];
+    for i in 0..3 {
+        q[PHI + i] = lit(s.drift_white.powi(2) * dt_s);
+        q[DV + i] = lit(s.accel_white.powi(2) * dt_s);
+        q[PHI_E + i] = lit(2.0 * s.compass_markov[i].powi(2) / s.compass_tau);
+    }
+    (a, q)
+}
+
+/// Φ = I + F Δt + (F Δt)²/2 and Q_d = diag(q) Δt on the leading `n` states, in the firmware's
+/// arithmetic; the products run over F's nonzero elements only (what a firmware loop over the
+/// model's sparse structure computes).
+#[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
+pub fn discretise<T: Scalar>(
+    a: &[[T; N_COMPASS]; N_COMPASS],
+    q: &[T; N_COMPASS],
+    n: usize,
+    dt: T,
+) -> (Vec<Vec<T>>, Vec<T>) {
+    let zero: T = lit(0.0);
+    let half: T = lit(0.5);
+    let nz: Vec<Vec<(usize, T)>> =
+        (0..n).map(|i| (0..n).filter(|&j| a[i][j] != zero).map(|j| (j, a[i][j] * dt)).collect()).collect();
+    let mut phi = vec![vec![zero; n]; n];
+    for i in 0..n {
+        phi[i][i] = lit(1.0);
+        for &(k, fik) in &nz[i] {
+            phi[i][k] = phi[i][k] + fik;
+        }
+    }
+    for i in 0..n {
+        let mut sq = vec![zero; n];
+        for &(k, fik) in &nz[i] {
+            for &(j, fkj) in &nz[k] {
+                sq[j] = sq[j] + fik * fkj;
+            }
+        }
+        for j in 0..n {
+            if sq[j] != zero {
+                phi[i][j] = phi[i][j] + half * sq[j];
+            }
+        }
+    }
+    (phi, q[..n].iter().map(|&v| v * dt).collect())
 }
 
 /// A Kalman filter of n states in the firmware's arithmetic, its covariance held as P = U D Uᵀ (U unit
@@ -255,46 +322,68 @@ impl<T: Scalar> Kf<T> {
     #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
     pub fn predict(&mut self, phi: &[Vec<f64>], qd: &[f64], beta: f64) {
         let n = self.x.len();
-        let z: T = lit(0.0);
         let f: Vec<Vec<T>> =
             (0..n).map(|i| (0..n).map(|j| T::from_f64(phi[i][j], QClass::Generic)).collect()).collect();
-        let nz: Vec<Vec<(usize, T)>> =
-            f.iter().map(|r| r.iter().copied().enumerate().filter(|(_, v)| *v != z).collect()).collect();
-        self.x = nz.iter().map(|r| r.iter().fold(z, |s, &(k, v)| s + v * self.x[k])).collect();
-        // W's left half ΦU (row i: Σ_k Φ[i][k] U[k][j], U[k][j] = 0 for k > j); its right half is I.
-        let mut w: Vec<Vec<T>> = nz
-            .iter()
-            .map(|r| {
-                let mut row: Vec<T> = (0..n).map(|j| r.iter().fold(z, |s, &(k, v)| s + v * self.u[k][j])).collect();
-                row.resize(2 * n, z);
-                row
-            })
-            .collect();
-        for (i, row) in w.iter_mut().enumerate() {
-            row[n + i] = lit(1.0);
+        let q: Vec<T> = qd[..n].iter().map(|q| T::from_f64(q / beta, QClass::Generic)).collect();
+        self.predict_with(&f, &q);
+    }
+
+    /// [`Kf::predict`] with Φ (at least n×n) and Q_d/β (at least n) already in the firmware's arithmetic.
+    ///
+    /// W is one n × 2n block (row i at `w[i·2n..]`) and U, D are overwritten in place: the same
+    /// operations in the same order as with a fresh matrix per row, without the allocations.
+    #[allow(clippy::needless_range_loop)] // matrix algebra reads best indexed
+    pub fn predict_with(&mut self, f: &[Vec<T>], qd_beta: &[T]) {
+        let n = self.x.len();
+        let m = 2 * n;
+        let z: T = lit(0.0);
+        // Φ's nonzero elements (column, value), row i at nz[start[i]..start[i + 1]].
+        let mut nz: Vec<(usize, T)> = Vec::with_capacity(n * n);
+        let mut start = Vec::with_capacity(n + 1);
+        for r in &f[..n] {
+            start.push(nz.len());
+            nz.extend(r[..n].iter().copied().enumerate().filter(|(_, v)| *v != z));
         }
-        let weights: Vec<T> =
-            self.d.iter().copied().chain(qd[..n].iter().map(|q| T::from_f64(q / beta, QClass::Generic))).collect();
-        let mut u = vec![vec![z; n]; n];
-        let mut d = vec![z; n];
-        for j in (0..n).rev() {
-            let dw: Vec<T> = (0..2 * n).map(|k| w[j][k] * weights[k]).collect();
-            d[j] = (0..2 * n).fold(z, |s, k| s + w[j][k] * dw[k]);
-            u[j][j] = lit(1.0);
-            if d[j] <= z {
-                continue; // a direction without variance: U's column stays the unit vector
+        start.push(nz.len());
+        let row = |i: usize| &nz[start[i]..start[i + 1]];
+        self.x = (0..n).map(|i| row(i).iter().fold(z, |s, &(k, v)| s + v * self.x[k])).collect();
+        // W's left half ΦU (row i: Σ_k Φ[i][k] U[k][j], U[k][j] = 0 for k > j); its right half is I.
+        let mut w = vec![z; n * m];
+        for (i, wi) in w.chunks_exact_mut(m).enumerate() {
+            for j in 0..n {
+                wi[j] = row(i).iter().fold(z, |s, &(k, v)| s + v * self.u[k][j]);
             }
-            for i in 0..j {
-                let uij = (0..2 * n).fold(z, |s, k| s + w[i][k] * dw[k]) / d[j];
-                u[i][j] = uij;
-                let wj = w[j].clone();
-                for (a, b) in w[i].iter_mut().zip(&wj) {
-                    *a = *a - uij * *b;
+        }
+        for i in 0..n {
+            w[i * m + n + i] = lit(1.0);
+        }
+        let weights: Vec<T> = self.d.iter().copied().chain(qd_beta[..n].iter().copied()).collect();
+        let mut dw = vec![z; m];
+        for j in (0..n).rev() {
+            // Rows above j are changed; row j is not changed by them.
+            let (above, rest) = w.split_at_mut(j * m);
+            let wj = &rest[..m];
+            for ((o, &a), &b) in dw.iter_mut().zip(wj).zip(&weights) {
+                *o = a * b;
+            }
+            let dj = wj.iter().zip(&dw).fold(z, |s, (&a, &b)| s + a * b);
+            self.d[j] = dj;
+            self.u[j][j] = lit(1.0);
+            if dj <= z {
+                // A direction without variance: U's column stays the unit vector.
+                for i in 0..j {
+                    self.u[i][j] = z;
+                }
+                continue;
+            }
+            for (i, wi) in above.chunks_exact_mut(m).enumerate() {
+                let uij = wi.iter().zip(&dw).fold(z, |s, (&a, &b)| s + a * b) / dj;
+                self.u[i][j] = uij;
+                for (a, &b) in wi.iter_mut().zip(wj) {
+                    *a = *a - uij * b;
                 }
             }
         }
-        self.u = u;
-        self.d = d;
     }
 
     /// One scalar measurement z = h·x + v (variance r), Bierman's update of U and D.

@@ -109,6 +109,20 @@ impl<T: Scalar> RateRecovery<T> {
         }
     }
 
+    /// The same recovery, state and settings, in the arithmetic `S` (values through f64: exact from
+    /// a narrower float). The timing model runs a copy in the counting type.
+    pub fn cast<S: Scalar>(&self) -> RateRecovery<S> {
+        let c = |x: T| S::from_f64(x.to_f64(), QClass::Rate);
+        RateRecovery {
+            cfg: self.cfg,
+            dt: c(self.dt),
+            dt2: c(self.dt2),
+            eps: c(self.eps),
+            prev: self.prev.map(|p| p.map(c)),
+            rate: self.rate.map(c),
+        }
+    }
+
     /// One step with the array's inversion at this instant.
     pub fn step(&mut self, m: &ArrayMotion<T>) -> RateOutput<T> {
         let [pxy, pyz, pxz] = m.products;
@@ -153,31 +167,28 @@ impl<T: Scalar> RateRecovery<T> {
 
 /// The `rate_singular` event of a step with bridged axes (None when every axis was solved).
 pub fn singular_event<T: Scalar>(t_ps: Ps, out: &RateOutput<T>, min_denominator: f64) -> Option<Event> {
-    let axes: Vec<String> = (0..3)
-        .filter(|&i| out.bridged[i] != Bridge::No)
-        .map(|i| {
-            let name = ["x", "y", "z"][i];
-            match out.bridged[i] {
-                Bridge::Start => format!("ω{name} (first step: no previous products)"),
-                _ => format!("ω{name} (|D| = {:.3e} rad²/s²)", out.denominators[i].to_f64().abs()),
-            }
-        })
-        .collect();
-    if axes.is_empty() {
+    use std::fmt::Write;
+    if out.bridged.iter().all(|b| *b == Bridge::No) {
         return None;
     }
-    let worst = (0..3).filter(|&i| out.bridged[i] == Bridge::Singular).map(|i| out.denominators[i].to_f64().abs());
-    let mut e = Event::new(
-        t_ps,
-        "rate_singular",
-        Severity::Warning,
-        format!(
-            "rate recovery singular for {}: the products do not change (|D| ≤ {:.3e} rad²/s²); \
-             bridged by ω(t) = ω(t−1) + Δt·ω̇(t)",
-            axes.join(", "),
-            min_denominator
-        ),
+    // One string written in place (a spell's report on every packet of a noisy run: no temporaries).
+    let mut what = String::with_capacity(240);
+    what.push_str("rate recovery singular for ");
+    let bridged = (0..3).filter(|&i| out.bridged[i] != Bridge::No);
+    for (n, i) in bridged.enumerate() {
+        let sep = if n == 0 { "" } else { ", " };
+        let name = ["x", "y", "z"][i];
+        let _ = match out.bridged[i] {
+            Bridge::Start => write!(what, "{sep}ω{name} (first step: no previous products)"),
+            _ => write!(what, "{sep}ω{name} (|D| = {:.3e} rad²/s²)", out.denominators[i].to_f64().abs()),
+        };
+    }
+    let _ = write!(
+        what,
+        ": the products do not change (|D| ≤ {min_denominator:.3e} rad²/s²); bridged by ω(t) = ω(t−1) + Δt·ω̇(t)"
     );
+    let worst = (0..3).filter(|&i| out.bridged[i] == Bridge::Singular).map(|i| out.denominators[i].to_f64().abs());
+    let mut e = Event::new(t_ps, "rate_singular", Severity::Warning, what);
     e.measured = worst.reduce(f64::max);
     e.required = Some(min_denominator);
     Some(e)

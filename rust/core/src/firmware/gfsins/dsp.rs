@@ -9,7 +9,18 @@
 //! - **RTI**: a free-running counter on SYSCLK2 (= SYSCLK1 / 2, 112.5 MHz) [unconfirmed, c6727.md:
 //!   RTI structure from the TMS470/570 lineage]; each packet is stamped with it, and a compare at
 //!   the packet rate finds a packet that did not come (`packet_missing`).
-//! - **Arithmetic**: the handler runs in IEEE double. The C67x+ flushes denormal operands and
+//! - **Navigation** ([`super::nav`]): on every packet, in the C67x+'s single precision
+//!   ([`C67xF32`]): the strapdown at 200 Hz, the compass sub-filter at 10 Hz, the GPS sub-filter
+//!   and the fusion at 1 Hz. Denormals the filter meets are flushed and counted
+//!   ([`DspOutput::flushes`]).
+//! - **Cycle costs**: each stage's cycles are its operations, counted by running the stage's own
+//!   code in the counting type ([`Counted`]), times the `[dsp]` per-operation costs, plus the ISR
+//!   entry and the CRC loop for the decode. A stage's count depends only on its branch pattern
+//!   (decode: which words are new; strapdown: which axes the rate recovery bridged; the filters and
+//!   the fusion: one pattern each, their data-dependent zero tests priced from their first run), so
+//!   it is counted once per pattern and reused. The start (one packet) and the output's f64
+//!   conversions are not priced.
+//! - **Arithmetic of the decode's tilt**: IEEE double. The C67x+ flushes denormal operands and
 //!   results to zero and writes NaN as 0x7FFF_FFFF ([unconfirmed] recollection of SPRU733); Rust's
 //!   f64 does neither. On what this handler computes they cannot differ: every input is a count
 //!   n, |n| < 2¹⁵, times a power of two (3.9 mg = 2⁻⁸ g) or a decimal scale, so each nonzero
@@ -19,21 +30,23 @@
 //!   `tilt` is generic over [`Scalar`] so a C67x backend can be put in when the navigation's
 //!   filter (issue 23) reaches values where they would differ. The libraries' last bit
 //!   (TI RTS atan2/sqrt against Rust's) is not modelled.
-//! - **Cycle costs** (`[dsp]` keys): atan2dp from TI's MATHLIB C674x report (RTS column, approximate
-//!   for the C67x+), sqrt and the rest estimates from GCC's c6x latencies; the CPU is at SYSCLK1.
 //!
-//! **The navigation is issue 23's.** Until it lands the handler is a pass-through: it outputs the
-//! packet's values in physical units and a tilt (pitch, roll) from the centre accelerometer
-//! (A₇, A₈, A₉) by the reference design's level formula, θ = atan2(−f_x, √(f_y² + f_z²)),
-//! φ = atan2(f_y, f_z) — which is the attitude only when the vehicle does not accelerate.
+//! Besides the navigation the handler outputs the packet's values in physical units and a tilt
+//! (pitch, roll) from the centre accelerometer (A₇, A₈, A₉) by the reference design's level
+//! formula, θ = atan2(−f_x, √(f_y² + f_z²)), φ = atan2(f_y, f_z) — the attitude only when the
+//! vehicle does not accelerate (priced with the decode).
 
 use super::frame::{self, Packet};
+use super::nav::{self, Nav, NavConfig, NavOutput};
 use super::node::TickTiming;
-use super::profile;
+use super::{profile, Stages};
 use crate::device::adxl345;
 use crate::events::{Event, EventLog, Severity};
-use crate::numerics::{QClass, Scalar};
+use crate::firmware::gfnav::{self, Bridge};
+use crate::numerics::counter::{count, Counted, OpCounts};
+use crate::numerics::{c67x, C67xF32, QClass, Scalar};
 use crate::time::{Clock, Ps};
+use std::collections::HashMap;
 
 /// What the DSP has after one packet.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,8 +67,40 @@ pub struct DspOutput {
     pub gps: [f64; 6],
     /// Pitch and roll from the centre accelerometer, rad.
     pub tilt: [f64; 2],
+    /// The navigation after this packet (NaN until it starts).
+    pub nav: NavOutput,
     /// Handler cycles (SYSCLK1).
     pub cycles: u64,
+    /// The handler's time by stage, ps.
+    pub stages: Stages,
+    /// Denormals flushed by the navigation since power-up.
+    pub flushes: u64,
+}
+
+/// The priced stages (the cache's keys).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Stage {
+    Decode,
+    Strapdown,
+    Compass,
+    Gps,
+    Fusion,
+}
+
+/// `ops` priced with the `[dsp]` per-operation costs, CPU cycles.
+pub fn price(c: &OpCounts, d: &profile::Dsp) -> u64 {
+    (c.adds + c.subs) * d.add_cycles
+        + (c.muls + c.int_muls) * d.mul_cycles
+        + c.divs * d.div_cycles
+        + c.sqrts * d.sqrt_cycles
+        + (c.sins + c.coss) * d.sin_cos_cycles
+        + c.atans * d.atan_cycles
+        + c.atan2s * d.atan2_cycles
+        + c.asins * d.asin_cycles
+        + (c.abs + c.negs) * d.neg_abs_cycles
+        + c.comparisons * d.compare_cycles
+        + c.int_to_float * d.int_to_float_cycles
+        + c.constants * d.constant_cycles
 }
 
 /// The tilt of a specific force (any units): pitch θ = atan2(−f_x, √(f_y² + f_z²)), roll
@@ -76,6 +121,10 @@ pub struct Dsp {
     last_irq: Option<Ps>,
     last_sequence: Option<u16>,
     events: EventLog,
+    nav: Nav<C67xF32>,
+    /// Cycles per (stage, branch pattern), counted once.
+    costs: HashMap<(Stage, u32), u64>,
+    flushes: u64,
 }
 
 impl Dsp {
@@ -83,7 +132,17 @@ impl Dsp {
     pub fn new(profile: &profile::GfsinsProfile, period: Ps) -> Dsp {
         let cpu = Clock::from_hz(profile.dsp.cpu_hz);
         let lsb_g = adxl345::resolution(profile.array.data_format).1;
+        let cfg = NavConfig {
+            dt: period as f64 * 1e-12,
+            lever_arm_m: profile.array.lever_arm_m,
+            lsb_g,
+            min_denominator: profile.dsp.min_denominator,
+            gps_age_s: profile.dsp.gps_age_ms * 1e-3,
+        };
         Dsp {
+            nav: Nav::new(cfg),
+            costs: HashMap::new(),
+            flushes: 0,
             cfg: profile.dsp.clone(),
             cpu,
             rti: cpu.divided(2),
@@ -95,19 +154,75 @@ impl Dsp {
         }
     }
 
-    /// Handler cycles for a packet with `flags`.
-    pub fn handler_cycles(&self, flags: u16) -> u64 {
-        let c = &self.cfg;
-        let mut n = c.isr_entry_cycles + c.crc_cycles_per_word * frame::WORDS as u64 + 9 * c.convert_cycles;
-        // Tilt: three squares and a sum (MPYDP/ADDDP), one square root, two atan2.
-        n += 3 * 10 + 2 * 7 + c.sqrtdp_cycles + 2 * c.atan2dp_cycles;
-        if flags & frame::NEW_COMPASS != 0 {
-            n += 3 * c.convert_cycles;
+    /// The cycles of `stage` in branch pattern `key`: counted by `run` the first time, then reused.
+    fn cost(&mut self, stage: Stage, key: u32, run: impl FnOnce() -> OpCounts) -> u64 {
+        let d = &self.cfg;
+        *self.costs.entry((stage, key)).or_insert_with(|| price(&run(), d))
+    }
+
+    /// The navigation's stages on `packet` (cycles per stage into `stages`), and its output.
+    fn navigate(&mut self, packet: &Packet, t_irq: Ps, stages: &mut [(&'static str, u64); 5]) -> NavOutput {
+        let lsb = self.lsb_g;
+        let d = nav::decode::<C67xF32>(packet, lsb);
+        let key = u32::from(packet.flags & (frame::NEW_COMPASS | frame::NEW_GPS | frame::GPS_VALID));
+        let fixed = self.cfg.isr_entry_cycles + self.cfg.crc_cycles_per_word * frame::WORDS as u64;
+        stages[0].1 = fixed
+            + self.cost(Stage::Decode, key, || {
+                count(|| {
+                    let d = nav::decode::<Counted>(packet, lsb);
+                    tilt([d.accel[6], d.accel[7], d.accel[8]])
+                })
+                .1
+            });
+        if !self.nav.start(packet, &d) {
+            return self.nav.solution(&gfnav::RateOutput {
+                rate: [C67xF32::default(); 3],
+                bridged: [Bridge::No; 3],
+                denominators: [C67xF32::default(); 3],
+            });
         }
-        if flags & frame::NEW_GPS != 0 {
-            n += 6 * c.convert_cycles;
+        let before = self.nav.ins().clone();
+        let out = self.nav.strapdown(&d.accel);
+        let pattern = out.bridged.iter().fold(0u32, |k, b| k * 3 + *b as u32);
+        let accel = d.accel.map(|x| Counted(x.to_f64()));
+        stages[1].1 = self.cost(Stage::Strapdown, pattern, || count(|| before.cast::<Counted>().step(&accel)).1);
+        if self.nav.spell(&out) {
+            if let Some(mut e) = gfnav::singular_event(t_irq, &out, self.cfg.min_denominator) {
+                e.message.push_str(" (a spell begins: reported once until a step is solved on every axis)");
+                self.events.push(e);
+            }
         }
-        n
+        let (mut compass_update, mut gps_update, mut fused) = (false, false, None);
+        if let Some(hpr) = d.compass {
+            let nav = &self.nav;
+            let h = hpr.map(|x| Counted(x.to_f64()));
+            let seq = packet.sequence;
+            let c = {
+                let mut copy = nav.cast::<Counted>();
+                move || count(|| copy.compass_filter(seq, &h)).1
+            };
+            stages[2].1 = self.cost(Stage::Compass, 0, c);
+            self.nav.compass_filter(packet.sequence, &hpr);
+            compass_update = true;
+        }
+        if let Some(sc) = d.gps_vel {
+            let seq = packet.sequence;
+            let g = sc.map(|x| Counted(x.to_f64()));
+            let mut copy = self.nav.cast::<Counted>();
+            stages[3].1 = self.cost(Stage::Gps, 0, || count(|| copy.gps_filter(seq, packet, &g)).1);
+            let mut copy = self.nav.cast::<Counted>();
+            stages[4].1 = self.cost(Stage::Fusion, 0, || count(|| copy.fusion()).1);
+            self.nav.gps_filter(packet.sequence, packet, &sc);
+            let done = self.nav.fusion();
+            if !done {
+                let what = "C6727: fusion refused: sub-filter 2's factor D has an element ≤ 0 (the fused estimate keeps its last value)";
+                self.events.push(Event::new(t_irq, "fusion_refused", Severity::Warning, what.to_string()));
+            }
+            gps_update = true;
+            fused = Some(done);
+        }
+        // The solution after the filters (the fusion may have moved it).
+        NavOutput { compass_update, gps_update, fused, ..self.nav.solution(&out) }
     }
 
     /// The packet `words` clocked in by SPI1 as `timing` says (SCLK period `sck`): the output, or
@@ -146,17 +261,28 @@ impl Dsp {
             f64::from(g.utc_ms) / 1000.0,
         ];
         let tilt = tilt([accel_g[6], accel_g[7], accel_g[8]]);
-        let cycles = self.handler_cycles(packet.flags);
+        let flushes_before = c67x::flushes();
+        let mut cycles = [("decode", 0), ("strapdown", 0), ("compass filter", 0), ("GPS filter", 0), ("fusion", 0)];
+        let nav = self.navigate(&packet, t_irq, &mut cycles);
+        self.flushes += c67x::flushes().wrapping_sub(flushes_before);
+        let mut stages = Stages::default();
+        for (name, c) in cycles.iter().filter(|(_, c)| *c > 0) {
+            stages.push(name, self.cpu.cycles_to_ps(*c));
+        }
+        let total = cycles.iter().map(|(_, c)| c).sum();
         Some(DspOutput {
             t_irq,
-            t_done: t_irq + self.cpu.cycles_to_ps(cycles),
+            t_done: t_irq + stages.total(),
             rti: self.rti.ps_to_cycles(t_irq),
             packet,
             accel_g,
             compass_deg: [h, p, r],
             gps,
             tilt,
-            cycles,
+            nav,
+            cycles: total,
+            stages,
+            flushes: self.flushes,
         })
     }
 

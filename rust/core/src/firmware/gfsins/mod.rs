@@ -1,7 +1,7 @@
 //! The gyro-free vehicle board (issue 25, algorithms.md §4 and its corrections, thesis chapter 4):
 //! an XC3S400AN acquisition node (MicroBlaze + PLB IP cores, [`node`]) reading seven ADXL345, an
 //! HMC6343 and a GR-87, sending one packet per 5 ms ([`frame`], layout [unconfirmed]) over SPI to a
-//! TMS320C6727B ([`dsp`]) that navigates (issue 23; a documented pass-through until then).
+//! TMS320C6727B ([`dsp`]) that navigates ([`nav`], issue 23).
 //!
 //! [`Board`] runs the two processors tick by tick: `step` is one 5 ms cycle (the node's timer
 //! interrupt, its packet, the DSP's packet interrupt); [`Budget`] gathers both processors' time
@@ -10,6 +10,7 @@
 
 pub mod dsp;
 pub mod frame;
+pub mod nav;
 pub mod node;
 pub mod profile;
 
@@ -124,14 +125,10 @@ pub struct Step {
 }
 
 impl Step {
-    /// The DSP's packet handler by stage (none when the packet was refused): one `handler` row
-    /// until the DSP's output gives its own stages.
+    /// The DSP's packet handler by stage (none when the packet was refused): decode, strapdown,
+    /// compass filter, GPS filter, fusion, as far as the packet ran them.
     pub fn dsp_stages(&self) -> Stages {
-        let mut s = Stages::default();
-        if let Some(o) = &self.out {
-            s.push("handler", o.t_done - o.t_irq);
-        }
-        s
+        self.out.map_or_else(Stages::default, |o| o.stages)
     }
 }
 

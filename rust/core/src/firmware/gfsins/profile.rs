@@ -181,12 +181,38 @@ pub struct Dsp {
     pub isr_entry_cycles: u64,
     /// CRC check per word, CPU cycles [estimate: table-less bitwise loop, 8 × 2 cycles per byte].
     pub crc_cycles_per_word: u64,
-    /// One count to a scaled double (INTDP 5 + MPYDP 10, GCC c6x.md latencies).
-    pub convert_cycles: u64,
-    /// atan2 in double (MATHLIB C674x report, RTS column) [approximate for the C67x+].
-    pub atan2dp_cycles: u64,
-    /// sqrt in double: RSQRDP + 3 Newton steps (3 × (3 MPYDP + SUBDP)) + MPYDP [estimate].
-    pub sqrtdp_cycles: u64,
+    /// Age of a GPS fix when its packet reaches the DSP, ms [estimate: measured on the emulated
+    /// node with the default GPS settings; see the TOML].
+    pub gps_age_ms: f64,
+    /// Rate recovery's singular threshold |D|, rad²/s² (gfnav `RateConfig::for_noise` of the
+    /// counts' quantisation: see the TOML).
+    pub min_denominator: f64,
+    /// Per operation the navigation executes (counted from the running code, single precision),
+    /// CPU cycles: ADDSP/SUBSP latency (GCC c6x.md `fp4`).
+    pub add_cycles: u64,
+    /// MPYSP latency (GCC c6x.md `mpy4`).
+    pub mul_cycles: u64,
+    /// Division: RCPSP + 2 Newton steps + MPYSP [estimate, c6727.md].
+    pub div_cycles: u64,
+    /// Square root: RSQRSP + 2 Newton steps + MPYSP [estimate, c6727.md: "sqrtsp similar"].
+    pub sqrt_cycles: u64,
+    /// Compare (CMPxSP) and the predicated use of its result [estimate: DP compares 2, c6727.md].
+    pub compare_cycles: u64,
+    /// Negation or absolute value: one .S instruction on the sign bit [estimate].
+    pub neg_abs_cycles: u64,
+    /// INTSP (int → float) [estimate: as ADDSP, 4].
+    pub int_to_float_cycles: u64,
+    /// A constant loaded (MVKL/MVKH pair or a load from the constant table) [estimate].
+    pub constant_cycles: u64,
+    /// sin or cos: TI MATHLIB C674x report, cosdp RTS column (the double figure: no single-precision
+    /// figure found) [estimate].
+    pub sin_cos_cycles: u64,
+    /// atan: atandp RTS [estimate, as sin_cos_cycles].
+    pub atan_cycles: u64,
+    /// atan2: atan2dp RTS [estimate, as sin_cos_cycles].
+    pub atan2_cycles: u64,
+    /// asin: asindp RTS [estimate, as sin_cos_cycles].
+    pub asin_cycles: u64,
 }
 
 impl Default for Dsp {
@@ -197,9 +223,20 @@ impl Default for Dsp {
             dmax_word_cycles: 10,
             isr_entry_cycles: 40,
             crc_cycles_per_word: 32,
-            convert_cycles: 15,
-            atan2dp_cycles: 875,
-            sqrtdp_cycles: 122,
+            gps_age_ms: 305.0,
+            min_denominator: 0.47,
+            add_cycles: 4,
+            mul_cycles: 4,
+            div_cycles: 30,
+            sqrt_cycles: 30,
+            compare_cycles: 2,
+            neg_abs_cycles: 1,
+            int_to_float_cycles: 4,
+            constant_cycles: 1,
+            sin_cos_cycles: 330,
+            atan_cycles: 566,
+            atan2_cycles: 875,
+            asin_cycles: 380,
         }
     }
 }
@@ -283,6 +320,13 @@ impl GfsinsProfile {
         }
         if !["hmc6343", "ideal"].contains(&self.compass.errors.as_str()) {
             return bad("compass.errors", format!("`{}`: expected hmc6343 or ideal", self.compass.errors));
+        }
+        let d = &self.dsp;
+        if !(d.gps_age_ms.is_finite() && (0.0..=5_000.0).contains(&d.gps_age_ms)) {
+            return bad("dsp.gps_age_ms", format!("{}: expected 0 … 5000 ms", d.gps_age_ms));
+        }
+        if !(d.min_denominator.is_finite() && d.min_denominator >= 0.0) {
+            return bad("dsp.min_denominator", format!("{}: expected a finite value ≥ 0 rad²/s²", d.min_denominator));
         }
         let spi8 = n.plb_hz / n.dsp_sck_ratio;
         if spi8 > self.dsp.spi_max_hz {
