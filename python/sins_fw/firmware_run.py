@@ -642,6 +642,7 @@ def _take_events(lib: _Library, board: ctypes.c_void_p, t0: float | None) -> lis
                 "message": message.value.decode(errors="replace"),
                 "measured": None if np.isnan(m) else m,
                 "required": None if np.isnan(r) else r,
+                "frame": None if ev.frame < 0 else int(ev.frame),
             }
         )
 

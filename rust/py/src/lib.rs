@@ -35,7 +35,8 @@ fn profile_keys() -> Vec<String> {
     Profile::known_keys()
 }
 
-/// An event as a dict: t_s, kind, severity, message, measured, required.
+/// An event as a dict: t_s, kind, severity, message, measured, required, frame (the bus frame it is
+/// about, as the bus log's `frame_index` numbers it, or None).
 pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("t_s", ps_to_s(e.t_ps))?;
@@ -44,6 +45,7 @@ pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py,
     d.set_item("message", &e.message)?;
     d.set_item("measured", e.measured)?;
     d.set_item("required", e.required)?;
+    d.set_item("frame", e.frame)?;
     Ok(d)
 }
 

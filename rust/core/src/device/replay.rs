@@ -233,7 +233,7 @@ mod tests {
     use super::*;
 
     fn timing(t: Ps) -> FrameTiming {
-        FrameTiming { first_edge: t, last_edge: t + 20_000_000, sclk_period: 1_333_333, bits: 16, mode: 3 }
+        FrameTiming { index: 0, first_edge: t, last_edge: t + 20_000_000, sclk_period: 1_333_333, bits: 16, mode: 3 }
     }
 
     fn burst(slave: &mut ReplaySlave, t: Ps, frames: usize) -> Vec<u16> {

@@ -683,7 +683,7 @@ impl SpiA {
         } else {
             format!("SPI-A receive FIFO full at the end of character {}: word 0x{:04X} lost", frame.index, self.spidat)
         };
-        self.events.push(Event::new(frame.end_ps, kind, Severity::Warning, message));
+        self.events.push(Event::new(frame.end_ps, kind, Severity::Warning, message).in_frame(frame.index));
     }
 
     /// Start the next queued word at LSPCLK cycle `cycle`, if the peripheral may run.
@@ -1150,7 +1150,7 @@ impl SpiA {
                     "spi_reset_during_transfer",
                     Severity::Warning,
                     format!("SPISWRESET cleared while character {} was shifting: it is abandoned", a.frame.index),
-                ));
+                ).in_frame(a.frame.index));
             } else if self.fifo_mode() && self.tx_queue.len < FIFO_DEPTH {
                 // Not started yet: the word is still the transmit FIFO's first.
                 self.tx_queue.push_front(a.frame.tx);
@@ -1166,7 +1166,7 @@ impl SpiA {
                          word 0x{:04X} in SPIDAT is lost",
                         a.frame.index, a.frame.tx
                     ),
-                ));
+                ).in_frame(a.frame.index));
             }
         }
         if !self.fifo_mode() {
