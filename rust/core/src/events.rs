@@ -15,6 +15,10 @@ pub enum Severity {
 }
 
 impl Severity {
+    /// Every severity, by its number (`severity as u8`: 0 info, 1 warning, 2 error, as the C ABI
+    /// gives it); Python reads their names from here (`sins_fw._core.SEVERITIES`).
+    pub const ALL: [Severity; 3] = [Severity::Info, Severity::Warning, Severity::Error];
+
     /// Lower-case name used in reports and JSON.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -445,6 +449,13 @@ mod tests {
             assert!(!k.meaning.is_empty() && !k.meaning.ends_with('.'), "{}: one line, no full stop", k.name);
             assert!(["device", "link", "mcu", "firmware", "emulator", "harness"].contains(&k.source), "{}", k.name);
             assert!(KINDS[..i].iter().all(|o| o.name != k.name), "{} twice", k.name);
+        }
+    }
+
+    #[test]
+    fn severities_are_numbered_as_listed() {
+        for (i, s) in Severity::ALL.iter().enumerate() {
+            assert_eq!(*s as usize, i, "{}", s.as_str());
         }
     }
 
