@@ -249,29 +249,35 @@ impl<S> Wires<S> {
     #[cold]
     #[inline(never)]
     fn cs_changed_mid_frame(&mut self, f: &InFlight, high: bool, t: Ps) {
-        self.events.push(Event::new(
-            t,
-            "cs_changed_mid_frame",
-            Severity::Warning,
-            format!(
-                "GPIO57 (CS) went {} at {t} ps inside a frame (edges {}…{} ps)",
-                if high { "high" } else { "low" },
-                f.timing.first_edge,
-                f.timing.last_edge
-            ),
-        ).in_frame(f.timing.index));
+        self.events.push(
+            Event::new(
+                t,
+                "cs_changed_mid_frame",
+                Severity::Warning,
+                format!(
+                    "GPIO57 (CS) went {} at {t} ps inside a frame (edges {}…{} ps)",
+                    if high { "high" } else { "low" },
+                    f.timing.first_edge,
+                    f.timing.last_edge
+                ),
+            )
+            .in_frame(f.timing.index),
+        );
     }
 
     /// A frame clocked with CS high: the slave is not involved and DOUT floats.
     #[cold]
     #[inline(never)]
     fn unselected(&mut self, frame: &Frame) -> u16 {
-        self.events.push(Event::new(
-            frame.start_ps,
-            "spi_frame_without_cs",
-            Severity::Warning,
-            format!("SPI character {} clocked with GPIO57 (CS) high: the slave ignores it", frame.index),
-        ).in_frame(frame.index));
+        self.events.push(
+            Event::new(
+                frame.start_ps,
+                "spi_frame_without_cs",
+                Severity::Warning,
+                format!("SPI character {} clocked with GPIO57 (CS) high: the slave ignores it", frame.index),
+            )
+            .in_frame(frame.index),
+        );
         if self.floating {
             0xFFFF
         } else {

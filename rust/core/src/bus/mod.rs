@@ -247,8 +247,7 @@ mod tests {
                 starts.reverse();
                 let run = RunTiming::of_starts(timing, &starts);
                 assert_eq!(run.exact, exact, "{lspclk:?} up to {latest}");
-                let alone: Vec<FrameTiming> =
-                    starts.iter().enumerate().map(|(i, &s)| timing.at(i as u64, s)).collect();
+                let alone: Vec<FrameTiming> = starts.iter().enumerate().map(|(i, &s)| timing.at(i as u64, s)).collect();
                 assert!((0..run.len()).all(|i| run.frame(i) == alone[i]), "{lspclk:?} up to {latest}");
                 let stalls = alone.windows(2).map(|w| w[1].first_edge.saturating_sub(w[0].last_edge));
                 match run.min_stall() {

@@ -659,7 +659,8 @@ impl SpiSlave for Adxl345 {
                 self.events.push(Event::new(t, "spi_mode", Severity::Error, what));
             }
             if timing.bits != 8 {
-                let what = format!("ADXL345: a frame of {} SCLK cycles: the part takes bytes; DIN ignored", timing.bits);
+                let what =
+                    format!("ADXL345: a frame of {} SCLK cycles: the part takes bytes; DIN ignored", timing.bits);
                 self.events.push(Event::new(t, "byte_frame_length", Severity::Error, what));
                 break 'frame 0xFFFF;
             }
@@ -1012,8 +1013,14 @@ mod tests {
         let _ = xfer(&mut fast, &[0x80, 0], 0);
         assert_eq!(kinds(&part), ["sclk_too_fast", "sclk_too_fast"]);
         let mut dev = Adxl345::at_rest();
-        let timing =
-            FrameTiming { index: 0, first_edge: 1_000_000, last_edge: 2_000_000, sclk_period: 1_000_000, bits: 16, mode: 3 };
+        let timing = FrameTiming {
+            index: 0,
+            first_edge: 1_000_000,
+            last_edge: 2_000_000,
+            sclk_period: 1_000_000,
+            bits: 16,
+            mode: 3,
+        };
         dev.set_cs(true, 10);
         assert_eq!(dev.begin_frame(&timing), 0xFFFF);
         assert_eq!(dev.drain_events().iter().map(|e| e.kind).collect::<Vec<_>>(), ["byte_frame_length"]);

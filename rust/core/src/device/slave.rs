@@ -262,17 +262,20 @@ impl Adis {
     #[cold]
     #[inline(never)]
     fn time_reversal(&mut self, t: Ps, frame: u64) {
-        self.events.push(Event::new(
-            t,
-            "time_reversal",
-            Severity::Warning,
-            format!(
-                "frame {} starts at {} ps, before the device time {} ps: it sees samples from its future",
-                self.spi.frames,
+        self.events.push(
+            Event::new(
                 t,
-                self.now()
-            ),
-        ).in_frame(frame));
+                "time_reversal",
+                Severity::Warning,
+                format!(
+                    "frame {} starts at {} ps, before the device time {} ps: it sees samples from its future",
+                    self.spi.frames,
+                    t,
+                    self.now()
+                ),
+            )
+            .in_frame(frame),
+        );
     }
 
     /// A frame the slave does not take part in (CS high, the power-on start-up or a software reset
@@ -618,15 +621,23 @@ mod tests {
         use crate::device::{Constant, Physical};
         const SCLK: Ps = 1_333_333;
         // A frame of 16 mode-3 cycles starting at `t`.
-        let timing =
-            |t: Ps| FrameTiming { index: 0, first_edge: t, last_edge: t + SCLK * 31 / 2, sclk_period: SCLK, bits: 16, mode: 3 };
+        let timing = |t: Ps| FrameTiming {
+            index: 0,
+            first_edge: t,
+            last_edge: t + SCLK * 31 / 2,
+            sclk_period: SCLK,
+            bits: 16,
+            mode: 3,
+        };
         let t0: Ps = 9_800_000_000;
         let frame_0 = timing(t0 + 100_000);
         // Frame 1 starts 2 µs after the command; the data frames follow 2 µs apart.
-        let data: Vec<FrameTiming> =
-            (0..14)
-                .map(|i| FrameTiming { index: i, ..timing(frame_0.last_edge + 2_000_000 + i * (SCLK * 31 / 2 + 2_000_000)) })
-                .collect();
+        let data: Vec<FrameTiming> = (0..14)
+            .map(|i| FrameTiming {
+                index: i,
+                ..timing(frame_0.last_edge + 2_000_000 + i * (SCLK * 31 / 2 + 2_000_000))
+            })
+            .collect();
         let reset_s = (frame_0.last_edge + 1_000_000) as f64 * 1e-12;
         for (name, command, reset) in [("burst", 0x4200, false), ("read", 0x0400, false), ("reset", 0x4200, true)] {
             let make = || {
