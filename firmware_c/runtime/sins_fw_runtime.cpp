@@ -79,6 +79,12 @@ struct SinsFwConfig {
 
 /* The times recorded per ISR, in this order (ps, but the first: the timer's reloads so far). */
 enum { ROW_TICK, ROW_TICK_PS, ROW_START, ROW_ENTRY_END, ROW_BODY_END, ROW_END, ROW_DEADLINE, ROW_TIMES };
+/* Their names, in the same order: the harness names the columns of `sins_fw_take_rows` with them
+   (sins_fw.firmware_run), so this is the one list of them. */
+extern "C" const char *const sins_fw_row_times[ROW_TIMES] = {
+    "tick", "tick_ps", "start_ps", "entry_end_ps", "body_end_ps", "end_ps", "deadline_ps",
+};
+extern "C" const int sins_fw_row_time_count = ROW_TIMES;
 
 namespace {
 

@@ -34,21 +34,15 @@ from sins_fw.atomic import atomic_path
 from sins_fw.harness import PS, Run, _assemble, cost_table_text, new_emulator
 from sins_fw.profile import Profile, load_profile
 
-#: The stages of one tick, in execution order.
-STAGES = ("entry", "cs_setup", "spi", "decode", "attitude", "euler", "navigation", "exit")
-#: The budget columns that bound each stage (start, end).
-_BOUNDS = {
-    "entry": ("start_ps", "entry_end_ps"),
-    "cs_setup": ("entry_end_ps", "spi_start_ps"),
-    "spi": ("spi_start_ps", "spi_end_ps"),
-    "decode": ("spi_end_ps", "decode_end_ps"),
-    "attitude": ("decode_end_ps", "attitude_end_ps"),
-    "euler": ("attitude_end_ps", "euler_end_ps"),
-    "navigation": ("euler_end_ps", "nav_end_ps"),
-    "exit": ("nav_end_ps", "end_ps"),
+#: The stages of one tick, in execution order (the core's `output::BUDGET_STAGES`).
+STAGES: tuple[str, ...] = tuple(s["name"] for s in _core.BUDGET_STAGES)
+#: The budget columns that bound each stage (start, end), without their `budget_` prefix.
+_BOUNDS: dict[str, tuple[str, str]] = {
+    s["name"]: (s["start"].removeprefix("budget_"), s["end"].removeprefix("budget_"))
+    for s in _core.BUDGET_STAGES
 }
 #: The stages of one attitude solution as the thesis timed it: burst read + decode + update + Euler.
-SOLUTION_STAGES = ("cs_setup", "spi", "decode", "attitude", "euler")
+SOLUTION_STAGES: tuple[str, ...] = tuple(s["name"] for s in _core.BUDGET_STAGES if s["solution"])
 #: The published time of one attitude solution (reference-design.md), s, and the tolerance the
 #: acceptance criterion allows.
 PUBLISHED_SOLUTION_S = 0.35e-3

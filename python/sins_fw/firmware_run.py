@@ -43,7 +43,7 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw import synth
+from sins_fw import _core, synth
 from sins_fw.errors import InputError, ProfileError
 from sins_fw.harness import FEED_ROWS, PS, _chunks, _TruthWindow
 from sins_fw.profile import Profile
@@ -68,12 +68,9 @@ ATTITUDE = {
     **{f"q{i}": ("cycle_quat", i) for i in range(4)},
     **{n: ("cycle_euler_deg", i) for i, n in enumerate(("roll_deg", "pitch_deg", "yaw_deg"))},
 }
-#: The ISR row's times, in the runtime's order.
-ROW_TIMES = ("tick", "tick_ps", "start_ps", "entry_end_ps", "body_end_ps", "end_ps", "deadline_ps")
 #: Basic blocks without a register access before the runtime checks for a loop that cannot end
 #: (2^24 blocks: about 1 s of virtual time at 9 cycles each and 150 MHz, 0.1 s of host time).
 SPIN_BLOCKS = 1 << 24
-SEVERITIES = ("info", "warning", "error")
 
 _MORE_INPUT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)
 #: The C ABI's SinsBusRecord (rust/cabi/include/sins_fw.h), one bus-log record.
@@ -226,7 +223,7 @@ class _Library:
             self.lib = ctypes.CDLL(str(self.path), mode=os.RTLD_LOCAL)
         except OSError as e:
             raise InputError(f"{src}: cannot load the firmware library: {e}") from None
-        for name in ("sins_fw_run", "sins_fw_take_rows", "sins_board_new_input"):
+        for name in ("sins_fw_run", "sins_fw_take_rows", "sins_fw_row_times", "sins_board_new_input"):
             if not hasattr(self.lib, name):
                 raise InputError(
                     f"{src}: no symbol `{name}`: not a firmware built by `sins-fw build-firmware` (or built "
@@ -240,6 +237,11 @@ class _Library:
         for f in ("sins_fw_accesses", "sins_fw_blocks", "sins_fw_fault_offset"):
             getattr(lib, f).restype = ctypes.c_uint64
         lib.sins_last_error.restype = ctypes.c_char_p
+        #: The ISR row's times, in the runtime's order (its `sins_fw_row_times`).
+        count = ctypes.c_int.in_dll(lib, "sins_fw_row_time_count").value
+        self.row_times = tuple(
+            (name or b"").decode() for name in (ctypes.c_char_p * count).in_dll(lib, "sins_fw_row_times")
+        )
         try:
             self.double_bytes = ctypes.c_int.in_dll(lib, "sins_fw_double_bytes").value
         except ValueError:
@@ -579,12 +581,14 @@ class _Feeder:
             self.on_chunk(float(chunk.t_s[s][-1]))
 
 
-def _take_rows(lib: _Library, n: int) -> tuple[np.ndarray, np.ndarray]:
+def _take_rows(lib: _Library, n: int) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """The ISR rows ready: their times by name (the runtime's ``sins_fw_row_times``) and the `n`
+    watched globals' values."""
     ready = int(lib.lib.sins_fw_rows_ready())
-    times = np.zeros((ready, len(ROW_TIMES)), dtype=np.uint64)
+    times = np.zeros((ready, len(lib.row_times)), dtype=np.uint64)
     values = np.zeros((ready, n), dtype=np.float64)
     got = lib.lib.sins_fw_take_rows(times.ctypes.data, values.ctypes.data, ready)
-    return times[:got], values[:got]
+    return {name: times[:got, i] for i, name in enumerate(lib.row_times)}, values[:got]
 
 
 def _take_bus_log(lib: _Library, board: ctypes.c_void_p) -> np.ndarray:
@@ -638,10 +642,11 @@ def _take_events(lib: _Library, board: ctypes.c_void_p, t0: float | None) -> lis
             {
                 "t_s": ev.t_ps * PS,
                 "kind": ev.kind.decode(),
-                "severity": SEVERITIES[ev.severity],
+                "severity": _core.SEVERITIES[ev.severity],
                 "message": message.value.decode(errors="replace"),
                 "measured": None if np.isnan(m) else m,
                 "required": None if np.isnan(r) else r,
+                "frame": None if ev.frame < 0 else int(ev.frame),
             }
         )
 
@@ -660,25 +665,27 @@ class _Rows:
     def add(
         self,
         window: _TruthWindow,
-        rows: tuple[np.ndarray, np.ndarray],
+        rows: tuple[dict[str, np.ndarray], np.ndarray],
         events: list[dict[str, Any]],
         bus: np.ndarray,
     ) -> None:
         times, values = rows
+        n = len(values)
         self.bus = np.concatenate([self.bus, bus]) if len(self.bus) else bus
-        if not len(times) and not events:
+        if not n and not events:
             return
-        self.count += len(times)
+        self.count += n
         part = self._part(times, values, events)
-        if self.has_quat and window.t is not None and len(times):
+        if self.has_quat and window.t is not None and n:
             window.attach(part)
         if self.sink is not None:
             self.sink(part)
 
-    def _part(self, times: np.ndarray, values: np.ndarray, events: list[dict[str, Any]]) -> dict[str, Any]:
-        col = {name: times[:, i] for i, name in enumerate(ROW_TIMES)}
+    def _part(
+        self, col: dict[str, np.ndarray], values: np.ndarray, events: list[dict[str, Any]]
+    ) -> dict[str, Any]:
         budget = self._budget(col)
-        n = len(times)
+        n = len(values)
         quat = np.full((n, 4), np.nan)
         euler = np.full((n, 3), np.nan)
         for i, g in enumerate(self.watched):

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from sins_fw import _core
 from sins_fw import quaternion as quat
 from sins_fw.errors import InputError, ProfileError
 from sins_fw.harness import CHUNK_ROWS, Run, emulate, profile_table
@@ -40,8 +41,9 @@ Array = NDArray[np.float64]
 
 #: The golden backend every other one is compared with.
 REFERENCE = "f64"
-#: The backends `sins-fw parity` runs by default (the values `firmware.numeric` takes).
-BACKENDS: tuple[str, ...] = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
+#: The backends `sins-fw parity` runs by default (the values `firmware.numeric` takes: the core's
+#: `profile::Numeric::ALL`).
+BACKENDS: tuple[str, ...] = tuple(_core.NUMERICS)
 #: The threshold table (in firmware_model/).
 THRESHOLDS_FILE = "parity.toml"
 _LIMITS = ("max_deg", "rms_deg", "drift_deg_per_h")

@@ -18,7 +18,7 @@ from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from sins_fw import gfsins, parity, progress
+from sins_fw import _core, gfsins, parity, progress
 from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
@@ -43,7 +43,7 @@ from sins_fw.viewer import serve
 if TYPE_CHECKING:
     from sins_fw.viewer.recording import Recorder
 
-NUMERICS = ("f64", "c28x-f32", "c28x-f32-rz", "iq")
+NUMERICS: tuple[str, ...] = tuple(_core.NUMERICS)
 
 
 class ViewerUnavailableError(InputError):

@@ -175,6 +175,7 @@ class GapFinder:
                 f"time {float(t[i])!r} s: the device sees the input interpolated linearly across it",
                 "measured": float(dt[i]),
                 "required": limit,
+                "frame": None,
             }
             for i in np.flatnonzero(dt > limit)
         ]

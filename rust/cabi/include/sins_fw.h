@@ -46,7 +46,9 @@ typedef struct SinsSpiSetting {
 typedef struct SinsEvent {
   // Virtual time, ps.
   uint64_t t_ps;
-  // SPI-A character index of the frame it concerns (as in the transaction log), or -1.
+  // SPI-A character index (as the bus log numbers frames) of the frame the event is about, or,
+  // when it names none, of the frame on the wires at the event (for a CS edge the frame before
+  // it); -1 for neither.
   int64_t frame;
   // The DIN the slave sampled in that frame (0 without a frame).
   uint16_t din;

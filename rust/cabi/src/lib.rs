@@ -65,8 +65,8 @@ fn sins_event(e: &HostEvent) -> SinsEvent {
     }
     SinsEvent {
         t_ps: e.event.t_ps,
-        frame: e.frame.map_or(-1, |f| f.index as i64),
-        din: e.frame.map_or(0, |f| f.din),
+        frame: e.frame_index().map_or(-1, |f| f as i64),
+        din: e.din().unwrap_or(0),
         severity: e.event.severity as u8,
         kind,
     }
@@ -94,7 +94,9 @@ pub struct SinsSpiSetting {
 pub struct SinsEvent {
     /// Virtual time, ps.
     pub t_ps: u64,
-    /// SPI-A character index of the frame it concerns (as in the transaction log), or -1.
+    /// SPI-A character index (as the bus log numbers frames) of the frame the event is about, or,
+    /// when it names none, of the frame on the wires at the event (for a CS edge the frame before
+    /// it); -1 for neither.
     pub frame: i64,
     /// The DIN the slave sampled in that frame (0 without a frame).
     pub din: u16,

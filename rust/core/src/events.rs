@@ -15,6 +15,10 @@ pub enum Severity {
 }
 
 impl Severity {
+    /// Every severity, by its number (`severity as u8`: 0 info, 1 warning, 2 error, as the C ABI
+    /// gives it); Python reads their names from here (`sins_fw._core.SEVERITIES`).
+    pub const ALL: [Severity; 3] = [Severity::Info, Severity::Warning, Severity::Error];
+
     /// Lower-case name used in reports and JSON.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -348,6 +352,9 @@ pub struct Event {
     pub measured: Option<f64>,
     /// Required value of the rule.
     pub required: Option<f64>,
+    /// The bus frame the event is about: the link's character index since power-on, as the bus log
+    /// numbers its frames (`frame_index`); `None` for an event not tied to one frame.
+    pub frame: Option<u64>,
 }
 
 impl Event {
@@ -355,7 +362,7 @@ impl Event {
     /// severity other than the table's panics: the table stays the one list of what can be reported.
     pub fn new(t_ps: Ps, kind: &'static str, severity: Severity, message: impl Into<String>) -> Self {
         check_kind(kind, severity);
-        Event { t_ps, kind, severity, message: message.into(), measured: None, required: None }
+        Event { t_ps, kind, severity, message: message.into(), measured: None, required: None, frame: None }
     }
 
     /// An event about a rule, with the measured and required values.
@@ -368,7 +375,20 @@ impl Event {
         required: f64,
     ) -> Self {
         check_kind(kind, severity);
-        Event { t_ps, kind, severity, message: message.into(), measured: Some(measured), required: Some(required) }
+        Event {
+            t_ps,
+            kind,
+            severity,
+            message: message.into(),
+            measured: Some(measured),
+            required: Some(required),
+            frame: None,
+        }
+    }
+
+    /// The event tied to bus frame `index` ([`Event::frame`]).
+    pub fn in_frame(self, index: u64) -> Self {
+        Event { frame: Some(index), ..self }
     }
 }
 
@@ -402,6 +422,21 @@ impl EventLog {
     pub fn drain(&mut self) -> Vec<Event> {
         std::mem::take(&mut self.events)
     }
+    /// Number of events recorded so far (a mark for [`EventLog::tie_to_frame`]).
+    pub fn len(&self) -> usize {
+        self.events.len()
+    }
+    /// Whether no event is recorded.
+    pub fn is_empty(&self) -> bool {
+        self.events.is_empty()
+    }
+    /// Tie the events recorded since `mark` (a [`EventLog::len`]) that name no frame to bus frame
+    /// `index`: what a device reports while it handles one frame.
+    pub fn tie_to_frame(&mut self, mark: usize, index: u64) {
+        for e in self.events.get_mut(mark..).unwrap_or_default() {
+            e.frame.get_or_insert(index);
+        }
+    }
     /// Number of events of one kind.
     pub fn count(&self, kind: &str) -> usize {
         self.events.iter().filter(|e| e.kind == kind).count()
@@ -420,6 +455,13 @@ mod tests {
             assert!(!k.meaning.is_empty() && !k.meaning.ends_with('.'), "{}: one line, no full stop", k.name);
             assert!(["device", "link", "mcu", "firmware", "emulator", "harness"].contains(&k.source), "{}", k.name);
             assert!(KINDS[..i].iter().all(|o| o.name != k.name), "{} twice", k.name);
+        }
+    }
+
+    #[test]
+    fn severities_are_numbered_as_listed() {
+        for (i, s) in Severity::ALL.iter().enumerate() {
+            assert_eq!(*s as usize, i, "{}", s.as_str());
         }
     }
 

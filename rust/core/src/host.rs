@@ -107,8 +107,21 @@ pub struct FrameRef {
 pub struct HostEvent {
     /// The event.
     pub event: Event,
-    /// The frame on the wires at the event (or, for a CS edge, the frame before it).
+    /// The frame the event names ([`Event::frame`]) when it is still known, else the frame on the
+    /// wires at the event (or, for a CS edge, the frame before it).
     pub frame: Option<FrameRef>,
+}
+
+impl HostEvent {
+    /// The index of the frame the event concerns: its own ([`Event::frame`]), else [`HostEvent::frame`]'s.
+    pub fn frame_index(&self) -> Option<u64> {
+        self.event.frame.or(self.frame.map(|f| f.index))
+    }
+
+    /// The DIN the slave sampled in that frame, when its record is known.
+    pub fn din(&self) -> Option<u16> {
+        self.frame.filter(|f| Some(f.index) == self.frame_index()).map(|f| f.din)
+    }
 }
 
 /// What [`HostBoard::configure_spi`] set.
@@ -716,6 +729,9 @@ impl HostBoard {
     fn frame_of(&self, e: &Event) -> Option<FrameRef> {
         let t = e.t_ps;
         let r = |f: &FrameRecord| FrameRef { index: f.index, din: f.din };
+        if let Some(f) = e.frame.and_then(|i| self.recent.iter().rev().find(|f| f.index == i)) {
+            return Some(r(f));
+        }
         if let Some(f) = self.recent.iter().rev().find(|f| f.start_ps <= t && t <= f.end_ps) {
             return Some(r(f));
         }

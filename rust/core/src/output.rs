@@ -380,3 +380,56 @@ pub const fn is_column_list(names: &[&str]) -> bool {
     }
     true
 }
+
+/// One stage of a tick's budget: the part of the ISR between two of [`BudgetRow`]'s times, named by
+/// their columns in [`COLUMNS`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BudgetStage {
+    /// The stage's name (`spi`, `attitude`, …).
+    pub name: &'static str,
+    /// The column of its start.
+    pub start: &'static str,
+    /// The column of its end.
+    pub end: &'static str,
+    /// Part of one attitude solution as the thesis timed it: burst read, decode, update and Euler
+    /// (reference-design.md's 0.35 ms; `sins-fw budget` compares their sum with it).
+    pub solution: bool,
+}
+
+const fn stage(name: &'static str, start: &'static str, end: &'static str, solution: bool) -> BudgetStage {
+    BudgetStage { name, start, end, solution }
+}
+
+/// The stages of a tick in the ISR's order, each starting where the one before it ends (Python reads
+/// them through the binding: `sins_fw._core.BUDGET_STAGES`).
+pub const BUDGET_STAGES: &[BudgetStage] = &[
+    stage("entry", "budget_start_ps", "budget_entry_end_ps", false),
+    stage("cs_setup", "budget_entry_end_ps", "budget_spi_start_ps", true),
+    stage("spi", "budget_spi_start_ps", "budget_spi_end_ps", true),
+    stage("decode", "budget_spi_end_ps", "budget_decode_end_ps", true),
+    stage("attitude", "budget_decode_end_ps", "budget_attitude_end_ps", true),
+    stage("euler", "budget_attitude_end_ps", "budget_euler_end_ps", true),
+    stage("navigation", "budget_euler_end_ps", "budget_nav_end_ps", false),
+    stage("exit", "budget_nav_end_ps", "budget_end_ps", false),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stages cover the ISR from its first cycle to its end without a gap, through budget
+    /// columns of the table.
+    #[test]
+    fn the_budget_stages_chain_through_budget_columns() {
+        assert_eq!(BUDGET_STAGES.first().map(|s| s.start), Some("budget_start_ps"));
+        assert_eq!(BUDGET_STAGES.last().map(|s| s.end), Some("budget_end_ps"));
+        for w in BUDGET_STAGES.windows(2) {
+            assert_eq!(w[0].end, w[1].start, "{} → {}", w[0].name, w[1].name);
+        }
+        for s in BUDGET_STAGES {
+            for c in [s.start, s.end] {
+                assert!(COLUMNS.iter().any(|k| k.name == c && k.unit == "ps"), "{}: {c}", s.name);
+            }
+        }
+    }
+}

@@ -240,8 +240,10 @@ impl Board {
             .iter()
             .map(|e| {
                 let d = event_dict(py, &e.event)?;
-                d.set_item("frame", e.frame.map(|f| f.index))?;
-                d.set_item("din", e.frame.map(|f| f.din))?;
+                // The frame on the wires at the event (for a CS edge the frame before it) when the
+                // event names none of its own (`HostEvent::frame`).
+                d.set_item("frame", e.frame_index())?;
+                d.set_item("din", e.din())?;
                 Ok(d)
             })
             .collect()

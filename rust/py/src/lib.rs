@@ -4,8 +4,8 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sins_core::emulator::BoardReport;
-use sins_core::events::Event;
-use sins_core::profile::Profile;
+use sins_core::events::{Event, Severity};
+use sins_core::profile::{Numeric, Profile};
 use sins_core::time::ps_to_s;
 use sins_core::timing::CostTable;
 
@@ -35,7 +35,8 @@ fn profile_keys() -> Vec<String> {
     Profile::known_keys()
 }
 
-/// An event as a dict: t_s, kind, severity, message, measured, required.
+/// An event as a dict: t_s, kind, severity, message, measured, required, frame (the bus frame it is
+/// about, as the bus log's `frame_index` numbers it, or None).
 pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("t_s", ps_to_s(e.t_ps))?;
@@ -44,6 +45,7 @@ pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py,
     d.set_item("message", &e.message)?;
     d.set_item("measured", e.measured)?;
     d.set_item("required", e.required)?;
+    d.set_item("frame", e.frame)?;
     Ok(d)
 }
 
@@ -230,6 +232,22 @@ fn column_dicts<'py>(py: Python<'py>, table: &[sins_core::output::Column]) -> Py
         .collect()
 }
 
+/// The budget's stages (`sins_core::output::BUDGET_STAGES`) as dicts: name, start and end (their
+/// bounding columns), solution.
+fn budget_stages(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    sins_core::output::BUDGET_STAGES
+        .iter()
+        .map(|s| {
+            let d = PyDict::new(py);
+            d.set_item("name", s.name)?;
+            d.set_item("start", s.start)?;
+            d.set_item("end", s.end)?;
+            d.set_item("solution", s.solution)?;
+            Ok(d)
+        })
+        .collect()
+}
+
 /// The parts (`sins_core::device::parts::PARTS`) by name, each a dict: prod_id, burst_command and
 /// burst (the names of the registers a burst shifts out after its command frame, in order).
 fn parts(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
@@ -343,6 +361,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("EVENT_KINDS", event_kinds(m.py())?)?;
     m.add("OUTPUT_COLUMNS", output_columns(m.py())?)?;
     m.add("GFSINS_COLUMNS", column_dicts(m.py(), sins_core::output::GFSINS_COLUMNS)?)?;
+    m.add("BUDGET_STAGES", budget_stages(m.py())?)?;
+    m.add("SEVERITIES", Severity::ALL.map(Severity::as_str).to_vec())?;
+    m.add("NUMERICS", Numeric::ALL.map(Numeric::name).to_vec())?;
     m.add("READ_WORDS", sins_core::emulator::READ_WORDS)?;
     m.add("PARTS", parts(m.py())?)?;
     m.add("__version__", sins_core::VERSION)?;

@@ -61,10 +61,10 @@ impl Waveform {
         &self.offsets[..self.count]
     }
 
-    /// The timing, as the slave sees it, of a character of this waveform started on LSPCLK cycle
-    /// `start_cycle`.
-    pub fn timing(&self, start_cycle: u64) -> FrameTiming {
-        self.timing_of().at(start_cycle)
+    /// The timing, as the slave sees it, of character `index` of this waveform started on LSPCLK
+    /// cycle `start_cycle`.
+    pub fn timing(&self, index: u64, start_cycle: u64) -> FrameTiming {
+        self.timing_of().at(index, start_cycle)
     }
 
     /// The timing of characters of this waveform for any start cycle (its first and last edges).

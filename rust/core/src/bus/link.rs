@@ -138,7 +138,7 @@ impl<S: SpiSlave> SpiWire for Wires<S> {
             BusLevel::Bit => self.waveform_of(first).timing_of(),
         };
         // The slave is handed the run's timing formula: it times only the frames it looks at.
-        self.slave.run_frames(&RunTiming::new(timing, run.starts, run.closest_spacing), din, rx);
+        self.slave.run_frames(&RunTiming::new(timing, first.index, run.starts, run.closest_spacing), din, rx);
         // What the master samples: each character's word through the closed form or the walk's map
         // (the walk depends on the word, the shape and the lines, not on the character's time).
         match self.level {
@@ -172,9 +172,9 @@ impl<S: SpiSlave> Wires<S> {
         let timing = match self.level {
             BusLevel::Transaction => {
                 let period = self.sclk_period(frame);
-                transaction::frame_timing(&frame.shape, frame.start_cycle, &self.lspclk, period)
+                transaction::frame_timing(&frame.shape, frame.index, frame.start_cycle, &self.lspclk, period)
             }
-            BusLevel::Bit => self.waveform_of(frame).timing(frame.start_cycle),
+            BusLevel::Bit => self.waveform_of(frame).timing(frame.index, frame.start_cycle),
         };
         let selected = self.cs_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
@@ -249,29 +249,35 @@ impl<S> Wires<S> {
     #[cold]
     #[inline(never)]
     fn cs_changed_mid_frame(&mut self, f: &InFlight, high: bool, t: Ps) {
-        self.events.push(Event::new(
-            t,
-            "cs_changed_mid_frame",
-            Severity::Warning,
-            format!(
-                "GPIO57 (CS) went {} at {t} ps inside a frame (edges {}…{} ps)",
-                if high { "high" } else { "low" },
-                f.timing.first_edge,
-                f.timing.last_edge
-            ),
-        ));
+        self.events.push(
+            Event::new(
+                t,
+                "cs_changed_mid_frame",
+                Severity::Warning,
+                format!(
+                    "GPIO57 (CS) went {} at {t} ps inside a frame (edges {}…{} ps)",
+                    if high { "high" } else { "low" },
+                    f.timing.first_edge,
+                    f.timing.last_edge
+                ),
+            )
+            .in_frame(f.timing.index),
+        );
     }
 
     /// A frame clocked with CS high: the slave is not involved and DOUT floats.
     #[cold]
     #[inline(never)]
     fn unselected(&mut self, frame: &Frame) -> u16 {
-        self.events.push(Event::new(
-            frame.start_ps,
-            "spi_frame_without_cs",
-            Severity::Warning,
-            format!("SPI character {} clocked with GPIO57 (CS) high: the slave ignores it", frame.index),
-        ));
+        self.events.push(
+            Event::new(
+                frame.start_ps,
+                "spi_frame_without_cs",
+                Severity::Warning,
+                format!("SPI character {} clocked with GPIO57 (CS) high: the slave ignores it", frame.index),
+            )
+            .in_frame(frame.index),
+        );
         if self.floating {
             0xFFFF
         } else {

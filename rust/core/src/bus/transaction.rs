@@ -25,12 +25,12 @@ pub fn sclk_period(frame: &Frame, lspclk: &Clock) -> Ps {
     lspclk.cycles_to_ps(u64::from(frame.shape.divisor))
 }
 
-/// The timing of a character of `shape` started on LSPCLK cycle `start_cycle`, as the slave sees it
-/// (`lspclk`: the clock the character is timed by; `sclk_period`: [`sclk_period`] of the shape, which
+/// The timing of character `index` of `shape` started on LSPCLK cycle `start_cycle`, as the slave
+/// sees it (`lspclk`: the clock the character is timed by; `sclk_period`: [`sclk_period`] of the shape, which
 /// the link caches per baud setting).
 #[inline]
-pub fn frame_timing(shape: &CharShape, start_cycle: u64, lspclk: &Clock, sclk_period: Ps) -> FrameTiming {
-    TimingOf::new(shape, lspclk, sclk_period).at(start_cycle)
+pub fn frame_timing(shape: &CharShape, index: u64, start_cycle: u64, lspclk: &Clock, sclk_period: Ps) -> FrameTiming {
+    TimingOf::new(shape, lspclk, sclk_period).at(index, start_cycle)
 }
 
 /// [`frame_timing`] for any start cycle of one character shape: what does not depend on the start is
@@ -69,10 +69,11 @@ impl TimingOf {
         TimingOf { first, last, lspclk: *lspclk, sclk_period, bits, mode }
     }
 
-    /// The timing of the character started on LSPCLK cycle `start_cycle`.
+    /// The timing of character `index`, started on LSPCLK cycle `start_cycle`.
     #[inline]
-    pub fn at(&self, start_cycle: u64) -> FrameTiming {
+    pub fn at(&self, index: u64, start_cycle: u64) -> FrameTiming {
         FrameTiming {
+            index,
             first_edge: self.first_edge(start_cycle),
             last_edge: self.lspclk.cycles_to_ps(start_cycle + self.last),
             sclk_period: self.sclk_period,
@@ -234,7 +235,7 @@ mod tests {
                     let high: Vec<u64> = (0..20).map(|_| far - rng.gen_range(0..1u64 << 30)).chain([far]).collect();
                     for start in low.into_iter().chain(high) {
                         for later in [start + spacing, start + spacing + rng.gen_range(0..20)] {
-                            let (earlier, next) = (timing.at(start), timing.at(later));
+                            let (earlier, next) = (timing.at(0, start), timing.at(1, later));
                             let stall = next.first_edge.saturating_sub(earlier.last_edge);
                             assert!(bound <= stall, "{lspclk:?} {shape:?}: {bound} > {stall} from {start} to {later}");
                             if later == start + spacing {

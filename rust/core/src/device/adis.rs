@@ -478,6 +478,9 @@ pub(crate) struct SlaveState {
     pub(super) framed_since_cs: bool,
     /// Last SCLK edge of the previous frame.
     pub(super) last_edge: Option<Ps>,
+    /// The bus index of the previous frame ([`crate::bus::FrameTiming::index`]), which a CS↑ too
+    /// soon after its last edge concerns.
+    pub(super) last_index: u64,
     /// First SCLK edge of the previous frame when it was outside a burst (tDATARATE counts from it).
     pub(super) last_plain_start: Option<Ps>,
     /// Register asked for by the previous read frame.

@@ -447,7 +447,9 @@ impl SpiSlave for Ads8344 {
     }
 
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
+        let mark = self.events.len();
         self.check_frame(timing);
+        self.events.tie_to_frame(mark, timing.index);
         // The answer is worked out with DIN low throughout, recording nothing; the frame is clocked
         // for real in `end_frame`, when its DIN is known. The two agree on every bit that does not
         // follow a hold in this frame.
@@ -460,6 +462,7 @@ impl SpiSlave for Ads8344 {
     }
 
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
+        let mark = self.events.len();
         let (_, depends) = self.clock_frame(din, timing);
         if depends {
             self.push(Event::new(
@@ -470,6 +473,7 @@ impl SpiSlave for Ads8344 {
                  answers before it hands DIN over, so those bits read 0 (use 8-bit characters)",
             ));
         }
+        self.events.tie_to_frame(mark, timing.index);
     }
     /// `clock` gives the bit the master samples at each rising edge in the frame's own mode.
     fn answers_as_sampled(&self) -> bool {
@@ -501,7 +505,7 @@ mod tests {
     /// A frame of `bits` clocks of `period` ps, its first edge at `first`, SPI mode `mode`.
     fn frame(first: Ps, period: Ps, bits: u8, mode: u8) -> FrameTiming {
         let last = first + (2 * u64::from(bits) - 1) * period / 2;
-        FrameTiming { first_edge: first, last_edge: last, sclk_period: period, bits, mode }
+        FrameTiming { index: 0, first_edge: first, last_edge: last, sclk_period: period, bits, mode }
     }
 
     /// Clock `words` of `bits` each in one CS-low window starting at `t` with frames `gap` apart;

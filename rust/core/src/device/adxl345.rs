@@ -637,67 +637,77 @@ impl SpiSlave for Adxl345 {
     }
 
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
-        let t = timing.first_edge;
-        if self.last_edge.is_none() && t < self.cs_low_at + spi::T_DELAY {
-            let d = t.saturating_sub(self.cs_low_at);
-            self.rule(
-                t,
-                "cs_setup",
-                format!("ADXL345: first SCLK edge {d} ps after CS↓ (tDELAY 5 ns)"),
-                d,
-                spi::T_DELAY,
-            );
-        }
-        if timing.sclk_period < spi::T_SCLK_MIN {
-            let what = format!("ADXL345: SCLK period {} ps, below 200 ns (5 MHz)", timing.sclk_period);
-            self.rule(t, "sclk_too_fast", what, timing.sclk_period, spi::T_SCLK_MIN);
-        }
-        if timing.mode != spi::MODE {
-            let what = format!("ADXL345: a frame in SPI mode {}, the part is mode 3", timing.mode);
-            self.events.push(Event::new(t, "spi_mode", Severity::Error, what));
-        }
-        if timing.bits != 8 {
-            let what = format!("ADXL345: a frame of {} SCLK cycles: the part takes bytes; DIN ignored", timing.bits);
-            self.events.push(Event::new(t, "byte_frame_length", Severity::Error, what));
-            return 0xFFFF;
-        }
-        match self.phase {
-            Phase::Read { addr, .. } => u16::from(self.read(addr, t)) << 8,
-            // Data returned during the command and writes is to be ignored (p. 15): the model drives 0.
-            _ => 0,
-        }
+        let mark = self.events.len();
+        let dout = 'frame: {
+            let t = timing.first_edge;
+            if self.last_edge.is_none() && t < self.cs_low_at + spi::T_DELAY {
+                let d = t.saturating_sub(self.cs_low_at);
+                self.rule(
+                    t,
+                    "cs_setup",
+                    format!("ADXL345: first SCLK edge {d} ps after CS↓ (tDELAY 5 ns)"),
+                    d,
+                    spi::T_DELAY,
+                );
+            }
+            if timing.sclk_period < spi::T_SCLK_MIN {
+                let what = format!("ADXL345: SCLK period {} ps, below 200 ns (5 MHz)", timing.sclk_period);
+                self.rule(t, "sclk_too_fast", what, timing.sclk_period, spi::T_SCLK_MIN);
+            }
+            if timing.mode != spi::MODE {
+                let what = format!("ADXL345: a frame in SPI mode {}, the part is mode 3", timing.mode);
+                self.events.push(Event::new(t, "spi_mode", Severity::Error, what));
+            }
+            if timing.bits != 8 {
+                let what =
+                    format!("ADXL345: a frame of {} SCLK cycles: the part takes bytes; DIN ignored", timing.bits);
+                self.events.push(Event::new(t, "byte_frame_length", Severity::Error, what));
+                break 'frame 0xFFFF;
+            }
+            match self.phase {
+                Phase::Read { addr, .. } => u16::from(self.read(addr, t)) << 8,
+                // Data returned during the command and writes is to be ignored (p. 15): the model drives 0.
+                _ => 0,
+            }
+        };
+        self.events.tie_to_frame(mark, timing.index);
+        dout
     }
 
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
-        let t = timing.last_edge;
-        self.last_edge = Some(t);
-        if timing.bits != 8 {
-            return;
+        let mark = self.events.len();
+        'frame: {
+            let t = timing.last_edge;
+            self.last_edge = Some(t);
+            if timing.bits != 8 {
+                break 'frame;
+            }
+            let byte = din as u8;
+            self.phase = match self.phase {
+                Phase::Idle => Phase::Idle,
+                Phase::Command => {
+                    let (addr, mb) = (byte & 0x3F, byte & spi::MULTI_BYTE != 0);
+                    if byte & spi::READ != 0 {
+                        Phase::Read { addr, mb }
+                    } else {
+                        Phase::Write { addr, mb }
+                    }
+                }
+                Phase::Read { addr, mb } => {
+                    // Without MB the same register is read again ([unconfirmed]).
+                    let next = if mb { (addr + 1) & 0x3F } else { addr };
+                    if addr == DATAZ1 && next != DATAZ1 {
+                        self.pop(t);
+                    }
+                    Phase::Read { addr: next, mb }
+                }
+                Phase::Write { addr, mb } => {
+                    self.write(addr, byte, t);
+                    Phase::Write { addr: if mb { (addr + 1) & 0x3F } else { addr }, mb }
+                }
+            };
         }
-        let byte = din as u8;
-        self.phase = match self.phase {
-            Phase::Idle => Phase::Idle,
-            Phase::Command => {
-                let (addr, mb) = (byte & 0x3F, byte & spi::MULTI_BYTE != 0);
-                if byte & spi::READ != 0 {
-                    Phase::Read { addr, mb }
-                } else {
-                    Phase::Write { addr, mb }
-                }
-            }
-            Phase::Read { addr, mb } => {
-                // Without MB the same register is read again ([unconfirmed]).
-                let next = if mb { (addr + 1) & 0x3F } else { addr };
-                if addr == DATAZ1 && next != DATAZ1 {
-                    self.pop(t);
-                }
-                Phase::Read { addr: next, mb }
-            }
-            Phase::Write { addr, mb } => {
-                self.write(addr, byte, t);
-                Phase::Write { addr: if mb { (addr + 1) & 0x3F } else { addr }, mb }
-            }
-        };
+        self.events.tie_to_frame(mark, timing.index);
     }
     fn drain_events(&mut self) -> Vec<Event> {
         Adxl345::drain_events(self)
@@ -1003,8 +1013,14 @@ mod tests {
         let _ = xfer(&mut fast, &[0x80, 0], 0);
         assert_eq!(kinds(&part), ["sclk_too_fast", "sclk_too_fast"]);
         let mut dev = Adxl345::at_rest();
-        let timing =
-            FrameTiming { first_edge: 1_000_000, last_edge: 2_000_000, sclk_period: 1_000_000, bits: 16, mode: 3 };
+        let timing = FrameTiming {
+            index: 0,
+            first_edge: 1_000_000,
+            last_edge: 2_000_000,
+            sclk_period: 1_000_000,
+            bits: 16,
+            mode: 3,
+        };
         dev.set_cs(true, 10);
         assert_eq!(dev.begin_frame(&timing), 0xFFFF);
         assert_eq!(dev.drain_events().iter().map(|e| e.kind).collect::<Vec<_>>(), ["byte_frame_length"]);

@@ -139,7 +139,7 @@ proptest! {
                 Op::Frame { din, gap_ps, sclk_ps, bits, mode } => {
                     t = shift(t, gap_ps);
                     let last_edge = t.saturating_add(sclk_ps.saturating_mul(2 * u64::from(bits) - 1) / 2);
-                    let timing = FrameTiming { first_edge: t, last_edge, sclk_period: sclk_ps, bits, mode };
+                    let timing = FrameTiming { index: 0, first_edge: t, last_edge, sclk_period: sclk_ps, bits, mode };
                     let dout = d.begin_frame(&timing);
                     d.end_frame(din, &timing);
                     frames += 1;

@@ -173,15 +173,18 @@ impl SpiSlave for ReplaySlave {
         let word = match self.current {
             Some(r) if i < RECORDED_WORDS => r.words[i],
             Some(r) => {
-                self.events.push(Event::new(
-                    timing.first_edge,
-                    "replay_extra_frame",
-                    Severity::Warning,
-                    format!(
-                        "frame {} of the CS-low window of recorded burst {}: a burst has 15; it reads 0x{:04X}",
-                        i, r.row, self.idle_word
-                    ),
-                ));
+                self.events.push(
+                    Event::new(
+                        timing.first_edge,
+                        "replay_extra_frame",
+                        Severity::Warning,
+                        format!(
+                            "frame {} of the CS-low window of recorded burst {}: a burst has 15; it reads 0x{:04X}",
+                            i, r.row, self.idle_word
+                        ),
+                    )
+                    .in_frame(timing.index),
+                );
                 self.idle_word
             }
             None => self.idle_word,
@@ -203,16 +206,19 @@ impl SpiSlave for ReplaySlave {
 
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         if self.frame_in_window == 0 && din != self.burst_command {
-            self.events.push(Event::new(
-                timing.first_edge,
-                "replay_unexpected_command",
-                Severity::Warning,
-                format!(
-                    "first frame of a CS-low window sent 0x{din:04X}, not the burst command 0x{:04X}: the \
+            self.events.push(
+                Event::new(
+                    timing.first_edge,
+                    "replay_unexpected_command",
+                    Severity::Warning,
+                    format!(
+                        "first frame of a CS-low window sent 0x{din:04X}, not the burst command 0x{:04X}: the \
                      recording answers burst reads only",
-                    self.burst_command
-                ),
-            ));
+                        self.burst_command
+                    ),
+                )
+                .in_frame(timing.index),
+            );
         }
         if let Some(rec) = self.last.as_mut() {
             rec.din = din;
@@ -233,14 +239,14 @@ mod tests {
     use super::*;
 
     fn timing(t: Ps) -> FrameTiming {
-        FrameTiming { first_edge: t, last_edge: t + 20_000_000, sclk_period: 1_333_333, bits: 16, mode: 3 }
+        FrameTiming { index: 0, first_edge: t, last_edge: t + 20_000_000, sclk_period: 1_333_333, bits: 16, mode: 3 }
     }
 
     fn burst(slave: &mut ReplaySlave, t: Ps, frames: usize) -> Vec<u16> {
         slave.set_cs(true, t);
         let words = (0..frames)
             .map(|i| {
-                let tm = timing(t + 100_000 + i as Ps * 22_000_000);
+                let tm = FrameTiming { index: 100 + i as u64, ..timing(t + 100_000 + i as Ps * 22_000_000) };
                 let w = slave.begin_frame(&tm);
                 slave.end_frame(if i == 0 { 0x4200 } else { 0 }, &tm);
                 w
@@ -264,6 +270,8 @@ mod tests {
         // A 16th frame reads the idle word and is reported.
         assert_eq!(burst(&mut s, 8_000_000_000, 16), [b.to_vec(), vec![0]].concat());
         assert_eq!(s.events.count("replay_extra_frame"), 1);
+        let extra = s.events.events().iter().find(|e| e.kind == "replay_extra_frame").unwrap();
+        assert_eq!(extra.frame, Some(115), "the 16th frame's");
         // No record left.
         assert_eq!(burst(&mut s, 12_000_000_000, 2), vec![0, 0]);
         assert_eq!(s.events.count("replay_exhausted"), 1);

@@ -108,10 +108,11 @@ impl Adis {
         self.spi.burst.is_some()
     }
 
-    /// The event of a broken rule `v` (the caller records the bit in the frame's record).
-    fn violation(&mut self, v: Violations, t: Ps, message: String, measured: f64, required: f64) {
+    /// The event of a broken rule `v` in bus frame `frame` (the caller records the bit in the
+    /// frame's record).
+    fn violation(&mut self, v: Violations, t: Ps, frame: u64, message: String, measured: f64, required: f64) {
         let kind = v.kinds().next().unwrap_or("spi_violation");
-        self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required));
+        self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required).in_frame(frame));
     }
 
     /// The SCLK limit that applies to a frame: (in Hz, as the shortest period, which limit).
@@ -207,7 +208,7 @@ impl Adis {
         if found.contains(Violations::FRAME_LENGTH) {
             let msg =
                 format!("frame {n}: {} SCLK cycles; the {} needs 16-bit frames", timing.bits, self.layout.part.name);
-            self.violation(Violations::FRAME_LENGTH, t, msg, f64::from(timing.bits), 16.0);
+            self.violation(Violations::FRAME_LENGTH, t, timing.index, msg, f64::from(timing.bits), 16.0);
         }
         if found.contains(Violations::SPI_MODE) {
             let m = timing.mode;
@@ -218,13 +219,13 @@ impl Adis {
                 m & 1,
                 self.layout.part.name
             );
-            self.violation(Violations::SPI_MODE, t, msg, f64::from(m), f64::from(SPI_MODE));
+            self.violation(Violations::SPI_MODE, t, timing.index, msg, f64::from(m), f64::from(SPI_MODE));
         }
         if found.contains(Violations::SCLK_TOO_FAST) {
             let (max_hz, _, which) = self.sclk_limit(in_burst);
             let f = hz(timing.sclk_period);
             let msg = format!("frame {n}: SCLK {:.6} MHz exceeds the {which} limit {:.6} MHz", f / 1e6, max_hz / 1e6);
-            self.violation(Violations::SCLK_TOO_FAST, t, msg, f, max_hz);
+            self.violation(Violations::SCLK_TOO_FAST, t, timing.index, msg, f, max_hz);
         }
         if let (true, Some(le)) = (found.contains(Violations::STALL_TOO_SHORT), self.spi.last_edge) {
             let gap = t.saturating_sub(le);
@@ -234,7 +235,7 @@ impl Adis {
                 gap as f64 / 1e6,
                 required / 1e6
             );
-            self.violation(Violations::STALL_TOO_SHORT, t, msg, s(gap as f64), s(required));
+            self.violation(Violations::STALL_TOO_SHORT, t, timing.index, msg, s(gap as f64), s(required));
         }
         if let (true, Some(start)) = (found.contains(Violations::DATARATE_TOO_SHORT), self.spi.last_plain_start) {
             let period = t.saturating_sub(start);
@@ -245,7 +246,7 @@ impl Adis {
                 period as f64 / 1e6,
                 required / 1e6
             );
-            self.violation(Violations::DATARATE_TOO_SHORT, t, msg, s(period as f64), s(required));
+            self.violation(Violations::DATARATE_TOO_SHORT, t, timing.index, msg, s(period as f64), s(required));
         }
         if found.contains(Violations::CS_SETUP) {
             let gap = t.saturating_sub(self.spi.cs_fall);
@@ -254,24 +255,27 @@ impl Adis {
                 gap as f64 / 1e3,
                 self.limits.t_cs_ps / 1e3
             );
-            self.violation(Violations::CS_SETUP, t, msg, s(gap as f64), s(self.limits.t_cs_ps));
+            self.violation(Violations::CS_SETUP, t, timing.index, msg, s(gap as f64), s(self.limits.t_cs_ps));
         }
     }
 
     #[cold]
     #[inline(never)]
-    fn time_reversal(&mut self, t: Ps) {
-        self.events.push(Event::new(
-            t,
-            "time_reversal",
-            Severity::Warning,
-            format!(
-                "frame {} starts at {} ps, before the device time {} ps: it sees samples from its future",
-                self.spi.frames,
+    fn time_reversal(&mut self, t: Ps, frame: u64) {
+        self.events.push(
+            Event::new(
                 t,
-                self.now()
-            ),
-        ));
+                "time_reversal",
+                Severity::Warning,
+                format!(
+                    "frame {} starts at {} ps, before the device time {} ps: it sees samples from its future",
+                    self.spi.frames,
+                    t,
+                    self.now()
+                ),
+            )
+            .in_frame(frame),
+        );
     }
 
     /// A frame the slave does not take part in (CS high, the power-on start-up or a software reset
@@ -283,7 +287,7 @@ impl Adis {
         let mut dout = self.limits.corrupt_word;
         let violation = if !self.spi.cs_low {
             let msg = format!("frame {n}: clocked with CS high; the {} ignores it", self.layout.part.name);
-            self.violation(Violations::NO_CHIP_SELECT, t, msg, 1.0, 0.0);
+            self.violation(Violations::NO_CHIP_SELECT, t, timing.index, msg, 1.0, 0.0);
             Violations::NO_CHIP_SELECT
         } else if t < self.ready_at() {
             // The part is still starting up: it drives no register onto DOUT, modelled as 0x0000 (the
@@ -296,7 +300,7 @@ impl Adis {
                 self.layout.part.name,
                 startup as f64 / 1e9
             );
-            self.violation(Violations::BEFORE_STARTUP, t, msg, s(since as f64), s(startup as f64));
+            self.violation(Violations::BEFORE_STARTUP, t, timing.index, msg, s(since as f64), s(startup as f64));
             dout = 0x0000;
             Violations::BEFORE_STARTUP
         } else {
@@ -306,7 +310,7 @@ impl Adis {
                 self.layout.part.name,
                 left as f64 / 1e9
             );
-            self.violation(Violations::DEVICE_BUSY, t, msg, s(left as f64), 0.0);
+            self.violation(Violations::DEVICE_BUSY, t, timing.index, msg, s(left as f64), 0.0);
             self.spi.reset();
             Violations::DEVICE_BUSY
         };
@@ -318,7 +322,7 @@ impl Adis {
     fn start_frame(&mut self, timing: &FrameTiming) -> u16 {
         let t = timing.first_edge;
         if t < self.now() {
-            self.time_reversal(t);
+            self.time_reversal(t, timing.index);
         }
         self.advance_to(t);
         if !self.spi.cs_low || t < self.busy_until() {
@@ -330,7 +334,10 @@ impl Adis {
         let (register, word, sample) = if let Some((register, word, sample)) = self.burst_word() {
             (Some(register), word, sample)
         } else if let Some(reg) = self.spi.pending_read.take() {
+            // What the read reports (no register there, a write-only one) is about this frame.
+            let mark = self.events.len();
             let (word, sample) = self.read_for_output(reg, t);
+            self.events.tie_to_frame(mark, timing.index);
             (Some(reg & !1), word, sample)
         } else {
             (None, self.limits.idle_word, None)
@@ -434,6 +441,7 @@ impl Adis {
             let last = if n == 1 { timing } else { run.frame(end - 1) };
             self.advance_to(last.first_edge);
             self.spi.last_edge = Some(last.last_edge);
+            self.spi.last_index = last.index;
             self.spi.last_plain_start = None;
             self.spi.framed_since_cs = true;
             self.spi.frames += n as u64;
@@ -452,6 +460,7 @@ impl Adis {
         let (violations, in_burst) = (rec.violations, rec.in_burst);
         if !violations.contains(Violations::NO_CHIP_SELECT) {
             self.spi.last_edge = Some(timing.last_edge);
+            self.spi.last_index = timing.index;
             self.spi.last_plain_start = (!in_burst).then_some(timing.first_edge);
             self.spi.framed_since_cs = true;
         }
@@ -470,7 +479,7 @@ impl Adis {
         if in_burst {
             self.spi.burst_frames_done(1);
         } else {
-            self.command(din, timing.last_edge);
+            self.command(din, timing.last_edge, timing.index);
         }
     }
 
@@ -496,10 +505,13 @@ impl Adis {
     /// Act on a command frame's DIN at its last edge `t`. Kept out of line: two frames in 30 are
     /// commands, and inlined its paths would cost the data frames' path stack and registers.
     #[inline(never)]
-    fn command(&mut self, din: u16, t: Ps) {
+    fn command(&mut self, din: u16, t: Ps, frame: u64) {
         let addr = ((din >> 8) & 0x7F) as u8;
         if din & 0x8000 != 0 {
+            // What the write reports (a read-only register, an unmodelled command) is about its frame.
+            let mark = self.events.len();
             self.write_byte(addr, din as u8, t);
+            self.events.tie_to_frame(mark, frame);
         } else if din == self.limits.burst_command {
             let (words, sample) = self.burst_snapshot();
             self.spi.burst = Some(Burst { words, len: self.layout.burst_len, sample, next: 0 });
@@ -544,7 +556,7 @@ impl Adis {
             gap as f64 / 1e3,
             self.limits.t_sfs_ps / 1e3
         );
-        self.violation(Violations::CS_HOLD, t, msg, s(gap as f64), s(self.limits.t_sfs_ps));
+        self.violation(Violations::CS_HOLD, t, self.spi.last_index, msg, s(gap as f64), s(self.limits.t_sfs_ps));
         let last = &mut self.spi.records[self.spi.finished()];
         last.violations.insert(Violations::CS_HOLD);
         if let Some(entry) = self.spi.log.as_mut().and_then(|l| l.last_mut()) {
@@ -609,13 +621,23 @@ mod tests {
         use crate::device::{Constant, Physical};
         const SCLK: Ps = 1_333_333;
         // A frame of 16 mode-3 cycles starting at `t`.
-        let timing =
-            |t: Ps| FrameTiming { first_edge: t, last_edge: t + SCLK * 31 / 2, sclk_period: SCLK, bits: 16, mode: 3 };
+        let timing = |t: Ps| FrameTiming {
+            index: 0,
+            first_edge: t,
+            last_edge: t + SCLK * 31 / 2,
+            sclk_period: SCLK,
+            bits: 16,
+            mode: 3,
+        };
         let t0: Ps = 9_800_000_000;
         let frame_0 = timing(t0 + 100_000);
         // Frame 1 starts 2 µs after the command; the data frames follow 2 µs apart.
-        let data: Vec<FrameTiming> =
-            (0..14).map(|i| timing(frame_0.last_edge + 2_000_000 + i * (SCLK * 31 / 2 + 2_000_000))).collect();
+        let data: Vec<FrameTiming> = (0..14)
+            .map(|i| FrameTiming {
+                index: i,
+                ..timing(frame_0.last_edge + 2_000_000 + i * (SCLK * 31 / 2 + 2_000_000))
+            })
+            .collect();
         let reset_s = (frame_0.last_edge + 1_000_000) as f64 * 1e-12;
         for (name, command, reset) in [("burst", 0x4200, false), ("read", 0x0400, false), ("reset", 0x4200, true)] {
             let make = || {

@@ -43,6 +43,7 @@ impl Host {
     fn timing(&self) -> FrameTiming {
         // First falling edge to 16th rising edge: 15.5 periods.
         FrameTiming {
+            index: 0,
             first_edge: self.t,
             last_edge: self.t + self.sclk * 31 / 2,
             sclk_period: self.sclk,
@@ -807,12 +808,14 @@ fn bench_device_throughput() {
     assert_eq!(timing_events(&d), 0);
 }
 
-/// The timings of frames from `h.t` on, each followed by its gap, as `h` clocks them.
+/// The timings of frames from `h.t` on, each followed by its gap, as `h` clocks them, numbered
+/// from 0 as a run's frames are ([`RunTiming::of_starts`]).
 fn timings_from(h: &Host, gaps: &[Ps]) -> Vec<FrameTiming> {
     let mut t = h.t;
     gaps.iter()
-        .map(|&gap| {
-            let tm = Host { t, ..*h }.timing();
+        .enumerate()
+        .map(|(i, &gap)| {
+            let tm = FrameTiming { index: i as u64, ..Host { t, ..*h }.timing() };
             t = tm.last_edge + gap;
             tm
         })
@@ -1204,7 +1207,17 @@ fn a_wrong_spi_mode_is_reported_per_frame_at_both_link_levels() {
         assert!(events.is_empty(), "{level:?}: {events:?}");
         for (spiccr, spictl, mode) in [(0xCF, 0x0F, 2), (0x8F, 0x07, 1), (0x8F, 0x0F, 0)] {
             let ov = [format!("spi.spiccr={spiccr}"), format!("spi.spictl={spictl}")];
-            let (rx, events) = prod_id_through_the_link(&[&ov[0], &ov[1]], level);
+            let (rx, events, log) = prod_id_logged(&[&ov[0], &ov[1]], level);
+            // Each event names its frame, as the link's log numbers it, and has that frame's first edge.
+            let frames: Vec<_> = log
+                .iter()
+                .filter_map(|r| match r {
+                    crate::bus::LinkRecord::Frame(f) => Some((f.index, f.timing.first_edge)),
+                    _ => None,
+                })
+                .collect();
+            let tied: Vec<_> = events.iter().map(|e| (e.frame.unwrap(), e.t_ps)).collect();
+            assert_eq!(tied, frames, "{level:?} mode {mode}");
             // (In mode 1 the part also samples DIN one bit late: it reads another register.)
             if mode != 1 {
                 assert_eq!(rx[1], 0x4017 >> 1, "{level:?} mode {mode}: shifted by one bit");

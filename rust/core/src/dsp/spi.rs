@@ -683,7 +683,7 @@ impl SpiA {
         } else {
             format!("SPI-A receive FIFO full at the end of character {}: word 0x{:04X} lost", frame.index, self.spidat)
         };
-        self.events.push(Event::new(frame.end_ps, kind, Severity::Warning, message));
+        self.events.push(Event::new(frame.end_ps, kind, Severity::Warning, message).in_frame(frame.index));
     }
 
     /// Start the next queued word at LSPCLK cycle `cycle`, if the peripheral may run.
@@ -1145,28 +1145,34 @@ impl SpiA {
             if a.begun {
                 // The slave already saw the start: close its frame; the master discards the word.
                 let _ = wire.finish(&a.frame);
-                self.events.push(Event::new(
-                    t,
-                    "spi_reset_during_transfer",
-                    Severity::Warning,
-                    format!("SPISWRESET cleared while character {} was shifting: it is abandoned", a.frame.index),
-                ));
+                self.events.push(
+                    Event::new(
+                        t,
+                        "spi_reset_during_transfer",
+                        Severity::Warning,
+                        format!("SPISWRESET cleared while character {} was shifting: it is abandoned", a.frame.index),
+                    )
+                    .in_frame(a.frame.index),
+                );
             } else if self.fifo_mode() && self.tx_queue.len < FIFO_DEPTH {
                 // Not started yet: the word is still the transmit FIFO's first.
                 self.tx_queue.push_front(a.frame.tx);
             } else if self.fifo_mode() {
                 // The FIFO has refilled to its 16 words behind it, so this word was already in SPIDAT:
                 // the reset loses it (and the FIFO never holds more than 16).
-                self.events.push(Event::new(
-                    t,
-                    "spi_reset_word_lost",
-                    Severity::Warning,
-                    format!(
-                        "SPISWRESET cleared before character {} started, with the transmit FIFO full behind it: \
+                self.events.push(
+                    Event::new(
+                        t,
+                        "spi_reset_word_lost",
+                        Severity::Warning,
+                        format!(
+                            "SPISWRESET cleared before character {} started, with the transmit FIFO full behind it: \
                          word 0x{:04X} in SPIDAT is lost",
-                        a.frame.index, a.frame.tx
-                    ),
-                ));
+                            a.frame.index, a.frame.tx
+                        ),
+                    )
+                    .in_frame(a.frame.index),
+                );
             }
         }
         if !self.fifo_mode() {

@@ -237,6 +237,10 @@ mod tests {
         let p = Profile::from_toml("", "empty", &["spi.spibrr=9".into(), "firmware.numeric=iq".into()]).unwrap();
         assert_eq!(p.spi.spibrr, 9);
         assert_eq!(p.firmware.numeric, Numeric::Iq);
+        for n in Numeric::ALL {
+            let p = Profile::from_toml("", "empty", &[format!("firmware.numeric=\"{}\"", n.name())]).unwrap();
+            assert_eq!(p.firmware.numeric, n, "{}", n.name());
+        }
     }
 
     #[test]

@@ -637,6 +637,22 @@ pub enum Numeric {
     Iq,
 }
 
+impl Numeric {
+    /// Every backend, the golden reference first (Python reads their names from here:
+    /// `sins_fw._core.NUMERICS`).
+    pub const ALL: [Numeric; 4] = [Numeric::F64, Numeric::C28xF32, Numeric::C28xF32Rz, Numeric::Iq];
+
+    /// The name `firmware.numeric` takes (serde's kebab-case name; a test keeps them equal).
+    pub fn name(self) -> &'static str {
+        match self {
+            Numeric::F64 => "f64",
+            Numeric::C28xF32 => "c28x-f32",
+            Numeric::C28xF32Rz => "c28x-f32-rz",
+            Numeric::Iq => "iq",
+        }
+    }
+}
+
 /// Euler-angle extraction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]

@@ -124,6 +124,8 @@ pub struct Node {
     plb: Clock,
     cfg: super::profile::Node,
     parts: Vec<Adxl345>,
+    /// Characters clocked on each part's SPI core since power-up (the index of its next frame).
+    frames: Vec<u64>,
     iic: I2cLink,
     compass_part: Arc<Mutex<Hmc6343>>,
     gps: Gps,
@@ -167,7 +169,7 @@ impl Node {
         use crate::device::{gps as g, hmc6343 as h};
         let cfg = profile.node.clone();
         let preset = ErrorPreset::by_name(&profile.array.preset).unwrap_or(&adxl345::PRESETS[0]);
-        let parts = (0..7)
+        let parts: Vec<Adxl345> = (0..7)
             .map(|i| {
                 let a = array.clone();
                 Adxl345::new(Box::new(move |t| a(i, t)), preset, profile.array.seed + i as u64)
@@ -193,6 +195,7 @@ impl Node {
             baud_mismatch: cfg.uart_baud != profile.gps.baud,
             char_ps: 10 * crate::time::PS_PER_S / u64::from(cfg.uart_baud),
             cfg,
+            frames: vec![0; parts.len()],
             parts,
             iic,
             compass_part: hmc,
@@ -250,7 +253,9 @@ impl Node {
         let mut last = first;
         for (b, r) in tx.iter().zip(rx.iter_mut()) {
             last = first + 15 * sck / 2;
-            let timing = FrameTiming { first_edge: first, last_edge: last, sclk_period: sck, bits: 8, mode: 3 };
+            let index = self.frames[i];
+            self.frames[i] += 1;
+            let timing = FrameTiming { index, first_edge: first, last_edge: last, sclk_period: sck, bits: 8, mode: 3 };
             let dout = part.begin_frame(&timing);
             part.end_frame(u16::from(*b), &timing);
             *r = (dout >> 8) as u8;
