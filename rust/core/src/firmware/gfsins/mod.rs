@@ -248,18 +248,23 @@ impl Budget {
                 add(&mut b.load[p][c], &mut sums[p][c], t);
             }
             for (p, stages) in [s.timing.stages, s.dsp_stages()].iter().enumerate() {
+                let mut prev: Option<usize> = None;
                 for (name, t) in stages.iter() {
                     let i = match b.stages.iter().position(|r| r.processor == p && r.name == name) {
                         Some(i) => i,
                         None => {
-                            // The node's rows before the DSP's, each processor's in first-seen order.
-                            let at = b.stages.iter().take_while(|r| r.processor <= p).count();
+                            // The node's rows before the DSP's; a stage first seen goes right after the
+                            // stage that ran before it in this cycle, so the rows keep the execution
+                            // order whichever rate's stages come first.
+                            let at =
+                                prev.map_or_else(|| b.stages.iter().take_while(|r| r.processor < p).count(), |i| i + 1);
                             b.stages.insert(at, StageLoad { processor: p, name, load: Default::default() });
                             stage_sums.insert(at, [0.0; 3]);
                             at
                         }
                     };
                     add(&mut b.stages[i].load[c], &mut stage_sums[i][c], t);
+                    prev = Some(i);
                 }
             }
         }

@@ -85,6 +85,9 @@ fn the_dsp_budget_shows_the_multi_rate_peaks() {
     let row = |name: &str| b.stages.iter().find(|r| r.processor == 1 && r.name == name).unwrap().load;
     let (dec, sd, cf, gf, fu) =
         (row("decode"), row("strapdown"), row("compass filter"), row("GPS filter"), row("fusion"));
+    // The rows in execution order, whichever filter ran first in the run.
+    let names: Vec<&str> = b.stages.iter().filter(|r| r.processor == 1).map(|r| r.name).collect();
+    assert_eq!(names, ["decode", "strapdown", "compass filter", "GPS filter", "fusion"]);
     let d = b.load[1];
     let us = |ps: Ps| ps as f64 * 1e-6;
     for (c, class) in CLASSES.iter().enumerate() {
