@@ -533,29 +533,6 @@ impl<const RZ: bool> Scalar for C28xF32<RZ> {
         self.0 as f64
     }
     #[inline]
-    fn to_class(self, _: QClass) -> Self {
-        self
-    }
-    fn fixed_point() -> bool {
-        false
-    }
-    /// `I32TOF32` (rounded in the mode) then `MPYF32`.
-    #[inline]
-    fn mul_i32(self, n: i32) -> Self {
-        Self::from_i32(n, QClass::Generic) * self
-    }
-    #[inline]
-    fn div_to(self, rhs: Self, _: QClass) -> Self {
-        self / rhs
-    }
-    #[inline]
-    fn mul_to(self, rhs: Self, _: QClass) -> Self {
-        self * rhs
-    }
-    fn from_f64_range(x: f64, _: f64) -> Self {
-        Self::from_f64(x, QClass::Generic)
-    }
-    #[inline]
     fn sqrt(self) -> Self {
         C28xF32(sqrt::<RZ>(self.0, estimate_model()))
     }

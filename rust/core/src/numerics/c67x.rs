@@ -162,29 +162,6 @@ impl Scalar for C67xF32 {
         self.0 as f64
     }
     #[inline]
-    fn to_class(self, _: QClass) -> Self {
-        self
-    }
-    fn fixed_point() -> bool {
-        false
-    }
-    /// `INTSP` then `MPYSP`.
-    #[inline]
-    fn mul_i32(self, n: i32) -> Self {
-        Self::from_i32(n, QClass::Generic) * self
-    }
-    #[inline]
-    fn div_to(self, rhs: Self, _: QClass) -> Self {
-        self / rhs
-    }
-    #[inline]
-    fn mul_to(self, rhs: Self, _: QClass) -> Self {
-        self * rhs
-    }
-    fn from_f64_range(x: f64, _: f64) -> Self {
-        Self::from_f64(x, QClass::Generic)
-    }
-    #[inline]
     fn sqrt(self) -> Self {
         C67xF32(canonical(self.0.sqrt()))
     }

@@ -255,9 +255,6 @@ impl Scalar for Counted {
     fn to_f64(self) -> f64 {
         self.0
     }
-    fn to_class(self, _: QClass) -> Self {
-        self
-    }
     fn fixed_point() -> bool {
         FIXED_POINT.with(|c| c.get())
     }
@@ -268,15 +265,6 @@ impl Scalar for Counted {
         } else {
             Counted::from_i32(n, QClass::Generic) * self
         }
-    }
-    fn div_to(self, rhs: Self, _: QClass) -> Self {
-        self / rhs
-    }
-    fn mul_to(self, rhs: Self, _: QClass) -> Self {
-        self * rhs
-    }
-    fn from_f64_range(x: f64, _: f64) -> Self {
-        Counted::from_f64(x, QClass::Generic)
     }
     fn sqrt(self) -> Self {
         tally(Op::sqrts);

@@ -127,7 +127,8 @@ pub enum QClass {
 }
 
 /// A scalar type the firmware arithmetic can run in. Operators are the C operators of the firmware;
-/// methods are its library calls (fastRTS or IQmath on the target).
+/// methods are its library calls (fastRTS or IQmath on the target). The provided methods are what a
+/// floating-point backend does (classes are no concern of a float); fixed point overrides them.
 pub trait Scalar:
     Copy
     + Send
@@ -150,33 +151,54 @@ pub trait Scalar:
     /// A constant for products of magnitude up to `max_abs` (an LSB times the largest code): floats as
     /// `from_f64`; IQ `_IQN(x)` in the finest Q (≤ 30) whose range holds `max_abs`, so that the integer
     /// product keeps every bit the 32-bit word allows before the firmware shifts it to its class.
-    fn from_f64_range(x: f64, max_abs: f64) -> Self;
+    #[inline]
+    fn from_f64_range(x: f64, max_abs: f64) -> Self {
+        let _ = max_abs;
+        Self::from_f64(x, QClass::Generic)
+    }
     /// An integer converted to this type (an `I16TOF32`/`I32TOF32` or `_IQ()` of an int on target).
     fn from_i32(x: i32, class: QClass) -> Self;
     /// The value as f64 (exact for every backend).
     fn to_f64(self) -> f64;
     /// Requantise into a class (IQ: shift into that class's Q; floats: identity).
-    fn to_class(self, class: QClass) -> Self;
+    #[inline]
+    fn to_class(self, class: QClass) -> Self {
+        let _ = class;
+        self
+    }
     /// True for a fixed-point backend (and for the counting type while it counts one): its firmware
     /// scales integer inputs with one constant folded into the firmware unit, because intermediate
     /// units (°/s up to 409.6, g) may not fit the class's Q. The float firmware keeps the published
     /// two-step conversion, so its results stay bit-identical to the published code.
-    fn fixed_point() -> bool;
+    fn fixed_point() -> bool {
+        false
+    }
 
     /// `self · n` for an integer `n` (a raw sensor code): floats convert `n` (`I32TOF32`) and
     /// multiply, `(float)n * self`; IQ is `_IQmpyI32(self, n)`, the 32-bit integer product in
     /// `self`'s Q, wrapping on overflow (IQmathLib.h: `#define _IQmpyI32(A,B) ((A)*(B))`).
-    fn mul_i32(self, n: i32) -> Self;
+    #[inline]
+    fn mul_i32(self, n: i32) -> Self {
+        Self::from_i32(n, QClass::Generic) * self
+    }
     /// `self / rhs` with the quotient in `class` (floats: the plain division). IQ: `_IQNdiv` with N
     /// chosen so the quotient of the two operands' Qs lands in the class's Q (N = Q_class − Q_self +
     /// Q_rhs), rounded and saturated as `/`; for quotients of operands whose Q does not suit the result,
     /// such as V/(R+h) (m/s over metres in a coarse length Q, giving rad/s).
-    fn div_to(self, rhs: Self, class: QClass) -> Self;
+    #[inline]
+    fn div_to(self, rhs: Self, class: QClass) -> Self {
+        let _ = class;
+        self / rhs
+    }
     /// `self * rhs` with the product in `class` (floats: the plain product). IQ: `_IQNmpy` with N chosen
     /// so the product of the two operands' Qs lands in the class's Q (N = Q_self + Q_rhs − Q_class),
     /// floored, wrapping as `*`; for small products of coarse operands, such as K·T (rate × step) added
     /// to a Q30 quaternion.
-    fn mul_to(self, rhs: Self, class: QClass) -> Self;
+    #[inline]
+    fn mul_to(self, rhs: Self, class: QClass) -> Self {
+        let _ = class;
+        self * rhs
+    }
 
     /// Square root (fastRTS `sqrt`, `_IQsqrt`).
     fn sqrt(self) -> Self;
@@ -204,24 +226,6 @@ impl Scalar for f64 {
     }
     fn to_f64(self) -> f64 {
         self
-    }
-    fn to_class(self, _: QClass) -> Self {
-        self
-    }
-    fn fixed_point() -> bool {
-        false
-    }
-    fn mul_i32(self, n: i32) -> Self {
-        n as f64 * self
-    }
-    fn div_to(self, rhs: Self, _: QClass) -> Self {
-        self / rhs
-    }
-    fn mul_to(self, rhs: Self, _: QClass) -> Self {
-        self * rhs
-    }
-    fn from_f64_range(x: f64, _: f64) -> Self {
-        x
     }
     fn sqrt(self) -> Self {
         f64::sqrt(self)
