@@ -87,6 +87,17 @@ enum Stage {
     Fusion,
 }
 
+/// The cycles of `stage` in branch pattern `key`: counted by `run` the first time, then reused.
+fn cost(
+    costs: &mut HashMap<(Stage, u32), u64>,
+    d: &profile::Dsp,
+    stage: Stage,
+    key: u32,
+    run: impl FnOnce() -> OpCounts,
+) -> u64 {
+    *costs.entry((stage, key)).or_insert_with(|| price(&run(), d))
+}
+
 /// `ops` priced with the `[dsp]` per-operation costs, CPU cycles.
 pub fn price(c: &OpCounts, d: &profile::Dsp) -> u64 {
     (c.adds + c.subs) * d.add_cycles
@@ -154,12 +165,6 @@ impl Dsp {
         }
     }
 
-    /// The cycles of `stage` in branch pattern `key`: counted by `run` the first time, then reused.
-    fn cost(&mut self, stage: Stage, key: u32, run: impl FnOnce() -> OpCounts) -> u64 {
-        let d = &self.cfg;
-        *self.costs.entry((stage, key)).or_insert_with(|| price(&run(), d))
-    }
-
     /// The navigation's stages on `packet` (cycles per stage into `stages`), and its output.
     fn navigate(&mut self, packet: &Packet, t_irq: Ps, stages: &mut [(&'static str, u64); 5]) -> NavOutput {
         let lsb = self.lsb_g;
@@ -167,7 +172,7 @@ impl Dsp {
         let key = u32::from(packet.flags & (frame::NEW_COMPASS | frame::NEW_GPS | frame::GPS_VALID));
         let fixed = self.cfg.isr_entry_cycles + self.cfg.crc_cycles_per_word * frame::WORDS as u64;
         stages[0].1 = fixed
-            + self.cost(Stage::Decode, key, || {
+            + cost(&mut self.costs, &self.cfg, Stage::Decode, key, || {
                 count(|| {
                     let d = nav::decode::<Counted>(packet, lsb);
                     tilt([d.accel[6], d.accel[7], d.accel[8]])
@@ -184,8 +189,10 @@ impl Dsp {
         let before = self.nav.ins().clone();
         let out = self.nav.strapdown(&d.accel);
         let pattern = out.bridged.iter().fold(0u32, |k, b| k * 3 + *b as u32);
-        let accel = d.accel.map(|x| Counted(x.to_f64()));
-        stages[1].1 = self.cost(Stage::Strapdown, pattern, || count(|| before.cast::<Counted>().step(&accel)).1);
+        stages[1].1 = cost(&mut self.costs, &self.cfg, Stage::Strapdown, pattern, || {
+            let accel = d.accel.map(|x| Counted(x.to_f64()));
+            count(|| before.cast::<Counted>().step(&accel)).1
+        });
         if self.nav.spell(&out) {
             if let Some(mut e) = gfnav::singular_event(t_irq, &out, self.cfg.min_denominator) {
                 e.message.push_str(" (a spell begins: reported once until a step is solved on every axis)");
@@ -193,26 +200,27 @@ impl Dsp {
             }
         }
         let (mut compass_update, mut gps_update, mut fused) = (false, false, None);
+        // Each filter's cost is counted on a copy in the counting type before the filter runs, the
+        // first time only (the copy is made only then).
+        let seq = packet.sequence;
         if let Some(hpr) = d.compass {
-            let nav = &self.nav;
-            let h = hpr.map(|x| Counted(x.to_f64()));
-            let seq = packet.sequence;
-            let c = {
-                let mut copy = nav.cast::<Counted>();
-                move || count(|| copy.compass_filter(seq, &h)).1
-            };
-            stages[2].1 = self.cost(Stage::Compass, 0, c);
-            self.nav.compass_filter(packet.sequence, &hpr);
+            stages[2].1 = cost(&mut self.costs, &self.cfg, Stage::Compass, 0, || {
+                let (mut copy, h) = (self.nav.cast::<Counted>(), hpr.map(|x| Counted(x.to_f64())));
+                count(|| copy.compass_filter(seq, &h)).1
+            });
+            self.nav.compass_filter(seq, &hpr);
             compass_update = true;
         }
         if let Some(sc) = d.gps_vel {
-            let seq = packet.sequence;
-            let g = sc.map(|x| Counted(x.to_f64()));
-            let mut copy = self.nav.cast::<Counted>();
-            stages[3].1 = self.cost(Stage::Gps, 0, || count(|| copy.gps_filter(seq, packet, &g)).1);
-            let mut copy = self.nav.cast::<Counted>();
-            stages[4].1 = self.cost(Stage::Fusion, 0, || count(|| copy.fusion()).1);
-            self.nav.gps_filter(packet.sequence, packet, &sc);
+            stages[3].1 = cost(&mut self.costs, &self.cfg, Stage::Gps, 0, || {
+                let (mut copy, g) = (self.nav.cast::<Counted>(), sc.map(|x| Counted(x.to_f64())));
+                count(|| copy.gps_filter(seq, packet, &g)).1
+            });
+            stages[4].1 = cost(&mut self.costs, &self.cfg, Stage::Fusion, 0, || {
+                let mut copy = self.nav.cast::<Counted>();
+                count(|| copy.fusion()).1
+            });
+            self.nav.gps_filter(seq, packet, &sc);
             let done = self.nav.fusion();
             if !done {
                 let what = "C6727: fusion refused: sub-filter 2's factor D has an element ≤ 0 (the fused estimate keeps its last value)";

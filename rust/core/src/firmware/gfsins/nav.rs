@@ -478,8 +478,8 @@ impl<T: Scalar> Nav<T> {
         }
     }
 
-    /// Count the step's bridged spell: Some(true) when a spell of bridged steps begins here (the
-    /// step to report), and the spell's length so far.
+    /// Count the step's bridged spell: true when a spell of bridged steps begins here (the step to
+    /// report); a step solved on every axis ends the spell.
     pub fn spell(&mut self, out: &RateOutput<T>) -> bool {
         if out.bridged.iter().any(|b| *b != Bridge::No) {
             self.spell += 1;
