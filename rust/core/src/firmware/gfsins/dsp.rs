@@ -190,8 +190,9 @@ impl Dsp {
         let out = self.nav.strapdown(&d.accel);
         let pattern = out.bridged.iter().fold(0u32, |k, b| k * 3 + *b as u32);
         stages[1].1 = cost(&mut self.costs, &self.cfg, Stage::Strapdown, pattern, || {
-            let accel = d.accel.map(|x| Counted(x.to_f64()));
-            count(|| before.cast::<Counted>().step(&accel)).1
+            // The copy is made outside the count: its conversions are the model's, not the DSP's.
+            let (mut copy, accel) = (before.cast::<Counted>(), d.accel.map(|x| Counted(x.to_f64())));
+            count(|| copy.step(&accel)).1
         });
         if self.nav.spell(&out) {
             if let Some(mut e) = gfnav::singular_event(t_irq, &out, self.cfg.min_denominator) {
