@@ -36,9 +36,10 @@
 //! - Noise figures, P₀ and the compass's correlation time: chapter 5 ([`Scenario::chapter5`]).
 
 use super::frame::{self, Packet};
+use crate::firmware::euler::euler_to_quat;
 use crate::firmware::gfnav::federated::{self, Kf, Linearisation, Scenario, N_COMPASS, N_GPS};
 use crate::firmware::gfnav::{self, Bridge, RateConfig, RateOutput, RateRecovery, ZNumerator};
-use crate::firmware::{body_rate_nav, dcm, lit, quat_mul, EarthModel, Mat3, NavState, Quat, Rk4, Vec3};
+use crate::firmware::{body_rate_nav, dcm, lit, EarthModel, Mat3, NavState, Quat, Rk4, Vec3};
 use crate::numerics::{QClass, Scalar};
 use crate::profile::{Navigation, QuatDerivative};
 
@@ -134,16 +135,9 @@ pub struct Nav<T> {
     spell: u64,
 }
 
-/// C_b^n = Rz(90° − ψ)·Ry(−θ)·Rx(φ) as a quaternion, from sin and cos of the half angles.
+/// C_b^n = Rz(90° − ψ)·Ry(−θ)·Rx(φ) as a quaternion: [`euler_to_quat`] of yaw 90° − ψ, pitch −θ.
 fn euler_quat<T: Scalar>(heading: T, pitch: T, roll: T) -> Quat<T> {
-    let half: T = lit(0.5);
-    let zero: T = lit(0.0);
-    let yaw = lit::<T>(std::f64::consts::FRAC_PI_2) - heading;
-    let (a, b, c) = (yaw * half, -(pitch * half), roll * half);
-    let qz = [a.cos(), zero, zero, a.sin()];
-    let qy = [b.cos(), zero, b.sin(), zero];
-    let qx = [c.cos(), c.sin(), zero, zero];
-    quat_mul(&quat_mul(&qz, &qy), &qx)
+    euler_to_quat(lit::<T>(std::f64::consts::FRAC_PI_2) - heading, -pitch, roll)
 }
 
 /// C_b^n from heading, pitch, roll (rad).
