@@ -61,15 +61,6 @@ fn straight_line() -> Source {
     })
 }
 
-fn ideal() -> GfsinsProfile {
-    let mut p = GfsinsProfile::default();
-    p.array.preset = "ideal".into();
-    p.compass.errors = "ideal".into();
-    p.gps.cep_m = 0.0;
-    p.gps.velocity_sigma_m_s = 0.0;
-    p
-}
-
 /// 60 s of the straight line (12 000 packets after the 0.6 s start).
 fn minute(p: &GfsinsProfile) -> (Vec<Step>, Budget, Vec<Event>) {
     run(p, straight_line(), 12_000).unwrap()
