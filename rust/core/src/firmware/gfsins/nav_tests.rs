@@ -8,7 +8,7 @@ use crate::device::{gps, hmc6343};
 use crate::firmware::gfnav::federated::Kf;
 use crate::firmware::gfnav::{self, RateConfig, RateRecovery, ZNumerator};
 use crate::firmware::nav::SOMIGLIANA_K;
-use crate::numerics::{c67x, C67xF32, QClass, Scalar};
+use crate::numerics::{c67x, C67xF32, Scalar};
 
 const LAT0: f64 = 28.20021;
 const LON0: f64 = 112.92647;
@@ -241,5 +241,4 @@ fn the_solution_follows_the_vehicle() {
     // A constant rate: one spell of bridged steps, reported once.
     assert_eq!(events.iter().filter(|e| e.kind == "rate_singular").count(), 1);
     assert!(events.iter().all(|e| e.kind != "fusion_refused"));
-    let _ = QClass::Generic;
 }
