@@ -5,6 +5,7 @@ argument or field and what was expected, and converts exactly what a user would 
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -297,3 +298,72 @@ def test_every_refusal_is_a_sins_error_never_a_raw_python_error(trace):
     for attempt in attempts:
         with pytest.raises(SinsError):
             attempt()
+
+
+# ---------------------------------------------------------------------------------------------------
+# Issue 42, item 4: every public function names the argument that is not what it expects
+# ---------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kw", "fragment"),
+    [
+        # Before: ValueError from int() ('1:5'), TypeError (None, 3 is not iterable).
+        ({"bus_window": "1:5"}, "bus_window = '1:5': expected (first_tick, last_tick)"),
+        ({"bus_window": 3}, "bus_window = 3: expected (first_tick, last_tick)"),
+        ({"bus_window": (1, 2, 3)}, "bus_window = (1, 2, 3): expected (first_tick, last_tick)"),
+        ({"bus_window": (1.5, 3)}, "bus_window = (1.5, 3): expected (first_tick, last_tick), two whole"),
+        ({"bus_window": (0, 3)}, "bus_window = (0, 3): expected"),
+        ({"keep_truth": "no"}, "keep_truth = 'no': expected True or False"),
+        ({"allow_gaps": 1}, "allow_gaps = 1: expected True or False"),
+    ],
+)
+def test_emulate_names_a_bad_keyword(trace, kw, fragment):
+    with pytest.raises(InputError) as e:
+        emulate(trace, **kw)
+    assert fragment in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        # Before: TypeError from pathlib.
+        ((None,), "name_or_path = None: expected a profile name"),
+        ((3.5,), "name_or_path = 3.5: expected a profile name"),
+        # Before: read character by character ("override `s`: expected key=value").
+        (("reference", "spi.spibrr=9"), "overrides = 'spi.spibrr=9': expected a list of 'key=value' texts"),
+        (("reference", [9]), "overrides[0] = 9: expected a 'key=value' text"),
+        (("reference", None), "overrides = None: expected a list"),
+    ],
+)
+def test_load_profile_names_a_bad_argument(args, fragment):
+    from sins_fw import load_profile
+
+    with pytest.raises(ProfileError) as e:
+        load_profile(*args)
+    assert fragment in str(e.value)
+
+
+def test_profile_methods_name_a_bad_argument():
+    from sins_fw import load_profile
+
+    profile = load_profile("reference")
+    with pytest.raises(ProfileError, match="dotted = None: expected a dotted key text"):
+        profile.get(None)
+    with pytest.raises(ProfileError, match=re.escape("overrides[0] = ['spi.spibrr=9']")):
+        profile.with_overrides(["spi.spibrr=9"])
+    assert profile.with_overrides("spi.spibrr=9").get("spi.spibrr") == 9
+
+
+def test_a_gyro_free_profile_is_checked_the_same_way():
+    from sins_fw import gfsins
+
+    with pytest.raises(ProfileError, match="name_or_path = None"):
+        gfsins.load(None)
+    with pytest.raises(ProfileError, match=re.escape("overrides = 'node.start_ms=5'")):
+        gfsins.load(gfsins.PROFILE, "node.start_ms=5")
+
+
+def test_run_raw_register_trace_metadata_is_checked(reference):
+    with pytest.raises(InputError, match="metadata = 'x': expected a mapping of texts to texts"):
+        reference.raw_register_trace("x")

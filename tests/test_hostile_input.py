@@ -121,3 +121,79 @@ def test_a_csv_metadata_key_given_twice_is_refused_naming_it(capsys, tmp_path):
 def test_an_override_running_over_a_line_break_is_refused(capsys):
     code, _, err = _cli(capsys, "board", "--set", "spi.spibrr=49\nspi.spibrr=9")
     assert code == 2 and "line break" in err, err
+
+
+# ---------------------------------------------------------------------------------------------------
+# Issue 42: TOML files given as options, ports, the API's arguments
+# ---------------------------------------------------------------------------------------------------
+
+_THRESHOLDS = b"[backends.c28x-f32]\nmax_deg = 0.001\n"
+
+
+@pytest.mark.parametrize(
+    ("content", "fragment"),
+    [
+        # Before: UnicodeDecodeError (exit 3).
+        (_THRESHOLDS + "# r\u00e9glage\n".encode("latin-1"), "line 3: byte 0xe9 is not UTF-8 text"),
+        (b"\x00\x01\x02\x03" * 64, "binary data (NUL byte at offset 0)"),
+        # Before: RecursionError (exit 3).
+        (b"x = " + b"[" * 100_000 + b"]" * 100_000 + b"\n", "nested too deeply"),
+        (b"x = " + b"{a = " * 50_000 + b"1" + b"}" * 50_000 + b"\n", "nested too deeply"),
+    ],
+    ids=["latin-1", "binary", "deep-arrays", "deep-tables"],
+)
+def test_parity_thresholds_that_cannot_be_read_are_exit_2_naming_the_file(
+    capsys, tmp_path, content, fragment
+):
+    bad = tmp_path / "ci.toml"
+    bad.write_bytes(content)
+    code, out, err = _cli(capsys, "parity", STATIC, "--thresholds", bad)
+    assert code == 2 and out == "", err
+    assert f"{bad}: " in err and fragment in err and "Traceback" not in err, err
+
+
+def test_a_globals_file_that_is_not_utf8_is_exit_2(tmp_path):
+    from sins_fw.errors import InputError
+    from sins_fw.firmware_run import load_globals
+
+    bad = tmp_path / "globals.toml"
+    bad.write_bytes('[[global]]\nname = "caf\u00e9"\n'.encode("latin-1"))
+    with pytest.raises(InputError, match="not UTF-8"):
+        load_globals(bad)
+    bad.write_bytes(b"x = " + b"[" * 100_000 + b"]" * 100_000 + b"\n")
+    with pytest.raises(InputError, match="nested too deeply"):
+        load_globals(bad)
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "fragment"),
+    [
+        ("--port", "70000", "70000: expected a TCP port number, 0…65535"),
+        ("--port", "-1", "-1: expected a TCP port number"),
+        ("--port", "http", "'http': expected a TCP port number"),
+        ("--grpc-port", "65536", "65536: expected a TCP port number"),
+        ("--grpc-port", "9e3", "'9e3': expected a TCP port number"),
+    ],
+)
+def test_replay_serve_with_a_bad_port_is_exit_2_naming_the_option(capsys, option, value, fragment):
+    # Before: 70000 or -1 reached socket.bind: OverflowError (exit 3).
+    with pytest.raises(SystemExit) as e:
+        main(["replay", str(STATIC), "--serve", option, value])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and f"argument {option}" in err and fragment in err, err
+
+
+def test_replay_serve_on_a_port_in_use_or_twice_the_same_is_exit_2_naming_the_option(capsys):
+    import socket
+
+    with socket.socket() as held:
+        held.bind(("127.0.0.1", 0))
+        held.listen()
+        port = held.getsockname()[1]
+        code, _, err = _cli(capsys, "replay", STATIC, "--serve", "--port", port, "--grpc-port", 0)
+        assert code == 2 and f"--port {port}: cannot listen on 127.0.0.1:{port}" in err, err
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        free = probe.getsockname()[1]
+    code, _, err = _cli(capsys, "replay", STATIC, "--serve", "--port", free, "--grpc-port", free)
+    assert code == 2 and f"--grpc-port {free}: cannot listen" in err, err

@@ -12,6 +12,7 @@ the next row, NaN rows between."""
 from __future__ import annotations
 
 import struct
+import subprocess
 import sys
 from pathlib import Path
 
@@ -255,7 +256,11 @@ def test_ulog_keeps_the_gps(tmp_path, version):
         "--out",
         str(tmp_path / "x.h5"),
     )
-    assert r.code == 2 and "--gps-latency-s 11.0: expected" in r.err and not (tmp_path / "x.h5").exists()
+    assert (
+        r.code == 2
+        and "argument --gps-latency-s: '11': expected" in r.err
+        and not (tmp_path / "x.h5").exists()
+    )
 
 
 def test_ulog_import(tmp_path):
@@ -625,3 +630,137 @@ def test_two_fixes_on_one_row_keep_the_later():
     np.testing.assert_array_equal(gps.columns[2:4, :2], [[2.0, 350.0], [3.0, 10.0]])
     assert np.isnan(gps.columns[[0, 1, 4]]).all()
     assert "2 fixes" in gps.metadata["gps"] and "1 replaced by a later fix" in gps.metadata["gps"]
+
+
+# ---------------------------------------------------------------------------------------------------
+# Malformed logs and options (issue 42, item 3): exit 2 naming the file and what was expected, one
+# message, never a traceback or a library's noise
+# ---------------------------------------------------------------------------------------------------
+
+
+def _euroc_csv(tmp_path: Path, body: bytes) -> Path:
+    path = tmp_path / "imu.csv"
+    header = b"#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+    header += b"a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n"
+    path.write_bytes(header + body)
+    return path
+
+
+_ROW = b"0.0,0.0,0.1,0.0,0.0,9.8\n"
+
+
+@pytest.mark.parametrize(
+    ("body", "fragment"),
+    [
+        # Before: OverflowError (exit 3).
+        (b"1," + _ROW + b"99999999999999999999," + _ROW, "time stamp 99999999999999999999 out of range"),
+        (b"1," + _ROW + b"-9223372036854775807," + _ROW, "time stamp -9223372036854775807 out of range"),
+        # Before: UnicodeDecodeError (exit 3).
+        (
+            b"1," + _ROW + "2,0.0,0.0,0.1,0.0,0.0,9.8 caf\u00e9\n".encode("latin-1"),
+            "line 3: byte 0xe9 is not UTF-8",
+        ),
+        (b"1," + _ROW + b"\x00\x01\x02\xff" * 8, "binary data (NUL byte at offset"),
+        # Before: numpy's UserWarning on stderr, then an IndexError (exit 3).
+        (b"", "header only, no data rows"),
+        (b"\n\n", "header only, no data rows"),
+    ],
+    ids=["overflow", "overflow-negative", "latin-1", "binary", "header-only", "blank-lines"],
+)
+def test_a_malformed_euroc_csv_is_exit_2_naming_the_file(tmp_path, body, fragment):
+    path = _euroc_csv(tmp_path, body)
+    r = run_cli("import", "euroc", str(path), "--out", str(tmp_path / "o.h5"))
+    assert r.code == 2, r.err
+    assert f"sins-fw: error: {path}: " in r.err and fragment in r.err, r.err
+    assert r.err.count("\n") == 1 and "Traceback" not in r.err and "Warning" not in r.err, r.err
+    assert not (tmp_path / "o.h5").exists()
+
+
+def test_euroc_ground_truth_that_is_latin_1_is_named(tmp_path):
+    _euroc(tmp_path)
+    gt = tmp_path / "mav0" / "state_groundtruth_estimate0" / "data.csv"
+    gt.write_bytes(gt.read_bytes().replace(b"p_RS_R_x", "p_RS_R_\u00e9".encode("latin-1")))
+    r = run_cli("import", "euroc", str(tmp_path), "--out", str(tmp_path / "o.h5"))
+    assert r.code == 2 and f"{gt}: line 1: byte 0xe9 is not UTF-8" in r.err, r.err
+
+
+def test_dataflash_time_stamps_that_overflow_are_exit_2(tmp_path):
+    pytest.importorskip("pymavlink")
+    _dataflash(tmp_path / "log.bin")
+    data = bytearray((tmp_path / "log.bin").read_bytes())
+    # The last IMU message's TimeUS (uint64) set to 2^64 - 1: before, OverflowError (exit 3).
+    head = _df_message(129, "QBffffff", T0_US, 0, *([0.0] * 6))[:3]
+    at = len(data)
+    while True:  # the last IMU message of instance 0 (the instance byte follows the 8-byte TimeUS)
+        at = data.rfind(head, 0, at)
+        if data[at + 11] == 0:
+            break
+    data[at + 3 : at + 11] = struct.pack("<Q", 2**64 - 1)
+    (tmp_path / "log.bin").write_bytes(bytes(data))
+    r = run_cli("import", "dataflash", str(tmp_path / "log.bin"), "--out", str(tmp_path / "o.h5"))
+    # (pymavlink hands TimeUS over as a float: 2^64 − 1 arrives rounded to 2^64.)
+    assert r.code == 2 and "IMU TimeUS: time stamp 18446744073709551616 out of range" in r.err, r.err
+    assert "Traceback" not in r.err
+
+
+def test_a_file_that_is_not_a_dataflash_log_is_one_message_not_the_readers_noise(tmp_path):
+    pytest.importorskip("pymavlink")
+    rng = np.random.default_rng(42)
+    bad = tmp_path / "random.bin"
+    bad.write_bytes(rng.integers(0, 256, 200_000, dtype=np.uint8).tobytes())
+    r = run_cli("import", "dataflash", str(bad), "--out", str(tmp_path / "o.h5"))
+    # Before: pymavlink printed a "bad header" line per damaged header (tens of thousands) on stdout.
+    assert r.code == 2 and r.out == "", r.out[:500]
+    assert r.err.count("\n") == 1 and f"sins-fw: error: {bad}: " in r.err, r.err[:2000]
+    assert "expected an ArduPilot" in r.err
+
+
+def test_ulog_time_stamps_beyond_the_range_are_exit_2(tmp_path):
+    pytest.importorskip("pyulog")
+    m = _ned_motion()
+    t = m["t_us"].astype(np.uint64)
+    t[-1] = 2**63 + 5  # a uint64 beyond int64: before, a silent wrap to a negative time
+    write_ulog(
+        tmp_path / "f.ulg",
+        [
+            (
+                "sensor_combined",
+                [("uint64_t", "timestamp", 0), ("float", "gyro_rad", 3), ("float", "accelerometer_m_s2", 3)],
+                {"timestamp": t, "gyro_rad": m["gyro"], "accelerometer_m_s2": m["accel"]},
+            )
+        ],
+    )
+    r = run_cli("import", "ulog", str(tmp_path / "f.ulg"), "--out", str(tmp_path / "o.h5"))
+    assert r.code == 2 and f"time stamp {2**63 + 5} out of range" in r.err, r.err
+
+
+def test_a_ulog_whose_name_is_not_utf8_imports_with_the_name_escaped(tmp_path):
+    pytest.importorskip("pyulog")
+    import os
+
+    name = os.fsdecode(b"vol_caf\xe9.ulg")  # Latin-1 bytes in a file name
+    _ulog(tmp_path / name)
+    out = tmp_path / "o.h5"
+    r = subprocess.run(
+        [sys.executable, "-m", "sins_fw", "import", "ulog", tmp_path / name, "--out", out],
+        capture_output=True,
+        check=False,
+    )
+    # Before: UnicodeEncodeError writing the metadata (exit 3).
+    assert r.returncode == 0, r.stderr
+    assert PhysicalTrace.load(out).metadata["source"] == "PX4 ULog vol_caf\\xe9.ulg"
+    assert b"vol_caf\xe9.ulg" in r.stdout  # the report names the file by its own bytes, as ls does
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-1", "11", "abc"])
+def test_gps_latency_that_is_not_0_to_10_s_is_refused_before_reading(tmp_path, value):
+    # Before: nan was accepted silently when the log had no GPS (the check compared with nan).
+    (tmp_path / "log.ulg").write_bytes(b"not read")
+    r = run_cli(
+        "import", "ulog", str(tmp_path / "log.ulg"), "--gps-latency-s", value, "--out", str(tmp_path / "o.h5")
+    )
+    assert r.code == 2 and "--gps-latency-s" in r.err and "0…10 s" in r.err, r.err
+    from sins_fw.importers import importer
+
+    with pytest.raises(InputError, match="gps_latency_s"):
+        importer("ulog")(tmp_path / "log.ulg", gps_latency_s=float(value) if value != "abc" else value)

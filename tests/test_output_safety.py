@@ -42,11 +42,36 @@ def _snapshot(folder: Path) -> dict[str, bytes | str]:
 
 @pytest.fixture
 def ws(tmp_path: Path) -> Path:
-    """A folder with a trace (t.h5, t.csv), a profile copy and a BROAD-like file."""
+    """A folder with a trace (t.h5, t.csv), a profile copy (also as prof.csv, a profile path of any
+    name), a EuRoC-style log folder (log/), log files of the other importers (their content is never
+    read: the refusal comes first), a ROS 2 bag folder, a firmware's sources with a header and a
+    globals file (fw/), and a built library with the globals file beside it."""
     shutil.copy(STATIC, tmp_path / "t.h5")
     synth.generate("static", duration_s=0.2).save(tmp_path / "t.csv")
     shutil.copy(ROOT / "firmware_model" / "reference.toml", tmp_path / "p.toml")
+    shutil.copy(ROOT / "firmware_model" / "reference.toml", tmp_path / "prof.csv")
     (tmp_path / "sub").mkdir()
+    imu = tmp_path / "log" / "mav0" / "imu0"
+    imu.mkdir(parents=True)
+    (imu / "data.csv").write_text("#timestamp [ns],w_RS_S_x [rad s^-1]\n1,0\n")
+    (tmp_path / "log" / "mav0" / "state_groundtruth_estimate0").mkdir()
+    (tmp_path / "log" / "mav0" / "state_groundtruth_estimate0" / "data.csv").write_text("#timestamp\n")
+    (tmp_path / "log" / "mav0" / "imu0" / "sensor.yaml").write_text("rate_hz: 200\n")
+    (tmp_path / "gt.csv").write_text("#timestamp, q_RS_w []\n")
+    (tmp_path / "flight.ulg").write_bytes(b"ULog\x01\x12\x35\x01")
+    (tmp_path / "00000042.BIN").write_bytes(b"\xa3\x95\x80")
+    (tmp_path / "bag").mkdir()
+    (tmp_path / "bag" / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    (tmp_path / "bag" / "bag_0.db3").write_bytes(b"SQLite format 3\x00")
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    (fw / "main.c").write_text('#include "filter.h"\nint main(void) { return filter_gain(); }\n')
+    (fw / "filter.h").write_text("static inline int filter_gain(void) { return 2; }\n")
+    (fw / "globals.toml").write_text('[[global]]\nname = "x"\ntype = "int"\n')
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "fw.so").write_bytes(b"\x7fELF")
+    (tmp_path / "lib" / "globals.toml").write_text('[[global]]\nname = "x"\ntype = "int"\n')
+    (tmp_path / "g.csv").write_text('[[global]]\nname = "x"\ntype = "int"\n')
     return tmp_path
 
 
@@ -125,6 +150,170 @@ CASES: dict[str, Callable[[Path], tuple[list[object], tuple[str, str]]]] = {
         ],
         ("--plot", "--profile"),
     ),
+    # The importers read every file of a log folder or bag (issue 42, item 1).
+    "import euroc --out the folder's IMU file": lambda w: (
+        ["import", "euroc", w / "log", "--out", w / "log" / "mav0" / "imu0" / "data.csv"],
+        ("--out", "FILE"),
+    ),
+    "import euroc --out the folder's ground truth": lambda w: (
+        [
+            "import",
+            "euroc",
+            w / "log",
+            "--out",
+            w / "log" / "mav0" / "state_groundtruth_estimate0" / "data.csv",
+        ],
+        ("--out", "FILE"),
+    ),
+    "import euroc --out another file of the folder": lambda w: (
+        [
+            "import",
+            "euroc",
+            w / "log",
+            "--out",
+            _symlink(w / "y.csv", w / "log" / "mav0" / "imu0" / "sensor.yaml"),
+        ],
+        ("--out", "FILE"),
+    ),
+    "import euroc --out a hard link to the folder's IMU file": lambda w: (
+        [
+            "import",
+            "euroc",
+            w / "log",
+            "--out",
+            _hardlink(w / "imu.csv", w / "log" / "mav0" / "imu0" / "data.csv"),
+        ],
+        ("--out", "FILE"),
+    ),
+    "import euroc --out is --truth": lambda w: (
+        ["import", "euroc", w / "log", "--truth", w / "gt.csv", "--out", w / "gt.csv"],
+        ("--out", "--truth"),
+    ),
+    "import euroc --out the folder itself": lambda w: (
+        ["import", "euroc", w / "log", "--out", w / "log"],
+        ("--out", "FILE"),
+    ),
+    "import ulog --out a symlink to the log": lambda w: (
+        ["import", "ulog", w / "flight.ulg", "--out", _symlink(w / "f.h5", w / "flight.ulg")],
+        ("--out", "FILE"),
+    ),
+    "import dataflash --out a hard link to the log": lambda w: (
+        ["import", "dataflash", w / "00000042.BIN", "--out", _hardlink(w / "d.csv", w / "00000042.BIN")],
+        ("--out", "FILE"),
+    ),
+    "import rosbag --out a file of the bag folder": lambda w: (
+        ["import", "rosbag", w / "bag", "--out", _symlink(w / "b.h5", w / "bag" / "metadata.yaml")],
+        ("--out", "FILE"),
+    ),
+    "import rosbag --out the bag's metadata, given its .db3": lambda w: (
+        [
+            "import",
+            "rosbag",
+            w / "bag" / "bag_0.db3",
+            "--out",
+            _symlink(w / "b.h5", w / "bag" / "metadata.yaml"),
+        ],
+        ("--out", "FILE"),
+    ),
+    # A C firmware's inputs: its sources, the headers they include, its globals file.
+    "build-firmware -o a source": lambda w: (
+        ["build-firmware", w / "fw" / "main.c", "-o", w / "fw" / "main.c"],
+        ("--out", "SOURCES"),
+    ),
+    "build-firmware -o a source of a folder given": lambda w: (
+        ["build-firmware", w / "fw", "-o", w / "fw" / "main.c"],
+        ("--out", "a source"),
+    ),
+    "build-firmware -o the folder of the sources": lambda w: (
+        ["build-firmware", w / "fw" / "main.c", "-o", w / "fw"],
+        ("--out", "fw/main.c"),
+    ),
+    "build-firmware -o a header the sources include": lambda w: (
+        ["build-firmware", w / "fw" / "main.c", "-o", w / "fw" / "filter.h"],
+        ("--out", "a header the sources include"),
+    ),
+    "build-firmware -o the globals file": lambda w: (
+        ["build-firmware", w / "fw" / "main.c", "-o", w / "fw" / "globals.toml"],
+        ("--out", "the globals file"),
+    ),
+    "run --firmware --out is --globals": lambda w: (
+        [
+            "run",
+            w / "t.csv",
+            "--firmware",
+            w / "lib" / "fw.so",
+            "--globals",
+            w / "g.csv",
+            "--out",
+            w / "g.csv",
+        ],
+        ("--out", "--globals"),
+    ),
+    "run --firmware --out the globals file beside it": lambda w: (
+        [
+            "run",
+            w / "t.csv",
+            "--firmware",
+            w / "lib" / "fw.so",
+            "--out",
+            _symlink(w / "o.csv", w / "lib" / "globals.toml"),
+        ],
+        ("--out", "the globals file beside --firmware"),
+    ),
+    "run --firmware --out is the library": lambda w: (
+        [
+            "run",
+            w / "t.csv",
+            "--firmware",
+            w / "lib" / "fw.so",
+            "--out",
+            _symlink(w / "o.h5", w / "lib" / "fw.so"),
+        ],
+        ("--out", "--firmware"),
+    ),
+    # A Monte Carlo table is written with its CSV copy and percentile tables beside it.
+    "montecarlo --out's CSV copy is the profile": lambda w: (
+        ["montecarlo", "static", "--runs", "1", "--profile", w / "prof.csv", "--out", w / "prof.parquet"],
+        ("--out", "--profile"),
+    ),
+    "montecarlo --out .h5's CSV copy is the profile": lambda w: (
+        ["montecarlo", "static", "--runs", "1", "--profile", w / "prof.csv", "--out", w / "prof.h5"],
+        ("--out", "--profile"),
+    ),
+    "montecarlo --plot a symlink to the profile": lambda w: (
+        [
+            "montecarlo",
+            "static",
+            "--runs",
+            "1",
+            "--profile",
+            w / "p.toml",
+            "--plot",
+            _symlink(w / "m.png", w / "p.toml"),
+        ],
+        ("--plot", "--profile"),
+    ),
+    "sweep --out's percentile table is the profile": lambda w: (
+        [
+            "sweep",
+            "static",
+            "--runs",
+            "1",
+            "--profile",
+            _symlink(w / "s-percentiles.csv", w / "p.toml"),
+            "--out",
+            w / "s.parquet",
+        ],
+        ("--out", "--profile"),
+    ),
+    "sweep --out and --plot one file through its CSV copy": lambda w: (
+        ["sweep", "static", "--runs", "1", "--out", w / "s.h5", "--plot", _symlink(w / "s.png", w / "s.csv")],
+        ("--plot", "--out"),
+    ),
+    "replay --out a symlink to the profile": lambda w: (
+        ["replay", w / "t.csv", "--profile", w / "p.toml", "--out", _symlink(w / "p.rrd", w / "p.toml")],
+        ("--out", "--profile"),
+    ),
 }
 
 
@@ -137,6 +326,54 @@ def test_an_output_that_is_an_input_or_another_output_is_refused_before_the_run(
     assert out == "" and "Traceback" not in err
     assert first in err and second in err, err
     assert _snapshot(ws) == before, "nothing written, nothing replaced"
+
+
+#: Options that take a file or folder are recognised by their type or metavar (FILE, DIR, FW.so, ...).
+_FILE_METAVARS = ("FILE", "DIR", "TRACE", ".so", ".toml", ".png", ".rrd", "FOLDER")
+
+
+def _file_options(parser) -> set[str]:
+    found = set()
+    for action in parser._actions:
+        metavar = str(action.metavar or "")
+        if (
+            action.type is Path
+            or any(m in metavar for m in _FILE_METAVARS)
+            or action.dest in ("sources", "profile")
+        ):
+            found.add(action.dest)
+    return found
+
+
+def test_every_command_declares_the_files_it_reads_and_writes():
+    """cli/files.py is the one place that knows each command's inputs and outputs: a new command or a
+    new option naming a file must be declared there, or its output could overwrite an input."""
+    from sins_fw.cli import build_parser
+    from sins_fw.cli.common import walk_parsers
+    from sins_fw.cli.files import spec_of
+
+    leaves = {
+        name.removeprefix("sins-fw "): p
+        for name, p in walk_parsers(build_parser())
+        if p.get_default("func") is not None
+    }
+    assert len(leaves) > 20
+    for name, parser in leaves.items():
+        spec = spec_of(name)
+        assert spec is not None, f"`sins-fw {name}` has no entry in cli/files.py FILES"
+        declared = {r.dest for r in (*spec.inputs, *spec.outputs)} | set(spec.folders)
+        missing = _file_options(parser) - declared
+        assert not missing, f"`sins-fw {name}`: options {sorted(missing)} name files: declare them in FILES"
+
+
+def test_a_new_file_inside_an_input_folder_is_accepted(capsys, tmp_path):
+    # The refusal is for the files the folder holds; a new file beside them destroys nothing.
+    from test_importers import _euroc
+
+    _euroc(tmp_path / "log")
+    out = tmp_path / "log" / "trace.h5"
+    code, _, err = _cli(capsys, "import", "euroc", tmp_path / "log", "--out", out)
+    assert code == 0 and out.is_file(), err
 
 
 def test_replay_refuses_to_save_over_the_trace_a_run_output_records(capsys, ws):
@@ -284,3 +521,138 @@ def test_an_rrd_whose_last_bytes_fail_at_close_is_an_error_not_a_thread_tracebac
     with pytest.raises(OSError, match="No space left on device"), pump as fd:
         os.write(int(fd.rsplit("/", 1)[1]), b"x" * 1000)
     assert escaped == []
+
+
+# Every writer on a disk with no room left (issue 42, item 2): each command that writes a file, and the
+# commands that only print (their standard output redirected there).
+#: F: the full folder; L: a EuRoC log beside it. Each run is kept short (1 s scenarios, one run).
+EVERY_WRITER = {
+    "montecarlo --out .parquet": [
+        "montecarlo",
+        "static",
+        "--runs",
+        "1",
+        "--param",
+        "duration-s=1",
+        "--workers",
+        "1",
+        "--out",
+        "F/m.parquet",
+    ],
+    "montecarlo --out .h5": [
+        "montecarlo",
+        "static",
+        "--runs",
+        "1",
+        "--param",
+        "duration-s=1",
+        "--workers",
+        "1",
+        "--out",
+        "F/m.h5",
+    ],
+    "montecarlo --out .csv": [
+        "montecarlo",
+        "static",
+        "--runs",
+        "1",
+        "--param",
+        "duration-s=1",
+        "--workers",
+        "1",
+        "--out",
+        "F/m.csv",
+    ],
+    "montecarlo --plot": [
+        "montecarlo",
+        "static",
+        "--runs",
+        "1",
+        "--param",
+        "duration-s=1",
+        "--workers",
+        "1",
+        "--plot",
+        "F/m.png",
+    ],
+    "sweep --out .parquet": [
+        "sweep",
+        "static",
+        "--runs",
+        "1",
+        "--param",
+        "duration-s=1",
+        "--workers",
+        "1",
+        "--out",
+        "F/s.parquet",
+    ],
+    "synth --out .h5": ["synth", "static", "--duration-s", "1", "--out", "F/s.h5"],
+    "synth --out .csv": ["synth", "static", "--duration-s", "1", "--out", "F/s.csv"],
+    "import euroc --out .h5": ["import", "euroc", "L", "--out", "F/e.h5"],
+    "report --out .png": ["report", str(ROOT / "traces" / "pitch_sweep.h5"), "--out", "F/r.png"],
+    "budget --plot": ["budget", "--duration-s", "0.1", "--plot", "F/b.png"],
+    "run --out .h5": ["run", str(STATIC), "--until-s", "2", "--out", "F/o.h5"],
+}
+#: Commands that only print: their report to a file on the full disk (`> F/out.txt`).
+PRINTERS = {
+    "spin-table": [
+        "spin-table",
+        "--engine",
+        "chain",
+        "--runs",
+        "1",
+        "--rates-dps",
+        "50",
+        "--duration-s",
+        "2",
+    ],
+    "presets": ["presets"],
+    "board --json": ["board", "--json"],
+}
+
+
+def _fill(folder: Path) -> None:
+    """Fill the 32 KiB tmpfs to the last byte (a filler file), so that any write there fails."""
+    with open(folder / "filler", "wb") as f, pytest.raises(OSError):
+        for _ in range(LIMIT_BYTES // 512 + 8):
+            f.write(b"\0" * 512)
+            f.flush()
+
+
+@pytest.mark.parametrize("case", sorted(EVERY_WRITER))
+def test_every_writer_on_a_full_disk_is_exit_2_and_writes_nothing(full_disk, tmp_path, case):
+    from test_importers import _euroc
+
+    _euroc(tmp_path / "log")
+    args = [str(tmp_path / "log") if a == "L" else a for a in EVERY_WRITER[case]]
+    no_room = full_disk
+    out = no_room / Path(next(a for a in args if a.startswith("F/"))).name
+    out.write_bytes(b"previous")
+    _fill(no_room)
+    r = _run_limited(args, no_room, None)
+    assert r.returncode == 2, (r.returncode, r.stderr[-2000:])
+    assert f"sins-fw: error: {out}: " in r.stderr and "No space left on device" in r.stderr, r.stderr
+    assert f"{out} left as it was" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and "Exception ignored" not in r.stderr, r.stderr
+    assert out.read_bytes() == b"previous"
+    assert sorted(p.name for p in no_room.iterdir()) == sorted(["filler", out.name]), "nothing else written"
+
+
+@pytest.mark.parametrize("case", sorted(PRINTERS))
+def test_a_report_printed_to_a_full_disk_is_exit_2_naming_standard_output(full_disk, case):
+    (full_disk / "out.txt").touch()
+    _fill(full_disk)
+    with open(full_disk / "out.txt", "w") as sink:
+        r = subprocess.run(
+            [sys.executable, "-m", "sins_fw", *PRINTERS[case]],
+            stdout=sink,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=600,
+            check=False,
+            cwd=ROOT,
+        )
+    assert r.returncode == 2, (r.returncode, r.stderr[-2000:])
+    assert "sins-fw: error: standard output: No space left on device" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and "Exception ignored" not in r.stderr, r.stderr

@@ -140,10 +140,14 @@ def load_globals(path: str | os.PathLike[str]) -> list[Global]:
         text = p.read_text(encoding="utf-8")
     except OSError as e:
         raise InputError(f"{p}: cannot read the globals file: {e.strerror or e}") from None
+    except UnicodeDecodeError as e:
+        raise InputError(f"{p}: byte {e.start} is not UTF-8 text; expected a TOML globals file") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise InputError(f"{p}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise InputError(f"{p}: nested too deeply to read; expected [[global]] entries") from None
     unknown = sorted(set(data) - {"global"})
     if unknown:
         raise InputError(f"{p}: unknown table `{unknown[0]}`: expected only [[global]] entries")

@@ -21,7 +21,7 @@ import numpy as np
 
 from sins_fw import _core
 from sins_fw.errors import ProfileError, TraceError
-from sins_fw.profile import ProfileValues, read_profile_text, resolve_profile_path
+from sins_fw.profile import ProfileValues, check_overrides, read_profile_text, resolve_profile_path
 from sins_fw.tablefile import Column, Schema, write_table
 from sins_fw.traces import PhysicalTrace
 
@@ -36,7 +36,7 @@ def has_own_schema(name_or_path: str | os.PathLike[str]) -> bool:
     try:
         text = resolve_profile_path(name_or_path).read_text(encoding="utf-8")
         meta = tomllib.loads(text).get("meta")
-    except (ProfileError, OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+    except (ProfileError, OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
         return False
     return isinstance(meta, dict) and "board" in meta
 
@@ -59,9 +59,10 @@ def load(
     name_or_path: str | os.PathLike[str] = PROFILE, overrides: tuple[str, ...] | list[str] = ()
 ) -> GfsinsProfile:
     """Load and check a gyro-free board profile (errors name the file and key: ProfileError)."""
+    checked = check_overrides(overrides)
     path, text = read_profile_text(name_or_path)
-    resolved = _core.gfsins_profile(text, str(path), list(overrides))
-    return GfsinsProfile(str(path), text, tuple(overrides), tomllib.loads(resolved))
+    resolved = _core.gfsins_profile(text, str(path), list(checked))
+    return GfsinsProfile(str(path), text, checked, tomllib.loads(resolved))
 
 
 def ticks_in(trace: PhysicalTrace, profile: GfsinsProfile) -> int:

@@ -159,6 +159,11 @@ class Run:
         its CS falling edge (virtual time since power-on), the 15 SPIRXBUF words. Replaying it
         (``emulate(raw)``) gives the firmware exactly these words again. ``sample_rate_hz`` is the
         timer tick rate (one burst per tick; back-to-back reads three within each tick)."""
+        if metadata is not None and not (
+            isinstance(metadata, Mapping)
+            and all(isinstance(k, str) and isinstance(v, str) for k, v in metadata.items())
+        ):
+            raise InputError(f"metadata = {_short(metadata)}: expected a mapping of texts to texts, or None")
         ticks = self.budget["tick_ps"]
         if len(ticks) < 2:
             raise InputError("raw-register trace: the run is too short (fewer than two timer ticks)")
@@ -252,6 +257,29 @@ def _check_overrides(overrides: Any) -> list[str]:
         if not isinstance(o, str):
             raise ProfileError(f"overrides[{i}] = {_short(o)}: expected a 'key=value' text")
     return out
+
+
+def check_bus_window(window: Any, name: str = "bus_window") -> tuple[int, int]:
+    """``(first_tick, last_tick)``: two whole numbers, 1 <= first <= last (ticks count from 1); else an
+    InputError naming ``name`` and what was expected."""
+    expected = "expected (first_tick, last_tick), two whole numbers with 1 <= first <= last"
+    if isinstance(window, str | bytes) or not isinstance(window, Iterable):
+        raise InputError(f"{name} = {_short(window)}: {expected}")
+    ticks = list(window)
+    if len(ticks) != 2 or not all(
+        isinstance(t, int | np.integer) and not isinstance(t, bool | np.bool_) for t in ticks
+    ):
+        raise InputError(f"{name} = {_short(window)}: {expected}")
+    first, last = (int(t) for t in ticks)
+    if not 1 <= first <= last:
+        raise InputError(f"{name} = {_short(window)}: {expected} (ticks count from 1)")
+    return first, last
+
+
+def _check_flag(value: Any, name: str) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise InputError(f"{name} = {_short(value)}: expected True or False")
+    return bool(value)
 
 
 def _short(value: Any) -> str:
@@ -426,6 +454,10 @@ def emulate(
     for name, fn in (("on_chunk", on_chunk), ("sink", sink)):
         if fn is not None and not callable(fn):
             raise InputError(f"{name} = {_short(fn)}: expected a function or None")
+    keep_truth = _check_flag(keep_truth, "keep_truth")
+    allow_gaps = _check_flag(allow_gaps, "allow_gaps")
+    if bus_window is not None:
+        bus_window = check_bus_window(bus_window)
     every = [*_check_overrides(overrides), *keyword_overrides(settings)]
     if isinstance(profile, Profile):
         prof = profile.with_overrides(*every) if every else profile
@@ -726,11 +758,37 @@ def profile_table(path: str | os.PathLike[str]) -> dict[str, Any]:
     if not p.is_file():
         p = MODEL_DIR / p
     try:
-        return tomllib.loads(p.read_text(encoding="utf-8"))
+        data = p.read_bytes()
     except FileNotFoundError:
         raise ProfileError(f"{p}: file not found") from None
+    except IsADirectoryError:
+        raise ProfileError(f"{p}: is a folder; expected a TOML file") from None
+    return toml_table(data, p)
+
+
+def toml_table(data: bytes, where: str | os.PathLike[str]) -> dict[str, Any]:
+    """A TOML file's bytes parsed, every failure a ProfileError naming ``where`` and the line: binary
+    data, bytes that are not UTF-8, a syntax error, arrays or tables nested too deeply for tomllib's
+    recursion."""
+    nul = data.find(b"\0")
+    if nul >= 0:
+        raise ProfileError(f"{where}: binary data (NUL byte at offset {nul}); expected a TOML text file")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        raise ProfileError(
+            f"{where}: line {line}: byte 0x{data[e.start]:02x} is not UTF-8 text; expected a TOML file "
+            "(UTF-8)"
+        ) from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise ProfileError(f"{p}: {e}") from None
+        raise ProfileError(f"{where}: {e}") from None
+    except RecursionError:
+        raise ProfileError(
+            f"{where}: arrays or tables nested too deeply to read; expected a table of a few levels"
+        ) from None
 
 
 class _BusWindow:
@@ -744,11 +802,7 @@ class _BusWindow:
     """
 
     def __init__(self, emu: Any, profile: Profile, window: tuple[int, int]) -> None:
-        first, last = (int(x) for x in window)
-        if not 1 <= first <= last:
-            raise ProfileError(
-                f"bus window {window}: expected 1 <= first_tick <= last_tick (ticks count from 1)"
-            )
+        first, last = check_bus_window(window)
         self.emu, self.first, self.last = emu, first, last
         period_s = float(profile.get("timer.period_us")) * 1e-6
         # Inexact period (PRD rounding) is harmless: the cut only has to come a tick early.

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import tomllib
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -39,7 +40,7 @@ def _is_profile(path: Path) -> bool:
     # Data tables (costs, parity thresholds) share the folder; profiles have a [meta] section.
     try:
         return "meta" in tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError):
         return False
 
 
@@ -54,6 +55,8 @@ class ProfileValues:
 
     def get(self, dotted: str) -> Any:
         """One value by dotted key, e.g. ``profile.get("spi.spibrr")``."""
+        if not isinstance(dotted, str):
+            raise ProfileError(f"dotted = {short(dotted)}: expected a dotted key text, e.g. 'spi.spibrr'")
         node: Any = self.values
         for part in dotted.split("."):
             if not isinstance(node, dict) or part not in node:
@@ -64,7 +67,12 @@ class ProfileValues:
 
 def read_profile_text(name_or_path: str | os.PathLike[str]) -> tuple[Path, str]:
     """A profile's file (a name in the model folder or a path) and its text (ProfileError when it
-    is not UTF-8)."""
+    is not UTF-8, or ``name_or_path`` neither a text nor a path)."""
+    if not isinstance(name_or_path, str | os.PathLike):
+        raise ProfileError(
+            f"name_or_path = {short(name_or_path)}: expected a profile name (e.g. 'reference') or the path "
+            "of a profile TOML file"
+        )
     path = resolve_profile_path(name_or_path)
     try:
         return path, path.read_text(encoding="utf-8")
@@ -78,15 +86,39 @@ class Profile(ProfileValues):
 
     def with_overrides(self, *overrides: str) -> Profile:
         """The same profile with more ``key=value`` overrides (validated)."""
-        return _build(self.source, self.text, (*self.overrides, *overrides))
+        return _build(self.source, self.text, (*self.overrides, *check_overrides(overrides)))
 
 
 def load_profile(
     name_or_path: str | os.PathLike[str] = "reference", overrides: tuple[str, ...] | list[str] = ()
 ) -> Profile:
-    """Load, override and validate a profile. Raises ProfileError naming the file and key."""
+    """Load, override and validate a profile. Raises ProfileError naming the file and key, or the
+    argument that is not what is expected (``name_or_path`` a text or a path; ``overrides`` a list of
+    ``key=value`` texts, never one bare text)."""
+    checked = check_overrides(overrides)
     path, text = read_profile_text(name_or_path)
-    return _build(str(path), text, tuple(overrides))
+    return _build(str(path), text, checked)
+
+
+def check_overrides(overrides: Any, name: str = "overrides") -> tuple[str, ...]:
+    """``overrides`` as ``key=value`` texts; one text (not in a list) or non-text items are a
+    ProfileError naming ``name`` (a lone text would otherwise be read character by character)."""
+    if isinstance(overrides, str | bytes) or not isinstance(overrides, Iterable):
+        raise ProfileError(
+            f"{name} = {short(overrides)}: expected a list of 'key=value' texts"
+            + (f" (write [{overrides!r}])" if isinstance(overrides, str) else "")
+        )
+    out = tuple(overrides)
+    for i, o in enumerate(out):
+        if not isinstance(o, str):
+            raise ProfileError(f"{name}[{i}] = {short(o)}: expected a 'key=value' text")
+    return out
+
+
+def short(value: Any) -> str:
+    """A value for an error message: its repr, cut to a line."""
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:57]}... ({type(value).__name__})"
 
 
 def _build(source: str, text: str, overrides: tuple[str, ...]) -> Profile:

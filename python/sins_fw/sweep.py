@@ -12,17 +12,18 @@ scenario and grid point (:func:`percentile_table`), written as Parquet or HDF5 p
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import itertools
 import os
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from sins_fw.atomic import atomic_path, save_png, write_text
+from sins_fw.atomic import atomic_path, kept_error_file, save_png
 from sins_fw.errors import InputError
 from sins_fw.montecarlo import ERRORS, PERCENTILES, Distribution, Outcome
 from sins_fw.profile import Profile
@@ -198,18 +199,19 @@ def _csv_text(table: Table) -> str:
     return buf.getvalue()
 
 
-def _write_parquet(path: Path, table: Table) -> None:
+def _write_parquet(tmp: Path, table: Table) -> None:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    with atomic_path(path) as tmp:
-        pq.write_table(pa.table(table), tmp)
+    pq.write_table(pa.table(table), tmp)
 
 
-def _write_hdf5(path: Path, tables: dict[str, Table]) -> None:
+def _write_hdf5(tmp: Path, tables: dict[str, Table]) -> None:
     import h5py
 
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+    # Through kept_error_file: HDF5 crashes the interpreter closing a file after a failed write (a
+    # full disk); the failure is raised once h5py has closed the file cleanly.
+    with kept_error_file(tmp) as sink, h5py.File(sink, "w") as f:
         for name, table in tables.items():
             group = f.create_group(name)
             for column, values in table.items():
@@ -222,23 +224,52 @@ def _write_hdf5(path: Path, tables: dict[str, Table]) -> None:
 def write_tables(path: str | os.PathLike[str], outcomes: Sequence[Outcome]) -> list[Path]:
     """Write the run table at ``path`` (Parquet, HDF5 or CSV by suffix) and the percentile table
     beside it (``STEM-percentiles`` in the same format; in an HDF5 file, its group ``percentiles``),
-    each also as CSV. Every file is written atomically. Returns the files written."""
+    each also as CSV. The files are written together: each to a temporary file first, and renamed
+    into place only once every one of them is complete (a failure, a full disk included, leaves all
+    of them as they were). Returns the files written."""
     out = check_output(path)
     runs, pct = run_table(outcomes), percentile_table(outcomes)
+    files = table_files(out)
+    with contextlib.ExitStack() as stack:
+        tmps = [stack.enter_context(atomic_path(f)) for f in files]
+        suffix = out.suffix.lower()
+        if suffix == ".parquet":
+            with _failing(tmps[0]):
+                _write_parquet(tmps[0], runs)
+            with _failing(tmps[1]):
+                _write_parquet(tmps[1], pct)
+        elif suffix in (".h5", ".hdf5"):
+            with _failing(tmps[0]):
+                _write_hdf5(tmps[0], {"runs": runs, "percentiles": pct})
+        for tmp, table in zip(tmps[-2:], (runs, pct), strict=True):
+            with _failing(tmp):
+                tmp.write_text(_csv_text(table), encoding="utf-8", newline="\n")
+    return files
+
+
+@contextlib.contextmanager
+def _failing(tmp: Path) -> Iterator[None]:
+    """A failed write to ``tmp`` names it (a library's OSError may name no file), so that the
+    atomic_path it belongs to reports its destination and no other."""
+    try:
+        yield
+    except OSError as e:
+        if e.filename is None:
+            raise OSError(e.errno, e.strerror or str(e), str(tmp)) from None
+        raise
+
+
+def table_files(path: str | os.PathLike[str]) -> list[Path]:
+    """Every file :func:`write_tables` writes for ``path``, in order: the run table, (Parquet) its
+    percentile table, and the CSV copies of both (a CSV ``path`` is its own copy)."""
+    out = Path(path)
     stem = out.with_suffix("")
-    csv_runs, csv_pct = stem.with_suffix(".csv"), Path(f"{stem}-percentiles.csv")
-    written = []
-    suffix = out.suffix.lower()
-    if suffix == ".parquet":
-        _write_parquet(out, runs)
-        _write_parquet(Path(f"{stem}-percentiles.parquet"), pct)
-        written += [out, Path(f"{stem}-percentiles.parquet")]
-    elif suffix in (".h5", ".hdf5"):
-        _write_hdf5(out, {"runs": runs, "percentiles": pct})
-        written.append(out)
-    write_text(csv_runs, _csv_text(runs))
-    write_text(csv_pct, _csv_text(pct))
-    return [*written, csv_runs, csv_pct]
+    files = [out]
+    if out.suffix.lower() == ".parquet":
+        files.append(Path(f"{stem}-percentiles.parquet"))
+    if out.suffix.lower() != ".csv":
+        files.append(stem.with_suffix(".csv"))
+    return [*files, Path(f"{stem}-percentiles.csv")]
 
 
 # ---------------------------------------------------------------------------------------------------

@@ -12,12 +12,15 @@ and says how far it got.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import os
 import signal
 import sys
 import traceback
 import warnings
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TextIO
 
 from sins_fw import __version__, broad_eval
@@ -28,6 +31,7 @@ from sins_fw.cli import (
     build_firmware,
     calibrate,
     demo,
+    files,
     importer,
     montecarlo,
     parity,
@@ -89,13 +93,19 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for command in COMMANDS:
         command.register(sub)
-    for _, p in list(walk_parsers(parser))[1:]:
+    for name, p in list(walk_parsers(parser))[1:]:
         add_debug_option(p)  # `sins-fw run --debug ...` as well as `sins-fw --debug run ...`
+        # Which command ran (cli/files.py: the files it reads and writes); the leaf's default wins.
+        p.set_defaults(command_line=name.removeprefix("sins-fw "))
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of `sins-fw`; returns the exit code."""
+    # A file name that is not UTF-8 (Python holds its bytes as lone surrogates) is printed as the
+    # bytes it is, as `ls` does, instead of failing the report after the work is done.
+    with contextlib.suppress(AttributeError, ValueError):
+        sys.stdout.reconfigure(errors="surrogateescape")  # type: ignore[union-attr]
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
@@ -116,19 +126,25 @@ def _show_warning(
     file: TextIO | None = None,
     line: str | None = None,
 ) -> None:
-    """sins-fw's own warnings as `sins-fw: warning: ...`; others as Python shows them."""
+    """Every warning as one line on stderr: sins-fw's own as `sins-fw: warning: ...`; a library's
+    (numpy's RuntimeWarning, ...) with its kind and where it was raised, never with a source line."""
     if issubclass(category, TraceWarning):
         print(f"sins-fw: warning: {message}", file=sys.stderr)
     else:
-        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+        where = f"{Path(filename).name}:{lineno}"
+        text = " ".join(str(message).split())
+        print(f"sins-fw: warning: {category.__name__} ({where}): {text}", file=sys.stderr)
 
 
 def _run(args: argparse.Namespace) -> int:
     """The command of `args`, its errors turned into a line and an exit code."""
     try:
+        # Before any work: no output may be one of the command's inputs (cli/files.py).
+        files.check(args.command_line, args)
         code = int(args.func(args))
         # A signal whose exception was dropped where it landed still ends the command as interrupted.
         stop.check_stop()
+        _flush_stdout()
         return code
     except CheckFailed as e:
         return _fail(args, e, EXIT_CHECK_FAILED)
@@ -152,7 +168,9 @@ def _run(args: argparse.Namespace) -> int:
         return _fail(args, e, EXIT_USAGE)
     except OSError as e:
         # The file system said no (permissions, a full disk, a missing folder): the user's to fix.
-        where = f"{e.filename}: " if e.filename else ""
+        # A write that names no file was a print to standard output (a full disk behind `>`).
+        name = e.filename or ("standard output" if _stdout_failing() else None)
+        where = f"{name}: " if name else ""
         return _fail(args, InputError(f"{where}{e.strerror or e}"), EXIT_USAGE, e)
     except MemoryError:
         return _fail(
@@ -168,6 +186,34 @@ def _run(args: argparse.Namespace) -> int:
         if type(e).__name__ == "PanicException":
             return _fail(args, InternalError(str(e)), EXIT_BUG)
         raise
+
+
+def _flush_stdout() -> None:
+    """Write out what the command printed: a failure (a full disk behind a redirection) is the
+    command's error naming standard output, and what is left unwritten is dropped (not retried, with
+    a second error, when the interpreter exits)."""
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        _drop_stdout()
+        raise OSError(e.errno, e.strerror, "standard output") from None
+
+
+def _stdout_failing() -> bool:
+    """Whether writing standard output fails (then what it holds is dropped: see _flush_stdout)."""
+    try:
+        sys.stdout.flush()
+    except (OSError, ValueError):
+        _drop_stdout()
+        return True
+    return False
+
+
+def _drop_stdout() -> None:
+    with contextlib.suppress(OSError, ValueError, io.UnsupportedOperation):
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseException | None = None) -> int:

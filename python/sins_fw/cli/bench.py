@@ -26,10 +26,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     quiet = args.json
+    if args.out is not None:
+        atomic.check_output_folder(args.out, "--out")  # before the suite's minutes of work
     report = run_suite(quick=args.quick, progress=None if quiet else lambda m: print(m, file=sys.stderr))
     text = render(report)
     if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
         atomic.write_text(args.out, text)
     emit(args, report, text)
     return 0

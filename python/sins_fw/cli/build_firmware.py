@@ -4,11 +4,20 @@ against the emulated board (sins_fw.firmware_build)."""
 from __future__ import annotations
 
 import argparse
+import contextlib
+import shlex
+import shutil
+import subprocess
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
+from sins_fw.errors import SinsError
 from sins_fw.firmware_arith import FLOAT_MODES, diagnose_int
-from sins_fw.firmware_build import build_firmware, sources_of, with_ti_support
+from sins_fw.firmware_build import FIRMWARE_C, build_firmware, cabi_dirs, sources_of, with_ti_support
+
+#: The compiler the build and its dependency listing use.
+COMPILER = "g++"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -65,3 +74,44 @@ def run(args: argparse.Namespace) -> int:
         result["int16_conversions"] = findings
     emit(args, result, text)
     return 0
+
+
+def firmware_inputs(paths: Sequence[Path], float_mode: str = "host") -> Iterator[tuple[str, Path]]:
+    """Every file a build of ``paths`` reads, named for a message: the files and folders given, the
+    sources found in the folders, the headers the sources include (the compiler's own listing, ``-MM``
+    with the build's include path: headers of the system's folders left out) and ``globals.toml``
+    beside them (the watched globals `run --firmware` reads)."""
+    yield from (("SOURCES", p) for p in paths)
+    try:
+        sources = sources_of(paths)
+    except SinsError:
+        return  # the build says what is missing
+    yield from (("a source", s) for s in sources)
+    folders = sorted({s.parent for s in sources})
+    yield from (("the globals file", f / "globals.toml") for f in folders if (f / "globals.toml").is_file())
+    yield from (("a header the sources include", h) for h in included_headers(sources, folders, float_mode))
+
+
+def included_headers(sources: Sequence[Path], folders: Sequence[Path], float_mode: str) -> list[Path]:
+    """The headers ``sources`` include, as the compiler finds them on the build's include path (``-MM
+    -MG``: the system's headers left out; a missing one listed by name, the build reports it)."""
+    if shutil.which(COMPILER) is None:
+        return []
+    include = FIRMWARE_C / "include"
+    flags = ["-std=c++17", "-x", "c++", "-include", str(include / "sins_fw_prelude.h")]
+    flags += [f"-I{include}", *(f"-I{d}" for d in folders)]
+    with contextlib.suppress(SinsError):  # the C ABI's header folder (the build says when missing)
+        flags.append(f"-I{cabi_dirs()[1]}")
+    if float_mode == "c28x":
+        flags += ["-include", str(include / "sins_fw_c28x_float.h")]
+    headers: list[Path] = []
+    for source in sources:
+        run = subprocess.run(
+            [COMPILER, *flags, "-MM", "-MG", str(source)], capture_output=True, text=True, check=False
+        )
+        if run.returncode != 0:
+            continue
+        # `target.o: dep dep \` lines; a name with spaces is escaped as make does.
+        words = shlex.split(run.stdout.replace("\\\n", " ").replace("$$", "$"))
+        headers += [Path(w) for w in words[1:] if not w.endswith(":") and Path(w) != source]
+    return sorted(set(headers))

@@ -24,8 +24,8 @@ from sins_fw.cli.common import (
     exit_epilog,
     read_options,
 )
-from sins_fw.errors import TraceError
-from sins_fw.importers import DEFAULT_GPS_LATENCY_S
+from sins_fw.errors import InputError, TraceError
+from sins_fw.importers import DEFAULT_GPS_LATENCY_S, check_gps_latency
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
@@ -129,7 +129,7 @@ def _register_logs(kinds: argparse._SubParsersAction) -> None:
             add_option(
                 k,
                 "--gps-latency-s",
-                type=float,
+                type=_latency,
                 default=DEFAULT_GPS_LATENCY_S,
                 metavar="S",
                 help="the GPS receiver's latency, 0…10 s: a fix's time of validity is its logged stamp "
@@ -141,6 +141,14 @@ def _register_logs(kinds: argparse._SubParsersAction) -> None:
         )
         add_json_option(k)
         k.set_defaults(func=run)
+
+
+def _latency(text: str) -> float:
+    """`--gps-latency-s`: a number in 0…10 (argparse names the option on a refusal)."""
+    try:
+        return check_gps_latency(float(text))
+    except (ValueError, InputError):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected the GPS receiver's latency in 0…10 s") from None
 
 
 def _import_log(args: argparse.Namespace) -> PhysicalTrace:

@@ -81,13 +81,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--port",
-        type=int,
+        type=port_number,
         default=serve.WEB_PORT,
         help=f"--serve: the web viewer's HTTP port (default {serve.WEB_PORT}; 0 for a free one)",
     )
     p.add_argument(
         "--grpc-port",
-        type=int,
+        type=port_number,
         default=serve.GRPC_PORT,
         help=f"--serve: the port the viewer fetches the recording from (default {serve.GRPC_PORT}; 0 for a "
         "free one)",
@@ -108,6 +108,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_json_option(p)
     p.set_defaults(func=run)
+
+
+def port_number(text: str) -> int:
+    """A TCP port, 0…65535 (0: a free one); argparse names the option on a refusal (exit 2)."""
+    try:
+        port = int(text, 10)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected a TCP port number, 0…65535") from None
+    if not 0 <= port <= 65535:
+        raise argparse.ArgumentTypeError(f"{port}: expected a TCP port number, 0…65535 (0: a free one)")
+    return port
 
 
 def parse_ticks(text: str) -> tuple[int, int] | None:
@@ -220,11 +231,10 @@ def run(args: argparse.Namespace) -> int:
     if args.out is None and not args.spawn and not args.serve:
         raise InputError("nothing to do: give --out FILE.rrd, --spawn or --serve")
     if args.serve:
-        # Refused before any work: a port in use or the viewer missing.
+        # Refused before any work: a port in use (or the same for both) or the viewer missing.
+        wanted = (("--port", args.port), ("--grpc-port", args.grpc_port))
+        serve.free_ports(args.bind, *((port, option) for option, port in wanted if port != 0))
         serve.viewer_binary()
-        for option, port in (("--port", args.port), ("--grpc-port", args.grpc_port)):
-            if port != 0:
-                serve.free_port(args.bind, port, option)
     if args.out is not None and (args.out.is_dir() or args.out.suffix != ".rrd"):
         raise InputError(f"--out {args.out}: expected a file name ending in .rrd")
     if args.out is not None:

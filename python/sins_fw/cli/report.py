@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from sins_fw.atomic import check_distinct
+from sins_fw.atomic import check_distinct, check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
@@ -19,7 +19,6 @@ from sins_fw.cli.common import (
     profile_file,
     profile_from_args,
 )
-from sins_fw.errors import InputError
 from sins_fw.harness import emulate
 from sins_fw.run_output import RUN_FORMAT, replay_check, resolve_trace
 from sins_fw.traces import read_metadata
@@ -40,8 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     check_png(args.out, "--out")
-    if not args.out.parent.is_dir() and str(args.out.parent):
-        raise InputError(f"--out {args.out}: directory {args.out.parent} does not exist")
+    check_output_folder(args.out, "--out")  # missing folders are created, as for every output
     saved_run = read_metadata(args.trace).get("format") == RUN_FORMAT if args.trace.is_file() else False
     recorded = resolve_trace(args.trace, read_metadata(args.trace)) if saved_run else None
     check_distinct(

@@ -15,6 +15,7 @@ the command says which package to install.
 from __future__ import annotations
 
 import importlib
+import math
 import os
 from collections.abc import Callable
 from fractions import Fraction
@@ -60,11 +61,54 @@ def need(module: str, package: str, kind: str) -> ModuleType:
         ) from None
 
 
+def printable(text: str) -> str:
+    """Text for the trace's metadata (UTF-8): a file name's bytes that are not UTF-8 (which Python holds
+    as lone surrogates) written as ``\\xNN`` escapes."""
+    try:
+        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    except UnicodeEncodeError:  # a surrogate no file name holds
+        return text.encode("utf-8", "backslashreplace").decode("utf-8")
+
+
 def check_file(path: PathLike, what: str) -> Path:
     p = Path(path)
     if not p.exists():
         raise TraceError(f"{p}: no such {what}")
     return p
+
+
+#: Time stamps are integer ticks within ±2^62 (146 years in ns): differences between any two, and a
+#: stamp shifted by a GPS latency, then stay exact in int64. A log's stamps beyond are damaged.
+MAX_STAMP = 2**62
+
+
+def stamp_array(values: Any, where: PathLike, unit: str) -> NDArray[np.int64]:
+    """Integer time stamps (ints, numpy integers or their text) as int64, each within ±:data:`MAX_STAMP`
+    ticks; else a TraceError naming the stamp and what was expected."""
+    expected = f"expected integer time stamps in {unit} within ±2^62"
+    try:
+        array = np.asarray(values)
+        if array.dtype.kind in "iu":
+            if len(array) and (int(array.max()) > MAX_STAMP or int(array.min()) < -MAX_STAMP):
+                bad = array[np.argmax((array > MAX_STAMP) | (array < -MAX_STAMP))]
+                raise TraceError(f"{where}: time stamp {int(bad)} out of range; {expected}")
+            return array.astype(np.int64)
+        stamps = [int(v) for v in array.tolist()]
+    except (ValueError, TypeError, OverflowError):
+        bad = next((v for v in np.asarray(values).tolist() if not _is_int(v)), None)
+        raise TraceError(f"{where}: time stamp `{bad}` is not an integer; {expected}") from None
+    bad = next((v for v in stamps if not -MAX_STAMP <= v <= MAX_STAMP), None)
+    if bad is not None:
+        raise TraceError(f"{where}: time stamp {bad} out of range; {expected}")
+    return np.array(stamps, dtype=np.int64)
+
+
+def _is_int(v: Any) -> bool:
+    try:
+        int(v)
+    except (ValueError, TypeError, OverflowError):
+        return False
+    return True
 
 
 def truth_from_ned(q_ned_frd: Array) -> Array:
@@ -145,6 +189,7 @@ def make_trace(
         meta["gps"] = gps or "none"
     else:
         meta.update(gps.metadata)
+    meta = {k: printable(v) for k, v in meta.items()}
     return PhysicalTrace(
         t_s=t,
         gyro_dps=gyro_dps,
@@ -159,6 +204,17 @@ def make_trace(
 #: The GPS latency an import writes unless told (`--gps-latency-s`): the log's stamp of a fix is taken
 #: as its time of validity.
 DEFAULT_GPS_LATENCY_S = 0.0
+
+
+def check_gps_latency(latency_s: object, option: str = "--gps-latency-s") -> float:
+    """The GPS latency as a float in 0…10 s, else an InputError naming ``option`` (a NaN included)."""
+    try:
+        value = float(latency_s)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        value = math.nan
+    if isinstance(latency_s, bool) or not 0.0 <= value <= 10.0:
+        raise InputError(f"{option} {latency_s!r}: expected the GPS receiver's latency in 0…10 s")
+    return value
 
 
 class GpsStream(NamedTuple):
@@ -184,8 +240,7 @@ def gps_stream(
     row at or after that time (as synth places its fixes; two on one row: the later kept). Fixes
     before the first or after the last row, or with a non-finite value, are left out and counted.
     Returns a text saying why there is no GPS stream when no fix is left."""
-    if not 0.0 <= latency_s <= 10.0:
-        raise TraceError(f"--gps-latency-s {latency_s!r}: expected the GPS receiver's latency in 0…10 s")
+    check_gps_latency(latency_s)
     fixes = np.array(fixes, dtype=np.float64).reshape(-1, len(GPS_COLUMNS))
     fixes[:, 1] = np.mod(fixes[:, 1], 360.0)
     fixes[fixes[:, 1] >= 360.0, 1] = 0.0  # a tiny negative course rounds to 360
@@ -226,4 +281,13 @@ def importer(kind: str) -> Importer:
     """The importer `sins-fw import KIND` runs."""
     module, function = IMPORTERS[kind]
     imported: Any = importlib.import_module(f"sins_fw.importers.{module}")
-    return cast(Importer, getattr(imported, function))
+    run = cast(Importer, getattr(imported, function))
+
+    def checked(path: PathLike, **options: Any) -> PhysicalTrace:
+        # The options are checked before the log is read (a long read must not end in a refusal of
+        # what was known at the start).
+        if "gps_latency_s" in options:
+            options["gps_latency_s"] = check_gps_latency(options["gps_latency_s"], "gps_latency_s")
+        return run(path, **options)
+
+    return checked

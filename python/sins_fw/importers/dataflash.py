@@ -6,6 +6,12 @@ NED earth frame."""
 
 from __future__ import annotations
 
+import contextlib
+import io
+import os
+import sys
+import tempfile
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -24,6 +30,7 @@ from sins_fw.importers import (
     interpolate_truth,
     make_trace,
     need,
+    stamp_array,
     truth_from_ned,
 )
 from sins_fw.traces import G0, PhysicalTrace
@@ -35,6 +42,60 @@ _FIELDS = {
     "ATT": ("Roll", "Pitch", "Yaw"),
     "GPS": ("Status", "Spd", "GCrs", "Lat", "Lng", "Alt"),
 }
+
+
+class _Lines(io.TextIOBase):
+    """A text sink that counts the lines written to it and keeps the first."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.count = 0
+        self.first = ""
+        self._partial = ""
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        self._partial += text
+        *lines, rest = self._partial.split("\n")
+        self._partial = rest[-4096:]
+        for line in lines:
+            if line.strip():
+                self.count += 1
+                self.first = self.first or line.strip()
+        return len(text)
+
+    def said(self) -> str:
+        """What pymavlink complained of, for a message: ``; N lines such as `...```."""
+        if not self.count:
+            return ""
+        more = f" and {self.count - 1} more" if self.count > 1 else ""
+        return f"; the reader said `{self.first}`{more}"
+
+
+@contextlib.contextmanager
+def _c_stderr_into(lines: _Lines) -> Iterator[None]:
+    """The process's standard error (file descriptor 2: pymavlink's compiled indexer writes there
+    directly, past Python's sys.stderr) into a temporary file for the block, then counted into
+    ``lines``."""
+    try:
+        fd = sys.stderr.fileno()
+    except (AttributeError, OSError, ValueError):
+        yield  # no descriptor to take (an embedding without one): nothing is written there either
+        return
+    sys.stderr.flush()
+    saved = os.dup(fd)
+    with tempfile.TemporaryFile() as held:
+        os.dup2(held.fileno(), fd)
+        try:
+            yield
+        finally:
+            os.dup2(saved, fd)
+            os.close(saved)
+            held.seek(0)
+            for block in iter(lambda: held.read(1 << 16), b""):
+                lines.write(block.decode("utf-8", "replace"))
 
 
 def _instance(m: Any) -> int:
@@ -49,20 +110,27 @@ def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_
 
     p = check_file(path, "DataFlash log")
     rows: dict[str, list[tuple[int, tuple[float, ...]]]] = {k: [] for k in _FIELDS}
+    # pymavlink prints a line per damaged message header on stdout (tens of thousands for a file that
+    # is not a log): they are counted here, and said once in the error or not at all.
+    noise = _Lines()
     try:
-        log = DFReader.DFReader_binary(str(p), zero_time_base=False)
-        while (m := log.recv_match(type=list(_FIELDS))) is not None:
-            kind = m.get_type()
-            if kind in ("IMU", "MAG", "GPS") and _instance(m):
-                continue
-            rows[kind].append((int(m.TimeUS), tuple(float(getattr(m, f)) for f in _FIELDS[kind])))
+        with _c_stderr_into(noise), contextlib.redirect_stdout(noise), contextlib.redirect_stderr(noise):  # type: ignore[type-var]
+            log = DFReader.DFReader_binary(str(p), zero_time_base=False)
+            while (m := log.recv_match(type=list(_FIELDS))) is not None:
+                kind = m.get_type()
+                if kind in ("IMU", "MAG", "GPS") and _instance(m):
+                    continue
+                rows[kind].append((m.TimeUS, tuple(float(getattr(m, f)) for f in _FIELDS[kind])))
     except Exception as e:  # pymavlink raises assorted errors on what is not a DataFlash log
-        raise TraceError(f"{p}: not a readable DataFlash log ({e}); expected an ArduPilot .bin log") from None
+        raise TraceError(
+            f"{p}: not a readable DataFlash log ({e}{noise.said()}); expected an ArduPilot .bin log"
+        ) from None
     if not rows["IMU"]:
-        raise TraceError(f"{p}: no IMU messages (instance 0); expected an ArduPilot log with IMU data")
+        why = f" ({noise.said().removeprefix('; ')})" if noise.count else ""
+        raise TraceError(f"{p}: no IMU messages (instance 0){why}; expected an ArduPilot log with IMU data")
 
     def arrays(kind: str) -> tuple[np.ndarray, np.ndarray]:
-        t = np.array([r[0] for r in rows[kind]], dtype=np.int64)
+        t = stamp_array([r[0] for r in rows[kind]], f"{p}: {kind} TimeUS", "µs")
         v = np.array([r[1] for r in rows[kind]], dtype=np.float64)
         return ascending(t, v)  # type: ignore[return-value]
 
@@ -79,7 +147,7 @@ def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_
         truth = truth_from_ned(interpolate_truth(t, (ta - t0).astype(np.float64) * 1e-6, q_ned))
     gps: Any = "none (no GPS messages)"
     if rows["GPS"]:
-        tg = np.array([r[0] for r in rows["GPS"]], dtype=np.int64)
+        tg = stamp_array([r[0] for r in rows["GPS"]], f"{p}: GPS TimeUS", "µs")
         g = np.array([r[1] for r in rows["GPS"]], dtype=np.float64)
         fix = g[:, 0] >= 3
         source = (

@@ -5,12 +5,13 @@ truth's frame R). Columns are found by name; the units are the ones in the names
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
 
 from sins_fw.errors import TraceError
-from sins_fw.importers import PathLike, check_file, interpolate_truth, make_trace
+from sins_fw.importers import PathLike, check_file, interpolate_truth, make_trace, stamp_array
 from sins_fw.traces import G0, PhysicalTrace
 
 _IMU = ("w_RS_S_x", "w_RS_S_y", "w_RS_S_z", "a_RS_S_x", "a_RS_S_y", "a_RS_S_z")
@@ -33,10 +34,31 @@ def _find(path: Path) -> tuple[Path, Path | None]:
     raise TraceError(f"{path}: no imu0/data.csv here or in mav0/; expected a EuRoC-style folder or CSV")
 
 
+def _text(path: Path) -> str:
+    """The CSV's text: binary data and bytes that are not UTF-8 are an error naming the line."""
+    data = path.read_bytes()
+    nul = data.find(b"\0")
+    if nul >= 0:
+        line = data.count(b"\n", 0, nul) + 1
+        raise TraceError(
+            f"{path}: binary data (NUL byte at offset {nul}, line {line}); expected a EuRoC-style CSV "
+            "text file"
+        )
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        raise TraceError(
+            f"{path}: line {line}: byte 0x{data[e.start]:02x} is not UTF-8 text; expected a EuRoC-style "
+            "CSV (ASCII numbers)"
+        ) from None
+
+
 def _read(path: Path, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
     """The time stamps (integer ns, exact) and the named columns (float) of a EuRoC CSV."""
-    with path.open(encoding="utf-8") as fh:
-        header = fh.readline()
+    text = _text(path)
+    lines = text.splitlines()
+    header = lines[0] if lines else ""
     columns = [c.strip().lstrip("#").split("[")[0].strip() for c in header.split(",")]
     if not columns or columns[0] != "timestamp":
         raise TraceError(
@@ -49,15 +71,14 @@ def _read(path: Path, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
             f"{path}: line 1: missing column `{missing[0]}`; expected {', '.join(names)} "
             f"(found {', '.join(columns)})"
         )
+    if not any(line.strip() for line in lines[1:]):
+        raise TraceError(f"{path}: header only, no data rows; expected one row per sample after line 1")
     try:
-        table = np.loadtxt(path, delimiter=",", skiprows=1, comments=None, dtype=str, ndmin=2)
-        stamps = table[:, 0].astype(np.int64)
+        table = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, comments=None, dtype=str, ndmin=2)
         values = table[:, [columns.index(n) for n in names]].astype(np.float64)
-    except ValueError as e:
+    except (ValueError, IndexError) as e:
         raise TraceError(f"{path}: not numbers where numbers were expected ({e})") from None
-    if not len(stamps):
-        raise TraceError(f"{path}: no data rows")
-    return stamps, values
+    return stamp_array(list(table[:, 0]), path, "ns"), values
 
 
 def import_euroc(path: PathLike, truth: PathLike | None = None) -> PhysicalTrace:

@@ -27,6 +27,7 @@ from sins_fw.importers import (
     interpolate_truth,
     make_trace,
     need,
+    stamp_array,
     truth_from_ned,
 )
 from sins_fw.traces import G0, PhysicalTrace
@@ -74,7 +75,7 @@ def _gps(topics: dict[tuple[str, int], dict[str, Any]], t_us: np.ndarray, latenc
         v = _vectors(data, "{}", tuple(names), f"{p}: {topic}")
         v *= [1.0, np.degrees(1.0), lat[1], lon[1], height[1]]
         fix = np.asarray(data.get("fix_type", np.full(len(v), 3)))
-        t_fix = np.asarray(data["timestamp"], dtype=np.int64)
+        t_fix = stamp_array(data["timestamp"], f"{p}: {topic}.timestamp", "µs")
         source = (
             f"{topic} ({', '.join(names)}; {note}; {int((fix < 3).sum())} messages without a 3D fix left out)"
         )
@@ -98,7 +99,7 @@ def import_ulog(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) ->
         found = ", ".join(sorted({n for n, _ in topics})) or "none of the topics read"
         raise TraceError(f"{p}: no `sensor_combined` topic; expected a PX4 log with IMU data (found {found})")
     where = f"{p}: sensor_combined"
-    t_us = np.asarray(imu["timestamp"], dtype=np.int64)
+    t_us = stamp_array(imu["timestamp"], f"{where}.timestamp", "µs")
     gyro = _vectors(imu, "gyro_rad[{}]", ("0", "1", "2"), where)
     accel = _vectors(imu, "accelerometer_m_s2[{}]", ("0", "1", "2"), where)
     t_us, gyro, accel = ascending(t_us, gyro, accel)
@@ -108,7 +109,9 @@ def import_ulog(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) ->
     for topic, pattern in _MAGS:
         data = topics.get((topic, 0))
         if data is not None:
-            tm = (np.asarray(data["timestamp"], dtype=np.int64) - t0).astype(np.float64) * 1e-6
+            tm = (stamp_array(data["timestamp"], f"{p}: {topic}.timestamp", "µs") - t0).astype(
+                np.float64
+            ) * 1e-6
             axes = ("0", "1", "2") if "[" in pattern else ("x", "y", "z")
             tm, m = ascending(tm, _vectors(data, pattern, axes, f"{p}: {topic}"))
             mag = interpolate(t, tm, m) * FLU_FROM_FRD
@@ -118,7 +121,9 @@ def import_ulog(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) ->
     for topic, what in _ATTITUDES:
         data = topics.get((topic, 0))
         if data is not None:
-            tq = (np.asarray(data["timestamp"], dtype=np.int64) - t0).astype(np.float64) * 1e-6
+            tq = (stamp_array(data["timestamp"], f"{p}: {topic}.timestamp", "µs") - t0).astype(
+                np.float64
+            ) * 1e-6
             tq, q = ascending(tq, _vectors(data, "q[{}]", ("0", "1", "2", "3"), f"{p}: {topic}"))
             truth = truth_from_ned(interpolate_truth(t, tq, q))
             truth_note = f"{topic}.q: {what}; interpolated (normalised linear) at the IMU times, NaN outside"
