@@ -614,10 +614,9 @@ PRINTERS = {
 
 def _fill(folder: Path) -> None:
     """Fill the 32 KiB tmpfs to the last byte (a filler file), so that any write there fails."""
-    with open(folder / "filler", "wb") as f, pytest.raises(OSError):
+    with open(folder / "filler", "wb", buffering=0) as f, pytest.raises(OSError):
         for _ in range(LIMIT_BYTES // 512 + 8):
             f.write(b"\0" * 512)
-            f.flush()
 
 
 @pytest.mark.parametrize("case", sorted(EVERY_WRITER))

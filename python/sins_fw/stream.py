@@ -104,11 +104,13 @@ class TableWriter:
         try:
             if kind is None:
                 self._finish()
-        except BaseException as e:
+            # Closing flushes the last buffered rows: on a full disk this is where the write fails.
             self._close_files()
+        except BaseException as e:
+            with contextlib.suppress(OSError):
+                self._close_files()  # a second failed flush: the temporary file is removed anyway
             self._stack.__exit__(type(e), e, e.__traceback__)
             raise
-        self._close_files()
         self._stack.__exit__(kind, exc, tb)
 
     def write(self, cols: Mapping[str, np.ndarray]) -> None:
@@ -201,12 +203,14 @@ class TableWriter:
             self._flush_chunk(self._pending_rows)
 
     def _close_files(self) -> None:
-        if self._csv is not None:
-            self._csv.close()
-            self._csv = None
-        if self._h5 is not None:
-            self._h5.close()
-            self._h5 = None
+        csv, self._csv = self._csv, None
+        h5, self._h5 = self._h5, None
+        try:
+            if csv is not None:
+                csv.close()  # closed even when its last flush fails
+        finally:
+            if h5 is not None:
+                h5.close()
 
 
 @dataclass

@@ -44,7 +44,7 @@ from sins_fw.cli import (
     sweep,
     synth,
 )
-from sins_fw.cli.common import add_debug_option, emit_error, walk_parsers
+from sins_fw.cli.common import STDOUT, add_debug_option, emit_error, walk_parsers
 from sins_fw.errors import CheckFailed, InputError, InternalError, SinsError, Terminated, TraceWarning
 
 #: The subcommands, in the order `--help` lists them.
@@ -169,7 +169,9 @@ def _run(args: argparse.Namespace) -> int:
     except OSError as e:
         # The file system said no (permissions, a full disk, a missing folder): the user's to fix.
         # A write that names no file was a print to standard output (a full disk behind `>`).
-        name = e.filename or ("standard output" if _stdout_failing() else None)
+        name = e.filename or (STDOUT if _stdout_failing() else None)
+        if name == STDOUT:
+            _drop_stdout()
         where = f"{name}: " if name else ""
         return _fail(args, InputError(f"{where}{e.strerror or e}"), EXIT_USAGE, e)
     except MemoryError:
@@ -198,7 +200,7 @@ def _flush_stdout() -> None:
         raise
     except OSError as e:
         _drop_stdout()
-        raise OSError(e.errno, e.strerror, "standard output") from None
+        raise OSError(e.errno, e.strerror, STDOUT) from None
 
 
 def _stdout_failing() -> bool:

@@ -284,6 +284,9 @@ def _jsonable(x: Any) -> Any:
     return x
 
 
+#: How errors name the standard output (a report printed to a full disk).
+STDOUT = "standard output"
+
 #: Whether this process has printed a command's report (so an error after it adds no second object).
 _emitted = False
 
@@ -292,10 +295,15 @@ def emit(args: argparse.Namespace, report: dict[str, Any], text: str) -> None:
     """Print the report as JSON (with --json) or as human-readable text."""
     global _emitted
     _emitted = True
-    if getattr(args, "json", False):
-        print(json.dumps(_jsonable(report), indent=None, sort_keys=False, allow_nan=False))
-    else:
-        print(text)
+    try:
+        if getattr(args, "json", False):
+            print(json.dumps(_jsonable(report), indent=None, sort_keys=False, allow_nan=False))
+        else:
+            print(text)
+    except BrokenPipeError:
+        raise
+    except OSError as e:  # a full disk behind `> FILE`: the error names where the report went
+        raise OSError(e.errno, e.strerror, STDOUT) from None
 
 
 def emit_error(args: argparse.Namespace | None, kind: str, code: int, message: str) -> None:
