@@ -197,3 +197,42 @@ def test_replay_serve_on_a_port_in_use_or_twice_the_same_is_exit_2_naming_the_op
         free = probe.getsockname()[1]
     code, _, err = _cli(capsys, "replay", STATIC, "--serve", "--port", free, "--grpc-port", free)
     assert code == 2 and f"--grpc-port {free}: cannot listen" in err, err
+
+
+@pytest.mark.parametrize(
+    ("columns", "fragment"),
+    [
+        # Before: accepted, one of the two maps silently dropped.
+        ("t_s=t_s,gyro_x_dps=t_s", "--columns maps both `t_s` and `gyro_x_dps` to `t_s`"),
+        # A gyro column read as the time (the file's own t_s renamed away).
+        ("t_s=gyro_x_dps,gyro_x_dps=t_s", "maps `t_s` to `gyro_x_dps`, which is a `gyro` column by its name"),
+        ("accel_z_g=gyro_z_dps,gyro_z_dps=accel_z_g", "which is a `gyro` column by its name"),
+    ],
+)
+def test_columns_that_read_one_quantity_as_another_are_refused(capsys, tmp_path, columns, fragment):
+    trace = tmp_path / "t.csv"
+    synth.generate("static", duration_s=0.2).save(trace)
+    code, _, err = _cli(capsys, "run", trace, "--columns", columns)
+    assert code == 2 and str(trace) in err and fragment in err, err
+
+
+def test_columns_that_swap_axes_of_one_quantity_are_accepted(capsys, tmp_path):
+    trace = tmp_path / "t.csv"
+    synth.generate("static", duration_s=0.2).save(trace)
+    code, _, err = _cli(capsys, "run", trace, "--columns", "gyro_x_dps=gyro_y_dps,gyro_y_dps=gyro_x_dps")
+    assert code == 0, err
+
+
+def test_a_library_warning_is_one_line_without_its_source_line(capsys):
+    # Before: numpy's RuntimeWarning came with the file, line and the source line that raised it.
+    import warnings
+
+    from sins_fw import cli
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.showwarning = cli._show_warning
+        np.mean(np.array([]))  # RuntimeWarning: Mean of empty slice
+    err = capsys.readouterr().err
+    assert err.startswith("sins-fw: warning: RuntimeWarning (") and "Mean of empty slice" in err, err
+    assert err.count("\n") <= 2 and "np.mean" not in err, err

@@ -612,15 +612,21 @@ PRINTERS = {
 }
 
 
-def _fill(folder: Path) -> None:
-    """Fill the 32 KiB tmpfs to the last byte (a filler file), so that any write there fails."""
+def _fill(folder: Path, room: int = 0) -> None:
+    """Fill the 32 KiB tmpfs to the last byte (a filler file), then free ``room`` bytes: a write
+    there fails at once, or after ``room`` bytes (mid-file, as a disk fills during a write)."""
     with open(folder / "filler", "wb", buffering=0) as f, pytest.raises(OSError):
         for _ in range(LIMIT_BYTES // 512 + 8):
             f.write(b"\0" * 512)
+    if room:
+        size = (folder / "filler").stat().st_size
+        os.truncate(folder / "filler", size - room)
 
 
+@pytest.mark.parametrize("room", [0, 4096], ids=["no room", "one page of room"])
 @pytest.mark.parametrize("case", sorted(EVERY_WRITER))
-def test_every_writer_on_a_full_disk_is_exit_2_and_writes_nothing(full_disk, tmp_path, case):
+def test_every_writer_on_a_full_disk_is_exit_2_and_writes_nothing(full_disk, tmp_path, case, room):
+    from sins_fw.sweep import table_files
     from test_importers import _euroc
 
     _euroc(tmp_path / "log")
@@ -628,11 +634,15 @@ def test_every_writer_on_a_full_disk_is_exit_2_and_writes_nothing(full_disk, tmp
     no_room = full_disk
     out = no_room / Path(next(a for a in args if a.startswith("F/"))).name
     out.write_bytes(b"previous")
-    _fill(no_room)
+    _fill(no_room, room)
     r = _run_limited(args, no_room, None)
     assert r.returncode == 2, (r.returncode, r.stderr[-2000:])
-    assert f"sins-fw: error: {out}: " in r.stderr and "No space left on device" in r.stderr, r.stderr
-    assert f"{out} left as it was" in r.stderr, r.stderr
+    # A Monte Carlo table is written with the files beside it: the error names the one that failed.
+    named = table_files(out) if case.startswith(("montecarlo --out", "sweep --out")) else [out]
+    failed = next((p for p in named if f"sins-fw: error: {p}: " in r.stderr), None)
+    assert failed is not None and "No space left on device" in r.stderr, r.stderr
+    kept = "left as it was" if failed == out else "not written"
+    assert f"({failed} {kept})" in r.stderr, r.stderr
     assert "Traceback" not in r.stderr and "Exception ignored" not in r.stderr, r.stderr
     assert out.read_bytes() == b"previous"
     assert sorted(p.name for p in no_room.iterdir()) == sorted(["filler", out.name]), "nothing else written"
@@ -655,3 +665,19 @@ def test_a_report_printed_to_a_full_disk_is_exit_2_naming_standard_output(full_d
     assert r.returncode == 2, (r.returncode, r.stderr[-2000:])
     assert "sins-fw: error: standard output: No space left on device" in r.stderr, r.stderr
     assert "Traceback" not in r.stderr and "Exception ignored" not in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["import", "trace", str(STATIC), "--out", "F/new/deeper/i.h5"],
+        # Before: `report` alone refused a missing folder, where every other command creates it.
+        ["report", str(ROOT / "traces" / "pitch_sweep.h5"), "--out", "F/new/deeper/r.png"],
+    ],
+    ids=["import", "report"],
+)
+def test_every_command_creates_an_outputs_missing_folders(capsys, tmp_path, args):
+    argv = [a.replace("F/", f"{tmp_path}/") for a in args]
+    code, _, err = _cli(capsys, *argv)
+    assert code == 0, err
+    assert Path(argv[-1]).is_file()

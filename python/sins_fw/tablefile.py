@@ -326,11 +326,26 @@ def _resolve_header(schema: Schema, names: list[str], options: ReadOptions, wher
     units = parse_units(options.units)
     mapping = parse_columns(options.columns)
     by_source: dict[str, str] = {}
+    known = {c.name for c in schema.columns}
     for key, source in mapping.items():
         if source not in names:
             raise TraceError(
                 f"{where}: --columns maps `{key}` to `{source}`, which is not a column of the file "
                 f"(its columns: {', '.join(names)})"
+            )
+        if source in by_source:
+            raise TraceError(
+                f"{where}: --columns maps both `{by_source[source]}` and `{key}` to `{source}`; expected "
+                "one trace column per column of the file"
+            )
+        # A column whose own name is a trace column (with its unit) is that quantity: read as another
+        # (a gyro column as the time) it is a slip of the map, not a file's odd naming.
+        quantity, target = source.split("_", 1)[0], key.split("_", 1)[0].lower()
+        target = "t" if target in ("time", "timestamp") else target
+        if source in known and quantity != target:
+            raise TraceError(
+                f"{where}: --columns maps `{key}` to `{source}`, which is a `{quantity}` column by its name; "
+                f"expected a column of the same quantity for `{key}` (axes may be swapped, quantities not)"
             )
         by_source[source] = key
     for q in units:

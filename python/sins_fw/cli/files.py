@@ -235,8 +235,11 @@ def spec_of(command: str) -> Files | None:
     return None
 
 
-def files_of(command: str, args: argparse.Namespace) -> tuple[list[Named], list[Named]]:
-    """The inputs and outputs of ``command`` as ``args`` give them (options not given left out)."""
+def files_of(
+    command: str, args: argparse.Namespace, *, inputs: bool = True
+) -> tuple[list[Named], list[Named]]:
+    """The inputs (unless not ``inputs``) and outputs of ``command`` as ``args`` give them (options
+    not given left out)."""
     spec = spec_of(command) or Files()
 
     def expand(roles: tuple[Role, ...]) -> list[Named]:
@@ -247,7 +250,7 @@ def files_of(command: str, args: argparse.Namespace) -> tuple[list[Named], list[
                 found += list(role.expand(args, value))
         return found
 
-    return expand(spec.inputs), expand(spec.outputs)
+    return expand(spec.inputs) if inputs else [], expand(spec.outputs)
 
 
 def _holds(folder: Path, path: Path) -> bool:
@@ -270,9 +273,10 @@ def _stat_key(path: Path) -> tuple[int, int] | None:
 def check(command: str, args: argparse.Namespace) -> None:
     """Refuse, before any work, an output of ``command`` that is one of its inputs (or a folder holding
     one), or that is another of its outputs: an InputError naming both options and paths."""
-    inputs, outputs = files_of(command, args)
+    _, outputs = files_of(command, args, inputs=False)
     if not outputs:
-        return
+        return  # nothing written: the inputs (a log folder's files, ...) need not be listed
+    inputs, _ = files_of(command, args)
     existing: dict[tuple[int, int], Named] = {}
     missing: dict[str, Named] = {}
     for named in inputs:
