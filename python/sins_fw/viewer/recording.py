@@ -72,11 +72,12 @@ def _seq(name: str, values: NDArray[Any]) -> rr.TimeColumn:
     return rr.TimeColumn(name, sequence=np.asarray(values, dtype=np.int64))
 
 
-#: Rows of one entity gathered into one chunk before it is written (four parts of the reads at
-#: 819.2 SPS, 40 s of trace). Rerun's footer keeps ≈ 3.5 kB per chunk in memory until the end of the
-#: file, so fewer, longer chunks bound it: on the one-hour benchmark 8 694 chunks (30 MB) at one
-#: chunk per part (benchmarks/rerun_save.md). What waits costs ≈ 1.5 MB per entity of raw columns.
-ENTITY_CHUNK_ROWS = 32768
+#: Bytes of one entity's rows (as Arrow columns) gathered into one chunk before it is written.
+#: Rerun's footer keeps ≈ 3.5 kB per chunk in the writer's memory until the end of the file: one
+#: chunk per entity and part made 8 694 chunks on an hour of the reference profile (30 MB held), a
+#: 24-hour replay 0.7 GB. Chunks of about 1 MB hold the manifest to well under 1 % of the
+#: recording's raw bytes, and what waits to ≈ 1 MB per entity (benchmarks/rerun_save.md).
+ENTITY_CHUNK_BYTES = 1 << 20
 #: Field metadata Rerun recomputes when a chunk is made from a record batch without it.
 _SORTED = b"rerun:is_sorted"
 
@@ -149,7 +150,7 @@ def _write(rec: rr.RecordingStream, batches: list[pa.RecordBatch]) -> None:
 
 def _send(rec: rr.RecordingStream, path: str, index: list[rr.TimeColumn], columns: Any) -> None:
     """Columns at ``path`` on the timelines of ``index`` (none: static, written at once). Temporal
-    rows wait until their entity has :data:`ENTITY_CHUNK_ROWS` (or :func:`_flush`), then go out as
+    rows wait until their entity has :data:`ENTITY_CHUNK_BYTES` (or :func:`_flush`), then go out as
     one chunk."""
     batch = _unidentified(rr.chunk.Chunk.from_columns(path, index, columns))
     if not index:
@@ -161,7 +162,7 @@ def _send(rec: rr.RecordingStream, path: str, index: list[rr.TimeColumn], column
         _write(rec, waiting)
         waiting.clear()
     waiting.append(batch)
-    if sum(b.num_rows for b in waiting) >= ENTITY_CHUNK_ROWS:
+    if sum(b.nbytes for b in waiting) >= ENTITY_CHUNK_BYTES:
         _write(rec, waiting)
         waiting.clear()
 
@@ -852,9 +853,9 @@ def recording_file(
     docs/traces.md, "Determinism".
 
     The file ends with Rerun's footer (its manifest of every chunk, for random access:
-    ``RrdReader(path).store()``). The writer keeps that manifest until the end; the
-    :class:`Recorder` logs a part (≈ 10 s of trace) as one chunk per entity, so it grows by
-    about 0.9 MB per hour of the reference profile (benchmarks/rerun_save.md)."""
+    ``RrdReader(path).store()``). The writer keeps that manifest until the end, ≈ 3.5 kB a chunk;
+    :func:`_send` gathers an entity's rows into chunks of :data:`ENTITY_CHUNK_BYTES`, so that an
+    hour of the reference profile makes 1 058 chunks (benchmarks/rerun_save.md)."""
     with atomic_path(Path(path)) as tmp, _Pump(tmp) as pipe:
         rec = rr.RecordingStream(
             "sins-fw",
