@@ -8,6 +8,7 @@ import struct
 from pathlib import Path
 
 import numpy as np
+import pyarrow as pa
 import pytest
 
 # Rerun's dataframe query (`ChunkStore.reader`) runs on DataFusion, pinned in requirements.txt.
@@ -22,8 +23,9 @@ from sins_fw.viewer import paths
 from sins_fw.viewer.recording import save_recording
 
 STATIC = ROOT / "traces" / "static_60s.h5"
-#: Recordings are written without Rerun's footer (viewer.recording.recording_file says why).
-pytestmark = pytest.mark.filterwarnings("ignore:RRD file has no footer")
+#: Every recording is read with warnings as errors: Rerun warns about a file it reads in a legacy
+#: way (one without a footer: issue 42, item 8).
+pytestmark = pytest.mark.filterwarnings("error")
 WINDOW = (100, 103)
 #: Frames per burst read on the reference board (the command and 14 output registers).
 BURST_FRAMES = _core.READ_WORDS
@@ -50,6 +52,10 @@ def store(run, trace, parity_run, tmp_path_factory):
     save_recording(run, path, trace=trace, parity={"f64": parity_run}, name="static_60s.h5")
     reader = rr.chunk.RrdReader(path)
     assert reader.blueprints(), "the default layout is saved with the recording"
+    # Rerun's current reader: the footer's manifest, chunks loaded on demand (it refuses, with a
+    # warning, a file without a footer).
+    lazy = reader.store()
+    assert len(lazy) == len(list(reader.stream()))
     return reader.stream().collect()
 
 
@@ -337,24 +343,132 @@ def test_report_cli_writes_a_png(short_trace, tmp_path):
     assert '"overrun"' in r.out
 
 
+def rrd_messages(path: Path) -> tuple[list[tuple[int, bytes]], bytes]:
+    """The messages of an .rrd file in Rerun's framing (a 12-byte header: ``RRF2``, the version,
+    the options; then per message a little-endian u64 kind and u64 length and the payload, the
+    last one the footer) and the 32 bytes after them (the footer's place, length and checksum)."""
+    data = path.read_bytes()
+    assert data[:4] == b"RRF2" and data[-12:-4] == b"RRF2FOOT"
+    at, messages = 12, []
+    while at < len(data) - 32:
+        kind, n = struct.unpack_from("<QQ", data, at)
+        messages.append((kind, data[at + 16 : at + 16 + n]))
+        at += 16 + n
+    assert at == len(data) - 32
+    return messages, data[at:]
+
+
+SET_STORE_INFO, ARROW_MSG, FOOTER = 1, 2, 0
+
+
+def chunk_content(chunk) -> tuple[str, pa.Table]:
+    """A chunk without what Rerun makes per save (its row ids, chunk id, wall-clock `log_time`)."""
+    batch = chunk.to_record_batch()
+    keep = [
+        f.name
+        for f in batch.schema
+        if f.name != "log_time" and (f.metadata or {}).get(b"rerun:kind") != b"control"
+    ]
+    return chunk.entity_path, pa.Table.from_batches([batch]).select(keep).replace_schema_metadata(None)
+
+
+def assert_same_but_the_documented(a: Path, b: Path) -> None:
+    """Issue 42, item 8: the bytes of two saves of the same input differ only where
+    docs/traces.md ("Determinism") says Rerun makes them differ: the 16-byte id of each store's
+    SetStoreInfo message, the layout's (blueprint's) store id, row and chunk ids and `log_time`
+    (made by the SDK's blueprint stream), and so the footer that lists them. Every message of the
+    recording itself (its chunks with their row and chunk ids) is the same, byte for byte."""
+    (ma, _), (mb, _) = rrd_messages(a), rrd_messages(b)
+    assert [k for k, _ in ma] == [k for k, _ in mb]
+    rid = rr.chunk.RrdReader(a).recordings()[0].recording_id
+    assert rid == rr.chunk.RrdReader(b).recordings()[0].recording_id
+    layouts = [rr.chunk.RrdReader(p).blueprints()[0].recording_id.encode() for p in (a, b)]
+    assert layouts[0] != layouts[1], "Rerun draws the layout's store id: this test would be too weak"
+    same = 0
+    for (kind, x), (_, y) in zip(ma, mb, strict=True):
+        if kind == FOOTER:
+            continue
+        if kind == SET_STORE_INFO:
+            # The message's own id (field 1: a TUID of two fixed64) comes first.
+            assert x[:3] == y[:3] == b"\x0a\x12\x09" and x[11] == y[11] == 0x11
+            x, y = x[:3] + x[20:], y[:3] + y[20:]
+        if layouts[0] in x[:120]:
+            assert layouts[1] in y[:120]
+            x, y = x.replace(layouts[0], b""), y.replace(layouts[1], b"")
+            if kind == ARROW_MSG:
+                continue  # compared below, with the ids and `log_time` set aside
+        assert x == y, f"message of kind {kind} differs"
+        same += kind == ARROW_MSG
+    assert same == len(list(rr.chunk.RrdReader(a).stream())), "every chunk of the recording compared"
+    readers = [rr.chunk.RrdReader(p) for p in (a, b)]
+    bps = [[chunk_content(c) for c in r.stream(store=r.blueprints()[0])] for r in readers]
+    assert len(bps[0]) == len(bps[1]) > 0
+    for (pa_, ta), (pb, tb) in zip(*bps, strict=True):
+        assert pa_ == pb and ta.equals(tb), pa_
+    for r in readers:  # both load with the footer (warnings are errors here)
+        assert len(r.store()) == same
+
+
 def test_the_same_run_saves_the_same_recording(run, trace, tmp_path):
-    """Issue 24, item 12: a .rrd differed on every save (a random recording id and a start time).
-    The recording id is derived from the run and no start time is sent; what still differs is
-    what docs/traces.md ("Determinism") exempts: Rerun's row and chunk ids (TUIDs: a clock reading
-    and a counter, made inside the Rerun SDK) and the blueprint's store id. Everything else, every
-    value on every timeline, is the same."""
+    """Issue 24, item 12 and issue 42, item 8: the recording id is derived from the run, no start
+    time is sent, and the row and chunk ids are derived from the recording id: the recording's
+    bytes are the same on every save; what differs is what docs/traces.md ("Determinism") exempts
+    and nothing else. Another run gets another id."""
     paths_ = [tmp_path / "a.rrd", tmp_path / "b.rrd"]
     for p in paths_:
         save_recording(run, p, trace=trace, name="static_60s.h5")
+    assert_same_but_the_documented(*paths_)
     readers = [rr.chunk.RrdReader(p) for p in paths_]
     ids = [[e.recording_id for e in r.recordings()] for r in readers]
     assert ids[0] == ids[1] and len(ids[0]) == 1
-    contents = [[c.format(redact=True) for c in r.stream().collect().stream()] for r in readers]
+    contents = [[c.format() for c in r.stream()] for r in readers]  # ids included, unredacted
     assert contents[0] and contents[0] == contents[1]
-    # Another run (another profile override) gets another id.
+    # Another run (another profile override) gets another id, and other row ids.
     other = emulate(trace, until_s=2.0)
     save_recording(other, tmp_path / "c.rrd", name="static_60s.h5")
-    assert [e.recording_id for e in rr.chunk.RrdReader(tmp_path / "c.rrd").recordings()] != ids[0]
+    c = rr.chunk.RrdReader(tmp_path / "c.rrd")
+    assert [e.recording_id for e in c.recordings()] != ids[0]
+    assert (
+        next(iter(c.stream())).to_record_batch().column(0)[0]
+        != next(iter(readers[0].stream())).to_record_batch().column(0)[0]
+    )
+
+
+def test_replay_of_the_bundled_trace_twice_differs_only_where_documented(tmp_path):
+    """Issue 42, item 8: two `replay` runs of traces/static_60s.h5 gave files of different sizes
+    (5 933 766 and 5 934 649 bytes) that Rerun's current reader refused (no footer)."""
+    outs = [tmp_path / n / "r.rrd" for n in ("a", "b")]
+    for out in outs:
+        r = run_cli("replay", str(STATIC), "--out", str(out))
+        assert r.code == 0, r.err
+    assert_same_but_the_documented(*outs)
+
+
+def test_long_recordings_gather_an_entitys_rows_into_few_chunks(tmp_path):
+    """The footer's manifest grows with the number of chunks (≈ 3.5 kB each in the writer's memory
+    until the end): an entity's rows are written in chunks of at least ENTITY_CHUNK_BYTES (its last
+    one aside), not one chunk per part of the emulation's output (≈ 10 s of trace), and every row is
+    still there."""
+    from sins_fw.viewer import recording
+
+    trace = tmp_path / "static_300s.h5"
+    synth.generate("static", duration_s=300.0).save(trace)
+    out = tmp_path / "long.rrd"
+    r = run_cli("replay", str(trace), "--out", str(out), "--bus-ticks", "none")
+    assert r.code == 0, r.err
+    sizes: dict[str, list[int]] = {}
+    rows: dict[str, int] = {}
+    for chunk in rr.chunk.RrdReader(out).store().stream():
+        if not chunk.is_static:
+            sizes.setdefault(chunk.entity_path, []).append(chunk.to_record_batch().nbytes)
+            rows[chunk.entity_path] = rows.get(chunk.entity_path, 0) + chunk.num_rows
+    for entity, n in sizes.items():
+        assert all(b >= recording.ENTITY_CHUNK_BYTES for b in n[:-1]), (entity, n)
+    reads = sizes["/" + paths.RATE_DECODED]
+    # 300 s of reads (one per 4 ms tick after the first: 74 999 rows) in a few chunks; one per part
+    # would be 30.
+    assert rows["/" + paths.RATE_DECODED] == 74999
+    assert 2 <= len(reads) <= sum(reads) // recording.ENTITY_CHUNK_BYTES + 1, reads
 
 
 # --- the streamed replay -------------------------------------------------------------------------

@@ -23,7 +23,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
 
-from sins_fw import __version__, broad_eval
+from sins_fw import __version__, broad_eval, launch
 from sins_fw.cli import (
     bench,
     board,
@@ -167,6 +167,8 @@ def _run(args: argparse.Namespace) -> int:
     except SinsError as e:
         return _fail(args, e, EXIT_USAGE)
     except OSError as e:
+        if launch.is_out_of_memory(e):
+            return _out_of_memory(args, e)
         # The file system said no (permissions, a full disk, a missing folder): the user's to fix.
         # A write that names no file was a print to standard output (a full disk behind `>`).
         name = e.filename or (STDOUT if _stdout_failing() else None)
@@ -174,11 +176,9 @@ def _run(args: argparse.Namespace) -> int:
             _drop_stdout()
         where = f"{name}: " if name else ""
         return _fail(args, InputError(f"{where}{e.strerror or e}"), EXIT_USAGE, e)
-    except MemoryError:
-        return _fail(
-            args, InputError("not enough memory for this command (a shorter trace or run?)"), EXIT_USAGE
-        )
     except Exception as e:
+        if launch.is_out_of_memory(e):  # MemoryError, numpy's _ArrayMemoryError, a library or thread
+            return _out_of_memory(args, e)
         # A bug of ours: one line naming it (the traceback with --debug), never a raw traceback.
         return _fail(
             args, InternalError(f"internal error (please report; --debug shows where): {e!r}"), EXIT_BUG, e
@@ -218,6 +218,12 @@ def _drop_stdout() -> None:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
+def _out_of_memory(args: argparse.Namespace, e: BaseException) -> int:
+    """The memory cap or the machine's memory ran out: the user's to fix, one line, exit 2."""
+    launch.ran_out = True
+    return _fail(args, InputError(launch.out_of_memory_message(f"`sins-fw {args.command}`")), EXIT_USAGE, e)
+
+
 def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseException | None = None) -> int:
     if getattr(args, "debug", False):
         traceback.print_exception(cause or e)
@@ -229,5 +235,6 @@ def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseExce
 
 
 def entry() -> None:
-    """Console-script entry point (`sins-fw`)."""
-    sys.exit(main())
+    """Console-script entry point (`sins-fw`): sins_fw.launch.entry, which fits the process to a
+    memory cap before this module's imports."""
+    launch.entry()

@@ -4,10 +4,8 @@ timeline names: :mod:`sins_fw.viewer.paths`."""
 
 import os
 
-# Rerun's own log (set before Rerun starts it; a RUST_LOG of the user's wins): warnings and errors,
-# but not the file writer's notice that a recording has no footer, which sins-fw chooses
-# (recording.recording_file says why) and would print on every save.
-os.environ.setdefault("RUST_LOG", "warn,re_log_encoding::rrd::file_sink=error")
+# Rerun's own log (set before Rerun starts it; a RUST_LOG of the user's wins): warnings and errors.
+os.environ.setdefault("RUST_LOG", "warn")
 
 from sins_fw.viewer.layout import default_blueprint
 from sins_fw.viewer.recording import log_run, save_recording

@@ -15,7 +15,7 @@ import rerun.blueprint as rrb
 from numpy.typing import NDArray
 
 from sins_fw.viewer import paths
-from sins_fw.viewer.recording import SEVERITY_LEVEL, _send, _seq, _series, _time
+from sins_fw.viewer.recording import SEVERITY_LEVEL, _flush, _send, _seq, _series, _time
 
 PS = 1e12
 
@@ -162,4 +162,5 @@ def record(
                     rr.StateChange.columns(state=states),
                 )
                 logged += len(states) // 2
+    _flush(rec)
     return logged

@@ -8,6 +8,7 @@ recorded window. *Parity*: how the other numeric backends differ."""
 
 from __future__ import annotations
 
+import uuid
 from collections.abc import Iterable
 
 import rerun.blueprint as rrb
@@ -116,8 +117,15 @@ def default_blueprint(
                 name="Parity",
             )
         )
-    return rrb.Blueprint(
-        rrb.Tabs(*tabs, active_tab=0),
-        rrb.TimePanel(timeline=paths.TIME, expanded=True),
-        collapse_panels=False,
-    )
+    root = rrb.Tabs(*tabs, active_tab=0)
+    _name_ids(root, "")
+    return rrb.Blueprint(root, rrb.TimePanel(timeline=paths.TIME, expanded=True), collapse_panels=False)
+
+
+def _name_ids(part: rrb.Container | rrb.View, where: str) -> None:
+    """Give each container and view an id from its place in the layout (Rerun draws a random one),
+    so that the same layout is logged with the same ids (docs/traces.md, "Determinism")."""
+    part.id = uuid.uuid5(uuid.NAMESPACE_URL, f"sins-fw:layout{where}")
+    if isinstance(part, rrb.Container):
+        for i, sub in enumerate(part.contents):
+            _name_ids(sub, f"{where}/{i}")

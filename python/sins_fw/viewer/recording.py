@@ -22,11 +22,13 @@ import hashlib
 import os
 import threading
 import uuid
+import weakref
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pyarrow as pa
 import rerun as rr
 from numpy.typing import NDArray
 
@@ -70,36 +72,144 @@ def _seq(name: str, values: NDArray[Any]) -> rr.TimeColumn:
     return rr.TimeColumn(name, sequence=np.asarray(values, dtype=np.int64))
 
 
+#: Bytes of one entity's rows (as Arrow columns) gathered into one chunk before it is written.
+#: Rerun's footer keeps ≈ 3.5 kB per chunk in the writer's memory until the end of the file: one
+#: chunk per entity and part made 8 694 chunks on an hour of the reference profile (30 MB held), a
+#: 24-hour replay 0.7 GB. Chunks of about 1 MB hold the manifest to well under 1 % of the
+#: recording's raw bytes, and what waits to ≈ 1 MB per entity (benchmarks/rerun_save.md).
+ENTITY_CHUNK_BYTES = 1 << 20
+#: Field metadata Rerun recomputes when a chunk is made from a record batch without it.
+_SORTED = b"rerun:is_sorted"
+
+
+class _Stream:
+    """What this module keeps per recording stream: the next row and chunk ids and the rows of each
+    entity waiting to be written as one chunk.
+
+    Ids are Rerun's TUIDs (8 bytes of time in ns, 8 of a counter, big-endian) made a function of the
+    recording id and of the order of logging, instead of the SDK's clock reading and per-process
+    random counter: the same recording logged twice gets the same ids, so the same bytes. The "time"
+    part is 63 bits of the recording id's SHA-256 (distinct recordings get distinct ids); the counter
+    increases with every row and chunk written, so the ids keep the order in which an entity's rows
+    were logged (Rerun resolves ties of latest-at queries and static rows by row id)."""
+
+    def __init__(self, recording_id: str) -> None:
+        digest = hashlib.sha256(recording_id.encode("utf-8")).digest()
+        self.time_ns = int.from_bytes(digest[:8], "big") >> 1
+        self.next = 1
+        self.pending: dict[str, list[pa.RecordBatch]] = {}
+
+    def take(self, n: int) -> NDArray[np.void]:
+        """``n`` consecutive ids, as 16-byte values."""
+        ids = np.empty(n, dtype=[("time_ns", ">u8"), ("inc", ">u8")])
+        ids["time_ns"] = self.time_ns
+        ids["inc"] = np.arange(self.next, self.next + n, dtype=np.uint64)
+        self.next += n
+        return ids.view("V16")
+
+
+_STREAMS: weakref.WeakKeyDictionary[rr.RecordingStream, _Stream] = weakref.WeakKeyDictionary()
+
+
+def _stream(rec: rr.RecordingStream) -> _Stream:
+    state = _STREAMS.get(rec)
+    if state is None:
+        state = _STREAMS[rec] = _Stream(rec.get_recording_id() or "")
+    return state
+
+
+def _unidentified(chunk: rr.chunk.Chunk) -> pa.RecordBatch:
+    """The record batch of ``chunk`` without its ids' claims: no chunk id, no sortedness flags (a
+    batch joined to the next part's is checked again by Rerun)."""
+    batch = chunk.to_record_batch()
+    fields = [
+        f.with_metadata({k: v for k, v in (f.metadata or {}).items() if k != _SORTED}) for f in batch.schema
+    ]
+    metadata = {k: v for k, v in (batch.schema.metadata or {}).items() if k != b"rerun:id"}
+    return pa.RecordBatch.from_arrays(batch.columns, schema=pa.schema(fields, metadata=metadata))
+
+
+def _write(rec: rr.RecordingStream, batches: list[pa.RecordBatch]) -> None:
+    """``batches`` (one entity, one schema) as one chunk with ids of :class:`_Stream` (Rerun keeps
+    the ids of a record batch that carries both: ``Chunk.from_record_batch``)."""
+    batch = batches[0] if len(batches) == 1 else pa.concat_batches(batches)
+    ids = _stream(rec).take(batch.num_rows + 1)
+    row_at = 0
+    assert (batch.schema.field(row_at).metadata or {}).get(b"rerun:kind") == b"control", batch.schema
+    columns = list(batch.columns)
+    columns[row_at] = pa.FixedSizeBinaryArray.from_buffers(
+        pa.binary(16), batch.num_rows, [None, pa.py_buffer(ids[1:].tobytes())]
+    )
+    metadata = dict(batch.schema.metadata or {})
+    metadata[b"rerun:id"] = b"chunk_" + ids[0].tobytes().hex().upper().encode()
+    (chunk,) = rr.chunk.Chunk.from_record_batch(
+        pa.RecordBatch.from_arrays(columns, schema=batch.schema.with_metadata(metadata))
+    )
+    rec.send_chunks(chunk)
+
+
 def _send(rec: rr.RecordingStream, path: str, index: list[rr.TimeColumn], columns: Any) -> None:
-    rr.send_columns(path, indexes=index, columns=columns, recording=rec)
+    """Columns at ``path`` on the timelines of ``index`` (none: static, written at once). Temporal
+    rows wait until their entity has :data:`ENTITY_CHUNK_BYTES` (or :func:`_flush`), then go out as
+    one chunk."""
+    batch = _unidentified(rr.chunk.Chunk.from_columns(path, index, columns))
+    if not index:
+        _write(rec, [batch])
+        return
+    state = _stream(rec)
+    waiting = state.pending.setdefault(path, [])
+    if waiting and not waiting[0].schema.equals(batch.schema, check_metadata=True):
+        _write(rec, waiting)
+        waiting.clear()
+    waiting.append(batch)
+    if sum(b.nbytes for b in waiting) >= ENTITY_CHUNK_BYTES:
+        _write(rec, waiting)
+        waiting.clear()
+
+
+def _flush(rec: rr.RecordingStream) -> None:
+    """Write every entity's waiting rows (in the order the entities were first logged)."""
+    state = _stream(rec)
+    for waiting in state.pending.values():
+        if waiting:
+            _write(rec, waiting)
+            waiting.clear()
+
+
+def _log(rec: rr.RecordingStream, path: str, archetype: Any) -> None:
+    """One static row of ``archetype`` at ``path`` (``rec.log(..., static=True)`` with ids of
+    :class:`_Stream`)."""
+    batches = archetype.as_component_batches()
+    _send(rec, path, [], [b.partition([len(b.as_arrow_array())]) for b in batches])
 
 
 def _series(rec: rr.RecordingStream, path: str, names: list[str], colors: list[Any] | None = None) -> None:
     """Static series styling: one named line per column."""
-    rec.log(path, rr.SeriesLines(names=names, colors=colors), static=True)
+    _log(rec, path, rr.SeriesLines(names=names, colors=colors))
 
 
 def _log_static(rec: rr.RecordingStream) -> None:
     """The board drawing (static)."""
-    rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)  # ENU: x east, y north, z up
+    _log(rec, "world", rr.ViewCoordinates.RIGHT_HAND_Z_UP)  # ENU: x east, y north, z up
     hz = BOARD_HALF_SIZE[2]
-    rec.log(
+    _log(
+        rec,
         paths.BOARD_BODY,
         rr.Boxes3D(half_sizes=[BOARD_HALF_SIZE], colors=[ESTIMATE_COLOR], labels=["estimate"]),
-        static=True,
     )
-    rec.log(
+    _log(
+        rec,
         paths.BOARD_AXES,
         rr.Arrows3D(
             vectors=[[1.6, 0, 0], [0, 1.3, 0], [0, 0, 0.9]],
             colors=list(AXIS_COLORS),
             labels=["x body (roll)", "y body (pitch)", "z body (yaw)"],
         ),
-        static=True,
     )
     # The ADIS16407's own axis marks (sensor axes = body axes, docs/traces.md), on its package.
     top = [0.0, 0.0, hz]
-    rec.log(
+    _log(
+        rec,
         paths.BOARD_ADIS,
         rr.Arrows3D(
             vectors=[[0.35, 0, 0], [0, 0.35, 0], [0, 0, 0.35]],
@@ -107,18 +217,18 @@ def _log_static(rec: rr.RecordingStream) -> None:
             colors=list(AXIS_COLORS),
             labels=["+X", "+Y", "+Z"],
         ),
-        static=True,
     )
-    rec.log(
+    _log(
+        rec,
         paths.BOARD_ADIS + "/package",
         rr.Boxes3D(half_sizes=[[0.25, 0.25, 0.06]], centers=[[0.0, 0.0, hz + 0.06]], colors=[(40, 40, 40)]),
-        static=True,
     )
 
 
 def _log_truth_body(rec: rr.RecordingStream) -> None:
     hx, hy, hz = BOARD_HALF_SIZE
-    rec.log(
+    _log(
+        rec,
         paths.TRUTH_BODY,
         rr.Boxes3D(
             half_sizes=[[hx * 1.02, hy * 1.02, hz * 1.02]],
@@ -126,7 +236,6 @@ def _log_truth_body(rec: rr.RecordingStream) -> None:
             fill_mode=rr.components.FillMode.MajorWireframe,
             labels=["truth"],
         ),
-        static=True,
     )
 
 
@@ -530,6 +639,7 @@ class Recorder:
             tick = np.concatenate([t for t, _ in self.window_budget])
             start = np.concatenate([s for _, s in self.window_budget])
             _log_bus(self.rec, bus, self.profile, tick, start)
+        _flush(self.rec)
 
 
 def bus_rows(
@@ -738,13 +848,14 @@ def recording_file(
 ) -> Iterator[rr.RecordingStream]:
     """A recording stream written to ``path`` (.rrd) as it is logged, atomically: a temporary file
     beside it is renamed over ``path`` once the block ends cleanly, so a failed or interrupted save
-    leaves any previous file untouched. No start time is recorded, and the id is the caller's
-    (derived from what is recorded: docs/traces.md, "Determinism").
+    leaves any previous file untouched. No start time is recorded, the id is the caller's (derived
+    from what is recorded) and every row and chunk id is derived from it (:class:`_Stream`):
+    docs/traces.md, "Determinism".
 
-    The file has no footer (Rerun's manifest of every chunk, for random access): the writer keeps
-    that manifest in memory until the end, ≈ 4 kB a chunk, 46 MB on 4 000 s of the reference
-    profile and about 1 GB on 24 hours. Rerun reads such a file by scanning it (the viewer, ``rerun
-    FILE.rrd``, ``RrdReader(...).stream()``), with a warning from ``RrdReader``."""
+    The file ends with Rerun's footer (its manifest of every chunk, for random access:
+    ``RrdReader(path).store()``). The writer keeps that manifest until the end, ≈ 3.5 kB a chunk;
+    :func:`_send` gathers an entity's rows into chunks of :data:`ENTITY_CHUNK_BYTES`, so that an
+    hour of the reference profile makes 1 058 chunks (benchmarks/rerun_save.md)."""
     with atomic_path(Path(path)) as tmp, _Pump(tmp) as pipe:
         rec = rr.RecordingStream(
             "sins-fw",
@@ -753,13 +864,15 @@ def recording_file(
             batcher_config=rr.ChunkBatcherConfig.NEVER(),
         )
         try:
-            rec.save(pipe, write_footer=False)
+            rec.save(pipe, write_footer=True)
             # Active as well as default: a web viewer that receives the recording as it streams in
             # otherwise keeps the layout it made up from the first entities it saw.
             rec.send_blueprint(blueprint, make_active=True, make_default=True)
             if name:
-                rec.send_recording_name(name)
+                # `rec.send_recording_name(name)`, with an id of ours.
+                _log(rec, "/__properties", rr.archetypes.RecordingInfo(name=name))
             yield rec
+            _flush(rec)
             rec.flush()
         finally:
             rec.disconnect()

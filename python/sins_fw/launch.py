@@ -1,0 +1,141 @@
+"""The ``sins-fw`` console script: fit the process to a memory cap, then start the command line.
+
+Under a limit on the address space (``ulimit -v``, RLIMIT_AS: CI containers, batch schedulers) or on
+the data segment (``ulimit -d``, RLIMIT_DATA), what the libraries sins-fw imports reserve at start
+counts against it as if it were used: Rerun's allocator (mimalloc) reserves a 1 GiB arena,
+pyarrow's jemalloc starts a background purging thread, glibc gives each thread that allocates a
+64 MB heap, OpenBLAS starts a thread per core with its buffers. Under a cap of 1.5 GB that was
+enough for ``sins-fw --version`` to end in a segfault (pyarrow's "<jemalloc>: arena 0 background
+thread creation failed") or in a traceback (a library that no longer fits: "failed to map segment
+from shared object"). :func:`fit_to_memory_cap` asks each for less, before any of them is loaded,
+and only when there is a cap (without one, reserving costs nothing). What still does not fit is the
+one line of :func:`out_of_memory_message` and exit 2 (docs/cli.md, "Memory limits").
+
+This module imports nothing heavy: it must run before numpy, the extension and Rerun are loaded.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import errno
+import os
+import resource
+import sys
+
+#: glibc's mallopt parameter M_ARENA_MAX (malloc.h).
+_M_ARENA_MAX = -8
+#: What sins-fw asks of the libraries under a cap: environment variables they read when they load.
+CAPPED_ENVIRONMENT = {
+    # Rerun's mimalloc: reserve arenas of 32 MiB as needed instead of one of 1 GiB up front.
+    "MIMALLOC_ARENA_RESERVE": "32MiB",
+    # pyarrow's allocations through the system allocator: no jemalloc, no background thread.
+    "ARROW_DEFAULT_MEMORY_POOL": "system",
+    # numpy's OpenBLAS: one thread (sins-fw's reductions are numpy's own sums: docs/traces.md).
+    "OPENBLAS_NUM_THREADS": "1",
+}
+#: glibc malloc arenas under a cap (each a 64 MB reservation; the default is 8 per core).
+CAPPED_MALLOC_ARENAS = 2
+#: Messages of failures that mean "the cap was reached" (a library that could not be mapped, a
+#: thread whose stack could not be).
+_OUT_OF_MEMORY_TEXTS = (
+    "failed to map segment",
+    "cannot allocate memory",
+    "can't start new thread",
+    "failed to spawn background thread",
+)
+
+
+def memory_cap() -> int | None:
+    """The smaller of the soft address-space and data-segment limits, in bytes; None without one."""
+    caps = []
+    for which in (resource.RLIMIT_AS, resource.RLIMIT_DATA):
+        soft, _ = resource.getrlimit(which)
+        if soft != resource.RLIM_INFINITY:
+            caps.append(soft)
+    return min(caps) if caps else None
+
+
+def fit_to_memory_cap() -> None:
+    """Under a memory cap, ask the libraries for less at start (module docstring). A variable the
+    user has set wins."""
+    if memory_cap() is None:
+        return
+    for key, value in CAPPED_ENVIRONMENT.items():
+        os.environ.setdefault(key, value)
+    if sys.platform.startswith("linux") and "MALLOC_ARENA_MAX" not in os.environ:
+        try:
+            libc = ctypes.CDLL(None)
+            mallopt = libc.mallopt
+        except (OSError, AttributeError):  # not glibc (musl has no per-thread arenas)
+            return
+        mallopt(_M_ARENA_MAX, CAPPED_MALLOC_ARENAS)
+
+
+def is_out_of_memory(e: BaseException) -> bool:
+    """Whether ``e`` says that memory ran out: a MemoryError (numpy's ``_ArrayMemoryError``
+    included), or a library, mapping or thread that could not be made for lack of memory."""
+    if isinstance(e, MemoryError):
+        return True
+    if isinstance(e, OSError) and e.errno == errno.ENOMEM:
+        return True
+    if isinstance(e, (ImportError, OSError, RuntimeError)):
+        text = str(e).lower()
+        return any(t in text for t in _OUT_OF_MEMORY_TEXTS)
+    return False
+
+
+def out_of_memory_message(what: str) -> str:
+    """``not enough memory for WHAT: raise the limit or ...``, with the limit in force."""
+    cap = memory_cap()
+    limit = (
+        f" (the process's memory limit is {cap / 2**20:.0f} MiB: `ulimit -v` / `ulimit -d`)"
+        if cap is not None
+        else ""
+    )
+    return (
+        f"not enough memory for {what}{limit}: raise the limit or use a shorter trace or run "
+        '(docs/cli.md, "Memory limits")'
+    )
+
+
+#: Below this cap the interpreter and numpy's start-up do not reliably get as far as Python code
+#: that could report it (OpenBLAS ends the process with its own message and exit 1 under ≈ 110
+#: MiB on the benchmark machine): refused before loading anything. sins-fw itself needs more
+#: (docs/cli.md, "Memory limits").
+STARTUP_FLOOR_MIB = 256
+#: Set when a command ended for lack of memory (sins_fw.cli): the process then exits at once.
+ran_out = False
+
+
+def entry() -> None:
+    """Console-script entry point (``sins-fw``)."""
+    global ran_out
+    cap = memory_cap()
+    if cap is not None and cap < STARTUP_FLOOR_MIB << 20:
+        print(f"sins-fw: error: {out_of_memory_message('sins-fw to start')}", file=sys.stderr)
+        _exit_now(2)
+    fit_to_memory_cap()
+    try:
+        from sins_fw.cli import main
+
+        code = main()
+    except BaseException as e:  # what the command's own handling could not reach: imports, arguments
+        if not is_out_of_memory(e):
+            raise
+        print(f"sins-fw: error: {out_of_memory_message('sins-fw')}", file=sys.stderr)
+        ran_out = True
+        code = 2
+    if ran_out:
+        _exit_now(code)
+    sys.exit(code)
+
+
+def _exit_now(code: int) -> None:
+    """Exit without the interpreter's finalisation: with memory exhausted, the threads and
+    allocators of half-loaded libraries may not survive being torn down (a segfault after the
+    message)."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(OSError, ValueError):
+            stream.flush()
+    os._exit(code)
