@@ -16,7 +16,7 @@ const LAYERS: &[(&str, &[&str])] = &[
     // output words' encoding they name: the profile validates its `[device]` keys against them.
     // The links' common door (`bus::door`: `Link`, `Address`, a built `Device`), in whose terms the
     // profile's link-kind registry is written.
-    ("declarations", &["device::encoding", "device::part", "device::parts", "bus::door"]),
+    ("declarations", &["device::encoding", "device::part", "device::parts", "device::spi_timing", "bus::door"]),
     // The board as data: the profile and the cost table (both read from TOML).
     ("profile", &["profile", "timing::costs"]),
     // The wires and the MCU's end of them: the link kinds with the slave-side contracts the parts

@@ -112,85 +112,41 @@ pub(super) fn phases(bus: &I2cBus) -> (Ps, Ps, Mode) {
     (low, high, if low + high >= 10_000_000 { STANDARD } else { FAST })
 }
 
-/// I2C-A and its targets.
-pub struct I2cLink {
-    targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
+/// The master's side of an I²C link, the same at both levels (`I2cLink`, `i2c_bits::I2cBitLink`):
+/// its targets by address, SCL's phases and the mode whose rules they meet, the last STOP, whether
+/// it waits for a stretched SCL, its events; and what a transfer does before its bytes.
+pub(super) struct Master {
+    pub(super) targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
     /// SCL low and high phases, ps.
-    low: Ps,
-    high: Ps,
-    mode: Mode,
+    pub(super) low: Ps,
+    pub(super) high: Ps,
+    pub(super) mode: Mode,
     /// The last STOP (the bus is free tBUF after it).
-    last_stop: Option<Ps>,
+    pub(super) last_stop: Option<Ps>,
     /// Whether the master waits for a stretched SCL (a master that does not breaks the rule).
-    honours_stretching: bool,
-    events: EventLog,
+    pub(super) honours_stretching: bool,
+    pub(super) events: EventLog,
 }
 
-impl std::fmt::Debug for I2cLink {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        debug_link(f, "I2cLink", &self.targets, self.low)
-    }
-}
-
-/// An I²C link as `{:?}` shows it (both levels): its targets' addresses and SCL's low phase (the
-/// targets themselves are trait objects).
-pub(super) fn debug_link(
-    f: &mut std::fmt::Formatter<'_>,
-    name: &str,
-    targets: &[(u8, Box<dyn I2cTarget + Send>)],
-    low: Ps,
-) -> std::fmt::Result {
-    let addresses: Vec<u8> = targets.iter().map(|(a, _)| *a).collect();
-    f.debug_struct(name).field("addresses", &addresses).field("low", &low).finish()
-}
-
-impl I2cLink {
+impl Master {
     /// I2C-A with `targets` at their addresses, its SCL phases from `bus`.
-    pub fn new(bus: &I2cBus, targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> I2cLink {
+    pub(super) fn new(bus: &I2cBus, targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> Master {
         let (low, high, mode) = phases(bus);
-        I2cLink { targets, low, high, mode, last_stop: None, honours_stretching: true, events: EventLog::default() }
+        Master { targets, low, high, mode, last_stop: None, honours_stretching: true, events: EventLog::default() }
     }
 
-    /// Make the master wait for a stretched SCL (the rule, the default) or time its clock on its
-    /// own (breaking it: an `i2c_stretch_ignored` event each time a target holds SCL).
-    pub fn set_honours_stretching(&mut self, on: bool) {
-        self.honours_stretching = on;
-    }
-
-    /// After a byte whose ninth clock fell at `fall`: the time the bus goes on from, later by what
-    /// target `i` stretches SCL beyond the low phase (see [`I2cTarget::hold_scl`]).
-    fn stretched(&mut self, i: Option<usize>, fall: Ps) -> Ps {
-        let Some(i) = i else { return fall };
-        let release = self.targets[i].1.hold_scl(fall);
-        stretch_rule(release, fall, self.low, self.honours_stretching, &mut self.events)
-    }
-
-    /// One SCL period.
-    pub fn period(&self) -> Ps {
-        self.low + self.high
-    }
-
-    /// The target at `address`.
-    pub fn target(&self, address: u8) -> Option<&(dyn I2cTarget + Send)> {
-        self.targets.iter().find(|(a, _)| *a == address).map(|(_, t)| t.as_ref())
-    }
-
-    #[cold]
-    fn nack(&mut self, t: Ps, what: String) {
-        self.events.push(Event::new(t, "i2c_nack", Severity::Warning, what));
-    }
-}
-
-impl Link for I2cLink {
-    fn transfer(&mut self, to: Address, tx: &[u16], rx: &mut [u16], t: Ps) -> Result<Transfer> {
+    /// A transfer to `to` asked at `t`: the target's 7-bit address and the START's time (the master
+    /// waits for the bus to be free, tBUF after the last STOP); SCL phases below the mode's are
+    /// reported once per transfer. An error for an address that is not I²C's or a byte that does
+    /// not fit.
+    pub(super) fn begin(&mut self, to: Address, tx: &[u16], t: Ps) -> Result<(u8, Ps)> {
         let Address::I2c(address) = to else {
             return Err(Error::Config(format!("I2C-A addresses a device by its 7-bit address, not by {to}")));
         };
         if address > 0x7F || tx.iter().any(|&w| w > 0xFF) {
             return Err(Error::Config(format!("I2C-A: address 0x{address:X} or a byte of {tx:X?} does not fit")));
         }
-        let (low, high, period) = (self.low, self.high, self.period());
-        // The master waits for the bus to be free (tBUF after the last STOP).
+        let (low, high) = (self.low, self.high);
         let start = self.last_stop.map_or(t, |stop| t.max(stop + self.mode.t_buf));
         if low < self.mode.t_low || high < self.mode.t_high {
             let (mode, ll, hh) = (self.mode, self.mode.t_low, self.mode.t_high);
@@ -204,7 +160,80 @@ impl Link for I2cLink {
                 ),
             ));
         }
-        let target = self.targets.iter().position(|(a, _)| *a == address);
+        Ok((address, start))
+    }
+
+    /// The link as `{:?}` shows it (both levels, as `name`): its targets' addresses and SCL's low
+    /// phase (the targets themselves are trait objects).
+    pub(super) fn debug_as(&self, f: &mut std::fmt::Formatter<'_>, name: &str) -> std::fmt::Result {
+        let addresses: Vec<u8> = self.targets.iter().map(|(a, _)| *a).collect();
+        f.debug_struct(name).field("addresses", &addresses).field("low", &self.low).finish()
+    }
+}
+
+/// No target acknowledged `address` (in a read or a write): an `i2c_nack` event at `t`.
+#[cold]
+pub(super) fn nack_address(events: &mut EventLog, t: Ps, address: u8, reading: bool) {
+    let what =
+        format!("I2C-A: no device acknowledged address 0x{address:02X} ({})", if reading { "read" } else { "write" });
+    events.push(Event::new(t, "i2c_nack", Severity::Warning, what));
+}
+
+/// The target at `address` refused byte `k` (`byte`) of a write: an `i2c_nack` event at `t`.
+#[cold]
+pub(super) fn nack_byte(events: &mut EventLog, t: Ps, address: u8, k: usize, byte: u16) {
+    let what = format!("I2C-A: device 0x{address:02X} refused byte {k} (0x{byte:02X}) of a write");
+    events.push(Event::new(t, "i2c_nack", Severity::Warning, what));
+}
+
+/// I2C-A and its targets.
+pub struct I2cLink {
+    m: Master,
+}
+
+impl std::fmt::Debug for I2cLink {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.m.debug_as(f, "I2cLink")
+    }
+}
+
+impl I2cLink {
+    /// I2C-A with `targets` at their addresses, its SCL phases from `bus`.
+    pub fn new(bus: &I2cBus, targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> I2cLink {
+        I2cLink { m: Master::new(bus, targets) }
+    }
+
+    /// Make the master wait for a stretched SCL (the rule, the default) or time its clock on its
+    /// own (breaking it: an `i2c_stretch_ignored` event each time a target holds SCL).
+    pub fn set_honours_stretching(&mut self, on: bool) {
+        self.m.honours_stretching = on;
+    }
+
+    /// After a byte whose ninth clock fell at `fall`: the time the bus goes on from, later by what
+    /// target `i` stretches SCL beyond the low phase (see [`I2cTarget::hold_scl`]).
+    fn stretched(&mut self, i: Option<usize>, fall: Ps) -> Ps {
+        let Some(i) = i else { return fall };
+        let m = &mut self.m;
+        let release = m.targets[i].1.hold_scl(fall);
+        stretch_rule(release, fall, m.low, m.honours_stretching, &mut m.events)
+    }
+
+    /// One SCL period.
+    pub fn period(&self) -> Ps {
+        self.m.low + self.m.high
+    }
+
+    /// The target at `address`.
+    pub fn target(&self, address: u8) -> Option<&(dyn I2cTarget + Send)> {
+        self.m.targets.iter().find(|(a, _)| *a == address).map(|(_, t)| t.as_ref())
+    }
+}
+
+impl Link for I2cLink {
+    fn transfer(&mut self, to: Address, tx: &[u16], rx: &mut [u16], t: Ps) -> Result<Transfer> {
+        let (address, start) = self.m.begin(to, tx, t)?;
+        let (low, high, period) = (self.m.low, self.m.high, self.period());
+        let target = self.m.targets.iter().position(|(a, _)| *a == address);
         // START, then tHD;STA (one high phase) before SCL first falls; a byte is nine SCL periods.
         let mut now = start + high;
         let mut complete = true;
@@ -212,14 +241,14 @@ impl Link for I2cLink {
             let ninth_rise = *now + 8 * period + low;
             *now += 9 * period;
             let ack = match target {
-                Some(i) => link.targets[i].1.write(byte, ninth_rise),
+                Some(i) => link.m.targets[i].1.write(byte, ninth_rise),
                 None => false,
             };
             *now = link.stretched(target, *now);
             ack
         };
         if let Some(i) = target {
-            self.targets[i].1.start(start);
+            self.m.targets[i].1.start(start);
         }
         let phases: [(bool, usize); 2] = [(false, tx.len()), (true, rx.len())];
         for (reading, count) in phases {
@@ -230,25 +259,21 @@ impl Link for I2cLink {
                 // Repeated START: SCL rises after its low phase, tSU;STA and tHD;STA of one high phase each.
                 let restart = now + low + high;
                 if let Some(i) = target {
-                    self.targets[i].1.start(restart);
+                    self.m.targets[i].1.start(restart);
                 }
                 now = restart + high;
             }
             let rw = u8::from(reading);
             if !byte_out(self, (address << 1) | rw, &mut now) {
                 complete = false;
-                let what = format!(
-                    "I2C-A: no device acknowledged address 0x{address:02X} ({})",
-                    if reading { "read" } else { "write" }
-                );
-                self.nack(now, what);
+                nack_address(&mut self.m.events, now, address, reading);
                 break;
             }
             if reading {
                 for (k, r) in rx.iter_mut().enumerate() {
                     let ack = k + 1 < count;
                     let first_rise = now + low;
-                    *r = u16::from(target.map_or(0xFF, |i| self.targets[i].1.read(first_rise, ack)));
+                    *r = u16::from(target.map_or(0xFF, |i| self.m.targets[i].1.read(first_rise, ack)));
                     now += 9 * period;
                     now = self.stretched(target, now);
                 }
@@ -256,10 +281,7 @@ impl Link for I2cLink {
                 for (k, &w) in tx.iter().enumerate() {
                     if !byte_out(self, w as u8, &mut now) {
                         complete = false;
-                        self.nack(
-                            now,
-                            format!("I2C-A: device 0x{address:02X} refused byte {k} (0x{w:02X}) of a write"),
-                        );
+                        nack_byte(&mut self.m.events, now, address, k, w);
                         break;
                     }
                 }
@@ -274,15 +296,15 @@ impl Link for I2cLink {
         // STOP: SCL rises after its low phase, SDA after tSU;STO (one high phase).
         let stop = now + low + high;
         if let Some(i) = target {
-            self.targets[i].1.stop(stop);
+            self.m.targets[i].1.stop(stop);
         }
-        self.last_stop = Some(stop);
+        self.m.last_stop = Some(stop);
         Ok(Transfer { start, end: stop, complete })
     }
 
     fn drain_events(&mut self) -> Vec<Event> {
-        let mut e = self.events.drain();
-        for (_, t) in &mut self.targets {
+        let mut e = self.m.events.drain();
+        for (_, t) in &mut self.m.targets {
             e.extend(t.drain_events());
         }
         e

@@ -14,10 +14,10 @@
 //! a master that does not wait for a stretched SCL keeps its own clock (the contention is the
 //! `i2c_stretch_ignored` event).
 
-use super::i2c::{phases, stretch_rule, I2cTarget, Mode};
+use super::i2c::{nack_address, nack_byte, stretch_rule, I2cTarget, Master};
 use super::{Address, Link, Transfer};
-use crate::error::{Error, Result};
-use crate::events::{Event, EventLog, Severity};
+use crate::error::Result;
+use crate::events::{Event, EventLog};
 use crate::profile::I2cBus;
 use crate::time::Ps;
 
@@ -169,41 +169,25 @@ impl Wires<'_> {
 
 /// I2C-A at bit level.
 pub struct I2cBitLink {
-    targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
-    low: Ps,
-    high: Ps,
-    mode: Mode,
-    last_stop: Option<Ps>,
-    honours_stretching: bool,
-    events: EventLog,
+    m: Master,
     trace: Vec<Level>,
 }
 
 impl std::fmt::Debug for I2cBitLink {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        super::i2c::debug_link(f, "I2cBitLink", &self.targets, self.low)
+        self.m.debug_as(f, "I2cBitLink")
     }
 }
 
 impl I2cBitLink {
     /// I2C-A with `targets` at their addresses, its SCL phases from `bus` (as `I2cLink::new`).
     pub fn new(bus: &I2cBus, targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> I2cBitLink {
-        let (low, high, mode) = phases(bus);
-        I2cBitLink {
-            targets,
-            low,
-            high,
-            mode,
-            last_stop: None,
-            honours_stretching: true,
-            events: EventLog::default(),
-            trace: Vec::new(),
-        }
+        I2cBitLink { m: Master::new(bus, targets), trace: Vec::new() }
     }
 
     /// As `I2cLink::set_honours_stretching`.
     pub fn set_honours_stretching(&mut self, on: bool) {
-        self.honours_stretching = on;
+        self.m.honours_stretching = on;
     }
 
     /// The wire changes of the last transaction: (time, SCL, SDA).
@@ -214,30 +198,12 @@ impl I2cBitLink {
 
 impl Link for I2cBitLink {
     fn transfer(&mut self, to: Address, tx: &[u16], rx: &mut [u16], t: Ps) -> Result<Transfer> {
-        let Address::I2c(address) = to else {
-            return Err(Error::Config(format!("I2C-A addresses a device by its 7-bit address, not by {to}")));
-        };
-        if address > 0x7F || tx.iter().any(|&w| w > 0xFF) {
-            return Err(Error::Config(format!("I2C-A: address 0x{address:X} or a byte of {tx:X?} does not fit")));
-        }
-        let (low, high, honours) = (self.low, self.high, self.honours_stretching);
-        let start = self.last_stop.map_or(t, |stop| t.max(stop + self.mode.t_buf));
-        if low < self.mode.t_low || high < self.mode.t_high {
-            let (mode, ll, hh) = (self.mode, self.mode.t_low, self.mode.t_high);
-            self.events.push(Event::new(
-                start,
-                "i2c_scl_too_fast",
-                Severity::Warning,
-                format!(
-                    "I2C-A SCL low {low} ps, high {high} ps: {} needs at least {ll} ps low and {hh} ps high",
-                    mode.name
-                ),
-            ));
-        }
+        let (address, start) = self.m.begin(to, tx, t)?;
+        let (low, high, honours) = (self.m.low, self.m.high, self.m.honours_stretching);
         self.trace.clear();
-        let events = &mut self.events;
+        let events = &mut self.m.events;
         let mut w = Wires {
-            targets: &mut self.targets,
+            targets: &mut self.m.targets,
             master_scl: true,
             master_sda: true,
             scl: true,
@@ -288,11 +254,7 @@ impl Link for I2cBitLink {
             }
             if !byte_out(&mut w, (address << 1) | u8::from(reading), &mut now, events) {
                 complete = false;
-                let what = format!(
-                    "I2C-A: no device acknowledged address 0x{address:02X} ({})",
-                    if reading { "read" } else { "write" }
-                );
-                events.push(Event::new(now, "i2c_nack", Severity::Warning, what));
+                nack_address(events, now, address, reading);
                 break;
             }
             if reading {
@@ -317,8 +279,7 @@ impl Link for I2cBitLink {
                 for (k, &b) in tx.iter().enumerate() {
                     if !byte_out(&mut w, b as u8, &mut now, events) {
                         complete = false;
-                        let what = format!("I2C-A: device 0x{address:02X} refused byte {k} (0x{b:02X}) of a write");
-                        events.push(Event::new(now, "i2c_nack", Severity::Warning, what));
+                        nack_byte(events, now, address, k, b);
                         break;
                     }
                 }
@@ -335,12 +296,12 @@ impl Link for I2cBitLink {
         w.rise(now + low);
         let stop = now + low + high;
         w.set_sda(stop, true);
-        self.last_stop = Some(stop);
+        self.m.last_stop = Some(stop);
         Ok(Transfer { start, end: stop, complete })
     }
 
     fn drain_events(&mut self) -> Vec<Event> {
-        self.events.drain()
+        self.m.events.drain()
     }
 }
 

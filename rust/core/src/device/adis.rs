@@ -14,6 +14,8 @@ use super::filter::Bartlett;
 use super::frame::{MinPs, ReadRecord};
 use super::part::{Access, Format, Part, PowerOn, RegisterDef, Role, MAX_BURST_WORDS, SLOTS};
 use super::sampler::{sample_clock, Constant, Ideal, Schedule, SensorErrors, Stimulus};
+use super::spi_rules::SpiRules;
+use super::spi_timing::SpiTiming;
 use super::Physical;
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
@@ -140,15 +142,15 @@ pub(crate) struct Limits {
     pub t_datarate_ps: f64,
     pub t_cs_ps: f64,
     pub t_sfs_ps: f64,
-    /// The same rules as whole-ps bounds, for the per-frame checks: shortest SCLK period (1/sclk_max_hz),
-    /// in a burst, stall, tCS, tSFS.
-    pub min_sclk_period: MinPs,
+    /// The SPI rules the family shares with every SPI part (normal-mode SCLK, tCS, tSFS, mode 3,
+    /// 16-bit frames), checked by the shared checker.
+    pub spi: SpiRules,
+    /// The family's own rules as whole-ps bounds, for the per-frame checks: the shortest SCLK period
+    /// in a burst, stall, tDATARATE.
     pub min_burst_sclk_period: MinPs,
     pub min_stall: MinPs,
     pub min_stall_slow: MinPs,
     pub min_datarate: MinPs,
-    pub min_cs_setup: MinPs,
-    pub min_cs_hold: MinPs,
     pub strict: bool,
     pub corrupt_word: u16,
     pub idle_word: u16,
@@ -654,13 +656,16 @@ impl Adis {
             t_datarate_ps: cfg.t_datarate_us * 1e6,
             t_cs_ps,
             t_sfs_ps,
-            min_sclk_period: MinPs::new(PS_PER_S as f64 / cfg.sclk_max_hz),
+            spi: SpiRules::new(&SpiTiming {
+                sclk_max_hz: cfg.sclk_max_hz,
+                cs_setup_ps: t_cs_ps,
+                cs_hold_ps: Some(t_sfs_ps),
+                ..layout.part.spi
+            }),
             min_burst_sclk_period: MinPs::new(PS_PER_S as f64 / cfg.sclk_burst_max_hz),
             min_stall: MinPs::new(t_stall_ps),
             min_stall_slow: MinPs::new(cfg.t_stall_slow_us * 1e6),
             min_datarate: MinPs::new(cfg.t_datarate_us * 1e6),
-            min_cs_setup: MinPs::new(t_cs_ps),
-            min_cs_hold: MinPs::new(t_sfs_ps),
             strict: cfg.timing_mode == TimingMode::Strict,
             corrupt_word: cfg.corrupt_word as u16,
             idle_word: cfg.dout_after_write as u16,

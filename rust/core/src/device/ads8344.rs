@@ -19,9 +19,11 @@
 //! - Coding: straight binary, code = ⌊(V₊ − V₋)/VREF · 2¹⁶⌋ clipped to 0…0xFFFF
 //!   (`adc_input_out_of_range` when clipped).
 //!
-//! Timing rules checked per frame: DCLK ≤ `max_dclk_hz` (`sclk_too_fast`), CS↓ to the first edge
-//! ≥ t_CSS (`cs_setup`), SPI mode 0 or 3 (`spi_mode` otherwise; mode 3 is electrically the same
-//! here: DIN sampled on rising edges, DOUT moved on falling ones).
+//! Timing rules checked per frame by the shared SPI checker against the part's declared timing
+//! (`parts::ads8344::SPI`, with the configuration's DCLK limit and t_CSS): DCLK ≤ `max_dclk_hz`
+//! (`sclk_too_fast`), CS↓ to the first edge ≥ t_CSS (`cs_setup`), SPI mode 0 or 3 (`spi_mode`
+//! otherwise; mode 3 is electrically the same here: DIN sampled on rising edges, DOUT moved on
+//! falling ones).
 //!
 //! `begin_frame`'s word holds, clock by clock, the bit the master samples at each rising edge in the
 //! frame's own mode: the part answers as sampled ([`SpiSlave::answers_as_sampled`]), and the link
@@ -33,6 +35,10 @@
 //! its result in that frame's answer: those bits read 0 and `adc_result_in_command_frame` says so.
 //! Byte-wide characters (control byte + 3 read bytes, as both published drivers do) are exact.
 
+use super::frame::Violations;
+use super::parts::ads8344::SPI;
+use super::spi_rules::SpiRules;
+use super::spi_timing::SpiTiming;
 use crate::bus::{FrameTiming, SpiSlave};
 use crate::events::{Event, EventLog, Severity};
 use crate::time::{ps_to_s, Ps};
@@ -53,7 +59,8 @@ impl AnalogInputs for FixedInputs {
     }
 }
 
-/// The timing limits (ads8344.md; each one's source there).
+/// The timing limits (ads8344.md; each one's source there). The SPI ones default to the part's
+/// declaration ([`crate::device::parts::ads8344::SPI`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ads8344Timing {
     /// Largest DCLK frequency: 100 kHz × 24 clocks = 2.4 MHz at 5 V [unconfirmed for ADS8344:
@@ -71,9 +78,9 @@ pub struct Ads8344Timing {
 impl Default for Ads8344Timing {
     fn default() -> Self {
         Ads8344Timing {
-            max_dclk_hz: 2.4e6,
+            max_dclk_hz: SPI.sclk_max_hz,
             t_acq_min_ps: 1_700_000,
-            t_css_min_ps: 50_000,
+            t_css_min_ps: SPI.cs_setup_ps as Ps,
             t_conv_internal_ps: 8_000_000,
         }
     }
@@ -91,6 +98,13 @@ pub struct Ads8344Config {
     pub pd01_internal_clock: bool,
     /// The timing limits.
     pub timing: Ads8344Timing,
+}
+
+impl Ads8344Timing {
+    /// The SPI rules these limits give: the part's declaration with this DCLK limit and t_CSS.
+    pub fn spi(&self) -> SpiTiming {
+        SpiTiming { sclk_max_hz: self.max_dclk_hz, cs_setup_ps: self.t_css_min_ps as f64, ..SPI }
+    }
 }
 
 impl Default for Ads8344Config {
@@ -174,6 +188,8 @@ pub struct Ads8344 {
     /// A hold of a control byte latched (in part) in this frame happened: what follows depends on
     /// this frame's DIN.
     held_in_frame: bool,
+    /// The SPI rules of `config.timing`.
+    rules: SpiRules,
     events: EventLog,
     conversions: Vec<Conversion>,
 }
@@ -194,6 +210,7 @@ impl Ads8344 {
     /// The part with `config`, its channels driven by `inputs`.
     pub fn new(config: Ads8344Config, inputs: Box<dyn AnalogInputs + Send>) -> Ads8344 {
         Ads8344 {
+            rules: SpiRules::new(&config.timing.spi()),
             config,
             inputs,
             phase: Phase::Idle,
@@ -381,7 +398,8 @@ impl Ads8344 {
     fn check_frame(&mut self, timing: &FrameTiming) {
         let t = timing.first_edge;
         let f = 1e12 / timing.sclk_period as f64;
-        if f > self.config.timing.max_dclk_hz {
+        let found = self.rules.shape(timing);
+        if found.contains(Violations::SCLK_TOO_FAST) {
             self.push(Event::rule(
                 t,
                 "sclk_too_fast",
@@ -391,7 +409,7 @@ impl Ads8344 {
                 self.config.timing.max_dclk_hz,
             ));
         }
-        if timing.mode == 1 || timing.mode == 2 {
+        if found.contains(Violations::SPI_MODE) {
             self.push(Event::new(
                 t,
                 "spi_mode",
@@ -403,18 +421,16 @@ impl Ads8344 {
             ));
         }
         if self.frame_in_cs == 0 {
-            if let Some(fell) = self.cs_fell {
+            if let Some(fell) = self.cs_fell.filter(|&fell| self.rules.setup_short(fell, t)) {
                 let setup = t.saturating_sub(fell);
-                if setup < self.config.timing.t_css_min_ps {
-                    self.push(Event::rule(
-                        t,
-                        "cs_setup",
-                        Severity::Error,
-                        format!("ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ 50 ns", setup),
-                        ps_to_s(setup),
-                        ps_to_s(self.config.timing.t_css_min_ps),
-                    ));
-                }
+                self.push(Event::rule(
+                    t,
+                    "cs_setup",
+                    Severity::Error,
+                    format!("ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ 50 ns", setup),
+                    ps_to_s(setup),
+                    ps_to_s(self.config.timing.t_css_min_ps),
+                ));
             }
         }
         self.frame_in_cs += 1;

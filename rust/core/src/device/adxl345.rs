@@ -27,6 +27,9 @@
 //! Not modelled: tap, activity, free-fall detection (their registers store what is written), the
 //! interrupt pins, 3-wire SPI, I²C on this part, self-test's deflection.
 
+use super::frame::Violations;
+use super::parts::adxl345::SPI;
+use super::spi_rules::SpiRules;
 use crate::bus::{FrameTiming, SpiSlave};
 use crate::device::part::{f, Access, Field};
 use crate::events::{Event, EventLog, Severity};
@@ -158,23 +161,31 @@ const DATA_FORMAT: u8 = 0x31;
 const FIFO_CTL: u8 = 0x38;
 const FIFO_STATUS: u8 = 0x39;
 
-/// SPI facts of Table 10 and p. 15.
+/// SPI facts of Table 10 and p. 15: the timing is the part's declaration
+/// ([`crate::device::parts::adxl345::SPI`]), named here as whole picoseconds.
 pub mod spi {
+    use crate::device::parts::adxl345::SPI;
     use crate::time::Ps;
     /// SPI mode (CPOL = 1, CPHA = 1).
-    pub const MODE: u8 = 3;
+    pub const MODE: u8 = SPI.modes[0];
     /// Command bit 7: read.
     pub const READ: u8 = 0x80;
     /// Command bit 6: multi-byte (the address steps).
     pub const MULTI_BYTE: u8 = 0x40;
     /// Shortest SCLK period (f_SCLK ≤ 5 MHz), ps.
-    pub const T_SCLK_MIN: Ps = 200_000;
+    pub const T_SCLK_MIN: Ps = SPI.min_sclk_period_ps() as Ps;
     /// tDELAY: CS↓ to the first SCLK edge, ps.
-    pub const T_DELAY: Ps = 5_000;
+    pub const T_DELAY: Ps = SPI.cs_setup_ps as Ps;
     /// tQUIET: the last SCLK edge to CS↑, ps.
-    pub const T_QUIET: Ps = 5_000;
+    pub const T_QUIET: Ps = match SPI.cs_hold_ps {
+        Some(t) => t as Ps,
+        None => 0,
+    };
     /// tCS,DIS: CS high between two communications, ps.
-    pub const T_CS_DIS: Ps = 150_000;
+    pub const T_CS_DIS: Ps = match SPI.cs_high_min_ps {
+        Some(t) => t as Ps,
+        None => 0,
+    };
     /// Time from the end of a data read (the FIFO pop) to the next read of the FIFO or
     /// FIFO_STATUS, ps (Linux adxl34x.c quoting the data sheet).
     pub const T_FIFO_POP: Ps = 5_000_000;
@@ -376,6 +387,8 @@ pub struct Adxl345 {
     cs_low_at: Ps,
     cs_high_at: Option<Ps>,
     last_edge: Option<Ps>,
+    /// The SPI rules of [`SPI`].
+    rules: SpiRules,
     events: EventLog,
 }
 
@@ -409,6 +422,7 @@ impl Adxl345 {
             cs_low_at: 0,
             cs_high_at: None,
             last_edge: None,
+            rules: SpiRules::new(&SPI),
             events: EventLog::default(),
         }
     }
@@ -613,7 +627,7 @@ impl Adxl345 {
 impl SpiSlave for Adxl345 {
     fn set_cs(&mut self, low: bool, t: Ps) {
         if low {
-            if let Some(h) = self.cs_high_at.filter(|&h| t < h + spi::T_CS_DIS) {
+            if let Some(h) = self.cs_high_at.filter(|&h| self.rules.high_short(h, t)) {
                 let what = format!("ADXL345: CS high for {} ps between communications (tCS,DIS 150 ns)", t - h);
                 self.rule(t, "cs_high_too_short", what, t - h, spi::T_CS_DIS);
             }
@@ -621,7 +635,7 @@ impl SpiSlave for Adxl345 {
             self.last_edge = None;
             self.phase = Phase::Command;
         } else {
-            if let Some(e) = self.last_edge.filter(|&e| t < e + spi::T_QUIET) {
+            if let Some(e) = self.last_edge.filter(|&e| self.rules.hold_short(e, t)) {
                 self.rule(
                     t,
                     "cs_hold",
@@ -640,7 +654,8 @@ impl SpiSlave for Adxl345 {
         let mark = self.events.len();
         let dout = 'frame: {
             let t = timing.first_edge;
-            if self.last_edge.is_none() && t < self.cs_low_at + spi::T_DELAY {
+            let found = self.rules.shape(timing);
+            if self.last_edge.is_none() && self.rules.setup_short(self.cs_low_at, t) {
                 let d = t.saturating_sub(self.cs_low_at);
                 self.rule(
                     t,
@@ -650,15 +665,15 @@ impl SpiSlave for Adxl345 {
                     spi::T_DELAY,
                 );
             }
-            if timing.sclk_period < spi::T_SCLK_MIN {
+            if found.contains(Violations::SCLK_TOO_FAST) {
                 let what = format!("ADXL345: SCLK period {} ps, below 200 ns (5 MHz)", timing.sclk_period);
                 self.rule(t, "sclk_too_fast", what, timing.sclk_period, spi::T_SCLK_MIN);
             }
-            if timing.mode != spi::MODE {
+            if found.contains(Violations::SPI_MODE) {
                 let what = format!("ADXL345: a frame in SPI mode {}, the part is mode 3", timing.mode);
                 self.events.push(Event::new(t, "spi_mode", Severity::Error, what));
             }
-            if timing.bits != 8 {
+            if found.contains(Violations::FRAME_LENGTH) {
                 let what =
                     format!("ADXL345: a frame of {} SCLK cycles: the part takes bytes; DIN ignored", timing.bits);
                 self.events.push(Event::new(t, "byte_frame_length", Severity::Error, what));
@@ -679,7 +694,7 @@ impl SpiSlave for Adxl345 {
         'frame: {
             let t = timing.last_edge;
             self.last_edge = Some(t);
-            if timing.bits != 8 {
+            if Some(timing.bits) != SPI.frame_bits {
                 break 'frame;
             }
             let byte = din as u8;

@@ -29,6 +29,8 @@ impl Violations {
     pub const DATARATE_TOO_SHORT: Violations = Violations(1 << 8);
     /// Clocked before the power-on start-up ended.
     pub const BEFORE_STARTUP: Violations = Violations(1 << 9);
+    /// CS high too short between two chip-select windows.
+    pub const CS_HIGH_TOO_SHORT: Violations = Violations(1 << 10);
 
     /// The rules whose breach makes the slave ignore DIN (and corrupt DOUT) in either timing mode.
     pub(super) const IGNORE_DIN: Violations = Violations(
@@ -38,7 +40,7 @@ impl Violations {
             | Violations::BEFORE_STARTUP.0,
     );
 
-    const NAMES: [(Violations, &'static str); 10] = [
+    const NAMES: [(Violations, &'static str); 11] = [
         (Violations::SCLK_TOO_FAST, "sclk_too_fast"),
         (Violations::STALL_TOO_SHORT, "stall_too_short"),
         (Violations::CS_SETUP, "cs_setup"),
@@ -49,6 +51,7 @@ impl Violations {
         (Violations::DEVICE_BUSY, "device_busy"),
         (Violations::DATARATE_TOO_SHORT, "datarate_too_short"),
         (Violations::BEFORE_STARTUP, "read_before_startup"),
+        (Violations::CS_HIGH_TOO_SHORT, "cs_high_too_short"),
     ];
 
     /// No rule broken.
@@ -107,11 +110,17 @@ pub struct ReadRecord {
 /// Whole picoseconds below this are exact in f64, and so is one more.
 const EXACT_PS: Ps = 1 << 53;
 
-/// `measured` (whole ps, floored by the bus) falls short of `required` ps, with a 1 ps allowance.
-/// This is the definition of every timing rule; the per-frame checks use its integer forms
-/// [`MinPs`] and [`short_ps`], which give the same answer for every `measured`.
+/// `measured` (whole ps, floored by the bus) falls short of `required` ps, with a 1 ps allowance
+/// (the ADIS16xxx family's rules: [`short_by`] with a slack of 1 ps). The per-frame checks use its
+/// integer forms [`MinPs`] and [`short_ps`], which give the same answer for every `measured`.
 pub(super) fn short(measured: Ps, required_ps: f64) -> bool {
-    (measured as f64) + 1.0 < required_ps
+    short_by(measured, required_ps, 1.0)
+}
+
+/// The definition of every timing rule: `measured` (whole ps) plus the part's allowance `slack_ps`
+/// (`SpiTiming::slack_ps`) falls short of `required_ps`.
+pub(super) fn short_by(measured: Ps, required_ps: f64, slack_ps: f64) -> bool {
+    (measured as f64) + slack_ps < required_ps
 }
 
 /// [`short`] against a whole-ps requirement (the frame's own SCLK period inside a burst). Below 2^53
@@ -138,16 +147,24 @@ pub(crate) struct MinPs {
 }
 
 impl MinPs {
-    /// The bound of the rule "`measured` must not fall short of `required_ps`".
+    /// The bound of the rule "`measured` must not fall short of `required_ps`" (with the 1 ps
+    /// allowance of [`short`]).
     pub fn new(required_ps: f64) -> MinPs {
-        if short(u64::MAX, required_ps) {
+        MinPs::with_slack(required_ps, 1.0)
+    }
+
+    /// The bound of [`short_by`]`(·, required_ps, slack_ps)` (non-decreasing in `measured` for any
+    /// slack, as [`short`]).
+    pub fn with_slack(required_ps: f64, slack_ps: f64) -> MinPs {
+        let short = |m: Ps| short_by(m, required_ps, slack_ps);
+        if short(u64::MAX) {
             return MinPs { first_ok: 1 << 64 };
         }
         // Invariant: every m < lo is short, hi is not.
         let (mut lo, mut hi) = (0u64, u64::MAX);
         while lo < hi {
             let mid = lo + (hi - lo) / 2;
-            if short(mid, required_ps) {
+            if short(mid) {
                 lo = mid + 1;
             } else {
                 hi = mid;

@@ -25,6 +25,8 @@ pub mod registers;
 pub mod replay;
 pub mod sampler;
 mod slave;
+mod spi_rules;
+pub mod spi_timing;
 
 pub use adis::{Adis, Adis16407, DataReady, DataReadyLine, ModelOptions, SampleStamp};
 pub use encoding::{decode, decode_baro, encode, Channel, DecodedWord, Encoded, GyroRange};

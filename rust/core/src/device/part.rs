@@ -10,6 +10,7 @@
 //! A sibling part is one file in `parts/` and one line in `parts::PARTS`.
 
 use super::encoding::Channel;
+use super::spi_timing::SpiTiming;
 
 /// Who may access a register over SPI.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -199,6 +200,22 @@ pub mod family {
     pub const T_CS_NS: f64 = 48.8;
     /// tSFS, ns.
     pub const T_SFS_NS: f64 = 48.8;
+
+    /// A part's SPI timing: the family's mode, 16-bit frames, tCS and tSFS (no CS-high minimum is
+    /// given), the part's normal-mode SCLK limit; the rules allow 1 ps for the bus's flooring of
+    /// times to whole picoseconds. A part's burst limit is [`super::Part::sclk_burst_max_hz`].
+    pub const fn spi(sclk_max_hz: f64) -> super::SpiTiming {
+        super::SpiTiming {
+            sclk_max_hz,
+            cs_setup_ps: T_CS_NS * 1e3,
+            cs_hold_ps: Some(T_SFS_NS * 1e3),
+            cs_high_min_ps: None,
+            modes: &[SPI_MODE],
+            frame_bits: Some(FRAME_BITS),
+            char_bits: &[FRAME_BITS],
+            slack_ps: 1.0,
+        }
+    }
 }
 
 /// One part of the family: everything that differs from its siblings.
@@ -230,8 +247,8 @@ pub struct Part {
     /// tDATARATE: shortest period of frames outside a burst (the data sheet's chip-select period of
     /// one-word reads; measured from a frame's first SCLK edge to the next one's), µs.
     pub t_datarate_us: f64,
-    /// SCLK limit in normal mode, Hz.
-    pub sclk_max_hz: f64,
+    /// The SPI timing (its SCLK limit in normal mode; the family's other figures).
+    pub spi: SpiTiming,
     /// SCLK limit during a burst read, Hz.
     pub sclk_burst_max_hz: f64,
     /// Error-model preset of `errors.preset` for this part.

@@ -31,7 +31,7 @@
 
 use super::adis::{Adis, Burst, SampleStamp};
 use super::frame::{short_ps, MinPs, ReadRecord, Violations};
-use super::part::family::{slow_mode, SPI_MODE};
+use super::part::family::{slow_mode, FRAME_BITS, SPI_MODE};
 use crate::bus::{FrameTiming, RunTiming, SpiSlave};
 use crate::events::{Event, Severity};
 use crate::time::{Ps, PS_PER_S};
@@ -115,12 +115,12 @@ impl Adis {
         self.events.push(Event::rule(t, kind, Severity::Error, message, measured, required).in_frame(frame));
     }
 
-    /// The SCLK limit that applies to a frame: (in Hz, as the shortest period, which limit).
-    fn sclk_limit(&self, in_burst: bool) -> (f64, MinPs, &'static str) {
+    /// The SCLK limit that applies to a frame: (in Hz, which limit).
+    fn sclk_limit(&self, in_burst: bool) -> (f64, &'static str) {
         if in_burst {
-            (self.limits.sclk_burst_max_hz, self.limits.min_burst_sclk_period, "burst")
+            (self.limits.sclk_burst_max_hz, "burst")
         } else {
-            (self.limits.sclk_max_hz, self.limits.min_sclk_period, "normal-mode")
+            (self.limits.sclk_max_hz, "normal-mode")
         }
     }
 
@@ -153,21 +153,15 @@ impl Adis {
         found
     }
 
-    /// The rules a frame breaks by its shape alone (length, clock polarity, SCLK rate): the same for
-    /// every frame of one character shape.
+    /// The rules a frame breaks by its shape alone (length, clock polarity, SCLK rate against the
+    /// normal-mode or, in a burst, the burst limit): the same for every frame of one character shape.
     #[inline(always)]
     fn shape_violations(&self, timing: &FrameTiming, in_burst: bool) -> Violations {
-        let mut found = Violations::default();
-        if timing.bits != 16 {
-            found.insert(Violations::FRAME_LENGTH);
+        if in_burst {
+            self.limits.spi.shape_against(timing, self.limits.min_burst_sclk_period)
+        } else {
+            self.limits.spi.shape(timing)
         }
-        if timing.mode != SPI_MODE {
-            found.insert(Violations::SPI_MODE);
-        }
-        if self.sclk_limit(in_burst).1.short(timing.sclk_period) {
-            found.insert(Violations::SCLK_TOO_FAST);
-        }
-        found
     }
 
     /// The rules a frame breaks by when it starts: the stall since the previous frame, CS setup.
@@ -193,7 +187,7 @@ impl Adis {
                 found.insert(Violations::DATARATE_TOO_SHORT);
             }
         }
-        if !self.spi.framed_since_cs && self.limits.min_cs_setup.short(t.saturating_sub(self.spi.cs_fall)) {
+        if !self.spi.framed_since_cs && self.limits.spi.setup_short(self.spi.cs_fall, t) {
             found.insert(Violations::CS_SETUP);
         }
         found
@@ -208,7 +202,14 @@ impl Adis {
         if found.contains(Violations::FRAME_LENGTH) {
             let msg =
                 format!("frame {n}: {} SCLK cycles; the {} needs 16-bit frames", timing.bits, self.layout.part.name);
-            self.violation(Violations::FRAME_LENGTH, t, timing.index, msg, f64::from(timing.bits), 16.0);
+            self.violation(
+                Violations::FRAME_LENGTH,
+                t,
+                timing.index,
+                msg,
+                f64::from(timing.bits),
+                f64::from(FRAME_BITS),
+            );
         }
         if found.contains(Violations::SPI_MODE) {
             let m = timing.mode;
@@ -222,7 +223,7 @@ impl Adis {
             self.violation(Violations::SPI_MODE, t, timing.index, msg, f64::from(m), f64::from(SPI_MODE));
         }
         if found.contains(Violations::SCLK_TOO_FAST) {
-            let (max_hz, _, which) = self.sclk_limit(in_burst);
+            let (max_hz, which) = self.sclk_limit(in_burst);
             let f = hz(timing.sclk_period);
             let msg = format!("frame {n}: SCLK {:.6} MHz exceeds the {which} limit {:.6} MHz", f / 1e6, max_hz / 1e6);
             self.violation(Violations::SCLK_TOO_FAST, t, timing.index, msg, f, max_hz);
@@ -537,7 +538,7 @@ impl Adis {
         self.spi.cs_low = false;
         if let (true, Some(le), Some(last)) = (self.spi.framed_since_cs, self.spi.last_edge, self.spi.last()) {
             let (gap, index) = (t.saturating_sub(le), last.index);
-            if self.limits.min_cs_hold.short(gap) {
+            if self.limits.spi.hold_short(le, t) {
                 self.cs_hold_violated(index, gap, t);
             }
         }

@@ -145,23 +145,7 @@ impl<const RZ: bool> C28xF32<RZ> {
         C28xF32(canonical(x, false))
     }
 
-    /// The stored f32 (canonical).
-    #[inline]
-    pub fn value(self) -> f32 {
-        self.0
-    }
-
-    /// The raw IEEE bits (what a memory dump of the target shows).
-    #[inline]
-    pub fn to_bits(self) -> u32 {
-        self.0.to_bits()
-    }
-
-    /// A value from raw IEEE bits, canonicalised as a `MOV32` into an FPU register would be used.
-    #[inline]
-    pub fn from_bits(bits: u32) -> Self {
-        Self::new(f32::from_bits(bits))
-    }
+    f32_target!(bits);
 
     /// `EINVF32`: the hardware reciprocal estimate under the thread's [`EstimateModel`].
     #[inline]
@@ -536,21 +520,7 @@ impl<const RZ: bool> Scalar for C28xF32<RZ> {
     fn sqrt(self) -> Self {
         C28xF32(sqrt::<RZ>(self.0, estimate_model()))
     }
-    fn sin(self) -> Self {
-        from_library((self.0 as f64).sin())
-    }
-    fn cos(self) -> Self {
-        from_library((self.0 as f64).cos())
-    }
-    fn atan(self) -> Self {
-        from_library((self.0 as f64).atan())
-    }
-    fn atan2(self, x: Self) -> Self {
-        from_library((self.0 as f64).atan2(x.0 as f64))
-    }
-    fn asin(self) -> Self {
-        from_library((self.0 as f64).clamp(-1.0, 1.0).asin())
-    }
+    f32_target!(library);
     #[inline]
     fn abs(self) -> Self {
         C28xF32(self.0.abs())

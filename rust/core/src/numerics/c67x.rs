@@ -93,23 +93,7 @@ impl C67xF32 {
         C67xF32(canonical(x))
     }
 
-    /// The stored f32.
-    #[inline]
-    pub fn value(self) -> f32 {
-        self.0
-    }
-
-    /// The raw IEEE bits.
-    #[inline]
-    pub fn to_bits(self) -> u32 {
-        self.0.to_bits()
-    }
-
-    /// A value from raw IEEE bits, read as an operand ([`C67xF32::new`]).
-    #[inline]
-    pub fn from_bits(bits: u32) -> Self {
-        Self::new(f32::from_bits(bits))
-    }
+    f32_target!(bits);
 }
 
 macro_rules! binop {
@@ -165,21 +149,7 @@ impl Scalar for C67xF32 {
     fn sqrt(self) -> Self {
         C67xF32(canonical(self.0.sqrt()))
     }
-    fn sin(self) -> Self {
-        from_library((self.0 as f64).sin())
-    }
-    fn cos(self) -> Self {
-        from_library((self.0 as f64).cos())
-    }
-    fn atan(self) -> Self {
-        from_library((self.0 as f64).atan())
-    }
-    fn atan2(self, x: Self) -> Self {
-        from_library((self.0 as f64).atan2(x.0 as f64))
-    }
-    fn asin(self) -> Self {
-        from_library((self.0 as f64).clamp(-1.0, 1.0).asin())
-    }
+    f32_target!(library);
     #[inline]
     fn abs(self) -> Self {
         C67xF32(canonical(self.0.abs()))

@@ -12,6 +12,52 @@
 //! choice into a monomorphised call of a generic function. `Counted` is not a `Numeric`: the timing model
 //! runs the same generic code with it to count operations per stage.
 
+/// What the single-precision targets (`c28x`, `c67x`), newtypes over their stored `f32`, have in
+/// common, written once: the raw bits (`value`, `to_bits`, `from_bits` through the type's own `new`,
+/// which canonicalises as the CPU reads an operand) with `f32_target!(bits)` in an inherent `impl`,
+/// and the library functions (sine, cosine, arc tangents, arc sine: evaluated in f64 on the stored
+/// value, rounded into the target by the module's `from_library`) with `f32_target!(library)` in
+/// the `impl Scalar`.
+macro_rules! f32_target {
+    (library) => {
+        fn sin(self) -> Self {
+            from_library((self.0 as f64).sin())
+        }
+        fn cos(self) -> Self {
+            from_library((self.0 as f64).cos())
+        }
+        fn atan(self) -> Self {
+            from_library((self.0 as f64).atan())
+        }
+        fn atan2(self, x: Self) -> Self {
+            from_library((self.0 as f64).atan2(x.0 as f64))
+        }
+        fn asin(self) -> Self {
+            from_library((self.0 as f64).clamp(-1.0, 1.0).asin())
+        }
+    };
+    (bits) => {
+        /// The stored f32 (canonical).
+        #[inline]
+        pub fn value(self) -> f32 {
+            self.0
+        }
+
+        /// The raw IEEE bits (what a memory dump of the target shows).
+        #[inline]
+        pub fn to_bits(self) -> u32 {
+            self.0.to_bits()
+        }
+
+        /// A value from raw IEEE bits, read as an operand: canonicalised as the CPU uses a value it
+        /// loads (`new`).
+        #[inline]
+        pub fn from_bits(bits: u32) -> Self {
+            Self::new(f32::from_bits(bits))
+        }
+    };
+}
+
 pub mod c28x;
 pub mod c67x;
 pub mod counter;

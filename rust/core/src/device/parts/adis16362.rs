@@ -10,7 +10,7 @@ use crate::device::part::Access::{R, RW, W};
 use crate::device::part::Format::{Bits, TwosComplement as Tc, Unsigned as U};
 use crate::device::part::PowerOn::{self, Fixed};
 use crate::device::part::Role::*;
-use crate::device::part::{f, out, reg, Field, Part, RegisterDef};
+use crate::device::part::{f, family, out, reg, Field, Part, RegisterDef};
 
 const D14: &[Field] = &[f("data", 0, 14)];
 const D13: &[Field] = &[f("data", 0, 13)];
@@ -102,7 +102,7 @@ pub const PART: Part = Part {
     t_stall_us: 9.0,
     t_stall_slow_us: 75.0,
     t_datarate_us: 40.0,
-    sclk_max_hz: 2.0e6,
+    spi: family::spi(2.0e6),
     sclk_burst_max_hz: 1.0e6,
     error_preset: "adis16362",
 };

@@ -1,7 +1,11 @@
-//! The parts of the ADIS16xxx family, one declaration each (see [`super::part`]).
+//! The parts' declarations: the ADIS16xxx family's, one [`Part`] each (see [`super::part`]), and
+//! the SPI timing of the parts of other families (`adxl345`, `ads8344`: their models live in
+//! `device/`).
 
 pub mod adis16362;
 pub mod adis16407;
+pub mod ads8344;
+pub mod adxl345;
 pub mod spi_needs;
 
 use super::part::Part;
