@@ -130,6 +130,13 @@ def test_a_crash_in_an_isr_is_exit_2_naming_the_signal_and_line_with_the_rows_ke
     meta, cols = load_run(out)
     assert meta["created_by"] == "sins-fw run --firmware"
     assert np.array_equal(cols["ticks"], np.arange(1, 100))
+    # replay and report re-emulate the Rust model: a firmware's rows are refused, saying so.
+    for command in (
+        ["replay", str(out), "--out", str(tmp_path / "r.rrd")],
+        ["report", str(out), "--out", str(tmp_path / "r.png")],
+    ):
+        assert main(command) == 2
+        assert "a run of the C firmware" in capsys.readouterr().err
 
 
 def test_exit_in_main_is_exit_2_naming_the_call(tmp_path: Path, capsys: pytest.CaptureFixture[str]):

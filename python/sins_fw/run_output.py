@@ -422,8 +422,15 @@ def replay_check(
     """Re-emulate a saved run from what its metadata records (trace, profile, overrides) and check
     that every per-step value comes out bit for bit the same, like ArduPilot's replay checker. Returns
     the new Run and the metadata (``trace`` is where the trace was found: :func:`resolve_trace`);
-    raises CheckFailed naming the first differing column and row."""
+    raises CheckFailed naming the first differing column and row. A C firmware's run output is
+    refused (InputError): its rows are the firmware's, which the Rust model does not re-emulate."""
     meta, saved = load_run(path)
+    if meta.get("created_by") == FIRMWARE_CREATED_BY:
+        raise InputError(
+            f"{path}: a run of the C firmware {meta.get('firmware', '(its `firmware` metadata)')}: its rows "
+            "are the firmware's globals, which the Rust model does not re-emulate; read it with "
+            "sins_fw.load_run, or run the firmware again (`sins-fw run TRACE --firmware FW.so`)"
+        )
     meta = {**meta, "trace": str(resolve_trace(path, meta))}  # the trace as found
     trace = recorded_trace(path, meta)
     try:

@@ -89,7 +89,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=Path,
         metavar="FW.so",
         help="run this host-built C firmware (`sins-fw build-firmware`) instead of the profile's Rust model: "
-        "its main runs until the trace ends, its ISR on CPU timer 0 (docs/c-drivers.md)",
+        "its main runs until the trace ends, its ISR on CPU timer 0, in a process of its own (a crash, "
+        "abort or exit there is exit 2 naming the signal and the line; its stdout goes to stderr; "
+        "docs/c-drivers.md)",
     )
     p.add_argument(
         "--globals",
