@@ -7,6 +7,8 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 DEPS   := $(VENV)/.deps-installed
 BUILT  := $(VENV)/.extension-built
+# The C ABI library `sins-fw build-firmware` links against (below).
+CABI   := $(or $(CARGO_TARGET_DIR),target)/release/libsins_cabi.so
 RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find rust -name '*.rs' -o -name Cargo.toml)
 # pytest runs on PYTEST_WORKERS pytest-xdist workers (CI has two cores; most tests use one), whole
 # modules to a worker so that a module's shared set-up is made once; the modules marked `alone`
@@ -16,8 +18,15 @@ export CARGO_TERM_COLOR ?= never
 
 .PHONY: demo test test-rust test-rust-built test-python lint fmt bench clean golden docs wheel
 
-demo: $(BUILT)
+demo: $(BUILT) $(CABI)
 	$(BIN)/sins-fw demo
+
+# The C ABI library `sins-fw build-firmware` links a user's firmware against, where the source tree's
+# sins_fw.firmware_build.cabi_dirs looks for it (`cargo test` leaves its copy in target/release/deps/
+# only): built by `make demo` and `make test` too.
+$(CABI): $(RUST_SOURCES)
+	+cargo build --release -p sins-cabi
+	touch $@
 
 # The two Rust builds `make test` needs, the Rust tests (`release`) and the extension (`dist`: fat LTO in
 # one codegen unit, whose long single-threaded compile and link of the core leave a core idle), run at
@@ -27,7 +36,7 @@ CARGO_TEST := cargo test --workspace --release
 
 test:
 	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT)
-	$(MAKE) --no-print-directory test-rust test-python
+	$(MAKE) --no-print-directory $(CABI) test-rust test-python
 
 test-rust-built:
 	+$(CARGO_TEST) --no-run

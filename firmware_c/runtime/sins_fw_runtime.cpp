@@ -25,8 +25,25 @@
    (Failure) with its message. A loop that makes no register access while nothing can interrupt it
    (INTM set, the timer or its PIE path disabled) can never end: after `spin_blocks` basic blocks
    without an access the run stops with an error naming what blocks the interrupts, and the code
-   address of the loop (sins_fw_fault_offset: the harness turns it into file:line with addr2line). */
+   address of the loop (sins_fw_fault_offset: the harness turns it into file:line with addr2line).
+   An ISR still running when the input ends (one that never returns) ends the run with status 3 and
+   the code address it was at.
+
+   Crashes. The harness runs the firmware in a child process (sins_fw.firmware_run) and passes a file
+   in SINS_FW_CRASH_FD. Before any of the firmware's static constructors (this library's constructor
+   of priority 101), the runtime installs handlers of the fatal signals on an alternate stack (a
+   stack overflow from endless recursion is caught too) and an atexit handler: each writes a record
+   (the signal, the faulting address and instruction, the return addresses of the stack, the
+   library's load address) and what the run computed since the harness last took it (the ISR rows;
+   the events and the bus log when the code interrupted is the firmware's own, abort() or exit())
+   to the file, then the signal takes its default action; the harness keeps the rows and names the
+   signal and, through addr2line, the firmware's file and line. */
 #include <dlfcn.h>
+#include <execinfo.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <ucontext.h>
+#include <unistd.h>
 
 #include <cctype>
 #include <cstdio>
@@ -108,6 +125,12 @@ uint64_t blocks_since_access = 0;
 uint64_t fault_offset = 0;
 size_t n_globals = 0;
 int isr_depth = 0;
+/* The outermost ISR running: its vector, the end of its entry and its deadline (the next tick; ps). */
+int isr_vector = -1;
+uint64_t isr_entry_end_ps = 0;
+uint64_t isr_deadline_ps = UINT64_MAX;
+/* The return address of the last basic block's call into the runtime (where the firmware is). */
+const void *last_pc = nullptr;
 /* The polling skip: the last access, when it was a read. */
 bool poll_valid = false;
 uint32_t poll_addr = 0;
@@ -220,7 +243,11 @@ void run_isr(int vector, uint64_t isr) {
     poll_valid = false;
     pass_cycles(cfg->isr_entry_cycles);
     times[ROW_ENTRY_END] = now_ps;
-    isr_depth++;
+    if (isr_depth++ == 0) {
+        isr_vector = vector;
+        isr_entry_end_ps = now_ps;
+        isr_deadline_ps = next;
+    }
     irq_at = 0;
     update_flush();
     reinterpret_cast<void (*)(void)>(static_cast<uintptr_t>(isr))();
@@ -426,6 +453,7 @@ extern "C" void __sanitizer_cov_trace_pc(void) {
         return; /* static constructors, before a run */
     }
     blocks++;
+    last_pc = __builtin_return_address(0);
     pending_cycles += cfg->block_cycles;
     if (++blocks_since_access >= cfg->spin_blocks && blocks_since_access % cfg->spin_blocks == 0) {
         spin_check(__builtin_return_address(0));
@@ -443,8 +471,9 @@ extern "C" void sins_fw_idle(void) {
     if (cfg == nullptr) {
         return;
     }
+    last_pc = __builtin_return_address(0);
     if (irq_at == UINT64_MAX) {
-        spin_check(__builtin_return_address(0));
+        spin_check(last_pc);
     }
     uint64_t passes = flush_cycles > pending_cycles
                           ? (flush_cycles - pending_cycles + cfg->block_cycles - 1) / cfg->block_cycles
@@ -466,6 +495,8 @@ extern "C" int sins_fw_run(const SinsFwConfig *config, char *message, size_t mes
     n_globals = config->n_globals;
     accesses = blocks = blocks_since_access = fault_offset = pending_cycles = 0;
     isr_depth = 0;
+    isr_vector = -1;
+    last_pc = nullptr;
     poll_valid = false;
     row_times.clear();
     row_values.clear();
@@ -485,6 +516,22 @@ extern "C" int sins_fw_run(const SinsFwConfig *config, char *message, size_t mes
         update_flush();
         sins_fw_user_main();
     } catch (const TraceEnd &) {
+        if (isr_depth > 0 && now_ps > isr_deadline_ps) {
+            /* The input ended inside an ISR past its deadline (the next tick): an ISR cut by the end
+               of the input within its period is not an error, one that has not returned by then is. */
+            rc = 3;
+            char when[320];
+            std::snprintf(when, sizeof when,
+                          "the ISR of PIE vector %d%s, entered at t = %.9f s, had not returned when the input "
+                          "ended at t = %.9f s (its deadline, the next tick: t = %.9f s)",
+                          isr_vector, isr_vector == 38 ? " (TINT0)" : "", isr_entry_end_ps * 1e-12, now_ps * 1e-12,
+                          isr_deadline_ps * 1e-12);
+            text = when;
+            Dl_info info;
+            if (last_pc != nullptr && dladdr(last_pc, &info) != 0 && info.dli_fbase != nullptr) {
+                fault_offset = reinterpret_cast<uintptr_t>(last_pc) - reinterpret_cast<uintptr_t>(info.dli_fbase);
+            }
+        }
     } catch (const Failure &f) {
         rc = 2;
         text = f.message;
@@ -519,8 +566,178 @@ extern "C" const int sins_fw_double_bytes = 4;
 extern "C" const int sins_fw_double_bytes = static_cast<int>(sizeof(double));
 #endif
 
+/* The earliest time (ps) a bus-log record may still matter to an ISR row not yet recorded: the end of
+   the entry of the ISR running, else now (every later ISR starts after it). */
+extern "C" uint64_t sins_fw_isr_floor_ps(void) { return isr_depth > 0 ? isr_entry_end_ps : now_ps; }
+
 extern "C" size_t sins_fw_rows_ready(void) { return row_times.size() / ROW_TIMES; }
 extern "C" uint64_t sins_fw_accesses(void) { return accesses; }
 extern "C" uint64_t sins_fw_blocks(void) { return blocks; }
 /* The offset in the firmware library of the loop a spin error names (0: none). */
 extern "C" uint64_t sins_fw_fault_offset(void) { return fault_offset; }
+
+/* The crash report (see the header comment): the record, then what the run had not yet handed over
+   (report_pending), to a file the harness reads once the process is gone. */
+namespace {
+
+constexpr uint64_t CRASH_MAGIC = 0x53494e53465743ULL; /* "SINSFWC" */
+constexpr int CRASH_FRAMES = 48;
+struct CrashRecord {
+    uint64_t magic;
+    int64_t signal; /* 0: exit() */
+    int64_t code;
+    uint64_t fault_address;
+    uint64_t pc;
+    uint64_t base;
+    uint64_t n_frames;
+    uint64_t frames[CRASH_FRAMES];
+};
+int crash_fd = -1;
+alignas(16) char crash_stack[1 << 18];
+volatile sig_atomic_t crash_reported = 0;
+
+bool write_all(const void *data, size_t n) {
+    const char *p = static_cast<const char *>(data);
+    while (n > 0) {
+        ssize_t k = write(crash_fd, p, n);
+        if (k <= 0) {
+            return false;
+        }
+        p += k;
+        n -= static_cast<size_t>(k);
+    }
+    return true;
+}
+
+/* One event as the crash report writes it. */
+struct CrashEvent {
+    uint64_t t_ps;
+    int64_t frame;
+    double measured;
+    double required;
+    uint64_t severity;
+    char kind[40];
+    char message[256];
+};
+
+/* What the run had computed and not yet handed to the harness: the ISR rows (always: plain memory
+   of this runtime), then, when the code interrupted is the firmware's own or abort()/exit() (not
+   the emulator's or the C library's, which might hold a lock), the events and the bus log. */
+void report_pending(bool board_safe) {
+    uint64_t head[2] = {row_times.size() / ROW_TIMES, n_globals};
+    if (!write_all(head, sizeof head) || !write_all(row_times.data(), head[0] * ROW_TIMES * sizeof(uint64_t)) ||
+        !write_all(row_values.data(), head[0] * n_globals * sizeof(double))) {
+        return;
+    }
+    uint64_t safe = board_safe && board != nullptr ? 1 : 0;
+    write_all(&safe, sizeof safe);
+    if (!safe) {
+        return;
+    }
+    SinsEvent ev;
+    CrashEvent out;
+    int got = 1;
+    while (got) {
+        std::memset(&out, 0, sizeof out);
+        if (sins_take_event(board, &ev, out.message, sizeof out.message, &out.measured, &out.required, &got) != SINS_OK) {
+            got = 0;
+        }
+        uint64_t more = got ? 1 : 0;
+        write_all(&more, sizeof more);
+        if (got) {
+            out.t_ps = ev.t_ps;
+            out.frame = ev.frame;
+            out.severity = ev.severity;
+            std::memcpy(out.kind, ev.kind, sizeof out.kind);
+            write_all(&out, sizeof out);
+        }
+    }
+    SinsBusRecord records[256];
+    size_t n = 0;
+    do {
+        if (sins_take_bus_log(board, records, 256, &n) != SINS_OK) {
+            n = 0;
+        }
+        uint64_t k = n;
+        write_all(&k, sizeof k);
+        write_all(records, n * sizeof(SinsBusRecord));
+    } while (n == 256);
+    uint64_t end = 0;
+    write_all(&end, sizeof end);
+}
+
+void report(int sig, const siginfo_t *info, const void *context) {
+    if (crash_fd < 0 || crash_reported) {
+        return;
+    }
+    crash_reported = 1;
+    CrashRecord r = {};
+    r.magic = CRASH_MAGIC;
+    r.signal = sig;
+    if (info != nullptr) {
+        r.code = info->si_code;
+        r.fault_address = reinterpret_cast<uintptr_t>(info->si_addr);
+    }
+    if (context != nullptr) {
+        const ucontext_t *uc = static_cast<const ucontext_t *>(context);
+#if defined(__x86_64__)
+        r.pc = static_cast<uint64_t>(uc->uc_mcontext.gregs[REG_RIP]);
+#elif defined(__aarch64__)
+        r.pc = uc->uc_mcontext.pc;
+#else
+        (void)uc;
+#endif
+    }
+    Dl_info self;
+    if (dladdr(reinterpret_cast<const void *>(&report), &self) != 0) {
+        r.base = reinterpret_cast<uintptr_t>(self.dli_fbase);
+    }
+    void *frames[CRASH_FRAMES];
+    int n = backtrace(frames, CRASH_FRAMES);
+    r.n_frames = n > 0 ? static_cast<uint64_t>(n) : 0;
+    for (int i = 0; i < n; i++) {
+        r.frames[i] = reinterpret_cast<uintptr_t>(frames[i]);
+    }
+    if (!write_all(&r, sizeof r)) {
+        return;
+    }
+    bool in_firmware = false;
+    Dl_info where;
+    if (r.pc != 0 && dladdr(reinterpret_cast<const void *>(static_cast<uintptr_t>(r.pc)), &where) != 0) {
+        in_firmware = where.dli_fbase == self.dli_fbase;
+    }
+    report_pending(cfg != nullptr && (sig == 0 || sig == SIGABRT || in_firmware));
+}
+
+void on_fatal_signal(int sig, siginfo_t *info, void *context) {
+    report(sig, info, context);
+    /* SA_RESETHAND restored the default action: raise it again (a fault repeats at once anyway). */
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+void on_exit_call() { report(0, nullptr, nullptr); }
+
+__attribute__((constructor(101))) void install_crash_report() {
+    const char *fd = getenv("SINS_FW_CRASH_FD");
+    if (fd == nullptr || *fd == '\0') {
+        return;
+    }
+    crash_fd = atoi(fd);
+    void *warm[2];
+    backtrace(warm, 2); /* loads the unwinder now, not inside a signal handler */
+    stack_t ss = {};
+    ss.ss_sp = crash_stack;
+    ss.ss_size = sizeof crash_stack;
+    sigaltstack(&ss, nullptr);
+    struct sigaction sa = {};
+    sa.sa_sigaction = on_fatal_signal;
+    sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGTRAP, SIGSYS}) {
+        sigaction(sig, &sa, nullptr);
+    }
+    atexit(on_exit_call);
+}
+
+}  // namespace

@@ -21,17 +21,22 @@ The globals file (TOML, beside the sources; ``globals.toml`` there is found by d
 Columns named like the run output's (``q0``…``q3``, ``roll_deg``, ``pitch_deg``, ``yaw_deg``) are the
 attitude, compared with the trace's truth when all four ``q`` are given.
 
-Globals start fresh in every run: each run loads a private copy of the library (a new file, so a
-new ``dlopen`` with its own data segment), so two runs in one process give the same results.
+The firmware runs in a process of its own (:mod:`sins_fw.firmware_child`): a crash, ``abort()``,
+``exit()`` or endless recursion in it ends that process, not the emulator's; the rows, events and
+summary up to there are kept and the error names the signal and the firmware's file and line
+(:class:`FirmwareStopped`). Its stdout is the run's stderr. Globals start fresh in every run (each
+run is a new process with a new ``dlopen``), so two runs give the same results.
 """
 
 from __future__ import annotations
 
-import ctypes
+import contextlib
 import math
+import multiprocessing
 import os
 import re
 import shutil
+import signal
 import subprocess
 import tempfile
 import tomllib
@@ -43,26 +48,16 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw import _core, synth
-from sins_fw.errors import InputError, ProfileError
+from sins_fw import synth
+from sins_fw._core import SEVERITIES
+from sins_fw.errors import InputError, InternalError, ProfileError
+from sins_fw.firmware_child import BUS_RECORD, CRASH_EVENT, CRASH_MAGIC, CRASH_RECORD, TYPES, Job, Watch
+from sins_fw.firmware_child import start as start_child
 from sins_fw.harness import FEED_ROWS, PS, _chunks, _TruthWindow
 from sins_fw.profile import Profile
-from sins_fw.run_output import RUN_SCHEMA, RunWriter
-from sins_fw.tablefile import Column, Schema
+from sins_fw.run_output import FIRMWARE_CREATED_BY, RunWriter, firmware_run_schema
 from sins_fw.traces import PhysicalTrace
 
-#: C type names of a watched global and the runtime's codes for them.
-TYPES = {"int16": 0, "uint16": 1, "int32": 2, "uint32": 3, "int64": 4, "uint64": 5, "float": 6, "double": 7}
-_CTYPES: dict[str, Any] = {
-    "int16": ctypes.c_int16,
-    "uint16": ctypes.c_uint16,
-    "int32": ctypes.c_int32,
-    "uint32": ctypes.c_uint32,
-    "int64": ctypes.c_int64,
-    "uint64": ctypes.c_uint64,
-    "float": ctypes.c_float,
-    "double": ctypes.c_double,
-}
 #: The run output's attitude columns a global may fill: file column → (core column, component).
 ATTITUDE = {
     **{f"q{i}": ("cycle_quat", i) for i in range(4)},
@@ -71,55 +66,6 @@ ATTITUDE = {
 #: Basic blocks without a register access before the runtime checks for a loop that cannot end
 #: (2^24 blocks: about 1 s of virtual time at 9 cycles each and 150 MHz, 0.1 s of host time).
 SPIN_BLOCKS = 1 << 24
-
-_MORE_INPUT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)
-#: The C ABI's SinsBusRecord (rust/cabi/include/sins_fw.h), one bus-log record.
-_BUS_RECORD = np.dtype(
-    [
-        ("kind", np.uint8),
-        ("cs_low", np.uint8),
-        ("selected", np.uint8),
-        ("bits", np.uint8),
-        ("master_tx", np.uint16),
-        ("master_rx", np.uint16),
-        ("din", np.uint16),
-        ("dout", np.uint16),
-        ("t_ps", np.uint64),
-        ("end_ps", np.uint64),
-        ("first_edge_ps", np.uint64),
-        ("last_edge_ps", np.uint64),
-        ("sclk_period_ps", np.uint64),
-        ("index", np.uint64),
-    ],
-    align=True,
-)
-
-
-class _Config(ctypes.Structure):
-    _fields_ = [
-        ("board", ctypes.c_void_p),
-        ("read_cycles", ctypes.c_uint64),
-        ("write_cycles", ctypes.c_uint64),
-        ("block_cycles", ctypes.c_uint64),
-        ("isr_entry_cycles", ctypes.c_uint64),
-        ("isr_exit_cycles", ctypes.c_uint64),
-        ("spin_blocks", ctypes.c_uint64),
-        ("n_globals", ctypes.c_size_t),
-        ("global_addr", ctypes.POINTER(ctypes.c_void_p)),
-        ("global_type", ctypes.POINTER(ctypes.c_int)),
-        ("more_input", _MORE_INPUT),
-        ("ctx", ctypes.c_void_p),
-    ]
-
-
-class _Event(ctypes.Structure):
-    _fields_ = [
-        ("t_ps", ctypes.c_uint64),
-        ("frame", ctypes.c_int64),
-        ("din", ctypes.c_uint16),
-        ("severity", ctypes.c_uint8),
-        ("kind", ctypes.c_char * 40),
-    ]
 
 
 @dataclass(frozen=True)
@@ -131,6 +77,8 @@ class Global:
     column: str
     unit: str
     description: str = ""
+    #: Where the globals file declares it (``file:line: [[global]] k``), for messages.
+    where: str = field(default="", compare=False)
 
 
 def load_globals(path: str | os.PathLike[str]) -> list[Global]:
@@ -182,7 +130,14 @@ def load_globals(path: str | os.PathLike[str]) -> list[Global]:
                 f"{where}: field `column` = {entry['column']!r}: already the column of another global"
             )
         out.append(
-            Global(entry["name"], entry["type"], entry["column"], entry["unit"], entry.get("description", ""))
+            Global(
+                entry["name"],
+                entry["type"],
+                entry["column"],
+                entry["unit"],
+                entry.get("description", ""),
+                where,
+            )
         )
     return out
 
@@ -212,102 +167,6 @@ def _costs(profile: Profile) -> dict[str, int]:
         raise ProfileError(f"{source}: key {e} missing (the host-built firmware's costs)") from None
 
 
-class _Library:
-    """A private copy of the firmware library, loaded fresh (its globals at their initial values)."""
-
-    def __init__(self, library: str | os.PathLike[str]) -> None:
-        src = Path(library)
-        if not src.is_file():
-            raise InputError(f"{src}: no such firmware library (build it with `sins-fw build-firmware`)")
-        self._dir = tempfile.TemporaryDirectory(prefix="sins-fw-run-")
-        self.path = Path(self._dir.name) / src.name
-        shutil.copyfile(src, self.path)
-        self.source = src
-        try:
-            self.lib = ctypes.CDLL(str(self.path), mode=os.RTLD_LOCAL)
-        except OSError as e:
-            raise InputError(f"{src}: cannot load the firmware library: {e}") from None
-        for name in ("sins_fw_run", "sins_fw_take_rows", "sins_fw_row_times", "sins_board_new_input"):
-            if not hasattr(self.lib, name):
-                raise InputError(
-                    f"{src}: no symbol `{name}`: not a firmware built by `sins-fw build-firmware` (or built "
-                    "by an older version: build it again)"
-                )
-        lib = self.lib
-        lib.sins_fw_run.argtypes = [ctypes.POINTER(_Config), ctypes.c_char_p, ctypes.c_size_t]
-        lib.sins_fw_take_rows.restype = ctypes.c_size_t
-        lib.sins_fw_take_rows.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t]
-        lib.sins_fw_rows_ready.restype = ctypes.c_size_t
-        for f in ("sins_fw_accesses", "sins_fw_blocks", "sins_fw_fault_offset"):
-            getattr(lib, f).restype = ctypes.c_uint64
-        lib.sins_last_error.restype = ctypes.c_char_p
-        #: The ISR row's times, in the runtime's order (its `sins_fw_row_times`).
-        count = ctypes.c_int.in_dll(lib, "sins_fw_row_time_count").value
-        self.row_times = tuple(
-            (name or b"").decode() for name in (ctypes.c_char_p * count).in_dll(lib, "sins_fw_row_times")
-        )
-        try:
-            self.double_bytes = ctypes.c_int.in_dll(lib, "sins_fw_double_bytes").value
-        except ValueError:
-            self.double_bytes = 8
-        lib.sins_board_new_input.argtypes = [
-            ctypes.c_char_p,
-            ctypes.POINTER(ctypes.c_char_p),
-            ctypes.c_size_t,
-            ctypes.POINTER(ctypes.c_void_p),
-        ]
-        lib.sins_push_input.argtypes = [ctypes.c_void_p, *([ctypes.c_void_p] * 6), ctypes.c_size_t]
-        lib.sins_end_input.argtypes = [ctypes.c_void_p]
-        lib.sins_set_bus_log.argtypes = [ctypes.c_void_p, ctypes.c_int]
-        lib.sins_take_bus_log.argtypes = [
-            ctypes.c_void_p,
-            ctypes.c_void_p,
-            ctypes.c_size_t,
-            ctypes.POINTER(ctypes.c_size_t),
-        ]
-        lib.sins_board_free.argtypes = [ctypes.c_void_p]
-        lib.sins_now_ps.argtypes = [ctypes.c_void_p, ctypes.POINTER(ctypes.c_uint64)]
-        lib.sins_take_event.argtypes = [
-            ctypes.c_void_p,
-            ctypes.POINTER(_Event),
-            ctypes.c_char_p,
-            ctypes.c_size_t,
-            ctypes.POINTER(ctypes.c_double),
-            ctypes.POINTER(ctypes.c_double),
-            ctypes.POINTER(ctypes.c_int),
-        ]
-
-    def ctype(self, type_name: str) -> Any:
-        """The ctypes type of a watched global's type: ``double`` is the firmware's (32-bit in the
-        C28x float mode, ``sins_fw_double_bytes``)."""
-        if type_name == "double" and self.double_bytes == 4:
-            return ctypes.c_float
-        return _CTYPES[type_name]
-
-    def type_code(self, type_name: str) -> int:
-        """The runtime's code of a watched global's type (see :meth:`ctype`)."""
-        return TYPES["float"] if self.ctype(type_name) is ctypes.c_float else TYPES[type_name]
-
-    def address(self, g: Global, globals_file: Path | None) -> int:
-        name, _, index = g.name.partition("[")
-        try:
-            base = ctypes.addressof(ctypes.c_char.in_dll(self.lib, name))
-            return base + int(index.rstrip("]") or 0) * ctypes.sizeof(self.ctype(g.type))
-        except ValueError:
-            where = f" ({globals_file})" if globals_file else ""
-            raise InputError(
-                f"{self.source}: no global `{g.name}`{where}: expected a file-scope, non-static variable "
-                "of the "
-                "firmware"
-            ) from None
-
-    def error(self) -> str:
-        return (self.lib.sins_last_error() or b"").decode(errors="replace")
-
-    def close(self) -> None:
-        self._dir.cleanup()
-
-
 @dataclass
 class FirmwareResult:
     """What a firmware run did besides its parts: virtual time reached, register accesses and basic
@@ -319,6 +178,10 @@ class FirmwareResult:
     isr_rows: int = 0
     t0_s: float = 0.0
     final: dict[str, float] = field(default_factory=dict)
+    #: The float mode the firmware was built with (``host`` or ``c28x``: `build-firmware --float`).
+    float_mode: str = ""
+    #: Whether the trace has a truth attitude (compared when the globals give q0…q3).
+    truth: bool = False
     #: The SPI bus log when the run kept one (``bus_log=True``), in the keys of
     #: :attr:`sins_fw.harness.Run.bus` (``cs_t_ps``, ``cs_low``, ``frame_index``, ``frame_start_ps``,
     #: ``frame_din``, ``frame_dout``, ...), times in ps since power-on.
@@ -350,95 +213,352 @@ def run_c_firmware(
     bus_log: bool = False,
 ) -> FirmwareResult:
     """Run the firmware library on ``trace`` (None: a still board for ``until_s`` s) with the board
-    of ``profile``; each part of the output (see the module's doc) goes to ``sink``. Bad input (the
-    library, a symbol, the globals file) raises InputError before anything runs; an emulator error
-    while the firmware runs (an unmodelled register, a loop that cannot end) raises InputError with
-    the emulator's message, the loop's file and line when it names one. ``bus_log`` keeps the SPI bus
-    log of the whole run (:attr:`FirmwareResult.bus`)."""
+    of ``profile``; each part of the output (see the module's doc) goes to ``sink``. The firmware runs
+    in a child process (:mod:`sins_fw.firmware_child`). Bad input (the library, a symbol, the globals
+    file, a global the variable cannot hold) raises InputError before anything runs. A run the
+    firmware ends (an unmodelled register, a loop that cannot end, a crash, ``abort``, ``exit``)
+    raises :class:`FirmwareStopped` (an InputError) with the emulator's message, the signal, and the
+    firmware's file and line where the build tells; the parts up to there have gone to ``sink``, and
+    the exception carries the result so far. An ISR that has not returned by its deadline when the
+    input ends is an error event (``isr_not_returned``). ``bus_log`` keeps the SPI bus log of the
+    whole run (:attr:`FirmwareResult.bus`). Ctrl-C (KeyboardInterrupt) and SIGTERM stop the child."""
     gfile = Path(globals_file) if globals_file is not None else None
     watched = load_globals(gfile) if gfile is not None else []
     costs = _costs(profile)
-    lib = _Library(library)
-    board = ctypes.c_void_p()
-    try:
-        addrs = [lib.address(g, gfile) for g in watched]
-        overrides = [o.encode() for o in profile.overrides]
-        arr = (ctypes.c_char_p * max(1, len(overrides)))(*overrides)
-        if (
-            lib.lib.sins_board_new_input(
-                str(profile.source).encode(), arr, len(overrides), ctypes.byref(board)
+    source = Path(library)
+    if not source.is_file():
+        raise InputError(f"{source}: no such firmware library (build it with `sins-fw build-firmware`)")
+    job = Job(
+        library=str(source.resolve()),
+        profile_source=str(profile.source),
+        overrides=tuple(profile.overrides),
+        costs=costs,
+        spin_blocks=SPIN_BLOCKS,
+        watched=tuple(Watch(g.name, g.type, g.where or f"{gfile}: global `{g.name}`") for g in watched),
+    )
+    feeder = _Feeder(trace, until_s, on_chunk)
+    rows = _Rows(watched, sink)
+    result = FirmwareResult()
+    bus: list[np.ndarray] | None = [] if bus_log else None
+    #: The first write the protection ignored (named in a stop's message: often its cause).
+    ignored: list[dict[str, Any]] = []
+    with _Child(job) as child:
+        loaded = False
+        while True:
+            message = child.receive()
+            if message is None:  # the child is gone without a word: a signal, exit(), _exit()
+                raise child.stopped(source, loaded, result, rows, feeder)
+            kind = message[0]
+            if kind == "loaded":
+                loaded = True
+                result.float_mode = "c28x" if message[1] == 4 else "host"
+                child.send(feeder.next_piece())
+            elif kind == "rows":
+                _, times, values, events, records, floor_ps, now_ps, more = message
+                result.now_s = now_ps * PS
+                if bus is not None and len(records):
+                    bus.append(records)
+                ignored += [e for e in events if e["kind"] == "protected_write"][: 1 - len(ignored)]
+                rows.add(feeder.window, _row_columns(times), values, events, records, floor_ps)
+                result.isr_rows = rows.count
+                if more:
+                    child.send(feeder.next_piece())
+            elif kind == "failed":
+                _, rc, text, offset, events = message
+                if rc == 3:  # an ISR that never returned: an error event, the run ends as usual
+                    where = f" (the ISR was at {_source_line(source, offset)})" if offset else ""
+                    rows.add_events(
+                        [_event(result.now_s, "isr_not_returned", f"{text}{where}")], feeder.window
+                    )
+                    continue
+                if offset:
+                    text += f" (the loop: {_source_line(source, offset)})"
+                ignored += [e for e in events if e["kind"] == "protected_write"]
+                if ignored:
+                    text += f"; before it, at {ignored[0]['t_s']:.9f} s: {ignored[0]['message']}"
+                _finish(result, rows, feeder, bus)
+                raise FirmwareStopped(f"{source}: {text}", result)
+            elif kind == "done":
+                _, now_ps, accesses, blocks, final = message
+                result.now_s = now_ps * PS
+                result.accesses, result.blocks = accesses, blocks
+                result.final = {g.name: v for g, v in zip(watched, final, strict=True)}
+                _finish(result, rows, feeder, bus)
+                return result
+            elif kind == "error":
+                raise message[1]
+            elif kind == "internal":
+                raise InternalError(f"{source}: the firmware's process failed:\n{message[1]}")
+
+
+def _finish(result: FirmwareResult, rows: _Rows, feeder: _Feeder, bus: list[np.ndarray] | None) -> None:
+    result.isr_rows = rows.count
+    result.t0_s = feeder.t0 or 0.0
+    result.truth = feeder.window.t is not None
+    if bus is not None:
+        result.bus = _bus_columns(np.concatenate(bus) if bus else np.zeros(0, BUS_RECORD))
+
+
+def _row_columns(times: np.ndarray) -> dict[str, np.ndarray]:
+    return {name: times[:, i] for i, name in enumerate(ROW_TIMES)}
+
+
+def _event(t_s: float, kind: str, message: str) -> dict[str, Any]:
+    return {
+        "t_s": t_s,
+        "kind": kind,
+        "severity": "error",
+        "message": message,
+        "measured": None,
+        "required": None,
+        "frame": None,
+    }
+
+
+class FirmwareStopped(InputError):  # noqa: N818 (what happened to the run, as CheckFailed)
+    """The firmware ended the run before the input did (a crash, ``abort``, ``exit``, a loop that can
+    never end, an emulator error): exit 2. :attr:`result` holds what the run did up to there (its
+    parts went to the sink)."""
+
+    def __init__(self, message: str, result: FirmwareResult) -> None:
+        super().__init__(message)
+        self.result = result
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (str(self), self.result))
+
+
+class _Child:
+    """The firmware's process (:func:`sins_fw.firmware_child.start`) and the pipes to it: the parent
+    kills it (SIGKILL) on the way out, whatever happened, and reaps it."""
+
+    def __init__(self, job: Job) -> None:
+        self.job = job
+        self.pid = 0
+        self.status: int | None = None
+
+    def __enter__(self) -> _Child:
+        ctx = multiprocessing.get_context("fork")
+        self._commands_r, self._commands_w = ctx.Pipe(duplex=False)
+        self._out_r, self._out_w = ctx.Pipe(duplex=False)
+        # The crash report goes to an unlinked file (a pipe could fill while the parent waits).
+        self._crash = tempfile.TemporaryFile(prefix="sins-fw-crash-")
+        try:
+            self.pid = start_child(
+                self.job,
+                self._commands_r,
+                self._out_w,
+                self._crash.fileno(),
+                [self._commands_w.fileno(), self._out_r.fileno()],
             )
-            != 0
-        ):
-            raise ProfileError(f"{profile.source}: {lib.error()}")
-        feeder = _Feeder(lib, board, trace, until_s, on_chunk, len(watched))
-        n = len(watched)
-        result = FirmwareResult()
-        rows = _Rows(watched, sink)
-        callback_error: list[BaseException] = []
-        bus: list[np.ndarray] | None = [] if bus_log else None
-        # The budget's SPI stage comes from the bus log (_Rows._spi_stage): always kept, taken piece
-        # by piece.
-        lib.lib.sins_set_bus_log(board, 1)
+        finally:
+            self._commands_r.close()
+            self._out_w.close()
+        return self
 
-        def take_all() -> None:
-            records = _take_bus_log(lib, board)
-            if bus is not None:
-                bus.append(records)
-            rows.add(feeder.window, _take_rows(lib, n), _take_events(lib, board, feeder.t0), records)
+    def __exit__(self, *exc: object) -> None:
+        self._reap(kill=True)
+        self._commands_w.close()
+        self._out_r.close()
+        self._crash.close()
 
-        def more_input(_ctx: Any) -> int:
+    def _reap(self, kill: bool) -> None:
+        if self.status is not None or not self.pid:
+            return
+        if kill:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(self.pid, signal.SIGKILL)
+        while True:
             try:
-                take_all()
-                feeder.push_next()
-                return 0
-            except BaseException as e:
-                callback_error.append(e)
-                return 1
+                _, self.status = os.waitpid(self.pid, 0)
+                return
+            except InterruptedError:
+                continue
+            except ChildProcessError:
+                self.status = 0
+                return
 
-        callback = _MORE_INPUT(more_input)
-        cfg = _Config(
-            board=board,
-            spin_blocks=SPIN_BLOCKS,
-            n_globals=n,
-            global_addr=(ctypes.c_void_p * max(1, n))(*addrs),
-            global_type=(ctypes.c_int * max(1, n))(*(lib.type_code(g.type) for g in watched)),
-            more_input=callback,
-            **costs,
+    def receive(self) -> tuple[Any, ...] | None:
+        """The child's next message, None when it is gone (its end of the pipe closed)."""
+        try:
+            message: tuple[Any, ...] = self._out_r.recv()
+        except EOFError:
+            return None
+        return message
+
+    def send(self, message: tuple[Any, ...]) -> None:
+        # A child gone shows at the next receive.
+        with contextlib.suppress(BrokenPipeError, ConnectionResetError):
+            self._commands_w.send(message)
+
+    def stopped(
+        self, source: Path, loaded: bool, result: FirmwareResult, rows: _Rows, feeder: _Feeder
+    ) -> FirmwareStopped:
+        """What ended the child, as the error of the run."""
+        self._reap(kill=False)
+        crash = _read_crash(self._crash.fileno())
+        if crash is not None:  # what the run computed since it last handed it over
+            rows.add(feeder.window, _row_columns(crash.times), crash.values, crash.events, crash.bus)
+            if len(crash.times):
+                result.now_s = max(result.now_s, float(crash.times[-1, ROW_TIMES.index("end_ps")]) * PS)
+        status = self.status or 0
+        when = (
+            f"at t = {result.now_s:.6f} s of the run"
+            if loaded
+            else "while the library loaded (its static constructors)"
         )
-        feeder.push_next()
-        message = ctypes.create_string_buffer(4096)
-        rc = lib.lib.sins_fw_run(ctypes.byref(cfg), message, len(message))
-        if callback_error:
-            raise callback_error[0]
-        if rc != 0:
-            text = message.value.decode(errors="replace")
-            offset = int(lib.lib.sins_fw_fault_offset())
-            if offset:
-                text += f" (the loop: {_source_line(lib.path, offset)})"
-            ignored = [e for e in _take_events(lib, board, feeder.t0) if e["kind"] == "protected_write"]
-            if ignored:
-                text += f"; before it, at {ignored[0]['t_s']:.9f} s: {ignored[0]['message']}"
-            raise InputError(f"{lib.source}: {text}")
-        take_all()
-        now = ctypes.c_uint64()
-        lib.lib.sins_now_ps(board, ctypes.byref(now))
-        result.now_s = now.value * PS
-        result.accesses = int(lib.lib.sins_fw_accesses())
-        result.blocks = int(lib.lib.sins_fw_blocks())
-        result.isr_rows = rows.count
-        result.t0_s = feeder.t0 or 0.0
-        result.final = {
-            g.name: float(lib.ctype(g.type).from_address(a).value)
-            for g, a in zip(watched, addrs, strict=True)
-        }
-        if bus is not None:
-            result.bus = _bus_columns(np.concatenate(bus))
-        return result
-    finally:
-        if board:
-            lib.lib.sins_board_free(board)
-        lib.close()
+        where = describe_crash(source, crash)
+        if os.WIFSIGNALED(status):
+            sig = os.WTERMSIG(status)
+            text = f"the firmware was killed by {_signal_text(sig, crash)} {when}{where}"
+        else:
+            code = os.WEXITSTATUS(status)
+            if crash is not None and int(crash.record["signal"]) == 0:
+                text = (
+                    f"the firmware called exit({code}) {when}{where}: a firmware's main never returns to a "
+                    "caller on the chip, and the run needs the emulator's process"
+                )
+            else:
+                text = f"the firmware's process ended with status {code} {when}{where}"
+        _finish(result, rows, feeder, None)
+        return FirmwareStopped(f"{source}: {text}", result)
+
+
+#: The runtime's ISR row times, in its order (firmware_c/runtime/sins_fw_runtime.cpp, sins_fw_row_times).
+ROW_TIMES = ("tick", "tick_ps", "start_ps", "entry_end_ps", "body_end_ps", "end_ps", "deadline_ps")
+
+_SIGNAL_MEANING = {
+    signal.SIGSEGV: "a bad memory access (a bad pointer, or the stack overflowed: endless recursion?)",
+    signal.SIGBUS: "a bad memory access (misaligned, or a file mapping gone)",
+    signal.SIGILL: "an illegal instruction",
+    signal.SIGFPE: "an arithmetic fault (an integer division by zero?)",
+    signal.SIGABRT: "abort(), or a failed assert()",
+    signal.SIGTRAP: "a trap (__builtin_trap?)",
+    signal.SIGKILL: "SIGKILL from outside (out of memory?)",
+}
+
+
+def _signal_text(sig: int, report: _Crash | None) -> str:
+    try:
+        name = signal.Signals(sig).name
+    except ValueError:
+        name = f"signal {sig}"
+    meaning = _SIGNAL_MEANING.get(sig)
+    text = f"{name} ({meaning})" if meaning else name
+    if report is not None and sig in (signal.SIGSEGV, signal.SIGBUS) and int(report.record["signal"]) == sig:
+        text += f", address 0x{int(report.record['fault_address']):x}"
+    return text
+
+
+@dataclass
+class _Crash:
+    """The runtime's crash report: the record, and what the run had computed and not yet handed over."""
+
+    record: np.void
+    times: np.ndarray
+    values: np.ndarray
+    events: list[dict[str, Any]]
+    bus: np.ndarray
+
+
+def _read_crash(fd: int) -> _Crash | None:
+    """The runtime's crash report, if it wrote one (the child is gone)."""
+    os.lseek(fd, 0, os.SEEK_SET)
+    chunks = []
+    while block := os.read(fd, 1 << 20):
+        chunks.append(block)
+    data = b"".join(chunks)
+    if len(data) < CRASH_RECORD.itemsize:
+        return None
+    record = np.frombuffer(data, dtype=CRASH_RECORD, count=1)[0]
+    if int(record["magic"]) != CRASH_MAGIC:
+        return None
+    pos = CRASH_RECORD.itemsize
+    empty = _Crash(
+        record, np.zeros((0, len(ROW_TIMES)), np.uint64), np.zeros((0, 0)), [], np.zeros(0, BUS_RECORD)
+    )
+
+    def take(dtype: Any, count: int) -> np.ndarray | None:
+        nonlocal pos
+        size = np.dtype(dtype).itemsize * count
+        if pos + size > len(data):
+            return None
+        out = np.frombuffer(data, dtype=dtype, count=count, offset=pos)
+        pos += size
+        return out
+
+    head = take(np.uint64, 2)
+    if head is None:
+        return empty
+    n, g = int(head[0]), int(head[1])
+    times, values = take(np.uint64, n * len(ROW_TIMES)), take(np.float64, n * g)
+    if times is None or values is None:
+        return empty
+    crash = _Crash(record, times.reshape(n, len(ROW_TIMES)), values.reshape(n, g), [], empty.bus)
+    safe = take(np.uint64, 1)
+    if safe is None or not int(safe[0]):
+        return crash
+    while (more := take(np.uint64, 1)) is not None and int(more[0]):
+        e = take(CRASH_EVENT, 1)
+        if e is None:
+            return crash
+        crash.events.append(
+            {
+                "t_s": int(e["t_ps"][0]) * PS,
+                "kind": e["kind"][0].decode(errors="replace"),
+                "severity": SEVERITIES[int(e["severity"][0])],
+                "message": e["message"][0].decode(errors="replace"),
+                "measured": None if np.isnan(e["measured"][0]) else float(e["measured"][0]),
+                "required": None if np.isnan(e["required"][0]) else float(e["required"][0]),
+                "frame": None if int(e["frame"][0]) < 0 else int(e["frame"][0]),
+            }
+        )
+    bus = []
+    while (k := take(np.uint64, 1)) is not None and int(k[0]):
+        records = take(BUS_RECORD, int(k[0]))
+        if records is None:
+            break
+        bus.append(records)
+    crash.bus = np.concatenate(bus) if bus else empty.bus
+    return crash
+
+
+def describe_crash(library: Path, report: _Crash | None) -> str:
+    """``, at file:line in function`` of the firmware's own code where a crash record points (the
+    faulting instruction, else the innermost return address in the firmware that is not the
+    runtime's), from the library's debug information (addr2line); empty without one."""
+    if report is None or not int(report.record["base"]):
+        return ""
+    crash = report.record
+    base = int(crash["base"])
+    size = library.stat().st_size if library.is_file() else 0
+    # The faulting instruction itself, then return addresses (one byte back lies in the call).
+    candidates = [(int(crash["pc"]), 0)] if int(crash["pc"]) else []
+    candidates += [(int(a), 1) for a in crash["frames"][: int(crash["n_frames"])]]
+    for address, back in candidates:
+        offset = address - base
+        if not 0 < offset < size:
+            continue
+        line = _addr2line(library, offset - back)
+        if line is not None and "sins_fw_runtime" not in line[0]:
+            return f", at {line[0]} in {line[1]}"
+    return ""
+
+
+def _addr2line(library: Path, offset: int) -> tuple[str, str] | None:
+    """(``file:line``, function) of a code offset in the library (addr2line from binutils)."""
+    tool = shutil.which("addr2line")
+    if tool is None:
+        return None
+    run = subprocess.run(
+        [tool, "-e", str(library), "-f", "-C", "-i", hex(offset)], capture_output=True, text=True, check=False
+    )
+    lines = run.stdout.splitlines()
+    if run.returncode != 0 or len(lines) < 2 or lines[1].startswith("??"):
+        return None
+    # The prelude renames the firmware's main (sins_fw_prelude.h): name it as the source does.
+    function = "main" if lines[0].split("(")[0] == "sins_fw_user_main" else lines[0]
+    return lines[1].split(" ")[0], function
 
 
 #: What a bus-log comparison compares, frame by frame: the words on the wires. Times are not
@@ -504,39 +624,21 @@ def first_frame_difference(
 
 
 def _source_line(library: Path, offset: int) -> str:
-    """``file:line`` of a code offset in the library (addr2line from binutils), else the offset."""
-    tool = shutil.which("addr2line")
-    if tool is not None:
-        # The runtime reports the return address of the block's call: one byte back is inside it.
-        run = subprocess.run(
-            [tool, "-e", str(library), "-f", "-C", "-i", hex(offset - 1)],
-            capture_output=True,
-            text=True,
-            check=False,
-        )
-        lines = run.stdout.splitlines()
-        if run.returncode == 0 and len(lines) >= 2 and not lines[1].startswith("??"):
-            return f"{lines[1].split(' ')[0]} in {lines[0]}"
-    return f"offset 0x{offset:x} of the library"
+    """``file:line in function`` of a code offset in the library (addr2line from binutils), else the
+    offset. The runtime reports the return address of the block's call: one byte back is inside it."""
+    line = _addr2line(library, offset - 1)
+    return f"{line[0]} in {line[1]}" if line is not None else f"offset 0x{offset:x} of the library"
 
 
 class _Feeder:
-    """Pushes the trace into the board a piece at a time, when the runtime asks for more."""
+    """The trace, a piece at a time, as the firmware's process asks for more (the parent reads the
+    trace: the child sees only the columns it pushes into the board)."""
 
-    def __init__(
-        self,
-        lib: _Library,
-        board: ctypes.c_void_p,
-        trace: Any,
-        until_s: float | None,
-        on_chunk: Callable[[float], None] | None,
-        n_globals: int,
-    ) -> None:
-        self.lib, self.board, self.until_s, self.on_chunk = lib, board, until_s, on_chunk
+    def __init__(self, trace: Any, until_s: float | None, on_chunk: Callable[[float], None] | None) -> None:
+        self.until_s, self.on_chunk = until_s, on_chunk
         self.t0: float | None = None
         self.window = _TruthWindow()
         self.pieces = self._pieces(_still_trace(until_s or 1.0) if trace is None else trace)
-        self.ended = False
 
     def _pieces(self, trace: Any) -> Iterator[tuple[PhysicalTrace, np.ndarray, slice]]:
         for chunk in _chunks(trace, FEED_ROWS):
@@ -553,59 +655,29 @@ class _Feeder:
             if stop < len(t):
                 return
 
-    def push_next(self) -> None:
-        if self.ended:
-            return
+    def next_piece(self) -> tuple[Any, ...]:
+        """The next message for the child: ``("piece", columns)`` or ``("end",)``."""
         piece = next(self.pieces, None)
         if piece is None:
-            self.lib.lib.sins_end_input(self.board)
-            self.ended = True
-            return
+            return ("end",)
         chunk, t, s = piece
-        t = np.ascontiguousarray(t[s])
 
         def arr(a: np.ndarray | None) -> Any:
             return None if a is None else np.ascontiguousarray(a[s], dtype=np.float64)
 
         cols = [
-            t,
+            np.ascontiguousarray(t[s]),
             arr(chunk.gyro_dps),
             arr(chunk.accel_g),
             arr(chunk.mag_gauss),
             arr(chunk.baro_mbar),
             arr(chunk.temp_c),
         ]
-        ptrs = [None if c is None else c.ctypes.data for c in cols]
-        if self.lib.lib.sins_push_input(self.board, *ptrs, len(t)) != 0:
-            raise InputError(f"trace: {self.lib.error()}")
-        self._keep = cols  # alive until the core has copied them (it copies at once; kept for safety)
         if chunk.truth_q is not None:
-            self.window.feed(t, chunk.truth_q[s], None if chunk.moving is None else chunk.moving[s])
+            self.window.feed(cols[0], chunk.truth_q[s], None if chunk.moving is None else chunk.moving[s])
         if self.on_chunk is not None:
             self.on_chunk(float(chunk.t_s[s][-1]))
-
-
-def _take_rows(lib: _Library, n: int) -> tuple[dict[str, np.ndarray], np.ndarray]:
-    """The ISR rows ready: their times by name (the runtime's ``sins_fw_row_times``) and the `n`
-    watched globals' values."""
-    ready = int(lib.lib.sins_fw_rows_ready())
-    times = np.zeros((ready, len(lib.row_times)), dtype=np.uint64)
-    values = np.zeros((ready, n), dtype=np.float64)
-    got = lib.lib.sins_fw_take_rows(times.ctypes.data, values.ctypes.data, ready)
-    return {name: times[:got, i] for i, name in enumerate(lib.row_times)}, values[:got]
-
-
-def _take_bus_log(lib: _Library, board: ctypes.c_void_p) -> np.ndarray:
-    """The bus-log records the board has kept since the last call."""
-    chunks = []
-    while True:
-        buf = np.zeros(1 << 14, dtype=_BUS_RECORD)
-        n = ctypes.c_size_t()
-        if lib.lib.sins_take_bus_log(board, buf.ctypes.data, len(buf), ctypes.byref(n)) != 0:
-            raise InputError(f"bus log: {lib.error()}")
-        chunks.append(buf[: n.value])
-        if n.value < len(buf):
-            return np.concatenate(chunks)
+        return ("piece", cols)
 
 
 def _bus_columns(records: np.ndarray) -> dict[str, np.ndarray]:
@@ -629,32 +701,6 @@ def _bus_columns(records: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
-def _take_events(lib: _Library, board: ctypes.c_void_p, t0: float | None) -> list[dict[str, Any]]:
-    out = []
-    ev, measured, required, got = _Event(), ctypes.c_double(), ctypes.c_double(), ctypes.c_int()
-    message = ctypes.create_string_buffer(1024)
-    while True:
-        if (
-            lib.lib.sins_take_event(board, ctypes.byref(ev), message, len(message), measured, required, got)
-            != 0
-        ):
-            raise InputError(f"events: {lib.error()}")
-        if not got.value:
-            return out
-        m, r = measured.value, required.value
-        out.append(
-            {
-                "t_s": ev.t_ps * PS,
-                "kind": ev.kind.decode(),
-                "severity": _core.SEVERITIES[ev.severity],
-                "message": message.value.decode(errors="replace"),
-                "measured": None if np.isnan(m) else m,
-                "required": None if np.isnan(r) else r,
-                "frame": None if ev.frame < 0 else int(ev.frame),
-            }
-        )
-
-
 class _Rows:
     """Turns the runtime's ISR rows into parts of a run (and keeps the last values)."""
 
@@ -662,28 +708,55 @@ class _Rows:
         self.watched, self.sink = watched, sink
         self.count = 0
         self.prev_end = 0
-        #: Bus-log records not yet past the last ISR turned into a row.
-        self.bus = np.zeros(0, dtype=_BUS_RECORD)
+        #: Bus-log records that may still matter to an ISR row not yet turned into a part: those from
+        #: the firmware process's floor on (the entry of the ISR running, else the time reached), in
+        #: pieces joined only when rows need them. So the records kept stay those of one ISR and
+        #: the work per piece of input stays bounded, SPI inside or outside an interrupt.
+        self.bus: list[np.ndarray] = []
         self.has_quat = all(f"q{i}" in {g.column for g in watched} for i in range(4))
+        #: The watched globals' columns that are attitude components: (value column, core column, k).
+        self.attitude = [(i, *ATTITUDE[g.column]) for i, g in enumerate(watched) if g.column in ATTITUDE]
 
     def add(
         self,
         window: _TruthWindow,
-        rows: tuple[dict[str, np.ndarray], np.ndarray],
+        times: dict[str, np.ndarray],
+        values: np.ndarray,
         events: list[dict[str, Any]],
         bus: np.ndarray,
+        floor_ps: int = 0,
     ) -> None:
-        times, values = rows
         n = len(values)
-        self.bus = np.concatenate([self.bus, bus]) if len(self.bus) else bus
-        if not n and not events:
+        if len(bus):
+            self.bus.append(bus)
+        if n or events:
+            self.count += n
+            part = self._part(times, values, events)
+            if self.has_quat and window.t is not None and n:
+                window.attach(part)
+            if self.sink is not None:
+                self.sink(part)
+        if floor_ps and self.bus:
+            self._trim(floor_ps)
+
+    def add_events(self, events: list[dict[str, Any]], window: _TruthWindow) -> None:
+        """A part of events alone (no ISR row)."""
+        times = {name: np.zeros(0, np.uint64) for name in ROW_TIMES}
+        self.add(window, times, np.zeros((0, len(self.watched))), events, np.zeros(0, BUS_RECORD))
+
+    def _records(self) -> np.ndarray:
+        if len(self.bus) != 1:
+            self.bus = [np.concatenate(self.bus) if self.bus else np.zeros(0, BUS_RECORD)]
+        return self.bus[0]
+
+    def _trim(self, floor_ps: int) -> None:
+        """Drop the records before ``floor_ps``: no ISR row still to come starts before it."""
+        last = self.bus[-1]
+        if len(last) and int(last["t_ps"][-1]) < floor_ps:
+            self.bus = []
             return
-        self.count += n
-        part = self._part(times, values, events)
-        if self.has_quat and window.t is not None and n:
-            window.attach(part)
-        if self.sink is not None:
-            self.sink(part)
+        rec = self._records()
+        self.bus = [rec[rec["t_ps"] >= floor_ps]]
 
     def _part(
         self, col: dict[str, np.ndarray], values: np.ndarray, events: list[dict[str, Any]]
@@ -692,10 +765,8 @@ class _Rows:
         n = len(values)
         quat = np.full((n, 4), np.nan)
         euler = np.full((n, 3), np.nan)
-        for i, g in enumerate(self.watched):
-            if g.column in ATTITUDE:
-                core, k = ATTITUDE[g.column]
-                (quat if core == "cycle_quat" else euler)[:, k] = values[:, i]
+        for i, core, k in self.attitude:
+            (quat if core == "cycle_quat" else euler)[:, k] = values[:, i]
         part: dict[str, Any] = {
             "cycle_t_ps": col["tick_ps"].astype(np.uint64),
             "cycle_step": col["tick"].astype(np.uint64),
@@ -725,7 +796,7 @@ class _Rows:
         bounds it: from the start of the ISR's first SPI frame to the chip select's last rise after
         its last frame (or that frame's end when CS does not rise). An ISR without a frame has an
         empty stage at ``lo``. The records up to the last ISR are dropped afterwards."""
-        rec = self.bus
+        rec = self._records()
         frames = rec[rec["kind"] == 1]
         rises = rec[(rec["kind"] == 0) & (rec["cs_low"] == 0)]["t_ps"]
         starts, ends = frames["t_ps"], frames["end_ps"]
@@ -742,7 +813,7 @@ class _Rows:
                 ok[ok] = rises[rise[ok]] >= end[ok]
                 end[ok] = rises[rise[ok]]
         if len(hi):
-            self.bus = rec[rec["t_ps"] > hi[-1]]
+            self.bus = [rec[rec["t_ps"] > hi[-1]]]
         return start, end
 
     def _budget(self, col: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -792,16 +863,12 @@ class FirmwareRunWriter(RunWriter):
     ) -> None:
         super().__init__(path, profile, t0_s, metadata)
         self.watched = watched
-        run_cols = {c.name: c for c in RUN_SCHEMA.columns}
-        columns = [run_cols["t_s"]]
-        for g in watched:
-            if g.column in run_cols:
-                columns.append(run_cols[g.column])
-            else:
-                columns.append(
-                    Column(g.column, g.unit, g.description or f"firmware global `{g.name}` after the ISR")
-                )
-        self.schema = Schema(RUN_SCHEMA.title, RUN_SCHEMA.format, tuple(columns))
+        self.schema = firmware_run_schema(
+            [
+                (g.column, g.unit, g.description or f"firmware global `{g.name}` after the ISR")
+                for g in watched
+            ]
+        )
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
         cols = {"t_s": part["cycle_t_ps"].astype(np.float64) * PS}
@@ -811,7 +878,7 @@ class FirmwareRunWriter(RunWriter):
 
 def firmware_metadata(library: str | os.PathLike[str], globals_file: Path | None) -> dict[str, str]:
     """What a run output records of the firmware."""
-    meta = {"firmware": str(Path(library)), "created_by": "sins-fw run --firmware"}
+    meta = {"firmware": str(Path(library)), "created_by": FIRMWARE_CREATED_BY}
     if globals_file is not None:
         meta["globals"] = str(globals_file)
     return meta
@@ -820,6 +887,7 @@ def firmware_metadata(library: str | os.PathLike[str], globals_file: Path | None
 __all__ = [
     "FirmwareResult",
     "FirmwareRunWriter",
+    "FirmwareStopped",
     "FrameDifference",
     "Global",
     "default_globals",

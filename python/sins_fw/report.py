@@ -157,11 +157,13 @@ def _fmt(x: float | None, scale: float = 1.0, spec: str = ".3f") -> str:
 
 def render(s: dict[str, Any]) -> str:
     """The human-readable summary."""
+    fw = s.get("firmware")
+    steps = "attitude steps" if fw is None else "ISR runs"
     lines = [
         f"trace          {s['trace']}",
         f"profile        {s['profile']} {' '.join(s['overrides'])}".rstrip(),
         f"numeric        {s['numeric']}",
-        f"emulated       {s['duration_s']:.3f} s of virtual time, {s['cycles']} attitude steps",
+        f"emulated       {s['duration_s']:.3f} s of virtual time, {s['cycles']} {steps}",
     ]
     ev = s["events"]
     if ev["total"]:
@@ -174,7 +176,11 @@ def render(s: dict[str, Any]) -> str:
     else:
         lines.append("events         none")
     a = s["attitude_error"]
-    if a is None:
+    if a is None and fw is not None and fw["truth_in_trace"] and not fw["attitude_globals"]:
+        lines.append(
+            "attitude error not compared: the globals file names no q0…q3 (the firmware's quaternion)"
+        )
+    elif a is None:
         lines.append("attitude error no truth in the trace")
     else:
         lines.append(f"attitude error against the trace's truth, {a['steps_with_truth']} steps")

@@ -344,9 +344,53 @@ def _step_s(run: Run) -> Fraction:
     return Fraction(int(ticks[1]) - int(ticks[0]), 10**12)
 
 
+#: The ``created_by`` of a C firmware's run output (`run --firmware --out`: sins_fw.firmware_run).
+FIRMWARE_CREATED_BY = "sins-fw run --firmware"
+
+
+def firmware_run_schema(columns: list[tuple[str, str, str]]) -> Schema:
+    """The schema of a C firmware's run output: the time, then its columns (name, unit, description):
+    the run output's own where the name is one (q0…q3, the Euler angles), else a firmware global's."""
+    run_cols = {c.name: c for c in RUN_SCHEMA.columns}
+    cols = [run_cols["t_s"]]
+    for name, unit, description in columns:
+        cols.append(run_cols[name] if name in run_cols else Column(name, unit, description))
+    return Schema(RUN_SCHEMA.title, RUN_SCHEMA.format, tuple(cols))
+
+
+def _header_names(path: Path) -> list[str]:
+    """The column names of a table file (its header row, or its HDF5 datasets)."""
+    from sins_fw.tablefile import csv_separator, table_extension
+
+    if table_extension(path) == ".h5":
+        import h5py
+
+        with h5py.File(path, "r") as f:
+            return list(f.keys())
+    with path.open("rb") as fh:
+        for raw in fh:
+            text = raw.decode("utf-8", errors="replace").lstrip("\ufeff").rstrip("\r\n")
+            if text.startswith("#") or not text.strip():
+                continue
+            return [n.strip() for n in text.split(csv_separator(text))]
+    return []
+
+
 def load_run(path: str | os.PathLike[str]) -> tuple[dict[str, str], dict[str, np.ndarray]]:
-    """Read a run-output file back: (metadata, columns), validated as on write."""
-    src = open_table(path, RUN_SCHEMA, 1 << 16, True, 1.5)
+    """Read a run-output file back: (metadata, columns), validated as on write. A C firmware's run
+    output (`run --firmware --out`) is read with its own columns: the time and the globals it watched."""
+    schema = RUN_SCHEMA
+    if Path(path).is_file():
+        from sins_fw.tablefile import read_metadata
+
+        try:
+            firmware = read_metadata(path).get("created_by") == FIRMWARE_CREATED_BY
+        except InputError:
+            firmware = False  # open_table names what is wrong
+        if firmware:
+            names = [n for n in _header_names(Path(path)) if n != "t_s"]
+            schema = firmware_run_schema([(n, "", "firmware global after the ISR") for n in names])
+    src = open_table(path, schema, 1 << 16, True, 1.5)
     blocks = list(src.blocks)
     cols: dict[str, Any] = {n: np.concatenate([b[n] for b in blocks]) for n in blocks[0]} if blocks else {}
     return src.metadata, cols
@@ -378,8 +422,15 @@ def replay_check(
     """Re-emulate a saved run from what its metadata records (trace, profile, overrides) and check
     that every per-step value comes out bit for bit the same, like ArduPilot's replay checker. Returns
     the new Run and the metadata (``trace`` is where the trace was found: :func:`resolve_trace`);
-    raises CheckFailed naming the first differing column and row."""
+    raises CheckFailed naming the first differing column and row. A C firmware's run output is
+    refused (InputError): its rows are the firmware's, which the Rust model does not re-emulate."""
     meta, saved = load_run(path)
+    if meta.get("created_by") == FIRMWARE_CREATED_BY:
+        raise InputError(
+            f"{path}: a run of the C firmware {meta.get('firmware', '(its `firmware` metadata)')}: its rows "
+            "are the firmware's globals, which the Rust model does not re-emulate; read it with "
+            "sins_fw.load_run, or run the firmware again (`sins-fw run TRACE --firmware FW.so`)"
+        )
     meta = {**meta, "trace": str(resolve_trace(path, meta))}  # the trace as found
     trace = recorded_trace(path, meta)
     try:

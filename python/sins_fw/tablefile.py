@@ -42,8 +42,10 @@ PathLike = str | os.PathLike[str]
 DEFAULT_MAX_GAP_PERIODS = 1.5
 #: Rows per HDF5 chunk and per block when writing CSV.
 BLOCK_ROWS = 65536
-#: Rows formatted at a time when writing CSV (the bytes do not depend on it).
+#: Rows formatted at a time when writing CSV (the bytes do not depend on it), and cells: fewer rows
+#: a step for a table of more than 32 columns.
 _CSV_ROWS = 8192
+_CSV_CELLS = _CSV_ROWS * 32
 _HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 _KEY_RE = re.compile(r"^[A-Za-z0-9_.\-]+$")
 _EXTENSIONS = (".csv", ".h5")
@@ -109,9 +111,16 @@ class Schema:
 
     def __post_init__(self) -> None:
         _TITLES[self.format] = self.title
+        # The columns by name (the first of a name), for :meth:`column`: a table of a thousand
+        # columns (a firmware's watched globals) looks each up once per block.
+        by_name: dict[str, Column] = {}
+        for c in self.columns:
+            by_name.setdefault(c.name, c)
+        object.__setattr__(self, "_by_name", by_name)
 
     def column(self, name: str) -> Column:
-        return next(c for c in self.columns if c.name == name)
+        by_name: dict[str, Column] = self.__dict__["_by_name"]
+        return by_name[name]
 
     def names(self) -> list[str]:
         return [c.name for c in self.columns]
@@ -1099,18 +1108,31 @@ def csv_lines(schema: Schema, cols: Mapping[str, np.ndarray]) -> str:
     """The CSV data lines of a block of rows (each line depends on its row only)."""
     names = list(cols)
     n = len(cols[names[0]])
+    columns = {c.name: c for c in schema.columns}
     out = []
-    # Formatted _CSV_ROWS at a time: each step makes a fixed-width UTF-32 array of whole lines
-    # (≈ 700 B a row), so a block of 65 536 rows alone would take ~150 MB.
-    for start in range(0, n, _CSV_ROWS):
-        stop = min(start + _CSV_ROWS, n)
-        line = _format_column(schema.column(names[0]), cols[names[0]][start:stop])
-        for name in names[1:]:
-            line = np.strings.add(
-                np.strings.add(line, ","), _format_column(schema.column(name), cols[name][start:stop])
-            )
-        out.append("\n".join(line.tolist()) + "\n")
+    # Formatted a few rows at a time: each step makes fixed-width UTF-32 arrays of whole lines
+    # (≈ 700 B a row of a run output), so a block of 65 536 rows alone would take ~150 MB; a table
+    # of many columns (a firmware's watched globals) takes fewer rows a step, as many cells.
+    step = max(1, min(_CSV_ROWS, _CSV_CELLS // len(names)))
+    for start in range(0, n, step):
+        stop = min(start + step, n)
+        parts = [_format_column(columns[name], cols[name][start:stop]) for name in names]
+        out.append("\n".join(_join_columns(parts).tolist()) + "\n")
     return "".join(out)
+
+
+def _join_columns(parts: list[NDArray[np.str_]]) -> NDArray[np.str_]:
+    """The columns' texts joined by commas, row by row: pairwise, in a balanced tree, so that each
+    character is copied once per level (log2 of the columns), not once per column after it (a
+    line grown one column at a time costs the square of the columns)."""
+    while len(parts) > 1:
+        joined = [
+            np.strings.add(np.strings.add(a, ","), b) for a, b in zip(parts[::2], parts[1::2], strict=False)
+        ]
+        if len(parts) % 2:
+            joined.append(parts[-1])
+        parts = joined
+    return parts[0]
 
 
 def write_csv(path: Path, schema: Schema, metadata: Mapping[str, str], cols: dict[str, np.ndarray]) -> None:

@@ -89,7 +89,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=Path,
         metavar="FW.so",
         help="run this host-built C firmware (`sins-fw build-firmware`) instead of the profile's Rust model: "
-        "its main runs until the trace ends, its ISR on CPU timer 0 (docs/c-drivers.md)",
+        "its main runs until the trace ends, its ISR on CPU timer 0, in a process of its own (a crash, "
+        "abort or exit there is exit 2 naming the signal and the line; its stdout goes to stderr; "
+        "docs/c-drivers.md)",
     )
     p.add_argument(
         "--globals",
@@ -309,6 +311,7 @@ def _run_firmware(args: argparse.Namespace) -> int:
     Rust model is (summary, events, budget, --out in the run output's format)."""
     from sins_fw.firmware_run import (
         FirmwareRunWriter,
+        FirmwareStopped,
         default_globals,
         firmware_metadata,
         load_globals,
@@ -347,6 +350,8 @@ def _run_firmware(args: argparse.Namespace) -> int:
         trace = PhysicalTrace.iter_chunks(args.trace, CHUNK_ROWS, allow_gaps=args.allow_gaps, read=read)
     summary_acc = RunSummary(profile, align=args.align)
     span = progress.trace_span_s(args.trace)
+    out_existed = args.out is not None and args.out.exists()
+    stopped: FirmwareStopped | None = None
     with contextlib.ExitStack() as files, progress.trace_bar(progress.wanted(args), span) as bar:
         writer = None
         if args.out is not None:
@@ -355,6 +360,7 @@ def _run_firmware(args: argparse.Namespace) -> int:
                 meta["until_s"] = repr(args.until_s)
             t0 = _first_time(args.trace, read) or 0.0
             writer = files.enter_context(FirmwareRunWriter(args.out, profile, t0, meta, watched))
+        reached: list[float] = []
 
         def sink(part: dict[str, Any]) -> None:
             summary_acc.add(part)
@@ -362,40 +368,63 @@ def _run_firmware(args: argparse.Namespace) -> int:
                 writer.add(part)
 
         def on_chunk(t: float) -> None:
+            reached[:] = [t]
             bar(t)
             check_stop()
 
-        result = run_c_firmware(
-            args.firmware,
-            trace,
-            profile,
-            globals_file=globals_file,
-            sink=sink,
-            until_s=args.until_s,
-            on_chunk=on_chunk,
-        )
+        try:
+            result = run_c_firmware(
+                args.firmware,
+                trace,
+                profile,
+                globals_file=globals_file,
+                sink=sink,
+                until_s=args.until_s,
+                on_chunk=on_chunk,
+            )
+        except FirmwareStopped as e:
+            # The firmware ended the run: what it computed up to there is kept (the summary, the
+            # events, the rows in --out); a stop before its first row writes nothing.
+            stopped, result = e, e.result
+        except KeyboardInterrupt as e:
+            how_far = (
+                f"at t = {reached[0]:.3f} s of the trace" if reached else "before the trace's first piece"
+            )
+            raise type(e)(f"stopped {how_far}{_out_state(args.out, out_existed)}") from None
         if writer is not None:
+            if stopped is not None and not result.isr_rows:
+                raise stopped
             writer.close()
     summary = summary_acc.result(trace=str(args.trace), t0_s=result.t0_s, stage_cycles={})
     summary["firmware"] = {
         "library": str(args.firmware),
         "globals": None if globals_file is None else str(globals_file),
+        "float_mode": result.float_mode,
+        "truth_in_trace": result.truth,
+        "attitude_globals": all(f"q{i}" in {g.column for g in watched} for i in range(4)),
         "isr_runs": result.isr_rows,
         "register_accesses": result.accesses,
         "basic_blocks": result.blocks,
         "virtual_time_s": result.now_s,
         "final_globals": result.final,
+        "stopped": None if stopped is None else str(stopped),
+        "stdout": "the firmware's stdout goes to stderr (it runs in a process of its own)",
     }
+    summary["numeric"] = f"the C firmware's own arithmetic: float and double of the {result.float_mode} mode"
+    summary["duration_s"] = result.now_s
     if args.out is not None:
         summary["out"] = str(args.out)
     text = render(summary)
+    end = "the trace's end" if stopped is None else "stopped by the firmware: see the error below"
     text = (
         f"firmware       {args.firmware}: {result.isr_rows} ISR runs, {result.accesses} register accesses, "
-        f"main stopped at {result.now_s:.6f} s (the trace's end)\n" + text
+        f"main ran to {result.now_s:.6f} s of virtual time ({end}); its stdout goes to stderr\n" + text
     )
     if args.out is not None:
         text += f"\nwrote          {args.out} ({summary['cycles']} ISR rows)"
     emit(args, summary, text)
+    if stopped is not None:
+        raise stopped
     check_error_counts(summary_acc.error_counts(), summary_acc.first_error())
     return 0
 

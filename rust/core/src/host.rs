@@ -726,17 +726,25 @@ impl HostBoard {
         out
     }
 
+    /// The frame an event is tied to: the one it names, else the last one on the wires at its time,
+    /// else (a CS edge) the last one before it. `recent` is in the order the frames completed (one
+    /// shift register: their indices, starts and ends all increase), so each is a binary search: a
+    /// firmware whose every frame raises an event ties them in n log n, not n² (issue 37, item 4).
     fn frame_of(&self, e: &Event) -> Option<FrameRef> {
         let t = e.t_ps;
+        let recent = &self.recent;
         let r = |f: &FrameRecord| FrameRef { index: f.index, din: f.din };
-        if let Some(f) = e.frame.and_then(|i| self.recent.iter().rev().find(|f| f.index == i)) {
+        if let Some(f) = e.frame.and_then(|i| recent.binary_search_by_key(&i, |f| f.index).ok().map(|k| &recent[k])) {
             return Some(r(f));
         }
-        if let Some(f) = self.recent.iter().rev().find(|f| f.start_ps <= t && t <= f.end_ps) {
+        // The last frame started at or before t; an earlier one ended before it did, so before t too.
+        let started = recent.partition_point(|f| f.start_ps <= t);
+        if let Some(f) = started.checked_sub(1).map(|k| &recent[k]).filter(|f| t <= f.end_ps) {
             return Some(r(f));
         }
         if matches!(e.kind, "cs_hold" | "burst_truncated") {
-            return self.recent.iter().rev().find(|f| f.end_ps <= t).map(r);
+            let ended = recent.partition_point(|f| f.end_ps <= t);
+            return ended.checked_sub(1).map(|k| r(&recent[k]));
         }
         None
     }

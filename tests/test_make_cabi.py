@@ -1,0 +1,51 @@
+"""`make demo` and `make test` build what `sins-fw build-firmware` needs (issue 37, item 5): the C ABI
+library where the source tree's `cabi_dirs` looks for it (`cargo test` leaves its copy in
+target/release/deps/ only, and `build-firmware` failed after `make test` until `cargo build --release
+-p sins-cabi` was run by hand). Read from make's own database (`make -p`, nothing run)."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+
+import pytest
+
+from sins_fw.firmware_build import CABI_LIBRARY, ROOT
+
+pytestmark = pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
+
+
+def _database() -> str:
+    env = {k: v for k, v in os.environ.items() if k not in ("CARGO_TARGET_DIR", "MAKEFLAGS", "MAKELEVEL")}
+    # -p prints the rules read; -n -q run nothing (the target named is one without a `+` recipe).
+    run = subprocess.run(
+        ["make", "-p", "-n", "-q", "-f", "Makefile", ".venv/bin/python"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=env,
+        check=False,
+    )
+    return run.stdout
+
+
+def _rule(db: str, target: str) -> tuple[list[str], list[str]]:
+    """A target's prerequisites and recipe lines in make's database."""
+    match = re.search(rf"^{re.escape(target)}:(.*)\n((?:#.*\n)*)((?:\t.*\n)*)", db, re.MULTILINE)
+    assert match is not None, f"no rule for {target}"
+    return match.group(1).split(), [line.strip() for line in match.group(3).splitlines()]
+
+
+def test_demo_and_test_build_the_c_abi_library_where_build_firmware_looks():
+    db = _database()
+    library = f"target/release/{CABI_LIBRARY}"  # cabi_dirs' folder in a source tree (no CARGO_TARGET_DIR)
+    prerequisites, recipe = _rule(db, library)
+    assert any(re.search(r"cargo build --release -p sins-cabi", line) for line in recipe), recipe
+    assert "rust/cabi/src/lib.rs" in prerequisites and "rust/core/src/lib.rs" in prerequisites
+    demo, _ = _rule(db, "demo")
+    assert library in demo
+    _, test_recipe = _rule(db, "test")
+    assert any("$(CABI)" in line for line in test_recipe), test_recipe
+    assert re.search(r"^CABI := target/release/libsins_cabi\.so$", db, re.MULTILINE)
