@@ -16,7 +16,7 @@ RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find ru
 PYTEST_WORKERS ?= 2
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test test-rust test-rust-built test-python lint fmt bench clean golden docs wheel
+.PHONY: demo test test-rust test-rust-built test-python lint fmt bench clean golden docs wheel firmware-toolchain
 
 demo: $(BUILT) $(CABI)
 	$(BIN)/sins-fw demo
@@ -44,9 +44,16 @@ test-rust-built:
 test-rust:
 	$(CARGO_TEST)
 
-test-python: $(BUILT)
+test-python: $(BUILT) firmware-toolchain
 	$(BIN)/pytest -q -m "not alone" -n $(PYTEST_WORKERS) --dist loadscope
 	$(BIN)/pytest -q -m alone
+
+# `sins-fw build-firmware` compiles with Debian's clang 14 and an LLVM pass built against llvm-14-dev
+# (sins_fw.firmware_build, docs/c-drivers.md): installed here when missing (as root, with apt-get).
+firmware-toolchain:
+	@command -v clang-14 >/dev/null && command -v llvm-config-14 >/dev/null \
+		&& test -f "$$(llvm-config-14 --includedir)/llvm/Passes/PassPlugin.h" \
+		|| { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang-14 llvm-14-dev; }
 
 lint: $(DEPS)
 	cargo fmt --all -- --check

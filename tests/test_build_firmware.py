@@ -1,6 +1,6 @@
 """`sins-fw build-firmware` (issue 20, item 1, its foundation): a user's F28335 C firmware written
 against TI's DSP2833x headers, compiled unmodified for the host against the replacement headers, run
-against the emulated board."""
+against the emulated board. Issue 37's C-as-C build and TI's project layout: test_build_ti_projects.py."""
 
 from __future__ import annotations
 
@@ -78,11 +78,13 @@ def test_a_source_that_does_not_compile_names_file_and_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ):
     src = tmp_path / "bad.c"
-    src.write_text('#include "DSP2833x_Device.h"\nvoid main(void) {\n    CpuTimer1Regs.TCR.bit.TSS = 1;\n}\n')
+    src.write_text(
+        '#include "DSP2833x_Device.h"\nvoid main(void) {\n    CpuTimer1Regs.TCR.bit.TSSX = 1;\n}\n'
+    )
     out = tmp_path / "fw.so"
     assert main(["build-firmware", str(src), "-o", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "bad.c:3" in err and "CpuTimer1Regs" in err
+    assert "bad.c:3" in err and "TSSX" in err
     assert not out.exists()
     empty = tmp_path / "empty"
     empty.mkdir()
@@ -144,7 +146,7 @@ def test_the_wheel_ships_what_build_firmware_needs():
     include = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["maturin"]["include"]
     shipped = {Path(i["path"]).parent for i in include if i["format"] == "wheel"}
     package = Path("python") / "sins_fw"
-    for folder in ("firmware_c/include", "firmware_c/runtime", "firmware_c/ti", "cabi"):
+    for folder in ("firmware_c/include", "firmware_c/runtime", "firmware_c/pass", "firmware_c/ti", "cabi"):
         assert package / folder in shipped, folder
     assert (ROOT / "firmware_c").resolve() == FIRMWARE_C and (ROOT / package).resolve() == PACKAGE
     assert (FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp").is_file()

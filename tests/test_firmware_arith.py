@@ -29,7 +29,7 @@ double r_add, r_sub, r_mul, r_div, r_sqrt, r_neg, r_lit, r_int, r_sin, r_cos, r_
 Uint16 code;
 long i_trunc;
 Uint16 lt, size;
-extern "C" void compute(void) {
+void compute(void) {
     r_add = a + b;
     r_sub = a - b;
     r_mul = a * b;
@@ -222,8 +222,8 @@ def run_globals(library: Path, types: dict[str, str]) -> dict[str, float]:
 def test_literal_rewrite_leaves_everything_else():
     text = "x = 1e3 + .5f + 0x1E5 + a1e5 + 3.333e-003 + 12 + 0x1.8p3; s = \"2.5\"; // 1.5\n/* 2.0 */ c = '1';"
     assert rewrite_literals(text) == (
-        "x = sins_c28x_float(1e3) + sins_c28x_float(.5f) + 0x1E5 + a1e5 + sins_c28x_float(3.333e-003)"
-        " + 12 + sins_c28x_float(0x1.8p3); s = \"2.5\"; // 1.5\n/* 2.0 */ c = '1';"
+        "x = ((float)1e3) + ((float).5f) + 0x1E5 + a1e5 + ((float)3.333e-003)"
+        " + 12 + ((float)0x1.8p3); s = \"2.5\"; // 1.5\n/* 2.0 */ c = '1';"
     )
 
 

@@ -27,7 +27,7 @@ OVERRIDES = ["firmware.quat_derivative=published"]
 #: Calls the glue's per-burst entry from the test (the ISR of isr.c does it on the board).
 ENTRY = """#include "reference.h"
 void main(void) {}
-extern "C" void reference_test_burst(const Uint16 *words) { reference_process_burst(words); }
+void reference_test_burst(const Uint16 *words) { reference_process_burst(words); }
 """
 
 

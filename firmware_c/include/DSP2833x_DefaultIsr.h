@@ -3,6 +3,10 @@
 #ifndef DSP2833x_DEFAULT_ISR_H
 #define DSP2833x_DEFAULT_ISR_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 interrupt void PIE_RESERVED(void);
 interrupt void INT13_ISR(void);
 interrupt void INT14_ISR(void);
@@ -82,5 +86,9 @@ interrupt void XINT6_ISR(void);
 interrupt void XINT7_ISR(void);
 interrupt void LVF_ISR(void);
 interrupt void LUF_ISR(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

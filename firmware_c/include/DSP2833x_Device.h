@@ -1,6 +1,9 @@
 /* Replacement for TI's DSP2833x_Device.h in a host build of F28335 firmware (sins-fw build-firmware):
-   the same type names and register-file objects, the registers reached through the emulated board.
-   Only the peripherals the emulator models are declared (SPI-A, GPIO data, LOSPCP, CPU timer 0, the PIE); using another is a compile error naming it. */
+   TI's type names, intrinsics and register-file objects with TI's layouts. The objects are placed by the
+   link in the runtime's image of the C28x data space at their addresses (those of TI's
+   DSP2833x_Headers_nonBIOS.cmd); the accesses of the modelled peripherals reach the emulated board, the
+   others are plain memory with reset values (docs/c-drivers.md). A project that has TI's own headers on
+   its include path uses them instead, with the same behaviour. */
 #ifndef DSP2833x_DEVICE_H
 #define DSP2833x_DEVICE_H
 
@@ -11,21 +14,25 @@
 #define DSP28_28334 0
 #define DSP28_28332 0
 
-/* TI's integer and float types with their C28x widths where the host has them (int16 and Uint16 are
-   16-bit, as `int` is on the C28x; float64 is the 32-bit double of TI's COFF ABI only in name). */
-typedef int16_t int16;
-typedef int32_t int32;
-typedef int64_t int64;
-typedef uint16_t Uint16;
-typedef uint32_t Uint32;
-typedef uint64_t Uint64;
-typedef float float32;
-typedef double float64;
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* The CPU's interrupt enable and flag registers (TI: `extern cregister volatile unsigned int IER;`). */
-#include "sins_fw_reg.hpp"
-extern volatile SinsCReg<0> IER;
-extern volatile SinsCReg<1> IFR;
+extern cregister volatile unsigned int IFR;
+extern cregister volatile unsigned int IER;
+
+#ifdef __cplusplus
+}
+#endif
+
+#define EINT asm(" clrc INTM")
+#define DINT asm(" setc INTM")
+#define ERTM asm(" clrc DBGM")
+#define DRTM asm(" setc DBGM")
+#define EALLOW asm(" EALLOW")
+#define EDIS asm(" EDIS")
+#define ESTOP0 asm(" ESTOP0")
 
 #define M_INT1 0x0001
 #define M_INT2 0x0002

@@ -1,11 +1,13 @@
 /* Replacement for TI's DSP2833x_GlobalPrototypes.h: the support functions of TI's DSP2833x_common
-   sources, as far as the host build provides them (firmware_c/ti: the host replacements of those
-   sources, linked into every firmware; a firmware's own definition of one of these functions takes
-   its place). */
+   sources (a project's own copies of TI's sources, or the host replacements of firmware_c/ti, which are
+   linked into every firmware and give way to a project's own definitions), the functions of TI's
+   assembly files that the runtime provides, and the flash-to-RAM copy's linker symbols. */
 #ifndef DSP2833x_GLOBALPROTOTYPES_H
 #define DSP2833x_GLOBALPROTOTYPES_H
 
-#include "DSP2833x_CpuTimers.h"
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* DSP2833x_SysCtrl.c */
 void InitSysCtrl(void);
@@ -14,18 +16,36 @@ void InitPeripheralClocks(void);
 void DisableDog(void);
 void ServiceDog(void);
 void InitFlash(void);
+Uint16 CsmUnlock(void);
+
+/* DSP2833x_Gpio.c, DSP2833x_Spi.c (TI's InitSpi, an empty placeholder, is left out: firmware often
+   defines its own, static) */
+void InitGpio(void);
+void InitSpiGpio(void);
+void InitSpiaGpio(void);
 
 /* DSP2833x_PieCtrl.c, DSP2833x_PieVect.c */
 void InitPieCtrl(void);
 void EnableInterrupts(void);
 void InitPieVectTable(void);
 
-/* DSP2833x_CpuTimers.c */
-void InitCpuTimers(void);
-void ConfigCpuTimer(struct CPUTIMER_VARS *Timer, float Freq, float Period);
+/* DSP2833x_MemCopy.c */
+void MemCopy(Uint16 *SourceAddr, Uint16 *SourceEndAddr, Uint16 *DestAddr);
 
-/* DSP2833x_Spi.c (TI's empty InitSpi is left out: firmware sets SPI-A up itself) */
-void InitSpiGpio(void);
-void InitSpiaGpio(void);
+/* TI's assembly files, provided by the runtime: DSP2833x_usDelay.asm, DSP2833x_ADC_cal.asm,
+   DSP2833x_DBGIER.asm. */
+void DSP28x_usDelay(Uint32 Count);
+void ADC_cal(void);
+void SetDBGIER(Uint16 dbgier);
+
+/* The linker command file's symbols of the RAM functions' copy (an empty range on the host, where
+   the functions run in place). */
+extern Uint16 RamfuncsLoadStart;
+extern Uint16 RamfuncsLoadEnd;
+extern Uint16 RamfuncsRunStart;
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -1,85 +1,101 @@
-/* Replacement for TI's DSP2833x_PieCtrl.h: the PIE control registers at 0x0CE0 (PIECTRL, PIEACK,
-   PIEIER1…12, PIEIFR1…12; field names as in TI's header) and the PIEACK_GROUPx masks. */
+/* Replacement for TI's DSP2833x_PieCtrl.h in a host build: the PIE control registers at 0x0CE0
+   (PIECTRL, PIEACK, PIEIER1…12, PIEIFR1…12; TI's layout and field names), the emulated board's, and the
+   PIEACK_GROUPx masks. */
 #ifndef DSP2833x_PIE_CTRL_H
 #define DSP2833x_PIE_CTRL_H
 
-#include "sins_fw_reg.hpp"
-
-#define SINS_PIE 0x0CE0u
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 struct PIECTRL_BITS {
-    SinsField<SINS_PIE + 0, 0, 1> ENPIE;
-    SinsField<SINS_PIE + 0, 1, 15> PIEVECT;
+    Uint16 ENPIE:1;
+    Uint16 PIEVECT:15;
 };
 union PIECTRL_REG {
-    SinsReg16<SINS_PIE + 0> all;
+    Uint16 all;
     struct PIECTRL_BITS bit;
 };
 
 struct PIEACK_BITS {
-    SinsField<SINS_PIE + 1, 0, 1> ACK1;
-    SinsField<SINS_PIE + 1, 1, 1> ACK2;
-    SinsField<SINS_PIE + 1, 2, 1> ACK3;
-    SinsField<SINS_PIE + 1, 3, 1> ACK4;
-    SinsField<SINS_PIE + 1, 4, 1> ACK5;
-    SinsField<SINS_PIE + 1, 5, 1> ACK6;
-    SinsField<SINS_PIE + 1, 6, 1> ACK7;
-    SinsField<SINS_PIE + 1, 7, 1> ACK8;
-    SinsField<SINS_PIE + 1, 8, 1> ACK9;
-    SinsField<SINS_PIE + 1, 9, 1> ACK10;
-    SinsField<SINS_PIE + 1, 10, 1> ACK11;
-    SinsField<SINS_PIE + 1, 11, 1> ACK12;
+    Uint16 ACK1:1;
+    Uint16 ACK2:1;
+    Uint16 ACK3:1;
+    Uint16 ACK4:1;
+    Uint16 ACK5:1;
+    Uint16 ACK6:1;
+    Uint16 ACK7:1;
+    Uint16 ACK8:1;
+    Uint16 ACK9:1;
+    Uint16 ACK10:1;
+    Uint16 ACK11:1;
+    Uint16 ACK12:1;
+    Uint16 rsvd1:4;
 };
 union PIEACK_REG {
-    SinsReg16<SINS_PIE + 1> all;
+    Uint16 all;
     struct PIEACK_BITS bit;
 };
 
-/* PIEIERx and PIEIFRx of group G at word offset O (2 + 2(G−1) and one more). */
-template <uint32_t A>
-struct SINS_PIEX_BITS {
-    SinsField<A, 0, 1> INTx1;
-    SinsField<A, 1, 1> INTx2;
-    SinsField<A, 2, 1> INTx3;
-    SinsField<A, 3, 1> INTx4;
-    SinsField<A, 4, 1> INTx5;
-    SinsField<A, 5, 1> INTx6;
-    SinsField<A, 6, 1> INTx7;
-    SinsField<A, 7, 1> INTx8;
+struct PIEIER_BITS {
+    Uint16 INTx1:1;
+    Uint16 INTx2:1;
+    Uint16 INTx3:1;
+    Uint16 INTx4:1;
+    Uint16 INTx5:1;
+    Uint16 INTx6:1;
+    Uint16 INTx7:1;
+    Uint16 INTx8:1;
+    Uint16 rsvd1:8;
 };
-template <uint32_t A>
-union SINS_PIEX_REG {
-    SinsReg16<A> all;
-    SINS_PIEX_BITS<A> bit;
+union PIEIER_REG {
+    Uint16 all;
+    struct PIEIER_BITS bit;
+};
+
+struct PIEIFR_BITS {
+    Uint16 INTx1:1;
+    Uint16 INTx2:1;
+    Uint16 INTx3:1;
+    Uint16 INTx4:1;
+    Uint16 INTx5:1;
+    Uint16 INTx6:1;
+    Uint16 INTx7:1;
+    Uint16 INTx8:1;
+    Uint16 rsvd1:8;
+};
+union PIEIFR_REG {
+    Uint16 all;
+    struct PIEIFR_BITS bit;
 };
 
 struct PIE_CTRL_REGS {
-    union PIECTRL_REG PIECTRL;
+    union PIECTRL_REG PIECTRL; /* 0x0CE0 */
     union PIEACK_REG PIEACK;
-    SINS_PIEX_REG<SINS_PIE + 0x02> PIEIER1;
-    SINS_PIEX_REG<SINS_PIE + 0x03> PIEIFR1;
-    SINS_PIEX_REG<SINS_PIE + 0x04> PIEIER2;
-    SINS_PIEX_REG<SINS_PIE + 0x05> PIEIFR2;
-    SINS_PIEX_REG<SINS_PIE + 0x06> PIEIER3;
-    SINS_PIEX_REG<SINS_PIE + 0x07> PIEIFR3;
-    SINS_PIEX_REG<SINS_PIE + 0x08> PIEIER4;
-    SINS_PIEX_REG<SINS_PIE + 0x09> PIEIFR4;
-    SINS_PIEX_REG<SINS_PIE + 0x0A> PIEIER5;
-    SINS_PIEX_REG<SINS_PIE + 0x0B> PIEIFR5;
-    SINS_PIEX_REG<SINS_PIE + 0x0C> PIEIER6;
-    SINS_PIEX_REG<SINS_PIE + 0x0D> PIEIFR6;
-    SINS_PIEX_REG<SINS_PIE + 0x0E> PIEIER7;
-    SINS_PIEX_REG<SINS_PIE + 0x0F> PIEIFR7;
-    SINS_PIEX_REG<SINS_PIE + 0x10> PIEIER8;
-    SINS_PIEX_REG<SINS_PIE + 0x11> PIEIFR8;
-    SINS_PIEX_REG<SINS_PIE + 0x12> PIEIER9;
-    SINS_PIEX_REG<SINS_PIE + 0x13> PIEIFR9;
-    SINS_PIEX_REG<SINS_PIE + 0x14> PIEIER10;
-    SINS_PIEX_REG<SINS_PIE + 0x15> PIEIFR10;
-    SINS_PIEX_REG<SINS_PIE + 0x16> PIEIER11;
-    SINS_PIEX_REG<SINS_PIE + 0x17> PIEIFR11;
-    SINS_PIEX_REG<SINS_PIE + 0x18> PIEIER12;
-    SINS_PIEX_REG<SINS_PIE + 0x19> PIEIFR12;
+    union PIEIER_REG PIEIER1;
+    union PIEIFR_REG PIEIFR1;
+    union PIEIER_REG PIEIER2;
+    union PIEIFR_REG PIEIFR2;
+    union PIEIER_REG PIEIER3;
+    union PIEIFR_REG PIEIFR3;
+    union PIEIER_REG PIEIER4;
+    union PIEIFR_REG PIEIFR4;
+    union PIEIER_REG PIEIER5;
+    union PIEIFR_REG PIEIFR5;
+    union PIEIER_REG PIEIER6;
+    union PIEIFR_REG PIEIFR6;
+    union PIEIER_REG PIEIER7;
+    union PIEIFR_REG PIEIFR7;
+    union PIEIER_REG PIEIER8;
+    union PIEIFR_REG PIEIFR8;
+    union PIEIER_REG PIEIER9;
+    union PIEIFR_REG PIEIFR9;
+    union PIEIER_REG PIEIER10;
+    union PIEIFR_REG PIEIFR10;
+    union PIEIER_REG PIEIER11;
+    union PIEIFR_REG PIEIFR11;
+    union PIEIER_REG PIEIER12;
+    union PIEIFR_REG PIEIFR12;
 };
 
 extern volatile struct PIE_CTRL_REGS PieCtrlRegs;
@@ -96,5 +112,9 @@ extern volatile struct PIE_CTRL_REGS PieCtrlRegs;
 #define PIEACK_GROUP10 0x0200
 #define PIEACK_GROUP11 0x0400
 #define PIEACK_GROUP12 0x0800
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

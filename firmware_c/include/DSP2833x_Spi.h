@@ -1,108 +1,123 @@
-/* Replacement for TI's DSP2833x_Spi.h: SPI-A at 0x7040 (word offsets as in the F28335 reference
-   manual; field names as in TI's header). */
+/* Replacement for TI's DSP2833x_Spi.h in a host build: SPI-A at 0x7040, TI's layout and field names
+   (F2833x SPI reference guide), the emulated board's. */
 #ifndef DSP2833x_SPI_H
 #define DSP2833x_SPI_H
 
-#include "sins_fw_reg.hpp"
-
-#define SINS_SPIA 0x7040u
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 struct SPICCR_BITS {
-    SinsField<SINS_SPIA + 0, 0, 4> SPICHAR;
-    SinsField<SINS_SPIA + 0, 4, 1> SPILBK;
-    SinsField<SINS_SPIA + 0, 6, 1> CLKPOLARITY;
-    SinsField<SINS_SPIA + 0, 7, 1> SPISWRESET;
+    Uint16 SPICHAR:4;
+    Uint16 SPILBK:1;
+    Uint16 rsvd1:1;
+    Uint16 CLKPOLARITY:1;
+    Uint16 SPISWRESET:1;
+    Uint16 rsvd2:8;
 };
 union SPICCR_REG {
-    SinsReg16<SINS_SPIA + 0> all;
+    Uint16 all;
     struct SPICCR_BITS bit;
 };
 
 struct SPICTL_BITS {
-    SinsField<SINS_SPIA + 1, 0, 1> SPIINTENA;
-    SinsField<SINS_SPIA + 1, 1, 1> TALK;
-    SinsField<SINS_SPIA + 1, 2, 1> MASTER_SLAVE;
-    SinsField<SINS_SPIA + 1, 3, 1> CLK_PHASE;
-    SinsField<SINS_SPIA + 1, 4, 1> OVERRUNINTENA;
+    Uint16 SPIINTENA:1;
+    Uint16 TALK:1;
+    Uint16 MASTER_SLAVE:1;
+    Uint16 CLK_PHASE:1;
+    Uint16 OVERRUNINTENA:1;
+    Uint16 rsvd1:11;
 };
 union SPICTL_REG {
-    SinsReg16<SINS_SPIA + 1> all;
+    Uint16 all;
     struct SPICTL_BITS bit;
 };
 
 struct SPISTS_BITS {
-    SinsField<SINS_SPIA + 2, 5, 1> BUFFULL_FLAG;
-    SinsField<SINS_SPIA + 2, 6, 1> INT_FLAG;
-    SinsField<SINS_SPIA + 2, 7, 1> OVERRUN_FLAG;
+    Uint16 rsvd1:5;
+    Uint16 BUFFULL_FLAG:1;
+    Uint16 INT_FLAG:1;
+    Uint16 OVERRUN_FLAG:1;
+    Uint16 rsvd2:8;
 };
 union SPISTS_REG {
-    SinsReg16<SINS_SPIA + 2> all;
+    Uint16 all;
     struct SPISTS_BITS bit;
 };
 
 struct SPIFFTX_BITS {
-    SinsField<SINS_SPIA + 0xA, 0, 5> TXFFIL;
-    SinsField<SINS_SPIA + 0xA, 5, 1> TXFFIENA;
-    SinsField<SINS_SPIA + 0xA, 6, 1> TXFFINTCLR;
-    SinsField<SINS_SPIA + 0xA, 7, 1> TXFFINT;
-    SinsField<SINS_SPIA + 0xA, 8, 5> TXFFST;
-    SinsField<SINS_SPIA + 0xA, 13, 1> TXFIFO;
-    SinsField<SINS_SPIA + 0xA, 14, 1> SPIFFENA;
-    SinsField<SINS_SPIA + 0xA, 15, 1> SPIRST;
+    Uint16 TXFFIL:5;
+    Uint16 TXFFIENA:1;
+    Uint16 TXFFINTCLR:1;
+    Uint16 TXFFINT:1;
+    Uint16 TXFFST:5;
+    Uint16 TXFIFO:1;
+    Uint16 SPIFFENA:1;
+    Uint16 SPIRST:1;
 };
 union SPIFFTX_REG {
-    SinsReg16<SINS_SPIA + 0xA> all;
+    Uint16 all;
     struct SPIFFTX_BITS bit;
 };
 
 struct SPIFFRX_BITS {
-    SinsField<SINS_SPIA + 0xB, 0, 5> RXFFIL;
-    SinsField<SINS_SPIA + 0xB, 5, 1> RXFFIENA;
-    SinsField<SINS_SPIA + 0xB, 6, 1> RXFFINTCLR;
-    SinsField<SINS_SPIA + 0xB, 7, 1> RXFFINT;
-    SinsField<SINS_SPIA + 0xB, 8, 5> RXFFST;
-    SinsField<SINS_SPIA + 0xB, 13, 1> RXFIFORESET;
-    SinsField<SINS_SPIA + 0xB, 14, 1> RXFFOVFCLR;
-    SinsField<SINS_SPIA + 0xB, 15, 1> RXFFOVF;
+    Uint16 RXFFIL:5;
+    Uint16 RXFFIENA:1;
+    Uint16 RXFFINTCLR:1;
+    Uint16 RXFFINT:1;
+    Uint16 RXFFST:5;
+    Uint16 RXFIFORESET:1;
+    Uint16 RXFFOVFCLR:1;
+    Uint16 RXFFOVF:1;
 };
 union SPIFFRX_REG {
-    SinsReg16<SINS_SPIA + 0xB> all;
+    Uint16 all;
     struct SPIFFRX_BITS bit;
 };
 
 struct SPIFFCT_BITS {
-    SinsField<SINS_SPIA + 0xC, 0, 8> TXDLY;
+    Uint16 TXDLY:8;
+    Uint16 rsvd1:8;
 };
 union SPIFFCT_REG {
-    SinsReg16<SINS_SPIA + 0xC> all;
+    Uint16 all;
     struct SPIFFCT_BITS bit;
 };
 
 struct SPIPRI_BITS {
-    SinsField<SINS_SPIA + 0xF, 4, 1> FREE;
-    SinsField<SINS_SPIA + 0xF, 5, 1> SOFT;
-    SinsField<SINS_SPIA + 0xF, 6, 1> PRIORITY;
+    Uint16 rsvd1:4;
+    Uint16 FREE:1;
+    Uint16 SOFT:1;
+    Uint16 PRIORITY:1;
+    Uint16 rsvd2:9;
 };
 union SPIPRI_REG {
-    SinsReg16<SINS_SPIA + 0xF> all;
+    Uint16 all;
     struct SPIPRI_BITS bit;
 };
 
 struct SPI_REGS {
-    union SPICCR_REG SPICCR;
+    union SPICCR_REG SPICCR;   /* 0x7040 */
     union SPICTL_REG SPICTL;
     union SPISTS_REG SPISTS;
-    SinsReg16<SINS_SPIA + 4> SPIBRR;
-    SinsReg16<SINS_SPIA + 6> SPIRXEMU;
-    SinsReg16<SINS_SPIA + 7> SPIRXBUF;
-    SinsReg16<SINS_SPIA + 8> SPITXBUF;
-    SinsReg16<SINS_SPIA + 9> SPIDAT;
-    union SPIFFTX_REG SPIFFTX;
+    Uint16 rsvd1;
+    Uint16 SPIBRR;             /* 0x7044 */
+    Uint16 rsvd2;
+    Uint16 SPIRXEMU;
+    Uint16 SPIRXBUF;
+    Uint16 SPITXBUF;           /* 0x7048 */
+    Uint16 SPIDAT;
+    union SPIFFTX_REG SPIFFTX; /* 0x704A */
     union SPIFFRX_REG SPIFFRX;
     union SPIFFCT_REG SPIFFCT;
-    union SPIPRI_REG SPIPRI;
+    Uint16 rsvd3[2];
+    union SPIPRI_REG SPIPRI;   /* 0x704F */
 };
 
 extern volatile struct SPI_REGS SpiaRegs;
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

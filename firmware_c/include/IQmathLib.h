@@ -34,6 +34,15 @@
 #endif
 
 typedef int32_t _iq;
+
+/* _IQN(A): A·2^N truncated toward zero and saturated to 32 bits (the iq backend's rule, as
+   sins_iq_from_f64), written as a constant expression so that it initialises a static _iq in C, as
+   TI's _IQ() does. */
+#define SINS_IQ_SCALED(A, N) ((A) * 1.0 * (1LL << (N)))
+#define SINS_IQ_FROM(A, N)                                                                            \
+    ((int32_t)(SINS_IQ_SCALED(A, N) >= 2147483647.0    ? 2147483647L                                \
+               : SINS_IQ_SCALED(A, N) <= -2147483648.0 ? (-2147483647L - 1)                         \
+                                                         : (long)SINS_IQ_SCALED(A, N)))
 typedef int32_t _iq30;
 typedef int32_t _iq29;
 typedef int32_t _iq28;
@@ -75,7 +84,7 @@ typedef int32_t _iq1;
 #define _IQsat(A, Pos, Neg) ((A) > (Pos) ? (Pos) : (A) < (Neg) ? (Neg) : (A))
 
 /* GLOBAL_Q */
-#define _IQ(A) sins_iq_from_f64((A), GLOBAL_Q)
+#define _IQ(A) SINS_IQ_FROM(A, GLOBAL_Q)
 #define _IQtoF(A) sins_iq_to_f32((A), GLOBAL_Q)
 #define _IQmpy(A, B) sins_iq_mpy((A), (B), GLOBAL_Q)
 #define _IQrmpy(A, B) sins_iq_rmpy((A), (B), GLOBAL_Q)
@@ -91,7 +100,7 @@ typedef int32_t _iq1;
 #define _IQasin(A) sins_iq_asin((A), GLOBAL_Q)
 #endif
 /* Q30 */
-#define _IQ30(A) sins_iq_from_f64((A), 30)
+#define _IQ30(A) SINS_IQ_FROM(A, 30)
 #define _IQ30toF(A) sins_iq_to_f32((A), 30)
 #define _IQ30mpy(A, B) sins_iq_mpy((A), (B), 30)
 #define _IQ30rmpy(A, B) sins_iq_rmpy((A), (B), 30)
@@ -104,7 +113,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ30(A) sins_iq_to_q((A), GLOBAL_Q, 30)
 #define _IQ30toIQ(A) sins_iq_to_q((A), 30, GLOBAL_Q)
 /* Q29 */
-#define _IQ29(A) sins_iq_from_f64((A), 29)
+#define _IQ29(A) SINS_IQ_FROM(A, 29)
 #define _IQ29toF(A) sins_iq_to_f32((A), 29)
 #define _IQ29mpy(A, B) sins_iq_mpy((A), (B), 29)
 #define _IQ29rmpy(A, B) sins_iq_rmpy((A), (B), 29)
@@ -120,7 +129,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ29(A) sins_iq_to_q((A), GLOBAL_Q, 29)
 #define _IQ29toIQ(A) sins_iq_to_q((A), 29, GLOBAL_Q)
 /* Q28 */
-#define _IQ28(A) sins_iq_from_f64((A), 28)
+#define _IQ28(A) SINS_IQ_FROM(A, 28)
 #define _IQ28toF(A) sins_iq_to_f32((A), 28)
 #define _IQ28mpy(A, B) sins_iq_mpy((A), (B), 28)
 #define _IQ28rmpy(A, B) sins_iq_rmpy((A), (B), 28)
@@ -136,7 +145,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ28(A) sins_iq_to_q((A), GLOBAL_Q, 28)
 #define _IQ28toIQ(A) sins_iq_to_q((A), 28, GLOBAL_Q)
 /* Q27 */
-#define _IQ27(A) sins_iq_from_f64((A), 27)
+#define _IQ27(A) SINS_IQ_FROM(A, 27)
 #define _IQ27toF(A) sins_iq_to_f32((A), 27)
 #define _IQ27mpy(A, B) sins_iq_mpy((A), (B), 27)
 #define _IQ27rmpy(A, B) sins_iq_rmpy((A), (B), 27)
@@ -152,7 +161,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ27(A) sins_iq_to_q((A), GLOBAL_Q, 27)
 #define _IQ27toIQ(A) sins_iq_to_q((A), 27, GLOBAL_Q)
 /* Q26 */
-#define _IQ26(A) sins_iq_from_f64((A), 26)
+#define _IQ26(A) SINS_IQ_FROM(A, 26)
 #define _IQ26toF(A) sins_iq_to_f32((A), 26)
 #define _IQ26mpy(A, B) sins_iq_mpy((A), (B), 26)
 #define _IQ26rmpy(A, B) sins_iq_rmpy((A), (B), 26)
@@ -168,7 +177,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ26(A) sins_iq_to_q((A), GLOBAL_Q, 26)
 #define _IQ26toIQ(A) sins_iq_to_q((A), 26, GLOBAL_Q)
 /* Q25 */
-#define _IQ25(A) sins_iq_from_f64((A), 25)
+#define _IQ25(A) SINS_IQ_FROM(A, 25)
 #define _IQ25toF(A) sins_iq_to_f32((A), 25)
 #define _IQ25mpy(A, B) sins_iq_mpy((A), (B), 25)
 #define _IQ25rmpy(A, B) sins_iq_rmpy((A), (B), 25)
@@ -184,7 +193,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ25(A) sins_iq_to_q((A), GLOBAL_Q, 25)
 #define _IQ25toIQ(A) sins_iq_to_q((A), 25, GLOBAL_Q)
 /* Q24 */
-#define _IQ24(A) sins_iq_from_f64((A), 24)
+#define _IQ24(A) SINS_IQ_FROM(A, 24)
 #define _IQ24toF(A) sins_iq_to_f32((A), 24)
 #define _IQ24mpy(A, B) sins_iq_mpy((A), (B), 24)
 #define _IQ24rmpy(A, B) sins_iq_rmpy((A), (B), 24)
@@ -200,7 +209,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ24(A) sins_iq_to_q((A), GLOBAL_Q, 24)
 #define _IQ24toIQ(A) sins_iq_to_q((A), 24, GLOBAL_Q)
 /* Q23 */
-#define _IQ23(A) sins_iq_from_f64((A), 23)
+#define _IQ23(A) SINS_IQ_FROM(A, 23)
 #define _IQ23toF(A) sins_iq_to_f32((A), 23)
 #define _IQ23mpy(A, B) sins_iq_mpy((A), (B), 23)
 #define _IQ23rmpy(A, B) sins_iq_rmpy((A), (B), 23)
@@ -216,7 +225,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ23(A) sins_iq_to_q((A), GLOBAL_Q, 23)
 #define _IQ23toIQ(A) sins_iq_to_q((A), 23, GLOBAL_Q)
 /* Q22 */
-#define _IQ22(A) sins_iq_from_f64((A), 22)
+#define _IQ22(A) SINS_IQ_FROM(A, 22)
 #define _IQ22toF(A) sins_iq_to_f32((A), 22)
 #define _IQ22mpy(A, B) sins_iq_mpy((A), (B), 22)
 #define _IQ22rmpy(A, B) sins_iq_rmpy((A), (B), 22)
@@ -232,7 +241,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ22(A) sins_iq_to_q((A), GLOBAL_Q, 22)
 #define _IQ22toIQ(A) sins_iq_to_q((A), 22, GLOBAL_Q)
 /* Q21 */
-#define _IQ21(A) sins_iq_from_f64((A), 21)
+#define _IQ21(A) SINS_IQ_FROM(A, 21)
 #define _IQ21toF(A) sins_iq_to_f32((A), 21)
 #define _IQ21mpy(A, B) sins_iq_mpy((A), (B), 21)
 #define _IQ21rmpy(A, B) sins_iq_rmpy((A), (B), 21)
@@ -248,7 +257,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ21(A) sins_iq_to_q((A), GLOBAL_Q, 21)
 #define _IQ21toIQ(A) sins_iq_to_q((A), 21, GLOBAL_Q)
 /* Q20 */
-#define _IQ20(A) sins_iq_from_f64((A), 20)
+#define _IQ20(A) SINS_IQ_FROM(A, 20)
 #define _IQ20toF(A) sins_iq_to_f32((A), 20)
 #define _IQ20mpy(A, B) sins_iq_mpy((A), (B), 20)
 #define _IQ20rmpy(A, B) sins_iq_rmpy((A), (B), 20)
@@ -264,7 +273,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ20(A) sins_iq_to_q((A), GLOBAL_Q, 20)
 #define _IQ20toIQ(A) sins_iq_to_q((A), 20, GLOBAL_Q)
 /* Q19 */
-#define _IQ19(A) sins_iq_from_f64((A), 19)
+#define _IQ19(A) SINS_IQ_FROM(A, 19)
 #define _IQ19toF(A) sins_iq_to_f32((A), 19)
 #define _IQ19mpy(A, B) sins_iq_mpy((A), (B), 19)
 #define _IQ19rmpy(A, B) sins_iq_rmpy((A), (B), 19)
@@ -280,7 +289,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ19(A) sins_iq_to_q((A), GLOBAL_Q, 19)
 #define _IQ19toIQ(A) sins_iq_to_q((A), 19, GLOBAL_Q)
 /* Q18 */
-#define _IQ18(A) sins_iq_from_f64((A), 18)
+#define _IQ18(A) SINS_IQ_FROM(A, 18)
 #define _IQ18toF(A) sins_iq_to_f32((A), 18)
 #define _IQ18mpy(A, B) sins_iq_mpy((A), (B), 18)
 #define _IQ18rmpy(A, B) sins_iq_rmpy((A), (B), 18)
@@ -296,7 +305,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ18(A) sins_iq_to_q((A), GLOBAL_Q, 18)
 #define _IQ18toIQ(A) sins_iq_to_q((A), 18, GLOBAL_Q)
 /* Q17 */
-#define _IQ17(A) sins_iq_from_f64((A), 17)
+#define _IQ17(A) SINS_IQ_FROM(A, 17)
 #define _IQ17toF(A) sins_iq_to_f32((A), 17)
 #define _IQ17mpy(A, B) sins_iq_mpy((A), (B), 17)
 #define _IQ17rmpy(A, B) sins_iq_rmpy((A), (B), 17)
@@ -312,7 +321,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ17(A) sins_iq_to_q((A), GLOBAL_Q, 17)
 #define _IQ17toIQ(A) sins_iq_to_q((A), 17, GLOBAL_Q)
 /* Q16 */
-#define _IQ16(A) sins_iq_from_f64((A), 16)
+#define _IQ16(A) SINS_IQ_FROM(A, 16)
 #define _IQ16toF(A) sins_iq_to_f32((A), 16)
 #define _IQ16mpy(A, B) sins_iq_mpy((A), (B), 16)
 #define _IQ16rmpy(A, B) sins_iq_rmpy((A), (B), 16)
@@ -328,7 +337,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ16(A) sins_iq_to_q((A), GLOBAL_Q, 16)
 #define _IQ16toIQ(A) sins_iq_to_q((A), 16, GLOBAL_Q)
 /* Q15 */
-#define _IQ15(A) sins_iq_from_f64((A), 15)
+#define _IQ15(A) SINS_IQ_FROM(A, 15)
 #define _IQ15toF(A) sins_iq_to_f32((A), 15)
 #define _IQ15mpy(A, B) sins_iq_mpy((A), (B), 15)
 #define _IQ15rmpy(A, B) sins_iq_rmpy((A), (B), 15)
@@ -344,7 +353,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ15(A) sins_iq_to_q((A), GLOBAL_Q, 15)
 #define _IQ15toIQ(A) sins_iq_to_q((A), 15, GLOBAL_Q)
 /* Q14 */
-#define _IQ14(A) sins_iq_from_f64((A), 14)
+#define _IQ14(A) SINS_IQ_FROM(A, 14)
 #define _IQ14toF(A) sins_iq_to_f32((A), 14)
 #define _IQ14mpy(A, B) sins_iq_mpy((A), (B), 14)
 #define _IQ14rmpy(A, B) sins_iq_rmpy((A), (B), 14)
@@ -360,7 +369,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ14(A) sins_iq_to_q((A), GLOBAL_Q, 14)
 #define _IQ14toIQ(A) sins_iq_to_q((A), 14, GLOBAL_Q)
 /* Q13 */
-#define _IQ13(A) sins_iq_from_f64((A), 13)
+#define _IQ13(A) SINS_IQ_FROM(A, 13)
 #define _IQ13toF(A) sins_iq_to_f32((A), 13)
 #define _IQ13mpy(A, B) sins_iq_mpy((A), (B), 13)
 #define _IQ13rmpy(A, B) sins_iq_rmpy((A), (B), 13)
@@ -376,7 +385,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ13(A) sins_iq_to_q((A), GLOBAL_Q, 13)
 #define _IQ13toIQ(A) sins_iq_to_q((A), 13, GLOBAL_Q)
 /* Q12 */
-#define _IQ12(A) sins_iq_from_f64((A), 12)
+#define _IQ12(A) SINS_IQ_FROM(A, 12)
 #define _IQ12toF(A) sins_iq_to_f32((A), 12)
 #define _IQ12mpy(A, B) sins_iq_mpy((A), (B), 12)
 #define _IQ12rmpy(A, B) sins_iq_rmpy((A), (B), 12)
@@ -392,7 +401,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ12(A) sins_iq_to_q((A), GLOBAL_Q, 12)
 #define _IQ12toIQ(A) sins_iq_to_q((A), 12, GLOBAL_Q)
 /* Q11 */
-#define _IQ11(A) sins_iq_from_f64((A), 11)
+#define _IQ11(A) SINS_IQ_FROM(A, 11)
 #define _IQ11toF(A) sins_iq_to_f32((A), 11)
 #define _IQ11mpy(A, B) sins_iq_mpy((A), (B), 11)
 #define _IQ11rmpy(A, B) sins_iq_rmpy((A), (B), 11)
@@ -408,7 +417,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ11(A) sins_iq_to_q((A), GLOBAL_Q, 11)
 #define _IQ11toIQ(A) sins_iq_to_q((A), 11, GLOBAL_Q)
 /* Q10 */
-#define _IQ10(A) sins_iq_from_f64((A), 10)
+#define _IQ10(A) SINS_IQ_FROM(A, 10)
 #define _IQ10toF(A) sins_iq_to_f32((A), 10)
 #define _IQ10mpy(A, B) sins_iq_mpy((A), (B), 10)
 #define _IQ10rmpy(A, B) sins_iq_rmpy((A), (B), 10)
@@ -424,7 +433,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ10(A) sins_iq_to_q((A), GLOBAL_Q, 10)
 #define _IQ10toIQ(A) sins_iq_to_q((A), 10, GLOBAL_Q)
 /* Q9 */
-#define _IQ9(A) sins_iq_from_f64((A), 9)
+#define _IQ9(A) SINS_IQ_FROM(A, 9)
 #define _IQ9toF(A) sins_iq_to_f32((A), 9)
 #define _IQ9mpy(A, B) sins_iq_mpy((A), (B), 9)
 #define _IQ9rmpy(A, B) sins_iq_rmpy((A), (B), 9)
@@ -440,7 +449,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ9(A) sins_iq_to_q((A), GLOBAL_Q, 9)
 #define _IQ9toIQ(A) sins_iq_to_q((A), 9, GLOBAL_Q)
 /* Q8 */
-#define _IQ8(A) sins_iq_from_f64((A), 8)
+#define _IQ8(A) SINS_IQ_FROM(A, 8)
 #define _IQ8toF(A) sins_iq_to_f32((A), 8)
 #define _IQ8mpy(A, B) sins_iq_mpy((A), (B), 8)
 #define _IQ8rmpy(A, B) sins_iq_rmpy((A), (B), 8)
@@ -456,7 +465,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ8(A) sins_iq_to_q((A), GLOBAL_Q, 8)
 #define _IQ8toIQ(A) sins_iq_to_q((A), 8, GLOBAL_Q)
 /* Q7 */
-#define _IQ7(A) sins_iq_from_f64((A), 7)
+#define _IQ7(A) SINS_IQ_FROM(A, 7)
 #define _IQ7toF(A) sins_iq_to_f32((A), 7)
 #define _IQ7mpy(A, B) sins_iq_mpy((A), (B), 7)
 #define _IQ7rmpy(A, B) sins_iq_rmpy((A), (B), 7)
@@ -472,7 +481,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ7(A) sins_iq_to_q((A), GLOBAL_Q, 7)
 #define _IQ7toIQ(A) sins_iq_to_q((A), 7, GLOBAL_Q)
 /* Q6 */
-#define _IQ6(A) sins_iq_from_f64((A), 6)
+#define _IQ6(A) SINS_IQ_FROM(A, 6)
 #define _IQ6toF(A) sins_iq_to_f32((A), 6)
 #define _IQ6mpy(A, B) sins_iq_mpy((A), (B), 6)
 #define _IQ6rmpy(A, B) sins_iq_rmpy((A), (B), 6)
@@ -488,7 +497,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ6(A) sins_iq_to_q((A), GLOBAL_Q, 6)
 #define _IQ6toIQ(A) sins_iq_to_q((A), 6, GLOBAL_Q)
 /* Q5 */
-#define _IQ5(A) sins_iq_from_f64((A), 5)
+#define _IQ5(A) SINS_IQ_FROM(A, 5)
 #define _IQ5toF(A) sins_iq_to_f32((A), 5)
 #define _IQ5mpy(A, B) sins_iq_mpy((A), (B), 5)
 #define _IQ5rmpy(A, B) sins_iq_rmpy((A), (B), 5)
@@ -504,7 +513,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ5(A) sins_iq_to_q((A), GLOBAL_Q, 5)
 #define _IQ5toIQ(A) sins_iq_to_q((A), 5, GLOBAL_Q)
 /* Q4 */
-#define _IQ4(A) sins_iq_from_f64((A), 4)
+#define _IQ4(A) SINS_IQ_FROM(A, 4)
 #define _IQ4toF(A) sins_iq_to_f32((A), 4)
 #define _IQ4mpy(A, B) sins_iq_mpy((A), (B), 4)
 #define _IQ4rmpy(A, B) sins_iq_rmpy((A), (B), 4)
@@ -520,7 +529,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ4(A) sins_iq_to_q((A), GLOBAL_Q, 4)
 #define _IQ4toIQ(A) sins_iq_to_q((A), 4, GLOBAL_Q)
 /* Q3 */
-#define _IQ3(A) sins_iq_from_f64((A), 3)
+#define _IQ3(A) SINS_IQ_FROM(A, 3)
 #define _IQ3toF(A) sins_iq_to_f32((A), 3)
 #define _IQ3mpy(A, B) sins_iq_mpy((A), (B), 3)
 #define _IQ3rmpy(A, B) sins_iq_rmpy((A), (B), 3)
@@ -536,7 +545,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ3(A) sins_iq_to_q((A), GLOBAL_Q, 3)
 #define _IQ3toIQ(A) sins_iq_to_q((A), 3, GLOBAL_Q)
 /* Q2 */
-#define _IQ2(A) sins_iq_from_f64((A), 2)
+#define _IQ2(A) SINS_IQ_FROM(A, 2)
 #define _IQ2toF(A) sins_iq_to_f32((A), 2)
 #define _IQ2mpy(A, B) sins_iq_mpy((A), (B), 2)
 #define _IQ2rmpy(A, B) sins_iq_rmpy((A), (B), 2)
@@ -552,7 +561,7 @@ typedef int32_t _iq1;
 #define _IQtoIQ2(A) sins_iq_to_q((A), GLOBAL_Q, 2)
 #define _IQ2toIQ(A) sins_iq_to_q((A), 2, GLOBAL_Q)
 /* Q1 */
-#define _IQ1(A) sins_iq_from_f64((A), 1)
+#define _IQ1(A) SINS_IQ_FROM(A, 1)
 #define _IQ1toF(A) sins_iq_to_f32((A), 1)
 #define _IQ1mpy(A, B) sins_iq_mpy((A), (B), 1)
 #define _IQ1rmpy(A, B) sins_iq_rmpy((A), (B), 1)

@@ -46,29 +46,123 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
 
-/* The C28x float mode (sins_fw_c28x_float.h) maps `float` and `double` onto the C28x model in the
-   firmware's sources only: the runtime keeps the host's. */
-#undef float
-#undef double
-
-#include "DSP2833x_Device.h"
 #include "sins_fw.h"
 
-volatile struct SPI_REGS SpiaRegs;
-volatile struct GPIO_DATA_REGS GpioDataRegs;
-volatile struct SYS_CTRL_REGS SysCtrlRegs;
-volatile struct CPUTIMER_REGS CpuTimer0Regs;
-volatile struct PIE_CTRL_REGS PieCtrlRegs;
-struct PIE_VECT_TABLE PieVectTable;
-volatile SinsCReg<0> IER;
-volatile SinsCReg<1> IFR;
+/* The C28x data space (22-bit word addresses), one host uint16_t per C28x word: the build places
+   TI's register-file objects in it (`.set SpiaRegs, sins_fw_io + 2*0x7040` in the assembly it
+   generates with these three arrays: firmware_build.placement_assembly), and the
+   pass maps a raw address (`(Uint16 *)0x701B`) to it, so a pointer's arithmetic counts words as on the
+   C28x. The registers of the modelled peripherals (is_modelled) are the emulated board's; every other
+   word is plain memory, the registers of peripherals not modelled yet holding their reset values
+   (reset_io), so that TI's support sources that initialise them run. */
+constexpr uint32_t IO_WORDS = 0x400000u;
+extern "C" {
+extern uint16_t sins_fw_io[IO_WORDS];
+/* PieVectTable: 128 host function pointers (a C28x vector is 32-bit; here it holds a host address). */
+extern uint64_t sins_fw_vectors[128];
+/* The CPU's cregisters IER and IFR (TI declares them `extern cregister volatile unsigned int`). */
+extern uint64_t sins_fw_cregs[2];
+}
 
-void sins_fw_user_main(void);
+/* The firmware's main: `main` is renamed by the prelude; C gives it C linkage, C++ C++ linkage. */
+extern "C" void sins_fw_user_main(void) __attribute__((weak));
+void sins_fw_user_main_cxx(void) __asm__("_Z17sins_fw_user_mainv") __attribute__((weak));
+
+/* The modelled registers (rust/core/src/host.rs `Host::read`: LOSPCP, SPI-A, the GPIO data registers,
+   CPU timer 0 and the PIE; rust/core/src/dsp/interrupts.rs `Interrupts::owns`). */
+static bool is_modelled(uint32_t a) {
+    if (a == 0x701Bu) return true;                                   /* LOSPCP */
+    if (a >= 0x7040u && a < 0x7050u) {                               /* SPI-A, its registers */
+        uint32_t o = a - 0x7040u;
+        return o <= 2 || (o >= 4 && o <= 0xC) || o == 0xF;
+    }
+    if (a >= 0x6FC0u && a < 0x6FC0u + 24) return true;               /* GPxDAT/SET/CLEAR/TOGGLE */
+    if ((a >= 0x0C00u && a <= 0x0C04u) || a == 0x0C06u || a == 0x0C07u) return true; /* CPU timer 0 */
+    return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */
+}
+
+/* Reset values of registers of peripherals not modelled yet (F2833x system control and peripheral
+   reference guides, as /work spec f28335-peripherals.md §2 and §10 list them); all others reset to 0.
+   PLLSTS reads locked (PLLLOCKS = 1): the lock time is not modelled, so TI's InitPll's wait ends. */
+static const struct {
+    uint32_t address;
+    uint16_t value;
+} RESET_VALUES[] = {
+    {0x7011u, 0x0001u}, /* PLLSTS: PLLLOCKS */
+    {0x701Au, 0x0001u}, /* HISPCP */
+    {0x7020u, 0x2700u}, /* PCLKCR3: CPU timers 0-2, GPIOIN */
+    {0x7022u, 0x0001u}, /* SCSR: WDOVERRIDE */
+    {0x705Au, 0xA000u}, /* SCIFFTX-A */
+    {0x705Bu, 0x201Fu}, /* SCIFFRX-A */
+    {0x775Au, 0xA000u}, /* SCIFFTX-B */
+    {0x775Bu, 0x201Fu}, /* SCIFFRX-B */
+    {0x777Au, 0xA000u}, /* SCIFFTX-C */
+    {0x777Bu, 0x201Fu}, /* SCIFFRX-C */
+    {0x7902u, 0x0410u}, /* I2CSTR: XSMT, XRDY */
+    {0x0A86u, 0x0F0Fu}, /* FBANKWAIT */
+    {0x0A87u, 0x001Fu}, /* FOTPWAIT */
+};
+
+/* The PIE lines and CPU interrupts enabled so far (the enable-time check below). */
+static uint16_t pie_enabled[12];
+static uint16_t ier_enabled;
+
+static void reset_io() {
+    std::memset(sins_fw_io, 0, 0x10000u * sizeof(uint16_t)); /* the peripheral frames and RAM L0-L7 */
+    for (const auto &r : RESET_VALUES) {
+        sins_fw_io[r.address] = r.value;
+    }
+    std::memset(sins_fw_vectors, 0, sizeof sins_fw_vectors);
+    std::memset(pie_enabled, 0, sizeof pie_enabled);
+    ier_enabled = 0;
+}
+
+extern "C" uint16_t sins_fw_read16(uint32_t address);
+extern "C" void sins_fw_write16(uint32_t address, uint16_t value);
+
+/* The PIE's 96 peripheral vectors by group and line (TI's DSP2833x_PieVect.h names, vectors 32-127). */
+static const char *const PIE_NAMES[96] = {"SEQ1INT","SEQ2INT","rsvd1_3","XINT1","XINT2","ADCINT","TINT0","WAKEINT","EPWM1_TZINT","EPWM2_TZINT","EPWM3_TZINT","EPWM4_TZINT","EPWM5_TZINT","EPWM6_TZINT","rsvd2_7","rsvd2_8","EPWM1_INT","EPWM2_INT","EPWM3_INT","EPWM4_INT","EPWM5_INT","EPWM6_INT","rsvd3_7","rsvd3_8","ECAP1_INT","ECAP2_INT","ECAP3_INT","ECAP4_INT","ECAP5_INT","ECAP6_INT","rsvd4_7","rsvd4_8","EQEP1_INT","EQEP2_INT","rsvd5_3","rsvd5_4","rsvd5_5","rsvd5_6","rsvd5_7","rsvd5_8","SPIRXINTA","SPITXINTA","MRINTB","MXINTB","MRINTA","MXINTA","rsvd6_7","rsvd6_8","DINTCH1","DINTCH2","DINTCH3","DINTCH4","DINTCH5","DINTCH6","rsvd7_7","rsvd7_8","I2CINT1A","I2CINT2A","rsvd8_3","rsvd8_4","SCIRXINTC","SCITXINTC","rsvd8_7","rsvd8_8","SCIRXINTA","SCITXINTA","SCIRXINTB","SCITXINTB","ECAN0INTA","ECAN1INTA","ECAN0INTB","ECAN1INTB","rsvd10_1","rsvd10_2","rsvd10_3","rsvd10_4","rsvd10_5","rsvd10_6","rsvd10_7","rsvd10_8","rsvd11_1","rsvd11_2","rsvd11_3","rsvd11_4","rsvd11_5","rsvd11_6","rsvd11_7","rsvd11_8","XINT3","XINT4","XINT5","XINT6","XINT7","rsvd12_6","LVF","LUF"};
+
+/* Interrupts the firmware enables that the emulator can never raise (only TINT0, INT1.7, is modelled;
+   issue 39 adds the others): each reported once, when it is enabled, as a warning on stderr naming
+   the vector, its PIE group and line. */
+static void warn_never_raised(const char *what) {
+    std::fprintf(stderr, "sins-fw: warning: the firmware enables %s, which the emulator cannot raise "
+                         "(of the interrupts only CPU timer 0, TINT0 = INT1.7, is modelled): its ISR will never run\n",
+                 what);
+}
+
+static void check_pie_enable(uint32_t address, uint16_t value) {
+    if (address < 0x0CE2u || address > 0x0CF9u || (address - 0x0CE2u) % 2 != 0) {
+        return;
+    }
+    unsigned group = (address - 0x0CE2u) / 2; /* 0-based */
+    uint16_t fresh = static_cast<uint16_t>(value & 0xFFu & ~pie_enabled[group]);
+    pie_enabled[group] |= fresh;
+    for (unsigned line = 0; line < 8; line++) {
+        if ((fresh >> line & 1u) && !(group == 0 && line == 6)) {
+            char what[96];
+            std::snprintf(what, sizeof what, "%s (PIE group %u, INT%u.%u, vector %u)", PIE_NAMES[group * 8 + line],
+                          group + 1, group + 1, line + 1, 32 + group * 8 + line);
+            warn_never_raised(what);
+        }
+    }
+}
+
+static void check_ier_enable(uint16_t value) {
+    uint16_t fresh = static_cast<uint16_t>(value & ~ier_enabled);
+    ier_enabled |= fresh;
+    if (fresh & 0x1000u) warn_never_raised("INT13 (IER bit 12: CPU timer 1 or XINT13)");
+    if (fresh & 0x2000u) warn_never_raised("INT14 (IER bit 13: CPU timer 2)");
+    if (fresh & 0x4000u) warn_never_raised("DLOGINT (IER bit 14)");
+    if (fresh & 0x8000u) warn_never_raised("RTOSINT (IER bit 15)");
+}
 
 /* What the harness passes to sins_fw_run. */
 extern "C" {
@@ -119,6 +213,7 @@ uint64_t irq_at = 0;         /* an interrupt may be takeable from this time (0: 
 uint64_t input_until = 0;
 bool input_ended = false;
 uint64_t cycle_ps_ceil = 7; /* one SYSCLKOUT cycle, ps, rounded up */
+uint64_t cycle_ps = 6;      /* one SYSCLKOUT cycle, ps, as the board advanced it */
 uint64_t accesses = 0;
 uint64_t blocks = 0;
 uint64_t blocks_since_access = 0;
@@ -136,6 +231,14 @@ bool poll_valid = false;
 uint32_t poll_addr = 0;
 uint16_t poll_value = 0;
 uint64_t poll_t = 0;
+uint64_t poll_period = 0;  /* the time between the last two reads of a polling loop */
+uint64_t poll_repeats = 0; /* reads in a row of the same register giving the same value */
+/* Where the firmware made its last instrumented access (the pass's call's return address). */
+const void *access_pc = nullptr;
+
+/* A polling loop is taken for one from its third identical read on (two equal periods), and for one
+   that cannot end from its POLL_ENDLESS-th: reading a register twice in straight-line code is not a loop. */
+constexpr uint64_t POLL_ENDLESS = 16;
 std::vector<uint64_t> row_times;
 std::vector<double> row_values;
 
@@ -318,12 +421,24 @@ void mark_irq_state_changed() {
     flush_cycles = 0;
 }
 
+void set_fault_offset(const void *pc) {
+    Dl_info info;
+    if (pc != nullptr && dladdr(pc, &info) != 0 && info.dli_fbase != nullptr) {
+        fault_offset = reinterpret_cast<uintptr_t>(pc) - reinterpret_cast<uintptr_t>(info.dli_fbase);
+    }
+}
+
 /* A polling read that saw no change: skip the passes that would see none. */
 void poll_skip(uint32_t address) {
     uint64_t period = now_ps - poll_t;
+    bool steady = poll_repeats >= 2 && period == poll_period;
+    poll_period = period;
     uint64_t change = UINT64_MAX;
-    check(sins_next_change_ps(board, address, &change), "poll");
-    if (change == UINT64_MAX && irq_at == UINT64_MAX && isr_depth == 0) {
+    if (is_modelled(address)) {
+        check(sins_next_change_ps(board, address, &change), "poll");
+    }
+    if (change == UINT64_MAX && irq_at == UINT64_MAX && isr_depth == 0 && poll_repeats >= POLL_ENDLESS) {
+        set_fault_offset(access_pc);
         char why[160] = {0};
         uint64_t next = 0;
         check(sins_next_interrupt_ps(board, &next, why, sizeof why), "interrupt");
@@ -334,7 +449,7 @@ void poll_skip(uint32_t address) {
                       "): it would never leave it"};
     }
     uint64_t until = change < irq_at ? change : irq_at;
-    if (period == 0 || until == UINT64_MAX || until <= now_ps + period) {
+    if (!steady || period == 0 || until == UINT64_MAX || until <= now_ps + period) {
         poll_t = now_ps;
         return;
     }
@@ -349,20 +464,31 @@ void poll_skip(uint32_t address) {
 
 }  // namespace
 
-uint16_t sins_fw_read16(uint32_t address) {
+extern "C" uint16_t sins_fw_read16(uint32_t address) {
     uint16_t value = 0;
     uint64_t cycles = pending_cycles + cfg->read_cycles;
     before_access(cfg->read_cycles);
     pending_cycles = 0;
-    check(sins_cpu_read16(board, address, cycles, &value, &now_ps), "read");
+    if (is_modelled(address)) {
+        check(sins_cpu_read16(board, address, cycles, &value, &now_ps), "read");
+    } else {
+        /* Plain memory: its cycles wait with the blocks' for the next flush. */
+        value = sins_fw_io[address];
+        pending_cycles = cycles;
+        if (pending_cycles >= flush_cycles) {
+            flush_blocks();
+        }
+    }
     bool polling = poll_valid && poll_addr == address && poll_value == value;
     if ((address & 0xFF00u) == 0x0C00u) {
         mark_irq_state_changed();
     }
     after_access();
     if (polling) {
+        poll_repeats++;
         poll_skip(address);
     } else {
+        poll_repeats = 0;
         poll_t = now_ps;
     }
     poll_valid = true;
@@ -371,11 +497,20 @@ uint16_t sins_fw_read16(uint32_t address) {
     return value;
 }
 
-void sins_fw_write16(uint32_t address, uint16_t value) {
+extern "C" void sins_fw_write16(uint32_t address, uint16_t value) {
     uint64_t cycles = pending_cycles + cfg->write_cycles;
     before_access(cfg->write_cycles);
     pending_cycles = 0;
-    check(sins_cpu_write16(board, address, value, cycles, &now_ps), "write");
+    check_pie_enable(address, value);
+    if (is_modelled(address)) {
+        check(sins_cpu_write16(board, address, value, cycles, &now_ps), "write");
+    } else {
+        sins_fw_io[address] = value;
+        pending_cycles = cycles;
+        if (pending_cycles >= flush_cycles) {
+            flush_blocks();
+        }
+    }
     poll_valid = false;
     if ((address & 0xFF00u) == 0x0C00u) {
         mark_irq_state_changed();
@@ -383,7 +518,7 @@ void sins_fw_write16(uint32_t address, uint16_t value) {
     after_access();
 }
 
-void sins_fw_delay_us(double microseconds) {
+extern "C" void sins_fw_delay_us(double microseconds) {
     if (!(microseconds >= 0.0)) {
         throw Failure{"DELAY_US(" + std::to_string(microseconds) + "): expected a time >= 0"};
     }
@@ -391,29 +526,178 @@ void sins_fw_delay_us(double microseconds) {
     pass_ps(static_cast<uint64_t>(microseconds * 1e6 + 0.5));
 }
 
-uint16_t sins_fw_creg_read(int which) {
+namespace {
+
+uint16_t creg_read(int which) {
     uint16_t v = 0;
     check(sins_creg_read(board, which, &v), which == 0 ? "IER" : "IFR");
     return v;
 }
 
-void sins_fw_creg_write(int which, uint16_t value) {
+void creg_write(int which, uint16_t value) {
+    if (which == 0) {
+        check_ier_enable(value);
+    }
     check(sins_creg_write(board, which, value), which == 0 ? "IER" : "IFR");
     mark_irq_state_changed();
     after_access();
 }
 
-void sins_fw_set_vector(unsigned n, void (*isr)(void)) {
-    check(sins_set_vector(board, n, static_cast<uint64_t>(reinterpret_cast<uintptr_t>(isr))), "PieVectTable");
+/* What a host address of an instrumented access is. */
+enum class Place { Io, Vector, Creg, Host };
+
+Place place_of(const volatile void *p, uint64_t *index) {
+    auto a = reinterpret_cast<uintptr_t>(p);
+    auto io = reinterpret_cast<uintptr_t>(sins_fw_io);
+    if (a - io < sizeof sins_fw_io) {
+        *index = a - io; /* bytes */
+        return Place::Io;
+    }
+    auto vec = reinterpret_cast<uintptr_t>(sins_fw_vectors);
+    if (a - vec < sizeof sins_fw_vectors) {
+        *index = a - vec;
+        return Place::Vector;
+    }
+    auto creg = reinterpret_cast<uintptr_t>(sins_fw_cregs);
+    if (a - creg < sizeof sins_fw_cregs) {
+        *index = (a - creg) / 8;
+        return Place::Creg;
+    }
+    return Place::Host;
 }
 
-void (*sins_fw_vector(unsigned n))(void) {
-    uint64_t v = 0;
-    check(sins_vector(board, n, &v), "PieVectTable");
-    return reinterpret_cast<void (*)(void)>(static_cast<uintptr_t>(v));
+[[noreturn]] void bad_width(const char *what, uint64_t index, unsigned bits) {
+    char text[160];
+    std::snprintf(text, sizeof text, "a %u-bit access at byte %llu of %s: expected whole aligned words", bits,
+                  static_cast<unsigned long long>(index), what);
+    throw Failure{text};
 }
 
-void sins_fw_asm(const char *text) {
+/* An access of `bits` (8, 16, 32, 64) at a host address: a register of the data space word by word
+   (low word first, as the C28x stores a 32-bit value), a vector, IER/IFR, or host memory. */
+uint64_t load(const volatile void *p, unsigned bits) {
+    uint64_t index = 0;
+    switch (place_of(p, &index)) {
+        case Place::Io: {
+            uint32_t word = static_cast<uint32_t>(index / 2);
+            if (bits == 8) {
+                uint16_t w = sins_fw_read16(word);
+                return (index & 1) ? w >> 8 : w & 0xFFu;
+            }
+            if (index & 1) {
+                bad_width("the C28x data space", index, bits);
+            }
+            uint64_t v = 0;
+            for (unsigned k = 0; k < bits / 16; k++) {
+                v |= static_cast<uint64_t>(sins_fw_read16(word + k)) << (16 * k);
+            }
+            return v;
+        }
+        case Place::Vector: {
+            if (bits != 64 || index % 8 != 0) {
+                bad_width("PieVectTable", index, bits);
+            }
+            uint64_t v = 0;
+            check(sins_vector(board, static_cast<uint32_t>(index / 8), &v), "PieVectTable");
+            return v;
+        }
+        case Place::Creg: return creg_read(static_cast<int>(index));
+        case Place::Host: break;
+    }
+    switch (bits) {
+        case 8: return *static_cast<const volatile uint8_t *>(p);
+        case 16: return *static_cast<const volatile uint16_t *>(p);
+        case 32: return *static_cast<const volatile uint32_t *>(p);
+        default: return *static_cast<const volatile uint64_t *>(p);
+    }
+}
+
+void store(volatile void *p, uint64_t v, unsigned bits) {
+    uint64_t index = 0;
+    switch (place_of(p, &index)) {
+        case Place::Io: {
+            uint32_t word = static_cast<uint32_t>(index / 2);
+            if (bits == 8) {
+                uint16_t w = sins_fw_read16(word);
+                w = (index & 1) ? static_cast<uint16_t>((w & 0x00FFu) | (v & 0xFFu) << 8)
+                                : static_cast<uint16_t>((w & 0xFF00u) | (v & 0xFFu));
+                sins_fw_write16(word, w);
+                return;
+            }
+            if (index & 1) {
+                bad_width("the C28x data space", index, bits);
+            }
+            for (unsigned k = 0; k < bits / 16; k++) {
+                sins_fw_write16(word + k, static_cast<uint16_t>(v >> (16 * k)));
+            }
+            return;
+        }
+        case Place::Vector: {
+            if (bits != 64 || index % 8 != 0) {
+                bad_width("PieVectTable", index, bits);
+            }
+            check(sins_set_vector(board, static_cast<uint32_t>(index / 8), v), "PieVectTable");
+            sins_fw_vectors[index / 8] = v;
+            return;
+        }
+        case Place::Creg: creg_write(static_cast<int>(index), static_cast<uint16_t>(v)); return;
+        case Place::Host: break;
+    }
+    switch (bits) {
+        case 8: *static_cast<volatile uint8_t *>(p) = static_cast<uint8_t>(v); break;
+        case 16: *static_cast<volatile uint16_t *>(p) = static_cast<uint16_t>(v); break;
+        case 32: *static_cast<volatile uint32_t *>(p) = static_cast<uint32_t>(v); break;
+        default: *static_cast<volatile uint64_t *>(p) = v; break;
+    }
+}
+
+}  // namespace
+
+/* The pass's calls (firmware_c/pass/sins_fw_pass.cpp): one per volatile or register-object access. */
+extern "C" {
+uint8_t sins_fw_ld8(const volatile void *p) { access_pc = __builtin_return_address(0); return static_cast<uint8_t>(load(p, 8)); }
+uint16_t sins_fw_ld16(const volatile void *p) { access_pc = __builtin_return_address(0); return static_cast<uint16_t>(load(p, 16)); }
+uint32_t sins_fw_ld32(const volatile void *p) { access_pc = __builtin_return_address(0); return static_cast<uint32_t>(load(p, 32)); }
+uint64_t sins_fw_ld64(const volatile void *p) { access_pc = __builtin_return_address(0); return load(p, 64); }
+void sins_fw_st8(volatile void *p, uint8_t v) { access_pc = __builtin_return_address(0); store(p, v, 8); }
+void sins_fw_st16(volatile void *p, uint16_t v) { access_pc = __builtin_return_address(0); store(p, v, 16); }
+void sins_fw_st32(volatile void *p, uint32_t v) { access_pc = __builtin_return_address(0); store(p, v, 32); }
+void sins_fw_st64(volatile void *p, uint64_t v) { access_pc = __builtin_return_address(0); store(p, v, 64); }
+
+/* An integer made a pointer at run time (the pass's call): a C28x data address is its word of the
+   runtime's image of the data space; null and host addresses stay as they are. */
+void *sins_fw_ptr(uint64_t value) {
+    if (value != 0 && value < IO_WORDS) {
+        return sins_fw_io + value;
+    }
+    return reinterpret_cast<void *>(static_cast<uintptr_t>(value));
+}
+
+/* TI's DSP2833x_usDelay.asm (a loop of SUB and a taken BF, 5 cycles a pass, plus the call and return):
+   TI's DELAY_US computes Count from CPU_RATE for a delay of 5·Count + 9 cycles (DSP2833x_Examples.h);
+   here those cycles pass in virtual time, interrupts taken meanwhile. */
+void DSP28x_usDelay(uint32_t count) {
+    poll_valid = false;
+    pass_ps((5ull * count + 9ull) * cycle_ps);
+}
+
+/* TI's ADC_cal (DSP2833x_ADC_cal.asm, in TI's reserved OTP): it loads the factory trims into
+   ADCREFSEL and ADCOFFTRIM. The ADC is not modelled and the factory values are the part's own: the
+   two registers keep their reset values. */
+void ADC_cal(void) {}
+
+/* TI's DSP2833x_DBGIER.asm: DBGIER only matters under a debugger in real-time mode. */
+void SetDBGIER(uint16_t value) { (void)value; }
+
+/* The linker symbols of TI's flash-to-RAM copy (`MemCopy(&RamfuncsLoadStart, &RamfuncsLoadEnd,
+   &RamfuncsRunStart)`): the host runs the functions where they are, so the load range is empty and
+   the copy copies nothing. */
+uint16_t RamfuncsLoadStart, RamfuncsRunStart;
+extern uint16_t RamfuncsLoadEnd __attribute__((alias("RamfuncsLoadStart")));
+uint32_t RamfuncsLoadSize = 0;
+}
+
+extern "C" void sins_fw_asm(const char *text) {
     std::string op;
     for (const char *c = text; *c != '\0'; c++) {
         if (!std::isspace(static_cast<unsigned char>(*c))) {
@@ -510,11 +794,19 @@ extern "C" int sins_fw_run(const SinsFwConfig *config, char *message, size_t mes
         c0 = now_ps;
         check(sins_advance_cycles(board, 1), "time");
         read_now();
-        cycle_ps_ceil = now_ps - c0 + 1;
+        cycle_ps = now_ps - c0;
+        cycle_ps_ceil = cycle_ps + 1;
         refresh_input();
         irq_at = 0;
         update_flush();
-        sins_fw_user_main();
+        reset_io();
+        if (sins_fw_user_main != nullptr) {
+            sins_fw_user_main();
+        } else if (sins_fw_user_main_cxx != nullptr) {
+            sins_fw_user_main_cxx();
+        } else {
+            throw Failure{"the firmware has no main"};
+        }
     } catch (const TraceEnd &) {
         if (isr_depth > 0 && now_ps > isr_deadline_ps) {
             /* The input ended inside an ISR past its deadline (the next tick): an ISR cut by the end
@@ -560,7 +852,7 @@ extern "C" size_t sins_fw_take_rows(uint64_t *times, double *values, size_t capa
 
 /* The size of the firmware's `double`, bytes: 4 in the C28x float mode (TI's COFF ABI), else the
    host's 8. The harness reads a watched global of type "double" with it. */
-#ifdef SINS_FW_C28X_FLOAT_H
+#ifdef SINS_FW_C28X_FLOAT
 extern "C" const int sins_fw_double_bytes = 4;
 #else
 extern "C" const int sins_fw_double_bytes = static_cast<int>(sizeof(double));

@@ -1,6 +1,5 @@
 /* Host replacement of TI's DSP2833x_CpuTimers.c (see firmware_c/ti/README.md). CPU timer 0 is
-   modelled; timers 1 and 2 are not (their registers are not declared), so InitCpuTimers sets up
-   timer 0 only and leaves CpuTimer1/CpuTimer2's RegsAddr null.
+   modelled; timers 1 and 2 are plain memory for now (issue 39), set up here as TI's sets them up.
 
    ConfigCpuTimer follows C2000Ware's rule, PRD = MHz * us - 1: the counter runs PRD + 1 counts a
    period, so ConfigCpuTimer(&CpuTimer0, 150, 4000) gives 4 ms exactly, the period the emulator's
@@ -22,6 +21,16 @@ __attribute__((weak)) void InitCpuTimers(void)
     CpuTimer0Regs.TCR.bit.TSS = 1;  /* stopped */
     CpuTimer0Regs.TCR.bit.TRB = 1;  /* reload TIM from PRD */
     CpuTimer0.InterruptCount = 0;
+    CpuTimer1.RegsAddr = &CpuTimer1Regs;
+    CpuTimer2.RegsAddr = &CpuTimer2Regs;
+    CpuTimer1Regs.PRD.all = 0xFFFFFFFF;
+    CpuTimer2Regs.PRD.all = 0xFFFFFFFF;
+    CpuTimer1Regs.TCR.bit.TSS = 1;
+    CpuTimer2Regs.TCR.bit.TSS = 1;
+    CpuTimer1Regs.TCR.bit.TRB = 1;
+    CpuTimer2Regs.TCR.bit.TRB = 1;
+    CpuTimer1.InterruptCount = 0;
+    CpuTimer2.InterruptCount = 0;
 }
 
 __attribute__((weak)) void ConfigCpuTimer(struct CPUTIMER_VARS *Timer, float Freq, float Period)

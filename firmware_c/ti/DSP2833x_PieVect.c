@@ -1,8 +1,9 @@
 /* Host replacement of TI's DSP2833x_PieVect.c (see firmware_c/ti/README.md). TI's InitPieVectTable
    copies PieVectTableInit into PieVectTable word by word through Uint32 pointers (or memcpy): on the
    host a vector is a 64-bit function address held by the emulated PIE, so that copy cannot work.
-   This one sets the same 128 vectors (TI's table, the default ISRs of DSP2833x_DefaultIsr.c) one by
-   one through the emulated board, under EALLOW as TI's does, then enables the PIE vector table. */
+   This one stores the same 128 vectors (TI's table, the default ISRs of DSP2833x_DefaultIsr.c) one by
+   one as whole pointers (each store reaches the emulated PIE), under EALLOW as TI's does, then enables
+   the PIE vector table. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
 
@@ -142,7 +143,7 @@ __attribute__((weak)) void InitPieVectTable(void)
     unsigned i;
     EALLOW;
     for (i = 0; i < 128; i++)
-        sins_fw_set_vector(i, PieVectTableInit[i]);
+        ((PINT *)&PieVectTable)[i] = PieVectTableInit[i];
     EDIS;
     PieCtrlRegs.PIECTRL.bit.ENPIE = 1;
 }

@@ -2,10 +2,12 @@
 
 ``float_mode="host"`` compiles the firmware's ``float`` and ``double`` as the host's (64-bit ``double``).
 ``float_mode="c28x"`` makes both the C28x's 32-bit float (TI's COFF ABI), every operation the
-``c28x-f32`` backend's (``firmware_c/include/sins_fw_c28x_float.h``): the header is force-included,
-each source is preprocessed, and each floating literal on the firmware's own lines is rewritten into
-``sins_c28x_float(…)`` (the line markers keep the original file and line in every message), so
-that ``code * 0.05`` is a C28x multiplication, not a host ``double`` one rounded afterwards.
+``c28x-f32`` backend's: each source, C or C++, is preprocessed, and on the firmware's own lines
+``double`` (and ``long double``) becomes ``float`` and each floating literal ``x`` becomes
+``((float)x)`` (the line markers keep the original file and line in every message), so that
+``code * 0.05`` is a C28x single-precision multiplication; the build's LLVM pass
+(``firmware_c/pass``) then makes every float operation, conversion and math-library call a call to
+the backend (``sins_c28x_*`` of the C ABI).
 
 :func:`diagnose_int` is the 16-bit ``int`` check: a shadow compile with ``int`` as a 16-bit ``short``
 and the compiler's conversion warnings, which flag the implicit conversions that lose bits on the
@@ -42,16 +44,22 @@ def _is_floating(number: str) -> bool:
 
 
 def rewrite_literals(text: str) -> str:
-    """``text`` with each floating literal ``x`` (outside comments and strings) as
-    ``sins_c28x_float(x)``; everything else, line breaks included, unchanged."""
+    """``text`` with each floating literal ``x`` (outside comments and strings) as ``((float)x)``,
+    each ``long double`` and ``double`` as ``float``; everything else, line breaks included,
+    unchanged."""
 
     def replace(m: re.Match[str]) -> str:
         number = m.group("number")
         if number is not None and _is_floating(number):
-            return f"sins_c28x_float({number})"
+            return f"((float){number})"
+        if m.group(0) == "double":
+            return "float"
         return m.group(0)
 
-    return _TOKEN.sub(replace, text)
+    return _LONG_FLOAT.sub("float", _TOKEN.sub(replace, text))
+
+
+_LONG_FLOAT = re.compile(r"\blong\s+float\b")
 
 
 # A line marker of the preprocessor's output: `# LINE "FILE" FLAGS` (flag 3: a system header).
@@ -89,35 +97,38 @@ def flags(float_mode: str, include: Path) -> list[str]:
     contracting a × b + c into a fused multiply-add, which the firmware's C does not ask for and the
     emulator's backends do not do."""
     check_float_mode(float_mode)
-    c28x = ["-include", str(include / "sins_fw_c28x_float.h")] if float_mode == "c28x" else []
-    return ["-ffp-contract=off", *c28x]
+    del include
+    return ["-ffp-contract=off"]
 
 
-def prepare(
-    sources: Sequence[Path], float_mode: str, workdir: Path, preprocess: Sequence[str], ours: Sequence[Path]
-) -> tuple[str, list[Path]]:
-    """The language (for ``-x``) and the files the compiler builds the firmware from. Host mode: the
-    sources as they are. C28x mode: each source preprocessed by ``preprocess`` (the compiler and the
-    build's flags, :func:`flags` included) and its floating literals rewritten
-    (:func:`rewrite_preprocessed`, ``ours``: the replacement headers' folders) into ``workdir``. A
-    source that does not preprocess raises :class:`~sins_fw.errors.InputError` quoting the compiler."""
+def prepare_one(
+    source: Path,
+    cxx: bool,
+    float_mode: str,
+    workdir: Path,
+    index: int,
+    preprocess: Sequence[str],
+    ours: Sequence[Path],
+) -> tuple[Path, str]:
+    """The file the compiler builds ``source`` from and its language (for ``-x``). Host mode: the
+    source as it is. C28x mode: the source preprocessed by ``preprocess`` (the compiler and the
+    build's flags) and rewritten (:func:`rewrite_preprocessed`, ``ours``: the replacement headers'
+    folders) into ``workdir``. A source that does not preprocess raises
+    :class:`~sins_fw.errors.InputError` quoting the compiler."""
     check_float_mode(float_mode)
+    language = "c++" if cxx else "c"
     if float_mode == "host":
-        return "c++", list(sources)
-    out: list[Path] = []
-    for i, s in enumerate(sources):
-        cmd = [*preprocess, "-E", "-x", "c++", str(s)]
-        run = subprocess.run(cmd, capture_output=True, text=True, check=False, env=_c_locale())
-        if run.returncode != 0:
-            raise InputError(
-                "the firmware does not build as C++17 against the replacement headers:\n  "
-                + "\n  ".join(_errors(run.stderr))
-            )
-        # A scratch file in the build's temporary folder (removed with it), not an output.
-        tmp_source = workdir / f"{i}_{s.stem}.ii"
-        tmp_source.write_text(rewrite_preprocessed(run.stdout, ours), encoding="utf-8")
-        out.append(tmp_source)
-    return "c++-cpp-output", out
+        return source, language
+    cmd = [*preprocess, "-E", "-x", language, str(source)]
+    run = subprocess.run(cmd, capture_output=True, check=False, env=c_locale())
+    stderr = run.stderr.decode("utf-8", errors="replace")
+    if run.returncode != 0:
+        raise InputError("the firmware does not build:\n  " + "\n  ".join(_errors(stderr)))
+    # A scratch file in the build's temporary folder (removed with it), not an output.
+    out = workdir / f"{index}_{source.stem}{'.ii' if cxx else '.i'}"
+    text = run.stdout.decode("utf-8", errors="surrogateescape")
+    out.write_text(rewrite_preprocessed(text, ours), encoding="utf-8", errors="surrogateescape")
+    return out, "c++-cpp-output" if cxx else "cpp-output"
 
 
 def _errors(stderr: str, n: int = 5) -> list[str]:
@@ -130,7 +141,9 @@ def _errors(stderr: str, n: int = 5) -> list[str]:
 INT_DIAGNOSTIC_FLAGS = ("-Wconversion", "-Wno-sign-conversion", "-Wno-float-conversion", "-Woverflow")
 
 
-def diagnose_int(paths: Sequence[str | os.PathLike[str]], compiler: str = "g++") -> list[str]:
+def diagnose_int(
+    paths: Sequence[str | os.PathLike[str]], compiler: str = "g++", c_compiler: str = "gcc"
+) -> list[str]:
     """The implicit conversions that lose bits where ``int`` is 16-bit, as the compiler's warnings
     (``file:line:column: warning: …``) for the firmware sources (files or folders): a syntax-only
     compile of each with ``int`` mapped to ``short`` (``sins_fw_int16.h``). An empty list: none found.
@@ -142,10 +155,12 @@ def diagnose_int(paths: Sequence[str | os.PathLike[str]], compiler: str = "g++")
     folders = sorted({str(s.parent) for s in sources})
     findings: list[str] = []
     for s in sources:
+        cxx = s.suffix != ".c"
         cmd = [
-            compiler,
-            "-std=c++17",
+            compiler if cxx else c_compiler,
+            "-std=gnu++17" if cxx else "-std=gnu11",
             "-fsyntax-only",
+            "-Wno-unknown-pragmas",
             *INT_DIAGNOSTIC_FLAGS,
             "-include",
             str(include / "sins_fw_prelude.h"),
@@ -155,17 +170,18 @@ def diagnose_int(paths: Sequence[str | os.PathLike[str]], compiler: str = "g++")
             *(f"-I{d}" for d in folders),
             f"-I{cabi_dirs()[1]}",
             "-x",
-            "c++",
+            "c++" if cxx else "c",
             str(s),
         ]
-        run = subprocess.run(cmd, capture_output=True, text=True, check=False, env=_c_locale())
+        run = subprocess.run(cmd, capture_output=True, check=False, env=c_locale())
+        stderr = run.stderr.decode("utf-8", errors="replace")
         if run.returncode != 0:
-            message = "\n  ".join(_errors(run.stderr))
+            message = "\n  ".join(_errors(stderr))
             raise InputError(f"the 16-bit int check could not compile the firmware:\n  {message}")
-        findings += [line for line in run.stderr.splitlines() if ": warning: " in line]
+        findings += [line for line in stderr.splitlines() if ": warning: " in line]
     return findings
 
 
-def _c_locale() -> dict[str, str]:
+def c_locale() -> dict[str, str]:
     """The environment with the compiler's messages in English and plain quotes."""
     return {**os.environ, "LC_ALL": "C", "LANG": "C"}

@@ -1,56 +1,155 @@
-"""Build a user's F28335 C firmware, unmodified, for the host against the emulated board, and run it.
+"""Build a user's F28335 firmware, unmodified, for the host against the emulated board, and run it.
 
-The sources are compiled as C++17 by the host's ``g++`` with the replacement DSP2833x headers of
-``firmware_c/include`` first on the include path and ``sins_fw_prelude.h`` force-included (TI's
-``interrupt``, ``cregister``, ``EALLOW``/``EDIS``, ``EINT``, ``asm``, ``void main``). Each register
-access of TI's register-file objects (``SpiaRegs.SPICCR.bit.SPISWRESET = 0``) becomes a call into the
-emulated board at its C28x address, a bit-field store a read-modify-write of the whole 16-bit word,
-each access charged the cycles of ``firmware_model/c28x-costs.toml`` ``[io]``. The result is a shared
-library linked against the C ABI library (``rust/cabi``), which :mod:`sins_fw.firmware_run` runs on a
-trace.
+C is compiled as C (``-std=gnu11``), C++ as C++ (``-std=gnu++17``), by Debian's clang 14 with the
+build's LLVM pass (``firmware_c/pass``): every volatile access, and every access to one of TI's
+register-file objects (``SpiaRegs``, ``PieVectTable``, ...), becomes a call into the runtime, which
+reaches the emulated board when the address is a modelled register of the C28x data space and plain
+memory otherwise. The register-file objects are placed by the link in the runtime's image of that
+space at their C28x addresses (:data:`REGISTER_FILES`, those of TI's ``DSP2833x_Headers_nonBIOS.cmd``),
+and the pass maps a raw address (``*(volatile Uint16 *)0x701B``) to the same image, so that TI's own
+headers and the replacements of ``firmware_c/include`` behave alike. ``sins_fw_prelude.h`` is
+force-included (TI's ``interrupt``, ``cregister``, ``far``, ``asm``/``__asm``, the DSP28 data types,
+``void main``); TI's pragmas are ignored. Each register access is charged the cycles of
+``firmware_model/c28x-costs.toml`` ``[io]``. The result is a shared library linked against the C ABI
+library (``rust/cabi``), which :mod:`sins_fw.firmware_run` runs on a trace.
 
-Modelled: SPI-A, the GPIO data registers, LOSPCP, CPU timer 0, the PIE, the CPU's IER/IFR/INTM and
-EALLOW (docs/c-drivers.md). The firmware's ``float``/``double`` are the host's or the C28x's
-(``float_mode``), IQmathLib.h is the ``iq`` backend's (sins_fw.firmware_arith, docs/c-arithmetic.md).
+The input is files, folders, or a CCS project (its ``.project``/``.cproject`` or its folder):
+:func:`read_project`. The firmware's ``float``/``double`` are the host's or the C28x's
+(``float_mode``: the same pass then makes every float operation the ``c28x-f32`` backend's),
+IQmathLib.h is the ``iq`` backend's (sins_fw.firmware_arith, docs/c-arithmetic.md).
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import shutil
 import subprocess
 import tempfile
-from collections.abc import Sequence
+import xml.etree.ElementTree as ET
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from sins_fw import firmware_arith
 from sins_fw.atomic import atomic_path
 from sins_fw.errors import ConfigError, InputError
+from sins_fw.profile import ProfileValues
 
 #: The package's folder: in an installed wheel it holds ``firmware_c`` (the replacement headers, the
-#: runtime, TI's replacements) and ``cabi`` (``libsins_cabi.so`` and ``sins_fw.h``); in the source tree
-#: ``firmware_c`` links to the repository's and the C ABI library is cargo's.
+#: runtime, the pass, TI's replacements) and ``cabi`` (``libsins_cabi.so`` and ``sins_fw.h``); in the
+#: source tree ``firmware_c`` links to the repository's and the C ABI library is cargo's.
 PACKAGE = Path(__file__).resolve().parent
 ROOT = PACKAGE.parents[1]
 FIRMWARE_C = Path(os.environ.get("SINS_FW_C_DIR") or PACKAGE / "firmware_c").resolve()
 CABI_LIBRARY = "libsins_cabi.so"
 CABI_HEADER = "sins_fw.h"
-SOURCE_SUFFIXES = (".c", ".cpp")
+C_SUFFIXES = (".c",)
+CXX_SUFFIXES = (".cpp", ".cc", ".cxx", ".C")
+SOURCE_SUFFIXES = C_SUFFIXES + CXX_SUFFIXES
+#: Files of a TI project that are not compiled, each reported in one line: TI's assembly (the runtime
+#: provides DSP28x_usDelay, ADC_cal, SetDBGIER; the code start branch and the CSM passwords mean
+#: nothing on the host) and the linker command files (the link places the register files itself).
+SKIPPED_SUFFIXES = {
+    ".asm": "assembly: not compiled (the runtime provides TI's DSP28x_usDelay, ADC_cal and SetDBGIER)",
+    ".s": "assembly: not compiled (the runtime provides TI's DSP28x_usDelay, ADC_cal and SetDBGIER)",
+    ".cmd": "linker command file: not used (the link places TI's register files at their addresses)",
+    ".lib": "C28x library: not linked (IQmath is the replacement IQmathLib.h's)",
+}
 #: The host replacements of TI's support sources (DSP2833x_common/source), linked into every firmware.
 TI_SUPPORT = FIRMWARE_C / "ti"
-#: TI's support sources that cannot build on the host (Uint32-pointer copies of the vector table,
-#: registers the emulator does not model): a firmware source of one of these names is left out, the
-#: replacement of the same name stands in (firmware_c/ti/README.md).
+#: TI's support sources that cannot build on the host: a firmware source of one of these names is
+#: left out and the replacement of the same name stands in (firmware_c/ti/README.md).
 REPLACED_TI_SOURCES = (
-    "DSP2833x_CpuTimers.c",
     "DSP2833x_GlobalVariableDefs.c",
     "DSP2833x_PieVect.c",
-    "DSP2833x_Spi.c",
-    "DSP2833x_SysCtrl.c",
 )
+#: TI's register-file objects and their C28x data addresses (TI's DSP2833x_Headers_nonBIOS.cmd). The
+#: build defines each at ``sins_fw_io + 2·address`` (the runtime's image of the data space:
+#: :func:`placement_assembly`).
+REGISTER_FILES: Mapping[str, int] = {
+    "DevEmuRegs": 0x0880,
+    "FlashRegs": 0x0A80,
+    "CsmRegs": 0x0AE0,
+    "AdcMirror": 0x0B00,
+    "XintfRegs": 0x0B20,
+    "CpuTimer0Regs": 0x0C00,
+    "CpuTimer1Regs": 0x0C08,
+    "CpuTimer2Regs": 0x0C10,
+    "PieCtrlRegs": 0x0CE0,
+    "DmaRegs": 0x1000,
+    "McbspaRegs": 0x5000,
+    "McbspbRegs": 0x5040,
+    "ECanaRegs": 0x6000,
+    "ECanaLAMRegs": 0x6040,
+    "ECanaMOTSRegs": 0x6080,
+    "ECanaMOTORegs": 0x60C0,
+    "ECanaMboxes": 0x6100,
+    "ECanbRegs": 0x6200,
+    "ECanbLAMRegs": 0x6240,
+    "ECanbMOTSRegs": 0x6280,
+    "ECanbMOTORegs": 0x62C0,
+    "ECanbMboxes": 0x6300,
+    **{f"EPwm{i}Regs": 0x6800 + 0x40 * (i - 1) for i in range(1, 7)},
+    **{f"ECap{i}Regs": 0x6A00 + 0x20 * (i - 1) for i in range(1, 7)},
+    "EQep1Regs": 0x6B00,
+    "EQep2Regs": 0x6B40,
+    "GpioCtrlRegs": 0x6F80,
+    "GpioDataRegs": 0x6FC0,
+    "GpioIntRegs": 0x6FE0,
+    "SysCtrlRegs": 0x7010,
+    "SpiaRegs": 0x7040,
+    "SciaRegs": 0x7050,
+    "XIntruptRegs": 0x7070,
+    "AdcRegs": 0x7100,
+    "ScibRegs": 0x7750,
+    "ScicRegs": 0x7770,
+    "I2caRegs": 0x7900,
+    "CsmPwl": 0x33FFF8,
+    "PartIdRegs": 0x380090,
+}
+#: The other objects the build places: the vector table and the CPU's IER and IFR.
+RUNTIME_OBJECTS: Mapping[str, str] = {
+    "PieVectTable": "sins_fw_vectors",
+    "IER": "sins_fw_cregs",
+    "IFR": "sins_fw_cregs + 8",
+}
+#: The runtime's arrays: the C28x data space (0x400000 16-bit words), the 128 vectors (host
+#: pointers), IER and IFR.
+RUNTIME_ARRAYS: Mapping[str, int] = {
+    "sins_fw_io": 2 * 0x400000,
+    "sins_fw_vectors": 8 * 128,
+    "sins_fw_cregs": 16,
+}
+
+
+def placement_assembly() -> str:
+    """The assembly that defines the runtime's arrays (:data:`RUNTIME_ARRAYS`) and places each
+    register-file object in them: a symbol at an offset of an array of the same object file, which
+    the dynamic linker relocates with it (``--defsym`` would make an absolute address)."""
+    lines = ["\t.bss"]
+    for name, size in RUNTIME_ARRAYS.items():
+        lines += [f"\t.globl {name}", "\t.p2align 6", f"\t.type {name}, @object", f"\t.size {name}, {size}"]
+        lines += [f"{name}:", f"\t.zero {size}"]
+    placed = {**{n: f"sins_fw_io + {2 * a}" for n, a in REGISTER_FILES.items()}, **RUNTIME_OBJECTS}
+    for name, where in placed.items():
+        lines += [f"\t.globl {name}", f"\t.type {name}, @object", f"\t.set {name}, {where}"]
+    lines.append('\t.section .note.GNU-stack,"",@progbits')
+    return "\n".join(lines) + "\n"
+
+
 #: How many of the compiler's error lines a build error quotes.
 QUOTED_ERRORS = 5
+#: Debian's clang and LLVM (the pass is built against LLVM's headers); `make firmware-toolchain`
+#: installs them.
+CLANG = os.environ.get("SINS_FW_CLANG", "clang-14")
+CLANGXX = os.environ.get("SINS_FW_CLANGXX", "clang++-14")
+LLVM_CONFIG = os.environ.get("SINS_FW_LLVM_CONFIG", "llvm-config-14")
+TOOLCHAIN_HINT = (
+    "install Debian's clang-14 and llvm-14-dev (`make firmware-toolchain`, "
+    "or apt-get install clang-14 llvm-14-dev)"
+)
 
 
 def cabi_dirs(root: Path = ROOT, package: Path = PACKAGE) -> tuple[Path, Path]:
@@ -88,129 +187,370 @@ def cabi_library_dir() -> Path:
     return cabi_dirs()[0]
 
 
-def sources_of(paths: Sequence[str | os.PathLike[str]]) -> list[Path]:
-    """The C/C++ sources: files as given, folders' ``*.c``/``*.cpp`` (sorted, not recursive)."""
-    found: list[Path] = []
+@dataclass
+class Project:
+    """What a build compiles: the sources, the files named and skipped (each with why), the include
+    folders and the macro definitions (``NAME`` or ``NAME=VALUE``) of the project."""
+
+    sources: list[Path] = field(default_factory=list)
+    skipped: list[tuple[Path, str]] = field(default_factory=list)
+    include: list[Path] = field(default_factory=list)
+    defines: list[str] = field(default_factory=list)
+
+    def add_file(self, f: Path) -> None:
+        if f.suffix in SOURCE_SUFFIXES:
+            if f not in self.sources:
+                self.sources.append(f)
+        elif f.suffix.lower() in SKIPPED_SUFFIXES and all(f != s for s, _ in self.skipped):
+            self.skipped.append((f, SKIPPED_SUFFIXES[f.suffix.lower()]))
+
+
+#: Folders of a CCS project that hold build output, never sources.
+_BUILD_FOLDERS = {"Debug", "Release", "Flash", "RAM", "CPU1_RAM", "CPU1_FLASH", "targetConfigs"}
+
+
+def read_project(paths: Sequence[str | os.PathLike[str]]) -> Project:
+    """The project of the inputs: a source file as given (``.c``, ``.cpp``; ``.asm``, ``.cmd`` named
+    and skipped), a folder's sources (not recursive), or a CCS project (its ``.project`` or
+    ``.cproject``, or a folder holding a ``.project``): the sources of its folder and subfolders (not
+    the build folders) and the linked resources of ``.project``, the include paths and predefined
+    symbols of ``.cproject``'s compiler options. A missing input or a project that cannot be read is
+    an :class:`~sins_fw.errors.InputError` naming it."""
+    project = Project()
     for p in map(Path, paths):
-        if p.is_dir():
-            found += sorted(f for f in p.iterdir() if f.suffix in SOURCE_SUFFIXES and f.is_file())
+        if p.is_dir() and (p / ".project").is_file():
+            _read_ccs(p, project)
+        elif p.is_dir():
+            for f in sorted(p.iterdir()):
+                if f.is_file():
+                    project.add_file(f)
+        elif p.is_file() and p.name in (".project", ".cproject"):
+            _read_ccs(p.parent, project)
         elif p.is_file():
-            found.append(p)
+            if p.suffix not in SOURCE_SUFFIXES and p.suffix.lower() not in SKIPPED_SUFFIXES:
+                raise InputError(
+                    f"{p}: not a C or C++ source (*.c, *.cpp), TI assembly (*.asm) or CCS project"
+                )
+            project.add_file(p)
         else:
             raise InputError(f"{p}: no such file or folder")
-    if not found:
+    if not project.sources:
         raise InputError(f"{', '.join(map(str, paths))}: no C sources (*.c, *.cpp) there")
-    return found
+    return project
+
+
+def sources_of(paths: Sequence[str | os.PathLike[str]]) -> list[Path]:
+    """The C/C++ sources of the inputs (:func:`read_project`)."""
+    return read_project(paths).sources
+
+
+def _ccs_path(text: str, project_dir: Path) -> Path | None:
+    """A path of a CCS project file with its variables resolved (``PROJECT_LOC``, ``PROJECT_ROOT``,
+    ``PARENT-n-PROJECT_LOC``, ``${...}`` of those); None when it names a variable of the user's
+    machine (the TI tools' folders, whose headers the build replaces)."""
+    text = text.strip().strip('"')
+    text = re.sub(r"\$\{(PROJECT_LOC|PROJECT_ROOT|ProjDirPath)\}", str(project_dir).replace("\\", "/"), text)
+    m = re.match(r"^(?:\$\{)?PARENT-(\d+)-PROJECT_LOC\}?(.*)$", text)
+    if m:
+        base = project_dir
+        for _ in range(int(m.group(1))):
+            base = base.parent
+        text = str(base) + m.group(2)
+    text = re.sub(r"^(PROJECT_LOC|PROJECT_ROOT)", str(project_dir), text)
+    if "${" in text or text.startswith("$"):
+        return None
+    path = Path(text.replace("\\", "/"))
+    return path if path.is_absolute() else project_dir / path
+
+
+def _read_ccs(folder: Path, project: Project) -> None:
+    dot_project = folder / ".project"
+    for f in sorted(folder.rglob("*")):
+        rel = f.relative_to(folder).parts
+        if f.is_file() and not any(part.startswith(".") or part in _BUILD_FOLDERS for part in rel[:-1]):
+            project.add_file(f)
+    if dot_project.is_file():
+        try:
+            root = ET.parse(dot_project).getroot()
+        except (ET.ParseError, OSError) as e:
+            raise InputError(f"{dot_project}: not a CCS project file ({e})") from e
+        for link in root.iter("link"):
+            location = link.findtext("location") or link.findtext("locationURI") or ""
+            target = _ccs_path(
+                location.removeprefix("file:/") if location.startswith("file:/") else location, folder
+            )
+            if target is None:
+                continue
+            if target.is_dir():
+                for f in sorted(target.iterdir()):
+                    if f.is_file():
+                        project.add_file(f)
+            elif target.is_file():
+                project.add_file(target)
+            else:
+                raise InputError(f"{dot_project}: linked resource {location}: no such file ({target})")
+    cproject = folder / ".cproject"
+    if cproject.is_file():
+        try:
+            root = ET.parse(cproject).getroot()
+        except (ET.ParseError, OSError) as e:
+            raise InputError(f"{cproject}: not a CCS build settings file ({e})") from e
+        # The first configuration's compiler options (CCS lists Debug first; the others repeat them).
+        config = next(root.iter("configuration"), root)
+        for option in config.iter("option"):
+            kind = (option.get("superClass") or "") + " " + (option.get("id") or "")
+            values = [v.get("value") or "" for v in option.iter("listOptionValue")]
+            if "INCLUDE_PATH" in kind:
+                for v in values:
+                    path = _ccs_path(v, folder)
+                    if path is not None and path.is_dir() and path not in project.include:
+                        project.include.append(path)
+            elif "DEFINE" in kind and "compilerID" in kind:
+                for v in values:
+                    v = v.strip().strip('"')
+                    if v and v not in project.defines:
+                        project.defines.append(v)
 
 
 def with_ti_support(sources: Sequence[Path]) -> tuple[list[Path], list[str]]:
     """The firmware's sources plus the host replacements of TI's support sources (``firmware_c/ti``),
     and the names of the firmware's own copies of TI's sources that are left out for them
     (:data:`REPLACED_TI_SOURCES`). The replacements' definitions are weak: a firmware's own
-    ``InitPieCtrl`` or ``TINT0_ISR`` (its own copy of TI's DSP2833x_PieCtrl.c or DSP2833x_DefaultIsr.c,
-    which build on the host) takes the place of the replacement's."""
+    ``InitSysCtrl`` or ``TINT0_ISR`` (its own copy of TI's support sources, compiled as given) takes the
+    place of the replacement's."""
     kept = [s for s in sources if s.name not in REPLACED_TI_SOURCES]
     replaced = sorted({s.name for s in sources if s.name in REPLACED_TI_SOURCES})
     return kept + sorted(TI_SUPPORT.glob("*.c")), replaced
+
+
+def _clock_defines(profile: ProfileValues | None) -> list[str]:
+    """``-D`` of the profile's clocks (``[clocks]``: SYSCLKOUT = crystal_hz · pllcr / divsel) for the
+    replacement DSP2833x_Examples.h: TI's DSP28_PLLCR, DSP28_DIVSEL, CPU_FRQ_150MHZ, CPU_RATE. Default:
+    the reference profile."""
+    if profile is None:
+        from sins_fw.profile import load_profile
+
+        profile = load_profile("reference")
+    crystal, pllcr, divsel = (int(profile.get(f"clocks.{k}")) for k in ("crystal_hz", "pllcr", "divsel"))
+    sysclk = crystal * (pllcr or 1) // divsel
+    # TI's PLLSTS.DIVSEL field for that divider: 2 → /2, 3 → /1, 0 (or 1) → /4.
+    field_value = {1: 3, 2: 2, 4: 0}.get(divsel, 2)
+    return [f"-DSINS_FW_PLLCR={pllcr}", f"-DSINS_FW_DIVSEL={field_value}", f"-DSINS_FW_SYSCLK_HZ={sysclk}"]
+
+
+def _tool(name: str) -> str:
+    found = shutil.which(name)
+    if found is None:
+        raise ConfigError(f"`{name}` not found: the firmware build needs it; {TOOLCHAIN_HINT}")
+    return found
+
+
+def pass_plugin() -> Path:
+    """The build's LLVM pass (``firmware_c/pass/sins_fw_pass.cpp``) as a clang plugin, compiled once
+    per source and LLVM version into ``$SINS_FW_CACHE`` (default ``~/.cache/sins-fw``)."""
+    source = FIRMWARE_C / "pass" / "sins_fw_pass.cpp"
+    clangxx, llvm_config = _tool(CLANGXX), _tool(LLVM_CONFIG)
+    version = subprocess.run(
+        [llvm_config, "--version"], capture_output=True, text=True, check=False
+    ).stdout.strip()
+    digest = hashlib.sha256(source.read_bytes() + version.encode()).hexdigest()[:16]
+    cache = Path(os.environ.get("SINS_FW_CACHE") or Path.home() / ".cache" / "sins-fw")
+    plugin = cache / f"sins_fw_pass-{digest}.so"
+    if plugin.is_file():
+        return plugin
+    cxxflags = subprocess.run(
+        [llvm_config, "--cxxflags"], capture_output=True, text=True, check=False
+    ).stdout.split()
+    cache.mkdir(parents=True, exist_ok=True)
+    with atomic_path(plugin) as tmp:
+        run = subprocess.run(
+            [clangxx, "-shared", "-fPIC", "-O2", *cxxflags, str(source), "-o", str(tmp)],
+            capture_output=True,
+            check=False,
+        )
+        if run.returncode != 0:
+            raise ConfigError(
+                f"the build's LLVM pass does not compile ({TOOLCHAIN_HINT}):\n  " + _text(run.stderr)[-2000:]
+            )
+    return plugin
 
 
 def build_firmware(
     paths: Sequence[str | os.PathLike[str]],
     out: str | os.PathLike[str],
     *,
-    compiler: str = "g++",
     float_mode: str = "host",
+    include: Sequence[str | os.PathLike[str]] = (),
+    defines: Sequence[str] = (),
+    profile: ProfileValues | None = None,
 ) -> Path:
-    """Compile the firmware sources (files or folders) into the shared library ``out``, its ``float``
-    and ``double`` in ``float_mode`` (``host`` or ``c28x``: sins_fw.firmware_arith). A source that
-    does not compile raises :class:`~sins_fw.errors.InputError` quoting the compiler's first errors
-    (file:line); ``out`` is then left as it was.
+    """Compile the firmware (files, folders or a CCS project: :func:`read_project`) into the shared
+    library ``out``, its ``float`` and ``double`` in ``float_mode`` (``host`` or ``c28x``:
+    sins_fw.firmware_arith). ``include`` and ``defines`` (``NAME`` or ``NAME=VALUE``) come before the
+    project's own; the profile's clocks define TI's clock macros (:func:`_clock_defines`; default the
+    reference profile). A source that does not compile, or a link that fails, raises
+    :class:`~sins_fw.errors.InputError` quoting the compiler's or linker's first errors (file:line,
+    the undefined symbol); ``out`` is then left as it was.
 
-    The firmware's own sources are compiled with ``-fsanitize-coverage=trace-pc``: the compiler calls
-    the runtime at every basic block, which charges the block's time and lets interrupts in there,
-    so that straight-line code and loops without register access take interrupts (the runtime's
-    header comment says how); the idle ``for (;;) {}``, which GCC leaves uninstrumented, gets the
-    call added in the assembly (:func:`instrument_self_jumps`). ``-g`` keeps the sources' lines, for
-    the error that names a loop that can never end. The runtime is compiled without the
-    instrumentation.
-
-    TI's support sources (``InitSysCtrl``, ``InitPieCtrl``, ``InitPieVectTable``, ``InitCpuTimers``,
-    ``ConfigCpuTimer``, the default ISRs, ...) come from their host replacements
-    (:func:`with_ti_support`), so a TI-style project links as it is."""
-    sources, _ = with_ti_support(sources_of(paths))
+    The include path: the ``-I`` folders, the project's, the sources' folders, then the replacement
+    headers (``firmware_c/include``), so that a project's own copies of TI's headers are used as they
+    are. The firmware's own sources are compiled with ``-fsanitize-coverage=trace-pc``: the compiler
+    calls the runtime at every basic block, which charges the block's time and lets interrupts in
+    there; an idle ``for (;;) {}`` calls ``sins_fw_idle`` instead (:func:`instrument_self_jumps`).
+    ``-g`` keeps the sources' lines, for the error that names a loop that can never end."""
+    project = read_project(paths)
+    sources, _ = with_ti_support(project.sources)
     firmware_arith.check_float_mode(float_mode)
-    if shutil.which(compiler) is None:
-        raise ConfigError(f"`{compiler}` not found: a host C++ compiler is needed (Debian: build-essential)")
+    for d in defines:
+        if not re.fullmatch(r"[A-Za-z_]\w*(=.*)?", d):
+            raise InputError(f"-D {d}: expected NAME or NAME=VALUE")
+    for i in include:
+        if not Path(i).is_dir():
+            raise InputError(f"-I {i}: no such folder")
+    clang, clangxx = _tool(CLANG), _tool(CLANGXX)
+    plugin = pass_plugin()
     libdir, cabi_include = cabi_dirs()
-    include = FIRMWARE_C / "include"
-    folders = sorted({str(s.parent) for s in sources if s.parent != TI_SUPPORT})
+    ours = FIRMWARE_C / "include"
+    folders: list[Path] = []
+    for d in [*map(Path, include), *project.include, *(s.parent for s in sources if s.parent != TI_SUPPORT)]:
+        if d.resolve() not in folders:
+            folders.append(d.resolve())
     common = [
-        compiler,
-        "-std=c++17",
         "-O1",
         "-g",
         "-fPIC",
+        "-fexceptions",
+        "-fno-strict-aliasing",
+        "-fwrapv",
+        "-Wno-unknown-pragmas",
+        "-Wno-main-return-type",
         "-include",
-        str(include / "sins_fw_prelude.h"),
-        *firmware_arith.flags(float_mode, include),
-        f"-I{include}",
+        str(ours / "sins_fw_prelude.h"),
+        *firmware_arith.flags(float_mode, ours),
+        *_clock_defines(profile),
+        *(f"-D{d}" for d in [*defines, *project.defines]),
         *(f"-I{d}" for d in folders),
+        f"-I{ours}",
         f"-I{cabi_include}",
     ]
+    env = {
+        **firmware_arith.c_locale(),
+        "SINS_FW_PASS_SYMBOLS": ",".join([*REGISTER_FILES, *RUNTIME_OBJECTS]),
+        "SINS_FW_PASS_C28X_FLOAT": "1" if float_mode == "c28x" else "0",
+    }
     with atomic_path(out) as tmp, tempfile.TemporaryDirectory(prefix="sins-fw-build-") as work:
-        language, firmware = firmware_arith.prepare(
-            sources, float_mode, Path(work), common, [include, cabi_include]
-        )
         objects = []
-        for i, src in enumerate(firmware):
-            tmp_asm = Path(work) / f"{i}_{Path(src).stem}.s"
-            _compile(
-                [*common, "-fsanitize-coverage=trace-pc", "-x", language, "-S", str(src), "-o", str(tmp_asm)]
+        for i, src in enumerate(sources):
+            cxx = src.suffix in CXX_SUFFIXES
+            compiler, std = (clangxx, "-std=gnu++17") if cxx else (clang, "-std=gnu11")
+            flags = [std, *common]
+            built, language = firmware_arith.prepare_one(
+                src, cxx, float_mode, Path(work), i, [compiler, *flags], [ours]
             )
-            tmp_asm.write_text(instrument_self_jumps(tmp_asm.read_text(encoding="utf-8")), encoding="utf-8")
+            tmp_asm = Path(work) / f"{i}_{src.stem}.s"
+            _compile(
+                [
+                    compiler,
+                    *flags,
+                    f"-fpass-plugin={plugin}",
+                    "-fsanitize-coverage=trace-pc,bb,no-prune",
+                    "-x",
+                    language,
+                    "-S",
+                    str(built),
+                    "-o",
+                    str(tmp_asm),
+                ],
+                env,
+            )
+            text = tmp_asm.read_text(encoding="utf-8", errors="surrogateescape")
+            tmp_asm.write_text(instrument_self_jumps(text), encoding="utf-8", errors="surrogateescape")
             objects.append(tmp_asm.with_suffix(".o"))
-            _compile([compiler, "-c", str(tmp_asm), "-o", str(objects[-1])])
+            _compile([clang, "-c", str(tmp_asm), "-o", str(objects[-1])], env)
         runtime = Path(work) / "sins_fw_runtime.o"
-        _compile([*common, "-c", str(FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp"), "-o", str(runtime)])
         _compile(
             [
-                compiler,
+                clangxx,
+                "-std=c++17",
+                "-O2",
+                "-g",
+                "-fPIC",
+                f"-I{cabi_include}",
+                *(["-DSINS_FW_C28X_FLOAT"] if float_mode == "c28x" else []),
+                "-c",
+                str(FIRMWARE_C / "runtime" / "sins_fw_runtime.cpp"),
+                "-o",
+                str(runtime),
+            ],
+            env,
+        )
+        placement = Path(work) / "sins_fw_placement.s"
+        placement.write_text(placement_assembly(), encoding="utf-8")
+        placed = Path(work) / "sins_fw_placement.o"
+        _compile([clang, "-c", str(placement), "-o", str(placed)], env)
+        _compile(
+            [
+                clangxx,
                 "-shared",
                 *map(str, objects),
                 str(runtime),
+                str(placed),
                 f"-L{libdir}",
                 "-lsins_cabi",
                 f"-Wl,-rpath,{libdir.resolve()}",
                 "-Wl,--no-undefined",
                 "-ldl",
+                "-lm",
                 "-o",
                 str(tmp),
-            ]
+            ],
+            env,
+            link=True,
         )
     return Path(out)
 
 
-#: A label and, after only directives, an unconditional jump to itself: an empty endless loop.
-_SELF_JUMP = re.compile(r"^(\.L\w+):\n((?:\s*\.[^\n]*\n)*)(\s*)jmp\s+\1\n", re.MULTILINE)
+#: An endless loop with nothing in it: its label (and the compiler's comment), only directives, the
+#: coverage call at its one block, and a jump to itself.
+_SELF_JUMP = re.compile(
+    r"^(\.L\w+):([^\n]*)\n((?:[ \t]*(?:\.|#)[^\n]*\n)*)([ \t]*)callq?[ \t]+__sanitizer_cov_trace_pc@PLT\n"
+    r"((?:[ \t]*(?:\.|#)[^\n]*\n)*)([ \t]*)jmp[ \t]+\1\n",
+    re.MULTILINE,
+)
 
 
 def instrument_self_jumps(assembly: str) -> str:
-    """Add a call to the runtime's ``sins_fw_idle`` to each jump to itself in the compiler's assembly.
-
-    GCC's ``-fsanitize-coverage=trace-pc`` instruments a block by calling the runtime at its first
-    instruction; the block of an empty endless loop (``for (;;) {}``, ``while (1);``) has no
-    instruction but its jump, and GCC leaves it out, so the idle loop would never reach the runtime
-    and no interrupt could come. The call goes before that jump: the loop never ends, so no register
-    it might clobber is used again, and the stack is as at the function's own first call. Knowing
-    the loop empty, the runtime moves time straight to the next interrupt (the passes' time, in whole
-    passes), or stops the run when none can come."""
-    return _SELF_JUMP.sub(r"\1:\n\2\3call\tsins_fw_idle@PLT\n\3jmp\t\1\n", assembly)
+    """Make the coverage call of each empty endless loop (``for (;;) {}``, ``while (1);``) in the
+    compiler's assembly a call to the runtime's ``sins_fw_idle``. Knowing the loop empty, the runtime
+    moves time straight to the next interrupt (the passes' time, in whole passes), or stops the run
+    when none can come, instead of running it pass by pass."""
+    return _SELF_JUMP.sub(r"\1:\2\n\3\4callq\tsins_fw_idle@PLT\n\5\6jmp\t\1\n", assembly)
 
 
-def _compile(cmd: list[str]) -> None:
-    """Run the compiler; its errors (file:line) become an InputError."""
-    run = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    if run.returncode != 0:
-        errors = [line for line in run.stderr.splitlines() if re.search(r"\berror\b", line)]
-        quoted = "\n  ".join(errors[:QUOTED_ERRORS] or run.stderr.splitlines()[-QUOTED_ERRORS:])
-        raise InputError(f"the firmware does not build as C++17 against the replacement headers:\n  {quoted}")
+def _text(data: bytes) -> str:
+    """A compiler's output as text: a source in another encoding (GBK comments) quoted as it is."""
+    return data.decode("utf-8", errors="replace")
+
+
+def _compile(cmd: list[str], env: Mapping[str, str], *, link: bool = False) -> None:
+    """Run the compiler or linker; its errors (file:line, the undefined symbol and where) become an
+    InputError."""
+    run = subprocess.run(cmd, capture_output=True, check=False, env=dict(env))
+    if run.returncode == 0:
+        return
+    lines = _text(run.stderr).splitlines()
+    if link:
+        wanted = [
+            line
+            for line in lines
+            if re.search(
+                r"undefined reference|multiple definition|first defined here|in function|error", line
+            )
+            and "collect2" not in line
+            and "linker command failed" not in line
+        ]
+        quoted = "\n  ".join(wanted[: 2 * QUOTED_ERRORS] or lines[-QUOTED_ERRORS:])
+        raise InputError(f"the firmware does not link:\n  {quoted}")
+    errors = [line for line in lines if re.search(r"\berror\b", line)]
+    quoted = "\n  ".join(errors[:QUOTED_ERRORS] or lines[-QUOTED_ERRORS:])
+    raise InputError(f"the firmware does not build:\n  {quoted}")

@@ -1,5 +1,5 @@
-"""`sins-fw build-firmware SOURCES -o fw.so`: a user's F28335 C firmware, unmodified, built for the host
-against the emulated board (sins_fw.firmware_build)."""
+"""`sins-fw build-firmware SOURCES -o fw.so`: a user's F28335 firmware (C or C++ sources, folders, or a
+CCS project), unmodified, built for the host against the emulated board (sins_fw.firmware_build)."""
 
 from __future__ import annotations
 
@@ -14,19 +14,33 @@ from pathlib import Path
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.errors import SinsError
 from sins_fw.firmware_arith import FLOAT_MODES, diagnose_int
-from sins_fw.firmware_build import FIRMWARE_C, build_firmware, cabi_dirs, sources_of, with_ti_support
+from sins_fw.firmware_build import (
+    FIRMWARE_C,
+    build_firmware,
+    cabi_dirs,
+    read_project,
+    sources_of,
+    with_ti_support,
+)
+from sins_fw.profile import load_profile
 
-#: The compiler the build and its dependency listing use.
+#: The compiler the dependency listing uses.
 COMPILER = "g++"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "build-firmware",
-        help="compile an F28335 C firmware, unmodified, for the host against the emulated board",
+        help="compile an F28335 firmware (C, C++, a CCS project), unmodified, for the host against the "
+        "emulated board",
         epilog=exit_epilog(None),
     )
-    p.add_argument("sources", nargs="+", help="C source files or folders (their *.c, *.cpp)")
+    p.add_argument(
+        "sources",
+        nargs="+",
+        help="C/C++ source files, folders (their *.c, *.cpp), or a CCS project (.project, .cproject or its "
+        "folder); TI's *.asm and *.cmd files are named and skipped",
+    )
     p.add_argument(
         "--out",
         "-o",
@@ -34,6 +48,28 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE.so",
         required=True,
         help="the shared library to write (e.g. fw.so)",
+    )
+    p.add_argument(
+        "-I",
+        dest="include",
+        action="append",
+        default=[],
+        metavar="DIR",
+        help="an include folder, searched before the project's and the replacement headers (repeatable)",
+    )
+    p.add_argument(
+        "-D",
+        dest="defines",
+        action="append",
+        default=[],
+        metavar="NAME[=VALUE]",
+        help="a macro definition, as the compiler's -D (repeatable)",
+    )
+    p.add_argument(
+        "--profile",
+        default="reference",
+        help="the board profile whose [clocks] define TI's DSP28_PLLCR, DSP28_DIVSEL, CPU_FRQ_150MHZ and "
+        "CPU_RATE (default: reference)",
     )
     p.add_argument(
         "--float",
@@ -54,11 +90,21 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    sources = sources_of(args.sources)
+    project = read_project(args.sources)
+    profile = load_profile(args.profile)
     findings = diagnose_int(args.sources) if args.diagnose_int else []
-    out = build_firmware(args.sources, args.out, float_mode=args.float_mode)
-    _, replaced = with_ti_support(sources)
-    text = f"built {out} from {len(sources)} source(s), float mode {args.float_mode}"
+    out = build_firmware(
+        args.sources,
+        args.out,
+        float_mode=args.float_mode,
+        include=args.include,
+        defines=args.defines,
+        profile=profile,
+    )
+    _, replaced = with_ti_support(project.sources)
+    text = f"built {out} from {len(project.sources)} source(s), float mode {args.float_mode}"
+    for path, why in project.skipped:
+        text += f"\nskipped {path}: {why}"
     if replaced:
         text += f"\nTI's {', '.join(replaced)} left out: their host replacements (firmware_c/ti) stand in"
     if args.diagnose_int:
@@ -66,7 +112,10 @@ def run(args: argparse.Namespace) -> int:
         text += "".join(f"\n  {f}" for f in findings)
     result = {
         "output": str(out),
-        "sources": [str(s) for s in sources],
+        "sources": [str(s) for s in project.sources],
+        "skipped": [{"path": str(p), "why": why} for p, why in project.skipped],
+        "include": [str(i) for i in [*args.include, *project.include]],
+        "defines": [*args.defines, *project.defines],
         "float_mode": args.float_mode,
         "replaced_ti_sources": replaced,
     }

@@ -1,0 +1,388 @@
+/* The LLVM pass of a host-built F28335 firmware (sins-fw build-firmware), loaded by clang with
+   -fpass-plugin: it turns the firmware's register accesses, and in the C28x float mode its
+   floating-point operations, into calls to the runtime (firmware_c/runtime/sins_fw_runtime.cpp).
+
+   Raw addresses. An integer constant in the C28x data space (0 < address < 0x400000) made a pointer
+   becomes the address of that word in the runtime's image of the data space (map_raw_addresses).
+
+   Register accesses. Every volatile load and store, and every load and store whose address is based
+   on one of the register-file objects named in $SINS_FW_PASS_SYMBOLS (comma-separated: TI declares
+   PieVectTable without `volatile`), becomes a call `sins_fw_ldN(address)` / `sins_fw_stN(address,
+   value)` for N = 8, 16, 32, 64 bits (a float, double or pointer travels as the integer of its size).
+   The runtime tells by the address what it is: a register of the C28x data space (a raw address such
+   as `*(volatile Uint16 *)0x701B`, or a field of a register-file object, which the link places in the
+   runtime's image of the data space), the vector table, IER/IFR, or ordinary host memory (a volatile
+   global of the firmware), which it reads or writes as it is. The C front end has already lowered a
+   bit-field store to a load, the masking and a store of the whole storage unit, so a bit-field store
+   is a read-modify-write of the word, as on the C28x. The pass runs at the start of the optimisation
+   pipeline, before any volatile access could be merged or split.
+
+   C28x float ($SINS_FW_PASS_C28X_FLOAT=1). Every float operation becomes the c28x-f32 backend's
+   (rust/core/src/numerics/c28x.rs through the C ABI): + − × ÷ and negation, the conversions from and
+   to integers and from double, and the math library's float and double functions on float arguments
+   (the build has made the firmware's `double` a `float`, as TI's COFF ABI does). Comparisons, loads
+   and stores stay as they are: the values are always canonical. */
+#include <cstdlib>
+#include <cstring>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "llvm/Analysis/ValueTracking.h"
+#include "llvm/IR/IRBuilder.h"
+#include "llvm/IR/InstIterator.h"
+#include "llvm/IR/Instructions.h"
+#include "llvm/IR/IntrinsicInst.h"
+#include "llvm/IR/Module.h"
+#include "llvm/IR/PassManager.h"
+#include "llvm/Passes/PassBuilder.h"
+#include "llvm/Passes/PassPlugin.h"
+
+using namespace llvm;
+
+namespace {
+
+std::set<std::string> symbols_from_env() {
+    std::set<std::string> out;
+    const char *env = std::getenv("SINS_FW_PASS_SYMBOLS");
+    if (env == nullptr) {
+        return out;
+    }
+    std::string s(env);
+    size_t start = 0;
+    while (start <= s.size()) {
+        size_t comma = s.find(',', start);
+        if (comma == std::string::npos) {
+            comma = s.size();
+        }
+        if (comma > start) {
+            out.insert(s.substr(start, comma - start));
+        }
+        start = comma + 1;
+    }
+    return out;
+}
+
+struct SinsFwPass : PassInfoMixin<SinsFwPass> {
+    std::set<std::string> symbols = symbols_from_env();
+    bool c28x_float = [] {
+        const char *env = std::getenv("SINS_FW_PASS_C28X_FLOAT");
+        return env != nullptr && std::strcmp(env, "1") == 0;
+    }();
+
+    /* The access width in bits of a type the runtime can carry (0: none). */
+    static unsigned width(Type *t, const DataLayout &dl) {
+        if (t->isIntegerTy(8) || t->isIntegerTy(16) || t->isIntegerTy(32) || t->isIntegerTy(64) ||
+            t->isFloatTy() || t->isDoubleTy() || t->isPointerTy()) {
+            return static_cast<unsigned>(dl.getTypeSizeInBits(t).getFixedSize());
+        }
+        return 0;
+    }
+
+    bool is_register_object(Value *ptr) const {
+        if (symbols.empty()) {
+            return false;
+        }
+        const Value *base = getUnderlyingObject(ptr, 0);
+        return base != nullptr && isa<GlobalVariable>(base) && symbols.count(base->getName().str()) != 0;
+    }
+
+    bool instrument_accesses(Function &f, Module &m) {
+        const DataLayout &dl = m.getDataLayout();
+        LLVMContext &ctx = m.getContext();
+        Type *i8p = Type::getInt8PtrTy(ctx);
+        std::vector<Instruction *> work;
+        for (Instruction &i : instructions(f)) {
+            if (auto *ld = dyn_cast<LoadInst>(&i)) {
+                if (!ld->isAtomic() && width(ld->getType(), dl) != 0 &&
+                    (ld->isVolatile() || is_register_object(ld->getPointerOperand()))) {
+                    work.push_back(ld);
+                }
+            } else if (auto *st = dyn_cast<StoreInst>(&i)) {
+                if (!st->isAtomic() && width(st->getValueOperand()->getType(), dl) != 0 &&
+                    (st->isVolatile() || is_register_object(st->getPointerOperand()))) {
+                    work.push_back(st);
+                }
+            }
+        }
+        for (Instruction *i : work) {
+            IRBuilder<> b(i);
+            if (auto *ld = dyn_cast<LoadInst>(i)) {
+                Type *t = ld->getType();
+                unsigned w = width(t, dl);
+                IntegerType *it = IntegerType::get(ctx, w);
+                FunctionCallee fn = m.getOrInsertFunction("sins_fw_ld" + std::to_string(w), it, i8p);
+                Value *addr = b.CreatePointerCast(ld->getPointerOperand(), i8p);
+                Value *v = b.CreateCall(fn, {addr});
+                if (t->isPointerTy()) {
+                    v = b.CreateIntToPtr(v, t);
+                } else if (t != it) {
+                    v = b.CreateBitCast(v, t);
+                }
+                ld->replaceAllUsesWith(v);
+                ld->eraseFromParent();
+            } else {
+                auto *st = cast<StoreInst>(i);
+                Value *val = st->getValueOperand();
+                Type *t = val->getType();
+                unsigned w = width(t, dl);
+                IntegerType *it = IntegerType::get(ctx, w);
+                FunctionCallee fn =
+                    m.getOrInsertFunction("sins_fw_st" + std::to_string(w), Type::getVoidTy(ctx), i8p, it);
+                Value *addr = b.CreatePointerCast(st->getPointerOperand(), i8p);
+                if (t->isPointerTy()) {
+                    val = b.CreatePtrToInt(val, it);
+                } else if (t != it) {
+                    val = b.CreateBitCast(val, it);
+                }
+                b.CreateCall(fn, {addr, val});
+                st->eraseFromParent();
+            }
+        }
+        return !work.empty();
+    }
+
+    /* A raw C28x data address made a pointer (`(volatile Uint16 *)0x701B`): the same word of the
+       runtime's image of the data space, `sins_fw_io + 2·address`, so that the pointer's arithmetic
+       counts 16-bit words as on the C28x. Constants (in code and in initialisers) become constant
+       addresses; a conversion of a run-time integer calls the runtime's sins_fw_ptr, which maps the
+       data space the same way and leaves any other value (a host address made an integer and back)
+       as it is. Null stays null. */
+    static bool is_data_address(const Constant *c) {
+        const auto *ci = dyn_cast<ConstantInt>(c);
+        return ci != nullptr && ci->getValue().getActiveBits() <= 32 && ci->getZExtValue() != 0 &&
+               ci->getZExtValue() < 0x400000u;
+    }
+
+    static void collect_raw(Constant *c, std::set<ConstantExpr *> &out, std::set<Constant *> &seen) {
+        if (!seen.insert(c).second) {
+            return;
+        }
+        if (auto *ce = dyn_cast<ConstantExpr>(c)) {
+            if (ce->getOpcode() == Instruction::IntToPtr && is_data_address(ce->getOperand(0))) {
+                out.insert(ce);
+                return;
+            }
+        }
+        for (Use &u : c->operands()) {
+            if (auto *op = dyn_cast<Constant>(u.get())) {
+                collect_raw(op, out, seen);
+            }
+        }
+    }
+
+    bool map_raw_addresses(Module &m) {
+        LLVMContext &ctx = m.getContext();
+        Type *i8 = Type::getInt8Ty(ctx);
+        Type *i64 = Type::getInt64Ty(ctx);
+        std::set<ConstantExpr *> raw;
+        std::set<Constant *> seen;
+        std::vector<IntToPtrInst *> dynamic;
+        for (Function &f : m) {
+            for (Instruction &i : instructions(f)) {
+                if (auto *itp = dyn_cast<IntToPtrInst>(&i)) {
+                    if (auto *c = dyn_cast<Constant>(itp->getOperand(0))) {
+                        if (is_data_address(c)) {
+                            dynamic.push_back(itp); /* a constant still: mapped as one below */
+                        }
+                    } else {
+                        dynamic.push_back(itp);
+                    }
+                }
+                for (Use &u : i.operands()) {
+                    if (auto *c = dyn_cast<Constant>(u.get())) {
+                        collect_raw(c, raw, seen);
+                    }
+                }
+            }
+        }
+        for (GlobalVariable &g : m.globals()) {
+            if (g.hasInitializer()) {
+                collect_raw(g.getInitializer(), raw, seen);
+            }
+        }
+        if (raw.empty() && dynamic.empty()) {
+            return false;
+        }
+        Constant *io = m.getOrInsertGlobal("sins_fw_io", i8);
+        for (ConstantExpr *ce : raw) {
+            uint64_t address = cast<ConstantInt>(ce->getOperand(0))->getZExtValue();
+            Constant *at = ConstantExpr::getGetElementPtr(i8, io, ConstantInt::get(i64, 2 * address));
+            ce->replaceAllUsesWith(ConstantExpr::getPointerCast(at, ce->getType()));
+        }
+        FunctionCallee map = m.getOrInsertFunction("sins_fw_ptr", Type::getInt8PtrTy(ctx), i64);
+        for (IntToPtrInst *itp : dynamic) {
+            IRBuilder<> b(itp);
+            Value *v = b.CreateZExtOrTrunc(itp->getOperand(0), i64);
+            Value *p = b.CreatePointerCast(b.CreateCall(map, {v}), itp->getType());
+            itp->replaceAllUsesWith(p);
+            itp->eraseFromParent();
+        }
+        return true;
+    }
+
+    /* The backend's function for a math library call on float values (nullptr: none). */
+    static const char *math_model(StringRef name, unsigned *args) {
+        static const struct {
+            const char *c;
+            const char *model;
+            unsigned args;
+        } table[] = {
+            {"sqrt", "sins_c28x_sqrt", 1}, {"sin", "sins_c28x_sin", 1},   {"cos", "sins_c28x_cos", 1},
+            {"atan", "sins_c28x_atan", 1}, {"asin", "sins_c28x_asin", 1}, {"acos", "sins_c28x_acos", 1},
+            {"tan", "sins_c28x_tan", 1},   {"exp", "sins_c28x_exp", 1},   {"log", "sins_c28x_log", 1},
+            {"fabs", "sins_c28x_abs", 1},  {"atan2", "sins_c28x_atan2", 2}, {"pow", "sins_c28x_pow", 2},
+        };
+        for (const auto &e : table) {
+            if (name == e.c || name == std::string(e.c) + "f" || name == std::string("llvm.") + e.c + ".f32" ||
+                name == std::string("llvm.") + e.c + ".f64") {
+                *args = e.args;
+                return e.model;
+            }
+        }
+        return nullptr;
+    }
+
+    bool instrument_floats(Function &f, Module &m) {
+        LLVMContext &ctx = m.getContext();
+        Type *fl = Type::getFloatTy(ctx);
+        Type *db = Type::getDoubleTy(ctx);
+        Type *i32 = Type::getInt32Ty(ctx);
+        auto callee = [&](const char *name, Type *ret, ArrayRef<Type *> params) {
+            return m.getOrInsertFunction(name, FunctionType::get(ret, params, false));
+        };
+        std::vector<Instruction *> work;
+        for (Instruction &i : instructions(f)) {
+            work.push_back(&i);
+        }
+        bool changed = false;
+        for (Instruction *i : work) {
+            IRBuilder<> b(i);
+            Value *out = nullptr;
+            if (auto *bo = dyn_cast<BinaryOperator>(i)) {
+                if (!bo->getType()->isFloatTy()) {
+                    continue;
+                }
+                const char *name = nullptr;
+                switch (bo->getOpcode()) {
+                    case Instruction::FAdd: name = "sins_c28x_add"; break;
+                    case Instruction::FSub: name = "sins_c28x_sub"; break;
+                    case Instruction::FMul: name = "sins_c28x_mul"; break;
+                    case Instruction::FDiv: name = "sins_c28x_div"; break;
+                    default: break;
+                }
+                if (name == nullptr) {
+                    continue;
+                }
+                out = b.CreateCall(callee(name, fl, {fl, fl}), {bo->getOperand(0), bo->getOperand(1)});
+            } else if (i->getOpcode() == Instruction::FNeg && i->getType()->isFloatTy()) {
+                out = b.CreateCall(callee("sins_c28x_neg", fl, {fl}), {i->getOperand(0)});
+            } else if (auto *c = dyn_cast<CastInst>(i)) {
+                Value *src = c->getOperand(0);
+                Type *st = src->getType();
+                Type *dt = c->getType();
+                switch (c->getOpcode()) {
+                    case Instruction::SIToFP:
+                    case Instruction::UIToFP: {
+                        if (!dt->isFloatTy()) {
+                            continue;
+                        }
+                        bool sign = c->getOpcode() == Instruction::SIToFP;
+                        if (st->getIntegerBitWidth() <= 32) {
+                            Value *w = sign ? b.CreateSExt(src, i32) : b.CreateZExt(src, i32);
+                            out = b.CreateCall(
+                                callee(sign ? "sins_c28x_from_i32" : "sins_c28x_from_u32", fl, {i32}), {w});
+                        } else {
+                            /* 64-bit: one rounding to nearest, then canonical. */
+                            Value *h = sign ? b.CreateSIToFP(src, fl) : b.CreateUIToFP(src, fl);
+                            out = b.CreateCall(callee("sins_c28x_from_f64", fl, {db}), {b.CreateFPExt(h, db)});
+                        }
+                        break;
+                    }
+                    case Instruction::FPToSI:
+                    case Instruction::FPToUI: {
+                        if (!st->isFloatTy()) {
+                            continue;
+                        }
+                        bool sign = c->getOpcode() == Instruction::FPToSI;
+                        Value *v = b.CreateCall(
+                            callee(sign ? "sins_c28x_to_i32" : "sins_c28x_to_u32", i32, {fl}), {src});
+                        out = sign ? b.CreateSExtOrTrunc(v, dt) : b.CreateZExtOrTrunc(v, dt);
+                        break;
+                    }
+                    case Instruction::FPTrunc:
+                        if (!dt->isFloatTy() || !st->isDoubleTy()) {
+                            continue;
+                        }
+                        out = b.CreateCall(callee("sins_c28x_from_f64", fl, {db}), {src});
+                        break;
+                    default: continue;
+                }
+            } else if (auto *call = dyn_cast<CallInst>(i)) {
+                Function *fn = call->getCalledFunction();
+                unsigned args = 0;
+                const char *model = fn != nullptr ? math_model(fn->getName(), &args) : nullptr;
+                if (model == nullptr || call->arg_size() != args) {
+                    continue;
+                }
+                Type *rt = call->getType();
+                if (!rt->isFloatTy() && !rt->isDoubleTy()) {
+                    continue;
+                }
+                std::vector<Value *> a;
+                std::vector<Type *> p;
+                for (unsigned k = 0; k < args; k++) {
+                    Value *v = call->getArgOperand(k);
+                    if (v->getType()->isDoubleTy()) {
+                        /* An argument of the firmware is a float widened: the narrowing is exact. */
+                        v = b.CreateFPTrunc(v, fl);
+                    } else if (!v->getType()->isFloatTy()) {
+                        v = nullptr;
+                    }
+                    if (v == nullptr) {
+                        break;
+                    }
+                    a.push_back(v);
+                    p.push_back(fl);
+                }
+                if (a.size() != args) {
+                    continue;
+                }
+                out = b.CreateCall(callee(model, fl, p), a);
+                if (rt->isDoubleTy()) {
+                    out = b.CreateFPExt(out, db);
+                }
+            } else {
+                continue;
+            }
+            i->replaceAllUsesWith(out);
+            i->eraseFromParent();
+            changed = true;
+        }
+        return changed;
+    }
+
+    PreservedAnalyses run(Module &m, ModuleAnalysisManager &) {
+        bool changed = map_raw_addresses(m);
+        for (Function &f : m) {
+            if (f.isDeclaration()) {
+                continue;
+            }
+            changed |= instrument_accesses(f, m);
+            if (c28x_float) {
+                changed |= instrument_floats(f, m);
+            }
+        }
+        return changed ? PreservedAnalyses::none() : PreservedAnalyses::all();
+    }
+    static bool isRequired() { return true; }
+};
+
+}  // namespace
+
+extern "C" LLVM_ATTRIBUTE_WEAK PassPluginLibraryInfo llvmGetPassPluginInfo() {
+    return {LLVM_PLUGIN_API_VERSION, "sins-fw", "1", [](PassBuilder &pb) {
+                pb.registerPipelineStartEPCallback(
+                    [](ModulePassManager &mpm, OptimizationLevel) { mpm.addPass(SinsFwPass()); });
+            }};
+}
