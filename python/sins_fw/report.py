@@ -174,7 +174,9 @@ def render(s: dict[str, Any]) -> str:
     else:
         lines.append("events         none")
     a = s["attitude_error"]
-    if a is None:
+    if a is None and "attitude_error_omitted" in s:
+        lines.append(f"attitude error not reported: {s['attitude_error_omitted']}")
+    elif a is None:
         lines.append("attitude error no truth in the trace")
     else:
         lines.append(f"attitude error against the trace's truth, {a['steps_with_truth']} steps")
