@@ -46,6 +46,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, run_cli
+from sins_fw import spin_table
 from sins_fw.harness import Run, emulate
 from sins_fw.profile import load_profile
 
@@ -53,8 +54,10 @@ PROFILE = str(ROOT / "firmware_model" / "geomag.toml")
 RATES_DPS = (290.0, 990.0)
 DURATION_S = 40.0
 SPIN_UP_S = 0.1
-#: The profile on the test's turntable: ideal sensors, the spin axis north (the trace's start).
-BASE = ("geomag.ideal_sensors=true", "firmware.initial_yaw_deg=90")
+#: The profile on the test's turntable: ideal sensors, the spin axis north (the trace's start), and a
+#: calibration table without the presets' nominal bow and temperature coefficient (geomag.toml's
+#: compensates them; the ideal sensors have none).
+BASE = ("geomag.ideal_sensors=true", "firmware.initial_yaw_deg=90", *spin_table.IDEAL_CALIBRATION)
 GYRO_ONLY = ("geomag.aid_kp=0", "geomag.aid_ki=0")
 #: Presets (rust/core/src/device/analog/gyro.rs SPIN1200, magnetometer.rs AMR) and the front end's step.
 GYRO_HZ, GYRO_ZETA, GYRO_V_PER_DPS = 100.0, 0.7, 0.0016

@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 
 from sins_fw import _core, metrics, quaternion, synth
 from sins_fw.errors import InputError, InternalError, SinsError, TraceError
-from sins_fw.harness import Run, emulate
+from sins_fw.harness import Run, emulate, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.report import aligned_estimate
 from sins_fw.traces import CheckedTrace, PhysicalTrace
@@ -46,6 +46,9 @@ from sins_fw.traces import CheckedTrace, PhysicalTrace
 PERCENTILES = (5.0, 25.0, 50.0, 75.0, 95.0)
 #: The attitude errors of a run, degrees, in this order (see :func:`run_job`).
 ERRORS = ("pitch", "roll", "yaw", "total", "heading", "inclination")
+#: The wing unit's α errors of a run, degrees (see :func:`_alpha_errors`): at the last step with α
+#: and truth, and the largest |α − truth| over the still steps and over the moving ones.
+ALPHA_ERRORS = ("final", "static_max", "dynamic_max")
 #: Error samples kept per run for the error-over-time bands (evenly spaced steps, the last included).
 SERIES_POINTS = 200
 #: Below this many runs the 5th and 95th percentiles are the extremes of the sample (1/0.05 = 20).
@@ -146,6 +149,8 @@ class Outcome:
     t_s: NDArray[np.float64]  # (SERIES_POINTS,) times of the error samples
     error_deg: NDArray[np.float64]  # (SERIES_POINTS, 6)
     fingerprint: Fingerprint
+    #: The wing unit's α errors (:data:`ALPHA_ERRORS`), NaN for another board or a trace without α.
+    alpha_error_deg: tuple[float, float, float] = (float("nan"),) * 3
 
     def same_as(self, other: Outcome) -> bool:
         """Bit for bit the same result (NaN equal to NaN)."""
@@ -158,6 +163,7 @@ class Outcome:
                     (self.solved_deg, other.solved_deg),
                     (self.truth_deg, other.truth_deg),
                     (self.final_error_deg, other.final_error_deg),
+                    (self.alpha_error_deg, other.alpha_error_deg),
                     (self.t_s, other.t_s),
                     (self.error_deg, other.error_deg),
                 )
@@ -208,9 +214,42 @@ def _error_series(run: Run) -> tuple[NDArray[np.float64], NDArray[np.float64], t
     return run.time_s[rows].astype(np.float64), series, final
 
 
+def _alpha_errors(run: Run) -> tuple[float, float, float]:
+    """The wing unit's α against the trace's truth (:data:`ALPHA_ERRORS`, degrees): NaN where the run
+    has none (another board, a trace without ``truth_alpha_deg``, no still or no moving step)."""
+    from sins_fw.metrics import alpha_errors
+
+    alpha = run.wing.get("alpha_deg")
+    if alpha is None or run.truth_alpha_deg is None or run.alpha_still is None:
+        return (float("nan"),) * 3
+    e = alpha_errors(alpha, run.truth_alpha_deg, run.alpha_still)
+
+    def worst(part: dict[str, Any]) -> float:
+        x = part.get("max_abs_deg")
+        return float("nan") if x is None else float(x)
+
+    final = e["final_error_deg"]
+    return (float("nan") if final is None else float(final), worst(e["static"]), worst(e["dynamic"]))
+
+
 def run_job(job: Job, trace: PhysicalTrace | CheckedTrace) -> Outcome:
-    """Run one job on its case's trace: the pure function every engine calls."""
+    """Run one job on its case's trace: the pure function every engine calls. For the wing unit the
+    figures are α's (:func:`_alpha_errors`); its quaternion is the wing's own frame, so the attitude
+    errors are NaN."""
     run = emulate(trace, job.profile())
+    if has_wing(run.profile):
+        nan = float("nan")
+        points = min(run.cycles, SERIES_POINTS)
+        return Outcome(
+            key=job.key,
+            solved_deg=(nan,) * 3,
+            truth_deg=(nan,) * 3,
+            final_error_deg=(nan,) * len(ERRORS),
+            t_s=np.zeros(points),
+            error_deg=np.full((points, len(ERRORS)), nan),
+            fingerprint=fingerprint(),
+            alpha_error_deg=_alpha_errors(run),
+        )
     t_s, series, final = _error_series(run)
     return Outcome(
         key=job.key,
@@ -603,6 +642,16 @@ class Distribution:
     error_series_deg: NDArray[np.float64]  # (runs, points, 6)
     outcomes: list[Outcome]  # the results themselves, by seed
 
+    @property
+    def alpha_error_deg(self) -> NDArray[np.float64]:
+        """The wing unit's α errors (runs, 3): :data:`ALPHA_ERRORS`."""
+        return np.array([o.alpha_error_deg for o in self.outcomes], dtype=np.float64).reshape(-1, 3)
+
+    @property
+    def is_wing(self) -> bool:
+        """Every run reported α (the wing unit on a trace with α truth)."""
+        return bool(self.outcomes) and bool(np.isfinite(self.alpha_error_deg[:, 1:]).any(axis=1).all())
+
     @classmethod
     def of(cls, case: Case, outcomes: Sequence[Outcome]) -> Distribution:
         """The distribution of one case's outcomes (sorted by seed)."""
@@ -628,8 +677,16 @@ class Distribution:
         return self.final_error_deg[:, ERRORS.index(name)]
 
     def percentiles(self, of: str = "solved") -> dict[str, dict[str, float]]:
-        """Percentiles of the solved angles (``of="solved"``: pitch, roll, yaw) or of the errors at
-        the end (``"error"``: every name of :data:`ERRORS`)."""
+        """Percentiles of the solved angles (``of="solved"``: pitch, roll, yaw), of the errors at the
+        end (``"error"``: every name of :data:`ERRORS`) or of the wing unit's α errors (``"alpha"``:
+        the names of :data:`ALPHA_ERRORS` every run has)."""
+        if of == "alpha":
+            data, names = self.alpha_error_deg, ALPHA_ERRORS
+            return {
+                name: _percentiles(data[:, i])
+                for i, name in enumerate(names)
+                if np.isfinite(data[:, i]).all()
+            }
         data, names = (self.solved_deg, ERRORS[:3]) if of == "solved" else (self.final_error_deg, ERRORS)
         return {name: _percentiles(data[:, i]) for i, name in enumerate(names)}
 

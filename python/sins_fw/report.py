@@ -180,6 +180,8 @@ def render(s: dict[str, Any]) -> str:
         lines.append(
             "attitude error not compared: the globals file names no q0…q3 (the firmware's quaternion)"
         )
+    elif a is None and "attitude_error_omitted" in s:
+        lines.append(f"attitude error not reported: {s['attitude_error_omitted']}")
     elif a is None:
         lines.append("attitude error no truth in the trace")
     else:

@@ -482,6 +482,9 @@ class RunSummary:
         self.attitude = _Attitude(profile, align)
         # The wing unit's α and its truth, one per step (a float pair per step: 16 bytes).
         self.alpha: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]] = []
+        # The wing unit's quaternion is q_w^b, from its own zero's level frame with yaw 0: not the
+        # trace's C_b^n, so no attitude error is reported for it (its figure is α).
+        self.wing = profile.get("firmware.algorithm") == "wing"
 
     def add(self, part: dict[str, Any]) -> None:
         """One part of the output (``cycle_t_s``, the step times in seconds, may stand for
@@ -495,7 +498,7 @@ class RunSummary:
         self.add_events(part["events"])
         self.budget.add(b, part["cycle_t_s"], part)
         self.attitude.add(part)
-        if "wing_alpha_deg" in part and "truth_alpha_deg" in part:
+        if self.wing and "wing_alpha_deg" in part and "truth_alpha_deg" in part:
             self.alpha.append((part["wing_alpha_deg"], part["truth_alpha_deg"], part["alpha_still"]))
 
     def add_events(self, events: list[dict[str, Any]]) -> None:
@@ -546,12 +549,14 @@ class RunSummary:
             "duration_s": float(self.last_tick_ps) * PS if self.last_tick_ps is not None else 0.0,
             "trace_t0_s": t0_s,
             "events": {"total": self.events_total, "by_kind": dict(sorted(self.kinds.items()))},
-            "attitude_error": self.attitude.result(self.cycles),
+            "attitude_error": None if self.wing else self.attitude.result(self.cycles),
             "budget": flat_budget(full),
             "stage_cycles": dict(stage_cycles),
         }
         if self.alpha:  # the wing unit on a trace with α truth
             out["wing_alpha_error"] = self.alpha_result()
+        if self.wing:
+            out["attitude_error_omitted"] = WING_ATTITUDE_NOTE
         return out
 
     def alpha_result(self) -> dict[str, Any]:
@@ -560,6 +565,13 @@ class RunSummary:
 
         a, t, st = (np.concatenate([x[i] for x in self.alpha]) for i in range(3))
         return alpha_errors(a, t, st)
+
+
+#: Why a wing run has no attitude-error block (`sins-fw run`'s summary).
+WING_ATTITUDE_NOTE = (
+    "the wing unit gives the hinge angle α (its quaternion is q_w^b, from its zero's level frame with yaw 0, "
+    "not the trace's C_b^n): see wing_alpha_error"
+)
 
 
 def tally_event(kinds: dict[str, dict[str, Any]], e: dict[str, Any]) -> None:

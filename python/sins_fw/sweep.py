@@ -25,7 +25,7 @@ import numpy as np
 
 from sins_fw.atomic import atomic_path, kept_error_file, save_png
 from sins_fw.errors import InputError
-from sins_fw.montecarlo import ERRORS, PERCENTILES, Distribution, Outcome
+from sins_fw.montecarlo import ALPHA_ERRORS, ERRORS, PERCENTILES, Distribution, Outcome
 from sins_fw.profile import Profile
 
 #: A table: column name → values (strings, ints or floats), every column the same length.
@@ -133,6 +133,10 @@ def run_table(outcomes: Sequence[Outcome]) -> Table:
     for kind in ("solved", "truth"):
         for angle in ERRORS[:3]:
             table[f"{kind}_{angle}_deg"] = []
+    wing = any(_has_alpha(o) for o in outcomes)
+    if wing:  # the wing unit's α errors (montecarlo.ALPHA_ERRORS)
+        for name in ALPHA_ERRORS:
+            table[f"alpha_error_{name}_deg"] = []
     table |= {"sins_fw_version": [], "core_build": [], "platform": []}
     for o in outcomes:
         case, point, seed = o.key
@@ -147,14 +151,23 @@ def run_table(outcomes: Sequence[Outcome]) -> Table:
         for angle, s, t in zip(ERRORS[:3], o.solved_deg, o.truth_deg, strict=True):
             table[f"solved_{angle}_deg"].append(float(s))
             table[f"truth_{angle}_deg"].append(float(t))
+        if wing:
+            for name, v in zip(ALPHA_ERRORS, o.alpha_error_deg, strict=True):
+                table[f"alpha_error_{name}_deg"].append(float(v))
         table["sins_fw_version"].append(o.fingerprint.version)
         table["core_build"].append(o.fingerprint.core)
         table["platform"].append(o.fingerprint.platform)
     return table
 
 
+def _has_alpha(o: Outcome) -> bool:
+    """The outcome is the wing unit's, with α against a truth."""
+    return bool(np.isfinite(np.asarray(o.alpha_error_deg)[1:]).any())
+
+
 def percentile_table(outcomes: Sequence[Outcome]) -> Table:
-    """Per scenario, grid point and error: the number of runs and the percentiles at the end."""
+    """Per scenario, grid point and error: the number of runs and the percentiles at the end (for the
+    wing unit, its α errors: ``alpha_final``, ``alpha_static_max``, ``alpha_dynamic_max``)."""
     keys = point_keys([o.key[1] for o in outcomes])
     table: Table = {"scenario": [], "point": [], **{k: [] for k in keys}, "error": [], "runs": []}
     for p in PERCENTILES:
@@ -165,7 +178,12 @@ def percentile_table(outcomes: Sequence[Outcome]) -> Table:
     for (case, point), rows in groups.items():
         values = dict(item.partition("=")[::2] for item in point)
         finals = np.array([o.final_error_deg for o in rows], dtype=np.float64)
-        for i, name in enumerate(ERRORS):
+        names: tuple[str, ...] = ERRORS
+        if all(_has_alpha(o) for o in rows):  # the wing unit: α, not an attitude
+            alpha = np.array([o.alpha_error_deg for o in rows], dtype=np.float64)
+            full = [i for i in range(len(ALPHA_ERRORS)) if np.isfinite(alpha[:, i]).all()]
+            finals, names = alpha[:, full], tuple(f"alpha_{ALPHA_ERRORS[i]}" for i in full)
+        for i, name in enumerate(names):
             table["scenario"].append(case)
             table["point"].append(_point_text(point))
             for k in keys:

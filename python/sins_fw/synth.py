@@ -1505,7 +1505,21 @@ def _metadata(name: str, values: dict[str, Any]) -> dict[str, str]:
         else "zero (the board stays at one place)",
         "latitude_deg": _num(values["latitude_deg"]),
         "height_m": _num(values["height_m"]),
+        **_launch_metadata(values),
         **_aiding_metadata(values),
+    }
+
+
+def _launch_metadata(values: dict[str, Any]) -> dict[str, str]:
+    """A ballistic arc's launch (the launcher's setting a fuze is handed before firing): elevation
+    and azimuth of the spin axis at t = 0, degrees, and the launch speed (``geomag.launch_*`` keys
+    take them: `sins_fw.spin_table.launch_overrides`)."""
+    if values.get("trajectory") != "ballistic":
+        return {}
+    return {
+        "launch_elevation_deg": _num(values["elevation_deg"]),
+        "launch_azimuth_deg": _num(values["azimuth_deg"]),
+        "launch_speed_mps": _num(values["launch_speed_mps"]),
     }
 
 

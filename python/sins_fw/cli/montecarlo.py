@@ -39,6 +39,9 @@ error: the board's attitude estimate against the scenario's truth at the last at
   compared relative to the attitude it was switched on at). pitch, roll and yaw are the differences
   of the Euler angles (yaw wrapped to ±180°); total is the angle of the rotation between estimate and
   truth, heading its part about the vertical, inclination its tilt part (the BROAD definitions).
+alpha (the wing unit, firmware.algorithm = "wing"): its hinge angle α against the trace's truth
+  instead: final (α − truth at the last step), static_max and dynamic_max (the largest |α − truth|
+  over the still and the moving steps); no attitude error (its quaternion is the wing's own frame).
 percentiles: p5 … p95 over the runs; with fewer than 20 runs p5 and p95 are the sample's extremes
   (a warning says so).
 rank (published only): where the published value falls among the emulated solved angles, in percent
@@ -137,7 +140,9 @@ def run(args: argparse.Namespace) -> int:
         "percentiles": list(mc.PERCENTILES),
         "warnings": [warning] if warning else [],
         "cases": {
-            name: {"solved_deg": d.percentiles("solved"), "error_deg": d.percentiles("error")}
+            name: {"alpha_error_deg": d.percentiles("alpha")}
+            if d.is_wing
+            else {"solved_deg": d.percentiles("solved"), "error_deg": d.percentiles("error")}
             for name, d in dists.items()
         },
     }
@@ -157,6 +162,13 @@ def run(args: argparse.Namespace) -> int:
             )
     else:
         for name, d in dists.items():
+            if d.is_wing:  # the wing unit gives α: its quaternion is the wing's own frame
+                for what, p in d.percentiles("alpha").items():
+                    lines.append(
+                        f"{name} α {what:<11} error °: "
+                        f"p5 {p['p5']:+.4f}  p50 {p['p50']:+.4f}  p95 {p['p95']:+.4f}"
+                    )
+                continue
             for angle, p in d.percentiles("error").items():
                 sign = "+" if angle in mc.ERRORS[:3] else ""  # total, heading, inclination are ≥ 0
                 lines.append(

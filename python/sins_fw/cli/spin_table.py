@@ -7,6 +7,7 @@ import argparse
 
 from sins_fw import spin_table
 from sins_fw.cli.common import add_json_option, add_runs_options, emit, exit_epilog, param_type
+from sins_fw.errors import ConfigError
 from sins_fw.synth import Param
 
 _RATES = param_type(Param("rates_dps", "floats", spin_table.DEFAULT_RATES_DPS, ""))
@@ -39,7 +40,45 @@ def register(sub: argparse._SubParsersAction) -> None:
         p, "sensor units per rate", "the first unit's seed", default_first_seed=0, formerly="--seed"
     )
     p.add_argument(
-        "--duration-s", type=_FLOAT, default=60.0, metavar="FLOAT", help="run length, s (default 60)"
+        "--duration-s",
+        type=_FLOAT,
+        default=None,
+        metavar="FLOAT",
+        help="run length, s (default 60; ballistic: the flight less 0.1 s)",
+    )
+    p.add_argument(
+        "--trajectory",
+        choices=spin_table.TRAJECTORIES,
+        default="turntable",
+        help="turntable (default): the table per spin rate; ballistic: the roll error along a drag-free arc "
+        "(`synth spin --trajectory ballistic`, the firmware started from the launch), per window of the "
+        "flight, with the bound the aided error keeps (board only)",
+    )
+    p.add_argument(
+        "--launch-speed-mps",
+        type=_FLOAT,
+        default=500.0,
+        metavar="FLOAT",
+        help="ballistic: launch speed (default 500)",
+    )
+    p.add_argument(
+        "--elevation-deg",
+        type=_FLOAT,
+        default=45.0,
+        metavar="FLOAT",
+        help="ballistic: launch elevation, ° (default 45)",
+    )
+    p.add_argument(
+        "--azimuth-deg",
+        type=_FLOAT,
+        default=0.0,
+        metavar="FLOAT",
+        help="ballistic: launch azimuth, ° clockwise from north (default 0)",
+    )
+    p.add_argument(
+        "--ideal-sensors",
+        action="store_true",
+        help="ballistic: the sensors without unit errors and noise (the ADC's quantisation kept)",
     )
     p.add_argument(
         "--yaw-deg", type=_FLOAT, default=90.0, metavar="FLOAT", help="spin axis yaw, ° (default 90: north)"
@@ -89,14 +128,35 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    field = (args.mag_intensity_gauss, args.mag_inclination_deg, args.mag_declination_deg)
+    if args.trajectory == "ballistic":
+        rates = args.rates_dps if args.rates_dps != spin_table.DEFAULT_RATES_DPS else (1000.0,)
+        if args.engine != "board":
+            raise ConfigError(
+                "spin-table: --trajectory ballistic runs on the board only (expected --engine board)"
+            )
+        arc = spin_table.arc_table(
+            rates,
+            runs=args.runs,
+            seed=args.first_seed,
+            duration_s=args.duration_s,
+            launch=(args.launch_speed_mps, args.elevation_deg, args.azimuth_deg),
+            field=field,
+            compensate=args.compensate,
+            ideal=args.ideal_sensors,
+        )
+        emit(args, arc, spin_table.render_arc(arc))
+        return 0
+    if args.ideal_sensors:
+        raise ConfigError("spin-table: --ideal-sensors is for --trajectory ballistic")
     table = spin_table.spin_table(
         args.rates_dps,
         runs=args.runs,
         seed=args.first_seed,
-        duration_s=args.duration_s,
+        duration_s=60.0 if args.duration_s is None else args.duration_s,
         yaw_deg=args.yaw_deg,
         pitch_deg=args.pitch_deg,
-        field=(args.mag_intensity_gauss, args.mag_inclination_deg, args.mag_declination_deg),
+        field=field,
         compensate=args.compensate,
         engine=args.engine,
     )

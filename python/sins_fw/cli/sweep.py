@@ -108,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
         f"`{args.errors}` = {len(outcomes)} runs ({where})"
     ]
     for row in report["percentiles"]:
-        if row["error"] in sweep.DRAWN:
+        if row["error"] in sweep.DRAWN or row["error"].startswith("alpha_"):
             lines.append(
                 f"{row['scenario']}  {row['point']}  {row['error']:<11} error at the end °: "
                 f"p5 {row['p5_deg']:.4f}  p50 {row['p50_deg']:.4f}  p95 {row['p95_deg']:.4f}"

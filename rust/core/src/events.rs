@@ -299,6 +299,13 @@ pub const KINDS: &[EventKind] = &[
         "firmware",
         "the magnetometer roll aid turned off (or back on): the field across the spin axis is below (above) its gate",
     ),
+    kind(
+        "mag_aid_axis",
+        Warning,
+        "firmware",
+        "the magnetometer roll aid held (or on again): the spin axis's measured angle to the field differs from the \
+         attitude's by more than `geomag.aid_axis_gate_deg` (less than half of it)",
+    ),
     // A host-built firmware's accesses (rust/core/src/host.rs).
     kind(
         "protected_write",

@@ -69,14 +69,20 @@ impl<T: Scalar> GeomagLoop<T> {
             (T::from_f64(p.null_v, QClass::Generic), T::from_f64(1.0 / p.volts_per_dps.to_degrees(), QClass::Generic))
         });
         let axes = g.calibration;
-        let q0 = initial_attitude(profile);
+        let q0 = initial_attitude(profile, g);
         Ok(GeomagLoop {
             volts_per_code: g.vref_v / 65536.0,
             gyro,
             mag: (T::from_f64(m.null_v, QClass::Generic), T::from_f64(1.0 / m.volts_per_gauss, QClass::Generic)),
             cal: GyroCalibration::new(&axes),
             spin: {
-                let spin = Spin::new(q0.map(|x| T::from_f64(x, QClass::Quat)), SAMPLES as f64 * tick_s, gains(g));
+                let mut spin = Spin::new(q0.map(|x| T::from_f64(x, QClass::Quat)), SAMPLES as f64 * tick_s, gains(g));
+                if let Some(gate) = g.aid_axis_gate_deg {
+                    spin = spin.with_axis_gate(gate);
+                }
+                if g.cross_gyro_cutoff_hz > 0.0 {
+                    spin = spin.with_cross_lag(g.cross_gyro_cutoff_hz);
+                }
                 match g.gyro_delay_s {
                     Some(tau) => spin.with_gyro_delay(tau),
                     None => spin,
@@ -103,7 +109,7 @@ impl<T: Scalar> GeomagLoop<T> {
     }
 
     /// One update from three angle increments, then the aid with the latest field (its gate event,
-    /// if the gate changed, at `t`).
+    /// if the gate changed, at `t`; the axis check's, if any, from [`Spin::take_event`]).
     pub fn update(&mut self, dtheta: &[Vec3<T>; SAMPLES], t: Ps) -> Result<Option<Event>> {
         self.spin.propagate(dtheta)?;
         let (_, event) = self.spin.aid(&self.mag_b, &self.mag_n, t);
@@ -126,9 +132,18 @@ fn gains(g: &Geomag) -> AidGains {
     }
 }
 
-/// The start attitude: `firmware.initial_yaw_deg` about up, level (the body at rest on its mount).
-fn initial_attitude(profile: &Profile) -> Quat<f64> {
-    super::geomag::spin_quat(profile.firmware.initial_yaw_deg.to_radians(), 0.0, 0.0)
+/// The start attitude: with `geomag.launch_elevation_deg` the launcher's direction (the spin axis
+/// at that pitch and `launch_azimuth_deg` clockwise from north, roll 0: yaw ψ = 90° − azimuth about
+/// up from east, `spin_quat`'s convention); otherwise `firmware.initial_yaw_deg` about up, level (the
+/// body at rest on its mount).
+fn initial_attitude(profile: &Profile, g: &Geomag) -> Quat<f64> {
+    match g.launch_elevation_deg {
+        Some(elevation) => {
+            let azimuth = g.launch_azimuth_deg.unwrap_or(0.0);
+            super::geomag::spin_quat((90.0 - azimuth).to_radians(), elevation.to_radians(), 0.0)
+        }
+        None => super::geomag::spin_quat(profile.firmware.initial_yaw_deg.to_radians(), 0.0, 0.0),
+    }
 }
 
 /// The application: the acquisition and the loop on the board.
@@ -258,6 +273,9 @@ impl<T: Scalar, S: Sensor> Application<S> for GeomagApp<T> {
         if step {
             self.gathered = 0;
             if let Some(e) = self.lp.update(&self.samples, board.ps(c))? {
+                self.events.push(e);
+            }
+            if let Some(e) = self.lp.spin.take_event() {
                 self.events.push(e);
             }
             c += self.stages.attitude.cycles;

@@ -34,12 +34,32 @@ pub struct Geomag {
     pub aid_gate_gauss: f64,
     /// The magnetometer chain's bandwidth the firmware compensates the lag of, Hz (0: none).
     pub mag_cutoff_hz: f64,
+    /// The cross-axis (y, z) gyro chain's first-order bandwidth the firmware compensates on a
+    /// spinning body, Hz (0: none; `Spin::with_cross_lag`: the nav-fixed cross rates come through
+    /// turned by atan(ω/ω_c) about the spin axis).
+    pub cross_gyro_cutoff_hz: f64,
     /// The spin gyro chain's group delay τ_g the firmware compensates, s (`Spin::with_gyro_delay`;
     /// 2ζ/ω_n of a second-order preset, `LowPass::group_delay_s`); none: not compensated.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gyro_delay_s: Option<f64>,
     /// The gyro calibration table, x, y, z (the firmware inverts the sensor law with it).
     pub calibration: [AxisCal; 3],
+    /// The launch's elevation, degrees (−90 … 90): when set, the firmware starts with the spin axis
+    /// at this pitch and `launch_azimuth_deg` (roll 0), the launcher's setting handed to the fuze
+    /// before firing; unset, it starts level at `firmware.initial_yaw_deg`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub launch_elevation_deg: Option<f64>,
+    /// The launch's azimuth, degrees clockwise from north (with `launch_elevation_deg`; 0 when unset).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub launch_azimuth_deg: Option<f64>,
+    /// The aid's axis check, degrees: the angle between the spin axis and the field that the
+    /// magnetometer measures (its component along the axis against the whole) is compared with the
+    /// angle the propagated attitude expects; while they differ by more than this the roll aid holds
+    /// its integral (event `mag_aid_axis` on each change; back on below half of it). A wrong axis
+    /// turns the field's expected direction across the axis, so the aid would steer the roll by
+    /// that error (× cot of the axis–field angle). Unset: no check.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aid_axis_gate_deg: Option<f64>,
 }
 
 /// One gyro axis's calibration row.
@@ -89,8 +109,12 @@ impl Default for Geomag {
             aid_ki: 1.0,
             aid_gate_gauss: 0.05,
             mag_cutoff_hz: 0.0,
+            cross_gyro_cutoff_hz: 0.0,
             gyro_delay_s: None,
             calibration: [AxisCal::nominal(1200.0), AxisCal::nominal(300.0), AxisCal::nominal(300.0)],
+            launch_elevation_deg: None,
+            launch_azimuth_deg: None,
+            aid_axis_gate_deg: None,
         }
     }
 }
@@ -108,12 +132,41 @@ impl Geomag {
         if !(self.mag_cutoff_hz.is_finite() && self.mag_cutoff_hz >= 0.0) {
             return Err(bad("geomag.mag_cutoff_hz", self.mag_cutoff_hz, "a bandwidth ≥ 0 Hz (0: no compensation)"));
         }
+        if !(self.cross_gyro_cutoff_hz.is_finite() && self.cross_gyro_cutoff_hz >= 0.0) {
+            return Err(bad(
+                "geomag.cross_gyro_cutoff_hz",
+                self.cross_gyro_cutoff_hz,
+                "a bandwidth ≥ 0 Hz (0: no compensation; adxrs300: 40)",
+            ));
+        }
         if let Some(tau) = self.gyro_delay_s.filter(|t| !(t.is_finite() && (0.0..=0.1).contains(t))) {
             return Err(bad(
                 "geomag.gyro_delay_s",
                 tau,
                 "a group delay of 0 … 0.1 s (τ_g = 2ζ/ω_n of the gyro preset: 2.228e-3 s for spin1200)",
             ));
+        }
+        if let Some(e) = self.launch_elevation_deg.filter(|e| !(e.is_finite() && (-90.0..=90.0).contains(e))) {
+            return Err(bad("geomag.launch_elevation_deg", e, "an elevation of −90 … 90 degrees"));
+        }
+        if let Some(a) = self.launch_azimuth_deg {
+            if !(a.is_finite() && (-360.0..=360.0).contains(&a)) {
+                return Err(bad(
+                    "geomag.launch_azimuth_deg",
+                    a,
+                    "an azimuth of −360 … 360 degrees clockwise from north",
+                ));
+            }
+            if self.launch_elevation_deg.is_none() {
+                return Err(bad(
+                    "geomag.launch_azimuth_deg",
+                    a,
+                    "set together with geomag.launch_elevation_deg (the launch's direction)",
+                ));
+            }
+        }
+        if let Some(g) = self.aid_axis_gate_deg.filter(|g| !(g.is_finite() && *g > 0.0 && *g <= 90.0)) {
+            return Err(bad("geomag.aid_axis_gate_deg", g, "an angle of more than 0 and at most 90 degrees"));
         }
         if !self.field_enu_gauss.iter().all(|x| x.is_finite() && x.abs() <= 1.0) {
             return Err(bad("geomag.field_enu_gauss", format!("{:?}", self.field_enu_gauss), "|B| ≤ 1 gauss per axis"));

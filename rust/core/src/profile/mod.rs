@@ -107,7 +107,13 @@ impl Profile {
         keys.extend(Board::section_keys());
         keys.push("firmware.application".into());
         // Its optional keys too (absent from the defaults' text).
-        if let Ok(v) = toml::Value::try_from(Geomag { gyro_delay_s: Some(0.0), ..Geomag::default() }) {
+        if let Ok(v) = toml::Value::try_from(Geomag {
+            gyro_delay_s: Some(0.0),
+            launch_elevation_deg: Some(0.0),
+            launch_azimuth_deg: Some(0.0),
+            aid_axis_gate_deg: Some(0.0),
+            ..Geomag::default()
+        }) {
             flatten_keys(&v, "geomag", &mut keys);
         }
         keys

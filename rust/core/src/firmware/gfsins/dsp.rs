@@ -139,6 +139,11 @@ pub struct Dsp {
 }
 
 impl Dsp {
+    /// The compass errors' correlation time its navigation models, s (`compass.correlation_time_s`).
+    pub fn compass_tau_s(&self) -> f64 {
+        self.nav.compass_tau_s()
+    }
+
     /// The DSP of `profile` (`lsb_g`: the accelerometer counts' scale; `period`: the packet period).
     pub fn new(profile: &profile::GfsinsProfile, period: Ps) -> Dsp {
         let cpu = Clock::from_hz(profile.dsp.cpu_hz);
@@ -149,6 +154,7 @@ impl Dsp {
             lsb_g,
             min_denominator: profile.dsp.min_denominator,
             gps_age_s: profile.dsp.gps_age_ms * 1e-3,
+            compass_tau_s: profile.compass.correlation_time_s,
         };
         Dsp {
             nav: Nav::new(cfg),

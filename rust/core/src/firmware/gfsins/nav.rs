@@ -59,6 +59,8 @@ pub struct NavConfig {
     pub min_denominator: f64,
     /// Age of a GPS fix when its packet reaches the DSP, s.
     pub gps_age_s: f64,
+    /// The compass errors' correlation time the compass sub-filter models, s (`compass.correlation_time_s`).
+    pub compass_tau_s: f64,
 }
 
 /// What the navigation has after a packet (f64 views of the DSP's values).
@@ -238,9 +240,14 @@ impl<T: Scalar> Ins<T> {
 }
 
 impl<T: Scalar> Nav<T> {
+    /// The compass errors' correlation time the compass sub-filter models, s.
+    pub fn compass_tau_s(&self) -> f64 {
+        self.scenario.compass_tau
+    }
+
     /// A navigation that starts at the first packet with a compass reading and a valid fix.
     pub fn new(cfg: NavConfig) -> Self {
-        let scenario = Scenario::chapter5();
+        let scenario = Scenario { compass_tau: cfg.compass_tau_s, ..Scenario::chapter5() };
         let p0 = scenario.p0();
         let zero: T = lit(0.0);
         Nav {

@@ -127,6 +127,7 @@ fn dsp_navigation_is_the_gfnav_modules_offline() {
         lsb_g: lsb,
         min_denominator: p.dsp.min_denominator,
         gps_age_s: p.dsp.gps_age_ms * 1e-3,
+        compass_tau_s: p.compass.correlation_time_s,
     };
     let mut offline = Nav::<C67xF32>::new(cfg);
     let mut rates: Option<RateRecovery<C67xF32>> = None;
@@ -241,4 +242,22 @@ fn the_solution_follows_the_vehicle() {
     // A constant rate: one spell of bridged steps, reported once.
     assert_eq!(events.iter().filter(|e| e.kind == "rate_singular").count(), 1);
     assert!(events.iter().all(|e| e.kind != "fusion_refused"));
+}
+
+/// The compass errors' correlation time is one value (`compass.correlation_time_s`, default 100 s
+/// [unconfirmed]: the thesis's (3.40) names T_ec without a value): the HMC6343 part the node builds
+/// draws its Markov errors with it, and the DSP's compass sub-filter models its states with it (the
+/// part had 60 s and the filter 100 s before). An override moves both.
+#[test]
+fn the_compass_correlation_time_is_one_value() {
+    let text = GfsinsProfile::default().to_toml();
+    for (over, expected) in [(None, 100.0), (Some("60.0"), 60.0), (Some("250"), 250.0)] {
+        let overrides: Vec<String> = over.map(|t| format!("compass.correlation_time_s={t}")).into_iter().collect();
+        let p = GfsinsProfile::parse_with(&text, "test", &overrides).unwrap();
+        let board = super::super::Board::new(&p, straight_line()).unwrap();
+        assert_eq!(board.node().compass_errors().tau_s, expected);
+        assert_eq!(board.dsp().compass_tau_s(), expected);
+    }
+    let e = GfsinsProfile::parse_with(&text, "test", &["compass.correlation_time_s=0".into()]).unwrap_err();
+    assert!(e.to_string().contains("compass.correlation_time_s"), "{e}");
 }

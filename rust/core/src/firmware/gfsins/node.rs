@@ -128,6 +128,8 @@ pub struct Node {
     frames: Vec<u64>,
     iic: I2cLink,
     compass_part: Arc<Mutex<Hmc6343>>,
+    /// The error model the compass part was built with.
+    compass_errors: crate::device::hmc6343::ErrorModel,
     gps: Gps,
     nmea: NmeaReader,
     baud_mismatch: bool,
@@ -177,6 +179,8 @@ impl Node {
             .collect();
         let revision = if profile.compass.revision == "earlier" { h::Revision::Earlier } else { h::Revision::Later };
         let errors = if profile.compass.errors == "ideal" { h::IDEAL } else { h::HMC6343_ERRORS };
+        // One correlation time for the part and the filter (`compass.correlation_time_s`).
+        let errors = h::ErrorModel { tau_s: profile.compass.correlation_time_s, ..errors };
         let hmc = Arc::new(Mutex::new(h::Hmc6343::new(revision, compass, errors, profile.compass.seed)));
         let bus = I2cBus { scl_low_ns: cfg.iic_scl_low_ns, scl_high_ns: cfg.iic_scl_high_ns };
         let iic = I2cLink::new(&bus, vec![(h::ADDRESS, Box::new(SharedCompass(hmc.clone())))]);
@@ -199,6 +203,7 @@ impl Node {
             parts,
             iic,
             compass_part: hmc,
+            compass_errors: errors,
             gps: Gps::new(settings, gps),
             nmea: NmeaReader::default(),
             start: profile.node.start_ms * 1_000_000_000,
@@ -216,6 +221,11 @@ impl Node {
         };
         node.set_up(profile)?;
         Ok(node)
+    }
+
+    /// The error model of the compass part (its correlation time is `compass.correlation_time_s`).
+    pub fn compass_errors(&self) -> crate::device::hmc6343::ErrorModel {
+        self.compass_errors
     }
 
     /// The power-up initialisation (setting mode's part set-up): each ADXL345 gets BW_RATE,

@@ -137,11 +137,16 @@ pub struct Compass {
     pub errors: String,
     /// Seed of its errors.
     pub seed: u64,
+    /// The correlation time T_ec of the compass's first-order Markov errors, s: one value for the
+    /// part's model (`device::hmc6343::ErrorModel::tau_s`) and the compass sub-filter's states
+    /// (`gfnav::federated::Scenario::compass_tau`). The thesis's (3.40) names T_ec but gives no value
+    /// [unconfirmed: 100 s, the value its chapter-5 filter was given here].
+    pub correlation_time_s: f64,
 }
 
 impl Default for Compass {
     fn default() -> Self {
-        Compass { revision: "later".into(), errors: "hmc6343".into(), seed: 2 }
+        Compass { revision: "later".into(), errors: "hmc6343".into(), seed: 2, correlation_time_s: 100.0 }
     }
 }
 
@@ -320,6 +325,10 @@ impl GfsinsProfile {
         }
         if !["hmc6343", "ideal"].contains(&self.compass.errors.as_str()) {
             return bad("compass.errors", format!("`{}`: expected hmc6343 or ideal", self.compass.errors));
+        }
+        let tau = self.compass.correlation_time_s;
+        if !(tau.is_finite() && (1.0..=1e5).contains(&tau)) {
+            return bad("compass.correlation_time_s", format!("{tau}: expected a correlation time of 1 … 100 000 s"));
         }
         let d = &self.dsp;
         if !(d.gps_age_ms.is_finite() && (0.0..=5_000.0).contains(&d.gps_age_ms)) {
