@@ -374,7 +374,7 @@ def keyword_overrides(settings: Mapping[str, Any]) -> list[str]:
 
 
 def _toml_value(value: Any, name: str) -> str:
-    if isinstance(value, bool):
+    if isinstance(value, bool | np.bool_):
         return "true" if value else "false"
     if isinstance(value, int | float | np.integer | np.floating):
         return repr(value.item() if isinstance(value, np.generic) else value)
@@ -430,7 +430,8 @@ def emulate(
     ``profile`` a :class:`~sins_fw.profile.Profile`, a profile name or a path
     (:class:`~sins_fw.errors.ProfileError` otherwise); ``overrides`` a list (any iterable) of
     ``key=value`` texts, never one bare text (ProfileError); ``until_s`` None or a finite number > 0,
-    ``chunk_rows`` a whole number >= 1, ``on_chunk`` and ``sink`` functions or None
+    ``chunk_rows`` a whole number >= 1, ``on_chunk`` and ``sink`` functions or None, ``bus_window``
+    None or two whole numbers 1 <= first <= last, ``keep_truth`` and ``allow_gaps`` True or False
     (:class:`~sins_fw.errors.InputError`). ``until_s`` is checked by :func:`check_until_s`, as
     ``run --until-s`` and a run output's ``until_s`` are.
 
