@@ -126,6 +126,7 @@ def _show_warning(
 def _run(args: argparse.Namespace) -> int:
     """The command of `args`, its errors turned into a line and an exit code."""
     try:
+        launch.require_memory(args.command)
         code = int(args.func(args))
         # A signal whose exception was dropped where it landed still ends the command as interrupted.
         stop.check_stop()
