@@ -85,8 +85,9 @@ def is_out_of_memory(e: BaseException) -> bool:
     return False
 
 
-def out_of_memory_message(what: str) -> str:
-    """``not enough memory for WHAT: raise the limit or ...``, with the limit in force."""
+def out_of_memory_message(what: str, needed: str = "") -> str:
+    """``not enough memory for WHAT: raise the limit or ...``, with the limit in force (and what is
+    ``needed``, when known)."""
     cap = memory_cap()
     limit = (
         f" (the process's memory limit is {cap / 2**20:.0f} MiB: `ulimit -v` / `ulimit -d`)"
@@ -94,7 +95,8 @@ def out_of_memory_message(what: str) -> str:
         else ""
     )
     return (
-        f"not enough memory for {what}{limit}: raise the limit or use a shorter trace or run "
+        f"not enough memory for {what}{limit}: raise the limit{' to ' + needed if needed else ''} "
+        "or use a shorter trace or run "
         '(docs/cli.md, "Memory limits")'
     )
 
@@ -104,8 +106,23 @@ def out_of_memory_message(what: str) -> str:
 #: MiB on the benchmark machine): refused before loading anything. sins-fw itself needs more
 #: (docs/cli.md, "Memory limits").
 STARTUP_FLOOR_MIB = 256
+#: Commands whose Rust code (Rerun's writer threads) needs more than the start-up: under these caps
+#: (MiB) an allocation there would fail, and Rust ends the process with SIGABRT (it cannot report
+#: it as an error), so the command is refused up front. Measured with benchmarks/memory_cap.py:
+#: `replay` aborted at 600 MiB and worked from 625 (docs/cli.md, "Memory limits").
+COMMAND_FLOOR_MIB = {"replay": 700}
 #: Set when a command ended for lack of memory (sins_fw.cli): the process then exits at once.
 ran_out = False
+
+
+def require_memory(command: str) -> None:
+    """Refuse ``command`` (exit 2, through InputError) under a cap below its floor
+    (:data:`COMMAND_FLOOR_MIB`), before any work."""
+    from sins_fw.errors import InputError
+
+    cap, floor = memory_cap(), COMMAND_FLOOR_MIB.get(command)
+    if cap is not None and floor is not None and cap < floor << 20:
+        raise InputError(out_of_memory_message(f"`sins-fw {command}`", f"at least {floor} MiB"))
 
 
 def entry() -> None:

@@ -139,6 +139,7 @@ def _show_warning(
 def _run(args: argparse.Namespace) -> int:
     """The command of `args`, its errors turned into a line and an exit code."""
     try:
+        launch.require_memory(args.command)
         # Before any work: no output may be one of the command's inputs (cli/files.py).
         files.check(args.command_line, args)
         code = int(args.func(args))
