@@ -199,15 +199,16 @@ def _csv_text(table: Table) -> str:
 
 
 def _write_parquet(path: Path, table: Table) -> None:
+    # pyarrow and h5py are heavy imports: only for the output format asked for.
     import pyarrow as pa
-    import pyarrow.parquet as pq
+    import pyarrow.parquet as pq  # as pyarrow: only for Parquet output
 
     with atomic_path(path) as tmp:
         pq.write_table(pa.table(table), tmp)
 
 
 def _write_hdf5(path: Path, tables: dict[str, Table]) -> None:
-    import h5py
+    import h5py  # a heavy import: only for HDF5 output
 
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
         for name, table in tables.items():
@@ -250,10 +251,11 @@ DRAWN = ("total", "heading", "inclination")
 
 
 def _pyplot() -> Any:
+    # matplotlib is a heavy import (and needs its Agg backend set first): only when a plot is drawn.
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # after the backend is set
 
     return plt
 
