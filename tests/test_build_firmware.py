@@ -12,7 +12,8 @@ import pytest
 
 from sins_fw.cli import main
 from sins_fw.errors import ConfigError, InputError
-from sins_fw.firmware_build import CABI_HEADER, CABI_LIBRARY, FIRMWARE_C, PACKAGE, build_firmware, cabi_dirs
+from sins_fw.firmware_build import build_firmware
+from sins_fw.firmware_paths import CABI_HEADER, CABI_LIBRARY, FIRMWARE_C, PACKAGE, cabi_dirs
 from sins_fw.firmware_run import run_c_firmware
 from sins_fw.profile import load_profile
 

@@ -12,7 +12,7 @@ import subprocess
 
 import pytest
 
-from sins_fw.firmware_build import CABI_LIBRARY, ROOT
+from sins_fw.firmware_paths import CABI_LIBRARY, ROOT
 
 pytestmark = pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
 

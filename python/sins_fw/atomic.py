@@ -201,7 +201,7 @@ def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
 
 def save_png(fig: Any, path: str | os.PathLike[str], dpi: int) -> Path:
     """Write a matplotlib figure to ``path`` as PNG atomically, and close it (whatever happens)."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # matplotlib is a heavy import: only when a figure is saved
 
     try:
         with atomic_path(path) as tmp:

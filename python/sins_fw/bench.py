@@ -119,7 +119,7 @@ def _in_child(f: Callable[..., dict[str, Any]], *args: Any) -> dict[str, Any]:
 
 
 def _spawn() -> Any:
-    import multiprocessing
+    import multiprocessing  # only the benchmark that spawns workers needs it
 
     return multiprocessing.get_context("spawn")
 
@@ -170,7 +170,7 @@ def numpy_loop(gyro_words: np.ndarray, steps: int) -> np.ndarray:
 def ahrs_loop(rates: np.ndarray) -> np.ndarray:
     """`ahrs.filters.AngularRate` driven sample by sample on the decoded rates (rad/s, one row per
     4 ms read): two updates per 8 ms cycle, the same samples the firmware integrates."""
-    from ahrs.filters import AngularRate
+    from ahrs.filters import AngularRate  # the optional `bench` extra: only this comparison needs it
 
     f = AngularRate(frequency=1.0 / (STEP_S / 2))
     q = np.array([1.0, 0.0, 0.0, 0.0])

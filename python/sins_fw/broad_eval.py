@@ -28,6 +28,7 @@ from sins_fw.bench import machine
 from sins_fw.broad import import_broad
 from sins_fw.earth import G0
 from sins_fw.errors import InputError
+from sins_fw.harness import emulate
 from sins_fw.profile import load_profile
 
 #: The DCM parameter set, tuned once over the ten trials (the dataset's rule): a grid over K_P
@@ -134,7 +135,7 @@ def _filter(
     q0: np.ndarray | None,
     strong: bool = False,
 ) -> np.ndarray:
-    from ahrs.filters import Madgwick, Mahony
+    from ahrs.filters import Madgwick, Mahony  # the optional `bench` extra: only these filters need it
 
     kw: dict[str, Any] = {"gyr": gyr, "acc": acc, "mag": mag, "frequency": rate}
     if q0 is not None:
@@ -163,8 +164,6 @@ BOARD = (
 
 def board_errors(path: Path, overrides: tuple[str, ...] = TUNED) -> dict[str, float]:
     """The DCM through the whole board on one trial: RMSE over the moving steps."""
-    from sins_fw.harness import emulate
-
     run = emulate(import_broad(path), overrides=["firmware.algorithm=dcm", *BOARD, *overrides])
     if run.truth_q is None or run.moving is None:
         raise InputError(f"{path}: the run kept no truth or movement mask")
@@ -222,6 +221,7 @@ def table(report: dict[str, Any]) -> str:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    # sins_fw.cli imports this module for its command: at module level this would import it back.
     from sins_fw.cli.common import add_json_option, exit_epilog
 
     p = sub.add_parser(
@@ -246,7 +246,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from sins_fw.cli.common import emit
+    from sins_fw.cli.common import emit  # as in `register`: sins_fw.cli imports this module
 
     overrides = tuple(args.overrides) if args.overrides else TUNED
     report = evaluate(args.folder, overrides, baselines=not args.no_baselines, board=args.board)

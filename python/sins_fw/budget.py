@@ -232,6 +232,33 @@ def summarise(run: Run) -> dict[str, Any]:
     }
 
 
+#: Event kinds that are broken SPI rules (the core's event table marks them): the device's frame
+#: rules, the link's chip-select rules and the F28335 SPI-A's own.
+SPI_RULE_KINDS = frozenset(k["name"] for k in _core.EVENT_KINDS if k["spi_rule"])
+
+
+def is_spi_violation(kind: str) -> bool:
+    """True for the event kinds counted as SPI violations."""
+    return kind in SPI_RULE_KINDS
+
+
+def flat_budget(full: dict[str, Any]) -> dict[str, Any]:
+    """The flat view of a full budget summary (:func:`sins_fw.budget.summarise`'s keys), with the
+    full one under ``detail``: what a whole run and a streamed one both report."""
+    return {
+        "ticks": full["ticks"],
+        "tick_period_s": full["tick_period_s"],
+        "isr_max_s": full["busy"]["max"],
+        "isr_mean_s": full["busy"]["mean"],
+        "utilisation_max": full["utilisation"]["max"],
+        "utilisation_mean": full["utilisation"]["mean"],
+        "overruns": full["overruns"]["count"],
+        "ticks_skipped": len(full["overruns"]["skipped_ticks"]),
+        "spi_violations": sum(v["count"] for v in full["violations"] if is_spi_violation(v["kind"])),
+        "detail": full,
+    }
+
+
 # ----------------------------------------------------------------------------------- the budget command
 
 
@@ -520,10 +547,11 @@ def plot_report(report: dict[str, Any], path: str | Path) -> None:
     """Draw the budget: the worst update tick's ISR as a timeline (each stage, each SPI frame from its
     first to its last SCLK edge, and the next tick when it falls inside) and the attitude cycle as a
     stacked bar of the stages in % of the cycle, with the idle share."""
+    # matplotlib is a heavy import (and needs its Agg backend set first): only when a plot is drawn.
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # after the backend is set
 
     colours = dict(zip(STAGES, plt.get_cmap("tab10").colors, strict=False))
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(11, 5.5), gridspec_kw={"height_ratios": [2, 1]})

@@ -23,6 +23,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from sins_fw.errors import InputError
+from sins_fw.firmware_paths import FIRMWARE_C, cabi_dirs, sources_of
 
 FLOAT_MODES = ("host", "c28x")
 
@@ -148,8 +149,6 @@ def diagnose_int(
     (``file:line:column: warning: …``) for the firmware sources (files or folders): a syntax-only
     compile of each with ``int`` mapped to ``short`` (``sins_fw_int16.h``). An empty list: none found.
     A source that does not compile raises :class:`~sins_fw.errors.InputError` quoting the compiler."""
-    from sins_fw.firmware_build import FIRMWARE_C, cabi_dirs, sources_of
-
     sources = sources_of(paths)
     include = FIRMWARE_C / "include"
     folders = sorted({str(s.parent) for s in sources})

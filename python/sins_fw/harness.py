@@ -28,8 +28,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw import _core
+from sins_fw.alignment import ALIGNMENTS, aligned_estimate
 from sins_fw.errors import InputError, ProfileError, TraceError
-from sins_fw.metrics import AttitudeErrors
+from sins_fw.metrics import AttitudeErrors, attitude_errors, valid_mask
 from sins_fw.profile import MODEL_DIR, Profile, load_profile
 from sins_fw.tablefile import rate_text
 from sins_fw.traces import (
@@ -119,11 +120,8 @@ class Run:
         truth is unknown): ``roll``, ``pitch``, ``yaw`` (estimate − truth, wrapped to (−180, 180]),
         ``total`` (the rotation angle between them) and BROAD's ``heading`` and ``inclination``.
         The estimate is first aligned to the truth as every report aligns it (``align``: auto,
-        initial, heading or none; :func:`sins_fw.report.aligned_estimate`). InputError when the
+        initial, heading or none; :func:`sins_fw.alignment.aligned_estimate`). InputError when the
         trace has no truth."""
-        from sins_fw.metrics import attitude_errors, valid_mask
-        from sins_fw.report import ALIGNMENTS, aligned_estimate
-
         if self.truth_q is None:
             raise InputError("Run.errors(): the trace has no truth attitude to compare with")
         if align not in ALIGNMENTS:

@@ -37,10 +37,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw import _core, metrics, quaternion, synth
+from sins_fw.alignment import aligned_estimate
 from sins_fw.errors import InputError, InternalError, SinsError, TraceError
 from sins_fw.harness import Run, emulate, has_wing
 from sins_fw.profile import Profile, load_profile
-from sins_fw.report import aligned_estimate
 from sins_fw.traces import CheckedTrace, PhysicalTrace
 
 PERCENTILES = (5.0, 25.0, 50.0, 75.0, 95.0)
@@ -140,7 +140,7 @@ class Job:
 @dataclass(frozen=True)
 class Outcome:
     """The result of one job. Errors are the estimate against the truth after the alignment every
-    report uses (:func:`sins_fw.report.aligned_estimate`), degrees, in :data:`ERRORS` order."""
+    report uses (:func:`sins_fw.alignment.aligned_estimate`), degrees, in :data:`ERRORS` order."""
 
     key: JobKey
     solved_deg: tuple[float, float, float]  # the firmware's pitch, roll, yaw at the last step
@@ -400,7 +400,7 @@ DASK_EXTRA = 'the dask engine needs the optional extra: pip install "sins-fw[das
 def import_distributed() -> ModuleType:
     """``dask.distributed``, or an InputError saying how to install it."""
     try:
-        import distributed
+        import distributed  # the optional `dask` extra: tried only for `--engine dask`
     except ImportError:
         raise InputError(DASK_EXTRA) from None
     return distributed

@@ -36,7 +36,7 @@ def bar(
     if not show:
         yield lambda _done: None
         return
-    from tqdm import tqdm
+    from tqdm import tqdm  # only when a bar is shown
 
     # A Ctrl-C inside tqdm's constructor leaves a half-built bar whose __del__ prints a traceback:
     # hold the signals for the few microseconds it takes (they are delivered right after).

@@ -4,15 +4,8 @@
 prints.
 
 Attitude error (sins_fw.metrics): the estimate is first aligned to the truth's frame, and the
-summary says how (``alignment.method``):
-
-* ``initial`` (the default when ``firmware.initial_attitude = zero``, the reference design): the
-  firmware starts from Q = [1, 0, 0, 0], i.e. it integrates relative to the body's attitude at
-  power-on, so the estimate is premultiplied by the truth at power-on (the trace's first sample);
-  when that truth is missing, by the rotation that makes the first step with truth exact.
-* ``heading`` (the default for ``level``, which finds roll and pitch itself): rotated about the
-  navigation z axis by the heading error at the first valid movement sample (BROAD's convention).
-* ``none``: compared as is.
+summary says how (``alignment.method``; the methods are :mod:`sins_fw.alignment`'s: ``initial``,
+``heading``, ``none``).
 
 Euler errors (roll, pitch, yaw and the total rotation angle) are over every step with truth; BROAD's
 total / heading / inclination RMSE over the movement mask when the trace has one (else every step).
@@ -24,26 +17,19 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw import _core, budget, metrics
-from sins_fw import quaternion as quat
+from sins_fw import budget, metrics
+from sins_fw.alignment import ALIGNMENTS as ALIGNMENTS
+from sins_fw.alignment import align_run
+from sins_fw.alignment import aligned_estimate as aligned_estimate
+from sins_fw.budget import SPI_RULE_KINDS as SPI_RULE_KINDS
+from sins_fw.budget import flat_budget
+from sins_fw.budget import is_spi_violation as is_spi_violation
 from sins_fw.harness import Run
-
-ALIGNMENTS = ("auto", "initial", "heading", "none")
-
-#: Event kinds that are broken SPI rules (the core's event table marks them): the device's frame
-#: rules, the link's chip-select rules and the F28335 SPI-A's own.
-SPI_RULE_KINDS = frozenset(k["name"] for k in _core.EVENT_KINDS if k["spi_rule"])
-
-
-def is_spi_violation(kind: str) -> bool:
-    """True for the event kinds counted as SPI violations."""
-    return kind in SPI_RULE_KINDS
+from sins_fw.report_stream import RunSummary, run_part, tally_event
 
 
 def events_summary(run: Run) -> dict[str, Any]:
     """Count per kind with the first occurrence (time, severity, message)."""
-    from sins_fw.report_stream import tally_event
-
     kinds: dict[str, dict[str, Any]] = {}
     for e in run.events:  # in time order
         tally_event(kinds, e)
@@ -57,50 +43,6 @@ def budget_summary(run: Run) -> dict[str, Any]:
     return flat_budget(budget.summarise(run))
 
 
-def flat_budget(full: dict[str, Any]) -> dict[str, Any]:
-    """The flat view of a full budget summary (:func:`sins_fw.budget.summarise`'s keys), with the
-    full one under ``detail``: what a whole run and a streamed one both report."""
-    return {
-        "ticks": full["ticks"],
-        "tick_period_s": full["tick_period_s"],
-        "isr_max_s": full["busy"]["max"],
-        "isr_mean_s": full["busy"]["mean"],
-        "utilisation_max": full["utilisation"]["max"],
-        "utilisation_mean": full["utilisation"]["mean"],
-        "overruns": full["overruns"]["count"],
-        "ticks_skipped": len(full["overruns"]["skipped_ticks"]),
-        "spi_violations": sum(v["count"] for v in full["violations"] if is_spi_violation(v["kind"])),
-        "detail": full,
-    }
-
-
-def _alignment(run: Run, method: str) -> tuple[np.ndarray, dict[str, Any]]:
-    """The estimate in the truth's frame and a description of the alignment."""
-    est, truth = run.quat, run.truth_q
-    assert truth is not None
-    if method == "auto":
-        method = "initial" if run.profile.get("firmware.initial_attitude") == "zero" else "heading"
-    if method == "initial":
-        q0 = run.truth_q0
-        if q0 is not None and np.isfinite(q0).all():
-            return metrics.align_initial(est, q0), metrics.alignment_record("initial")
-        k = int(np.argmax(np.isfinite(truth).all(axis=1)))
-        start = quat.multiply(truth[k], quat.conjugate(est[k]))
-        return metrics.align_initial(est, start), metrics.alignment_record("initial", k, t_s=run.time_s[k])
-    if method == "heading":
-        aligned, delta, row = metrics.align_heading(est, truth, run.moving)
-        return aligned, metrics.alignment_record("heading", row, heading_deg=delta)
-    return est, metrics.alignment_record("none")
-
-
-def aligned_estimate(run: Run, align: str = "auto") -> tuple[np.ndarray, dict[str, Any]]:
-    """The estimate expressed in the truth's frame (see the module doc) and how it was aligned; the
-    one alignment every report (text, PNG, Rerun) uses."""
-    if run.truth_q is None:
-        return run.quat, {"method": "none", "row": None, "description": "no truth: not aligned"}
-    return _alignment(run, align)
-
-
 def attitude_summary(run: Run, align: str = "auto") -> dict[str, Any] | None:
     """Errors against the truth (degrees), or None when the trace has none."""
     if align not in ALIGNMENTS:
@@ -108,7 +50,7 @@ def attitude_summary(run: Run, align: str = "auto") -> dict[str, Any] | None:
     truth = run.truth_q
     if truth is None or run.cycles == 0 or not np.isfinite(truth).all(axis=1).any():
         return None
-    est, alignment = _alignment(run, align)
+    est, alignment = align_run(run, align)
     valid = metrics.valid_mask(truth)
     e = metrics.attitude_errors(est[valid], truth[valid])
     last = int(np.flatnonzero(valid)[-1])
@@ -142,8 +84,6 @@ def summarise(run: Run, *, trace: str = "", align: str = "auto") -> dict[str, An
     :func:`events_summary`, :func:`attitude_summary` and :func:`budget_summary`, computed as `sins-fw
     run` computes them chunk by chunk (:class:`sins_fw.report_stream.RunSummary`, fed the whole run
     as one chunk), so that a streamed run and a whole one summarise alike, bit for bit."""
-    from sins_fw.report_stream import RunSummary, run_part
-
     if align not in ALIGNMENTS:
         raise ValueError(f"alignment `{align}`: expected one of {', '.join(ALIGNMENTS)}")
     acc = RunSummary(run.profile, align=align)

@@ -537,8 +537,6 @@ class RunSummary:
         ]
 
     def result(self, *, trace: str = "", t0_s: float = 0.0, stage_cycles: dict[str, int]) -> dict[str, Any]:
-        from sins_fw.report import flat_budget
-
         full = self.budget.result(self.violations())
         out = {
             "trace": trace,
@@ -550,7 +548,7 @@ class RunSummary:
             "trace_t0_s": t0_s,
             "events": {"total": self.events_total, "by_kind": dict(sorted(self.kinds.items()))},
             "attitude_error": None if self.wing else self.attitude.result(self.cycles),
-            "budget": flat_budget(full),
+            "budget": budget_mod.flat_budget(full),
             "stage_cycles": dict(stage_cycles),
         }
         if self.alpha:  # the wing unit on a trace with α truth
@@ -561,10 +559,8 @@ class RunSummary:
 
     def alpha_result(self) -> dict[str, Any]:
         """The wing unit's α error (:func:`sins_fw.metrics.alpha_errors`)."""
-        from sins_fw.metrics import alpha_errors
-
         a, t, st = (np.concatenate([x[i] for x in self.alpha]) for i in range(3))
-        return alpha_errors(a, t, st)
+        return metrics.alpha_errors(a, t, st)
 
 
 #: Why a wing run has no attitude-error block (`sins-fw run`'s summary).

@@ -218,14 +218,15 @@ def _csv_text(table: Table) -> str:
 
 
 def _write_parquet(tmp: Path, table: Table) -> None:
+    # pyarrow and h5py are heavy imports: only for the output format asked for.
     import pyarrow as pa
-    import pyarrow.parquet as pq
+    import pyarrow.parquet as pq  # as pyarrow: only for Parquet output
 
     pq.write_table(pa.table(table), tmp)
 
 
 def _write_hdf5(tmp: Path, tables: dict[str, Table]) -> None:
-    import h5py
+    import h5py  # a heavy import: only for HDF5 output
 
     # Through kept_error_file: HDF5 crashes the interpreter closing a file after a failed write (a
     # full disk); the failure is raised once h5py has closed the file cleanly.
@@ -299,10 +300,11 @@ DRAWN = ("total", "heading", "inclination")
 
 
 def _pyplot() -> Any:
+    # matplotlib is a heavy import (and needs its Agg backend set first): only when a plot is drawn.
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # after the backend is set
 
     return plt
 

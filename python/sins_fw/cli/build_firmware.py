@@ -14,14 +14,8 @@ from pathlib import Path
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.errors import SinsError
 from sins_fw.firmware_arith import FLOAT_MODES, diagnose_int
-from sins_fw.firmware_build import (
-    FIRMWARE_C,
-    build_firmware,
-    cabi_dirs,
-    read_project,
-    sources_of,
-    with_ti_support,
-)
+from sins_fw.firmware_build import build_firmware, with_ti_support
+from sins_fw.firmware_paths import FIRMWARE_C, cabi_dirs, read_project, sources_of
 from sins_fw.profile import load_profile
 
 #: The compiler the dependency listing uses.

@@ -40,6 +40,7 @@ from sins_fw.profile import Profile
 from sins_fw.report_stream import _Attitude, run_part
 from sins_fw.traces import RAW_WORD_COLUMNS
 from sins_fw.viewer import paths
+from sins_fw.viewer.layout import default_blueprint
 
 Array = NDArray[np.float64]
 PS_PER_NS = 1000
@@ -890,8 +891,6 @@ def save_recording(
 ) -> Path:
     """Write the recording of ``run`` to ``path`` (.rrd) with the default layout, atomically
     (:func:`recording_file`)."""
-    from sins_fw.viewer.layout import default_blueprint
-
     rid = recording_id if recording_id is not None else derived_recording_id(run, name)
     bp = (
         blueprint

@@ -31,7 +31,7 @@ START_TIMEOUT_S = 30.0
 def viewer_binary() -> Path:
     """The viewer executable shipped with rerun-sdk."""
     try:
-        import rerun_cli
+        import rerun_cli  # located only when the viewer is started (and may be missing)
     except ImportError:
         raise InputError("--serve: the Rerun viewer (package rerun-sdk) is not installed") from None
     exe = Path(rerun_cli.__file__).parent / "rerun"
