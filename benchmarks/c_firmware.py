@@ -14,8 +14,9 @@ Also measured (each in the same way):
 - SPI outside an interrupt (the burst polled in main back to back, no ISR): 2.5, 5 and 10 s of
   trace, which must cost time in proportion (issue 37, item 4: it was quadratic);
 - watched globals: 100, 1 000 and 3 000 globals, `sins-fw run --firmware … --out run.csv` in a
-  process of its own (CPU time and peak resident memory of the command), which must cost time in
-  proportion to the globals (issue 42, item 7: it was quadratic).
+  process of its own (CPU time and peak resident memory of the command and of the firmware's
+  process it forks, which shares its pages at the fork), which must cost time in proportion to the
+  globals (issue 42, item 7: it was quadratic).
 
     python benchmarks/c_firmware.py [--duration-s 60] [--rounds 3] [--output benchmarks/c_firmware.md]
 """
@@ -85,6 +86,16 @@ void main(void) {
     }
 }
 """
+
+
+#: Runs the command given and prints its CPU time (s) and the largest resident set of it and the
+#: firmware's process (KiB; RUSAGE_CHILDREN's ru_maxrss is the largest of the children reaped).
+_WRAPPER = (
+    "import resource, subprocess, sys\n"
+    "subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL)\n"
+    "r = resource.getrusage(resource.RUSAGE_CHILDREN)\n"
+    "print(r.ru_utime + r.ru_stime, r.ru_maxrss)\n"
+)
 
 
 def _cpu() -> float:
@@ -176,15 +187,15 @@ def main() -> None:
                 str(gfile),
             ]
             cmd += ["--until-s", "3", "--out", str(tmp / f"run_{n}.csv")]
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            # Run under a small wrapper process whose only children are the command and the
+            # firmware's process it forks: their CPU time and largest resident set are the command's.
             wall = time.perf_counter()
-            subprocess.run(cmd, check=True, capture_output=True)
+            measured = subprocess.run(
+                [sys.executable, "-c", _WRAPPER, *cmd], check=True, capture_output=True, text=True
+            )
             wall = time.perf_counter() - wall
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)
-            cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
-            # ru_maxrss of the children is the largest of any reaped so far (KiB): the largest
-            # command runs last.
-            watched.append((n, cpu, wall, after.ru_maxrss / 1024))
+            cpu, rss_kib = (float(x) for x in measured.stdout.split())
+            watched.append((n, cpu, wall, rss_kib / 1024))
     rust_virtual = float(rust.budget["tick_ps"][-1]) * 1e-12
     load = os.getloadavg()
     lines = [
@@ -227,7 +238,7 @@ def main() -> None:
         "",
         "## Watched globals (`sins-fw run --firmware … --until-s 3 --out run.csv`, the whole command)",
         "",
-        "| globals | host CPU s | wall s | peak RSS of any command so far, MB |",
+        "| globals | host CPU s | wall s | peak RSS, MB |",
         "|---|---|---|---|",
         *(f"| {n} | {cpu:.2f} | {wall:.2f} | {rss:.0f} |" for n, cpu, wall, rss in watched),
         "",
