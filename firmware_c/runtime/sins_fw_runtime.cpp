@@ -1,6 +1,8 @@
-/* The runtime of a host-built F28335 firmware (sins-fw build-firmware): the register-file objects of
-   the replacement headers, each register access a call to the emulated board (the sins-fw C ABI)
-   charged its CPU cycles, the interrupts, and the entry point that runs the firmware's main on a trace.
+/* The runtime of a host-built F28335 firmware (sins-fw build-firmware): the calls the build's LLVM pass
+   makes of the firmware's register accesses (sins_fw_ld16/sins_fw_st16, ...: the C28x data space's
+   image, the vector table, IER/IFR, or host memory), each access to a modelled register a call to the
+   emulated board (the sins-fw C ABI) charged its CPU cycles, the interrupts, and the entry point that
+   runs the firmware's main on a trace.
 
    Time. Each register access is charged its cycles (c28x-costs.toml [io] peripheral_read /
    peripheral_write). The firmware's own code is compiled with -fsanitize-coverage=trace-pc: the
@@ -20,8 +22,8 @@
    reached pass by pass, as long as its passes take equal time.
 
    End. When the next step would pass the end of the trace, a C++ exception (TraceEnd) unwinds the
-   firmware's frames back to sins_fw_run: the firmware is C++ here, so its destructors run and nothing
-   is skipped that unwinding would not skip on any C++ code. An emulator error unwinds the same way
+   firmware's frames back to sins_fw_run (its C is compiled with -fexceptions, so the unwinder passes
+   through its frames; C++ firmware's destructors run). An emulator error unwinds the same way
    (Failure) with its message. A loop that makes no register access while nothing can interrupt it
    (INTM set, the timer or its PIE path disabled) can never end: after `spin_blocks` basic blocks
    without an access the run stops with an error naming what blocks the interrupts, and the code
