@@ -82,6 +82,7 @@ def test_valid_c_that_cpp_refuses_builds_and_runs(tmp_path: Path):
         '    asm(" EALLOW");\n'
         '    __asm(" EDIS");\n'
         '    __asm(" ESTOP0");\n'
+        '    asm(" RPT #7 || NOP");\n'
         "    spi[4] = 0x31;\n"
         "    brr = SpiaRegs.SPIBRR;\n"
         "    farvar = table[0];\n"

@@ -32,6 +32,7 @@
 
 #include <cctype>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -690,6 +691,14 @@ extern "C" void sins_fw_asm(const char *text) {
         check(sins_set_intm(board, op == "SETC INTM"), "INTM");
         mark_irq_state_changed();
         after_access();
+    } else if (op.rfind("RPT #", 0) == 0 && op.size() > 12 && op.compare(op.size() - 7, 7, " || NOP") == 0) {
+        /* `RPT #N || NOP` (TI's InitFlash waits for the pipeline so): the NOP N + 1 times, and the RPT. */
+        char *end = nullptr;
+        unsigned long n = std::strtoul(op.c_str() + 5, &end, 0);
+        if (end == op.c_str() + 5 || n > 255) {
+            throw Failure{std::string("asm(\"") + text + "\"): expected RPT #0...255 || NOP"};
+        }
+        pending_cycles += n + 2;
     } else if (op == "CLRC DBGM" || op == "SETC DBGM" || op == "NOP" || op == "ESTOP0") {
         /* The real-time debug mode and emulation stops have no effect on the emulated board. */
     } else if (op == "IDLE") {
@@ -701,7 +710,7 @@ extern "C" void sins_fw_asm(const char *text) {
         pass_ps(irq_at > now_ps ? irq_at - now_ps : 0);
     } else {
         throw Failure{std::string("asm(\"") + text + "\"): the host build emulates EALLOW, EDIS, clrc/setc INTM, " +
-                      "clrc/setc DBGM, NOP, ESTOP0 and IDLE only"};
+                      "clrc/setc DBGM, NOP, RPT #n || NOP, ESTOP0 and IDLE only"};
     }
 }
 
