@@ -263,6 +263,22 @@ def _ccs_path(text: str, project_dir: Path) -> Path | None:
     return path if path.is_absolute() else project_dir / path
 
 
+def _same_folder_in(project_dir: Path, missing: Path) -> Path | None:
+    """A folder of the project whose last two names are those of an include path that is not on
+    this machine (``C:\\ti\\controlSUITE\\device_support\\f2833x\\v140\\DSP2833x_headers\\include``, a
+    copy of which the project keeps as ``DSP2833x_headers/include``); None when there is none or more
+    than one."""
+    tail = [part.lower() for part in re.split(r"[\\/]+", str(missing)) if part][-2:]
+    if len(tail) < 2:
+        return None
+    found = [
+        d
+        for d in project_dir.rglob(missing.name if missing.name else "*")
+        if d.is_dir() and [d.parent.name.lower(), d.name.lower()] == tail
+    ]
+    return found[0] if len(found) == 1 else None
+
+
 def _read_ccs(folder: Path, project: Project) -> None:
     dot_project = folder / ".project"
     for f in sorted(folder.rglob("*")):
@@ -303,6 +319,8 @@ def _read_ccs(folder: Path, project: Project) -> None:
             if "INCLUDE_PATH" in kind:
                 for v in values:
                     path = _ccs_path(v, folder)
+                    if path is not None and not path.is_dir():
+                        path = _same_folder_in(folder, path)
                     if path is not None and path.is_dir() and path not in project.include:
                         project.include.append(path)
             elif "DEFINE" in kind and "compilerID" in kind:
@@ -532,6 +550,9 @@ def _text(data: bytes) -> str:
     return data.decode("utf-8", errors="replace")
 
 
+_SCRATCH_OBJECT = re.compile(r"\S*sins-fw-build-[^/\s]*/[^:\s]*\.o:(\([^)]*\))?:?\s*")
+
+
 def _compile(cmd: list[str], env: Mapping[str, str], *, link: bool = False) -> None:
     """Run the compiler or linker; its errors (file:line, the undefined symbol and where) become an
     InputError."""
@@ -549,6 +570,8 @@ def _compile(cmd: list[str], env: Mapping[str, str], *, link: bool = False) -> N
             and "collect2" not in line
             and "linker command failed" not in line
         ]
+        # The build's scratch objects say nothing to the user: the sources' file:line do.
+        wanted = [_SCRATCH_OBJECT.sub("", re.sub(r"^\S*\bld(\.\w+)?: ", "", line)) for line in wanted]
         quoted = "\n  ".join(wanted[: 2 * QUOTED_ERRORS] or lines[-QUOTED_ERRORS:])
         raise InputError(f"the firmware does not link:\n  {quoted}")
     errors = [line for line in lines if re.search(r"\berror\b", line)]
