@@ -82,6 +82,7 @@ def test_valid_c_that_cpp_refuses_builds_and_runs(tmp_path: Path):
         '    asm(" EALLOW");\n'
         '    __asm(" EDIS");\n'
         '    __asm(" ESTOP0");\n'
+        '    asm(" RPT #7 || NOP");\n'
         "    spi[4] = 0x31;\n"
         "    brr = SpiaRegs.SPIBRR;\n"
         "    farvar = table[0];\n"
@@ -348,3 +349,57 @@ def test_enabling_an_interrupt_the_emulator_cannot_raise_is_reported(
     assert "SPIRXINTA (PIE group 6, INT6.1, vector 72)" in err
     assert "INT13 (IER bit 12: CPU timer 1 or XINT13)" in err
     assert "TINT0" not in err.replace("TINT0 = INT1.7", "")
+
+
+def test_a_projects_own_examples_header_takes_the_place_of_ours(tmp_path: Path):
+    """A project with its own copy of TI's DSP2833x_Examples.h on its path (found before the
+    replacement): its clock macros and its DELAY_US, which calls TI's DSP28x_usDelay (an assembly
+    loop of 5 cycles a pass plus 9 of call and return, provided by the runtime), work as on the chip."""
+    inc = tmp_path / "common" / "include"
+    inc.mkdir(parents=True)
+    (inc / "DSP2833x_Examples.h").write_text(
+        "#ifndef PROJECT_EXAMPLES_H\n#define PROJECT_EXAMPLES_H\n"
+        '#include "DSP2833x_GlobalPrototypes.h"\n'
+        "#define CPU_FRQ_150MHZ 1\n#define CPU_FRQ_100MHZ 0\n#define CPU_RATE 6.667L\n"
+        "/* Count for a delay of A us: A us = (5 Count + 9) cycles of CPU_RATE ns. */\n"
+        "#define DELAY_US(A) \\\n"
+        "    DSP28x_usDelay((Uint32)(((long double)(A) * 1000.0L / CPU_RATE - 9.0L) / 5.0L))\n"
+        "#endif\n"
+    )
+    src = tmp_path / "main.c"
+    src.write_text(
+        '#include "DSP2833x_Device.h"\n#include "DSP2833x_Examples.h"\n'
+        "Uint16 fast;\n"
+        "void main(void) {\n"
+        "#if CPU_FRQ_150MHZ\n    fast = 1;\n#endif\n"
+        "    DELAY_US(1000);\n"
+        "}\n"
+    )
+    out = tmp_path / "fw.so"
+    assert main(["build-firmware", str(src), "-I", str(inc), "-o", str(out)]) == 0
+    run = _run(out, tmp_path, 1.0, fast="uint16")
+    assert run.final["fast"] == 1
+    # Count = (1000 µs / 6.667 ns − 9) / 5 = 29 995 passes: 149 984 cycles = 999.9 µs at 150 MHz,
+    # then main returns after a few accesses and blocks (< 1 µs).
+    assert 999.8e-6 < run.now_s < 1001e-6
+
+
+def test_polling_a_register_that_never_changes_names_the_loop(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    """A wait on a register of a peripheral not modelled (plain memory: it never changes by itself)
+    with interrupts off can never end: exit 2 naming the register and the loop's file:line."""
+    src = tmp_path / "wait.c"
+    src.write_text(
+        '#include "DSP28x_Project.h"\n'
+        "Uint16 state;\n"
+        "void main(void) {\n"
+        "    DINT;\n"
+        "    while (SysCtrlRegs.PLLSTS.bit.PLLLOCKS != 0) {\n"
+        "    }\n"
+        "}\n"
+    )
+    out = tmp_path / "fw.so"
+    assert main(["build-firmware", str(src), "-o", str(out)]) == 0
+    with pytest.raises(InputError, match=r"polls the register at 0x7011.*wait\.c:5"):
+        _run(out, tmp_path, 1.0, state="uint16")

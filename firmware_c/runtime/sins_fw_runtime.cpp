@@ -1,6 +1,8 @@
-/* The runtime of a host-built F28335 firmware (sins-fw build-firmware): the register-file objects of
-   the replacement headers, each register access a call to the emulated board (the sins-fw C ABI)
-   charged its CPU cycles, the interrupts, and the entry point that runs the firmware's main on a trace.
+/* The runtime of a host-built F28335 firmware (sins-fw build-firmware): the calls the build's LLVM pass
+   makes of the firmware's register accesses (sins_fw_ld16/sins_fw_st16, ...: the C28x data space's
+   image, the vector table, IER/IFR, or host memory), each access to a modelled register a call to the
+   emulated board (the sins-fw C ABI) charged its CPU cycles, the interrupts, and the entry point that
+   runs the firmware's main on a trace.
 
    Time. Each register access is charged its cycles (c28x-costs.toml [io] peripheral_read /
    peripheral_write). The firmware's own code is compiled with -fsanitize-coverage=trace-pc: the
@@ -20,8 +22,8 @@
    reached pass by pass, as long as its passes take equal time.
 
    End. When the next step would pass the end of the trace, a C++ exception (TraceEnd) unwinds the
-   firmware's frames back to sins_fw_run: the firmware is C++ here, so its destructors run and nothing
-   is skipped that unwinding would not skip on any C++ code. An emulator error unwinds the same way
+   firmware's frames back to sins_fw_run (its C is compiled with -fexceptions, so the unwinder passes
+   through its frames; C++ firmware's destructors run). An emulator error unwinds the same way
    (Failure) with its message. A loop that makes no register access while nothing can interrupt it
    (INTM set, the timer or its PIE path disabled) can never end: after `spin_blocks` basic blocks
    without an access the run stops with an error naming what blocks the interrupts, and the code
@@ -47,6 +49,7 @@
 
 #include <cctype>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -715,6 +718,14 @@ extern "C" void sins_fw_asm(const char *text) {
         check(sins_set_intm(board, op == "SETC INTM"), "INTM");
         mark_irq_state_changed();
         after_access();
+    } else if (op.rfind("RPT #", 0) == 0 && op.size() > 12 && op.compare(op.size() - 7, 7, " || NOP") == 0) {
+        /* `RPT #N || NOP` (TI's InitFlash waits for the pipeline so): the NOP N + 1 times, and the RPT. */
+        char *end = nullptr;
+        unsigned long n = std::strtoul(op.c_str() + 5, &end, 0);
+        if (end == op.c_str() + 5 || n > 255) {
+            throw Failure{std::string("asm(\"") + text + "\"): expected RPT #0...255 || NOP"};
+        }
+        pending_cycles += n + 2;
     } else if (op == "CLRC DBGM" || op == "SETC DBGM" || op == "NOP" || op == "ESTOP0") {
         /* The real-time debug mode and emulation stops have no effect on the emulated board. */
     } else if (op == "IDLE") {
@@ -726,7 +737,7 @@ extern "C" void sins_fw_asm(const char *text) {
         pass_ps(irq_at > now_ps ? irq_at - now_ps : 0);
     } else {
         throw Failure{std::string("asm(\"") + text + "\"): the host build emulates EALLOW, EDIS, clrc/setc INTM, " +
-                      "clrc/setc DBGM, NOP, ESTOP0 and IDLE only"};
+                      "clrc/setc DBGM, NOP, RPT #n || NOP, ESTOP0 and IDLE only"};
     }
 }
 

@@ -7,6 +7,8 @@
    releases (V1.x) write PRD = MHz * us, one count longer. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
+#include "DSP2833x_DefaultIsr.h"
+#include "DSP2833x_GlobalPrototypes.h"
 
 __attribute__((weak)) struct CPUTIMER_VARS CpuTimer0;
 __attribute__((weak)) struct CPUTIMER_VARS CpuTimer1;

@@ -5,6 +5,8 @@
    vector. Weak, so that a firmware's own definition of one of them takes its place. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
+#include "DSP2833x_DefaultIsr.h"
+#include "DSP2833x_GlobalPrototypes.h"
 
 __attribute__((weak)) interrupt void PIE_RESERVED(void)
 {

@@ -2,6 +2,8 @@
    writes, through the emulated PIE. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
+#include "DSP2833x_DefaultIsr.h"
+#include "DSP2833x_GlobalPrototypes.h"
 
 /* The PIE disabled, every group's enables and flags cleared, interrupts masked (DINT). */
 __attribute__((weak)) void InitPieCtrl(void)

@@ -6,6 +6,8 @@
    the PIE vector table. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
+#include "DSP2833x_DefaultIsr.h"
+#include "DSP2833x_GlobalPrototypes.h"
 
 static PINT const PieVectTableInit[128] = {
     &PIE_RESERVED, /* 0 (0x0D00) */

@@ -4,6 +4,8 @@
    left out: firmware sets SPI-A up itself. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
+#include "DSP2833x_DefaultIsr.h"
+#include "DSP2833x_GlobalPrototypes.h"
 
 __attribute__((weak)) void InitSpiaGpio(void)
 {

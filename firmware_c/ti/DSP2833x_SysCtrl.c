@@ -5,6 +5,8 @@
    2 (LSPCLK = SYSCLKOUT / 4, TI's value), and the PLL, watchdog and flash functions do nothing. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
+#include "DSP2833x_DefaultIsr.h"
+#include "DSP2833x_GlobalPrototypes.h"
 
 __attribute__((weak)) void DisableDog(void)
 {

@@ -361,6 +361,9 @@ def _text(data: bytes) -> str:
     return data.decode("utf-8", errors="replace")
 
 
+_SCRATCH_OBJECT = re.compile(r"\S*sins-fw-build-[^/\s]*/[^:\s]*\.o:(\([^)]*\))?:?\s*")
+
+
 def _compile(cmd: list[str], env: Mapping[str, str], *, link: bool = False) -> None:
     """Run the compiler or linker; its errors (file:line, the undefined symbol and where) become an
     InputError."""
@@ -378,6 +381,8 @@ def _compile(cmd: list[str], env: Mapping[str, str], *, link: bool = False) -> N
             and "collect2" not in line
             and "linker command failed" not in line
         ]
+        # The build's scratch objects say nothing to the user: the sources' file:line do.
+        wanted = [_SCRATCH_OBJECT.sub("", re.sub(r"^\S*\bld(\.\w+)?: ", "", line)) for line in wanted]
         quoted = "\n  ".join(wanted[: 2 * QUOTED_ERRORS] or lines[-QUOTED_ERRORS:])
         raise InputError(f"the firmware does not link:\n  {quoted}")
     errors = [line for line in lines if re.search(r"\berror\b", line)]
