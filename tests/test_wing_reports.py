@@ -50,7 +50,7 @@ def test_montecarlo_reports_alpha_for_the_wing() -> None:
     )  # fmt: skip
     assert r.code == 0, r.err
     case = json.loads(r.out)["cases"]["wing"]
-    assert set(case) == {"alpha_error_deg"}
+    assert set(case) == {"alpha_error_deg", "runs_without_alpha"} and case["runs_without_alpha"] == 0
     alpha = case["alpha_error_deg"]
     assert set(alpha) == {"final", "dynamic_max"}
     assert 0.0 < alpha["dynamic_max"]["p50"] < 1.0
@@ -71,3 +71,14 @@ def test_sweep_reports_alpha_for_the_wing(tmp_path: Path) -> None:
     header = out.read_text(encoding="utf-8").splitlines()
     header = next(line for line in header if not line.startswith("#"))
     assert "alpha_error_dynamic_max_deg" in header
+
+
+def test_montecarlo_says_when_the_wing_gave_no_alpha() -> None:
+    """A rest of 45 s before the flap with the profile's 10 s zero: the flap starts 35 s after the zero,
+    outside the 30 s in which B2 takes the axis from motion, and a sine flap has no rest poses for B1:
+    the unit never has an axis, so no α. The report says so (no NaN attitude lines instead)."""
+    late = ("--param", "flap=sine", "--param", "rest-s=45", "--param", "duration-s=50")
+    r = run_cli("montecarlo", "wing", "--profile", "wing", "--errors", "adis16362", "--runs", "2", *late)
+    assert r.code == 0, r.err
+    assert "wing α: 2 of 2 runs gave no α against the truth" in r.out
+    assert "nan" not in r.out and "total" not in r.out

@@ -151,6 +151,8 @@ class Outcome:
     fingerprint: Fingerprint
     #: The wing unit's α errors (:data:`ALPHA_ERRORS`), NaN for another board or a trace without α.
     alpha_error_deg: tuple[float, float, float] = (float("nan"),) * 3
+    #: The run was the wing unit's (its figures are α's, NaN when it never gave one).
+    wing: bool = False
 
     def same_as(self, other: Outcome) -> bool:
         """Bit for bit the same result (NaN equal to NaN)."""
@@ -249,6 +251,7 @@ def run_job(job: Job, trace: PhysicalTrace | CheckedTrace) -> Outcome:
             error_deg=np.full((points, len(ERRORS)), nan),
             fingerprint=fingerprint(),
             alpha_error_deg=_alpha_errors(run),
+            wing=True,
         )
     t_s, series, final = _error_series(run)
     return Outcome(
@@ -649,8 +652,13 @@ class Distribution:
 
     @property
     def is_wing(self) -> bool:
-        """Every run reported α (the wing unit on a trace with α truth)."""
-        return bool(self.outcomes) and bool(np.isfinite(self.alpha_error_deg[:, 1:]).any(axis=1).all())
+        """The runs are the wing unit's (their figures are α's)."""
+        return bool(self.outcomes) and all(o.wing for o in self.outcomes)
+
+    @property
+    def runs_without_alpha(self) -> int:
+        """Wing runs that never gave an α against the truth (no axis, or no α truth)."""
+        return int(np.sum(~np.isfinite(self.alpha_error_deg).any(axis=1)))
 
     @classmethod
     def of(cls, case: Case, outcomes: Sequence[Outcome]) -> Distribution:
@@ -679,14 +687,11 @@ class Distribution:
     def percentiles(self, of: str = "solved") -> dict[str, dict[str, float]]:
         """Percentiles of the solved angles (``of="solved"``: pitch, roll, yaw), of the errors at the
         end (``"error"``: every name of :data:`ERRORS`) or of the wing unit's α errors (``"alpha"``:
-        the names of :data:`ALPHA_ERRORS` every run has)."""
+        the names of :data:`ALPHA_ERRORS` some run has, over the runs that have it)."""
         if of == "alpha":
             data, names = self.alpha_error_deg, ALPHA_ERRORS
-            return {
-                name: _percentiles(data[:, i])
-                for i, name in enumerate(names)
-                if np.isfinite(data[:, i]).all()
-            }
+            have = [i for i in range(len(names)) if np.isfinite(data[:, i]).any()]
+            return {names[i]: _percentiles(data[np.isfinite(data[:, i]), i]) for i in have}
         data, names = (self.solved_deg, ERRORS[:3]) if of == "solved" else (self.final_error_deg, ERRORS)
         return {name: _percentiles(data[:, i]) for i, name in enumerate(names)}
 

@@ -161,8 +161,8 @@ def run_table(outcomes: Sequence[Outcome]) -> Table:
 
 
 def _has_alpha(o: Outcome) -> bool:
-    """The outcome is the wing unit's, with α against a truth."""
-    return bool(np.isfinite(np.asarray(o.alpha_error_deg)[1:]).any())
+    """The outcome is the wing unit's (its figures are α's, NaN where it gave none)."""
+    return o.wing
 
 
 def percentile_table(outcomes: Sequence[Outcome]) -> Table:
@@ -181,7 +181,7 @@ def percentile_table(outcomes: Sequence[Outcome]) -> Table:
         names: tuple[str, ...] = ERRORS
         if all(_has_alpha(o) for o in rows):  # the wing unit: α, not an attitude
             alpha = np.array([o.alpha_error_deg for o in rows], dtype=np.float64)
-            full = [i for i in range(len(ALPHA_ERRORS)) if np.isfinite(alpha[:, i]).all()]
+            full = [i for i in range(len(ALPHA_ERRORS)) if np.isfinite(alpha[:, i]).any()]
             finals, names = alpha[:, full], tuple(f"alpha_{ALPHA_ERRORS[i]}" for i in full)
         for i, name in enumerate(names):
             table["scenario"].append(case)
@@ -189,8 +189,10 @@ def percentile_table(outcomes: Sequence[Outcome]) -> Table:
             for k in keys:
                 table[k].append(values.get(k, ""))
             table["error"].append(name)
-            table["runs"].append(len(rows))
-            for p, v in zip(PERCENTILES, np.percentile(finals[:, i], PERCENTILES), strict=True):
+            # α over the runs that gave one (an attitude error is NaN only without truth: kept)
+            column = finals[:, i] if names is ERRORS else finals[np.isfinite(finals[:, i]), i]
+            table["runs"].append(len(column))
+            for p, v in zip(PERCENTILES, np.percentile(column, PERCENTILES), strict=True):
                 table[f"p{p:g}_deg"].append(float(v))
     return table
 

@@ -140,7 +140,7 @@ def run(args: argparse.Namespace) -> int:
         "percentiles": list(mc.PERCENTILES),
         "warnings": [warning] if warning else [],
         "cases": {
-            name: {"alpha_error_deg": d.percentiles("alpha")}
+            name: {"alpha_error_deg": d.percentiles("alpha"), "runs_without_alpha": d.runs_without_alpha}
             if d.is_wing
             else {"solved_deg": d.percentiles("solved"), "error_deg": d.percentiles("error")}
             for name, d in dists.items()
@@ -163,6 +163,11 @@ def run(args: argparse.Namespace) -> int:
     else:
         for name, d in dists.items():
             if d.is_wing:  # the wing unit gives α: its quaternion is the wing's own frame
+                if d.runs_without_alpha:
+                    lines.append(
+                        f"{name} α: {d.runs_without_alpha} of {len(d.outcomes)} runs gave no α against the "
+                        "truth (no hinge axis: no rest poses, no motion within 30 s of the zero)"
+                    )
                 for what, p in d.percentiles("alpha").items():
                     lines.append(
                         f"{name} α {what:<11} error °: "
