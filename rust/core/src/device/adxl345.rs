@@ -177,15 +177,17 @@ pub mod spi {
     /// tDELAY: CS↓ to the first SCLK edge, ps.
     pub const T_DELAY: Ps = SPI.cs_setup_ps as Ps;
     /// tQUIET: the last SCLK edge to CS↑, ps.
-    pub const T_QUIET: Ps = match SPI.cs_hold_ps {
-        Some(t) => t as Ps,
-        None => 0,
-    };
+    pub const T_QUIET: Ps = whole(SPI.cs_hold_ps);
     /// tCS,DIS: CS high between two communications, ps.
-    pub const T_CS_DIS: Ps = match SPI.cs_high_min_ps {
-        Some(t) => t as Ps,
-        None => 0,
-    };
+    pub const T_CS_DIS: Ps = whole(SPI.cs_high_min_ps);
+
+    /// A declared minimum as whole ps (the part declares both).
+    const fn whole(ps: Option<f64>) -> Ps {
+        match ps {
+            Some(t) => t as Ps,
+            None => 0,
+        }
+    }
     /// Time from the end of a data read (the FIFO pop) to the next read of the FIFO or
     /// FIFO_STATUS, ps (Linux adxl34x.c quoting the data sheet).
     pub const T_FIFO_POP: Ps = 5_000_000;
