@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -321,3 +322,31 @@ def test_csv_rows_of_many_columns_cost_n_log_n_characters_not_n_squared(monkeypa
 
     ratio = cost(256) / cost(32)
     assert ratio < 16, ratio
+
+
+def test_the_text_summary_of_a_firmware_run_is_the_firmwares(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    """The summary said the profile's Rust numeric (c28x-f32), "attitude steps" and "no truth in the
+    trace" (pitch_sweep has one: the globals just name no quaternion) for a C firmware run."""
+    fw = _build(tmp_path)
+    rc = main(
+        [
+            "run",
+            str(PITCH_SWEEP),
+            "--firmware",
+            str(fw),
+            "--globals",
+            str(tmp_path / "globals.toml"),
+            "--until-s",
+            "1",
+        ]
+    )
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "numeric        the C firmware's own arithmetic: float and double of the host mode" in out, out
+    assert re.search(r"^emulated       0\.99\d s of virtual time, 249 ISR runs$", out, re.MULTILINE), out
+    assert "attitude error not compared: the globals file names no q0…q3" in out, out
+    assert re.search(
+        r"^firmware       .*: 249 ISR runs, \d+ register accesses, main ran to 0\.99\d", out, re.MULTILINE
+    )
