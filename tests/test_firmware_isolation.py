@@ -87,6 +87,12 @@ def cabi() -> None:
     assert built.returncode == 0, built.stderr
 
 
+@pytest.fixture(scope="module")
+def plain(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The template with nothing added: timer ticks counted, nothing else."""
+    return _build(tmp_path_factory.mktemp("plain"))
+
+
 def _build(tmp_path: Path, action: str = "", main_code: str = "", loop: str = "", extra: str = "") -> Path:
     src = tmp_path / "fw.c"
     body = TEMPLATE.replace("ACTION", action).replace("MAIN", main_code).replace("LOOP", loop)
@@ -226,9 +232,9 @@ def test_the_firmwares_stdout_goes_to_stderr_not_into_json(tmp_path: Path):
     ],
 )
 def test_a_global_the_variable_cannot_hold_is_refused_up_front(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], entry: str, expected: str
+    plain: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], entry: str, expected: str
 ):
-    fw = _build(tmp_path)
+    fw = plain
     g = tmp_path / "g.toml"
     g.write_text(GLOBALS + f'\n[[global]]\n{entry}\ncolumn = "x"\nunit = "1"\n')
     out = tmp_path / "run.csv"
@@ -325,11 +331,11 @@ def test_csv_rows_of_many_columns_cost_n_log_n_characters_not_n_squared(monkeypa
 
 
 def test_the_text_summary_of_a_firmware_run_is_the_firmwares(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    plain: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ):
     """The summary said the profile's Rust numeric (c28x-f32), "attitude steps" and "no truth in the
     trace" (pitch_sweep has one: the globals just name no quaternion) for a C firmware run."""
-    fw = _build(tmp_path)
+    fw = plain
     rc = main(
         [
             "run",
@@ -337,7 +343,7 @@ def test_the_text_summary_of_a_firmware_run_is_the_firmwares(
             "--firmware",
             str(fw),
             "--globals",
-            str(tmp_path / "globals.toml"),
+            str(plain.with_name("globals.toml")),
             "--until-s",
             "1",
         ]
