@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -84,6 +85,12 @@ def cabi() -> None:
     cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
     built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
     assert built.returncode == 0, built.stderr
+
+
+@pytest.fixture(scope="module")
+def plain(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The template with nothing added: timer ticks counted, nothing else."""
+    return _build(tmp_path_factory.mktemp("plain"))
 
 
 def _build(tmp_path: Path, action: str = "", main_code: str = "", loop: str = "", extra: str = "") -> Path:
@@ -225,9 +232,9 @@ def test_the_firmwares_stdout_goes_to_stderr_not_into_json(tmp_path: Path):
     ],
 )
 def test_a_global_the_variable_cannot_hold_is_refused_up_front(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], entry: str, expected: str
+    plain: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], entry: str, expected: str
 ):
-    fw = _build(tmp_path)
+    fw = plain
     g = tmp_path / "g.toml"
     g.write_text(GLOBALS + f'\n[[global]]\n{entry}\ncolumn = "x"\nunit = "1"\n')
     out = tmp_path / "run.csv"
@@ -321,3 +328,31 @@ def test_csv_rows_of_many_columns_cost_n_log_n_characters_not_n_squared(monkeypa
 
     ratio = cost(256) / cost(32)
     assert ratio < 16, ratio
+
+
+def test_the_text_summary_of_a_firmware_run_is_the_firmwares(
+    plain: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    """The summary said the profile's Rust numeric (c28x-f32), "attitude steps" and "no truth in the
+    trace" (pitch_sweep has one: the globals just name no quaternion) for a C firmware run."""
+    fw = plain
+    rc = main(
+        [
+            "run",
+            str(PITCH_SWEEP),
+            "--firmware",
+            str(fw),
+            "--globals",
+            str(plain.with_name("globals.toml")),
+            "--until-s",
+            "1",
+        ]
+    )
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "numeric        the C firmware's own arithmetic: float and double of the host mode" in out, out
+    assert re.search(r"^emulated       0\.99\d s of virtual time, 249 ISR runs$", out, re.MULTILINE), out
+    assert "attitude error not compared: the globals file names no q0…q3" in out, out
+    assert re.search(
+        r"^firmware       .*: 249 ISR runs, \d+ register accesses, main ran to 0\.99\d", out, re.MULTILINE
+    )
