@@ -403,3 +403,21 @@ def test_polling_a_register_that_never_changes_names_the_loop(
     assert main(["build-firmware", str(src), "-o", str(out)]) == 0
     with pytest.raises(InputError, match=r"polls the register at 0x7011.*wait\.c:5"):
         _run(out, tmp_path, 1.0, state="uint16")
+
+
+def test_a_cproject_include_path_of_another_machine_is_the_projects_copy(tmp_path: Path):
+    """A .cproject written on the user's Windows machine names TI's folders where controlSUITE was
+    installed there; the project keeps a copy of them: that copy is on the path."""
+    project = tmp_path / "proj"
+    headers = project / "DSP2833x_headers" / "include"
+    headers.mkdir(parents=True)
+    (project / "main.c").write_text("void main(void) {}\n")
+    (project / ".project").write_text("<projectDescription><name>p</name></projectDescription>\n")
+    (project / ".cproject").write_text(
+        '<cproject><configuration name="Debug"><option superClass="x.compilerID.INCLUDE_PATH">'
+        '<listOptionValue value="&quot;C:\\ti\\controlSUITE\\device_support\\f2833x\\v140'
+        '\\DSP2833x_headers\\include&quot;"/>'
+        '<listOptionValue value="&quot;D:\\nowhere\\include&quot;"/>'
+        "</option></configuration></cproject>\n"
+    )
+    assert read_project([project]).include == [headers]
