@@ -57,7 +57,8 @@ class TableWriter:
     Use as a context manager: ``with TableWriter(path, schema, metadata) as w: w.write(cols)``. The
     file appears at ``path`` only when the block ends without an exception (else ``path`` is left as
     it was). The first block fixes the columns; every block is checked like a file's rows on load
-    (finite values, flags, truth norms, increasing time, gaps unless ``allow_gaps``).
+    (finite values, flags, truth norms, increasing time, gaps unless ``allow_gaps``). An HDF5 file
+    is held whole up to ``whole_rows`` rows (the whole-array writer's bytes), streamed past that.
     """
 
     def __init__(
@@ -68,8 +69,10 @@ class TableWriter:
         *,
         allow_gaps: bool = False,
         max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+        whole_rows: int = WHOLE_ROWS,
     ) -> None:
         self.path = Path(path)
+        self._whole_rows = whole_rows
         self.schema = schema
         self._ext = table_extension(self.path)
         self.metadata = {"format": schema.format, **{k: v for k, v in metadata.items() if k != "format"}}
@@ -133,7 +136,7 @@ class TableWriter:
             return
         self._pending.append(block)
         self._pending_rows += n
-        if self._h5 is None and self._pending_rows <= WHOLE_ROWS:
+        if self._h5 is None and self._pending_rows <= self._whole_rows:
             return
         while self._pending_rows >= BLOCK_ROWS:
             self._flush_chunk(BLOCK_ROWS)
