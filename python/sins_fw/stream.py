@@ -58,7 +58,8 @@ class TableWriter:
     file appears at ``path`` only when the block ends without an exception (else ``path`` is left as
     it was). The first block fixes the columns; every block is checked like a file's rows on load
     (finite values, flags, truth norms, increasing time, gaps unless ``allow_gaps``). An HDF5 file
-    is held whole up to ``whole_rows`` rows (the whole-array writer's bytes), streamed past that.
+    is held whole up to ``whole_rows`` rows (default :data:`WHOLE_ROWS`; the whole-array writer's
+    bytes), streamed past that.
     """
 
     def __init__(
@@ -69,10 +70,10 @@ class TableWriter:
         *,
         allow_gaps: bool = False,
         max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
-        whole_rows: int = WHOLE_ROWS,
+        whole_rows: int | None = None,
     ) -> None:
         self.path = Path(path)
-        self._whole_rows = whole_rows
+        self._whole_rows = WHOLE_ROWS if whole_rows is None else whole_rows
         self.schema = schema
         self._ext = table_extension(self.path)
         self.metadata = {"format": schema.format, **{k: v for k, v in metadata.items() if k != "format"}}
