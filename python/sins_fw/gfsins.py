@@ -121,8 +121,9 @@ def run(trace: PhysicalTrace, ticks: int, profile: Path | GfsinsProfile = PROFIL
 #: a quarter of a second keeps the stop well within a second whatever the settings.
 BLOCK_TICKS = 2000
 CALL_WALL_S = 0.25
-#: Rows of the trace read and pushed at a time.
-CHUNK_ROWS = 1 << 16
+#: Rows of the trace read and pushed at a time (16 s of a 1 kHz drive: with the core's window of
+#: samples and the inputs made from a chunk, ≈ 40 MB held).
+CHUNK_ROWS = 1 << 14
 
 
 def ticks_until(end_s: float, profile: GfsinsProfile) -> int:
