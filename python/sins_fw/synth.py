@@ -1233,6 +1233,9 @@ class Scenario:
     transport_rate: bool = False
     #: Whether the motion is made chunk by chunk (``rows``); else whole, once, then cut into chunks.
     chunked: bool = True
+    #: The most rows made at a time (a wide scenario's chunks are shorter, so that a chunk's
+    #: intermediates stay about the size of a 17-column trace's; the values do not depend on it).
+    max_chunk_rows: int = 1 << 16
 
 
 SCENARIOS: dict[str, Scenario] = {
@@ -1418,6 +1421,7 @@ SCENARIOS: dict[str, Scenario] = {
             ),
             "gyro-free vehicle board: straight line or turn, 7 ADXL345 at lever arm l, compass field, GPS",
             transport_rate=True,
+            max_chunk_rows=1 << 14,  # 41 columns and 7 force terms of 3 a row
         ),
     )
 }
@@ -1551,6 +1555,7 @@ def generate_chunks(
     bounded by the chunk, whatever the duration); concatenated, they are that trace value for value."""
     values = resolve(name, preset, **params)
     scenario = SCENARIOS[name]
+    rows = min(rows, scenario.max_chunk_rows)
     metadata = _metadata(name, values)
     whole = None if scenario.chunked else _motion(scenario, values)
     for start in itertools.count(0, rows):
