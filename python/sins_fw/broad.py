@@ -23,7 +23,7 @@ import numpy as np
 
 from sins_fw import earth
 from sins_fw.errors import TraceError
-from sins_fw.traces import PhysicalTrace, _concat, file_sha256, validated
+from sins_fw.traces import ATTITUDE_ONLY_KEY, PhysicalTrace, _concat, file_sha256, validated
 
 _DATASETS = {"imu_gyr": 3, "imu_acc": 3, "imu_mag": 3, "opt_quat": 4, "movement": 0}
 #: Largest denominator accepted when recovering the exact sample rate from the stored float.
@@ -95,6 +95,8 @@ def iter_broad(path: str | os.PathLike[str], rows: int | None = 1 << 16) -> Iter
             "frame": "sensor axes = IMU axes (myon aktos-t); truth C_b^n w.r.t. the optical ENU frame",
             "g0_m_s2": repr(earth.G0),
             "truth": "opt_quat unchanged (Hamilton, v_ENU = q v_IMU q*); NaN rows: markers lost",
+            # Attitude only: no position truth or aiding; `run` does not navigate it by default.
+            ATTITUDE_ONLY_KEY: "true",
         }
         step = max(n, 1) if rows is None else rows
         chunks = (_chunk(p, datasets, lo, min(lo + step, n), rate, metadata) for lo in range(0, n, step))

@@ -11,8 +11,10 @@ own epochs)."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import tomllib
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -115,6 +117,156 @@ def run(trace: PhysicalTrace, ticks: int, profile: Path | GfsinsProfile = PROFIL
     )
 
 
+#: Ticks the core runs per call at most (about 10 s of the board), and the wall time a call may
+#: take: the caller checks for a stop (Ctrl-C, SIGTERM) between calls, so a call that ends within
+#: a quarter of a second keeps the stop well within a second whatever the settings.
+BLOCK_TICKS = 2000
+CALL_WALL_S = 0.25
+#: Rows of the trace read and pushed at a time (16 s of a 1 kHz drive: with the core's window of
+#: samples and the inputs made from a chunk, ≈ 40 MB held).
+CHUNK_ROWS = 1 << 14
+
+
+def ticks_until(end_s: float, profile: GfsinsProfile) -> int:
+    """The node's timer ticks at or before ``end_s`` (s from the trace's first sample)."""
+    return max(0, int(np.floor((end_s - profile.start_s) / profile.period_s + 1e-9)) + 1)
+
+
+class Stream:
+    """The board run over a trace read a chunk at a time (``_core.GfsinsStream``): :meth:`parts`
+    yields the per-cycle arrays block by block (as :func:`run` gives them for the whole run, plus
+    ``truth_deg``: the vehicle's heading, pitch and roll at each tick, and ``events``: those of the
+    block); :meth:`budget` is both processors' budget once they are all taken. Memory holds a chunk
+    of the trace and a block of cycles whatever the trace's length; the caller may stop between
+    blocks (each comes within about :data:`CALL_WALL_S`)."""
+
+    def __init__(self, profile: GfsinsProfile, max_ticks: int | None = None) -> None:
+        self.profile = profile
+        self._core = _core.GfsinsStream(profile.text, profile.source, list(profile.overrides))
+        self._limit = (1 << 62) if max_ticks is None else max(0, int(max_ticks))
+        self.t0: float | None = None
+        #: The trace's last time (s from its first sample) pushed so far.
+        self.end_s = 0.0
+        self._gps: np.ndarray | None = None  # the last fix, held into the next chunk
+
+    def _push(self, chunk: PhysicalTrace) -> None:
+        if self.t0 is None:
+            self.t0 = float(chunk.t_s[0])
+        compass = compass_truth(chunk)  # checks that the trace has the array columns
+        assert chunk.array_g is not None
+        if chunk.gps is None or (self._gps is None and np.isnan(chunk.gps[0, 0])):
+            raise TraceError(
+                "gfsins: the trace needs a GPS stream with a fix on its first row (--gps-rate-hz)"
+            )
+        g = np.array(chunk.gps, dtype=np.float64)
+        if np.isnan(g[0, 0]):
+            g[0] = self._gps
+        has = ~np.isnan(g[:, 0])
+        index = np.maximum.accumulate(np.where(has, np.arange(len(g)), 0))
+        g = np.ascontiguousarray(g[index])
+        self._gps = g[-1].copy()
+        t = np.ascontiguousarray(chunk.t_s - self.t0)
+        self._core.push(t, np.ascontiguousarray(chunk.array_g), compass, g)
+        self.end_s = float(t[-1])
+
+    def _drain(self) -> Iterator[dict[str, Any]]:
+        while True:
+            part = dict(self._core.run(BLOCK_TICKS, self._limit, CALL_WALL_S))
+            if part["ticks"] == 0:
+                if part["events"]:
+                    yield part
+                return
+            yield part
+
+    def parts(self, chunks: Iterable[PhysicalTrace]) -> Iterator[dict[str, Any]]:
+        """Push ``chunks`` (consecutive chunks of one trace) and yield the blocks of cycles."""
+        for chunk in chunks:
+            if not len(chunk):
+                continue
+            self._push(chunk)
+            yield from self._drain()
+        self._core.end()
+        self._limit = min(self._limit, ticks_until(self.end_s, self.profile))
+        yield from self._drain()
+
+    @property
+    def ticks(self) -> int:
+        """Ticks run so far."""
+        return int(self._core.ticks())
+
+    def budget(self) -> dict[str, Any]:
+        """``budget``, ``stages``, ``classes``, ``period_s`` over the ticks run (as :func:`run`)."""
+        return dict(self._core.budget())
+
+
+class NavErrors:
+    """:func:`nav_errors` gathered block by block (a streamed run): per quantity the count, the sum
+    of squares and the largest magnitude; the truth GPS fixes wait until the tick that follows them."""
+
+    def __init__(self, period_s: float) -> None:
+        self.period_s = period_s
+        self.fused = False
+        self._fix_t = np.empty(0)
+        self._fix = np.empty((0, 5))
+        self._acc: dict[str, list[float]] = {}
+
+    def add_truth(self, chunk: PhysicalTrace, t0: float) -> None:
+        """The chunk's truth GPS rows (the trace's exact fixes)."""
+        if chunk.gps is None:
+            return
+        rows = np.flatnonzero(~np.isnan(chunk.gps[:, 0]))
+        self._fix_t = np.concatenate([self._fix_t, chunk.t_s[rows] - t0])
+        self._fix = np.concatenate([self._fix, chunk.gps[rows]])
+
+    def _add(self, name: str, e: np.ndarray) -> None:
+        if not len(e):
+            return
+        a = self._acc.setdefault(name, [0.0, 0.0, 0.0])
+        a[0] += len(e)
+        a[1] += float(np.sum(e * e))
+        a[2] = max(a[2], float(np.abs(e).max()))
+
+    def add(self, part: dict[str, Any]) -> None:
+        """One block of cycles (with ``truth_deg``)."""
+        t = part["t0_s"][:, 0]
+        if not len(t):
+            return
+        now = np.nan_to_num(part["nav_fused"][:, 0], nan=-1.0) == 1.0
+        fused = np.maximum.accumulate(now | self.fused)
+        self.fused = bool(fused[-1])
+        truth = part["truth_deg"]
+        att = part["nav_attitude_deg"]
+        self._add("roll_deg", (att[:, 0] - truth[:, 2])[fused])
+        self._add("pitch_deg", (att[:, 1] - truth[:, 1])[fused])
+        self._add("heading_deg", (np.mod(att[:, 2] - truth[:, 0] + 180.0, 360.0) - 180.0)[fused])
+        k = np.searchsorted(t, self._fix_t)
+        inside = k < len(t)
+        kk, g = k[inside], self._fix[inside]
+        ok = fused[kk] & (t[kk] - self._fix_t[inside] < self.period_s)
+        kk, g = kk[ok], g[ok]
+        self._fix_t, self._fix = self._fix_t[~inside], self._fix[~inside]
+        if len(kk):
+            pos = part["nav_pos"][kk]
+            r_e = 6_378_137.0
+            dn = np.radians(pos[:, 0] - g[:, 2]) * r_e
+            de = np.radians(pos[:, 1] - g[:, 3]) * r_e * np.cos(np.radians(g[:, 2]))
+            self._add("horizontal_m", np.hypot(dn, de))
+            self._add("vertical_m", pos[:, 2] - g[:, 4])
+            course = np.radians(g[:, 1])
+            v = part["nav_vel_enu"][kk]
+            ve, vn = g[:, 0] * np.sin(course), g[:, 0] * np.cos(course)
+            self._add("velocity_mps", np.sqrt((v[:, 0] - ve) ** 2 + (v[:, 1] - vn) ** 2 + v[:, 2] ** 2))
+
+    def result(self) -> dict[str, dict[str, float]]:
+        """As :func:`nav_errors`: per quantity ``rms`` and ``max_abs`` (empty: never fused)."""
+        order = ("roll_deg", "pitch_deg", "heading_deg", "horizontal_m", "vertical_m", "velocity_mps")
+        return {
+            name: {"rms": math.sqrt(a[1] / a[0]), "max_abs": a[2]}
+            for name in order
+            if (a := self._acc.get(name)) is not None and a[0]
+        }
+
+
 #: The trace columns the board needs (``sins-fw synth vehicle`` writes them all).
 NEEDED = "truth_q, the array columns array1…array7 and a GPS stream"
 
@@ -183,7 +335,8 @@ RUN_COLUMNS: tuple[Column, ...] = (
     _col("pitch_deg", "°", "the DSP's pitch (level formula on A7…A9)", nan=True),
     _col("roll_deg", "°", "the DSP's roll (level formula on A7…A9)", nan=True),
     *(
-        _col(name, unit, f"{c['meaning']} ({c['unit']})", nan=True)
+        # The navigation as computed (±inf too, should its state run away: nothing computed is lost).
+        Column(name, unit, f"{c['meaning']} ({c['unit']})", nan_allowed=True, nonfinite_allowed=True)
         for c in _core.GFSINS_COLUMNS
         for name, unit in c["file"]
     ),
@@ -212,6 +365,18 @@ def truth_tilt_deg(trace: PhysicalTrace, t_s: np.ndarray) -> np.ndarray:
     c = compass_truth(trace)
     i = np.clip(np.searchsorted(trace.t_s - trace.t_s[0], t_s, side="right") - 1, 0, len(trace) - 1)
     return c[i, 1:3]
+
+
+def save_metadata(profile: GfsinsProfile, extra: dict[str, str]) -> dict[str, str]:
+    """The run output's metadata."""
+    return {
+        "sample_rate_hz": str(profile.get("node.timer_hz")),
+        "profile": profile.source,
+        "overrides": json.dumps(list(profile.overrides), ensure_ascii=False),
+        "board": "gfsins",
+        "created_by": "sins-fw run",
+        **extra,
+    }
 
 
 def run_columns(out: dict[str, Any], truth_tilt: np.ndarray) -> dict[str, np.ndarray]:
@@ -254,15 +419,7 @@ def save_run(
 ) -> None:
     """Write the run output (``.csv`` or ``.h5``, by extension) atomically, as the other boards' run
     output is written (tablefile: metadata header, shortest round-trip floats)."""
-    meta = {
-        "sample_rate_hz": str(profile.get("node.timer_hz")),
-        "profile": profile.source,
-        "overrides": json.dumps(list(profile.overrides), ensure_ascii=False),
-        "board": "gfsins",
-        "created_by": "sins-fw run",
-        **extra,
-    }
-    write_table(path, RUN_SCHEMA, meta, run_columns(out, truth_tilt))
+    write_table(path, RUN_SCHEMA, save_metadata(profile, extra), run_columns(out, truth_tilt))
 
 
 def nav_errors(trace: PhysicalTrace, out: dict[str, Any]) -> dict[str, dict[str, float]]:

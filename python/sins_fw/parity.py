@@ -162,6 +162,11 @@ class BackendDiff:
     threshold: Threshold | None = None
     #: The limits exceeded, as ``name: measured > limit`` texts (empty: within every limit).
     exceeded: list[str] = field(default_factory=list)
+    #: The first step (its time, s) at which the difference was not finite (either run's quaternion
+    #: had left the finite numbers: its state ran away, e.g. the free-inertial vertical channel
+    #: overflowing single precision); None if every step was finite. The statistics above are those
+    #: of the finite steps before it, and the backend fails.
+    nonfinite_from_s: float | None = None
 
     @property
     def checked(self) -> bool:
@@ -188,19 +193,9 @@ def compare(run: Run, reference: Run, backend: str, threshold: Threshold | None 
         )
     if run.cycles == 0:
         raise InputError("no attitude step to compare: the trace is shorter than one update period")
-    angle = attitude_difference_deg(run.quat, reference.quat)
-    k = int(np.argmax(angle))
-    diff = BackendDiff(
-        backend=backend,
-        steps=run.cycles,
-        max_deg=float(angle[k]),
-        max_at_s=float(run.time_s[k]),
-        rms_deg=float(np.sqrt(np.mean(angle * angle))),
-        final_deg=float(angle[-1]),
-        drift_deg_per_h=drift_rate_deg_per_h(run.time_s, angle),
-        threshold=threshold,
-    )
-    return _checked(diff, float(run.time_s[-1]))
+    st = _Stats()
+    st.add(run.time_s, attitude_difference_deg(run.quat, reference.quat))
+    return st.diff(backend, threshold, float(run.time_s[-1]))
 
 
 @dataclass
@@ -265,8 +260,14 @@ class _Stats:
     """Running statistics of one backend's difference, merged chunk by chunk in a fixed order (so
     the result does not depend on how the work was scheduled): count, sum of squares, maximum and
     where, the last value, and the least-squares line of the angle against time (Chan et al.'s
-    pairwise update of the means, the sum of squares of t and the co-moment of t and the angle)."""
+    pairwise update of the means, the sum of squares of t and the co-moment of t and the angle).
 
+    Only the steps before the first non-finite difference count (one NaN would make every figure
+    NaN: a 24-hour run whose single-precision navigation overflowed reported nothing but NaN); the
+    first non-finite step's time is kept (:attr:`BackendDiff.nonfinite_from_s`)."""
+
+    total: int = 0
+    nonfinite_from_s: float | None = None
     n: int = 0
     sum_sq: float = 0.0
     max_deg: float = -math.inf
@@ -278,6 +279,14 @@ class _Stats:
     c_ta: float = 0.0
 
     def add(self, t: Array, angle: Array) -> None:
+        self.total += len(t)
+        if self.nonfinite_from_s is not None:
+            return
+        bad = ~np.isfinite(angle)
+        if bad.any():
+            i = int(np.argmax(bad))
+            self.nonfinite_from_s = float(t[i])
+            t, angle = t[:i], angle[:i]
         if not len(t):
             return
         k = int(np.argmax(angle))
@@ -299,19 +308,28 @@ class _Stats:
 
     def diff(self, backend: str, threshold: Threshold | None, duration_s: float) -> BackendDiff:
         drift = self.c_ta / self.m2_t * _SECONDS_PER_HOUR if self.n >= 2 and self.m2_t > 0 else 0.0
-        return _checked(
+        diff = _checked(
             BackendDiff(
                 backend=backend,
-                steps=self.n,
-                max_deg=self.max_deg,
+                steps=self.total,
+                max_deg=self.max_deg if self.n else math.nan,
                 max_at_s=self.max_at_s,
-                rms_deg=math.sqrt(self.sum_sq / self.n),
+                rms_deg=math.sqrt(self.sum_sq / self.n) if self.n else math.nan,
                 final_deg=self.final_deg,
                 drift_deg_per_h=drift,
                 threshold=threshold,
+                nonfinite_from_s=self.nonfinite_from_s,
             ),
-            duration_s,
+            # The limits that grow with the duration: for the span the figures cover.
+            duration_s if self.nonfinite_from_s is None else self.nonfinite_from_s,
         )
+        if self.nonfinite_from_s is not None:
+            diff.exceeded.insert(
+                0,
+                f"attitude not finite from {self.nonfinite_from_s:.6g} s on (the state left its range; the "
+                f"figures are those of the {self.n} finite steps before)",
+            )
+        return diff
 
 
 def _checked(diff: BackendDiff, duration_s: float) -> BackendDiff:
@@ -460,7 +478,7 @@ def parity(
             f"backends produced different numbers of attitude steps (left over: {counts}); the runs must "
             "produce the same steps at the same times to be compared"
         )
-    steps = next(iter(stats.values())).n if stats else 0
+    steps = next(iter(stats.values())).total if stats else 0
     if stats and steps == 0:
         raise InputError("no attitude step to compare: the trace is shorter than one update period")
     duration_s = last_tick_ps * 1e-12 if last_tick_ps is not None else 0.0

@@ -19,7 +19,7 @@ from sins_fw.errors import CheckFailed, InputError
 from sins_fw.harness import PS, Run, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
-from sins_fw.tablefile import Column, ReadOptions, Schema, open_table, rate_text, write_table
+from sins_fw.tablefile import BLOCK_ROWS, Column, ReadOptions, Schema, open_table, rate_text, write_table
 from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth, file_sha256
 
 RUN_FORMAT = "sins-fw-run-output/1"
@@ -33,9 +33,21 @@ CORE_FILE_COLUMNS: dict[str, list[tuple[str, str]]] = {
 }
 
 
+#: The state columns (core names): written as computed, ±inf and NaN included, once the state has
+#: left its range (the run's `state_out_of_range` event says at which step), so that nothing
+#: computed is lost.
+STATE_COLUMNS = frozenset({"cycle_quat", "cycle_euler_deg", "cycle_vel_enu", "cycle_pos"})
+
+
 def _core_file_columns(prefix: str, **kind: Any) -> list[Column]:
     return [
-        Column(name, unit, c["meaning"] if len(c["file"]) == 1 else f"{c['meaning']}: component {i}", **kind)
+        Column(
+            name,
+            unit,
+            c["meaning"] if len(c["file"]) == 1 else f"{c['meaning']}: component {i}",
+            **({"nonfinite_allowed": True} if c["name"] in STATE_COLUMNS else {}),
+            **kind,
+        )
         for c in _core.OUTPUT_COLUMNS
         if c["name"].startswith(prefix)
         for i, (name, unit) in enumerate(c["file"])
@@ -56,8 +68,8 @@ RUN_COLUMNS: tuple[Column, ...] = (
         for c in "wxyz"
     ),
     Column("moving", "0/1", "the trace's movement mask at the step time", "flag", "moving", False),
-    *_core_file_columns("dcm_", group="dcm", required=False),
-    *_core_file_columns("wing_", group="wing", required=False, nan_allowed=True),
+    *_core_file_columns("dcm_", group="dcm", required=False, nonfinite_allowed=True),
+    *_core_file_columns("wing_", group="wing", required=False, nan_allowed=True, nonfinite_allowed=True),
     Column(
         "truth_alpha_deg",
         "°",
@@ -201,7 +213,9 @@ class _Deferred:
 
     def _open(self) -> None:
         schema, meta = self._header()
-        self._writer = self._stack.enter_context(TableWriter(self.path, schema, meta, allow_gaps=self._gaps))
+        self._writer = self._stack.enter_context(
+            TableWriter(self.path, schema, meta, allow_gaps=self._gaps, whole_rows=self._whole_rows)
+        )
         held, self._held = self._held, []
         for p in held:
             self._write(p)
@@ -213,6 +227,9 @@ class _Deferred:
         self.rows = self._writer.rows
 
     _gaps = False
+    #: Rows an HDF5 output is held whole before it streams: one chunk (a run's output may be any
+    #: length; the memory it holds stays one chunk's, ≈ 13 MB for the 24 columns of a run output).
+    _whole_rows = BLOCK_ROWS
 
     def _ready(self, final: bool) -> bool:
         raise NotImplementedError
@@ -226,7 +243,7 @@ class _Deferred:
 
 class RunWriter(_Deferred):
     """`run --out` written as the run streams (the file :func:`save_run` writes of the whole run:
-    the same bytes for CSV and for HDF5 files of up to ``stream.WHOLE_ROWS`` steps). Steps may be
+    the same bytes for CSV and for HDF5 files of up to ``tablefile.BLOCK_ROWS`` steps). Steps may be
     missing (an overrun drops one): gaps are allowed, as :func:`load_run` allows them."""
 
     _gaps = True

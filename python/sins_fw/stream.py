@@ -49,6 +49,10 @@ from sins_fw.traces import _TraceFile
 #: Rows held before an HDF5 file is streamed: up to five chunks (6.7 min at 819.2 SPS, ≈ 45 MB for
 #: the 17 columns of a physical trace) are written whole, with the whole-array writer's bytes.
 WHOLE_ROWS = 5 * BLOCK_ROWS
+#: …and at most these bytes of columns (the 17 columns of a physical trace over WHOLE_ROWS rows): a
+#: wider table (the gyro-free vehicle's 41 columns) is held for fewer rows, so that what is held does
+#: not grow with the width (a 41-column trace held 327 680 rows, ≈ 107 MB and its copies).
+WHOLE_BYTES = WHOLE_ROWS * 17 * 8
 
 
 class TableWriter:
@@ -57,7 +61,9 @@ class TableWriter:
     Use as a context manager: ``with TableWriter(path, schema, metadata) as w: w.write(cols)``. The
     file appears at ``path`` only when the block ends without an exception (else ``path`` is left as
     it was). The first block fixes the columns; every block is checked like a file's rows on load
-    (finite values, flags, truth norms, increasing time, gaps unless ``allow_gaps``).
+    (finite values, flags, truth norms, increasing time, gaps unless ``allow_gaps``). An HDF5 file
+    is held whole up to ``whole_rows`` rows (default :data:`WHOLE_ROWS`; the whole-array writer's
+    bytes), streamed past that.
     """
 
     def __init__(
@@ -68,8 +74,10 @@ class TableWriter:
         *,
         allow_gaps: bool = False,
         max_gap_periods: float = DEFAULT_MAX_GAP_PERIODS,
+        whole_rows: int | None = None,
     ) -> None:
         self.path = Path(path)
+        self._whole_rows = whole_rows  # None: by the width of the first block (WHOLE_ROWS, WHOLE_BYTES)
         self.schema = schema
         self._ext = table_extension(self.path)
         self.metadata = {"format": schema.format, **{k: v for k, v in metadata.items() if k != "format"}}
@@ -119,6 +127,8 @@ class TableWriter:
         if self._names is None:
             self.schema.check_header(list(block), f"{self.path}")
             self._names = self.schema.order(list(block))
+        if self._whole_rows is None:
+            self._whole_rows = min(WHOLE_ROWS, WHOLE_BYTES // (8 * max(1, len(self._names))))
         if set(block) != set(self._names):
             raise TraceError(f"{self.path}: a block has columns {sorted(block)}; expected {self._names}")
         lengths = {len(a) for a in block.values()}
@@ -135,7 +145,7 @@ class TableWriter:
             return
         self._pending.append(block)
         self._pending_rows += n
-        if self._h5 is None and self._pending_rows <= WHOLE_ROWS:
+        if self._h5 is None and self._pending_rows <= (self._whole_rows or 0):
             return
         while self._pending_rows >= BLOCK_ROWS:
             self._flush_chunk(BLOCK_ROWS)

@@ -734,7 +734,12 @@ def vehicle_motion(
         heading=MotionProfile.build(math.radians(heading_deg), math.radians(turn_rate_dps), []),
         end=duration_s,
     )
-    m = _plan_motion(plan, latitude_deg, height_m, rate_hz, None)
+    # A chunk is made with two rows before it and one after (ω̇'s differences need its neighbours,
+    # the end's one-sided difference two), then cut: each row's values are the whole motion's.
+    n = _grid_rows(duration_s, rate_hz)
+    first, stop, _ = (rows or slice(None)).indices(n)
+    lo, hi = max(0, first - 2), min(n, stop + 1)
+    m = _plan_motion(plan, latitude_deg, height_m, rate_hz, None if (lo, hi) == (0, n) else slice(lo, hi))
     w = m.gyro_rad_s()
     dw = np.gradient(w, m.t_s, axis=0, edge_order=2) if len(m.t_s) > 2 else np.zeros_like(w)
     f_c = m.specific_force()
@@ -743,14 +748,60 @@ def vehicle_motion(
         r = np.broadcast_to(lever_arm_m * u, w.shape)
         forces.append(f_c + np.cross(dw, r) + np.cross(w, np.cross(w, r)))
     m.array_g = np.concatenate(forces, axis=1) / earth.G0
-    return m if rows is None else m.rows(rows)
+    return m.rows(slice(first - lo, max(first - lo, stop - lo)))
+
+
+#: The displacement at the last rows of the last chunk of a flight plan's grid made (row → value),
+#: by plan, so that the next chunk (which may start a few rows back: the vehicle's halo) continues
+#: the sum from there (:func:`_displacement_at`).
+_CARRY: dict[tuple[Any, ...], dict[int, Array]] = {}
+_CARRY_ROWS = 4
+
+
+def _steps(plan: _FlightPlan, t: Array) -> Array:
+    """The displacement over each interval of ``t``: exact-to-rounding Gauss–Legendre quadrature of
+    the analytic velocity (each row depends on its interval's two times only)."""
+    dt = np.diff(t)
+    nodes = t[:-1, None] + dt[:, None] * _GL_X[None, :]
+    v_nodes = plan.velocity(nodes)[0]
+    return np.einsum("k,nkc->nc", _GL_W, v_nodes) * dt[:, None]
+
+
+def _plan_key(plan: _FlightPlan, rate_hz: str) -> tuple[Any, ...]:
+    profiles = (plan.speed, plan.gamma, plan.heading)
+    return (str(rate_hz), plan.end, *(a.tobytes() for p in profiles for a in vars(p).values()))
+
+
+def _displacement_at(plan: _FlightPlan, rate_hz: str, row: int) -> Array:
+    """The displacement at ``row`` of the grid: the sequential sum of the steps before it, the very
+    additions (in the same order) that ``np.cumsum`` over the whole grid makes, so that a chunked
+    motion is the whole motion bit for bit. From the last chunk's end when that is ``row``; else
+    summed from the start, a chunk of steps at a time."""
+    kept = _CARRY.get(_plan_key(plan, rate_hz), {})
+    at = max((r for r in kept if r <= row), default=0)
+    disp = kept[at] if at in kept else np.zeros(3)
+    while at < row:
+        stop = min(row, at + (1 << 16))
+        t = sample_times(plan.end, rate_hz, slice(at, stop + 1))
+        disp = np.cumsum(np.vstack([disp[None, :], _steps(plan, t)]), axis=0)[-1]
+        at = stop
+    return disp
 
 
 def _plan_motion(
     plan: _FlightPlan, latitude_deg: float, height_m: float, rate_hz: str, rows: slice | None
 ) -> Motion:
-    """The motion of a flight plan (see :func:`flight_motion`)."""
-    t = sample_times(plan.end, rate_hz)
+    """The motion of a flight plan (see :func:`flight_motion`), or of ``rows`` of it alone (the
+    displacement carried from the previous rows: the same values as the whole motion's rows)."""
+    if rows is None:
+        t = sample_times(plan.end, rate_hz)
+        disp0, first = np.zeros(3), 0
+    else:
+        first, stop, _ = rows.indices(_grid_rows(plan.end, rate_hz))
+        t = sample_times(plan.end, rate_hz, slice(first, stop))
+        if not len(t):
+            return _empty_motion()
+        disp0 = _displacement_at(plan, rate_hz, first)
     v_n, a_n = plan.velocity(t)
     _, v, dv, _ = plan.speed(t)
     _, gam, dgam, _ = plan.gamma(t)
@@ -771,12 +822,16 @@ def _plan_motion(
     )
     w_nb = quat.rotate(quat.conjugate(qx), w_inner) + np.stack([dbank, zeros, zeros], axis=1)
 
-    # Position: exact-to-rounding quadrature of the analytic velocity over each sample interval.
-    dt = np.diff(t)
-    nodes = t[:-1, None] + dt[:, None] * _GL_X[None, :]
-    v_nodes = plan.velocity(nodes)[0]
-    step = np.einsum("k,nkc->nc", _GL_W, v_nodes) * dt[:, None]
-    disp = np.vstack([np.zeros((1, 3)), np.cumsum(step, axis=0)])
+    # Position: exact-to-rounding quadrature of the analytic velocity over each sample interval,
+    # summed in order from the first row (a chunk continues the sum of the rows before it).
+    if rows is None:
+        disp = np.vstack([np.zeros((1, 3)), np.cumsum(_steps(plan, t), axis=0)])
+    else:
+        disp = np.cumsum(np.vstack([disp0[None, :], _steps(plan, t)]), axis=0)
+        _CARRY.clear()  # one plan streamed at a time: the carry of its last chunk
+        _CARRY[_plan_key(plan, rate_hz)] = {
+            first + i: disp[i].copy() for i in range(max(0, len(t) - _CARRY_ROWS), len(t))
+        }
     lat0 = math.radians(latitude_deg)
     r_n, r_e = (float(r) for r in earth.radii(lat0))
     lat = lat0 + disp[:, 1] / (r_n + height_m)
@@ -800,7 +855,27 @@ def _plan_motion(
         w_en_n=w_en,
         east_m=disp[:, 0],
     )
-    return whole if rows is None else whole.rows(rows)
+    return whole
+
+
+def _grid_rows(duration_s: float, rate_hz: str) -> int:
+    """Rows of the grid of ``duration_s`` at ``rate_hz`` (as :func:`sample_times` counts them)."""
+    return math.floor(Fraction(str(duration_s)) * parse_rate(str(rate_hz), "synth"))
+
+
+def _empty_motion() -> Motion:
+    z1, z3 = np.zeros(0), np.zeros((0, 3))
+    return Motion(
+        t_s=z1,
+        q_nb=np.zeros((0, 4)),
+        w_nb_b=z3,
+        v_n=z3,
+        a_n=z3,
+        lat_rad=z1,
+        height_m=z1,
+        w_en_n=z3,
+        east_m=z1,
+    )
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -1158,6 +1233,9 @@ class Scenario:
     transport_rate: bool = False
     #: Whether the motion is made chunk by chunk (``rows``); else whole, once, then cut into chunks.
     chunked: bool = True
+    #: The most rows made at a time (a wide scenario's chunks are shorter, so that a chunk's
+    #: intermediates stay about the size of a 17-column trace's; the values do not depend on it).
+    max_chunk_rows: int = 1 << 16
 
 
 SCENARIOS: dict[str, Scenario] = {
@@ -1262,7 +1340,6 @@ SCENARIOS: dict[str, Scenario] = {
             ),
             "level coordinated turn at constant speed and rate (with transport rate)",
             transport_rate=True,
-            chunked=False,
         ),
         Scenario(
             "twelve-position",
@@ -1344,7 +1421,7 @@ SCENARIOS: dict[str, Scenario] = {
             ),
             "gyro-free vehicle board: straight line or turn, 7 ADXL345 at lever arm l, compass field, GPS",
             transport_rate=True,
-            chunked=False,
+            max_chunk_rows=1 << 14,  # 41 columns and 7 force terms of 3 a row
         ),
     )
 }
@@ -1478,14 +1555,19 @@ def generate_chunks(
     bounded by the chunk, whatever the duration); concatenated, they are that trace value for value."""
     values = resolve(name, preset, **params)
     scenario = SCENARIOS[name]
+    rows = min(rows, scenario.max_chunk_rows)
     metadata = _metadata(name, values)
     whole = None if scenario.chunked else _motion(scenario, values)
     for start in itertools.count(0, rows):
         cut = slice(start, start + rows)
         motion = _motion(scenario, values, cut) if whole is None else whole.rows(cut)
-        if len(motion.t_s):
-            yield to_trace(motion, metadata, values)
-        if len(motion.t_s) < rows:
+        n = len(motion.t_s)
+        chunk = to_trace(motion, metadata, values) if n else None
+        del motion  # not held while the next chunk is made
+        if chunk is not None:
+            yield chunk
+            del chunk
+        if n < rows:
             return
 
 

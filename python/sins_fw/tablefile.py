@@ -64,6 +64,9 @@ class Column:
     group: str = ""  # columns of one group are all present or all absent
     required: bool = True
     nan_allowed: bool = False
+    #: Any value, ±inf and NaN included: a computed state written as it was once it left its range
+    #: (the run output's state columns: the run's events say where it left it).
+    nonfinite_allowed: bool = False
 
     @property
     def stem(self) -> str:
@@ -552,7 +555,7 @@ class Checker:
         row0 = self.rows_seen
         for name, arr in cols.items():
             c = self.schema.column(name)
-            if c.kind == "float":
+            if c.kind == "float" and not c.nonfinite_allowed:
                 bad = ~np.isfinite(arr)
                 if c.nan_allowed:
                     bad &= ~np.isnan(arr)

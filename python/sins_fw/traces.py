@@ -48,6 +48,13 @@ from sins_fw.tablefile import (
 
 PHYSICAL_FORMAT = "sins-fw-physical-trace/1"
 RAW_FORMAT = "sins-fw-raw-register-trace/1"
+#: The metadata key that marks a physical trace attitude-only (``true``: a recording with no
+#: navigation aiding and a truth of attitude only, as ``sins-fw import broad`` writes): ``sins-fw run``
+#: then runs it with :data:`ATTITUDE_ONLY_SETTING` unless ``--set firmware.navigation=…`` is given
+#: (the free-inertial vertical channel would run away: a `state_out_of_range` error).
+ATTITUDE_ONLY_KEY = "attitude_only"
+#: The setting of an attitude-only run.
+ATTITUDE_ONLY_SETTING = "firmware.navigation=false"
 #: Allowed deviation of a truth quaternion's norm from 1 (float64 data, written with full precision).
 TRUTH_NORM_TOLERANCE = 1e-6
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import itertools
 from collections import Counter
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -20,7 +21,6 @@ from sins_fw.cli.common import (
     add_profile_options,
     add_read_options,
     check_error_counts,
-    check_events,
     emit,
     exit_epilog,
     profile_file,
@@ -31,10 +31,14 @@ from sins_fw.cli.stop import check_stop
 from sins_fw.earth import earth_rate_place
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import CHUNK_ROWS, check_until_s, emulate
+from sins_fw.profile import load_profile
 from sins_fw.report import ALIGNMENTS, render
 from sins_fw.report_stream import RunSummary
 from sins_fw.run_output import RawWriter, RunWriter, trace_reference
+from sins_fw.stream import TableWriter
 from sins_fw.traces import (
+    ATTITUDE_ONLY_KEY,
+    ATTITUDE_ONLY_SETTING,
     DEFAULT_MAX_GAP_PERIODS,
     PhysicalTrace,
     ReadOptions,
@@ -207,6 +211,9 @@ def run(args: argparse.Namespace) -> int:
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
     profile = profile_from_args(args)
+    attitude_only = _attitude_only(args)
+    if attitude_only:
+        profile = load_profile(args.profile, [*args.overrides, ATTITUDE_ONLY_SETTING])
     out_existed = args.out is not None and args.out.exists()
     span = progress.trace_span_s(args.trace)
     reached = _Reached(span)
@@ -280,6 +287,12 @@ def run(args: argparse.Namespace) -> int:
         text += f"\nearth rate     {summary['earth_rate']['note']}"
     if replayed:
         text = "replayed       raw-register trace: recorded words, no device model\n" + text
+    if attitude_only:
+        summary["attitude_only"] = True
+        text = (
+            f"attitude only  the trace's metadata marks it attitude-only ({ATTITUDE_ONLY_KEY}): run with "
+            f"{ATTITUDE_ONLY_SETTING} (--set firmware.navigation=true navigates anyway)\n" + text
+        )
     if args.out is not None:
         text += f"\nwrote          {args.out} ({summary['cycles']} steps)"
     if args.raw_out is not None:
@@ -287,6 +300,19 @@ def run(args: argparse.Namespace) -> int:
     emit(args, summary, text)
     check_error_counts(summary_acc.error_counts(), summary_acc.first_error())
     return 0
+
+
+def _attitude_only(args: argparse.Namespace) -> bool:
+    """Whether the trace's metadata marks it attitude-only (``sins-fw import broad``: no navigation
+    aiding, so the free-inertial vertical channel would run away) and no ``--set`` chooses
+    ``firmware.navigation`` itself: the run then does not navigate."""
+    if any(o.split("=", 1)[0].strip() == "firmware.navigation" for o in args.overrides):
+        return False
+    try:
+        meta = read_metadata(args.trace)
+    except (TraceError, OSError):
+        return False
+    return meta.get(ATTITUDE_ONLY_KEY, "").strip().lower() == "true"
 
 
 def _raw_metadata(args: argparse.Namespace) -> dict[str, str]:
@@ -456,63 +482,119 @@ def _run_gfsins(args: argparse.Namespace) -> int:
             f"{args.trace}: a raw-register trace holds ADIS16407 words; the gyro-free board needs a "
             f"physical trace with {gfsins.NEEDED} (sins-fw synth vehicle)"
         )
-    trace = PhysicalTrace.load(args.trace, allow_gaps=args.allow_gaps, read=read_options(args))
-    if trace.array_g is None or trace.truth_q is None or trace.gps is None:
-        groups = (("truth_q*", trace.truth_q), ("array*", trace.array_g), ("gps_*", trace.gps))
+    read = read_options(args)
+    chunks = PhysicalTrace.iter_chunks(args.trace, gfsins.CHUNK_ROWS, allow_gaps=args.allow_gaps, read=read)
+    head = next(iter(chunks), None)
+    if head is None or head.array_g is None or head.truth_q is None or head.gps is None:
+        groups = (("truth_q*", None if head is None else head.truth_q),
+                  ("array*", None if head is None else head.array_g),
+                  ("gps_*", None if head is None else head.gps))  # fmt: skip
         missing = [n for n, v in groups if v is None]
         raise TraceError(
             f"{args.trace}: the gyro-free board needs {gfsins.NEEDED}; missing column group(s): "
             f"{', '.join(missing)} (make one with `sins-fw synth vehicle`)"
         )
-    ticks = gfsins.ticks_in(trace, prof)
+    until = None
     if args.until_s is not None:
-        ticks = min(ticks, max(0, int((args.until_s - prof.start_s) / prof.period_s + 1e-9) + 1))
-    if ticks == 0:
-        raise TraceError(
-            f"{args.trace}: {float(trace.t_s[-1] - trace.t_s[0]):.6g} s long: the node's first tick is at "
-            f"{prof.start_s:g} s (node.start_ms)"
-        )
-    try:
-        out = gfsins.run(trace, ticks, prof)
-    except TraceError as e:
-        raise TraceError(f"{args.trace}: {e}") from None
-    t = out["t0_s"][:, 0]
-    truth = gfsins.truth_tilt_deg(trace, t)
-    if args.out is not None:
-        extra = {**trace_reference(args.trace, args.out)}
-        if args.until_s is not None:
-            extra["until_s"] = repr(args.until_s)
-        gfsins.save_run(args.out, out, truth, prof, extra)
-    events = out["events"]
-    kinds = Counter(str(e["kind"]) for e in events)
-    first = {k: next(e for e in events if e["kind"] == k) for k in kinds}
-    accepted = ~np.isnan(out["t_irq_s"][:, 0])
-    err = out["tilt_deg"][accepted] - truth[accepted]
+        until = max(0, int((args.until_s - prof.start_s) / prof.period_s + 1e-9) + 1)
+    stream = gfsins.Stream(prof, until)
+    nav = gfsins.NavErrors(prof.period_s)
+    kinds: Counter[str] = Counter()
+    first_of: dict[str, dict[str, Any]] = {}
+    error_counts: Counter[str] = Counter()
+    first_error: dict[str, Any] | None = None
+    tilt_acc = np.zeros((2, 3))  # pitch, roll: count, sum of squares, max |error|
+    totals = {"accepted": 0, "refused": 0, "gps": 0, "compass": 0, "flushes": 0}
+    last_t = 0.0
+    out_existed = args.out is not None and args.out.exists()
+
+    def chunks_seen() -> Iterator[PhysicalTrace]:
+        for chunk in itertools.chain([head], chunks):
+            nav.add_truth(chunk, float(head.t_s[0]))
+            yield chunk
+
+    with contextlib.ExitStack() as files:
+        writer = None
+        if args.out is not None:
+            extra = {**trace_reference(args.trace, args.out)}
+            if args.until_s is not None:
+                extra["until_s"] = repr(args.until_s)
+            meta = gfsins.save_metadata(prof, extra)
+            writer = files.enter_context(TableWriter(args.out, gfsins.RUN_SCHEMA, meta, allow_gaps=True))
+        try:
+            for part in stream.parts(chunks_seen()):
+                check_stop()
+                for e in part["events"]:
+                    k = str(e["kind"])
+                    kinds[k] += 1
+                    first_of.setdefault(k, e)
+                    if e["severity"] == "error":
+                        error_counts[k] += 1
+                        first_error = first_error or e
+                n = part["ticks"]
+                if not n:
+                    continue
+                t = part["t0_s"][:, 0]
+                last_t = float(t[-1])
+                truth = part["truth_deg"][:, 1:3]
+                if writer is not None:
+                    writer.write(gfsins.run_columns(part, truth))
+                accepted = ~np.isnan(part["t_irq_s"][:, 0])
+                err = part["tilt_deg"][accepted] - truth[accepted]
+                if len(err):
+                    tilt_acc[:, 0] += len(err)
+                    tilt_acc[:, 1] += np.sum(err * err, axis=0)
+                    tilt_acc[:, 2] = np.maximum(tilt_acc[:, 2], np.abs(err).max(axis=0))
+                flags = part["flags"][:, 0].astype(int)
+                totals["accepted"] += int(accepted.sum())
+                totals["refused"] += int((~accepted).sum())
+                totals["gps"] += int(np.count_nonzero(flags & 2))
+                totals["compass"] += int(np.count_nonzero(flags & 1))
+                totals["flushes"] = max(
+                    totals["flushes"], int(np.nan_to_num(part["dsp_flushes"][:, 0]).max())
+                )
+                nav.add(part)
+            ticks = stream.ticks
+            if ticks == 0:
+                raise TraceError(
+                    f"{args.trace}: {stream.end_s:.6g} s long: the node's first tick is at "
+                    f"{prof.start_s:g} s (node.start_ms)"
+                )
+        except KeyboardInterrupt as e:
+            how = "not written" if not out_existed else "left as it was"
+            where = f"; {args.out} {how}" if args.out is not None else ""
+            raise type(e)(f"stopped after {stream.ticks} cycles ({last_t:.3f} s){where}") from None
+        except TraceError as e:
+            if str(e).startswith(str(args.trace)):
+                raise
+            raise TraceError(f"{args.trace}: {e}") from None
+    budget = stream.budget()
+    out: dict[str, Any] = budget
     tilt = {
-        name: {"rms_deg": float(np.sqrt(np.mean(e**2))), "max_abs_deg": float(np.abs(e).max())}
-        for name, e in zip(("pitch", "roll"), err.T, strict=True)
-    } if accepted.any() else {}  # fmt: skip
+        name: {"rms_deg": float(np.sqrt(a[1] / a[0])), "max_abs_deg": float(a[2])}
+        for name, a in zip(("pitch", "roll"), tilt_acc, strict=True)
+    } if tilt_acc[0, 0] else {}  # fmt: skip
     summary = {
         "trace": str(args.trace),
         "profile": prof.source,
         "overrides": list(prof.overrides),
         "board": "gfsins",
         "cycles": ticks,
-        "virtual_time_s": float(t[-1]),
-        "packets_accepted": int(accepted.sum()),
-        "packets_refused": int((~accepted).sum()),
-        "gps_fixes": int(np.count_nonzero(out["flags"][:, 0].astype(int) & 2)),
-        "compass_updates": int(np.count_nonzero(out["flags"][:, 0].astype(int) & 1)),
+        "virtual_time_s": last_t,
+        "packets_accepted": totals["accepted"],
+        "packets_refused": totals["refused"],
+        "gps_fixes": totals["gps"],
+        "compass_updates": totals["compass"],
         "tilt_error": tilt,
-        "navigation_error": gfsins.nav_errors(trace, out),
-        "denormals_flushed": int(np.nan_to_num(out["dsp_flushes"][:, 0]).max(initial=0)),
-        "events": {k: {"count": n, "first": first[k]} for k, n in kinds.items()},
+        "navigation_error": nav.result(),
+        "denormals_flushed": totals["flushes"],
+        "events": {k: {"count": n, "first": first_of[k]} for k, n in kinds.items()},
         "budget": {"period_s": out["period_s"], "classes": out["classes"], "rows": gfsins.budget_rows(out)},
     }
     lines = [
         f"trace          {args.trace}",
         f"profile        {prof.source} {' '.join(prof.overrides)}".rstrip(),
-        f"cycles         {ticks} of {out['period_s'] * 1e3:g} ms, the last at {t[-1]:.3f} s; packets "
+        f"cycles         {ticks} of {out['period_s'] * 1e3:g} ms, the last at {last_t:.3f} s; packets "
         f"{summary['packets_accepted']} accepted, {summary['packets_refused']} refused by the DSP; "
         f"{summary['compass_updates']} compass updates, {summary['gps_fixes']} GPS fixes",
     ]
@@ -535,7 +617,7 @@ def _run_gfsins(args: argparse.Namespace) -> int:
         lines.append("navigation     never fused (no compass reading and valid GPS fix reached the DSP)")
     if kinds:
         lines.append("events         " + ", ".join(f"{k} ×{n}" for k, n in kinds.items()))
-        lines += [f"  first {k} at {first[k]['t_s']:.6f} s: {first[k]['message']}" for k in kinds]
+        lines += [f"  first {k} at {first_of[k]['t_s']:.6f} s: {first_of[k]['message']}" for k in kinds]
     else:
         lines.append("events         none")
     lines += ["budget", *("  " + x for x in gfsins.render_budget(out))]
@@ -543,5 +625,5 @@ def _run_gfsins(args: argparse.Namespace) -> int:
         lines.append(f"wrote          {args.out} ({ticks} cycles)")
         summary["out"] = str(args.out)
     emit(args, summary, "\n".join(lines))
-    check_events(events)
+    check_error_counts(error_counts, first_error)
     return 0

@@ -225,9 +225,20 @@ pub const KINDS: &[EventKind] = &[
         "the firmware state (quaternion norm, velocity, position) left its valid range",
     ),
     // The emulator's scheduling of the timer interrupt.
-    kind("overrun", Error, "emulator", "a timer tick arrived while the previous ISR was still running"),
+    kind(
+        "overrun",
+        Error,
+        "emulator",
+        "a processor missed its deadline: a timer tick (or, on the gyro-free board, the next packet) arrived while the previous handler was still running",
+    ),
     kind("tick_lost", Error, "emulator", "a timer tick arrived while the previous one was still pending: lost"),
     kind("nested_interrupt", Warning, "emulator", "a timer tick preempted the running ISR and ran inside it"),
+    kind(
+        "no_data",
+        Error,
+        "emulator",
+        "the reads have found no new sample from the part for a second (or none in a whole run): the firmware reads no data",
+    ),
     // The Python harness.
     kind(
         "input_gap",

@@ -41,11 +41,28 @@ pub fn gfsins_run<'py>(
     gps: PyReadonlyArray2<'_, f64>,
     ticks: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let (times, rows) = truth_rows(&t_s, &array_g, &compass, &gps)?;
+    let (steps, budget, events) = guard(|| -> Result<_, Error> {
+        let profile = GfsinsProfile::parse_with(text, source, &overrides)?;
+        let samples = Samples::new(times, rows)?;
+        gfsins::run(&profile, samples.source(), ticks)
+    })?
+    .map_err(to_py)?;
+    steps_dict(py, &steps, &budget, &events)
+}
+
+/// The input arrays as vehicle samples (checked: shapes, times, GPS rows filled).
+fn truth_rows(
+    t_s: &PyReadonlyArray1<'_, f64>,
+    array_g: &PyReadonlyArray2<'_, f64>,
+    compass: &PyReadonlyArray2<'_, f64>,
+    gps: &PyReadonlyArray2<'_, f64>,
+) -> PyResult<(Vec<Ps>, Vec<Truth>)> {
     let t = t_s.as_array();
     let n = t.len();
-    shape(&array_g, n, 21, "array_g")?;
-    shape(&compass, n, 9, "compass")?;
-    shape(&gps, n, 5, "gps")?;
+    shape(array_g, n, 21, "array_g")?;
+    shape(compass, n, 9, "compass")?;
+    shape(gps, n, 5, "gps")?;
     let (a, c, g) = (array_g.as_array(), compass.as_array(), gps.as_array());
     if let Some(i) = (0..n).find(|&i| !(t[i].is_finite() && t[i] >= 0.0)) {
         return Err(to_py(Error::Input(format!("gfsins input `t_s`: row {i} = {}, expected a time ≥ 0 s", t[i]))));
@@ -76,13 +93,7 @@ pub fn gfsins_run<'py>(
         })
         .collect();
     let times: Vec<u64> = t.iter().map(|&s| s_to_ps(s)).collect();
-    let (steps, budget, events) = guard(|| -> Result<_, Error> {
-        let profile = GfsinsProfile::parse_with(text, source, &overrides)?;
-        let samples = Samples::new(times, rows)?;
-        gfsins::run(&profile, samples.source(), ticks)
-    })?
-    .map_err(to_py)?;
-    steps_dict(py, &steps, &budget, &events)
+    Ok((times, rows))
 }
 
 /// A navigation column: its name, its width and its value (row of the DSP's output, index in the row).
@@ -95,11 +106,20 @@ fn steps_dict<'py>(
     budget: &Budget,
     events: &[sins_core::events::Event],
 ) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    step_columns(py, steps, &d)?;
+    budget_items(py, budget, &d)?;
+    let ev = events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+    d.set_item("events", ev)?;
+    Ok(d)
+}
+
+/// The per-cycle arrays of `steps` into `d`.
+fn step_columns<'py>(py: Python<'py>, steps: &[gfsins::Step], d: &Bound<'py, PyDict>) -> PyResult<()> {
     let m = steps.len();
     let cols = |w: usize, f: &dyn Fn(&gfsins::Step, usize) -> f64| -> Array2<f64> {
         Array2::from_shape_fn((m, w), |(i, j)| f(&steps[i], j))
     };
-    let d = PyDict::new(py);
     let nan = f64::NAN;
     let span = |(a, b): (Ps, Ps), j: usize| if a == b { nan } else { ps_to_s(if j == 0 { a } else { b }) };
     d.set_item("t0_s", cols(1, &|s, _| ps_to_s(s.timing.t0)).into_pyarray(py))?;
@@ -144,6 +164,11 @@ fn steps_dict<'py>(
     d.set_item("nmea_bytes", cols(1, &|s, _| f64::from(s.timing.nmea_bytes)).into_pyarray(py))?;
     d.set_item("nmea_sentences", cols(1, &|s, _| f64::from(s.timing.nmea_sentences)).into_pyarray(py))?;
     d.set_item("compass_phase", cols(1, &|s, _| f64::from(s.timing.compass_phase)).into_pyarray(py))?;
+    Ok(())
+}
+
+/// The budget per processor and rate class, by stage, the classes and the period into `d`.
+fn budget_items<'py>(py: Python<'py>, budget: &Budget, d: &Bound<'py, PyDict>) -> PyResult<()> {
     let load = |l: &gfsins::ClassLoad| -> PyResult<Bound<'py, PyDict>> {
         let e = PyDict::new(py);
         e.set_item("ticks", l.ticks)?;
@@ -177,9 +202,95 @@ fn steps_dict<'py>(
     d.set_item("stages", stages)?;
     d.set_item("classes", CLASSES.to_vec())?;
     d.set_item("period_s", ps_to_s(budget.period_ps))?;
-    let ev = events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
-    d.set_item("events", ev)?;
-    Ok(d)
+    Ok(())
+}
+
+/// The gyro-free board run over input pushed in chunks (`sins_core::firmware::gfsins::Streamed`):
+/// `push` chunks of the vehicle (as `gfsins_run` takes them, times from 0 increasing across chunks),
+/// `end` the input, and `run` blocks of ticks; each `run` returns within about `wall_s` seconds so
+/// that the caller can stop between calls (Ctrl-C, SIGTERM), and memory holds a few seconds of input
+/// and one block of steps, whatever the run's length.
+#[pyclass(module = "sins_fw._core")]
+pub struct GfsinsStream {
+    inner: std::sync::Mutex<gfsins::Streamed>,
+}
+
+impl GfsinsStream {
+    fn inner(&self) -> std::sync::MutexGuard<'_, gfsins::Streamed> {
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+#[pymethods]
+impl GfsinsStream {
+    /// The board of profile `text` (named `source` in messages; `overrides` as `--set` gives them).
+    #[new]
+    fn new(text: &str, source: &str, overrides: Vec<String>) -> PyResult<Self> {
+        let s = guard(|| -> Result<_, Error> {
+            let profile = GfsinsProfile::parse_with(text, source, &overrides)?;
+            gfsins::Streamed::new(&profile)
+        })?
+        .map_err(to_py)?;
+        Ok(GfsinsStream { inner: std::sync::Mutex::new(s) })
+    }
+
+    /// Append a chunk of the vehicle (see `gfsins_run`).
+    fn push(
+        &self,
+        t_s: PyReadonlyArray1<'_, f64>,
+        array_g: PyReadonlyArray2<'_, f64>,
+        compass: PyReadonlyArray2<'_, f64>,
+        gps: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<()> {
+        let (times, rows) = truth_rows(&t_s, &array_g, &compass, &gps)?;
+        let mut inner = self.inner();
+        guard(|| inner.push(&times, &rows))?.map_err(to_py)
+    }
+
+    /// Declare the end of the input.
+    fn end(&self) {
+        self.inner().end_input();
+    }
+
+    /// Run at most `max_ticks` ticks the input reaches, while fewer than `limit` have run in all,
+    /// for about `wall_s` seconds: the per-cycle arrays (as `gfsins_run` gives them, plus
+    /// `truth_deg`, (n, 3): the vehicle's heading, pitch and roll at each tick) and `events`, the
+    /// events since the last call. `ticks` 0: no tick could run until more input comes.
+    fn run<'py>(&self, py: Python<'py>, max_ticks: u64, limit: u64, wall_s: f64) -> PyResult<Bound<'py, PyDict>> {
+        let wall = std::time::Duration::from_secs_f64(wall_s.clamp(0.0, 3600.0));
+        let mut inner = self.inner();
+        let (steps, events) = guard(|| -> Result<_, Error> {
+            let steps = inner.run(max_ticks, limit, wall)?;
+            Ok((steps, inner.drain_events()))
+        })?
+        .map_err(to_py)?;
+        let d = PyDict::new(py);
+        let plain: Vec<gfsins::Step> = steps.iter().map(|s| s.step).collect();
+        step_columns(py, &plain, &d)?;
+        let truth = Array2::from_shape_fn((steps.len(), 3), |(i, j)| {
+            let c = &steps[i].truth.compass;
+            [c.heading_deg, c.pitch_deg, c.roll_deg][j]
+        });
+        d.set_item("truth_deg", truth.into_pyarray(py))?;
+        d.set_item("ticks", steps.len())?;
+        let ev = events.iter().map(|e| event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+        d.set_item("events", ev)?;
+        Ok(d)
+    }
+
+    /// Ticks run so far.
+    fn ticks(&self) -> u64 {
+        self.inner().ticks()
+    }
+
+    /// Both processors' budget over the ticks run so far: `budget`, `stages`, `classes`, `period_s`
+    /// as `gfsins_run` gives them.
+    fn budget<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let b = self.inner().budget();
+        let d = PyDict::new(py);
+        budget_items(py, &b, &d)?;
+        Ok(d)
+    }
 }
 
 /// The profile `text` with `overrides`, checked, every default filled in, as TOML text.

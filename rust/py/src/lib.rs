@@ -381,6 +381,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nmea_read, m)?)?;
     m.add_function(wrap_pyfunction!(geomag::geomag_spin_chain, m)?)?;
     m.add_function(wrap_pyfunction!(gfsins::gfsins_run, m)?)?;
+    m.add_class::<gfsins::GfsinsStream>()?;
     m.add_function(wrap_pyfunction!(gfsins::gfsins_profile, m)?)?;
     m.add_function(wrap_pyfunction!(gfsins::gfsins_board, m)?)?;
     m.add_function(wrap_pyfunction!(gfnav_orientations, m)?)?;

@@ -42,10 +42,12 @@ use crate::firmware::application::Application;
 use crate::firmware::geomag_app::GeomagApp;
 use crate::firmware::isr::Isr;
 use crate::firmware::isr::StageCosts;
+use crate::firmware::state_check::{DataWatch, StateWatch};
 use crate::numerics::Scalar;
 use crate::profile::{OverrunPolicy, Profile};
 use crate::time::{ps_to_s, Ps};
 use crate::timing::costs::CostTable;
+use crate::timing::deadline;
 use crate::timing::stages::stage_costs;
 
 /// The emulated board running its firmware in the numeric backend `T`, reading the sensor `S`: the
@@ -60,6 +62,10 @@ pub struct Emulator<T: Scalar, S: Sensor = StreamedDevice, A: Application<S> = I
     tick: u64,
     /// SYSCLKOUT cycle at which the CPU finishes the ISR it is running.
     cpu_free: u64,
+    /// The firmware state's range check (every application's step rows).
+    state: StateWatch,
+    /// The part's data check (every application whose reads carry device samples).
+    data: DataWatch,
 }
 
 /// Where the emulation stands after a call to [`Emulator::run`].
@@ -174,7 +180,15 @@ impl<T: Scalar, S: Sensor> Emulator<T, S> {
 impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
     /// The emulator of a built board and the application running on it, at power-on.
     pub fn of(board: Board<S>, fw: A) -> Self {
-        Emulator { board, fw, _numeric: std::marker::PhantomData, tick: 1, cpu_free: 0 }
+        Emulator {
+            board,
+            fw,
+            _numeric: std::marker::PhantomData,
+            tick: 1,
+            cpu_free: 0,
+            state: StateWatch::default(),
+            data: DataWatch::default(),
+        }
     }
 
     /// The sensor on the acquisition chip select (its input feed, its recording).
@@ -229,12 +243,22 @@ impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
                 Reach::Time { .. } => 0,
             };
             if queued < self.fw.reads_per_tick() {
-                return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
+                return Ok(self.stop(ended));
             }
             self.run_tick()?;
             self.tick = self.fw.next_pending();
         }
         Ok(Progress::BlockFull)
+    }
+
+    /// Where a call that ran every tick the input covers stands (at the end: the watches' last word).
+    fn stop(&mut self, ended: bool) -> Progress {
+        if ended {
+            self.finish_watch();
+            Progress::Finished
+        } else {
+            Progress::NeedInput
+        }
     }
 
     /// Room for the rows of the ticks ahead (at most a block), at once: growing by doubling copies
@@ -250,14 +274,14 @@ impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
 
     fn run_to_time(&mut self, last_s: Option<f64>, ended: bool) -> Result<Progress> {
         let Some(last_s) = last_s else {
-            return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
+            return Ok(self.stop(ended));
         };
         let ticks_ahead = (last_s / ps_to_s(self.board.timer.tick_ps(1))) as u64;
         self.reserve_rows(ticks_ahead.saturating_sub(self.tick).saturating_add(1).min(BLOCK_TICKS) as usize);
         for _ in 0..BLOCK_TICKS {
             let horizon_ps = self.board.timer.tick_ps(if ended { self.tick } else { self.tick + 1 });
             if ps_to_s(horizon_ps) > last_s {
-                return Ok(if ended { Progress::Finished } else { Progress::NeedInput });
+                return Ok(self.stop(ended));
             }
             self.run_tick()?;
             self.tick = self.fw.next_pending();
@@ -304,13 +328,10 @@ impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
         if busy {
             let late = self.board.ps(self.cpu_free) - tick_ps;
             let policy = self.fw.overrun();
-            self.fw.events().push(Event::rule(
+            self.fw.events().push(deadline::overrun(
                 tick_ps,
-                "overrun",
-                Severity::Error,
+                late,
                 format!("tick {k}: the previous ISR ran {:.1} µs past this tick ({:?})", late as f64 / 1e6, policy),
-                ps_to_s(late),
-                0.0,
             ));
         }
 
@@ -326,7 +347,37 @@ impl<T: Scalar, S: Sensor, A: Application<S>> Emulator<T, S, A> {
             out.reads[reads_at..].sort_by_key(|r| r.tick);
             out.cycles[cycles_at..].sort_by_key(|r| r.t_ps);
         }
+        self.watch_rows(reads_at, cycles_at);
         Ok(())
+    }
+
+    /// The guards every application gets: the state of each step row it wrote (`state_check`:
+    /// an error event at the first step out of range) and the data of each read (an error event when
+    /// the part has produced no sample for [`crate::firmware::state_check::NO_DATA_PS`]).
+    #[inline]
+    fn watch_rows(&mut self, reads_at: usize, cycles_at: usize) {
+        let sampled = self.fw.sampled_reads();
+        let out = self.fw.output();
+        let mut found: Vec<Event> = Vec::new();
+        for row in &out.cycles[cycles_at..] {
+            found.extend(self.state.check(row));
+        }
+        if sampled {
+            for r in &out.reads[reads_at..] {
+                found.extend(self.data.read(r));
+            }
+        }
+        for e in found {
+            self.fw.events().push(e);
+        }
+    }
+
+    /// The end of the input: a part that produced no sample over a whole run shorter than
+    /// [`crate::firmware::state_check::NO_DATA_PS`] is reported too.
+    fn finish_watch(&mut self) {
+        if let Some(e) = self.data.finish() {
+            self.fw.events().push(e);
+        }
     }
 
     /// Tick `k` is not serviced (`kind`, `why`): an error event and a skipped budget row.

@@ -49,6 +49,12 @@ pub trait Application<S: Sensor>: Send {
     fn events(&mut self) -> &mut EventLog;
     /// What the timing model says each stage costs.
     fn stage_costs(&self) -> &StageCosts;
+    /// Whether each read row carries the device sample it read (`ReadRow::sample_index`, −1: none):
+    /// the emulator then reports a part that produces no data (`state_check::DataWatch`). An
+    /// application whose reads are conversions it starts itself (an ADC) says no.
+    fn sampled_reads(&self) -> bool {
+        true
+    }
     /// Fixes of the board's GPS stream; an application without a GPS input refuses them.
     fn push_gps(&mut self, _fixes: &[GpsFix]) -> Result<()> {
         Err(Error::Input("push_gps: this board's firmware reads no GPS stream".into()))

@@ -321,6 +321,9 @@ impl<T: Scalar, S: Sensor> Application<S> for GeomagApp<T> {
     fn reads_per_tick(&self) -> usize {
         1
     }
+    fn sampled_reads(&self) -> bool {
+        false
+    }
     fn next_pending(&self) -> u64 {
         self.next_pending
     }

@@ -10,7 +10,6 @@
 
 pub use super::application::{StageCost, StageCosts};
 use super::schedule::{RateSchedule, MAX_SAMPLES};
-use super::state_check;
 use super::{samples_per_update, Firmware, Vec3};
 use crate::board::glitch;
 use crate::board::{Board, FrameSummary, Sensor};
@@ -73,8 +72,6 @@ pub struct Isr<T: Scalar> {
     pub(crate) out: Output,
     /// The firmware's events (overruns, decode range, nested interrupts, injected glitches).
     pub(crate) events: EventLog,
-    /// No step's state has been out of range yet (checked until the first one is: see `state_check`).
-    state_in_range: bool,
 }
 
 impl<T: Scalar> Isr<T> {
@@ -145,7 +142,6 @@ impl<T: Scalar> Isr<T> {
             align_until_s: profile.firmware.alignment_s,
             out: Output::default(),
             events: EventLog::default(),
-            state_in_range: true,
         };
         for (kind, message) in isr.fw.attitude_notices() {
             isr.events.push(Event::new(0, kind, Severity::Warning, message));
@@ -456,9 +452,6 @@ impl<T: Scalar> Isr<T> {
             vel_enu: nav.vel.map(|x| x.to_f64()),
             pos: [nav.lat.to_f64().to_degrees(), nav.lon.to_f64().to_degrees(), nav.height.to_f64()],
         };
-        if self.state_in_range && !state_check::in_range(&row) {
-            self.report_state_out_of_range(&row);
-        }
         self.out.cycles.push(row);
         self.fw.record_outputs(self.step, &mut self.out);
         if let Some(c) = self.fw.correction() {
@@ -471,28 +464,6 @@ impl<T: Scalar> Isr<T> {
                 orthogonality: c.orthogonality,
             });
         }
-    }
-
-    /// The first step whose firmware state is out of range: one error event naming what (later
-    /// steps are not checked: the state does not come back from there on its own).
-    #[cold]
-    #[inline(never)]
-    fn report_state_out_of_range(&mut self, row: &CycleRow) {
-        self.state_in_range = false;
-        let (value, limit, what) = state_check::describe(row);
-        self.events.push(Event::rule(
-            row.t_ps,
-            "state_out_of_range",
-            Severity::Error,
-            format!(
-                "step {} at {:.3} s: the firmware state is out of range: {what}; the output is no navigation \
-                 solution from here",
-                row.step,
-                ps_to_s(row.t_ps)
-            ),
-            value,
-            limit,
-        ));
     }
 }
 

@@ -16,7 +16,9 @@
 //!   free-inertial vertical channel leaves it first: gravity falls off as γ(1 − 2h/R), so a height
 //!   error grows as e^(t/τ) with τ = √(R/2γ) ≈ 571 s, until it runs away.
 
-use crate::output::CycleRow;
+use crate::events::{Event, Severity};
+use crate::output::{CycleRow, ReadRow};
+use crate::time::{ps_to_s, Ps, PS_PER_S};
 
 /// |‖Q‖² − 1| above this is a quaternion out of range.
 pub const QUAT_NORM2_TOLERANCE: f64 = 1e-3;
@@ -71,7 +73,14 @@ pub fn describe(row: &CycleRow) -> (f64, f64, String) {
             bad.push((
                 v,
                 VELOCITY_LIMIT_M_S,
-                format!("velocity {axis} = {v:e} m/s, expected within ±{VELOCITY_LIMIT_M_S:e}"),
+                if *axis == "up" {
+                    format!(
+                        "velocity up = {v:e} m/s, expected within ±{VELOCITY_LIMIT_M_S:e} (the free-inertial \
+                         vertical channel has run away; for an attitude-only trace set firmware.navigation=false)"
+                    )
+                } else {
+                    format!("velocity {axis} = {v:e} m/s, expected within ±{VELOCITY_LIMIT_M_S:e}")
+                },
             ));
         }
     }
@@ -89,12 +98,129 @@ pub fn describe(row: &CycleRow) -> (f64, f64, String) {
         bad.push((
             h,
             limit,
-            format!("height = {h:e} m, expected {h_min:e} … {h_max:e} m (the vertical channel has run away)"),
+            format!(
+                "height = {h:e} m, expected {h_min:e} … {h_max:e} m (the free-inertial vertical channel has run \
+                 away; for an attitude-only trace set firmware.navigation=false)"
+            ),
         ));
     }
     let what = bad.iter().map(|b| b.2.as_str()).collect::<Vec<_>>().join("; ");
     let (value, limit) = bad.first().map_or((f64::NAN, 0.0), |b| (b.0, b.1));
     (value, limit, what)
+}
+
+/// The state check every application's step rows go through (the emulator runs it on each row a
+/// tick wrote): the first step out of range raises one `state_out_of_range` error naming what; later
+/// steps are not checked (the state does not come back from there on its own).
+#[derive(Debug, Clone, Default)]
+pub struct StateWatch {
+    /// A step has been out of range.
+    tripped: bool,
+}
+
+impl StateWatch {
+    /// The event of `row`, if it is the first step out of range.
+    #[inline]
+    pub fn check(&mut self, row: &CycleRow) -> Option<Event> {
+        if self.tripped || in_range(row) {
+            return None;
+        }
+        self.tripped = true;
+        Some(out_of_range_event(row))
+    }
+
+    /// Whether a step has been out of range.
+    pub fn tripped(&self) -> bool {
+        self.tripped
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn out_of_range_event(row: &CycleRow) -> Event {
+    let (value, limit, what) = describe(row);
+    Event::rule(
+        row.t_ps,
+        "state_out_of_range",
+        Severity::Error,
+        format!(
+            "step {} at {:.3} s: the firmware state is out of range: {what}; the output is no navigation \
+             solution from here",
+            row.step,
+            ps_to_s(row.t_ps)
+        ),
+        value,
+        limit,
+    )
+}
+
+/// How long the reads may find no new sample from the part before it is reported as producing no
+/// data: one second, hundreds of sample periods of any part the boards read (the slowest, the
+/// ADIS16407's decimated rates, still samples at tens of hertz), so that a part that only starts
+/// late (`device.first_sample_us`, a start-up) or skips samples is not reported, and one that never
+/// samples, or stops, is.
+pub const NO_DATA_PS: Ps = PS_PER_S;
+
+/// The data check of every application whose reads carry the device's sample (the emulator runs it
+/// on each read row): one `no_data` error when the reads have found no new sample for
+/// [`NO_DATA_PS`] (none since the first read, or none since the last new one); it re-arms when a new
+/// sample comes. At the end of the input, reads that never found a sample are reported whatever
+/// their span ([`DataWatch::finish`]).
+#[derive(Debug, Clone, Default)]
+pub struct DataWatch {
+    /// The time of the first read, and the last sample index seen with its read's time.
+    first_read: Option<Ps>,
+    last: Option<(i64, Ps)>,
+    reads: u64,
+    reported: bool,
+}
+
+impl DataWatch {
+    /// The event of read `r`, if the part has produced no new sample for [`NO_DATA_PS`] by then.
+    #[inline]
+    pub fn read(&mut self, r: &ReadRow) -> Option<Event> {
+        self.reads += 1;
+        let first = *self.first_read.get_or_insert(r.t_cs_ps);
+        if r.sample_index >= 0 && self.last.is_none_or(|(i, _)| i != r.sample_index) {
+            self.last = Some((r.sample_index, r.t_cs_ps));
+            self.reported = false;
+            return None;
+        }
+        let since = self.last.map_or(first, |(_, t)| t);
+        if self.reported || r.t_cs_ps.saturating_sub(since) < NO_DATA_PS {
+            return None;
+        }
+        self.reported = true;
+        Some(self.event(r.t_cs_ps, since))
+    }
+
+    /// At the end of the input: the event of reads that never found a sample, if no event said so.
+    pub fn finish(&mut self) -> Option<Event> {
+        match (self.first_read, self.last, self.reported) {
+            (Some(first), None, false) => {
+                self.reported = true;
+                Some(self.event(first, first))
+            }
+            _ => None,
+        }
+    }
+
+    #[cold]
+    fn event(&self, t_ps: Ps, since: Ps) -> Event {
+        let what = match self.last {
+            None => format!(
+                "the part has produced no sample in {} read(s) since the first at {:.6} s: the firmware reads no \
+                 data (a part that never samples: see device.first_sample_us and the start-up settings)",
+                self.reads,
+                ps_to_s(since)
+            ),
+            Some((i, _)) => format!(
+                "the part has produced no new sample since sample {i} at {:.6} s: the firmware reads stale data",
+                ps_to_s(since)
+            ),
+        };
+        Event::rule(t_ps, "no_data", Severity::Error, what, ps_to_s(t_ps.saturating_sub(since)), ps_to_s(NO_DATA_PS))
+    }
 }
 
 #[cfg(test)]
@@ -144,5 +270,80 @@ mod tests {
             let (_, _, what) = describe(&r);
             assert!(what.contains(name), "{name}: {what}");
         }
+    }
+}
+
+#[cfg(test)]
+mod watch_tests {
+    use super::*;
+
+    fn read(t_ps: Ps, sample_index: i64) -> ReadRow {
+        ReadRow {
+            tick: 0,
+            t_cs_ps: t_ps,
+            t_start_ps: t_ps,
+            t_end_ps: t_ps,
+            words: [0; crate::output::READ_WORDS],
+            rate: [0.0; 3],
+            accel: [0.0; 3],
+            sample_index,
+            sample_ps: t_ps,
+            assumed_s: 0.0,
+            age_ps: 0,
+        }
+    }
+
+    /// Reads that never find a sample: one `no_data` error a second after the first read; reads
+    /// that find a new sample every period: none; a part that stops: one, a second after its last
+    /// sample, and again after it resumes and stops again.
+    #[test]
+    fn a_part_without_data_is_one_event_per_spell() {
+        let ms = 1_000_000_000;
+        let mut w = DataWatch::default();
+        let events: Vec<Event> = (0..3000).filter_map(|k| w.read(&read(k * ms, -1))).collect();
+        assert_eq!(events.len(), 1, "{events:?}");
+        assert_eq!((events[0].kind, events[0].t_ps), ("no_data", 1000 * ms));
+        assert!(w.finish().is_none(), "reported once");
+
+        let mut w = DataWatch::default();
+        assert!((0..3000).all(|k| w.read(&read(k * ms, k as i64)).is_none()));
+        assert!(w.finish().is_none());
+
+        let mut w = DataWatch::default();
+        let index = |k: i64| {
+            if (500..2000).contains(&k) {
+                499
+            } else if k >= 3000 {
+                2999
+            } else {
+                k
+            }
+        };
+        let events: Vec<Event> = (0..5000).filter_map(|k| w.read(&read(k as Ps * ms, index(k)))).collect();
+        let at: Vec<Ps> = events.iter().map(|e| e.t_ps / ms).collect();
+        assert_eq!(at, [1499, 3999]);
+
+        let mut w = DataWatch::default();
+        assert!((0..10).all(|k| w.read(&read(k * ms, -1)).is_none()), "a short run");
+        assert_eq!(w.finish().map(|e| e.kind), Some("no_data"), "…that never found a sample");
+    }
+
+    #[test]
+    fn the_state_watch_reports_the_first_step_out_of_range_once() {
+        let good = CycleRow {
+            step: 0,
+            t_ps: 0,
+            quat: [1.0, 0.0, 0.0, 0.0],
+            euler_deg: [0.0; 3],
+            vel_enu: [0.0; 3],
+            pos: [0.0; 3],
+        };
+        let bad = CycleRow { step: 1, t_ps: 5, quat: [f64::NAN; 4], ..good };
+        let mut w = StateWatch::default();
+        assert!(w.check(&good).is_none());
+        let e = w.check(&bad).unwrap();
+        assert_eq!((e.kind, e.t_ps), ("state_out_of_range", 5));
+        assert!(e.message.contains("step 1") && e.message.contains("quaternion"), "{}", e.message);
+        assert!(w.check(&bad).is_none() && w.tripped());
     }
 }

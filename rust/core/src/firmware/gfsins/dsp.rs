@@ -46,6 +46,7 @@ use crate::firmware::gfnav::{self, Bridge};
 use crate::numerics::counter::{count, Counted, OpCounts};
 use crate::numerics::{c67x, C67xF32, QClass, Scalar};
 use crate::time::{Clock, Ps};
+use crate::timing::deadline;
 use std::collections::HashMap;
 
 /// What the DSP has after one packet.
@@ -285,9 +286,15 @@ impl Dsp {
             stages.push(name, self.cpu.cycles_to_ps(*c));
         }
         let total = cycles.iter().map(|(_, c)| c).sum();
+        let t_done = t_irq + stages.total();
+        // The deadline: the next packet's interrupt, one period after this one's.
+        let sequence = packet.sequence;
+        if let Some(e) = deadline::check(|| format!("C6727, packet {sequence}"), t_irq, t_done, t_irq + self.period) {
+            self.events.push(e);
+        }
         Some(DspOutput {
             t_irq,
-            t_done: t_irq + stages.total(),
+            t_done,
             rti: self.rti.ps_to_cycles(t_irq),
             packet,
             accel_g,

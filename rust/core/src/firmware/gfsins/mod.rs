@@ -233,47 +233,255 @@ impl Budget {
 
     /// The budget of `steps`.
     pub fn of(steps: &[Step], period_ps: Ps) -> Budget {
-        let mut b = Budget { period_ps, ..Budget::default() };
-        let mut sums = [[0.0f64; 3]; 2];
-        let mut stage_sums: Vec<[f64; 3]> = Vec::new();
+        let mut acc = BudgetAcc::new(period_ps);
+        for s in steps {
+            acc.add(s);
+        }
+        acc.budget()
+    }
+}
+
+/// A [`Budget`] gathered step by step (a run streamed in blocks keeps this, not its steps).
+#[derive(Debug, Clone, Default)]
+pub struct BudgetAcc {
+    b: Budget,
+    sums: [[f64; 3]; 2],
+    stage_sums: Vec<[f64; 3]>,
+}
+
+impl BudgetAcc {
+    /// No step yet, at tick period `period_ps`.
+    pub fn new(period_ps: Ps) -> BudgetAcc {
+        BudgetAcc { b: Budget { period_ps, ..Budget::default() }, ..BudgetAcc::default() }
+    }
+
+    /// Add one step.
+    pub fn add(&mut self, s: &Step) {
         let add = |l: &mut ClassLoad, sum: &mut f64, t: Ps| {
             l.ticks += 1;
             l.peak_ps = l.peak_ps.max(t);
             *sum += t as f64;
         };
-        for s in steps {
-            let c = Budget::class(s);
-            let dsp_ps = s.out.map_or(0, |o| o.t_done - o.t_irq);
-            for (p, t) in [s.timing.cpu_ps, dsp_ps].into_iter().enumerate() {
-                add(&mut b.load[p][c], &mut sums[p][c], t);
-            }
-            for (p, stages) in [s.timing.stages, s.dsp_stages()].iter().enumerate() {
-                let mut prev: Option<usize> = None;
-                for (name, t) in stages.iter() {
-                    let i = match b.stages.iter().position(|r| r.processor == p && r.name == name) {
-                        Some(i) => i,
-                        None => {
-                            // The node's rows before the DSP's; a stage first seen goes right after the
-                            // stage that ran before it in this cycle, so the rows keep the execution
-                            // order whichever rate's stages come first.
-                            let at =
-                                prev.map_or_else(|| b.stages.iter().take_while(|r| r.processor < p).count(), |i| i + 1);
-                            b.stages.insert(at, StageLoad { processor: p, name, load: Default::default() });
-                            stage_sums.insert(at, [0.0; 3]);
-                            at
-                        }
-                    };
-                    add(&mut b.stages[i].load[c], &mut stage_sums[i][c], t);
-                    prev = Some(i);
-                }
+        let b = &mut self.b;
+        let c = Budget::class(s);
+        let dsp_ps = s.out.map_or(0, |o| o.t_done - o.t_irq);
+        for (p, t) in [s.timing.cpu_ps, dsp_ps].into_iter().enumerate() {
+            add(&mut b.load[p][c], &mut self.sums[p][c], t);
+        }
+        for (p, stages) in [s.timing.stages, s.dsp_stages()].iter().enumerate() {
+            let mut prev: Option<usize> = None;
+            for (name, t) in stages.iter() {
+                let i = match b.stages.iter().position(|r| r.processor == p && r.name == name) {
+                    Some(i) => i,
+                    None => {
+                        // The node's rows before the DSP's; a stage first seen goes right after the
+                        // stage that ran before it in this cycle, so the rows keep the execution
+                        // order whichever rate's stages come first.
+                        let at =
+                            prev.map_or_else(|| b.stages.iter().take_while(|r| r.processor < p).count(), |i| i + 1);
+                        b.stages.insert(at, StageLoad { processor: p, name, load: Default::default() });
+                        self.stage_sums.insert(at, [0.0; 3]);
+                        at
+                    }
+                };
+                add(&mut b.stages[i].load[c], &mut self.stage_sums[i][c], t);
+                prev = Some(i);
             }
         }
-        let loads = b.load.iter_mut().flatten().zip(sums.iter().flatten());
-        let stage_loads = b.stages.iter_mut().flat_map(|r| r.load.iter_mut()).zip(stage_sums.iter().flatten());
+    }
+
+    /// The budget of the steps added so far.
+    pub fn budget(&self) -> Budget {
+        let mut b = self.b.clone();
+        let loads = b.load.iter_mut().flatten().zip(self.sums.iter().flatten());
+        let stage_loads = b.stages.iter_mut().flat_map(|r| r.load.iter_mut()).zip(self.stage_sums.iter().flatten());
         for (l, sum) in loads.chain(stage_loads) {
             l.mean_ps = if l.ticks > 0 { sum / l.ticks as f64 } else { 0.0 };
         }
         b
+    }
+}
+
+/// Vehicle samples pushed in chunks (a trace read a chunk at a time), held from each sample's time
+/// to the next as [`Samples`] holds them; the rows older than the parts can still ask for are
+/// dropped ([`Window::trim`]), so memory stays that of a few seconds of input.
+#[derive(Debug, Clone, Default)]
+pub struct Window {
+    t_ps: Vec<Ps>,
+    rows: Vec<Truth>,
+    ended: bool,
+}
+
+impl Window {
+    /// Append samples at strictly increasing times (after the last one pushed).
+    pub fn push(&mut self, t_ps: &[Ps], rows: &[Truth]) -> Result<()> {
+        if t_ps.len() != rows.len() {
+            return Err(Error::Input(format!("vehicle samples: {} times for {} rows", t_ps.len(), rows.len())));
+        }
+        if self.ended {
+            return Err(Error::Input("vehicle samples pushed after the end of the input".into()));
+        }
+        let mut prev = self.t_ps.last().copied();
+        for (i, &t) in t_ps.iter().enumerate() {
+            if prev.is_some_and(|p| p >= t) {
+                return Err(Error::Input(format!("vehicle samples: time of row {i} of the chunk does not increase")));
+            }
+            prev = Some(t);
+        }
+        self.t_ps.extend_from_slice(t_ps);
+        self.rows.extend_from_slice(rows);
+        Ok(())
+    }
+
+    /// The sample in force at `t` (the first one before the first sample).
+    pub fn at(&self, t: Ps) -> Truth {
+        let i = self.t_ps.partition_point(|&s| s <= t).saturating_sub(1);
+        self.rows.get(i).copied().unwrap_or(REST)
+    }
+
+    /// Drop the samples no query at or after `t` can need (the one in force at `t` stays).
+    pub fn trim(&mut self, t: Ps) {
+        let i = self.t_ps.partition_point(|&s| s <= t).saturating_sub(1);
+        // Drop only when it frees at least half the rows: each row is moved at most once on average.
+        if i > 0 && 2 * i >= self.t_ps.len() {
+            self.t_ps.drain(..i);
+            self.rows.drain(..i);
+        }
+    }
+
+    /// The last sample's time, and whether the input has ended.
+    pub fn reach(&self) -> (Option<Ps>, bool) {
+        (self.t_ps.last().copied(), self.ended)
+    }
+
+    /// Samples held.
+    pub fn len(&self) -> usize {
+        self.t_ps.len()
+    }
+
+    /// Whether no sample is held.
+    pub fn is_empty(&self) -> bool {
+        self.t_ps.is_empty()
+    }
+}
+
+/// What a query before any sample sees (never asked on a run fed its first rows before it steps).
+const REST: Truth = Truth {
+    array_g: [[0.0, 0.0, 1.0]; 7],
+    compass: hmc6343::Truth {
+        heading_deg: 0.0,
+        pitch_deg: 0.0,
+        roll_deg: 0.0,
+        accel_g: [0.0, 0.0, 1.0],
+        mag_gauss: [0.0; 3],
+        temp_c: 25.0,
+    },
+    gps: gps::Truth { speed_m_s: 0.0, course_deg: 0.0, lat_deg: 0.0, lon_deg: 0.0, alt_m: 0.0 },
+};
+
+/// How far past a tick's time the input must reach before the tick runs (unless the input has
+/// ended): the parts are read within the tick's handler, which the profile's bounds on the cost keys
+/// keep within a few periods; one second is hundreds of periods.
+pub const LOOKAHEAD_PS: Ps = crate::time::PS_PER_S;
+/// How far before a tick's time the parts may still ask for the vehicle (the GPS's fix epochs lie
+/// `gps.latency_ms` ≤ 10 s before the characters that report them): rows older than this are dropped.
+pub const LOOKBACK_PS: Ps = 12 * crate::time::PS_PER_S;
+
+/// The board run over input pushed in chunks, a block of ticks at a time: memory bounded by a few
+/// seconds of input and a block of steps, whatever the run's length; every call returns within a
+/// bounded time so that the caller can stop it.
+pub struct Streamed {
+    board: Board,
+    window: Arc<std::sync::Mutex<Window>>,
+    budget: BudgetAcc,
+    ticks: u64,
+}
+
+impl std::fmt::Debug for Streamed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Streamed").field("ticks", &self.ticks).finish()
+    }
+}
+
+/// A step with the vehicle's truth at its tick (what the harness compares the DSP's output with).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruthStep {
+    /// The step.
+    pub step: Step,
+    /// The truth in force at the node's tick (`step.timing.t0`).
+    pub truth: Truth,
+}
+
+impl Streamed {
+    /// The board of `profile` at power-up, with no input yet.
+    pub fn new(profile: &GfsinsProfile) -> Result<Streamed> {
+        let window = Arc::new(std::sync::Mutex::new(Window::default()));
+        let w = window.clone();
+        let source: Source = Arc::new(move |t| w.lock().unwrap_or_else(std::sync::PoisonError::into_inner).at(t));
+        let board = Board::new(profile, source)?;
+        let budget = BudgetAcc::new(board.node().period());
+        Ok(Streamed { board, window, budget, ticks: 0 })
+    }
+
+    fn window(&self) -> std::sync::MutexGuard<'_, Window> {
+        self.window.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Append vehicle samples (times from 0, increasing across calls).
+    pub fn push(&mut self, t_ps: &[Ps], rows: &[Truth]) -> Result<()> {
+        self.window().push(t_ps, rows)
+    }
+
+    /// Declare the end of the input.
+    pub fn end_input(&mut self) {
+        self.window().ended = true;
+    }
+
+    /// Run the ticks the input reaches (a tick's time plus [`LOOKAHEAD_PS`], or any tick once the
+    /// input has ended), while fewer than `limit` ticks have run in all, at most `max` in this call
+    /// and for about `wall` of the caller's time (checked after each tick): the steps, each with the
+    /// truth at its tick. Empty: no tick can run until more input comes (or none is left).
+    pub fn run(&mut self, max: u64, limit: u64, wall: std::time::Duration) -> Result<Vec<TruthStep>> {
+        let started = std::time::Instant::now();
+        let mut out = Vec::new();
+        while (out.len() as u64) < max && self.ticks < limit {
+            let t = self.board.node().tick_time(self.ticks);
+            let (last, ended) = self.window().reach();
+            let Some(last) = last else { break };
+            if !ended && t.saturating_add(LOOKAHEAD_PS) > last {
+                break;
+            }
+            let step = self.board.step()?;
+            self.ticks += 1;
+            self.budget.add(&step);
+            let truth = self.window().at(step.timing.t0);
+            out.push(TruthStep { step, truth });
+            self.window().trim(t.saturating_sub(LOOKBACK_PS));
+            if started.elapsed() >= wall {
+                break;
+            }
+        }
+        Ok(out)
+    }
+
+    /// Ticks run so far.
+    pub fn ticks(&self) -> u64 {
+        self.ticks
+    }
+
+    /// Both processors' budget over the ticks run so far.
+    pub fn budget(&self) -> Budget {
+        self.budget.budget()
+    }
+
+    /// Take every event out (node, parts, links, DSP), in time order.
+    pub fn drain_events(&mut self) -> Vec<Event> {
+        self.board.drain_events()
+    }
+
+    /// The tick period, ps.
+    pub fn period(&self) -> Ps {
+        self.board.node().period()
     }
 }
 

@@ -45,6 +45,7 @@ use crate::error::Result;
 use crate::events::{Event, EventLog, Severity};
 use crate::profile::I2cBus;
 use crate::time::{Clock, Ps};
+use crate::timing::deadline;
 use std::sync::{Arc, Mutex};
 
 /// Positions of the six outer parts in units of l (algorithms.md §4: u₁…u₆); the centre part is at 0.
@@ -413,9 +414,11 @@ impl Node {
         let cpu = (t - t0) + dma_irq;
         timing.cpu_ps = cpu;
         self.busy_until = t0 + cpu;
-        if t0 + cpu > t0 + self.period || timing.packet_end > t0 + self.period {
-            let what = format!("acquisition node: tick {k} busy {cpu} ps, packet out at {} ps", timing.packet_end);
-            self.events.push(Event::new(t0, "overrun", Severity::Error, what));
+        let end = (t0 + cpu).max(timing.packet_end);
+        let packet_end = timing.packet_end;
+        let who = || format!("acquisition node, tick {k} (its packet out at {:.1} µs)", (packet_end - t0) as f64 / 1e6);
+        if let Some(e) = deadline::check(who, t0, end, t0 + self.period) {
+            self.events.push(e);
         }
         Ok((packet, timing))
     }

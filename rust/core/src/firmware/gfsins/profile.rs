@@ -306,6 +306,73 @@ impl GfsinsProfile {
         if n.uart_baud == 0 || self.gps.baud == 0 {
             return bad("node.uart_baud", "baud rates must be positive".into());
         }
+        // Cost estimates: one operation of either processor costs at most the cycles of one period
+        // (a single operation longer than that overruns every tick by itself, and an unbounded one
+        // would make each tick's emulated time, and the parts' samples across it, run on without
+        // end); the handler as a whole may still overrun, and is reported so (`overrun`).
+        let node_period = n.cpu_hz / n.timer_hz;
+        for (key, v) in [
+            ("node.isr_entry_cycles", n.isr_entry_cycles),
+            ("node.plb_access_cycles", n.plb_access_cycles),
+            ("node.preprocess_cycles", n.preprocess_cycles),
+            ("node.nmea_cycles_per_byte", n.nmea_cycles_per_byte),
+            ("node.nmea_cycles_per_sentence", n.nmea_cycles_per_sentence),
+        ] {
+            if v > node_period {
+                return bad(
+                    key,
+                    format!(
+                        "{v} cycles: more than the node's whole {} µs period ({node_period} cycles at node.cpu_hz = {}); \
+                         expected 0 … {node_period}",
+                        1e6 / n.timer_hz as f64,
+                        n.cpu_hz
+                    ),
+                );
+            }
+        }
+        if n.ss_setup_half_periods > 64 {
+            return bad(
+                "node.ss_setup_half_periods",
+                format!("{}: expected 0 … 64 SCK half-periods", n.ss_setup_half_periods),
+            );
+        }
+        if n.start_ms > 3_600_000 {
+            return bad("node.start_ms", format!("{} ms: expected 0 … 3 600 000 ms (an hour)", n.start_ms));
+        }
+        if self.gps.latency_ms > 10_000 {
+            return bad("gps.latency_ms", format!("{} ms: expected 0 … 10 000 ms", self.gps.latency_ms));
+        }
+        let d = &self.dsp;
+        let dsp_period = d.cpu_hz / n.timer_hz;
+        for (key, v) in [
+            ("dsp.dmax_word_cycles", d.dmax_word_cycles),
+            ("dsp.isr_entry_cycles", d.isr_entry_cycles),
+            ("dsp.crc_cycles_per_word", d.crc_cycles_per_word),
+            ("dsp.add_cycles", d.add_cycles),
+            ("dsp.mul_cycles", d.mul_cycles),
+            ("dsp.div_cycles", d.div_cycles),
+            ("dsp.sqrt_cycles", d.sqrt_cycles),
+            ("dsp.compare_cycles", d.compare_cycles),
+            ("dsp.neg_abs_cycles", d.neg_abs_cycles),
+            ("dsp.int_to_float_cycles", d.int_to_float_cycles),
+            ("dsp.constant_cycles", d.constant_cycles),
+            ("dsp.sin_cos_cycles", d.sin_cos_cycles),
+            ("dsp.atan_cycles", d.atan_cycles),
+            ("dsp.atan2_cycles", d.atan2_cycles),
+            ("dsp.asin_cycles", d.asin_cycles),
+        ] {
+            if v > dsp_period {
+                return bad(
+                    key,
+                    format!(
+                        "{v} cycles: more than the DSP's whole {} µs period ({dsp_period} cycles at dsp.cpu_hz = {}); \
+                         expected 0 … {dsp_period}",
+                        1e6 / n.timer_hz as f64,
+                        d.cpu_hz
+                    ),
+                );
+            }
+        }
         let l = self.array.lever_arm_m;
         if !(l.is_finite() && l > 0.0 && l <= 1.0) {
             return bad("array.lever_arm_m", format!("{l}: expected 0 < l ≤ 1 m"));
@@ -330,7 +397,6 @@ impl GfsinsProfile {
         if !(tau.is_finite() && (1.0..=1e5).contains(&tau)) {
             return bad("compass.correlation_time_s", format!("{tau}: expected a correlation time of 1 … 100 000 s"));
         }
-        let d = &self.dsp;
         if !(d.gps_age_ms.is_finite() && (0.0..=5_000.0).contains(&d.gps_age_ms)) {
             return bad("dsp.gps_age_ms", format!("{}: expected 0 … 5000 ms", d.gps_age_ms));
         }

@@ -239,3 +239,84 @@ fn overrides_apply_and_name_a_bad_key() {
 
 #[path = "nav_tests.rs"]
 mod nav_tests;
+
+/// A DSP slow enough that its compass-filter packets outlast the 5 ms period: an `overrun` error
+/// from the C6727 (the same deadline rule as the node's and the reference board's), none at the
+/// thesis's 225 MHz.
+#[test]
+fn a_dsp_handler_longer_than_the_period_is_an_overrun() {
+    let ticks = 400; // 2 s: the compass filter runs from its first reading on
+    let dsp_overruns = |p: &GfsinsProfile| {
+        let (_, _, events) = run(p, vehicle(), ticks).unwrap();
+        events.iter().filter(|e| e.kind == "overrun" && e.message.contains("C6727")).count()
+    };
+    assert_eq!(dsp_overruns(&ideal()), 0);
+    let mut slow = ideal();
+    slow.dsp.cpu_hz = 5_000_000;
+    assert!(dsp_overruns(&slow) > 0);
+}
+
+/// A cost key beyond one period of its processor is refused naming the key (2³² cycles per PLB
+/// access made every tick run for hours of emulated time); one period is accepted.
+#[test]
+fn a_cost_beyond_one_period_is_refused_naming_the_key() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../firmware_model/gfsins.toml")).unwrap();
+    for (set, key) in [
+        ("node.plb_access_cycles=4294967296", "node.plb_access_cycles"),
+        ("node.isr_entry_cycles=375001", "node.isr_entry_cycles"),
+        ("dsp.div_cycles=1125001", "dsp.div_cycles"),
+        ("gps.latency_ms=100000", "gps.latency_ms"),
+        ("node.start_ms=18446744073709", "node.start_ms"),
+    ] {
+        let e = GfsinsProfile::parse_with(&text, "gfsins.toml", &[set.to_string()]).unwrap_err();
+        assert!(e.to_string().contains(&format!("`{key}`")), "{set}: {e}");
+    }
+    assert!(GfsinsProfile::parse_with(&text, "gfsins.toml", &["node.plb_access_cycles=375000".into()]).is_ok());
+}
+
+/// The streamed board, fed in chunks of 37 samples, is the whole-input board step for step.
+#[test]
+fn the_streamed_board_is_the_whole_board() {
+    let p = ideal();
+    let period = 1_000_000_000; // 1 ms samples
+    let truth = |k: u64| {
+        let mut t = vehicle()(k * period);
+        t.array_g[0][0] += 1e-3 * (k as f64 * 0.01).sin();
+        t.compass.heading_deg = 30.0 + 1e-3 * k as f64;
+        t
+    };
+    let n = 3_000u64;
+    let t_ps: Vec<Ps> = (0..n).map(|k| k * period).collect();
+    let rows: Vec<Truth> = (0..n).map(truth).collect();
+    let samples = Samples::new(t_ps.clone(), rows.clone()).unwrap();
+    let ticks = 480; // the last at 0.6 + 479 × 5 ms = 2.995 s
+    let (whole, budget, events) = run(&p, samples.source(), ticks).unwrap();
+    let mut s = Streamed::new(&p).unwrap();
+    let (mut steps, mut streamed_events) = (Vec::new(), Vec::new());
+    for (t, r) in t_ps.chunks(37).zip(rows.chunks(37)) {
+        s.push(t, r).unwrap();
+        steps.extend(s.run(50, ticks, std::time::Duration::from_secs(60)).unwrap().into_iter().map(|x| x.step));
+        streamed_events.extend(s.drain_events());
+    }
+    s.end_input();
+    while let Ok(more) = s.run(50, ticks, std::time::Duration::from_secs(60)) {
+        if more.is_empty() {
+            break;
+        }
+        steps.extend(more.into_iter().map(|x| x.step));
+    }
+    streamed_events.extend(s.drain_events());
+    // By their text: the navigation is NaN until it starts (NaN ≠ NaN).
+    assert_eq!(steps.len(), whole.len());
+    for (a, b) in steps.iter().zip(&whole) {
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+    }
+    assert_eq!(s.budget(), budget);
+    let key = |e: &Event| (e.t_ps, e.kind, e.message.clone());
+    let mut a: Vec<_> = streamed_events.iter().map(key).collect();
+    let mut b: Vec<_> = events.iter().map(key).collect();
+    a.sort();
+    b.sort();
+    assert_eq!(a, b);
+}
