@@ -221,10 +221,10 @@ impl<T: Scalar> Vqf<T> {
                 g((0..M).fold(T::from_f64(0.0, QClass::Generic), |acc, l| acc + pht[i][l] * s_inv[l][j]))
             })
         });
-        for i in 0..3 {
-            let db = (0..M).fold(T::from_f64(0.0, QClass::Generic), |acc, j| acc + k[i][j] * innovation[j]);
-            let b = (self.bias[i] + db).to_class(QClass::Rate);
-            self.bias[i] = if b > self.bias_clip {
+        for (bias, ki) in self.bias.iter_mut().zip(&k) {
+            let db = (0..M).fold(T::from_f64(0.0, QClass::Generic), |acc, j| acc + ki[j] * innovation[j]);
+            let b = (*bias + db).to_class(QClass::Rate);
+            *bias = if b > self.bias_clip {
                 self.bias_clip
             } else if b < -self.bias_clip {
                 -self.bias_clip
@@ -311,9 +311,8 @@ impl<T: Scalar> Vqf<T> {
             for i in 0..3 {
                 self.p[i][i] = (self.p[i][i] + self.q_bias).to_class(QClass::Generic);
             }
-            for i in 0..3 {
-                self.corr_lp[i] =
-                    (self.corr_lp[i] + self.corr_alpha * (corr_rate[i] - self.corr_lp[i])).to_class(QClass::Rate);
+            for (lp, c) in self.corr_lp.iter_mut().zip(corr_rate) {
+                *lp = (*lp + self.corr_alpha * (c - *lp)).to_class(QClass::Rate);
             }
             if rest && self.rest_bias {
                 let lp = self.rest_gyr_lp.unwrap_or(w_raw);
@@ -522,13 +521,13 @@ mod tests {
     fn the_bias_is_estimated_at_rest() {
         let b = [0.3 * D, -0.2 * D, 0.5 * D];
         let (v, q) = run::<f64>(&profile::Vqf::default(), [1.0, 0.0, 0.0, 0.0], b, 30.0);
-        for i in 0..3 {
-            assert!((v.bias()[i] - b[i]).abs() < 0.01 * D, "axis {i}: {} vs {}", v.bias()[i], b[i]);
+        for (i, (got, want)) in v.bias().iter().zip(b).enumerate() {
+            assert!((got - want).abs() < 0.01 * D, "axis {i}: {got} vs {want}");
         }
         assert!(tilt_deg(&q) < 0.05 && heading_deg(&q).abs() < 0.5, "{q:?}");
         let (v32, _) = run::<C28xF32Rn>(&profile::Vqf::default(), [1.0, 0.0, 0.0, 0.0], b, 30.0);
-        for i in 0..3 {
-            assert!((v32.bias()[i].to_f64() - b[i]).abs() < 0.01 * D);
+        for (got, want) in v32.bias().iter().zip(b) {
+            assert!((got.to_f64() - want).abs() < 0.01 * D);
         }
     }
 
