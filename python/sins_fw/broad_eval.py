@@ -404,7 +404,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--board", action="store_true", help="also through the whole board (ADIS16407 model)")
     p.add_argument(
         "--numeric",
-        choices=("f64", "c28x-f32", "c28x-f32-rz", "iq"),
+        choices=tuple(_core.NUMERICS),
         default="f64",
         help="the firmware's numeric type (default f64)",
     )
