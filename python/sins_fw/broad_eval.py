@@ -1,16 +1,17 @@
-"""`sins-fw broad-eval`: the DCM firmware algorithm on the ten BROAD trials, beside the `ahrs`
-package's Mahony and Madgwick on the same inputs.
+"""`sins-fw broad-eval`: the fusing firmware algorithms (the DCM, the VQF-class filter) on any set of
+BROAD trials, at algorithm level and through the whole board, beside the dataset's published per-trial
+Madgwick and Mahony (and, on request, the `ahrs` package's filters on the same inputs).
 
-Algorithm level: f64, each trial's own sample rate (2000/7 Hz), no device model; every method starts
-from the orientation of the first accelerometer and magnetometer sample and is never aligned to the
-truth (the dataset's rule). Errors as the dataset's example code defines them (its README):
-q_err = q_est ⊗ q_truth⁻¹ (earth frame), total = 2·acos|w|, heading = 2·atan|z/w|, inclination =
-2·acos√(w² + z²), RMSE over the `movement` samples with a valid truth.
+Algorithm level: the profile's numeric type (f64 unless `--numeric`), each trial's own sample rate
+(2000/7 Hz), no device model; every method starts from the orientation of the first accelerometer and
+magnetometer sample and is never aligned to the truth (the dataset's rule). Errors as the dataset's
+example code defines them (its README): q_err = q_est ⊗ q_truth⁻¹ (earth frame), total = 2·acos|w|,
+heading = 2·atan|z/w|, inclination = 2·acos√(w² + z²), RMSE over the `movement` samples with a valid truth.
 
-Frames: the DCM works in east-north-up (its own, `[firmware.dcm]`); the `ahrs` filters keep their
-earth frame (x along the horizontal field, z up), which [`ahrs_to_enu`] turns into the DCM's by one
-rotation about up, measured here rather than assumed (`_ahrs_frame`). Both then hold "magnetic ENU":
-the heading error includes the site's declination against the optical ENU, for every method alike.
+Frames: the firmware works in east-north-up; the `ahrs` filters keep their earth frame (x along the
+horizontal field, z up), which [`ahrs_to_enu`] turns into ENU by one rotation about up, measured here
+rather than assumed (`_ahrs_frame`). All hold "magnetic ENU": the heading error includes the site's
+declination against the optical ENU, for every method alike (the published baselines too).
 """
 
 from __future__ import annotations
@@ -26,31 +27,49 @@ from sins_fw import _core, metrics
 from sins_fw import quaternion as quat
 from sins_fw.bench import machine
 from sins_fw.broad import import_broad
+from sins_fw.broad_published import PUBLISHED_PER_TRIAL
 from sins_fw.earth import G0
 from sins_fw.errors import InputError
 from sins_fw.harness import emulate
 from sins_fw.profile import load_profile
 
-#: The DCM parameter set, tuned once over the ten trials (the dataset's rule): a grid over K_P
-#: {0.05 … 1.5}, K_I {0 … 0.02}, w_yaw {0 … 1}, then around its best; objective the mean total RMSE
-#: (benchmarks/broad_eval.md). K_I = 0 wins: these trials (≈ 3.5 min each) hold no gyro bias worth the
-#: integrator's wander under motion and magnetic disturbance.
-TUNED = (
-    "firmware.dcm.kp=0.5",
-    "firmware.dcm.ki=0",
-    "firmware.dcm.w_rp=1.0",
-    "firmware.dcm.w_yaw=0.2",
-    "firmware.dcm.yaw_reference=magnetometer",
-)
-#: The dataset's tuned Mahony gains (k_P, k_I) and Madgwick β (issue 18).
+#: The firmware algorithms broad-eval runs, in order.
+ALGORITHMS = ("dcm", "vqf")
+
+#: One parameter set per algorithm, tuned once over the ten shared trials (the dataset's rule; grids and
+#: figures in benchmarks/broad_eval.md). `--set` adds to it (a key given again wins).
+TUNED: dict[str, tuple[str, ...]] = {
+    "dcm": (
+        "firmware.dcm.kp=0.5",
+        "firmware.dcm.ki=0",
+        "firmware.dcm.w_rp=1.0",
+        "firmware.dcm.w_yaw=0.2",
+        "firmware.dcm.yaw_reference=magnetometer",
+        "firmware.dcm.lag_compensation=true",
+        "firmware.dcm.full_range=true",
+        "firmware.dcm.clip_gain=4",
+        "firmware.dcm.clip_recovery_s=3",
+    ),
+    # The motion bias estimate (a simplified form of the method's) made the ten worse (mean inclination
+    # 4.79° with it, 0.92° without): off in the shipped set, see benchmarks/broad_eval.md.
+    "vqf": ("firmware.vqf.motion_bias=false",),
+}
+#: The dataset's tuned Mahony gains (k_P, k_I) and Madgwick β (its `tagp_parameters`).
 MAHONY_KP, MAHONY_KI, MADGWICK_BETA = 0.74, 0.0012, 0.12
-#: The dataset's published figures on these ten trials (issue 18): inclination, heading, total RMSE °.
+#: The dataset's published figures on the ten shared trials (the means of PUBLISHED_PER_TRIAL over them):
+#: inclination, heading, total RMSE °.
 PUBLISHED = {"mahony": (3.75, 7.84, 8.92), "madgwick": (2.70, 4.99, 5.79)}
+#: The three error figures, in table order.
+FIGURES = ("inclination", "heading", "total")
+#: The ADIS16407's gyro clips at its 14-bit code: 0x1FFF or 0x2000 in X/Y/Z GYRO_OUT (burst words 2…4).
+_GYRO_WORDS = slice(2, 5)
+_FULL_SCALE_CODES = (0x1FFF, 0x2000)
 
 
 @dataclass(frozen=True)
 class Trial:
     name: str
+    path: Path
     rate_hz: float
     gyr: np.ndarray  # rad/s
     acc: np.ndarray  # m/s²
@@ -59,27 +78,49 @@ class Trial:
     moving: np.ndarray
 
 
-def load_trials(folder: Path) -> list[Trial]:
-    """The ten trials of `folder` (sorted by name); InputError when there are not ten."""
-    paths = sorted(folder.glob("*.hdf5"))
-    if len(paths) != 10:
-        raise InputError(f"{folder}: {len(paths)} BROAD trials (*.hdf5); expected the ten of the dataset")
-    out = []
-    for p in paths:
-        t = import_broad(p)
-        rate = 1.0 / float(np.median(np.diff(t.t_s)))
-        out.append(
-            Trial(
-                name=p.stem,
-                rate_hz=rate,
-                gyr=np.radians(t.gyro_dps),
-                acc=t.accel_g * G0,
-                mag=t.mag_gauss,
-                truth=t.truth_q,
-                moving=t.moving,
+def trial_paths(sources: list[Path]) -> list[Path]:
+    """The BROAD trial files of `sources` (each a folder, whose *.hdf5 are taken sorted by name, or a
+    .hdf5 file), in the order given; InputError for a missing path, an empty folder or a repeated trial."""
+    if not sources:
+        raise InputError("broad-eval: no folder or trial file given; expected at least one")
+    out: list[Path] = []
+    for s in sources:
+        if s.is_dir():
+            found = sorted(s.glob("*.hdf5"))
+            if not found:
+                raise InputError(f"{s}: no BROAD trials (*.hdf5) in this folder; expected at least one")
+            out += found
+        elif s.is_file():
+            out.append(s)
+        else:
+            raise InputError(
+                f"{s}: no such folder or trial file; expected a folder of BROAD trials or a .hdf5"
             )
-        )
+    names = [p.stem for p in out]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise InputError(f"broad-eval: trial {twice[0]} given more than once; expected each trial once")
     return out
+
+
+def load_trial(path: Path) -> Trial:
+    t = import_broad(path)
+    rate = 1.0 / float(np.median(np.diff(t.t_s)))
+    return Trial(
+        name=path.stem,
+        path=path,
+        rate_hz=rate,
+        gyr=np.radians(t.gyro_dps),
+        acc=t.accel_g * G0,
+        mag=t.mag_gauss,
+        truth=t.truth_q,
+        moving=t.moving,
+    )
+
+
+def load_trials(folder: Path) -> list[Trial]:
+    """The trials of `folder` (sorted by name)."""
+    return [load_trial(p) for p in trial_paths([folder])]
 
 
 def errors_deg(q_est: np.ndarray, q_truth: np.ndarray, moving: np.ndarray) -> dict[str, float]:
@@ -89,22 +130,38 @@ def errors_deg(q_est: np.ndarray, q_truth: np.ndarray, moving: np.ndarray) -> di
     return {"inclination": a.rmse_inclination_deg, "heading": a.rmse_heading_deg, "total": a.rmse_total_deg}
 
 
-def dcm_quats(trial: Trial, overrides: tuple[str, ...] = TUNED) -> np.ndarray:
-    """The DCM of the reference profile with `overrides` over one trial (f64, algorithm level)."""
-    p = load_profile("reference", ["firmware.algorithm=dcm", *overrides])
-    return _core.dcm_orientation(
+def settings(algorithm: str, extra: tuple[str, ...] = ()) -> list[str]:
+    """The profile overrides of `algorithm`'s shipped BROAD set, then `extra`."""
+    if algorithm not in TUNED:
+        raise InputError(f"broad-eval: algorithm {algorithm!r}; expected one of {', '.join(ALGORITHMS)}")
+    return [f"firmware.algorithm={algorithm}", *TUNED[algorithm], *extra]
+
+
+def algorithm_quats(
+    trial: Trial, algorithm: str = "dcm", extra: tuple[str, ...] = (), numeric: str = "f64"
+) -> np.ndarray:
+    """`algorithm` of the reference profile with its BROAD set and `extra` over one trial (algorithm level,
+    in `numeric`)."""
+    p = load_profile("reference", [*settings(algorithm, extra), f"firmware.numeric={numeric}"])
+    return _core.attitude_orientation(
         p.text, p.source, list(p.overrides), trial.gyr, trial.acc, trial.mag, 1.0 / trial.rate_hz
     )
 
 
+def dcm_quats(trial: Trial, overrides: tuple[str, ...] = ()) -> np.ndarray:
+    """The DCM at algorithm level, f64 (its BROAD set, then `overrides`)."""
+    return algorithm_quats(trial, "dcm", overrides)
+
+
 def initial_enu(trial: Trial) -> np.ndarray:
-    """The orientation of the first accelerometer and magnetometer sample (as the DCM starts)."""
-    return dcm_quats(_first(trial), TUNED)[0]
+    """The orientation of the first accelerometer and magnetometer sample (as the firmware starts)."""
+    return algorithm_quats(_first(trial), "dcm")[0]
 
 
 def _first(trial: Trial) -> Trial:
     return Trial(
         trial.name,
+        trial.path,
         trial.rate_hz,
         trial.gyr[:1],
         trial.acc[:1],
@@ -146,77 +203,166 @@ def _filter(
 
 
 def ahrs_quats(trial: Trial, method: str, q_rot: np.ndarray) -> np.ndarray:
-    """The `ahrs` package's Mahony or Madgwick over one trial, from the DCM's first orientation, in ENU."""
+    """The `ahrs` package's Mahony or Madgwick over one trial, from the firmware's first orientation (ENU)."""
     q0 = quat.multiply(quat.conjugate(q_rot), initial_enu(trial))
     return quat.multiply(q_rot, _filter(method, trial.gyr, trial.acc, trial.mag, trial.rate_hz, q0))
 
 
-#: The whole board around the DCM: the ADIS16407 model (±300 °/s, its filter and quantisation), f64
-#: arithmetic, the correct decode, the magnetometer words of the burst, the attitude levelled from the
-#: accelerometer over the first second (the trials start at rest) with yaw 0 for the magnetometer to pull in.
+#: The whole board around the algorithm: the ADIS16407 model (±300 °/s rated, clipping at its 14-bit
+#: code, its filter and quantisation), the correct decode, the magnetometer words of the burst, the
+#: attitude levelled from the accelerometer over the first second (the trials start at rest) with yaw 0
+#: for the magnetometer to pull in.
 BOARD = (
-    "firmware.numeric=f64",
     "firmware.decode=correct",
     "firmware.initial_attitude=level",
     "firmware.earth_rate=false",
 )
 
 
-def board_errors(path: Path, overrides: tuple[str, ...] = TUNED) -> dict[str, float]:
-    """The DCM through the whole board on one trial: RMSE over the moving steps."""
-    run = emulate(import_broad(path), overrides=["firmware.algorithm=dcm", *BOARD, *overrides])
+@dataclass(frozen=True)
+class BoardRun:
+    errors: dict[str, float]
+    #: Per step: time (s), the error angles (°) of each figure, and whether a gyro word of the step's
+    #: reads was at full scale.
+    time_s: np.ndarray
+    total_deg: np.ndarray
+    inclination_deg: np.ndarray
+    heading_deg: np.ndarray
+    clipped: np.ndarray
+    events: dict[str, int]
+
+
+def board_run(
+    path: Path,
+    algorithm: str = "dcm",
+    extra: tuple[str, ...] = (),
+    numeric: str = "f64",
+    until_s: float | None = None,
+) -> BoardRun:
+    """`algorithm` through the whole board on one trial (its BROAD set, then `extra`, in `numeric`)."""
+    run = emulate(
+        import_broad(path),
+        overrides=[*settings(algorithm, extra), *BOARD, f"firmware.numeric={numeric}"],
+        until_s=until_s,
+    )
     if run.truth_q is None or run.moving is None:
         raise InputError(f"{path}: the run kept no truth or movement mask")
-    return errors_deg(run.quat, run.truth_q, run.moving)
+    errors = errors_deg(run.quat, run.truth_q, run.moving)
+    e = run.errors("none")
+    codes = run.read_words[:, _GYRO_WORDS] & 0x3FFF
+    read_clipped = np.isin(codes, _FULL_SCALE_CODES).any(axis=1)
+    # A step is clipped when a read of its tick (or of the tick before: the update takes both ends) is.
+    clipped = np.zeros(len(run.step), dtype=bool)
+    step_ticks = run.budget["tick"][run.budget["step"].astype(bool)]
+    clipped_ticks = np.unique(run.read_tick[read_clipped])
+    if len(step_ticks) >= len(run.step):
+        ticks = step_ticks[-len(run.step) :]
+        clipped = np.isin(ticks, clipped_ticks) | np.isin(ticks - 1, clipped_ticks)
+    kinds: dict[str, int] = {}
+    for ev in run.events:
+        kinds[ev["kind"]] = kinds.get(ev["kind"], 0) + 1
+    return BoardRun(
+        errors=errors,
+        time_s=run.time_s,
+        total_deg=e.total,
+        inclination_deg=e.inclination,
+        heading_deg=e.heading,
+        clipped=clipped,
+        events=kinds,
+    )
+
+
+def board_errors(
+    path: Path, algorithm: str = "dcm", extra: tuple[str, ...] = (), numeric: str = "f64"
+) -> dict[str, float]:
+    """`algorithm` through the whole board on one trial: RMSE over the moving steps."""
+    return board_run(path, algorithm, extra, numeric).errors
 
 
 def evaluate(
-    folder: Path, overrides: tuple[str, ...] = TUNED, baselines: bool = True, board: bool = False
+    sources: list[Path] | Path,
+    algorithms: tuple[str, ...] = ALGORITHMS,
+    extra: tuple[str, ...] = (),
+    *,
+    ahrs: bool = False,
+    board: bool = False,
+    numeric: str = "f64",
 ) -> dict[str, Any]:
-    """Per-trial RMSE of the DCM (and the ahrs baselines, and the DCM through the board) and their means."""
-    trials = load_trials(folder)
-    paths = sorted(folder.glob("*.hdf5"))
-    methods = ["dcm", *(["mahony", "madgwick"] if baselines else []), *(["board"] if board else [])]
-    frames = {m: _ahrs_frame(m) for m in ("mahony", "madgwick") if m in methods}
+    """Per-trial RMSE of each algorithm (algorithm level; through the board with `board`), the dataset's
+    published per-trial figures where the trial has them, the `ahrs` filters with `ahrs`; and the means
+    of each column over the trials (published: over the trials that have them)."""
+    paths = trial_paths([sources] if isinstance(sources, Path) else list(sources))
+    for a in algorithms:
+        settings(a)
+    methods = [
+        *algorithms,
+        *([f"{a}@board" for a in algorithms] if board else []),
+        *(["mahony-ahrs", "madgwick-ahrs"] if ahrs else []),
+    ]
+    frames = {m: _ahrs_frame(m.split("-")[0]) for m in methods if m.endswith("-ahrs")}
     rows = []
-    for t, path in zip(trials, paths, strict=True):
+    for path in paths:
+        t = load_trial(path)
         row: dict[str, Any] = {"trial": t.name}
         for m in methods:
-            if m == "board":
-                row[m] = board_errors(path, overrides)
+            if m.endswith("@board"):
+                r = board_run(path, m.split("@")[0], extra, numeric)
+                row[m] = r.errors
+                row[f"{m}:events"] = r.events
                 continue
-            q = dcm_quats(t, overrides) if m == "dcm" else ahrs_quats(t, m, frames[m])
+            if m.endswith("-ahrs"):
+                q = ahrs_quats(t, m.split("-")[0], frames[m])
+            else:
+                q = algorithm_quats(t, m, extra, numeric)
             if not np.isfinite(q).all():
                 raise InputError(f"{t.name}: {m} produced a non-finite orientation")
             row[m] = errors_deg(q, t.truth, t.moving)
+        for pub, per_trial in PUBLISHED_PER_TRIAL.items():
+            if t.name in per_trial:
+                row[f"{pub}-published"] = dict(zip(FIGURES, per_trial[t.name], strict=True))
         rows.append(row)
-    mean = {
-        m: {k: float(np.mean([r[m][k] for r in rows])) for k in ("inclination", "heading", "total")}
-        for m in methods
+    columns = [*methods, *(f"{p}-published" for p in PUBLISHED_PER_TRIAL)]
+    mean: dict[str, dict[str, float]] = {}
+    for m in columns:
+        have = [r[m] for r in rows if m in r]
+        if have:
+            mean[m] = {k: float(np.mean([h[k] for h in have])) for k in FIGURES}
+    return {
+        "algorithms": list(algorithms),
+        "settings": {a: settings(a, extra)[1:] for a in algorithms},
+        "numeric": numeric,
+        "trials": rows,
+        "columns": [c for c in columns if c in mean],
+        "mean": mean,
+        "published_trials": sum(all(f"{p}-published" in r for p in PUBLISHED_PER_TRIAL) for r in rows),
     }
-    return {"overrides": list(overrides), "trials": rows, "mean": mean, "published": PUBLISHED}
 
 
 def table(report: dict[str, Any]) -> str:
-    methods = list(report["mean"])
-    head = "trial".ljust(44) + "".join(f"{m:>24}" for m in methods)
-    sub = " " * 44 + "".join(f"{'incl  head  total':>24}" for _ in methods)
+    methods = report["columns"]
+    width = 20
+    head = "trial".ljust(44) + "".join(f"{m:>{width}}" for m in methods)
+    sub = " " * 44 + "".join(f"{'incl  head total':>{width}}" for _ in methods)
     lines = [head, sub]
 
     def cells(r: dict[str, Any]) -> str:
-        return "".join(
-            f"{r[m]['inclination']:>10.2f}{r[m]['heading']:>6.2f}{r[m]['total']:>8.2f}" for m in methods
-        )
+        out = ""
+        for m in methods:
+            if m in r:
+                out += f"{r[m]['inclination']:>8.2f}{r[m]['heading']:>6.2f}{r[m]['total']:>6.2f}"
+            else:
+                out += f"{'—':>{width}}"
+        return out
 
     lines += [r["trial"].ljust(44) + cells(r) for r in report["trials"]]
-    lines.append("mean".ljust(44) + cells(report["mean"]))
-    pub = report["published"]
+    lines.append(f"mean of {len(report['trials'])}".ljust(44) + cells(report["mean"]))
     lines.append(
-        "published (these ten): "
-        + ", ".join(f"{m} {a:.2f} / {b:.2f} / {c:.2f}" for m, (a, b, c) in pub.items())
-        + " (inclination / heading / total °)"
+        f"published: the dataset's tuned Madgwick (β {MADGWICK_BETA}) and Mahony (k_P {MAHONY_KP}, k_I "
+        f"{MAHONY_KI}), per trial, on {report['published_trials']} of these trials (their mean over those)"
     )
-    lines.append("DCM parameters: " + " ".join(report["overrides"]))
+    lines.append(f"numeric: {report['numeric']}")
+    for a, s in report["settings"].items():
+        lines.append(f"{a}: " + " ".join(s))
     return "\n".join(lines)
 
 
@@ -226,20 +372,41 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser(
         "broad-eval",
-        help="the DCM on the ten BROAD trials beside ahrs's Mahony and Madgwick (algorithm level, f64)",
+        help="the DCM and the VQF-class firmware algorithms on BROAD trials beside the published baselines",
         epilog=exit_epilog(None),
     )
-    p.add_argument("folder", type=Path, help="folder of the ten BROAD trials (*.hdf5)")
+    p.add_argument(
+        "sources", type=Path, nargs="+", help="folders of BROAD trials (*.hdf5) and/or trial files"
+    )
+    p.add_argument(
+        "--algorithm",
+        dest="algorithms",
+        action="append",
+        choices=ALGORITHMS,
+        default=None,
+        help="an algorithm to run (repeatable; default: all)",
+    )
     p.add_argument(
         "--set",
         dest="overrides",
         action="append",
         default=None,
-        help="DCM key=value (replaces the tuned set)",
+        help="profile key=value added after the shipped BROAD set (repeatable)",
     )
-    p.add_argument("--no-baselines", action="store_true", help="the DCM only (no ahrs filters)")
     p.add_argument(
-        "--board", action="store_true", help="also the DCM through the whole board (ADIS16407 model)"
+        "--ahrs",
+        action="store_true",
+        help="also the `ahrs` package's Mahony and Madgwick (minutes: pure Python)",
+    )
+    p.add_argument(
+        "--no-baselines", action="store_true", help="(kept for scripts) no `ahrs` filters: the default now"
+    )
+    p.add_argument("--board", action="store_true", help="also through the whole board (ADIS16407 model)")
+    p.add_argument(
+        "--numeric",
+        choices=tuple(_core.NUMERICS),
+        default="f64",
+        help="the firmware's numeric type (default f64)",
     )
     add_json_option(p)
     p.set_defaults(func=run)
@@ -248,8 +415,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from sins_fw.cli.common import emit  # as in `register`: sins_fw.cli imports this module
 
-    overrides = tuple(args.overrides) if args.overrides else TUNED
-    report = evaluate(args.folder, overrides, baselines=not args.no_baselines, board=args.board)
+    report = evaluate(
+        list(args.sources),
+        tuple(args.algorithms) if args.algorithms else ALGORITHMS,
+        tuple(args.overrides or ()),
+        ahrs=args.ahrs and not args.no_baselines,
+        board=args.board,
+        numeric=args.numeric,
+    )
     report["machine"] = machine()  # the benchmarks' one (sins_fw.bench)
     emit(args, report, table(report))
     return 0

@@ -219,6 +219,37 @@ pub const KINDS: &[EventKind] = &[
     ),
     kind("saturated_reading", Warning, "firmware", "a decoded code at the 14-bit limit"),
     kind(
+        "gyro_clipped",
+        Warning,
+        "firmware",
+        "a gyro axis at its full-scale code: the attitude update raises its reference gains (`clip_gain`)",
+    ),
+    kind(
+        "clip_recovered",
+        Info,
+        "firmware",
+        "no gyro clip for the recovery time (`clip_recovery_s`): the attitude update's gains are normal again",
+    ),
+    kind(
+        "mag_reference_learned",
+        Info,
+        "firmware",
+        "the magnetic gate learned the field's norm and dip at rest (`[firmware.mag_gate]`)",
+    ),
+    kind(
+        "mag_rejected",
+        Warning,
+        "firmware",
+        "the magnetic field is off its reference in norm or dip, or clipped: yaw runs on the gyro",
+    ),
+    kind("mag_accepted", Info, "firmware", "the magnetic field is usable for yaw again after a rejection"),
+    kind(
+        "mag_reference_relearned",
+        Warning,
+        "firmware",
+        "a rejection longer than `relearn_s`: the disturbed field's norm and dip are the new reference",
+    ),
+    kind(
         "state_out_of_range",
         Error,
         "firmware",

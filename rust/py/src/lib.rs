@@ -195,6 +195,40 @@ fn dcm_orientation<'py>(
     Ok(array.into_pyarray(py))
 }
 
+/// The profile's attitude algorithm (`firmware.algorithm`, `dcm` or `vqf`) at algorithm level in the
+/// profile's numeric type over recorded samples (`sins_core::firmware::attitude_run_samples`): one
+/// quaternion (C_b^n, ENU) per row.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn attitude_orientation<'py>(
+    py: Python<'py>,
+    text: &str,
+    source: &str,
+    overrides: Vec<String>,
+    gyr: numpy::PyReadonlyArray2<'py, f64>,
+    acc: numpy::PyReadonlyArray2<'py, f64>,
+    mag: numpy::PyReadonlyArray2<'py, f64>,
+    step_s: f64,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    use numpy::IntoPyArray;
+    let rows = |name: &str, a: &numpy::PyReadonlyArray2<'py, f64>| -> PyResult<Vec<[f64; 3]>> {
+        let v = a.as_array();
+        if v.ncols() != 3 {
+            return Err(to_py(sins_core::Error::Input(format!("{name}: shape {:?}, expected (n, 3)", v.shape()))));
+        }
+        Ok(v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
+    };
+    let (g, a, m) = (rows("gyr", &gyr)?, rows("acc", &acc)?, rows("mag", &mag)?);
+    let profile = guard(|| Profile::from_toml(text, source, &overrides))?.map_err(to_py)?;
+    let q = py
+        .detach(|| guard(|| sins_core::firmware::attitude_run_samples(&profile.firmware, step_s, &g, &a, &m)))?
+        .map_err(to_py)?;
+    let n = q.len();
+    let array = numpy::ndarray::Array2::from_shape_vec((n, 4), q.into_flattened())
+        .unwrap_or_else(|_| unreachable!("rows have 4 values"));
+    Ok(array.into_pyarray(py))
+}
+
 /// The event kinds (`sins_core::events::KINDS`) as dicts: name, severity, source, spi_rule, meaning.
 fn event_kinds(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     sins_core::events::KINDS
@@ -377,6 +411,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bench_rk4_lower_bound, m)?)?;
     m.add_function(wrap_pyfunction!(bench_firmware_stages, m)?)?;
     m.add_function(wrap_pyfunction!(dcm_orientation, m)?)?;
+    m.add_function(wrap_pyfunction!(attitude_orientation, m)?)?;
     m.add_function(wrap_pyfunction!(gps_nmea_lines, m)?)?;
     m.add_function(wrap_pyfunction!(nmea_read, m)?)?;
     m.add_function(wrap_pyfunction!(geomag::geomag_spin_chain, m)?)?;

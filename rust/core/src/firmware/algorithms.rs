@@ -6,14 +6,16 @@
 //! Adding one: a file with a type implementing [`AttitudeUpdate`] (and its `mod` line in
 //! `firmware/mod.rs`), then one row here.
 
-use super::attitude::AttitudeUpdate;
-use super::dcm::Dcm;
-use super::quat::Rk4;
+use super::attitude::{AttitudeUpdate, StepInputs};
+use super::dcm::{attitude_from_acc_mag, quat_from_dcm, Dcm};
+use super::quat::{dcm, Rk4};
 use super::rotvec::RotationVector;
+use super::vqf::Vqf;
 use super::wing::WingUnit;
+use super::{Mat3, Quat, Vec3};
 use crate::error::{Error, Result};
-use crate::numerics::Scalar;
-use crate::profile;
+use crate::numerics::{C28xF32Rn, C28xF32Rz, Iq, QClass, Scalar};
+use crate::profile::{self, Numeric};
 
 /// An attitude update made for a profile (an error when the profile's values do not make one).
 pub type MadeUpdate<T> = Result<Box<dyn AttitudeUpdate<T>>>;
@@ -45,8 +47,13 @@ pub fn algorithms<T: Scalar>() -> Vec<Algorithm<T>> {
         },
         Algorithm {
             name: "dcm",
-            doc: "direction cosine matrix with drift cancellation (`[firmware.dcm]`)",
-            make: |fw, step_s| Ok(Box::new(Dcm::<T>::new(&fw.dcm, step_s))),
+            doc: "direction cosine matrix with drift cancellation (`[firmware.dcm]`, `[firmware.mag_gate]`)",
+            make: |fw, step_s| Ok(Box::new(Dcm::<T>::with_gate(&fw.dcm, &fw.mag_gate, fw.accel_g_m_s2, step_s))),
+        },
+        Algorithm {
+            name: "vqf",
+            doc: "VQF-class filter: strapdown, accelerometer low-pass in an almost-inertial frame, rest and motion gyro-bias estimation, gated magnetometer heading (`[firmware.vqf]`, `[firmware.mag_gate]`)",
+            make: |fw, step_s| Ok(Box::new(Vqf::<T>::new(&fw.vqf, &fw.mag_gate, fw.accel_g_m_s2, step_s))),
         },
         Algorithm {
             name: "wing",
@@ -71,6 +78,80 @@ pub fn attitude_update<T: Scalar>(fw: &profile::Firmware, step_s: f64) -> MadeUp
             algorithm_names()
         ))),
     }
+}
+
+/// The profile's attitude algorithm at algorithm level over recorded samples, in the profile's numeric
+/// type (`firmware.numeric`): gyro rad/s, specific force m/s², magnetic field gauss, one row per sample,
+/// `step_s` apart; one update per sample from the previous and the current rate (the algorithm must
+/// take two samples an update: `dcm`, `vqf`), starting from [`attitude_from_acc_mag`] of the first
+/// sample. Returns one quaternion (C_b^n, ENU, f64) per sample. No device model: the algorithm alone,
+/// as the dataset's baselines run; the inputs are converted into the numeric type as a decode would
+/// hand them over.
+pub fn run_samples(
+    fw: &profile::Firmware,
+    step_s: f64,
+    gyr: &[Vec3<f64>],
+    acc: &[Vec3<f64>],
+    mag: &[Vec3<f64>],
+) -> Result<Vec<Quat<f64>>> {
+    match fw.numeric {
+        Numeric::F64 => run_samples_in::<f64>(fw, step_s, gyr, acc, mag),
+        Numeric::C28xF32 => run_samples_in::<C28xF32Rn>(fw, step_s, gyr, acc, mag),
+        Numeric::C28xF32Rz => run_samples_in::<C28xF32Rz>(fw, step_s, gyr, acc, mag),
+        Numeric::Iq => run_samples_in::<Iq>(fw, step_s, gyr, acc, mag),
+    }
+}
+
+fn run_samples_in<T: Scalar>(
+    fw: &profile::Firmware,
+    step_s: f64,
+    gyr: &[Vec3<f64>],
+    acc: &[Vec3<f64>],
+    mag: &[Vec3<f64>],
+) -> Result<Vec<Quat<f64>>> {
+    let n = gyr.len();
+    if acc.len() != n || mag.len() != n || n == 0 {
+        return Err(Error::Input(format!(
+            "{} samples: {n} gyro, {} accelerometer and {} magnetometer rows; expected the same number > 0",
+            fw.algorithm,
+            acc.len(),
+            mag.len()
+        )));
+    }
+    let mut update = attitude_update::<T>(fw, step_s)?;
+    if update.samples_per_update() != 2 {
+        return Err(Error::Config(format!(
+            "key `firmware.algorithm` = \"{}\": runs on recorded samples only for an update of two samples (`dcm`, `vqf`)",
+            fw.algorithm
+        )));
+    }
+    let r0 = attitude_from_acc_mag(&acc[0], &mag[0]).ok_or_else(|| {
+        Error::Input(format!(
+            "{} samples: the first accelerometer and magnetometer samples give no attitude (zero or parallel)",
+            fw.algorithm
+        ))
+    })?;
+    let to_t = |v: &Vec3<f64>, class: QClass| v.map(|x| T::from_f64(x, class));
+    let c0: Mat3<T> = r0.map(|row| row.map(|x| T::from_f64(x, QClass::Quat)));
+    let mut q = quat_from_dcm(&c0);
+    let mut c = c0;
+    let mut out = Vec::with_capacity(n);
+    out.push(q.map(|x| x.to_f64()));
+    let mut previous = to_t(&gyr[0], QClass::Rate);
+    for k in 1..n {
+        let current = to_t(&gyr[k], QClass::Rate);
+        let rates = [previous, current];
+        let inputs = StepInputs {
+            specific_force: Some(to_t(&acc[k], QClass::Accel)),
+            magnetic_field: Some(to_t(&mag[k], QClass::Accel)),
+            ..StepInputs::rates(&rates, None)
+        };
+        update.step(&mut q, &c, &inputs)?;
+        c = update.matrix().unwrap_or_else(|| dcm(&q));
+        out.push(q.map(|x| x.to_f64()));
+        previous = current;
+    }
+    Ok(out)
 }
 
 /// Samples one update of the profile's algorithm takes (what the schedule gathers).
@@ -110,7 +191,9 @@ mod tests {
         let fw = profile::Firmware { algorithm: "rk5".into(), ..Default::default() };
         let err = attitude_update::<f64>(&fw, 0.008).unwrap_err().to_string();
         assert!(
-            err.contains("key `firmware.algorithm` = \"rk5\": expected one of `rk4`, `rotation-vector`, `dcm`, `wing`"),
+            err.contains(
+                "key `firmware.algorithm` = \"rk5\": expected one of `rk4`, `rotation-vector`, `dcm`, `vqf`, `wing`"
+            ),
             "{err}"
         );
     }

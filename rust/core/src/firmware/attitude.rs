@@ -24,12 +24,33 @@ pub struct StepInputs<'a, T> {
     pub magnetic_field: Option<Vec3<T>>,
     /// The GPS: none on the board, a stream with no fix usable yet, or the latest fix usable.
     pub gps: GpsInput<T>,
+    /// The axes whose code was at full scale (the decode's saturation flags).
+    pub clipped: Clipped,
+}
+
+/// Which axes read a full-scale code: bit i is axis i (x, y, z). The gyro's over every sample of the
+/// update; the accelerometer's and the magnetometer's of the sample the update takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Clipped {
+    /// Gyro axes clipped in any sample of the update.
+    pub gyro: u8,
+    /// Accelerometer axes clipped in the latest sample.
+    pub accel: u8,
+    /// Magnetometer axes clipped in the latest sample.
+    pub mag: u8,
 }
 
 impl<'a, T> StepInputs<'a, T> {
     /// Rates only (and the navigation frame's rate): what the open-loop algorithms take.
     pub fn rates(rates: &'a [Vec3<T>], nav_rate: Option<Vec3<T>>) -> Self {
-        StepInputs { rates, nav_rate, specific_force: None, magnetic_field: None, gps: GpsInput::None }
+        StepInputs {
+            rates,
+            nav_rate,
+            specific_force: None,
+            magnetic_field: None,
+            gps: GpsInput::None,
+            clipped: Clipped::default(),
+        }
     }
 }
 
@@ -93,6 +114,9 @@ pub trait AttitudeUpdate<T: Scalar>: std::fmt::Debug + Send {
     /// Put the update in its costliest state (the timing model counts one update from there: an
     /// algorithm whose work depends on its state must fit the tick in its worst one). Nothing by default.
     fn to_costliest(&mut self) {}
+    /// Hand the events the last update raised (kind, severity, message) to `sink`, and forget them
+    /// (the ISR stamps them with the update's time). None by default.
+    fn drain_events(&mut self, _sink: &mut dyn FnMut(&'static str, crate::events::Severity, String)) {}
 }
 
 /// The drift-cancellation terms of one update (f64 whatever the backend: a report, not firmware state).

@@ -52,6 +52,15 @@ pub fn accel_range(part: &Part) -> (u16, u16) {
     (n, 0x4000 - n)
 }
 
+/// The magnetometer axes (bit i: X/Y/Z MAGN_OUT) whose 14-bit code is at its limit (0x1FFF or 0x2000):
+/// the field on that axis is clipped.
+pub fn saturated_magnetometer(words: &[u16; 3]) -> u8 {
+    (0..3).fold(0, |m, i| {
+        let code = words[i] & VALID_BITS_MASK;
+        m | u8::from(code == SATURATED_POSITIVE || code == SATURATED_NEGATIVE) << i
+    })
+}
+
 /// Per channel, the published stale range hi < code < lo as `code − (hi + 1) < lo − hi − 1` (wrapping).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct StaleRanges {

@@ -276,6 +276,10 @@ impl<T: Scalar> Isr<T> {
                 // The latest GPS fix that has reached the board by now (its time plus its latency).
                 self.fw.receive_gps(ps_to_s(board.ps(c)));
                 self.fw.update_attitude(self.schedule.rates())?;
+                let (events, t_ps) = (&mut self.events, board.ps(c));
+                self.fw.drain_attitude_events(&mut |kind, severity, message| {
+                    events.push(Event::new(t_ps, kind, severity, message))
+                });
                 c += self.stages.attitude.cycles;
                 self.maybe_nest(board, &mut c, k)?;
                 let attitude_end = c;

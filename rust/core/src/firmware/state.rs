@@ -5,7 +5,7 @@
 
 use super::algorithms::{attitude_update, samples_per_update};
 use super::align::{level_attitude, LevelAligner};
-use super::attitude::{AttitudeUpdate, Correction, GpsAiding, GpsInput, StepInputs};
+use super::attitude::{AttitudeUpdate, Clipped, Correction, GpsAiding, GpsInput, StepInputs};
 use super::decode::{Decoded, Decoder};
 use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
@@ -49,6 +49,9 @@ pub struct Firmware<T: Scalar> {
     uses_magnetometer: bool,
     /// The latest magnetic field decoded, gauss.
     last_mag: Option<Vec3<T>>,
+    /// Axes at full scale: the gyro's over the reads since the last update, the accelerometer's and
+    /// the magnetometer's of the latest read.
+    clipped: Clipped,
     /// Fixes of the GPS stream not usable yet (in time order); None: the board has no GPS.
     gps_pending: Option<std::collections::VecDeque<GpsFix>>,
     /// The latest fix usable at the last update.
@@ -101,8 +104,9 @@ impl<T: Scalar> Firmware<T> {
             return Err(Error::Profile(format!("key `timer.period_us` = {}: expected > 0", profile.timer.period_us)));
         }
         let q: Quat<T> = [lit(1.0), lit(0.0), lit(0.0), lit(0.0)];
-        let uses_magnetometer =
-            fw.algorithm == "dcm" && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer;
+        let uses_magnetometer = (fw.algorithm == "dcm"
+            && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer)
+            || (fw.algorithm == "vqf" && fw.vqf.magnetometer);
         Ok(Firmware {
             attitude: attitude_update(fw, step_s)?,
             earth_rate: fw.earth_rate,
@@ -122,6 +126,7 @@ impl<T: Scalar> Firmware<T> {
             uses_magnetometer,
             // The firmware's field variable before the first read: zero, as a C global starts.
             last_mag: uses_magnetometer.then_some([lit(0.0); 3]),
+            clipped: Clipped::default(),
             gps_pending: None,
             gps: GpsInput::None,
             gps_last_available: None,
@@ -145,6 +150,8 @@ impl<T: Scalar> Firmware<T> {
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
         let d = self.decoder.decode(words);
         self.last_accel = Some(d.accel);
+        self.clipped.gyro |= d.report.saturated & 0b111;
+        self.clipped.accel = d.report.saturated >> 3;
         d
     }
 
@@ -157,6 +164,7 @@ impl<T: Scalar> Firmware<T> {
     pub fn decode_magnetometer(&mut self, words: &[u16; 3]) -> Vec3<T> {
         let m = self.decoder.decode_magnetometer(words);
         self.last_mag = Some(m);
+        self.clipped.mag = super::decode::saturated_magnetometer(words);
         m
     }
 
@@ -246,14 +254,22 @@ impl<T: Scalar> Firmware<T> {
             specific_force: self.last_accel,
             magnetic_field: self.last_mag,
             gps: self.gps,
+            clipped: self.clipped,
             ..StepInputs::rates(rates, nav_rate)
         };
         match mark {
             None => self.attitude.step(&mut self.q, &self.c_bn, &inputs)?,
             Some(mark) => self.attitude.step_marked(&mut self.q, &self.c_bn, &inputs, mark)?,
         }
+        self.clipped.gyro = 0;
         self.c_bn = self.attitude.matrix().unwrap_or_else(|| dcm(&self.q));
         Ok(())
+    }
+
+    /// Hand the attitude algorithm's events of the last update to `sink` (see
+    /// [`AttitudeUpdate::drain_events`]).
+    pub fn drain_attitude_events(&mut self, sink: &mut dyn FnMut(&'static str, crate::events::Severity, String)) {
+        self.attitude.drain_events(sink);
     }
 
     /// The drift-cancellation terms of the last attitude update (DCM), None for the open-loop ones.
@@ -294,6 +310,7 @@ impl<T: Scalar> Firmware<T> {
     /// Alignment (`level`): add one still accelerometer sample.
     pub fn add_alignment_sample(&mut self, f_b: &Vec3<T>) {
         self.aligner.add(f_b);
+        self.clipped.gyro = 0;
     }
 
     /// End of the still period: for `level`, Q from the averaged accelerometer and the profile's

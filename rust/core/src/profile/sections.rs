@@ -591,6 +591,17 @@ pub struct Dcm {
     /// Below this GPS ground speed the course over ground gives no yaw error (it is undefined at
     /// rest), m/s.
     pub gps_min_speed_mps: f64,
+    /// The roll–pitch and yaw gains are multiplied by this while a gyro axis is clipped and for
+    /// `clip_recovery_s` after (the integrator is frozen meanwhile); 1: no change.
+    pub clip_gain: f64,
+    /// How long the raised gain lasts after the last clipped update, s.
+    pub clip_recovery_s: f64,
+    /// Pre-compensate the first-order update's lag: dθ·(1 + |dθ|²/3) (the renormalised R·(I + [dθ×])
+    /// turns by atan|dθ|, dθ³/3 short).
+    pub lag_compensation: bool,
+    /// Errors beyond 90° (tilt, or heading from the magnetometer) pull at full strength: the error vector
+    /// at unit length instead of sin e (which falls back to 0 at 180°).
+    pub full_range: bool,
 }
 
 impl Default for Dcm {
@@ -605,6 +616,10 @@ impl Default for Dcm {
             integrator_limit_dps: 5.0,
             declination_deg: 0.0,
             gps_min_speed_mps: 2.0,
+            clip_gain: 1.0,
+            clip_recovery_s: 0.0,
+            lag_compensation: false,
+            full_range: false,
         }
     }
 }
@@ -619,6 +634,148 @@ impl Dcm {
         check_range("firmware.dcm.integrator_limit_dps", self.integrator_limit_dps, 0.0, 90.0, "0…90 °/s")?;
         check_range("firmware.dcm.declination_deg", self.declination_deg, -180.0, 180.0, "−180…180 degrees")?;
         check_range("firmware.dcm.gps_min_speed_mps", self.gps_min_speed_mps, 0.0, 100.0, "0…100 m/s")?;
+        check_range("firmware.dcm.clip_gain", self.clip_gain, 1.0, 100.0, "1…100")?;
+        check_range("firmware.dcm.clip_recovery_s", self.clip_recovery_s, 0.0, 600.0, "0…600 s")?;
+        Ok(())
+    }
+}
+
+/// The magnetic disturbance gate of the fusing algorithms (`firmware/gating.rs`): the field used for
+/// yaw is checked in norm and dip against a reference learned at rest. The tolerances and times are
+/// this model's [unconfirmed: chosen on the BROAD trials, see `benchmarks/broad_eval.md`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MagGate {
+    /// Gate the field (false: every field is used, as before the gate).
+    pub enabled: bool,
+    /// A field whose norm differs from the reference's by more than this fraction is not used.
+    pub norm_tol: f64,
+    /// A field whose dip differs from the reference's by more than this is not used, degrees.
+    pub dip_tol_deg: f64,
+    /// Rest needed before the reference is learned (and the low-pass time constant), s.
+    pub rest_s: f64,
+    /// Rest: |ω| below this, °/s.
+    pub rest_gyro_dps: f64,
+    /// Rest: |f| within this fraction of g.
+    pub rest_accel_g: f64,
+    /// A rejection longer than this adopts the field as the new reference, s.
+    pub relearn_s: f64,
+}
+
+impl Default for MagGate {
+    fn default() -> Self {
+        MagGate {
+            enabled: true,
+            norm_tol: 0.1,
+            dip_tol_deg: 10.0,
+            rest_s: 1.0,
+            rest_gyro_dps: 3.0,
+            rest_accel_g: 0.05,
+            relearn_s: 60.0,
+        }
+    }
+}
+
+impl MagGate {
+    pub(crate) fn validate(&self) -> Result<()> {
+        check_range("firmware.mag_gate.norm_tol", self.norm_tol, 0.0, 10.0, "0…10 (a fraction of the norm)")?;
+        check_range("firmware.mag_gate.dip_tol_deg", self.dip_tol_deg, 0.0, 90.0, "0…90 degrees")?;
+        check_range("firmware.mag_gate.rest_s", self.rest_s, 0.001, 600.0, "0.001…600 s")?;
+        check_range("firmware.mag_gate.rest_gyro_dps", self.rest_gyro_dps, 0.0, 100.0, "0…100 °/s")?;
+        check_range("firmware.mag_gate.rest_accel_g", self.rest_accel_g, 0.0, 1.0, "0…1 (a fraction of g)")?;
+        check_range("firmware.mag_gate.relearn_s", self.relearn_s, 0.001, 3600.0, "0.001…3600 s")?;
+        Ok(())
+    }
+}
+
+/// The VQF-class filter (`firmware/vqf.rs`; Laidig & Seel 2022): time constants and bias-estimation
+/// parameters. Defaults are the published method's defaults; the BROAD set is in
+/// `python/sins_fw/broad_eval.py` (chosen on the ten trials, `benchmarks/broad_eval.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Vqf {
+    /// Time constant of the accelerometer low-pass in the almost-inertial frame, s.
+    pub tau_acc_s: f64,
+    /// Time constant of the magnetometer heading correction, s.
+    pub tau_mag_s: f64,
+    /// Use the magnetometer for heading (false: 6D, heading open loop).
+    pub magnetometer: bool,
+    /// Estimate the gyro bias at rest.
+    pub rest_bias: bool,
+    /// Estimate the gyro bias in motion (from the accelerometer correction).
+    pub motion_bias: bool,
+    /// Initial standard deviation of the bias estimate, °/s.
+    pub bias_sigma_init_dps: f64,
+    /// Time for the bias estimate's variance to grow from 0 to `bias_sigma_init_dps`², s.
+    pub bias_forgetting_s: f64,
+    /// The bias estimate is held within ± this, °/s.
+    pub bias_clip_dps: f64,
+    /// Standard deviation of the motion bias measurement, °/s.
+    pub bias_sigma_motion_dps: f64,
+    /// Standard deviation of the rest bias measurement, °/s.
+    pub bias_sigma_rest_dps: f64,
+    /// Rest: the deviation of the gyro from its low-pass below this, °/s.
+    pub rest_gyro_dps: f64,
+    /// Rest: the deviation of the accelerometer from its low-pass below this, m/s².
+    pub rest_accel_m_s2: f64,
+    /// Rest: for at least this long, s.
+    pub rest_min_s: f64,
+    /// Time constant of the rest detection's low-pass, s.
+    pub rest_tau_s: f64,
+    /// The heading gain is multiplied by this for as long as the field was rejected, after it is
+    /// accepted again (VQF's faster heading recovery).
+    pub mag_recovery_gain: f64,
+    /// The accelerometer correction's time constant is divided by this while a gyro axis is clipped and
+    /// for `clip_recovery_s` after (and the motion bias estimate is frozen); 1: no change.
+    pub clip_gain: f64,
+    /// How long the raised accelerometer gain lasts after the last clipped update, s.
+    pub clip_recovery_s: f64,
+}
+
+impl Default for Vqf {
+    fn default() -> Self {
+        Vqf {
+            tau_acc_s: 3.0,
+            tau_mag_s: 9.0,
+            magnetometer: true,
+            rest_bias: true,
+            motion_bias: true,
+            bias_sigma_init_dps: 0.5,
+            bias_forgetting_s: 100.0,
+            bias_clip_dps: 2.0,
+            bias_sigma_motion_dps: 0.1,
+            bias_sigma_rest_dps: 0.03,
+            rest_gyro_dps: 2.0,
+            rest_accel_m_s2: 0.5,
+            rest_min_s: 1.5,
+            rest_tau_s: 0.5,
+            mag_recovery_gain: 2.0,
+            clip_gain: 1.0,
+            clip_recovery_s: 0.0,
+        }
+    }
+}
+
+impl Vqf {
+    pub(crate) fn validate(&self) -> Result<()> {
+        for (key, v, lo, hi, allowed) in [
+            ("firmware.vqf.tau_acc_s", self.tau_acc_s, 0.001, 1000.0, "0.001…1000 s"),
+            ("firmware.vqf.tau_mag_s", self.tau_mag_s, 0.001, 1000.0, "0.001…1000 s"),
+            ("firmware.vqf.bias_sigma_init_dps", self.bias_sigma_init_dps, 0.0, 100.0, "0…100 °/s"),
+            ("firmware.vqf.bias_forgetting_s", self.bias_forgetting_s, 0.001, 1e6, "0.001…1e6 s"),
+            ("firmware.vqf.bias_clip_dps", self.bias_clip_dps, 0.0, 100.0, "0…100 °/s"),
+            ("firmware.vqf.bias_sigma_motion_dps", self.bias_sigma_motion_dps, 1e-6, 100.0, "1e-6…100 °/s"),
+            ("firmware.vqf.bias_sigma_rest_dps", self.bias_sigma_rest_dps, 1e-6, 100.0, "1e-6…100 °/s"),
+            ("firmware.vqf.rest_gyro_dps", self.rest_gyro_dps, 0.0, 100.0, "0…100 °/s"),
+            ("firmware.vqf.rest_accel_m_s2", self.rest_accel_m_s2, 0.0, 100.0, "0…100 m/s²"),
+            ("firmware.vqf.rest_min_s", self.rest_min_s, 0.0, 600.0, "0…600 s"),
+            ("firmware.vqf.rest_tau_s", self.rest_tau_s, 0.001, 600.0, "0.001…600 s"),
+            ("firmware.vqf.mag_recovery_gain", self.mag_recovery_gain, 1.0, 100.0, "1…100"),
+            ("firmware.vqf.clip_gain", self.clip_gain, 1.0, 100.0, "1…100"),
+            ("firmware.vqf.clip_recovery_s", self.clip_recovery_s, 0.0, 600.0, "0…600 s"),
+        ] {
+            check_range(key, v, lo, hi, allowed)?;
+        }
         Ok(())
     }
 }
@@ -773,6 +930,10 @@ pub struct Firmware {
     pub gyro_range_dps: f64,
     /// The DCM algorithm's gains and references (`firmware.algorithm` = "dcm").
     pub dcm: Dcm,
+    /// The magnetic disturbance gate of the fusing algorithms (`dcm`, `vqf`).
+    pub mag_gate: MagGate,
+    /// The VQF-class algorithm's parameters (`firmware.algorithm` = "vqf").
+    pub vqf: Vqf,
 }
 
 impl Default for Firmware {
@@ -798,6 +959,8 @@ impl Default for Firmware {
             accel_g_m_s2: 9.80665,
             gyro_range_dps: 300.0,
             dcm: Dcm::default(),
+            mag_gate: MagGate::default(),
+            vqf: Vqf::default(),
         }
     }
 }
@@ -824,6 +987,8 @@ impl Firmware {
             return Err(bad("firmware.gyro_range_dps", self.gyro_range_dps, "75, 150 or 300 (°/s)"));
         }
         self.dcm.validate()?;
+        self.mag_gate.validate()?;
+        self.vqf.validate()?;
         Ok(())
     }
 }
