@@ -10,6 +10,7 @@ import re
 import subprocess
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from sins_fw.firmware_build import CLANG, block_costs, build_firmware, pass_plugin
@@ -120,3 +121,43 @@ def test_same_input_same_library_same_counts(tmp_path: Path):
     rows = {line.split("\t")[0]: line.split("\t")[1:] for line in first[0].splitlines()}
     cycles, calls = (int(x) for x in rows["updateQ"])
     assert calls > 0 and cycles / calls > 1000
+
+
+def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
+    """Calibration (issue 38): the reference C firmware (the published algorithm) and the Rust model on
+    the static trace, c28x float in both, each ISR's time from entry to IRET. The issue's bounds: the
+    whole ISR within ±10 % of the model's, and an update tick's (the attitude solution's) within ±15 %
+    of the published 0.35 ms. Measured (2 s): 350.9 µs against the model's 347.7 µs on update ticks,
+    329.0 against 334.5 on the others."""
+    from sins_fw import emulate
+
+    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
+    assert built.returncode == 0
+    fw = build_firmware([REFERENCE], tmp_path / "ref.so", float_mode="c28x")
+    overrides = [
+        "firmware.quat_derivative=published",
+        "firmware.numeric=c28x-f32",
+        "device.timing_mode=lenient",
+    ]
+    parts: list[dict] = []
+    run_c_firmware(
+        fw,
+        STATIC,
+        load_profile("reference", overrides=overrides),
+        globals_file=REFERENCE / "globals.toml",
+        sink=parts.append,
+        until_s=0.2,
+    )
+    c_isr = (
+        np.concatenate([p["budget_end_ps"].astype(np.int64) - p["budget_start_ps"] for p in parts]) * 1e-12
+    )
+    updates = np.concatenate([p["firmware_globals"]["updates"] for p in parts])
+    c_update = np.diff(np.r_[0, updates]) > 0
+    model = emulate(STATIC, "reference", overrides=overrides, until_s=0.2)
+    b = model.budget
+    m_isr = (b["end_ps"].astype(np.int64) - b["start_ps"].astype(np.int64)) * 1e-12
+    m_update = (b["nav_end_ps"].astype(np.int64) - b["euler_end_ps"].astype(np.int64)) > 0
+    assert c_update.sum() > 20 and m_update.sum() > 20 and (~c_update).sum() > 20
+    for c, m in ((c_isr[c_update], m_isr[m_update]), (c_isr[~c_update], m_isr[~m_update])):
+        assert abs(c.mean() / m.mean() - 1) <= 0.10
+    assert abs(c_isr[c_update].mean() / 0.35e-3 - 1) <= 0.15

@@ -11,7 +11,8 @@ headers and the replacements of ``firmware_c/include`` behave alike. ``sins_fw_p
 force-included (TI's ``interrupt``, ``cregister``, ``far``, ``asm``/``__asm``, the DSP28 data types,
 ``void main``); TI's pragmas are ignored. Each register access is charged the cycles of
 ``firmware_model/c28x-costs.toml`` ``[io]``, and every basic block of the firmware's code the C28x
-cycles of its optimised IR, priced at compile time by the pass (:func:`block_costs`, docs/c-cycles.md). The result is a shared library linked against the C ABI
+cycles of its optimised IR, priced at compile time by the pass (:func:`block_costs`,
+docs/c-cycles.md). The result is a shared library linked against the C ABI
 library (``rust/cabi``), which :mod:`sins_fw.firmware_run` runs on a trace.
 
 The input is files, folders, or a CCS project (its ``.project``/``.cproject`` or its folder):
