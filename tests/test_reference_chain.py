@@ -11,8 +11,8 @@ so the C polls faster. With the device's timing rules enforced (the reference pr
 that matters: the C's frames follow each other 1.013 µs apart (last SCLK edge to first: the polling
 loop's basic blocks as clang 14 -O1 builds them, priced from their IR), under the ADIS16407's
 one-SCLK burst stall (1.333 µs), and the device answers its corrupt word; the model's 1.573 µs
-meet it. The word-level proof therefore runs both with `device.timing_mode = "lenient"` (the device reports the rule, the data stay right),
-and the strict run is checked to give exactly that first differing frame and reason."""
+meet it. The word-level proof therefore runs both with `device.timing_mode = "lenient"` (the device
+reports the rule, the data stay right), and the strict run is checked to give exactly that first differing frame and reason."""
 
 from __future__ import annotations
 
