@@ -12,7 +12,8 @@ that matters: the C's frames follow each other 1.013 µs apart (last SCLK edge t
 loop's basic blocks as clang 14 -O1 builds them, priced from their IR), under the ADIS16407's
 one-SCLK burst stall (1.333 µs), and the device answers its corrupt word; the model's 1.573 µs
 meet it. The word-level proof therefore runs both with `device.timing_mode = "lenient"` (the device
-reports the rule, the data stay right), and the strict run is checked to give exactly that first differing frame and reason."""
+reports the rule, the data stay right), and the strict run is checked to give exactly that first
+differing frame and reason."""
 
 from __future__ import annotations
 
