@@ -127,7 +127,7 @@ def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
     """Calibration (issue 38): the reference C firmware (the published algorithm) and the Rust model on
     the static trace, c28x float in both, each ISR's time from entry to IRET. The issue's bounds: the
     whole ISR within ±10 % of the model's, and an update tick's (the attitude solution's) within ±15 %
-    of the published 0.35 ms. Measured (2 s): 350.9 µs against the model's 347.7 µs on update ticks,
+    of the published 0.35 ms. Measured (2 s): 349.5 µs against the model's 347.7 µs on update ticks,
     329.0 against 334.5 on the others."""
     from sins_fw import emulate
 
