@@ -24,11 +24,13 @@
    and stores stay as they are: the values are always canonical. */
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "llvm/Analysis/ValueTracking.h"
+#include "llvm/IR/GlobalVariable.h"
 #include "llvm/IR/IRBuilder.h"
 #include "llvm/IR/InstIterator.h"
 #include "llvm/IR/Instructions.h"
@@ -37,6 +39,7 @@
 #include "llvm/IR/PassManager.h"
 #include "llvm/Passes/PassBuilder.h"
 #include "llvm/Passes/PassPlugin.h"
+#include "llvm/Transforms/Utils/ModuleUtils.h"
 
 using namespace llvm;
 
@@ -248,8 +251,18 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
         Type *fl = Type::getFloatTy(ctx);
         Type *db = Type::getDoubleTy(ctx);
         Type *i32 = Type::getInt32Ty(ctx);
+        /* The backend's operations are pure functions of their operands (c28x-f32's rounding is
+           fixed): declared so, the optimiser treats them as it treats the float instructions they
+           replace (common subexpressions, loop-invariant motion), as cl2000 does for FPU code, and
+           the cycles the pass prices later are those of the optimised code (docs/c-cycles.md). */
         auto callee = [&](const char *name, Type *ret, ArrayRef<Type *> params) {
-            return m.getOrInsertFunction(name, FunctionType::get(ret, params, false));
+            FunctionCallee c = m.getOrInsertFunction(name, FunctionType::get(ret, params, false));
+            if (auto *fn = dyn_cast<Function>(c.getCallee())) {
+                fn->setDoesNotAccessMemory();
+                fn->setDoesNotThrow();
+                fn->addFnAttr(Attribute::WillReturn);
+            }
+            return c;
         };
         std::vector<Instruction *> work;
         for (Instruction &i : instructions(f)) {
@@ -378,11 +391,224 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
     static bool isRequired() { return true; }
 };
 
+
+/* The C28x cycles of each basic block ($SINS_FW_PASS_COSTS: `key=cycles,...`, written by the build
+   from firmware_model/c28x-c-costs.toml and the profile's c28x-costs.toml: sins_fw.firmware_build
+   .block_costs). Run at the end of the optimisation pipeline, it prices each block of the optimised
+   IR instruction by instruction and puts at the block's first insertion point one call
+   `sins_fw_block(cycles, &counter)` (`sins_fw_enter` at a function's entry block, which also counts the
+   call): the runtime adds the cycles to the time due and to `counter`, the function's own ("self") cycles, which the runtime lists by function name (sins_fw_function_cycles).
+   An empty endless loop (`for (;;) {}`: a block that only branches to itself) calls
+   `sins_fw_idle(cycles)` instead: the runtime moves time to the next interrupt in whole passes.
+   Without $SINS_FW_PASS_COSTS the pass prices nothing (a build of another tool). */
+std::map<std::string, unsigned> costs_from_env() {
+    std::map<std::string, unsigned> out;
+    const char *env = std::getenv("SINS_FW_PASS_COSTS");
+    if (env == nullptr) {
+        return out;
+    }
+    std::string s(env);
+    size_t start = 0;
+    while (start < s.size()) {
+        size_t comma = s.find(',', start);
+        if (comma == std::string::npos) {
+            comma = s.size();
+        }
+        std::string item = s.substr(start, comma - start);
+        size_t eq = item.find('=');
+        if (eq != std::string::npos) {
+            out[item.substr(0, eq)] = static_cast<unsigned>(std::strtoul(item.c_str() + eq + 1, nullptr, 10));
+        }
+        start = comma + 1;
+    }
+    return out;
+}
+
+struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
+    std::map<std::string, unsigned> costs = costs_from_env();
+
+    unsigned price(const std::string &key) const {
+        auto it = costs.find(key);
+        return it == costs.end() ? 0 : it->second;
+    }
+
+    /* The price of a call by its callee's name: the runtime's register accesses (their cycles are the
+       runtime's: [io] peripheral_read/peripheral_write), the c28x-f32 backend's operations, IQmath's,
+       the math library's (host float mode), or a call of the firmware's own (LCR; the callee's blocks
+       and return price themselves). */
+    unsigned call_price(const CallBase &call) const {
+        const Function *fn = call.getCalledFunction();
+        StringRef name = fn != nullptr ? fn->getName() : StringRef();
+        if (fn != nullptr && fn->isIntrinsic()) {
+            Intrinsic::ID id = fn->getIntrinsicID();
+            if (id == Intrinsic::memcpy || id == Intrinsic::memmove || id == Intrinsic::memset) {
+                /* RPT #n || PREAD/MOV: one word a cycle after the setup. */
+                if (auto *len = dyn_cast<ConstantInt>(call.getArgOperand(2))) {
+                    return price("block_copy_setup") + static_cast<unsigned>((len->getZExtValue() + 1) / 2);
+                }
+                return price("block_copy_setup") + price("call");
+            }
+            if (id == Intrinsic::fabs) return price("float.abs");
+            if (id == Intrinsic::sqrt) return price("float.sqrt");
+            if (id == Intrinsic::sin) return price("float.sin");
+            if (id == Intrinsic::cos) return price("float.cos");
+            if (id == Intrinsic::fmuladd || id == Intrinsic::fma) return price("float.mul") + price("float.add");
+            if (id == Intrinsic::smax || id == Intrinsic::smin || id == Intrinsic::umax || id == Intrinsic::umin ||
+                id == Intrinsic::abs) {
+                return 2 * price("int");
+            }
+            return 0; /* debug info, lifetimes, assumptions: no instruction */
+        }
+        if (name.startswith("sins_fw_ld") || name.startswith("sins_fw_st") || name == "sins_fw_ptr") {
+            return 0;
+        }
+        static const struct {
+            const char *prefix;
+            const char *key;
+        } table[] = {
+            {"sins_c28x_add", "float.add"}, {"sins_c28x_sub", "float.add"}, {"sins_c28x_mul", "float.mul"},
+            {"sins_c28x_div", "float.div"}, {"sins_c28x_neg", "float.neg"}, {"sins_c28x_abs", "float.abs"},
+            {"sins_c28x_sqrt", "float.sqrt"}, {"sins_c28x_sin", "float.sin"}, {"sins_c28x_cos", "float.cos"},
+            {"sins_c28x_atan2", "float.atan2"}, {"sins_c28x_atan", "float.atan"}, {"sins_c28x_asin", "float.asin"},
+            {"sins_c28x_acos", "float.asin"}, {"sins_c28x_from_", "float.int_to_float"},
+            {"sins_c28x_to_", "float.float_to_int"}, {"sins_iq_mpy_i32", "iq.mul_i32"}, {"sins_iq_mpy", "iq.mul"},
+            {"sins_iq_rmpy", "iq.mul"}, {"sins_iq_rsmpy", "iq.mul"}, {"sins_iq_div", "iq.div"},
+            {"sins_iq_isqrt", "iq.sqrt"}, {"sins_iq_sqrt", "iq.sqrt"}, {"sins_iq_sin", "iq.sin"},
+            {"sins_iq_cos", "iq.cos"}, {"sins_iq_atan2", "iq.atan2"}, {"sins_iq_atan", "iq.atan"},
+            {"sins_iq_asin", "iq.asin"}, {"sins_iq_abs", "iq.abs"}, {"sins_iq_to_q", "iq.requantise"},
+            {"sins_iq_to_f32", "float.int_to_float"}, {"sins_iq_from_f64", "iq.constant"},
+            {"sqrtf", "float.sqrt"}, {"sqrt", "float.sqrt"}, {"sinf", "float.sin"}, {"sin", "float.sin"},
+            {"cosf", "float.cos"}, {"cos", "float.cos"}, {"atan2f", "float.atan2"}, {"atan2", "float.atan2"},
+            {"atanf", "float.atan"}, {"atan", "float.atan"}, {"asinf", "float.asin"}, {"asin", "float.asin"},
+            {"acosf", "float.asin"}, {"acos", "float.asin"}, {"fabsf", "float.abs"}, {"fabs", "float.abs"},
+        };
+        for (const auto &e : table) {
+            size_t n = std::strlen(e.prefix);
+            bool prefix = e.prefix[n - 1] == '_';
+            if (prefix ? name.startswith(e.prefix) : name == e.prefix) {
+                return price(e.key);
+            }
+        }
+        /* A call of the firmware's own or of a library: LCR and an argument move per argument. */
+        return price("call") + price("int") * static_cast<unsigned>(call.arg_size());
+    }
+
+    unsigned load_store_price(Type *t, bool store, const DataLayout &dl) const {
+        uint64_t bits = t->isSized() ? dl.getTypeSizeInBits(t).getFixedSize() : 32;
+        uint64_t words = bits <= 32 ? 1 : (bits + 31) / 32; /* MOV / MOVL: 16 or 32 bits a cycle */
+        return static_cast<unsigned>(words) * (store ? price("store") : price("load") + price("data_wait"));
+    }
+
+    unsigned instruction_price(Instruction &i, const DataLayout &dl) const {
+        if (auto *call = dyn_cast<CallBase>(&i)) {
+            return call_price(*call);
+        }
+        if (auto *bo = dyn_cast<BinaryOperator>(&i)) {
+            Type *t = bo->getType();
+            bool wide = t->isIntegerTy() && t->getIntegerBitWidth() > 32;
+            switch (bo->getOpcode()) {
+                case Instruction::FAdd:
+                case Instruction::FSub: return price("float.add");
+                case Instruction::FMul: return price("float.mul");
+                case Instruction::FDiv: return price("float.div");
+                case Instruction::FRem: return price("float.div") + price("call");
+                case Instruction::Mul: return wide ? price("mul64") : price("mul");
+                case Instruction::SDiv:
+                case Instruction::UDiv:
+                case Instruction::SRem:
+                case Instruction::URem: return wide ? price("div64") : price("div");
+                default: return wide ? 2 * price("int") : price("int");
+            }
+        }
+        switch (i.getOpcode()) {
+            case Instruction::FNeg: return price("float.neg");
+            case Instruction::FCmp: return price("float.compare");
+            case Instruction::ICmp: return price("int");
+            case Instruction::Select: return price("select");
+            case Instruction::SIToFP:
+            case Instruction::UIToFP: return price("float.int_to_float");
+            case Instruction::FPToSI:
+            case Instruction::FPToUI: return price("float.float_to_int");
+            case Instruction::SExt:
+            case Instruction::ZExt: return price("int");
+            case Instruction::GetElementPtr:
+                return cast<GetElementPtrInst>(i).hasAllConstantIndices() ? 0 : price("int");
+            case Instruction::Load: return load_store_price(i.getType(), false, dl);
+            case Instruction::Store:
+                return load_store_price(cast<StoreInst>(i).getValueOperand()->getType(), true, dl);
+            case Instruction::Br: return cast<BranchInst>(i).isConditional() ? price("cond_branch") : price("branch");
+            case Instruction::Switch:
+                return price("cond_branch") * static_cast<unsigned>(cast<SwitchInst>(i).getNumCases()) / 2 +
+                       price("cond_branch");
+            case Instruction::IndirectBr: return price("branch");
+            case Instruction::Ret: return price("ret");
+            default: return 0; /* phi, casts that are no instruction, alloca, unreachable */
+        }
+    }
+
+    PreservedAnalyses run(Module &m, ModuleAnalysisManager &) {
+        if (costs.empty()) {
+            return PreservedAnalyses::all();
+        }
+        LLVMContext &ctx = m.getContext();
+        const DataLayout &dl = m.getDataLayout();
+        Type *i32 = Type::getInt32Ty(ctx);
+        Type *i64 = Type::getInt64Ty(ctx);
+        Type *i8p = Type::getInt8PtrTy(ctx);
+        FunctionCallee block = m.getOrInsertFunction("sins_fw_block", Type::getVoidTy(ctx), i32, i8p);
+        FunctionCallee enter = m.getOrInsertFunction("sins_fw_enter", Type::getVoidTy(ctx), i32, i8p);
+        FunctionCallee idle = m.getOrInsertFunction("sins_fw_idle", Type::getVoidTy(ctx), i32);
+        /* The functions' counters, and a table {name, counter} in the section the runtime walks. */
+        StructType *entry = StructType::get(i8p, i8p);
+        std::vector<Function *> fns;
+        for (Function &f : m) {
+            if (!f.isDeclaration()) {
+                fns.push_back(&f);
+            }
+        }
+        for (Function *f : fns) {
+            auto *counter = new GlobalVariable(m, ArrayType::get(i64, 2), false, GlobalValue::PrivateLinkage,
+                                               ConstantAggregateZero::get(ArrayType::get(i64, 2)),
+                                               "sins_fw_cycles." + f->getName());
+            Constant *name = ConstantExpr::getPointerCast(
+                IRBuilder<>(ctx).CreateGlobalStringPtr(f->getName(), "sins_fw_name." + f->getName(), 0, &m), i8p);
+            auto *row = new GlobalVariable(m, entry, true, GlobalValue::PrivateLinkage,
+                                           ConstantStruct::get(entry, {name, ConstantExpr::getPointerCast(counter, i8p)}),
+                                           "sins_fw_fn." + f->getName());
+            row->setSection("sins_fw_functions");
+            row->setAlignment(Align(8));
+            appendToUsed(m, {row});
+            Constant *calls = ConstantExpr::getPointerCast(counter, i8p);
+            for (BasicBlock &bb : *f) {
+                uint64_t cycles = 0;
+                for (Instruction &i : bb) {
+                    cycles += instruction_price(i, dl);
+                }
+                auto *br = dyn_cast<BranchInst>(bb.getTerminator());
+                bool self_loop = br != nullptr && br->isUnconditional() && br->getSuccessor(0) == &bb &&
+                                 &bb.front() == br;
+                IRBuilder<> b(&*bb.getFirstInsertionPt());
+                Value *c = ConstantInt::get(i32, cycles > 0xFFFFFFFFu ? 0xFFFFFFFFu : cycles);
+                if (self_loop) {
+                    b.CreateCall(idle, {c});
+                } else {
+                    /* The entry block also counts the call (the counter's second word). */
+                    b.CreateCall(&bb == &f->getEntryBlock() ? enter : block, {c, calls});
+                }
+            }
+        }
+        return PreservedAnalyses::none();
+    }
+    static bool isRequired() { return true; }
+};
+
 }  // namespace
 
 extern "C" LLVM_ATTRIBUTE_WEAK PassPluginLibraryInfo llvmGetPassPluginInfo() {
     return {LLVM_PLUGIN_API_VERSION, "sins-fw", "1", [](PassBuilder &pb) {
                 pb.registerPipelineStartEPCallback(
                     [](ModulePassManager &mpm, OptimizationLevel) { mpm.addPass(SinsFwPass()); });
+                pb.registerOptimizerLastEPCallback(
+                    [](ModulePassManager &mpm, OptimizationLevel) { mpm.addPass(SinsFwCyclePass()); });
             }};
 }

@@ -5,9 +5,9 @@
    runs the firmware's main on a trace.
 
    Time. Each register access is charged its cycles (c28x-costs.toml [io] peripheral_read /
-   peripheral_write). The firmware's own code is compiled with -fsanitize-coverage=trace-pc: the
-   compiler calls __sanitizer_cov_trace_pc at every basic block, and each call is charged
-   `block_cycles` (c28x-costs.toml [io] frame_loop: a loop pass's increment, compare and taken branch).
+   peripheral_write). The build's LLVM pass calls sins_fw_block at every basic block of the firmware's
+   own code with the block's C28x cycles, priced at compile time from its optimised IR
+   (docs/c-cycles.md).
    So straight-line code and loops without any register access (the idle `for (;;) {}`) let virtual
    time pass and let interrupts in, at basic-block boundaries; DELAY_US lets them in too.
 
@@ -741,15 +741,24 @@ extern "C" void sins_fw_asm(const char *text) {
     }
 }
 
-/* Called by the compiler's instrumentation (-fsanitize-coverage=trace-pc) at every basic block of
-   the firmware's own code. */
-extern "C" void __sanitizer_cov_trace_pc(void) {
-    if (cfg == nullptr) {
-        return; /* static constructors, before a run */
-    }
+/* The build's LLVM pass prices each basic block of the firmware's own code in C28x cycles from its
+   optimised IR (firmware_c/pass/sins_fw_pass.cpp, SinsFwCyclePass; the prices: docs/c-cycles.md) and
+   calls sins_fw_block at the block's start with them and its function's counter (sins_fw_enter at a
+   function's entry block, which also counts the call). The counters: {self cycles, calls}, one per
+   function, listed by the pass's table {name, counter} in the section `sins_fw_functions`. */
+struct FunctionRow {
+    const char *name;
+    uint64_t *counter;
+};
+extern "C" {
+extern const FunctionRow __start_sins_fw_functions[] __attribute__((weak));
+extern const FunctionRow __stop_sins_fw_functions[] __attribute__((weak));
+}
+
+__attribute__((always_inline)) static inline void charge_block(uint32_t cycles) {
     blocks++;
     last_pc = __builtin_return_address(0);
-    pending_cycles += cfg->block_cycles;
+    pending_cycles += cycles;
     if (++blocks_since_access >= cfg->spin_blocks && blocks_since_access % cfg->spin_blocks == 0) {
         spin_check(__builtin_return_address(0));
     }
@@ -758,11 +767,73 @@ extern "C" void __sanitizer_cov_trace_pc(void) {
     }
 }
 
-/* Called at each pass of an empty endless loop (the build adds the call before its jump to itself:
-   firmware_build.instrument_self_jumps). The loop does nothing, so the passes up to the next
-   interrupt (or the end of the input pushed so far) are charged at once, in whole passes of
-   `block_cycles`; with no interrupt possible the loop can never end: an error. */
-extern "C" void sins_fw_idle(void) {
+extern "C" void sins_fw_block(uint32_t cycles, uint64_t *counter) {
+    if (cfg == nullptr) {
+        return; /* static constructors, before a run */
+    }
+    counter[0] += cycles;
+    charge_block(cycles);
+}
+
+extern "C" void sins_fw_enter(uint32_t cycles, uint64_t *counter) {
+    if (cfg == nullptr) {
+        return;
+    }
+    counter[0] += cycles;
+    counter[1] += 1;
+    charge_block(cycles);
+}
+
+/* The functions priced: how many, and the i-th's name, self cycles and calls in this run. */
+extern "C" size_t sins_fw_function_count(void) {
+    return __start_sins_fw_functions == nullptr
+               ? 0
+               : static_cast<size_t>(__stop_sins_fw_functions - __start_sins_fw_functions);
+}
+
+extern "C" const char *sins_fw_function_at(size_t i, uint64_t *cycles, uint64_t *calls) {
+    if (i >= sins_fw_function_count()) {
+        return nullptr;
+    }
+    const FunctionRow &r = __start_sins_fw_functions[i];
+    *cycles = r.counter[0];
+    *calls = r.counter[1];
+    return r.name;
+}
+
+static void reset_function_cycles() {
+    for (size_t i = 0; i < sins_fw_function_count(); i++) {
+        __start_sins_fw_functions[i].counter[0] = 0;
+        __start_sins_fw_functions[i].counter[1] = 0;
+    }
+}
+
+/* $SINS_FW_FUNCTION_CYCLES names a file: at the end of a run the runtime writes there, one line a
+   function that ran, `name<TAB>self cycles<TAB>calls` (a flat profile of the run, in C28x cycles). */
+static void write_function_cycles() {
+    const char *path = std::getenv("SINS_FW_FUNCTION_CYCLES");
+    if (path == nullptr || *path == 0) {
+        return;
+    }
+    FILE *f = std::fopen(path, "w");
+    if (f == nullptr) {
+        return;
+    }
+    for (size_t i = 0; i < sins_fw_function_count(); i++) {
+        const FunctionRow &r = __start_sins_fw_functions[i];
+        if (r.counter[1] != 0 || r.counter[0] != 0) {
+            std::fprintf(f, "%s\t%llu\t%llu\n", r.name, static_cast<unsigned long long>(r.counter[0]),
+                         static_cast<unsigned long long>(r.counter[1]));
+        }
+    }
+    std::fclose(f);
+}
+
+/* Called at each pass of an empty endless loop (`for (;;) {}`: the pass calls this instead of
+   sins_fw_block, with the pass's cycles). The loop does nothing, so the passes up to the next
+   interrupt (or the end of the input pushed so far) are charged at once, in whole passes; with no
+   interrupt possible the loop can never end: an error. */
+extern "C" void sins_fw_idle(uint32_t cycles) {
     if (cfg == nullptr) {
         return;
     }
@@ -770,15 +841,14 @@ extern "C" void sins_fw_idle(void) {
     if (irq_at == UINT64_MAX) {
         spin_check(last_pc);
     }
-    uint64_t passes = flush_cycles > pending_cycles
-                          ? (flush_cycles - pending_cycles + cfg->block_cycles - 1) / cfg->block_cycles
-                          : 1;
+    uint64_t pass = cycles == 0 ? 1 : cycles;
+    uint64_t passes = flush_cycles > pending_cycles ? (flush_cycles - pending_cycles + pass - 1) / pass : 1;
     if (passes == 0) {
         passes = 1;
     }
     blocks += passes;
     blocks_since_access += passes;
-    pending_cycles += passes * cfg->block_cycles;
+    pending_cycles += passes * pass;
     flush_blocks();
 }
 
@@ -789,6 +859,7 @@ extern "C" int sins_fw_run(const SinsFwConfig *config, char *message, size_t mes
     board = config->board;
     n_globals = config->n_globals;
     accesses = blocks = blocks_since_access = fault_offset = pending_cycles = 0;
+    reset_function_cycles();
     isr_depth = 0;
     isr_vector = -1;
     last_pc = nullptr;
@@ -840,6 +911,7 @@ extern "C" int sins_fw_run(const SinsFwConfig *config, char *message, size_t mes
         text = f.message;
     }
     cfg = nullptr;
+    write_function_cycles();
     if (message != nullptr && message_len > 0) {
         std::snprintf(message, message_len, "%s", text.c_str());
     }

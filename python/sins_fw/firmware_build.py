@@ -10,7 +10,9 @@ and the pass maps a raw address (``*(volatile Uint16 *)0x701B``) to the same ima
 headers and the replacements of ``firmware_c/include`` behave alike. ``sins_fw_prelude.h`` is
 force-included (TI's ``interrupt``, ``cregister``, ``far``, ``asm``/``__asm``, the DSP28 data types,
 ``void main``); TI's pragmas are ignored. Each register access is charged the cycles of
-``firmware_model/c28x-costs.toml`` ``[io]``. The result is a shared library linked against the C ABI
+``firmware_model/c28x-costs.toml`` ``[io]``, and every basic block of the firmware's code the C28x
+cycles of its optimised IR, priced at compile time by the pass (:func:`block_costs`,
+docs/c-cycles.md). The result is a shared library linked against the C ABI
 library (``rust/cabi``), which :mod:`sins_fw.firmware_run` runs on a trace.
 
 The input is files, folders, or a CCS project (its ``.project``/``.cproject`` or its folder):
@@ -27,12 +29,13 @@ import re
 import shutil
 import subprocess
 import tempfile
+import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from sins_fw import firmware_arith
 from sins_fw.atomic import atomic_path
-from sins_fw.errors import ConfigError, InputError
+from sins_fw.errors import ConfigError, InputError, ProfileError
 from sins_fw.firmware_paths import (
     CXX_SUFFIXES,
     FIRMWARE_C,
@@ -174,6 +177,47 @@ def _tool(name: str) -> str:
     return found
 
 
+#: The prices of the IR's integer, memory and control instructions (the pass's keys without a dot).
+C_COSTS = "c28x-c-costs.toml"
+
+
+def block_costs(profile: ProfileValues | None) -> dict[str, int]:
+    """The prices the pass gives a basic block's instructions, in C28x cycles: ``[instructions]`` of
+    ``firmware_model/c28x-c-costs.toml`` (integer and address arithmetic, loads and stores with the
+    data memory's wait states, branches, calls), and ``[float]`` / ``[iq]`` of the profile's cost
+    table (``timing.costs``, the table the model's operation counter uses) as ``float.add``,
+    ``iq.mul``, ... Default: the reference profile. A missing or non-integer price is a
+    :class:`~sins_fw.errors.ProfileError` naming the file and key."""
+    from sins_fw.harness import MODEL_DIR, cost_table_text
+    from sins_fw.profile import Profile, load_profile
+
+    if profile is None:
+        profile = load_profile("reference")
+    path = MODEL_DIR / C_COSTS
+    try:
+        own = tomllib.loads(path.read_text(encoding="utf-8"))["instructions"]
+    except (OSError, tomllib.TOMLDecodeError, KeyError) as e:
+        raise ProfileError(f"{path}: cannot read the C instruction prices ({e})") from None
+    out: dict[str, int] = {}
+    for key, v in own.items():
+        if not isinstance(v, int) or isinstance(v, bool) or v < 0:
+            raise ProfileError(f"{path}: key `instructions.{key}` = {v!r}: expected cycles (an integer ≥ 0)")
+        out[key] = v
+    if not isinstance(profile, Profile) or not profile.get("timing.costs"):
+        text, source = (MODEL_DIR / "c28x-costs.toml").read_text(encoding="utf-8"), "c28x-costs.toml"
+    else:
+        text, source = cost_table_text(profile)
+    table = tomllib.loads(text)
+    for section in ("float", "iq"):
+        for key, v in table.get(section, {}).items():
+            if not isinstance(v, int) or isinstance(v, bool) or v < 0:
+                raise ProfileError(
+                    f"{source}: key `{section}.{key}` = {v!r}: expected cycles (an integer ≥ 0)"
+                )
+            out[f"{section}.{key}"] = v
+    return out
+
+
 def pass_plugin() -> Path:
     """The build's LLVM pass (``firmware_c/pass/sins_fw_pass.cpp``) as a clang plugin, compiled once
     per source and LLVM version into ``$SINS_FW_CACHE`` (default ``~/.cache/sins-fw``)."""
@@ -223,9 +267,9 @@ def build_firmware(
 
     The include path: the ``-I`` folders, the project's, the sources' folders, then the replacement
     headers (``firmware_c/include``), so that a project's own copies of TI's headers are used as they
-    are. The firmware's own sources are compiled with ``-fsanitize-coverage=trace-pc``: the compiler
-    calls the runtime at every basic block, which charges the block's time and lets interrupts in
-    there; an idle ``for (;;) {}`` calls ``sins_fw_idle`` instead (:func:`instrument_self_jumps`).
+    are. The pass prices every basic block of the firmware's sources in C28x cycles at the end of the
+    optimisation pipeline (:func:`block_costs`) and calls the runtime there with them, which charges
+    the block's time and lets interrupts in; an idle ``for (;;) {}`` calls ``sins_fw_idle`` instead.
     ``-g`` keeps the sources' lines, for the error that names a loop that can never end."""
     project = read_project(paths)
     sources, _ = with_ti_support(project.sources)
@@ -266,6 +310,7 @@ def build_firmware(
         **firmware_arith.c_locale(),
         "SINS_FW_PASS_SYMBOLS": ",".join([*REGISTER_FILES, *RUNTIME_OBJECTS]),
         "SINS_FW_PASS_C28X_FLOAT": "1" if float_mode == "c28x" else "0",
+        "SINS_FW_PASS_COSTS": ",".join(f"{k}={v}" for k, v in sorted(block_costs(profile).items())),
     }
     with atomic_path(out) as tmp, tempfile.TemporaryDirectory(prefix="sins-fw-build-") as work:
         objects = []
@@ -282,7 +327,6 @@ def build_firmware(
                     compiler,
                     *flags,
                     f"-fpass-plugin={plugin}",
-                    "-fsanitize-coverage=trace-pc,bb,no-prune",
                     "-x",
                     language,
                     "-S",
@@ -292,8 +336,6 @@ def build_firmware(
                 ],
                 env,
             )
-            text = tmp_asm.read_text(encoding="utf-8", errors="surrogateescape")
-            tmp_asm.write_text(instrument_self_jumps(text), encoding="utf-8", errors="surrogateescape")
             objects.append(tmp_asm.with_suffix(".o"))
             _compile([clang, "-c", str(tmp_asm), "-o", str(objects[-1])], env)
         runtime = Path(work) / "sins_fw_runtime.o"
@@ -337,23 +379,6 @@ def build_firmware(
             link=True,
         )
     return Path(out)
-
-
-#: An endless loop with nothing in it: its label (and the compiler's comment), only directives, the
-#: coverage call at its one block, and a jump to itself.
-_SELF_JUMP = re.compile(
-    r"^(\.L\w+):([^\n]*)\n((?:[ \t]*(?:\.|#)[^\n]*\n)*)([ \t]*)callq?[ \t]+__sanitizer_cov_trace_pc@PLT\n"
-    r"((?:[ \t]*(?:\.|#)[^\n]*\n)*)([ \t]*)jmp[ \t]+\1\n",
-    re.MULTILINE,
-)
-
-
-def instrument_self_jumps(assembly: str) -> str:
-    """Make the coverage call of each empty endless loop (``for (;;) {}``, ``while (1);``) in the
-    compiler's assembly a call to the runtime's ``sins_fw_idle``. Knowing the loop empty, the runtime
-    moves time straight to the next interrupt (the passes' time, in whole passes), or stops the run
-    when none can come, instead of running it pass by pass."""
-    return _SELF_JUMP.sub(r"\1:\2\n\3\4callq\tsins_fw_idle@PLT\n\5\6jmp\t\1\n", assembly)
 
 
 def _text(data: bytes) -> str:
