@@ -126,10 +126,10 @@ def prepare_one(
     if run.returncode != 0:
         raise InputError("the firmware does not build:\n  " + "\n  ".join(_errors(stderr)))
     # A scratch file in the build's temporary folder (removed with it), not an output.
-    out = workdir / f"{index}_{source.stem}{'.ii' if cxx else '.i'}"
+    tmp_source = workdir / f"{index}_{source.stem}{'.ii' if cxx else '.i'}"
     text = run.stdout.decode("utf-8", errors="surrogateescape")
-    out.write_text(rewrite_preprocessed(text, ours), encoding="utf-8", errors="surrogateescape")
-    return out, "c++-cpp-output" if cxx else "cpp-output"
+    tmp_source.write_text(rewrite_preprocessed(text, ours), encoding="utf-8", errors="surrogateescape")
+    return tmp_source, "c++-cpp-output" if cxx else "cpp-output"
 
 
 def _errors(stderr: str, n: int = 5) -> list[str]:

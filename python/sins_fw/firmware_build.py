@@ -42,7 +42,7 @@ from sins_fw.firmware_paths import (
     cabi_dirs,
     read_project,
 )
-from sins_fw.profile import ProfileValues
+from sins_fw.profile import MODEL_DIR, Profile, ProfileValues, load_profile
 
 #: The host replacements of TI's support sources (DSP2833x_common/source), linked into every firmware.
 TI_SUPPORT = FIRMWARE_C / "ti"
@@ -160,8 +160,6 @@ def _clock_defines(profile: ProfileValues | None) -> list[str]:
     replacement DSP2833x_Examples.h: TI's DSP28_PLLCR, DSP28_DIVSEL, CPU_FRQ_150MHZ, CPU_RATE. Default:
     the reference profile."""
     if profile is None:
-        from sins_fw.profile import load_profile
-
         profile = load_profile("reference")
     crystal, pllcr, divsel = (int(profile.get(f"clocks.{k}")) for k in ("crystal_hz", "pllcr", "divsel"))
     sysclk = crystal * (pllcr or 1) // divsel
@@ -188,8 +186,8 @@ def block_costs(profile: ProfileValues | None) -> dict[str, int]:
     table (``timing.costs``, the table the model's operation counter uses) as ``float.add``,
     ``iq.mul``, ... Default: the reference profile. A missing or non-integer price is a
     :class:`~sins_fw.errors.ProfileError` naming the file and key."""
-    from sins_fw.harness import MODEL_DIR, cost_table_text
-    from sins_fw.profile import Profile, load_profile
+    # The harness sits above the build (it runs firmware): imported only when a build prices blocks.
+    from sins_fw.harness import cost_table_text
 
     if profile is None:
         profile = load_profile("reference")
@@ -355,10 +353,10 @@ def build_firmware(
             ],
             env,
         )
-        placement = Path(work) / "sins_fw_placement.s"
-        placement.write_text(placement_assembly(), encoding="utf-8")
+        tmp_placement = Path(work) / "sins_fw_placement.s"
+        tmp_placement.write_text(placement_assembly(), encoding="utf-8")
         placed = Path(work) / "sins_fw_placement.o"
-        _compile([clang, "-c", str(placement), "-o", str(placed)], env)
+        _compile([clang, "-c", str(tmp_placement), "-o", str(placed)], env)
         _compile(
             [
                 clangxx,

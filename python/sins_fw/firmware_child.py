@@ -358,7 +358,8 @@ def serve(job: Job, commands: Connection, out: Connection) -> None:
     """The child's work: load, check the globals, run ``main``, streaming to ``out``; the pieces of
     input come from ``commands``. Messages (tuples, first the kind):
 
-    - ``("loaded", double_bytes)``: the library's static constructors ran (its ``double``'s size);
+    - ``("loaded", double_bytes, row_times)``: the library's static constructors ran (its ``double``'s
+      size, the names of an ISR row's times: the runtime's ``sins_fw_row_times``);
     - ``("rows", times, values, events, bus, floor_ps, now_ps, more)``: the rows, events and bus-log
       records since the last message; with ``more`` (a request for input) the child then waits for
       ``("piece", columns)`` or ``("end",)``;
@@ -366,7 +367,7 @@ def serve(job: Job, commands: Connection, out: Connection) -> None:
     - ``("done", now_ps, accesses, blocks, final)``;
     - ``("error", exception)``: bad input (an InputError), before or while running."""
     lib = Library(job.library)
-    out.send(("loaded", lib.double_bytes))
+    out.send(("loaded", lib.double_bytes, lib.row_times))
     addrs = [lib.address(g) for g in job.watched]
     n = len(addrs)
     board = ctypes.c_void_p()

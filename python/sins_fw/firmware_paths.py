@@ -36,6 +36,7 @@ SKIPPED_SUFFIXES = {
     ".lib": "C28x library: not linked (IQmath is the replacement IQmathLib.h's)",
 }
 
+
 def cabi_dirs(root: Path = ROOT, package: Path = PACKAGE) -> tuple[Path, Path]:
     """The folders of the C ABI library (``libsins_cabi.so``) and of its header (``sins_fw.h``):
 

@@ -252,6 +252,7 @@ def run_c_firmware(
             if kind == "loaded":
                 loaded = True
                 result.float_mode = "c28x" if message[1] == 4 else "host"
+                rows.row_times = message[2]
                 child.send(feeder.next_piece())
             elif kind == "rows":
                 _, times, values, events, records, floor_ps, now_ps, more = message
@@ -259,7 +260,7 @@ def run_c_firmware(
                 if bus is not None and len(records):
                     bus.append(records)
                 ignored += [e for e in events if e["kind"] == "protected_write"][: 1 - len(ignored)]
-                rows.add(feeder.window, _row_columns(times), values, events, records, floor_ps)
+                rows.add(feeder.window, rows.columns(times), values, events, records, floor_ps)
                 result.isr_rows = rows.count
                 if more:
                     child.send(feeder.next_piece())
@@ -297,10 +298,6 @@ def _finish(result: FirmwareResult, rows: _Rows, feeder: _Feeder, bus: list[np.n
     result.truth = feeder.window.t is not None
     if bus is not None:
         result.bus = _bus_columns(np.concatenate(bus) if bus else np.zeros(0, BUS_RECORD))
-
-
-def _row_columns(times: np.ndarray) -> dict[str, np.ndarray]:
-    return {name: times[:, i] for i, name in enumerate(ROW_TIMES)}
 
 
 def _event(t_s: float, kind: str, message: str) -> dict[str, Any]:
@@ -396,11 +393,12 @@ class _Child:
     ) -> FirmwareStopped:
         """What ended the child, as the error of the run."""
         self._reap(kill=False)
-        crash = _read_crash(self._crash.fileno())
+        crash = _read_crash(self._crash.fileno(), len(rows.row_times))
         if crash is not None:  # what the run computed since it last handed it over
-            rows.add(feeder.window, _row_columns(crash.times), crash.values, crash.events, crash.bus)
+            rows.add(feeder.window, rows.columns(crash.times), crash.values, crash.events, crash.bus)
             if len(crash.times):
-                result.now_s = max(result.now_s, float(crash.times[-1, ROW_TIMES.index("end_ps")]) * PS)
+                end = crash.times[-1, rows.row_times.index("end_ps")]
+                result.now_s = max(result.now_s, float(end) * PS)
         status = self.status or 0
         when = (
             f"at t = {result.now_s:.6f} s of the run"
@@ -423,9 +421,6 @@ class _Child:
         _finish(result, rows, feeder, None)
         return FirmwareStopped(f"{source}: {text}", result)
 
-
-#: The runtime's ISR row times, in its order (firmware_c/runtime/sins_fw_runtime.cpp, sins_fw_row_times).
-ROW_TIMES = ("tick", "tick_ps", "start_ps", "entry_end_ps", "body_end_ps", "end_ps", "deadline_ps")
 
 _SIGNAL_MEANING = {
     signal.SIGSEGV: "a bad memory access (a bad pointer, or the stack overflowed: endless recursion?)",
@@ -461,7 +456,7 @@ class _Crash:
     bus: np.ndarray
 
 
-def _read_crash(fd: int) -> _Crash | None:
+def _read_crash(fd: int, n_times: int) -> _Crash | None:
     """The runtime's crash report, if it wrote one (the child is gone)."""
     os.lseek(fd, 0, os.SEEK_SET)
     chunks = []
@@ -474,9 +469,7 @@ def _read_crash(fd: int) -> _Crash | None:
     if int(record["magic"]) != CRASH_MAGIC:
         return None
     pos = CRASH_RECORD.itemsize
-    empty = _Crash(
-        record, np.zeros((0, len(ROW_TIMES)), np.uint64), np.zeros((0, 0)), [], np.zeros(0, BUS_RECORD)
-    )
+    empty = _Crash(record, np.zeros((0, n_times), np.uint64), np.zeros((0, 0)), [], np.zeros(0, BUS_RECORD))
 
     def take(dtype: Any, count: int) -> np.ndarray | None:
         nonlocal pos
@@ -491,10 +484,10 @@ def _read_crash(fd: int) -> _Crash | None:
     if head is None:
         return empty
     n, g = int(head[0]), int(head[1])
-    times, values = take(np.uint64, n * len(ROW_TIMES)), take(np.float64, n * g)
+    times, values = take(np.uint64, n * n_times), take(np.float64, n * g)
     if times is None or values is None:
         return empty
-    crash = _Crash(record, times.reshape(n, len(ROW_TIMES)), values.reshape(n, g), [], empty.bus)
+    crash = _Crash(record, times.reshape(n, n_times), values.reshape(n, g), [], empty.bus)
     safe = take(np.uint64, 1)
     if safe is None or not int(safe[0]):
         return crash
@@ -713,9 +706,16 @@ class _Rows:
         #: pieces joined only when rows need them. So the records kept stay those of one ISR and
         #: the work per piece of input stays bounded, SPI inside or outside an interrupt.
         self.bus: list[np.ndarray] = []
+        #: The names of an ISR row's times, in the runtime's order (its ``sins_fw_row_times``, which the
+        #: firmware's process reports when it has loaded the library).
+        self.row_times: tuple[str, ...] = ()
         self.has_quat = all(f"q{i}" in {g.column for g in watched} for i in range(4))
         #: The watched globals' columns that are attitude components: (value column, core column, k).
         self.attitude = [(i, *ATTITUDE[g.column]) for i, g in enumerate(watched) if g.column in ATTITUDE]
+
+    def columns(self, times: np.ndarray) -> dict[str, np.ndarray]:
+        """An (n, k) array of the runtime's ISR row times as columns by name."""
+        return {name: times[:, i] for i, name in enumerate(self.row_times)}
 
     def add(
         self,
@@ -741,7 +741,7 @@ class _Rows:
 
     def add_events(self, events: list[dict[str, Any]], window: _TruthWindow) -> None:
         """A part of events alone (no ISR row)."""
-        times = {name: np.zeros(0, np.uint64) for name in ROW_TIMES}
+        times = {name: np.zeros(0, np.uint64) for name in self.row_times}
         self.add(window, times, np.zeros((0, len(self.watched))), events, np.zeros(0, BUS_RECORD))
 
     def _records(self) -> np.ndarray:

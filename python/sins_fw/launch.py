@@ -118,7 +118,9 @@ ran_out = False
 def require_memory(command: str) -> None:
     """Refuse ``command`` (exit 2, through InputError) under a cap below its floor
     (:data:`COMMAND_FLOOR_MIB`), before any work."""
-    from sins_fw.errors import InputError
+    from sins_fw.errors import (
+        InputError,  # the launcher loads nothing of the package before the cap is fitted
+    )
 
     cap, floor = memory_cap(), COMMAND_FLOOR_MIB.get(command)
     if cap is not None and floor is not None and cap < floor << 20:
@@ -134,7 +136,7 @@ def entry() -> None:
         _exit_now(2)
     fit_to_memory_cap()
     try:
-        from sins_fw.cli import main
+        from sins_fw.cli import main  # after fit_to_memory_cap: the libraries load under the fitted settings
 
         code = main()
     except BaseException as e:  # what the command's own handling could not reach: imports, arguments

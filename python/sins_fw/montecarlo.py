@@ -219,12 +219,10 @@ def _error_series(run: Run) -> tuple[NDArray[np.float64], NDArray[np.float64], t
 def _alpha_errors(run: Run) -> tuple[float, float, float]:
     """The wing unit's α against the trace's truth (:data:`ALPHA_ERRORS`, degrees): NaN where the run
     has none (another board, a trace without ``truth_alpha_deg``, no still or no moving step)."""
-    from sins_fw.metrics import alpha_errors
-
     alpha = run.wing.get("alpha_deg")
     if alpha is None or run.truth_alpha_deg is None or run.alpha_still is None:
         return (float("nan"),) * 3
-    e = alpha_errors(alpha, run.truth_alpha_deg, run.alpha_still)
+    e = metrics.alpha_errors(alpha, run.truth_alpha_deg, run.alpha_still)
 
     def worst(part: dict[str, Any]) -> float:
         x = part.get("max_abs_deg")

@@ -19,7 +19,18 @@ from sins_fw.errors import CheckFailed, InputError
 from sins_fw.harness import PS, Run, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
-from sins_fw.tablefile import BLOCK_ROWS, Column, ReadOptions, Schema, open_table, rate_text, write_table
+from sins_fw.tablefile import (
+    BLOCK_ROWS,
+    Column,
+    ReadOptions,
+    Schema,
+    csv_separator,
+    open_table,
+    rate_text,
+    read_metadata,
+    table_extension,
+    write_table,
+)
 from sins_fw.traces import PhysicalTrace, RawRegisterTrace, check_truth, file_sha256
 
 RUN_FORMAT = "sins-fw-run-output/1"
@@ -377,10 +388,8 @@ def firmware_run_schema(columns: list[tuple[str, str, str]]) -> Schema:
 
 def _header_names(path: Path) -> list[str]:
     """The column names of a table file (its header row, or its HDF5 datasets)."""
-    from sins_fw.tablefile import csv_separator, table_extension
-
     if table_extension(path) == ".h5":
-        import h5py
+        import h5py  # a heavy import: only for an HDF5 file
 
         with h5py.File(path, "r") as f:
             return list(f.keys())
@@ -398,8 +407,6 @@ def load_run(path: str | os.PathLike[str]) -> tuple[dict[str, str], dict[str, np
     output (`run --firmware --out`) is read with its own columns: the time and the globals it watched."""
     schema = RUN_SCHEMA
     if Path(path).is_file():
-        from sins_fw.tablefile import read_metadata
-
         try:
             firmware = read_metadata(path).get("created_by") == FIRMWARE_CREATED_BY
         except InputError:

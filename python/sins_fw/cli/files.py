@@ -94,7 +94,9 @@ class Files:
 
 
 def _profile(args: argparse.Namespace, _value: object) -> Iterator[Named]:
-    from sins_fw.cli.common import profile_file
+    from sins_fw.cli.common import (
+        profile_file,  # a command's module (it imports this one): read when its files are named
+    )
 
     path = profile_file(args)
     if path is not None:
@@ -115,8 +117,13 @@ def _trace_or_run(label: str) -> Expand:
 
 
 def _recorded_trace(path: Path) -> Path | None:
-    from sins_fw.run_output import RUN_FORMAT, resolve_trace
-    from sins_fw.traces import read_metadata
+    from sins_fw.run_output import (  # heavy (numpy, the core): only for a command that reads such files
+        RUN_FORMAT,
+        resolve_trace,
+    )
+    from sins_fw.traces import (
+        read_metadata,  # heavy (numpy, the core): only for a command that reads such files
+    )
 
     with contextlib.suppress(SinsError, OSError, ValueError, KeyError):
         if path.is_file():
@@ -148,7 +155,9 @@ def _firmware_globals(args: argparse.Namespace, value: object) -> Iterator[Named
 def _firmware_sources(args: argparse.Namespace, value: object) -> Iterator[Named]:
     """`build-firmware SOURCES`: the files and folders given, the sources found in the folders, the
     headers they include (the compiler's own dependency listing) and a globals file beside them."""
-    from sins_fw.cli.build_firmware import firmware_inputs
+    from sins_fw.cli.build_firmware import (
+        firmware_inputs,  # a command's module (it imports this one): read when its files are named
+    )
 
     yield from firmware_inputs(_as_paths(value), getattr(args, "float_mode", "host"))
 
@@ -159,14 +168,20 @@ def _demo_recording(args: argparse.Namespace, value: object) -> Iterator[Named]:
 
 
 def _demo_inputs(_args: argparse.Namespace, _value: object) -> Iterator[Named]:
-    from sins_fw.cli.demo import TRACE_DIR, TRACES
+    from sins_fw.cli.demo import (  # a command's module (it imports this one): read when its files are named
+        TRACE_DIR,
+        TRACES,
+    )
 
     yield from ((f"bundled trace {name}", TRACE_DIR / name) for name in TRACES)
 
 
 def _tables(args: argparse.Namespace, value: object) -> Iterator[Named]:
     """`montecarlo`/`sweep --out TABLE`: the table and the files written beside it."""
-    from sins_fw.sweep import FORMATS, table_files
+    from sins_fw.sweep import (  # heavy (numpy, the core): only for a command that reads such files
+        FORMATS,
+        table_files,
+    )
 
     for p in _as_paths(value):
         if p.suffix.lower() in FORMATS:
@@ -218,8 +233,10 @@ FILES: dict[str, Files] = {
     "spin-table": Files(),
     "synth": Files(outputs=(_out(),)),
     "bench": Files(outputs=(_out(),)),
-    "broad-eval": Files(inputs=(Role("folder", tree("FOLDER")),)),
-    "build-firmware": Files(inputs=(Role("sources", _firmware_sources),), outputs=(_out(),)),
+    "broad-eval": Files(inputs=(Role("sources", tree("SOURCES")),)),
+    "build-firmware": Files(
+        inputs=(Role("sources", _firmware_sources), Role("include", tree("-I")), _PROFILE), outputs=(_out(),)
+    ),
     "calibrate": Files(inputs=(Role("trace", plain("TRACE")),)),
 }
 
