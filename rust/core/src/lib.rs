@@ -17,11 +17,13 @@
 //! - [`emulator`]: the scheduler of virtual time that wires board and firmware; [`output`]: the run's rows.
 //! - [`host`]: the board without firmware, driven register by register by a host-side driver (the
 //!   Python `Board`, the C ABI).
-//! - [`time`] and [`events`]: integer virtual time and the event log shared by every model.
+//! - [`time`] and [`events`]: integer virtual time and the event log shared by every model; [`deadline`]:
+//!   a missed deadline of any processor, one `overrun` event.
 #![forbid(unsafe_code)]
 
 pub mod board;
 pub mod bus;
+pub mod deadline;
 pub mod device;
 pub mod dsp;
 pub mod emulator;

@@ -11,7 +11,7 @@ use std::path::Path;
 /// The layers from the bottom up, each with the modules (or sub-modules: the longest prefix
 /// wins) it holds.
 const LAYERS: &[(&str, &[&str])] = &[
-    ("base", &["time", "error", "events", "output"]),
+    ("base", &["time", "error", "events", "deadline", "output"]),
     // The parts' declarations as data (register maps, burst lists, ranges, timing figures) and the
     // output words' encoding they name: the profile validates its `[device]` keys against them.
     // The links' common door (`bus::door`: `Link`, `Address`, a built `Device`), in whose terms the

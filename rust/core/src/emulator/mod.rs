@@ -33,6 +33,7 @@ pub const BLOCK_TICKS: u64 = 1 << 15;
 
 use crate::board::analog::AnalogBoard;
 use crate::board::Board;
+use crate::deadline;
 use crate::device::error_model::ErrorModel;
 use crate::device::replay::{ReplaySlave, RECORDED_WORDS};
 use crate::device::{Adis16407, Physical};
@@ -47,7 +48,6 @@ use crate::numerics::Scalar;
 use crate::profile::{OverrunPolicy, Profile};
 use crate::time::{ps_to_s, Ps};
 use crate::timing::costs::CostTable;
-use crate::timing::deadline;
 use crate::timing::stages::stage_costs;
 
 /// The emulated board running its firmware in the numeric backend `T`, reading the sensor `S`: the

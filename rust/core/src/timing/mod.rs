@@ -1,7 +1,6 @@
 //! The compute-time model and the per-cycle budget.
 
 pub mod costs;
-pub mod deadline;
 
 pub use costs::CostTable;
 pub mod stages;

@@ -40,13 +40,13 @@ use super::frame::{self, Packet};
 use super::nav::{self, Nav, NavConfig, NavOutput};
 use super::node::TickTiming;
 use super::{profile, Stages};
+use crate::deadline;
 use crate::device::adxl345;
 use crate::events::{Event, EventLog, Severity};
 use crate::firmware::gfnav::{self, Bridge};
 use crate::numerics::counter::{count, Counted, OpCounts};
 use crate::numerics::{c67x, C67xF32, QClass, Scalar};
 use crate::time::{Clock, Ps};
-use crate::timing::deadline;
 use std::collections::HashMap;
 
 /// What the DSP has after one packet.

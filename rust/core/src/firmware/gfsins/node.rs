@@ -38,6 +38,7 @@ use super::profile::GfsinsProfile;
 use super::Stages;
 use crate::bus::i2c::{I2cLink, I2cTarget};
 use crate::bus::{Address, FrameTiming, Link, SpiSlave};
+use crate::deadline;
 use crate::device::adxl345::{self, Adxl345, ErrorPreset};
 use crate::device::gps::{Gps, NmeaReader};
 use crate::device::hmc6343::Hmc6343;
@@ -45,7 +46,6 @@ use crate::error::Result;
 use crate::events::{Event, EventLog, Severity};
 use crate::profile::I2cBus;
 use crate::time::{Clock, Ps};
-use crate::timing::deadline;
 use std::sync::{Arc, Mutex};
 
 /// Positions of the six outer parts in units of l (algorithms.md §4: u₁…u₆); the centre part is at 0.
