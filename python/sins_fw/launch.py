@@ -31,6 +31,9 @@ CAPPED_ENVIRONMENT = {
     "MIMALLOC_ARENA_RESERVE": "32MiB",
     # pyarrow's allocations through the system allocator: no jemalloc, no background thread.
     "ARROW_DEFAULT_MEMORY_POOL": "system",
+    # pyarrow's bundled jemalloc still starts (and under a cap fails to start, printing a line) its
+    # background purging thread unless told not to: its settings variable (prefix je_arrow_).
+    "JE_ARROW_MALLOC_CONF": "background_thread:false",
     # numpy's OpenBLAS: one thread (sins-fw's reductions are numpy's own sums: docs/traces.md).
     "OPENBLAS_NUM_THREADS": "1",
 }
