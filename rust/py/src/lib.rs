@@ -161,40 +161,6 @@ fn bench_firmware_stages(
         .map_err(to_py)
 }
 
-/// The DCM (`[firmware.dcm]` of the profile) at algorithm level in f64 over recorded samples: gyro
-/// (rad/s), specific force (m/s²) and magnetic field, n×3 each, `step_s` apart. Returns the
-/// quaternions (n×4, C_b^n, ENU), the first from the first accelerometer and magnetometer sample.
-#[pyfunction]
-#[allow(clippy::too_many_arguments)] // the Python call's arguments, one per array and the profile
-fn dcm_orientation<'py>(
-    py: Python<'py>,
-    text: &str,
-    source: &str,
-    overrides: Vec<String>,
-    gyr: numpy::PyReadonlyArray2<'py, f64>,
-    acc: numpy::PyReadonlyArray2<'py, f64>,
-    mag: numpy::PyReadonlyArray2<'py, f64>,
-    step_s: f64,
-) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-    use numpy::IntoPyArray;
-    let rows = |name: &str, a: &numpy::PyReadonlyArray2<'py, f64>| -> PyResult<Vec<[f64; 3]>> {
-        let v = a.as_array();
-        if v.ncols() != 3 {
-            return Err(to_py(sins_core::Error::Input(format!("{name}: shape {:?}, expected (n, 3)", v.shape()))));
-        }
-        Ok(v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
-    };
-    let (g, a, m) = (rows("gyr", &gyr)?, rows("acc", &acc)?, rows("mag", &mag)?);
-    let profile = guard(|| Profile::from_toml(text, source, &overrides))?.map_err(to_py)?;
-    let q = py
-        .detach(|| guard(|| sins_core::firmware::dcm_run_samples(&profile.firmware.dcm, step_s, &g, &a, &m)))?
-        .map_err(to_py)?;
-    let n = q.len();
-    let array = numpy::ndarray::Array2::from_shape_vec((n, 4), q.into_flattened())
-        .unwrap_or_else(|_| unreachable!("rows have 4 values"));
-    Ok(array.into_pyarray(py))
-}
-
 /// The profile's attitude algorithm (`firmware.algorithm`, `dcm` or `vqf`) at algorithm level in the
 /// profile's numeric type over recorded samples (`sins_core::firmware::attitude_run_samples`): one
 /// quaternion (C_b^n, ENU) per row.
@@ -410,7 +376,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_selftest_panic, m)?)?;
     m.add_function(wrap_pyfunction!(bench_rk4_lower_bound, m)?)?;
     m.add_function(wrap_pyfunction!(bench_firmware_stages, m)?)?;
-    m.add_function(wrap_pyfunction!(dcm_orientation, m)?)?;
     m.add_function(wrap_pyfunction!(attitude_orientation, m)?)?;
     m.add_function(wrap_pyfunction!(gps_nmea_lines, m)?)?;
     m.add_function(wrap_pyfunction!(nmea_read, m)?)?;

@@ -360,25 +360,6 @@ pub fn attitude_from_acc_mag(f: &Vec3<f64>, m: &Vec3<f64>) -> Option<Mat3<f64>> 
     Some([east, north, up])
 }
 
-/// The DCM at algorithm level in f64 over recorded samples (gyro rad/s, specific force m/s², magnetic
-/// field any unit, one row per sample, `step_s` apart): [`super::algorithms::run_samples`] with this
-/// `[firmware.dcm]` section and the default magnetic gate. Returns one quaternion (C_b^n, ENU) per sample.
-pub fn run_samples(
-    p: &profile::Dcm,
-    step_s: f64,
-    gyr: &[Vec3<f64>],
-    acc: &[Vec3<f64>],
-    mag: &[Vec3<f64>],
-) -> Result<Vec<Quat<f64>>> {
-    let fw = profile::Firmware {
-        algorithm: "dcm".into(),
-        numeric: profile::Numeric::F64,
-        dcm: p.clone(),
-        ..Default::default()
-    };
-    super::algorithms::run_samples(&fw, step_s, gyr, acc, mag)
-}
-
 /// R·[[1, −dθz, dθy], [dθz, 1, −dθx], [−dθy, dθx, 1]] as published: every element a three-term dot
 /// product, 27 multiplications and 18 additions.
 pub fn matrix_update<T: Scalar>(r: &Mat3<T>, dtheta: &Vec3<T>) -> Mat3<T> {
@@ -470,6 +451,24 @@ mod tests {
     use super::*;
     use crate::numerics::{C28xF32Rn, C28xF32Rz, Counted, Iq};
     use crate::profile::Dcm as DcmProfile;
+
+    /// The DCM at algorithm level in f64 over recorded samples: [`crate::firmware::attitude_run_samples`]
+    /// with this `[firmware.dcm]` section and the default magnetic gate.
+    fn run_samples(
+        p: &DcmProfile,
+        step_s: f64,
+        gyr: &[Vec3<f64>],
+        acc: &[Vec3<f64>],
+        mag: &[Vec3<f64>],
+    ) -> Result<Vec<Quat<f64>>> {
+        let fw = crate::profile::Firmware {
+            algorithm: "dcm".into(),
+            numeric: crate::profile::Numeric::F64,
+            dcm: p.clone(),
+            ..Default::default()
+        };
+        crate::firmware::attitude_run_samples(&fw, step_s, gyr, acc, mag)
+    }
 
     const D: f64 = std::f64::consts::PI / 180.0;
     const G: f64 = 9.80665;

@@ -37,7 +37,7 @@ pub mod wing;
 pub use algorithms::{attitude_update, run_samples as attitude_run_samples, samples_per_update};
 pub use align::{level_attitude, LevelAligner};
 pub use attitude::{AttitudeUpdate, Clipped, Correction, GpsAiding, GpsInput, StepInputs};
-pub use dcm::{attitude_from_acc_mag, run_samples as dcm_run_samples, Dcm};
+pub use dcm::{attitude_from_acc_mag, Dcm};
 pub use decode::{gyro_lsb_dps, DecodeReport, Decoded, Decoder, ACCEL_LSB_G, PUBLISHED_GYRO_LSB_DPS};
 pub use euler::{euler_to_quat, EulerAngles, EulerExtractor};
 pub use nav::{EarthModel, EarthRates, NavState, SOMIGLIANA_K};
