@@ -31,7 +31,7 @@ from sins_fw import _core
 from sins_fw.alignment import ALIGNMENTS, aligned_estimate
 from sins_fw.errors import InputError, ProfileError, TraceError
 from sins_fw.metrics import AttitudeErrors, attitude_errors, valid_mask
-from sins_fw.profile import MODEL_DIR, Profile, load_profile
+from sins_fw.profile import MODEL_DIR, Profile, check_overrides, load_profile, short
 from sins_fw.tablefile import rate_text
 from sins_fw.traces import (
     CheckedTrace,
@@ -161,7 +161,7 @@ class Run:
             isinstance(metadata, Mapping)
             and all(isinstance(k, str) and isinstance(v, str) for k, v in metadata.items())
         ):
-            raise InputError(f"metadata = {_short(metadata)}: expected a mapping of texts to texts, or None")
+            raise InputError(f"metadata = {short(metadata)}: expected a mapping of texts to texts, or None")
         ticks = self.budget["tick_ps"]
         if len(ticks) < 2:
             raise InputError("raw-register trace: the run is too short (fewer than two timer ticks)")
@@ -237,24 +237,9 @@ def _check_trace_argument(trace: Any) -> None:
         return  # chunks: each is checked as it comes (_slices)
     hint = " (wrap arrays in a PhysicalTrace)" if isinstance(trace, np.ndarray) else ""
     raise TraceError(
-        f"trace = {_short(trace)}: expected a PhysicalTrace, a RawRegisterTrace, a trace file path "
+        f"trace = {short(trace)}: expected a PhysicalTrace, a RawRegisterTrace, a trace file path "
         f"(str or Path), or an iterable of PhysicalTrace chunks{hint}"
     )
-
-
-def _check_overrides(overrides: Any) -> list[str]:
-    """``overrides`` as a list of ``key=value`` texts; one text (not in a list) or non-text items
-    are a ProfileError (a lone text would otherwise be iterated character by character)."""
-    if isinstance(overrides, str | bytes) or not isinstance(overrides, Iterable):
-        raise ProfileError(
-            f"overrides = {_short(overrides)}: expected a list of 'key=value' texts"
-            + (f" (write overrides=[{overrides!r}])" if isinstance(overrides, str) else "")
-        )
-    out = list(overrides)
-    for i, o in enumerate(out):
-        if not isinstance(o, str):
-            raise ProfileError(f"overrides[{i}] = {_short(o)}: expected a 'key=value' text")
-    return out
 
 
 def check_bus_window(window: Any, name: str = "bus_window") -> tuple[int, int]:
@@ -262,28 +247,22 @@ def check_bus_window(window: Any, name: str = "bus_window") -> tuple[int, int]:
     InputError naming ``name`` and what was expected."""
     expected = "expected (first_tick, last_tick), two whole numbers with 1 <= first <= last"
     if isinstance(window, str | bytes) or not isinstance(window, Iterable):
-        raise InputError(f"{name} = {_short(window)}: {expected}")
+        raise InputError(f"{name} = {short(window)}: {expected}")
     ticks = list(window)
     if len(ticks) != 2 or not all(
         isinstance(t, int | np.integer) and not isinstance(t, bool | np.bool_) for t in ticks
     ):
-        raise InputError(f"{name} = {_short(window)}: {expected}")
+        raise InputError(f"{name} = {short(window)}: {expected}")
     first, last = (int(t) for t in ticks)
     if not 1 <= first <= last:
-        raise InputError(f"{name} = {_short(window)}: {expected} (ticks count from 1)")
+        raise InputError(f"{name} = {short(window)}: {expected} (ticks count from 1)")
     return first, last
 
 
 def _check_flag(value: Any, name: str) -> bool:
     if not isinstance(value, bool | np.bool_):
-        raise InputError(f"{name} = {_short(value)}: expected True or False")
+        raise InputError(f"{name} = {short(value)}: expected True or False")
     return bool(value)
-
-
-def _short(value: Any) -> str:
-    """A value for an error message: its repr, cut to a line."""
-    text = repr(value)
-    return text if len(text) <= 60 else f"{text[:57]}... ({type(value).__name__})"
 
 
 def _raw_chunks(trace: RawRegisterTrace | str | os.PathLike[str], rows: int) -> Iterator[RawRegisterTrace]:
@@ -311,7 +290,7 @@ def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterat
         for i, chunk in enumerate(trace):
             if not isinstance(chunk, PhysicalTrace):
                 raise TraceError(
-                    f"trace chunk {i} = {_short(chunk)}: expected a PhysicalTrace (an iterable of traces "
+                    f"trace chunk {i} = {short(chunk)}: expected a PhysicalTrace (an iterable of traces "
                     "is taken as consecutive chunks of one trace)"
                 )
             yield from _slices(chunk, rows)
@@ -449,22 +428,22 @@ def emulate(
     _check_trace_argument(trace)
     until_s = check_until_s(until_s)
     if isinstance(chunk_rows, bool) or not isinstance(chunk_rows, int | np.integer) or chunk_rows < 1:
-        raise InputError(f"chunk_rows = {_short(chunk_rows)}: expected a whole number of rows >= 1")
+        raise InputError(f"chunk_rows = {short(chunk_rows)}: expected a whole number of rows >= 1")
     for name, fn in (("on_chunk", on_chunk), ("sink", sink)):
         if fn is not None and not callable(fn):
-            raise InputError(f"{name} = {_short(fn)}: expected a function or None")
+            raise InputError(f"{name} = {short(fn)}: expected a function or None")
     keep_truth = _check_flag(keep_truth, "keep_truth")
     allow_gaps = _check_flag(allow_gaps, "allow_gaps")
     if bus_window is not None:
         bus_window = check_bus_window(bus_window)
-    every = [*_check_overrides(overrides), *keyword_overrides(settings)]
+    every = [*check_overrides(overrides), *keyword_overrides(settings)]
     if isinstance(profile, Profile):
         prof = profile.with_overrides(*every) if every else profile
     elif isinstance(profile, str | os.PathLike):
         prof = load_profile(profile, every)  # validated once, overrides included
     else:
         raise ProfileError(
-            f"profile = {_short(profile)}: expected a Profile, a profile name (e.g. 'reference') or the "
+            f"profile = {short(profile)}: expected a Profile, a profile name (e.g. 'reference') or the "
             "path of a profile TOML file"
         )
     replay = isinstance(trace, RawRegisterTrace) or (

@@ -106,7 +106,7 @@ def check_overrides(overrides: Any, name: str = "overrides") -> tuple[str, ...]:
     if isinstance(overrides, str | bytes) or not isinstance(overrides, Iterable):
         raise ProfileError(
             f"{name} = {short(overrides)}: expected a list of 'key=value' texts"
-            + (f" (write [{overrides!r}])" if isinstance(overrides, str) else "")
+            + (f" (write {name}=[{overrides!r}])" if isinstance(overrides, str) else "")
         )
     out = tuple(overrides)
     for i, o in enumerate(out):
