@@ -26,6 +26,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import tempfile
@@ -39,6 +40,7 @@ from sins_fw.errors import ConfigError, InputError, ProfileError
 from sins_fw.firmware_paths import (
     CXX_SUFFIXES,
     FIRMWARE_C,
+    Project,
     cabi_dirs,
     read_project,
 )
@@ -246,6 +248,97 @@ def pass_plugin() -> Path:
     return plugin
 
 
+def compile_flags(
+    project: Project,
+    sources: Sequence[Path],
+    float_mode: str,
+    include: Sequence[str | os.PathLike[str]] = (),
+    defines: Sequence[str] = (),
+    profile: ProfileValues | None = None,
+) -> list[str]:
+    """The flags every source of ``project`` is compiled with, but the language standard: the
+    optimisation and code generation, the prelude and the float mode's headers, TI's clock macros
+    from the profile, the ``-D`` definitions (``defines``, then the project's) and the include path
+    (the ``-I`` folders, the project's, the sources' folders, the replacement headers, the C ABI's).
+    A malformed ``-D`` or a missing ``-I`` folder is an :class:`~sins_fw.errors.InputError`."""
+    firmware_arith.check_float_mode(float_mode)
+    for d in defines:
+        if not re.fullmatch(r"[A-Za-z_]\w*(=.*)?", d):
+            raise InputError(f"-D {d}: expected NAME or NAME=VALUE")
+    for i in include:
+        if not Path(i).is_dir():
+            raise InputError(f"-I {i}: no such folder")
+    _, cabi_include = cabi_dirs()
+    ours = FIRMWARE_C / "include"
+    folders: list[Path] = []
+    for d in [*map(Path, include), *project.include, *(s.parent for s in sources if s.parent != TI_SUPPORT)]:
+        if d.resolve() not in folders:
+            folders.append(d.resolve())
+    return [
+        "-O1",
+        "-g",
+        "-fPIC",
+        "-fexceptions",
+        "-fno-strict-aliasing",
+        "-fwrapv",
+        "-Wno-unknown-pragmas",
+        "-Wno-main-return-type",
+        "-include",
+        str(ours / "sins_fw_prelude.h"),
+        *firmware_arith.flags(float_mode, ours),
+        *_clock_defines(profile),
+        *(f"-D{d}" for d in [*defines, *project.defines]),
+        *(f"-I{d}" for d in folders),
+        f"-I{ours}",
+        f"-I{cabi_include}",
+    ]
+
+
+def _language(source: Path) -> tuple[str, str]:
+    """The compiler and the language standard of ``source``: C++ for the C++ suffixes, else C."""
+    if source.suffix in CXX_SUFFIXES:
+        return _tool(CLANGXX), "-std=gnu++17"
+    return _tool(CLANG), "-std=gnu11"
+
+
+def included_headers(
+    paths: Sequence[str | os.PathLike[str]],
+    float_mode: str = "host",
+    include: Sequence[str | os.PathLike[str]] = (),
+    defines: Sequence[str] = (),
+    profile: ProfileValues | None = None,
+) -> list[Path]:
+    """The headers the sources of ``paths`` include, as the build's compiler finds them with the
+    build's flags (:func:`compile_flags`; ``-MM -MG``: the system's headers left out, a missing one
+    listed by name). Empty when the project, the flags or the compiler are not usable: the build then
+    says why."""
+    try:
+        project = read_project(paths)
+        sources, _ = with_ti_support(project.sources)
+        common = compile_flags(project, sources, float_mode, include, defines, profile)
+    except (InputError, ConfigError):
+        return []
+    headers: list[Path] = []
+    for source in project.sources:
+        try:
+            compiler, std = _language(source)
+        except ConfigError:
+            return []
+        run = subprocess.run(
+            [compiler, std, *common, "-MM", "-MG", str(source)],
+            capture_output=True,
+            check=False,
+            env=firmware_arith.c_locale(),
+        )
+        if run.returncode != 0:
+            continue
+        # `target.o: dep dep \` lines; a name with spaces is escaped as make does.
+        text = run.stdout.decode("utf-8", errors="surrogateescape")
+        words = shlex.split(text.replace("\\\n", " ").replace("$$", "$"))
+        headers += [Path(w) for w in words[1:] if not w.endswith(":") and Path(w) != source]
+    return sorted(set(headers))
+
+
 def build_firmware(
     paths: Sequence[str | os.PathLike[str]],
     out: str | os.PathLike[str],
@@ -271,39 +364,11 @@ def build_firmware(
     ``-g`` keeps the sources' lines, for the error that names a loop that can never end."""
     project = read_project(paths)
     sources, _ = with_ti_support(project.sources)
-    firmware_arith.check_float_mode(float_mode)
-    for d in defines:
-        if not re.fullmatch(r"[A-Za-z_]\w*(=.*)?", d):
-            raise InputError(f"-D {d}: expected NAME or NAME=VALUE")
-    for i in include:
-        if not Path(i).is_dir():
-            raise InputError(f"-I {i}: no such folder")
+    common = compile_flags(project, sources, float_mode, include, defines, profile)
     clang, clangxx = _tool(CLANG), _tool(CLANGXX)
     plugin = pass_plugin()
     libdir, cabi_include = cabi_dirs()
     ours = FIRMWARE_C / "include"
-    folders: list[Path] = []
-    for d in [*map(Path, include), *project.include, *(s.parent for s in sources if s.parent != TI_SUPPORT)]:
-        if d.resolve() not in folders:
-            folders.append(d.resolve())
-    common = [
-        "-O1",
-        "-g",
-        "-fPIC",
-        "-fexceptions",
-        "-fno-strict-aliasing",
-        "-fwrapv",
-        "-Wno-unknown-pragmas",
-        "-Wno-main-return-type",
-        "-include",
-        str(ours / "sins_fw_prelude.h"),
-        *firmware_arith.flags(float_mode, ours),
-        *_clock_defines(profile),
-        *(f"-D{d}" for d in [*defines, *project.defines]),
-        *(f"-I{d}" for d in folders),
-        f"-I{ours}",
-        f"-I{cabi_include}",
-    ]
     env = {
         **firmware_arith.c_locale(),
         "SINS_FW_PASS_SYMBOLS": ",".join([*REGISTER_FILES, *RUNTIME_OBJECTS]),
@@ -314,7 +379,7 @@ def build_firmware(
         objects = []
         for i, src in enumerate(sources):
             cxx = src.suffix in CXX_SUFFIXES
-            compiler, std = (clangxx, "-std=gnu++17") if cxx else (clang, "-std=gnu11")
+            compiler, std = _language(src)
             flags = [std, *common]
             built, language = firmware_arith.prepare_one(
                 src, cxx, float_mode, Path(work), i, [compiler, *flags], [ours]

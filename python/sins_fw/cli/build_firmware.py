@@ -4,22 +4,15 @@ CCS project), unmodified, built for the host against the emulated board (sins_fw
 from __future__ import annotations
 
 import argparse
-import contextlib
-import shlex
-import shutil
-import subprocess
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.errors import SinsError
 from sins_fw.firmware_arith import FLOAT_MODES, diagnose_int
-from sins_fw.firmware_build import build_firmware, with_ti_support
-from sins_fw.firmware_paths import FIRMWARE_C, cabi_dirs, read_project, sources_of
+from sins_fw.firmware_build import build_firmware, included_headers, with_ti_support
+from sins_fw.firmware_paths import read_project, sources_of
 from sins_fw.profile import load_profile
-
-#: The compiler the dependency listing uses.
-COMPILER = "g++"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -119,11 +112,11 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def firmware_inputs(paths: Sequence[Path], float_mode: str = "host") -> Iterator[tuple[str, Path]]:
-    """Every file a build of ``paths`` reads, named for a message: the files and folders given, the
-    sources found in the folders, the headers the sources include (the compiler's own listing, ``-MM``
-    with the build's include path: headers of the system's folders left out) and ``globals.toml``
-    beside them (the watched globals `run --firmware` reads)."""
+def firmware_inputs(args: argparse.Namespace, paths: Sequence[Path]) -> Iterator[tuple[str, Path]]:
+    """Every file a build of ``paths`` with ``args``' options reads, named for a message: the files and
+    folders given, the sources found in them, the headers the sources include (the build's own
+    listing: :func:`sins_fw.firmware_build.included_headers`) and ``globals.toml`` beside them (the
+    watched globals `run --firmware` reads)."""
     yield from (("SOURCES", p) for p in paths)
     try:
         sources = sources_of(paths)
@@ -132,29 +125,15 @@ def firmware_inputs(paths: Sequence[Path], float_mode: str = "host") -> Iterator
     yield from (("a source", s) for s in sources)
     folders = sorted({s.parent for s in sources})
     yield from (("the globals file", f / "globals.toml") for f in folders if (f / "globals.toml").is_file())
-    yield from (("a header the sources include", h) for h in included_headers(sources, folders, float_mode))
-
-
-def included_headers(sources: Sequence[Path], folders: Sequence[Path], float_mode: str) -> list[Path]:
-    """The headers ``sources`` include, as the compiler finds them on the build's include path (``-MM
-    -MG``: the system's headers left out; a missing one listed by name, the build reports it)."""
-    if shutil.which(COMPILER) is None:
-        return []
-    include = FIRMWARE_C / "include"
-    flags = ["-std=c++17", "-x", "c++", "-include", str(include / "sins_fw_prelude.h")]
-    flags += [f"-I{include}", *(f"-I{d}" for d in folders)]
-    with contextlib.suppress(SinsError):  # the C ABI's header folder (the build says when missing)
-        flags.append(f"-I{cabi_dirs()[1]}")
-    if float_mode == "c28x":
-        flags += ["-include", str(include / "sins_fw_c28x_float.h")]
-    headers: list[Path] = []
-    for source in sources:
-        run = subprocess.run(
-            [COMPILER, *flags, "-MM", "-MG", str(source)], capture_output=True, text=True, check=False
-        )
-        if run.returncode != 0:
-            continue
-        # `target.o: dep dep \` lines; a name with spaces is escaped as make does.
-        words = shlex.split(run.stdout.replace("\\\n", " ").replace("$$", "$"))
-        headers += [Path(w) for w in words[1:] if not w.endswith(":") and Path(w) != source]
-    return sorted(set(headers))
+    try:
+        profile = load_profile(getattr(args, "profile", "reference"))
+    except SinsError:
+        return  # the build says what is wrong with it
+    headers = included_headers(
+        paths,
+        getattr(args, "float_mode", "host"),
+        getattr(args, "include", ()),
+        getattr(args, "defines", ()),
+        profile,
+    )
+    yield from (("a header the sources include", h) for h in headers)

@@ -159,7 +159,7 @@ def _firmware_sources(args: argparse.Namespace, value: object) -> Iterator[Named
         firmware_inputs,  # a command's module (it imports this one): read when its files are named
     )
 
-    yield from firmware_inputs(_as_paths(value), getattr(args, "float_mode", "host"))
+    yield from firmware_inputs(args, _as_paths(value))
 
 
 def _demo_recording(args: argparse.Namespace, value: object) -> Iterator[Named]:
