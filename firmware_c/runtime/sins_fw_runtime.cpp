@@ -174,7 +174,6 @@ struct SinsFwConfig {
     SinsBoard *board;
     uint64_t read_cycles;
     uint64_t write_cycles;
-    uint64_t block_cycles;
     uint64_t isr_entry_cycles;
     uint64_t isr_exit_cycles;
     /* Basic blocks without a register access before the check for a loop that cannot end. */

@@ -108,7 +108,6 @@ class _Config(ctypes.Structure):
         ("board", ctypes.c_void_p),
         ("read_cycles", ctypes.c_uint64),
         ("write_cycles", ctypes.c_uint64),
-        ("block_cycles", ctypes.c_uint64),
         ("isr_entry_cycles", ctypes.c_uint64),
         ("isr_exit_cycles", ctypes.c_uint64),
         ("spin_blocks", ctypes.c_uint64),

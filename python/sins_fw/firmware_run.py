@@ -159,7 +159,6 @@ def _costs(profile: Profile) -> dict[str, int]:
         return {
             "read_cycles": int(io["peripheral_read"]),
             "write_cycles": int(io["peripheral_write"]),
-            "block_cycles": int(io["frame_loop"]),
             "isr_entry_cycles": int(irq["hw_context_save"]) + int(irq["c_prologue"]),
             "isr_exit_cycles": int(irq["c_epilogue"]) + int(irq["iret"]),
         }
