@@ -26,7 +26,6 @@ NOT_YET_COMMENTED = frozenset(
         "sins_fw.cli.montecarlo",
         "sins_fw.cli.replay",
         "sins_fw.cli.run",
-        "sins_fw.firmware_run",
         "sins_fw.importers.dataflash",
     }
 )

@@ -44,7 +44,7 @@ from sins_fw.firmware_paths import (
     cabi_dirs,
     read_project,
 )
-from sins_fw.profile import MODEL_DIR, Profile, ProfileValues, load_profile
+from sins_fw.profile import MODEL_DIR, Profile, ProfileValues, cost_table_text, load_profile
 
 #: The host replacements of TI's support sources (DSP2833x_common/source), linked into every firmware.
 TI_SUPPORT = FIRMWARE_C / "ti"
@@ -188,9 +188,6 @@ def block_costs(profile: ProfileValues | None) -> dict[str, int]:
     table (``timing.costs``, the table the model's operation counter uses) as ``float.add``,
     ``iq.mul``, ... Default: the reference profile. A missing or non-integer price is a
     :class:`~sins_fw.errors.ProfileError` naming the file and key."""
-    # The harness sits above the build (it runs firmware): imported only when a build prices blocks.
-    from sins_fw.harness import cost_table_text
-
     if profile is None:
         profile = load_profile("reference")
     path = MODEL_DIR / C_COSTS

@@ -54,7 +54,7 @@ from sins_fw.errors import InputError, InternalError, ProfileError
 from sins_fw.firmware_child import BUS_RECORD, CRASH_EVENT, CRASH_MAGIC, CRASH_RECORD, TYPES, Job, Watch
 from sins_fw.firmware_child import start as start_child
 from sins_fw.harness import FEED_ROWS, PS, _chunks, _TruthWindow
-from sins_fw.profile import Profile
+from sins_fw.profile import Profile, cost_table_text
 from sins_fw.run_output import FIRMWARE_CREATED_BY, RunWriter, firmware_run_schema
 from sins_fw.traces import PhysicalTrace
 
@@ -150,8 +150,6 @@ def default_globals(firmware: str | os.PathLike[str]) -> Path | None:
 
 def _costs(profile: Profile) -> dict[str, int]:
     """The cycles the runtime charges, from the profile's cost table."""
-    from sins_fw.harness import cost_table_text
-
     text, source = cost_table_text(profile)
     t = tomllib.loads(text)
     try:

@@ -31,7 +31,7 @@ from sins_fw import _core
 from sins_fw.alignment import ALIGNMENTS, aligned_estimate
 from sins_fw.errors import InputError, ProfileError, TraceError
 from sins_fw.metrics import AttitudeErrors, attitude_errors, valid_mask
-from sins_fw.profile import MODEL_DIR, Profile, check_overrides, load_profile, short
+from sins_fw.profile import MODEL_DIR, Profile, check_overrides, cost_table_text, load_profile, short
 from sins_fw.tablefile import rate_text
 from sins_fw.traces import (
     CheckedTrace,
@@ -310,19 +310,6 @@ def _slices(trace: PhysicalTrace | Iterable[PhysicalTrace], rows: int) -> Iterat
             gps=None if trace.gps is None else trace.gps[s],
             truth_alpha_deg=None if trace.truth_alpha_deg is None else trace.truth_alpha_deg[s],
         )
-
-
-def cost_table_text(profile: Profile) -> tuple[str, str]:
-    """The text and path of the profile's cycle-cost table."""
-    name = str(profile.get("timing.costs"))
-    path = Path(name) if Path(name).is_absolute() else Path(profile.source).parent / name
-    if not path.is_file():
-        path = MODEL_DIR / name
-    if not path.is_file():
-        raise ProfileError(
-            f"key `timing.costs` = {name!r}: no such file next to {profile.source} or in {MODEL_DIR}"
-        )
-    return path.read_text(encoding="utf-8"), str(path)
 
 
 def new_emulator(profile: Profile, *, replay: bool = False) -> Any:

@@ -124,3 +124,16 @@ def short(value: Any) -> str:
 def _build(source: str, text: str, overrides: tuple[str, ...]) -> Profile:
     resolved = _core.resolve_profile(text, source, list(overrides))
     return Profile(source=source, text=text, overrides=overrides, values=tomllib.loads(resolved))
+
+
+def cost_table_text(profile: Profile) -> tuple[str, str]:
+    """The text and path of the profile's cycle-cost table."""
+    name = str(profile.get("timing.costs"))
+    path = Path(name) if Path(name).is_absolute() else Path(profile.source).parent / name
+    if not path.is_file():
+        path = MODEL_DIR / name
+    if not path.is_file():
+        raise ProfileError(
+            f"key `timing.costs` = {name!r}: no such file next to {profile.source} or in {MODEL_DIR}"
+        )
+    return path.read_text(encoding="utf-8"), str(path)

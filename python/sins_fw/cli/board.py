@@ -10,7 +10,7 @@ import numpy as np
 from sins_fw import _core, gfsins
 from sins_fw.cli.common import add_json_option, add_profile_options, emit, exit_epilog, profile_from_args
 from sins_fw.errors import CheckFailed
-from sins_fw.harness import cost_table_text
+from sins_fw.profile import cost_table_text
 
 
 def register(sub: argparse._SubParsersAction) -> None:
