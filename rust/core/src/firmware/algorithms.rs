@@ -14,8 +14,8 @@ use super::vqf::Vqf;
 use super::wing::WingUnit;
 use super::{Mat3, Quat, Vec3};
 use crate::error::{Error, Result};
-use crate::numerics::{C28xF32Rn, C28xF32Rz, Iq, QClass, Scalar};
-use crate::profile::{self, Numeric};
+use crate::numerics::{QClass, Scalar};
+use crate::profile;
 
 /// An attitude update made for a profile (an error when the profile's values do not make one).
 pub type MadeUpdate<T> = Result<Box<dyn AttitudeUpdate<T>>>;
@@ -94,12 +94,7 @@ pub fn run_samples(
     acc: &[Vec3<f64>],
     mag: &[Vec3<f64>],
 ) -> Result<Vec<Quat<f64>>> {
-    match fw.numeric {
-        Numeric::F64 => run_samples_in::<f64>(fw, step_s, gyr, acc, mag),
-        Numeric::C28xF32 => run_samples_in::<C28xF32Rn>(fw, step_s, gyr, acc, mag),
-        Numeric::C28xF32Rz => run_samples_in::<C28xF32Rz>(fw, step_s, gyr, acc, mag),
-        Numeric::Iq => run_samples_in::<Iq>(fw, step_s, gyr, acc, mag),
-    }
+    crate::dispatch_numeric!(fw.numeric, T => run_samples_in::<T>(fw, step_s, gyr, acc, mag))
 }
 
 fn run_samples_in<T: Scalar>(
