@@ -583,9 +583,14 @@ mod tests {
     /// column (1, dθ) normalised), so each step falls behind by dθ − atan dθ = dθ³/3 − dθ⁵/5 + …: at
     /// 60 °/s and 8 ms, dθ = 8.378e-3 rad, 1.960e-7 rad a step, 7500 steps a minute: 0.0842°.
     fn lag_per_minute_deg<T: Scalar>() -> f64 {
+        lag_per_minute_deg_with::<T>(&gains(0.0, 0.0))
+    }
+
+    /// The heading lost over a minute of a 60 °/s turn about z, level and with no aiding, with `p`.
+    fn lag_per_minute_deg_with<T: Scalar>(p: &DcmProfile) -> f64 {
         let w = 60.0 * D;
         let sc = Scenario { truth: &still, rate: [0.0, 0.0, w], accel_b: [0.0; 3], speed: 0.0, field_n: FIELD_N };
-        let mut dcm = Dcm::<T>::new(&gains(0.0, 0.0), DT);
+        let mut dcm = Dcm::<T>::new(p, DT);
         let mut turned = 0.0;
         let mut previous = 0.0;
         run(&mut dcm, &rx(0.0), &sc, [0.0; 3], 7500, |_, est, _, _| {
@@ -696,21 +701,8 @@ mod tests {
     /// at 60 °/s and 8 ms the per-minute lag falls from 0.0842° to below 1e-5° (dθ⁵ terms: 7500 × 4e-11 rad).
     #[test]
     fn lag_compensation_removes_the_first_order_lag() {
-        let w = 60.0 * D;
-        let sc = Scenario { truth: &still, rate: [0.0, 0.0, w], accel_b: [0.0; 3], speed: 0.0, field_n: FIELD_N };
         let p = DcmProfile { lag_compensation: true, ..gains(0.0, 0.0) };
-        let mut dcm = Dcm::<f64>::new(&p, DT);
-        let (mut turned, mut previous) = (0.0, 0.0);
-        run(&mut dcm, &rx(0.0), &sc, [0.0; 3], 7500, |_, est, _, _| {
-            let h = heading_deg(est);
-            let mut d = h - previous;
-            if d < -180.0 {
-                d += 360.0;
-            }
-            turned += d;
-            previous = h;
-        });
-        let lag = 60.0 * 60.0 - turned;
+        let lag = lag_per_minute_deg_with::<f64>(&p);
         assert!(lag.abs() < 1e-5, "lag {lag}° per minute");
     }
 
