@@ -13,7 +13,7 @@ import errno
 import io
 import os
 import tempfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -140,29 +140,6 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
     except OSError:
         return os.path.realpath(a) == os.path.realpath(b)
     return (sa.st_dev, sa.st_ino) == (sb.st_dev, sb.st_ino)
-
-
-def check_distinct(
-    inputs: Mapping[str, str | os.PathLike[str] | None], outputs: Mapping[str, str | os.PathLike[str] | None]
-) -> None:
-    """Refuse, before any work, an output that is one of the command's inputs or another of its
-    outputs (InputError naming both). Keys are what the user typed to give each path (``--out``,
-    ``TRACE``); None values (options not given) are skipped."""
-    ins = [(k, v) for k, v in inputs.items() if v is not None]
-    outs = [(k, v) for k, v in outputs.items() if v is not None]
-    for i, (name, path) in enumerate(outs):
-        for other, other_path in ins:
-            if same_file(path, other_path):
-                raise InputError(
-                    f"{name} {path} is the input {other} {other_path}: writing it would destroy the "
-                    "input; choose another output file"
-                )
-        for other, other_path in outs[:i]:
-            if same_file(path, other_path):
-                raise InputError(
-                    f"{name} {path} and {other} {other_path} are the same file: one output would "
-                    "overwrite the other; choose two different files"
-                )
 
 
 def check_output_folder(path: str | os.PathLike[str], option: str) -> None:

@@ -7,7 +7,6 @@ import math
 from typing import Any
 
 from sins_fw import budget, gfsins
-from sins_fw.atomic import check_distinct
 from sins_fw.cli.common import (
     add_json_option,
     add_option,
@@ -15,7 +14,6 @@ from sins_fw.cli.common import (
     add_profile_options,
     emit,
     exit_epilog,
-    profile_file,
     profile_from_args,
 )
 from sins_fw.cli.stop import check_stop
@@ -57,7 +55,6 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--duration-s {args.duration_s}: expected a finite duration > 0")
     if args.plot is not None and (args.plot.suffix.lower() != ".png" or args.plot.is_dir()):
         raise InputError(f"--plot {args.plot}: expected a file name ending in .png")
-    check_distinct({"--profile": profile_file(args)}, {"--plot": args.plot})
     if gfsins.has_own_schema(args.profile):
         return _gfsins(args)
     report = budget.budget_report(profile_from_args(args), seconds=args.duration_s)

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from sins_fw import progress
-from sins_fw.atomic import check_distinct, check_output_folder
+from sins_fw.atomic import check_output_folder
 from sins_fw.broad import iter_broad
 from sins_fw.cli.common import (
     add_json_option,
@@ -177,7 +177,6 @@ def _import_log(args: argparse.Namespace) -> PhysicalTrace:
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.out)
     check_output_folder(args.out, "--out")
-    check_distinct({"FILE": args.file}, {"--out": args.out})
     if args.kind == "broad":
         # Read, converted and written a chunk at a time, as `import trace` (issue 24, item 11).
         written = save_chunks(args.out, iter_broad(args.file, IMPORT_CHUNK_ROWS))

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sins_fw import _core, gfsins, parity, progress
-from sins_fw.atomic import check_distinct, check_output_folder
+from sins_fw.atomic import check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
@@ -30,7 +30,6 @@ from sins_fw.cli.common import (
     check_events,
     emit,
     exit_epilog,
-    profile_file,
     profile_from_args,
 )
 from sins_fw.errors import InputError, TraceError
@@ -255,12 +254,6 @@ def run(args: argparse.Namespace) -> int:
         )
     if gfsins.has_own_schema(args.profile) and meta.get("format") != RUN_FORMAT:
         return _replay_gfsins(args, window, problem)
-    # The trace a saved run records, found where the replay will find it (run_output.resolve_trace).
-    recorded = resolve_trace(args.trace, meta) if meta.get("format") == RUN_FORMAT else None
-    check_distinct(
-        {"TRACE_OR_RUN": args.trace, "its recorded trace": recorded, "--profile": profile_file(args)},
-        {"--out": args.out},
-    )
     saved_run: Run | None = None
     source: Path | PhysicalTrace | None = None
     if meta.get("format") == RUN_FORMAT:
@@ -396,7 +389,6 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
         raise InputError(
             "--parity runs the F28335 firmware's other numeric backends; the gyro-free board has none"
         )
-    check_distinct({"TRACE_OR_RUN": args.trace, "--profile": profile_file(args)}, {"--out": args.out})
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
     prof = gfsins.load(args.profile, args.overrides)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from sins_fw.atomic import check_distinct, check_output_folder
+from sins_fw.atomic import check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
@@ -16,11 +16,10 @@ from sins_fw.cli.common import (
     check_png,
     emit,
     exit_epilog,
-    profile_file,
     profile_from_args,
 )
 from sins_fw.harness import emulate
-from sins_fw.run_output import RUN_FORMAT, replay_check, resolve_trace
+from sins_fw.run_output import RUN_FORMAT, replay_check
 from sins_fw.traces import read_metadata
 
 
@@ -41,11 +40,6 @@ def run(args: argparse.Namespace) -> int:
     check_png(args.out, "--out")
     check_output_folder(args.out, "--out")  # missing folders are created, as for every output
     saved_run = read_metadata(args.trace).get("format") == RUN_FORMAT if args.trace.is_file() else False
-    recorded = resolve_trace(args.trace, read_metadata(args.trace)) if saved_run else None
-    check_distinct(
-        {"TRACE": args.trace, "its recorded trace": recorded, "--profile": profile_file(args)},
-        {"--out": args.out},
-    )
     from sins_fw.report_page import PageData, save_report  # matplotlib is a heavy import
 
     if saved_run:

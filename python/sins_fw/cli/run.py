@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from sins_fw import gfsins, progress
-from sins_fw.atomic import check_distinct, check_output_folder
+from sins_fw.atomic import check_output_folder
 from sins_fw.cli.common import (
     EVENTS_CHECK,
     add_json_option,
@@ -23,7 +23,6 @@ from sins_fw.cli.common import (
     check_error_counts,
     emit,
     exit_epilog,
-    profile_file,
     profile_from_args,
     read_options,
 )
@@ -204,9 +203,6 @@ def run(args: argparse.Namespace) -> int:
         if out is not None:
             check_output_path(out)
             check_output_folder(out, option)
-    check_distinct(
-        {"TRACE": args.trace, "--profile": profile_file(args)}, {"--out": args.out, "--raw-out": args.raw_out}
-    )
     check_until_s(args.until_s, "--until-s")
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
@@ -351,10 +347,6 @@ def _run_firmware(args: argparse.Namespace) -> int:
     if args.out is not None:
         check_output_path(args.out)
         check_output_folder(args.out, "--out")
-    check_distinct(
-        {"TRACE": args.trace, "--profile": profile_file(args), "--firmware": args.firmware},
-        {"--out": args.out},
-    )
     check_until_s(args.until_s, "--until-s")
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
@@ -472,7 +464,6 @@ def _run_gfsins(args: argparse.Namespace) -> int:
     if args.out is not None:
         check_output_path(args.out)
         check_output_folder(args.out, "--out")
-    check_distinct({"TRACE": args.trace, "--profile": profile_file(args)}, {"--out": args.out})
     check_until_s(args.until_s, "--until-s")
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
