@@ -173,8 +173,6 @@ def _run(args: argparse.Namespace) -> int:
         # The file system said no (permissions, a full disk, a missing folder): the user's to fix.
         # A write that names no file was a print to standard output (a full disk behind `>`).
         name = e.filename or (STDOUT if _stdout_failing() else None)
-        if name == STDOUT:
-            _drop_stdout()
         where = f"{name}: " if name else ""
         return _fail(args, InputError(f"{where}{e.strerror or e}"), EXIT_USAGE, e)
     except Exception as e:
