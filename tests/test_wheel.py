@@ -81,7 +81,8 @@ def test_the_package_is_imported_from_the_environment_not_the_checkout(installed
     py = Path(installed["bin"]) / "python"
     env = {k.removeprefix("env_"): v for k, v in installed.items() if k.startswith("env_")}
     r = subprocess.run(
-        [str(py), "-c", "import sins_fw.profile as p; print(p.MODEL_DIR)"],
+        # broad_published reads its data file beside the module: the wheel must carry it.
+        [str(py), "-c", "import sins_fw.broad_published, sins_fw.profile as p; print(p.MODEL_DIR)"],
         cwd=installed["cwd"],
         env=env,
         capture_output=True,

@@ -2,156 +2,22 @@
 doi:10.3390/data6070072, CC BY 4.0): `example_code/out/results_{madgwick,mahony}_average_rmse.json` of the
 dataset's repository (github.com/dlaidig/broad at 7e2f818), each trial's `tagp_parameters` entry (the
 parameters tuned once over all trials: Madgwick β 0.12, Mahony k_P 0.74, k_I 0.0012): inclination, heading,
-total RMSE in degrees, as published (not rounded)."""
+total RMSE in degrees, as published (not rounded). The figures are data, in `broad_published.json` beside
+this module."""
 
 from __future__ import annotations
 
+import json
+from importlib import resources
+
+
+def _load() -> dict[str, dict[str, tuple[float, float, float]]]:
+    doc = json.loads(resources.files("sins_fw").joinpath("broad_published.json").read_text(encoding="utf-8"))
+    return {
+        method: {trial: (float(i), float(h), float(t)) for trial, (i, h, t) in trials.items()}
+        for method, trials in doc["rmse"].items()
+    }
+
+
 #: method → trial → (inclination, heading, total) RMSE, degrees.
-PUBLISHED_PER_TRIAL: dict[str, dict[str, tuple[float, float, float]]] = {
-    "madgwick": {
-        "01_undisturbed_slow_rotation_A": (0.7788086514276203, 2.174349147344144, 2.309603165739183),
-        "02_undisturbed_slow_rotation_B": (0.8021668950285171, 1.2637374170489573, 1.4968208029725296),
-        "03_undisturbed_slow_rotation_C": (0.9347051312825437, 2.287089496836219, 2.4706961452056797),
-        "04_undisturbed_slow_rotation_with_breaks_A": (
-            0.6893391253891785,
-            1.3671222304960753,
-            1.5310750012936927,
-        ),
-        "05_undisturbed_slow_rotation_with_breaks_B": (
-            0.7232921656490349,
-            1.632848954589384,
-            1.7858627911654175,
-        ),
-        "06_undisturbed_fast_rotation_A": (1.482193813706576, 1.7679204262706407, 2.306990646024209),
-        "07_undisturbed_fast_rotation_B": (2.4993232473704006, 4.326588111600188, 4.996321474071987),
-        "08_undisturbed_fast_rotation_with_breaks_A": (
-            1.6753175828234261,
-            3.5271024928555983,
-            3.904664963855049,
-        ),
-        "09_undisturbed_fast_rotation_with_breaks_B": (
-            1.8600469900521273,
-            1.646668917968651,
-            2.4841508387168334,
-        ),
-        "10_undisturbed_slow_translation_A": (3.134492688253801, 1.7066180628217769, 3.5688761461645475),
-        "11_undisturbed_slow_translation_B": (3.344586776964465, 2.6078991974338144, 4.240924420975312),
-        "12_undisturbed_slow_translation_C": (2.7258041008461484, 1.9299098425494536, 3.3397389570808538),
-        "13_undisturbed_slow_translation_with_breaks_A": (
-            1.84556960880317,
-            1.1339447962787648,
-            2.1660696982078163,
-        ),
-        "14_undisturbed_slow_translation_with_breaks_B": (
-            2.6518049757721656,
-            1.5968606758828954,
-            3.0954061131482526,
-        ),
-        "15_undisturbed_fast_translation_A": (4.621700450859573, 11.40864677671004, 12.304310102899514),
-        "16_undisturbed_fast_translation_B": (3.093830480377385, 3.702794360635037, 4.82479753592094),
-        "17_undisturbed_fast_translation_with_breaks_A": (
-            4.630452810126718,
-            6.810280450242491,
-            8.233335016238001,
-        ),
-        "18_undisturbed_fast_translation_with_breaks_B": (
-            3.4174490945804177,
-            2.868569328563213,
-            4.461444080112256,
-        ),
-        "19_undisturbed_slow_combined_240s": (2.0437270266246643, 0.9257271908250496, 2.243584111370526),
-        "20_undisturbed_slow_combined_360s": (2.0855489821380315, 1.0765494212932407, 2.346977030964104),
-        "21_undisturbed_fast_combined": (4.530021023930903, 5.544467079848488, 7.158391853579409),
-        "22_undisturbed_fast_combined_240s": (3.2440911511887083, 7.773700442466366, 8.42242917511313),
-        "23_undisturbed_fast_combined_360s": (3.4049847710422285, 8.188306897089891, 8.866898055116584),
-        "24_disturbed_tapping_A": (1.258392621656577, 1.2425175833551663, 1.76842896572884),
-        "25_disturbed_tapping_B": (2.7800936878174394, 2.7583562517535856, 3.9161108192183884),
-        "26_disturbed_phone_vibration_A": (1.817806070572848, 2.2644494906076797, 2.903749412429251),
-        "27_disturbed_phone_vibration_B": (1.5654621938376652, 10.50121570289738, 10.616953840056569),
-        "28_disturbed_stationary_magnet_A": (3.702850917449405, 7.461339892964451, 8.328644037830056),
-        "29_disturbed_stationary_magnet_B": (3.6472916344639628, 8.404104102555976, 9.159425002532753),
-        "30_disturbed_stationary_magnet_C": (5.264757250256438, 1.8065212771441777, 5.565958136647938),
-        "31_disturbed_stationary_magnet_D": (2.5755111854484682, 2.3533673496821392, 3.488581472838062),
-        "32_disturbed_attached_magnet_1cm": (4.971220055073343, 14.963540329632599, 15.762033356947285),
-        "33_disturbed_attached_magnet_2cm": (4.906241176598498, 5.1167311763368675, 7.087643736137409),
-        "34_disturbed_attached_magnet_3cm": (3.2853645006029994, 4.253103621374474, 5.373848924432412),
-        "35_disturbed_attached_magnet_4cm": (3.059915929657333, 1.143783521213697, 3.2666563286381223),
-        "36_disturbed_attached_magnet_5cm": (2.714120505194139, 1.5587696271818436, 3.129825824378011),
-        "37_disturbed_office_A": (2.858389488638673, 6.188450753708483, 6.816233492432253),
-        "38_disturbed_office_B": (3.0015203055518374, 3.38170476294783, 4.521333935671089),
-        "39_disturbed_mixed": (2.1948612015961824, 2.2241547188487982, 3.124673648181366),
-    },
-    "mahony": {
-        "01_undisturbed_slow_rotation_A": (1.1581781391332218, 3.220449563473954, 3.4222454762960455),
-        "02_undisturbed_slow_rotation_B": (0.6641901191459872, 2.8908935782635035, 2.966195102266719),
-        "03_undisturbed_slow_rotation_C": (0.8695820814302044, 2.796133173590409, 2.9282028638555078),
-        "04_undisturbed_slow_rotation_with_breaks_A": (
-            1.5347443718398461,
-            5.141526005272996,
-            5.365520488014107,
-        ),
-        "05_undisturbed_slow_rotation_with_breaks_B": (
-            0.7776261629802866,
-            3.932621358184867,
-            4.008737190958921,
-        ),
-        "06_undisturbed_fast_rotation_A": (1.9031136586198463, 3.8437399917543384, 4.288908110701163),
-        "07_undisturbed_fast_rotation_B": (1.8408920189096445, 4.898510580751595, 5.232809160286603),
-        "08_undisturbed_fast_rotation_with_breaks_A": (
-            2.412234930992254,
-            6.413551925659931,
-            6.8517247166480555,
-        ),
-        "09_undisturbed_fast_rotation_with_breaks_B": (
-            1.5556595006766074,
-            4.2438588658464855,
-            4.519885735849961,
-        ),
-        "10_undisturbed_slow_translation_A": (2.3243024511870978, 1.496159138423075, 2.7641654581147623),
-        "11_undisturbed_slow_translation_B": (2.217285815332059, 5.172969622221621, 5.627839864132284),
-        "12_undisturbed_slow_translation_C": (1.4730848054804488, 4.587400841374985, 4.8179929112088695),
-        "13_undisturbed_slow_translation_with_breaks_A": (
-            2.034541212543061,
-            7.173907878714376,
-            7.456460518260189,
-        ),
-        "14_undisturbed_slow_translation_with_breaks_B": (
-            1.6126419296892698,
-            4.71694630153128,
-            4.984849661641599,
-        ),
-        "15_undisturbed_fast_translation_A": (6.0362790062503615, 6.946281678751124, 9.19969981156397),
-        "16_undisturbed_fast_translation_B": (10.008399788664578, 17.672061001728878, 20.277264173979695),
-        "17_undisturbed_fast_translation_with_breaks_A": (
-            5.244435521857638,
-            4.80753759462959,
-            7.113514633610637,
-        ),
-        "18_undisturbed_fast_translation_with_breaks_B": (
-            15.463114618369799,
-            24.74581564226351,
-            29.068284078372304,
-        ),
-        "19_undisturbed_slow_combined_240s": (1.1840936243172655, 0.9669469108212955, 1.5287350415895427),
-        "20_undisturbed_slow_combined_360s": (1.2662104262225384, 0.9211162357079593, 1.5657895808029454),
-        "21_undisturbed_fast_combined": (7.867533240238173, 9.648892553784119, 12.443790994281523),
-        "22_undisturbed_fast_combined_240s": (4.352593233331929, 5.5883100975845945, 7.082086112985066),
-        "23_undisturbed_fast_combined_360s": (4.963742517595866, 3.6561258180954526, 6.164181795889101),
-        "24_disturbed_tapping_A": (1.0125993019457, 1.892329226745283, 2.1462017007065968),
-        "25_disturbed_tapping_B": (2.199108152721464, 5.625965417917426, 6.040144312050613),
-        "26_disturbed_phone_vibration_A": (1.2512549536366202, 1.8892467540935833, 2.265989897548671),
-        "27_disturbed_phone_vibration_B": (1.991338265213441, 8.458695670953807, 8.68951749253448),
-        "28_disturbed_stationary_magnet_A": (4.455785109076716, 4.496792289782117, 6.329651975449173),
-        "29_disturbed_stationary_magnet_B": (5.64167113780858, 6.437289778425852, 8.557687827622937),
-        "30_disturbed_stationary_magnet_C": (8.069993952435308, 7.385140334604243, 10.933813444127143),
-        "31_disturbed_stationary_magnet_D": (5.134930939930882, 3.705635210518705, 6.331510415723849),
-        "32_disturbed_attached_magnet_1cm": (9.923838686039456, 39.850165404202514, 41.00513834041961),
-        "33_disturbed_attached_magnet_2cm": (7.067008976487338, 8.387673286238062, 10.961664454942305),
-        "34_disturbed_attached_magnet_3cm": (3.6746574912966667, 4.391397126961201, 5.725551313700993),
-        "35_disturbed_attached_magnet_4cm": (2.861937461888312, 2.361889358243566, 3.710578233140812),
-        "36_disturbed_attached_magnet_5cm": (3.0487409419820266, 2.591100020074433, 4.000879992775445),
-        "37_disturbed_office_A": (2.6134608783215603, 3.333550912588748, 4.235687181150325),
-        "38_disturbed_office_B": (2.7762037600620886, 3.2612304169627997, 4.2826514857369435),
-        "39_disturbed_mixed": (3.7263010941525456, 6.126563072631312, 7.167827089512214),
-    },
-}
+PUBLISHED_PER_TRIAL: dict[str, dict[str, tuple[float, float, float]]] = _load()
