@@ -31,11 +31,14 @@ $(CABI): $(RUST_SOURCES)
 # The two Rust builds `make test` needs, the Rust tests (`release`) and the extension (`dist`: fat LTO in
 # one codegen unit, whose long single-threaded compile and link of the core leave a core idle), run at
 # the same time, sharing make's two job slots with the cargo processes (`+`: cargo reads make's
-# jobserver, so two compilers run at a time, not four); then the tests run.
+# jobserver, so two compilers run at a time, not four); then the tests run. The C ABI library is built
+# in the same stage, when a slot is free: `cargo build -p sins-cabi` resolves the features for sins-cabi
+# alone, so it compiles sins-core again (the tests build it the same way), and waits for the Rust
+# tests' build (one build directory) but not for the extension's long link.
 CARGO_TEST := cargo test --workspace --release
 
 test:
-	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT)
+	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT) $(CABI)
 	$(MAKE) --no-print-directory $(CABI) test-rust test-python
 
 test-rust-built:
