@@ -822,7 +822,8 @@ pub unsafe extern "C" fn sins_next_interrupt_ps(
         let b = &self::board(board)?.board;
         put(t_ps, b.next_interrupt_ps().unwrap_or(u64::MAX), "t_ps")?;
         if !text.is_null() && len > 0 {
-            let why = b.interrupts_blocked().map_or("", |w| w.text()).as_bytes();
+            let why = b.interrupts_blocked().map_or_else(String::new, |w| w.text());
+            let why = why.as_bytes();
             let n = why.len().min(len - 1);
             // SAFETY: `text` holds `len` > n bytes (the caller's contract).
             unsafe {
