@@ -349,7 +349,10 @@ impl HostBoard {
     /// When an interrupt may next become takeable without a register access (timer 0's next
     /// reload, when nothing masks it), ps.
     pub fn next_interrupt_ps(&self) -> Option<Ps> {
-        self.irq.blocked()?;
+        if self.irq.blocked().is_some() {
+            // A watchdog about to bite ends any loop (a reset), and its WAKEINT may be let in.
+            return self.sys.next_event_ps();
+        }
         // SPI-A's flags change at the end of a character; the watchdog's WAKEINT at its overflow.
         let spi = self.spi_armed().then(|| self.link.spi().current_frame().map(|f| f.end_ps)).flatten();
         [self.irq.next_interrupt_ps(), spi, self.sys.next_event_ps()].into_iter().flatten().min()
@@ -386,7 +389,7 @@ impl HostBoard {
     /// SPI-A event, timer 0's TCR at its next reload; None for a register that does not change by
     /// itself (or is not modelled); `now` for one that changes continually (TIM).
     pub fn next_change_ps(&self, addr: u32) -> Option<Ps> {
-        match addr {
+        let own = match addr {
             a if is_spi(a) => {
                 let spi = self.link.spi();
                 [self.link.int_flag_time(), self.link.buffull_clear_time(), spi.current_frame().map(|f| f.end_ps)]
@@ -396,9 +399,13 @@ impl HostBoard {
                     .min()
             }
             0x0C04 | 0x0CE0..=0x0CF9 => self.irq.next_reload_ps().filter(|&t| t > self.now),
-            0x0C00 | 0x0C01 => Some(self.now),
+            0x0C0C => self.irq.next_reload_ps_of(1).filter(|&t| t > self.now),
+            0x0C14 => self.irq.next_reload_ps_of(2).filter(|&t| t > self.now),
+            0x0C00 | 0x0C01 | 0x0C08 | 0x0C09 | 0x0C10 | 0x0C11 | sysctrl::WDCNTR => Some(self.now),
             _ => None,
-        }
+        };
+        // The PLL locking (PLLSTS) and a watchdog reset change what any register reads.
+        [own, self.sys.next_event_ps().filter(|&t| t > self.now)].into_iter().flatten().min()
     }
 
     /// Virtual time, ps.
