@@ -14,6 +14,14 @@
 #include "DSP2833x_DefaultIsr.h"
 #include "DSP2833x_GlobalPrototypes.h"
 
+/* A project's own DSP2833x_Examples.h may lack TI's PLL macros: the profile's clocks then. */
+#ifndef DSP28_PLLCR
+#define DSP28_PLLCR SINS_FW_PLLCR
+#endif
+#ifndef DSP28_DIVSEL
+#define DSP28_DIVSEL SINS_FW_DIVSEL
+#endif
+
 #pragma CODE_SECTION(InitFlash, "ramfuncs");
 
 __attribute__((weak)) void DisableDog(void)

@@ -631,6 +631,7 @@ mod tests {
     use crate::dsp::timer::{TCR_TIE, TCR_TIF, TCR_TRB, TCR_TSS};
 
     const NS: Ps = 1000;
+    const US: Ps = 1_000_000;
 
     fn sys() -> Clock {
         Clock::from_hz(150_000_000)
@@ -734,5 +735,66 @@ mod tests {
         assert_eq!(i.next_reload_ps(), Some(sys().cycles_to_ps(300)));
         assert_eq!(i.read(0x0C00, sys().cycles_to_ps(3)).unwrap(), 98);
         assert_eq!(i.read(0x0C06, 0).unwrap(), 0x0202);
+    }
+    #[test]
+    fn set_pie_flag_reaches_ifr_only_through_an_enabled_unacknowledged_line() {
+        let mut i = Interrupts::new(sys());
+        i.set_pie_flag(6, 1, 0); // SPIRXINTA with the PIE off: flagged, not passed on
+        assert_eq!((i.read(0x0CED, 0).unwrap(), i.ifr(0)), (1, 0));
+        i.write(0x0CE0, 1, 0).unwrap();
+        assert_eq!(i.ifr(0), 0, "PIEIER6.INTx1 is 0");
+        i.write(0x0CEC, 0b11, 0).unwrap(); // PIEIER6: SPIRXINTA, SPITXINTA
+        assert_eq!((i.ifr(0), i.read(0x0CE1, 0).unwrap()), (1 << 5, 1 << 5), "IFR bit 5, PIEACK group 6");
+        i.set_ier(1 << 5);
+        i.set_intm(false);
+        i.set_eallow(true);
+        i.set_vector(72, 0x72).unwrap();
+        i.set_vector(73, 0x73).unwrap();
+        i.set_eallow(false);
+        assert_eq!(i.take(0), Some(Taken { vector: 72, isr: 0x72 }));
+        i.iret().unwrap();
+        i.set_pie_flag(6, 2, 1); // SPITXINTA: waits for PIEACK
+        assert_eq!(i.take(1), None);
+        assert_eq!(i.blocked(), Some(Blocked::PieAck { group: 6 }));
+        i.write(0x0CE1, 1 << 5, 1).unwrap();
+        assert_eq!(i.take(1).map(|t| t.vector), Some(73));
+        assert_eq!(vector_name(72), "SPIRXINTA");
+        assert_eq!(vector_name(73), "SPITXINTA");
+    }
+
+    #[test]
+    fn timers_1_and_2_interrupt_on_int13_and_int14_without_the_pie() {
+        let mut i = Interrupts::new(sys());
+        for base in [0x0C08, 0x0C10] {
+            i.write(base + 4, TCR_TSS, 0).unwrap();
+            i.write(base + 2, if base == 0x0C08 { 149 } else { 299 }, 0).unwrap(); // 1 µs and 2 µs
+            i.write(base + 3, 0, 0).unwrap();
+            i.write(base + 4, TCR_TIE | TCR_TRB, 0).unwrap();
+        }
+        i.set_ier((1 << 12) | (1 << 13));
+        i.set_intm(false);
+        assert_eq!(i.take(US - 1), None);
+        assert_eq!(i.take(US).map(|t| t.vector), Some(INT13_VECTOR));
+        i.iret().unwrap();
+        assert_eq!(i.take(2 * US).map(|t| t.vector), Some(INT13_VECTOR), "INT13 before INT14");
+        i.iret().unwrap();
+        assert_eq!(i.take(2 * US).map(|t| t.vector), Some(INT14_VECTOR));
+        i.iret().unwrap();
+        assert_eq!(i.read(0x0CE1, 2 * US).unwrap(), 0, "no PIEACK for INT13/INT14");
+        assert_eq!((vector_name(13), vector_name(14)), ("XINT13", "TINT2"));
+    }
+
+    #[test]
+    fn a_sysclkout_change_rescales_the_running_timers() {
+        let mut i = Interrupts::new(sys());
+        i.write(0x0C04, TCR_TSS, 0).unwrap();
+        i.write(0x0C02, 1499, 0).unwrap(); // 1500 cycles: 10 µs at 150 MHz
+        i.write(0x0C03, 0, 0).unwrap();
+        i.write(0x0C04, TCR_TIE | TCR_TRB, 0).unwrap();
+        assert_eq!(i.next_reload_ps(), Some(10 * US));
+        // Half way, SYSCLKOUT halves: the other 750 cycles take 10 µs.
+        i.set_sysclkout(Clock::from_hz(75_000_000), 5 * US);
+        assert_eq!(i.next_reload_ps(), Some(15 * US));
+        assert_eq!(i.read(0x0C00, 5 * US).unwrap(), 749);
     }
 }
