@@ -38,11 +38,13 @@ void DSP28x_usDelay(Uint32 Count);
 void ADC_cal(void);
 void SetDBGIER(Uint16 dbgier);
 
-/* The linker command file's symbols of the RAM functions' copy (an empty range on the host, where
-   the functions run in place). */
+/* The linker command file's symbols of the RAM functions' copy (the build provides them: the load
+   image of section ramfuncs and its place in RAM; RamfuncsLoadSize's address is its size, in bytes
+   on the host, whose memcpy counts bytes where the C28x's counts 16-bit words). */
 extern Uint16 RamfuncsLoadStart;
 extern Uint16 RamfuncsLoadEnd;
 extern Uint16 RamfuncsRunStart;
+extern Uint16 RamfuncsLoadSize;
 
 #ifdef __cplusplus
 }

@@ -558,6 +558,25 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         FunctionCallee block = m.getOrInsertFunction("sins_fw_block", Type::getVoidTy(ctx), i32, i8p);
         FunctionCallee enter = m.getOrInsertFunction("sins_fw_enter", Type::getVoidTy(ctx), i32, i8p);
         FunctionCallee idle = m.getOrInsertFunction("sins_fw_idle", Type::getVoidTy(ctx), i32);
+        /* The functions the sources place in section ramfuncs (`#pragma CODE_SECTION(f, "ramfuncs")`,
+           found by the build): the runtime checks at their entry that the section was copied to RAM. */
+        std::set<std::string> ramfuncs;
+        if (const char *env = std::getenv("SINS_FW_PASS_RAMFUNCS")) {
+            std::string list = env;
+            size_t at = 0;
+            while (at <= list.size()) {
+                size_t comma = list.find(',', at);
+                std::string name = list.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+                if (!name.empty()) {
+                    ramfuncs.insert(name);
+                }
+                if (comma == std::string::npos) {
+                    break;
+                }
+                at = comma + 1;
+            }
+        }
+        FunctionCallee ramfunc = m.getOrInsertFunction("sins_fw_ramfunc", Type::getVoidTy(ctx), i8p);
         /* The functions' counters, and a table {name, counter} in the section the runtime walks. */
         StructType *entry = StructType::get(i8p, i8p);
         std::vector<Function *> fns;
@@ -594,6 +613,9 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
                 } else {
                     /* The entry block also counts the call (the counter's second word). */
                     b.CreateCall(&bb == &f->getEntryBlock() ? enter : block, {c, calls});
+                    if (&bb == &f->getEntryBlock() && ramfuncs.count(f->getName().str()) != 0) {
+                        b.CreateCall(ramfunc, {b.CreateGlobalStringPtr(f->getName(), "sins_fw_ramfunc." + f->getName())});
+                    }
                 }
             }
         }

@@ -77,30 +77,37 @@ extern uint64_t sins_fw_cregs[2];
 extern "C" void sins_fw_user_main(void) __attribute__((weak));
 void sins_fw_user_main_cxx(void) __asm__("_Z17sins_fw_user_mainv") __attribute__((weak));
 
-/* The modelled registers (rust/core/src/host.rs `Host::read`: LOSPCP, SPI-A, the GPIO data registers,
-   CPU timer 0 and the PIE; rust/core/src/dsp/interrupts.rs `Interrupts::owns`). */
+/* The modelled registers (rust/core/src/host.rs `HostBoard::read`: SPI-A, the GPIO data registers,
+   the system control registers (dsp/sysctrl.rs `SysCtrl::owns`), CPU timers 0-2 and the PIE
+   (dsp/interrupts.rs `Interrupts::owns`), and the frames of the peripherals not modelled yet, whose
+   registers the board holds with their reset values and whose first use it reports
+   (dsp/unmodelled.rs `FRAMES`). */
 static bool is_modelled(uint32_t a) {
-    if (a == 0x701Bu) return true;                                   /* LOSPCP */
+    if (a == 0x7011u || (a >= 0x701Au && a <= 0x701Eu) || (a >= 0x7020u && a <= 0x7023u) || a == 0x7025u ||
+        a == 0x7029u) {
+        return true;                                                 /* SysCtrlRegs: PLL, clocks, watchdog */
+    }
+    if ((a >= 0x0A80u && a < 0x0A88u) || (a >= 0x0B00u && a < 0x0B40u) || (a >= 0x1000u && a < 0x1200u) ||
+        (a >= 0x6000u && a < 0x6400u) || (a >= 0x6800u && a < 0x6980u) || (a >= 0x6A00u && a < 0x6AC0u) ||
+        (a >= 0x7100u && a < 0x7120u)) {
+        return true;                                                 /* Flash, ADC, XINTF, DMA, eCAN, ePWM, eCAP */
+    }
     if (a >= 0x7040u && a < 0x7050u) {                               /* SPI-A, its registers */
         uint32_t o = a - 0x7040u;
         return o <= 2 || (o >= 4 && o <= 0xC) || o == 0xF;
     }
     if (a >= 0x6FC0u && a < 0x6FC0u + 24) return true;               /* GPxDAT/SET/CLEAR/TOGGLE */
-    if ((a >= 0x0C00u && a <= 0x0C04u) || a == 0x0C06u || a == 0x0C07u) return true; /* CPU timer 0 */
+    if (a >= 0x0C00u && a < 0x0C18u) return a % 8 != 5;              /* CPU timers 0-2 */
     return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */
 }
 
-/* Reset values of registers of peripherals not modelled yet (F2833x system control and peripheral
-   reference guides, as /work spec f28335-peripherals.md §2 and §10 list them); all others reset to 0.
-   PLLSTS reads locked (PLLLOCKS = 1): the lock time is not modelled, so TI's InitPll's wait ends. */
+/* Reset values of registers of peripherals not modelled yet (F2833x peripheral reference guides, as
+   the spec's f28335-peripherals.md §10 lists them); all others reset to 0. (The system control, flash
+   and unmodelled peripherals' registers are the board's, with theirs.) */
 static const struct {
     uint32_t address;
     uint16_t value;
 } RESET_VALUES[] = {
-    {0x7011u, 0x0001u}, /* PLLSTS: PLLLOCKS */
-    {0x701Au, 0x0001u}, /* HISPCP */
-    {0x7020u, 0x2700u}, /* PCLKCR3: CPU timers 0-2, GPIOIN */
-    {0x7022u, 0x0001u}, /* SCSR: WDOVERRIDE */
     {0x705Au, 0xA000u}, /* SCIFFTX-A */
     {0x705Bu, 0x201Fu}, /* SCIFFRX-A */
     {0x775Au, 0xA000u}, /* SCIFFTX-B */
@@ -108,8 +115,6 @@ static const struct {
     {0x777Au, 0xA000u}, /* SCIFFTX-C */
     {0x777Bu, 0x201Fu}, /* SCIFFRX-C */
     {0x7902u, 0x0410u}, /* I2CSTR: XSMT, XRDY */
-    {0x0A86u, 0x0F0Fu}, /* FBANKWAIT */
-    {0x0A87u, 0x001Fu}, /* FOTPWAIT */
 };
 
 /* The PIE lines and CPU interrupts enabled so far (the enable-time check below). */
@@ -132,13 +137,18 @@ extern "C" void sins_fw_write16(uint32_t address, uint16_t value);
 /* The PIE's 96 peripheral vectors by group and line (TI's DSP2833x_PieVect.h names, vectors 32-127). */
 static const char *const PIE_NAMES[96] = {"SEQ1INT","SEQ2INT","rsvd1_3","XINT1","XINT2","ADCINT","TINT0","WAKEINT","EPWM1_TZINT","EPWM2_TZINT","EPWM3_TZINT","EPWM4_TZINT","EPWM5_TZINT","EPWM6_TZINT","rsvd2_7","rsvd2_8","EPWM1_INT","EPWM2_INT","EPWM3_INT","EPWM4_INT","EPWM5_INT","EPWM6_INT","rsvd3_7","rsvd3_8","ECAP1_INT","ECAP2_INT","ECAP3_INT","ECAP4_INT","ECAP5_INT","ECAP6_INT","rsvd4_7","rsvd4_8","EQEP1_INT","EQEP2_INT","rsvd5_3","rsvd5_4","rsvd5_5","rsvd5_6","rsvd5_7","rsvd5_8","SPIRXINTA","SPITXINTA","MRINTB","MXINTB","MRINTA","MXINTA","rsvd6_7","rsvd6_8","DINTCH1","DINTCH2","DINTCH3","DINTCH4","DINTCH5","DINTCH6","rsvd7_7","rsvd7_8","I2CINT1A","I2CINT2A","rsvd8_3","rsvd8_4","SCIRXINTC","SCITXINTC","rsvd8_7","rsvd8_8","SCIRXINTA","SCITXINTA","SCIRXINTB","SCITXINTB","ECAN0INTA","ECAN1INTA","ECAN0INTB","ECAN1INTB","rsvd10_1","rsvd10_2","rsvd10_3","rsvd10_4","rsvd10_5","rsvd10_6","rsvd10_7","rsvd10_8","rsvd11_1","rsvd11_2","rsvd11_3","rsvd11_4","rsvd11_5","rsvd11_6","rsvd11_7","rsvd11_8","XINT3","XINT4","XINT5","XINT6","XINT7","rsvd12_6","LVF","LUF"};
 
-/* Interrupts the firmware enables that the emulator can never raise (only TINT0, INT1.7, is modelled;
-   issue 39 adds the others): each reported once, when it is enabled, as a warning on stderr naming
-   the vector, its PIE group and line. */
+/* Interrupts the firmware enables that the emulator can never raise (raised: TINT0 INT1.7, WAKEINT
+   INT1.8 (the watchdog), SPIRXINTA/SPITXINTA INT6.1/6.2, TINT1 INT13, TINT2 INT14): each reported
+   once, when it is enabled, as a warning on stderr naming the vector, its PIE group and line. */
 static void warn_never_raised(const char *what) {
     std::fprintf(stderr, "sins-fw: warning: the firmware enables %s, which the emulator cannot raise "
-                         "(of the interrupts only CPU timer 0, TINT0 = INT1.7, is modelled): its ISR will never run\n",
+                         "(its peripheral is not modelled): its ISR will never run\n",
                  what);
+}
+
+/* The PIE lines a modelled peripheral raises (group and line, 0-based). */
+static bool raised_by_the_board(unsigned group, unsigned line) {
+    return (group == 0 && (line == 6 || line == 7)) || (group == 5 && line <= 1);
 }
 
 static void check_pie_enable(uint32_t address, uint16_t value) {
@@ -149,7 +159,7 @@ static void check_pie_enable(uint32_t address, uint16_t value) {
     uint16_t fresh = static_cast<uint16_t>(value & 0xFFu & ~pie_enabled[group]);
     pie_enabled[group] |= fresh;
     for (unsigned line = 0; line < 8; line++) {
-        if ((fresh >> line & 1u) && !(group == 0 && line == 6)) {
+        if ((fresh >> line & 1u) && !raised_by_the_board(group, line)) {
             char what[96];
             std::snprintf(what, sizeof what, "%s (PIE group %u, INT%u.%u, vector %u)", PIE_NAMES[group * 8 + line],
                           group + 1, group + 1, line + 1, 32 + group * 8 + line);
@@ -161,8 +171,6 @@ static void check_pie_enable(uint32_t address, uint16_t value) {
 static void check_ier_enable(uint16_t value) {
     uint16_t fresh = static_cast<uint16_t>(value & ~ier_enabled);
     ier_enabled |= fresh;
-    if (fresh & 0x1000u) warn_never_raised("INT13 (IER bit 12: CPU timer 1 or XINT13)");
-    if (fresh & 0x2000u) warn_never_raised("INT14 (IER bit 13: CPU timer 2)");
     if (fresh & 0x4000u) warn_never_raised("DLOGINT (IER bit 14)");
     if (fresh & 0x8000u) warn_never_raised("RTOSINT (IER bit 15)");
 }
@@ -282,6 +290,12 @@ void update_flush() {
 
 void read_now() { check(sins_now_ps(board, &now_ps), "time"); }
 
+/* SYSCLKOUT may have changed (the PLL: PLLCR, PLLSTS.DIVSEL): the cycle's length again. */
+void refresh_cycle() {
+    check(sins_cycle_ps(board, &cycle_ps), "time");
+    cycle_ps_ceil = cycle_ps + 1;
+}
+
 /* Let `cycles` SYSCLKOUT cycles pass (no register access). */
 void pass_cycles(uint64_t cycles) {
     if (cycles == 0) {
@@ -334,11 +348,19 @@ void record_row(const uint64_t *times) {
     }
 }
 
+/* TI's PieVectTable field name of vector `v` (the CPU timers' INT13 and INT14, the PIE's 96). */
+const char *vector_name(int v) {
+    if (v == 13) return "XINT13";
+    if (v == 14) return "TINT2";
+    if (v >= 32 && v < 128) return PIE_NAMES[v - 32];
+    return "?";
+}
+
 void run_isr(int vector, uint64_t isr) {
     if (isr == 0) {
-        throw Failure{"the CPU took PIE vector " + std::to_string(vector) +
-                      (vector == 38 ? " (TINT0)" : "") +
-                      " but PieVectTable holds no ISR there: set it under EALLOW (PieVectTable.TINT0 = &isr;)"};
+        std::string name = vector_name(vector);
+        throw Failure{"the CPU took PIE vector " + std::to_string(vector) + " (" + name +
+                      ") but PieVectTable holds no ISR there: set it under EALLOW (PieVectTable." + name + " = &isr;)"};
     }
     uint64_t times[ROW_TIMES] = {};
     uint64_t next = 0;
@@ -485,6 +507,10 @@ extern "C" uint16_t sins_fw_read16(uint32_t address) {
     if ((address & 0xFF00u) == 0x0C00u) {
         mark_irq_state_changed();
     }
+    if (address >= 0x7010u && address < 0x7030u) {
+        refresh_cycle();
+        mark_irq_state_changed();
+    }
     after_access();
     if (polling) {
         poll_repeats++;
@@ -514,7 +540,11 @@ extern "C" void sins_fw_write16(uint32_t address, uint16_t value) {
         }
     }
     poll_valid = false;
-    if ((address & 0xFF00u) == 0x0C00u) {
+    if ((address & 0xFF00u) == 0x0C00u || (address >= 0x7040u && address < 0x7050u)) {
+        mark_irq_state_changed(); /* the timers, the PIE, SPI-A's interrupt enables and transfers */
+    }
+    if (address >= 0x7010u && address < 0x7030u) {
+        refresh_cycle();
         mark_irq_state_changed();
     }
     after_access();
@@ -691,12 +721,27 @@ void ADC_cal(void) {}
 /* TI's DSP2833x_DBGIER.asm: DBGIER only matters under a debugger in real-time mode. */
 void SetDBGIER(uint16_t value) { (void)value; }
 
-/* The linker symbols of TI's flash-to-RAM copy (`MemCopy(&RamfuncsLoadStart, &RamfuncsLoadEnd,
-   &RamfuncsRunStart)`): the host runs the functions where they are, so the load range is empty and
-   the copy copies nothing. */
-uint16_t RamfuncsLoadStart, RamfuncsRunStart;
-extern uint16_t RamfuncsLoadEnd __attribute__((alias("RamfuncsLoadStart")));
-uint32_t RamfuncsLoadSize = 0;
+/* TI's flash-to-RAM copy. The build gives the linker symbols of the `ramfuncs` section
+   (firmware_build.placement_assembly): RamfuncsLoadStart…RamfuncsLoadEnd, its load image (in
+   "flash": words of a fixed pattern, 8 per function the sources place there with `#pragma
+   CODE_SECTION(f, "ramfuncs")`), RamfuncsRunStart, its run address (in "RAM": zeros until copied),
+   and RamfuncsLoadSize. The host runs the functions where they are; what the copy decides is
+   whether RAM holds them when they are called: the pass calls sins_fw_ramfunc at the entry of each
+   such function, and a call before the copy (MemCopy, or memcpy) stops the run, as the chip would
+   run whatever RAM held. */
+extern const uint16_t RamfuncsLoadStart[], RamfuncsLoadEnd[];
+extern uint16_t RamfuncsRunStart[];
+
+void sins_fw_ramfunc(const char *name) {
+    size_t n = static_cast<size_t>(RamfuncsLoadEnd - RamfuncsLoadStart);
+    if (cfg != nullptr && std::memcmp(RamfuncsRunStart, RamfuncsLoadStart, n * sizeof(uint16_t)) != 0) {
+        throw Failure{std::string(name) +
+                      "() is placed in section ramfuncs (#pragma CODE_SECTION): it runs from RAM, but the "
+                      "firmware called it before copying the section there (MemCopy(&RamfuncsLoadStart, "
+                      "&RamfuncsLoadEnd, &RamfuncsRunStart), or memcpy(&RamfuncsRunStart, &RamfuncsLoadStart, "
+                      "(Uint32)&RamfuncsLoadSize)): on the chip it would execute whatever RAM holds"};
+    }
+}
 }
 
 extern "C" void sins_fw_asm(const char *text) {
@@ -897,7 +942,7 @@ extern "C" int sins_fw_run(const SinsFwConfig *config, char *message, size_t mes
             std::snprintf(when, sizeof when,
                           "the ISR of PIE vector %d%s, entered at t = %.9f s, had not returned when the input "
                           "ended at t = %.9f s (its deadline, the next tick: t = %.9f s)",
-                          isr_vector, isr_vector == 38 ? " (TINT0)" : "", isr_entry_end_ps * 1e-12, now_ps * 1e-12,
+                          isr_vector, (std::string(" (") + vector_name(isr_vector) + ")").c_str(), isr_entry_end_ps * 1e-12, now_ps * 1e-12,
                           isr_deadline_ps * 1e-12);
             text = when;
             Dl_info info;

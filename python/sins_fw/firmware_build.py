@@ -9,7 +9,7 @@ space at their C28x addresses (:data:`REGISTER_FILES`, those of TI's ``DSP2833x_
 and the pass maps a raw address (``*(volatile Uint16 *)0x701B``) to the same image, so that TI's own
 headers and the replacements of ``firmware_c/include`` behave alike. ``sins_fw_prelude.h`` is
 force-included (TI's ``interrupt``, ``cregister``, ``far``, ``asm``/``__asm``, the DSP28 data types,
-``void main``); TI's pragmas are ignored. Each register access is charged the cycles of
+``void main``); TI's pragmas are ignored by clang, silently (``CODE_SECTION(f, "ramfuncs")`` is read by the build: see :func:`ramfuncs`). Each register access is charged the cycles of
 ``firmware_model/c28x-costs.toml`` ``[io]``, and every basic block of the firmware's code the C28x
 cycles of its optimised IR, priced at compile time by the pass (:func:`block_costs`,
 docs/c-cycles.md). The result is a shared library linked against the C ABI
@@ -113,11 +113,42 @@ RUNTIME_ARRAYS: Mapping[str, int] = {
 }
 
 
-def placement_assembly() -> str:
+#: 16-bit words of the ramfuncs section's image per function placed there (and at least this many).
+RAMFUNC_WORDS = 8
+
+#: TI's pragma that places a function in a section: ``#pragma CODE_SECTION(func, "section")`` (C).
+_CODE_SECTION = re.compile(r'^[ \t]*#[ \t]*pragma[ \t]+CODE_SECTION[ \t]*\([ \t]*(\w+)[ \t]*,[ \t]*"(\w+)"', re.M)
+
+
+def ramfuncs(sources: Sequence[Path]) -> list[str]:
+    """The functions the sources place in section ``ramfuncs`` with TI's ``#pragma CODE_SECTION(f,
+    "ramfuncs")`` (C's form; clang ignores the pragma itself): the pass makes their entry check that
+    the section was copied to RAM (``MemCopy(&RamfuncsLoadStart, ...)``) before they run."""
+    names: set[str] = set()
+    for src in sources:
+        try:
+            text = src.read_bytes().decode("utf-8", errors="replace")
+        except OSError:
+            continue
+        names.update(f for f, section in _CODE_SECTION.findall(text) if section == "ramfuncs")
+    return sorted(names)
+
+
+def placement_assembly(n_ramfuncs: int = 0) -> str:
     """The assembly that defines the runtime's arrays (:data:`RUNTIME_ARRAYS`) and places each
     register-file object in them: a symbol at an offset of an array of the same object file, which
-    the dynamic linker relocates with it (``--defsym`` would make an absolute address)."""
-    lines = ["\t.bss"]
+    the dynamic linker relocates with it (``--defsym`` would make an absolute address). It also gives
+    TI's linker symbols of section ramfuncs: ``RamfuncsLoadStart``…``RamfuncsLoadEnd``, its load
+    image (:data:`RAMFUNC_WORDS` words of a fixed pattern per function of ``n_ramfuncs``),
+    ``RamfuncsRunStart``, its place in RAM (zeros until the firmware copies it), and
+    ``RamfuncsLoadSize``, whose address is the image's size in bytes (the host's memcpy counts bytes)."""
+    words = RAMFUNC_WORDS * max(1, n_ramfuncs)
+    lines = ["\t.section .rodata", "\t.globl RamfuncsLoadStart", "\t.globl RamfuncsLoadEnd", "\t.p2align 4"]
+    lines += ["RamfuncsLoadStart:"]
+    lines += [f"\t.short {0x7600 + k % 256}" for k in range(words)]
+    lines += ["RamfuncsLoadEnd:", "\t.short 0"]
+    lines += ["\t.globl RamfuncsLoadSize", "\t.hidden RamfuncsLoadSize", f"\t.set RamfuncsLoadSize, {2 * words}"]
+    lines += ["\t.bss", "\t.globl RamfuncsRunStart", "\t.p2align 4", "RamfuncsRunStart:", f"\t.zero {2 * words}"]
     for name, size in RUNTIME_ARRAYS.items():
         lines += [f"\t.globl {name}", "\t.p2align 6", f"\t.type {name}, @object", f"\t.size {name}, {size}"]
         lines += [f"{name}:", f"\t.zero {size}"]
@@ -371,6 +402,7 @@ def build_firmware(
         "SINS_FW_PASS_SYMBOLS": ",".join([*REGISTER_FILES, *RUNTIME_OBJECTS]),
         "SINS_FW_PASS_C28X_FLOAT": "1" if float_mode == "c28x" else "0",
         "SINS_FW_PASS_COSTS": ",".join(f"{k}={v}" for k, v in sorted(block_costs(profile).items())),
+        "SINS_FW_PASS_RAMFUNCS": ",".join(in_ram := ramfuncs(sources)),
     }
     with atomic_path(out) as tmp, tempfile.TemporaryDirectory(prefix="sins-fw-build-") as work:
         objects = []
@@ -416,7 +448,7 @@ def build_firmware(
             env,
         )
         tmp_placement = Path(work) / "sins_fw_placement.s"
-        tmp_placement.write_text(placement_assembly(), encoding="utf-8")
+        tmp_placement.write_text(placement_assembly(len(in_ram)), encoding="utf-8")
         placed = Path(work) / "sins_fw_placement.o"
         _compile([clang, "-c", str(tmp_placement), "-o", str(placed)], env)
         _compile(

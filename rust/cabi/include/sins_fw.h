@@ -116,19 +116,28 @@ enum SinsStatus sins_board_new(const char *profile,
 // `board` comes from `sins_board_new` and is not used afterwards.
 void sins_board_free(struct SinsBoard *board);
 
-// Read the 16-bit word at a C28x data address (SPI-A 0x7040…, LOSPCP 0x701B, GPIO data
-// 0x6FC0…0x6FD7). An address outside the modelled registers is `SINS_ERR_REGISTER`, the message
+// Read the 16-bit word at a C28x data address (SPI-A 0x7040…, SysCtrlRegs 0x7011…0x7029, GPIO
+// data 0x6FC0…0x6FD7, CPU timers 0x0C00…0x0C17, PIE control 0x0CE0…, the registers of the
+// peripherals not modelled: ADC, ePWM, eCAP, eCAN, DMA, XINTF, FlashRegs). An address outside the modelled registers is `SINS_ERR_REGISTER`, the message
 // naming the address.
 //
 // # Safety
 // `board` is a live handle; `out` points to writable memory.
-enum SinsStatus sins_read16(struct SinsBoard *board, uint32_t address, uint16_t *out);
+enum SinsStatus sins_read16(struct SinsBoard *board,
+                            uint32_t address,
+                            uint16_t *out);
 
 // Write a 16-bit word at a C28x data address (see `sins_read16`).
 //
 // # Safety
 // `board` is a live handle.
 enum SinsStatus sins_write16(struct SinsBoard *board, uint32_t address, uint16_t value);
+
+// One SYSCLKOUT cycle now, ps (it changes when the firmware changes the PLL: PLLCR, PLLSTS.DIVSEL).
+//
+// # Safety
+// `board` is a live handle; `out` points to writable memory.
+enum SinsStatus sins_cycle_ps(struct SinsBoard *board, uint64_t *out);
 
 // Virtual time, ps.
 //

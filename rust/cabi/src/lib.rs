@@ -335,8 +335,9 @@ pub unsafe extern "C" fn sins_board_free(board: *mut SinsBoard) {
     }
 }
 
-/// Read the 16-bit word at a C28x data address (SPI-A 0x7040…, LOSPCP 0x701B, GPIO data
-/// 0x6FC0…0x6FD7). An address outside the modelled registers is `SINS_ERR_REGISTER`, the message
+/// Read the 16-bit word at a C28x data address (SPI-A 0x7040…, SysCtrlRegs 0x7011…0x7029, GPIO
+/// data 0x6FC0…0x6FD7, CPU timers 0x0C00…0x0C17, PIE control 0x0CE0…, the registers of the
+/// peripherals not modelled: ADC, ePWM, eCAP, eCAN, DMA, XINTF, FlashRegs). An address outside the modelled registers is `SINS_ERR_REGISTER`, the message
 /// naming the address.
 ///
 /// # Safety
@@ -356,6 +357,18 @@ pub unsafe extern "C" fn sins_read16(board: *mut SinsBoard, address: u32, out: *
 #[no_mangle]
 pub unsafe extern "C" fn sins_write16(board: *mut SinsBoard, address: u32, value: u16) -> SinsStatus {
     call(|| Ok(self::board(board)?.board.write(address, value)?))
+}
+
+/// One SYSCLKOUT cycle now, ps (it changes when the firmware changes the PLL: PLLCR, PLLSTS.DIVSEL).
+///
+/// # Safety
+/// `board` is a live handle; `out` points to writable memory.
+#[no_mangle]
+pub unsafe extern "C" fn sins_cycle_ps(board: *mut SinsBoard, out: *mut u64) -> SinsStatus {
+    call(|| {
+        let c = self::board(board)?.board.sysclkout().cycles_to_ps(1);
+        put(out, c, "out")
+    })
 }
 
 /// Virtual time, ps.
@@ -822,7 +835,8 @@ pub unsafe extern "C" fn sins_next_interrupt_ps(
         let b = &self::board(board)?.board;
         put(t_ps, b.next_interrupt_ps().unwrap_or(u64::MAX), "t_ps")?;
         if !text.is_null() && len > 0 {
-            let why = b.interrupts_blocked().map_or("", |w| w.text()).as_bytes();
+            let why = b.interrupts_blocked().map_or_else(String::new, |w| w.text());
+            let why = why.as_bytes();
             let n = why.len().min(len - 1);
             // SAFETY: `text` holds `len` > n bytes (the caller's contract).
             unsafe {

@@ -353,7 +353,33 @@ pub const KINDS: &[EventKind] = &[
         "protected_write",
         Warning,
         "mcu",
-        "an EALLOW-protected register (PieVectTable) written without EALLOW: ignored, as on the chip",
+        "an EALLOW-protected register (PieVectTable, SysCtrlRegs, FlashRegs, …) written without EALLOW: ignored, as on the chip",
+    ),
+    // The F28335's system control and the peripherals not modelled (rust/core/src/dsp/sysctrl.rs,
+    // dsp/unmodelled.rs).
+    kind(
+        "unmodelled_peripheral",
+        Warning,
+        "mcu",
+        "the firmware uses a peripheral that is not modelled (ADC, ePWM, eCAP, eCAN, DMA, XINTF): its registers hold what is written, it does nothing",
+    ),
+    kind(
+        "peripheral_clock_off",
+        Warning,
+        "mcu",
+        "a peripheral's register accessed with its clock disabled in PCLKCR0/1/3: the write is lost, a read gives 0",
+    ),
+    kind(
+        "watchdog_reset",
+        Error,
+        "mcu",
+        "the watchdog reset the chip: its counter overflowed unserviced (WDKEY 0x55, 0xAA), or WDCR was written without WDCHK = 101",
+    ),
+    kind(
+        "watchdog_interrupt",
+        Info,
+        "mcu",
+        "the watchdog counter overflowed with SCSR.WDENINT = 1: WAKEINT (PIE INT1.8) raised instead of a reset",
     ),
     // The wing unit (firmware/wing/app.rs).
     kind(

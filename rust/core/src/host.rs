@@ -23,6 +23,8 @@ use crate::device::{Adis16407, Constant, Physical};
 use crate::dsp::clocks::DspClocks;
 use crate::dsp::interrupts::{Blocked, Interrupts, Taken};
 use crate::dsp::spi;
+use crate::dsp::sysctrl::{self, SysCtrl, SysEvent};
+use crate::dsp::unmodelled::{self, Unmodelled};
 use crate::error::{Error, Result};
 use crate::events::Event;
 use crate::profile::{self, FaultKind, Profile};
@@ -67,7 +69,7 @@ pub const LOSPCP: u32 = 0x701B;
 pub const CS_GPIO: u32 = 57;
 
 fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
-    REGISTERS.iter().chain(crate::dsp::interrupts::REGISTERS)
+    REGISTERS.iter().chain(crate::dsp::interrupts::REGISTERS).chain(sysctrl::REGISTERS)
 }
 
 /// A register by name: (address, width in bits). CPU timer 0's are `TIMER0TIM`, `TIMER0PRD`,
@@ -87,9 +89,11 @@ pub fn register_name(addr: u32) -> Option<&'static str> {
 
 fn no_register(addr: u32) -> Error {
     Error::Register(format!(
-        "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, LOSPCP 0x701B, \
-         GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timer 0 0x0C00…0x0C07, PIE control \
-         0x0CE0…0x0CF9; PieVectTable 0x0D00… is set through its vectors)"
+        "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, SysCtrlRegs \
+         PLLSTS, HISPCP, LOSPCP, PCLKCR0/1/3, LPMCR0, PLLCR, SCSR, WDCNTR, WDKEY, WDCR (0x7011…0x7029), \
+         GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timers 0-2 0x0C00…0x0C17, PIE control \
+         0x0CE0…0x0CF9, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
+         peripherals); PieVectTable 0x0D00… is set through its vectors)"
     ))
 }
 
@@ -144,7 +148,16 @@ pub struct HostBoard {
     link: SpiLink<Adis16407>,
     now: Ps,
     sysclkout: Clock,
-    lospcp: u16,
+    /// System control: the PLL, the clock prescalers and enables, the watchdog.
+    sys: SysCtrl,
+    /// The registers of the peripherals not modelled yet.
+    other: Unmodelled,
+    /// SPI-A's interrupt lines as last seen: how many times each was raised, its level.
+    spi_lines: [(u64, bool); 2],
+    /// Peripherals reported used with their clock off (until it is on again).
+    clock_off: Vec<&'static str>,
+    /// The watchdog reset the chip: what is said of every later access.
+    in_reset: Option<String>,
     spi_profile: profile::Spi,
     t_sfs: Ps,
     /// GPIO output latches of ports A, B, C.
@@ -192,7 +205,11 @@ impl HostBoard {
             link,
             now: 0,
             sysclkout: clocks.sysclkout,
-            lospcp: profile.clocks.lospcp as u16,
+            sys: SysCtrl::from_profile(&profile.clocks)?,
+            other: Unmodelled::new(),
+            spi_lines: [(0, false); 2],
+            clock_off: Vec::new(),
+            in_reset: None,
             spi_profile: profile.spi.clone(),
             t_sfs: (profile.device.t_sfs_ns * 1e3).ceil() as Ps,
             gpio: [0, 1 << (CS_GPIO - 32), 0],
@@ -332,12 +349,27 @@ impl HostBoard {
     /// When an interrupt may next become takeable without a register access (timer 0's next
     /// reload, when nothing masks it), ps.
     pub fn next_interrupt_ps(&self) -> Option<Ps> {
-        self.irq.next_interrupt_ps()
+        if self.irq.blocked().is_some() {
+            // A watchdog about to bite ends any loop (a reset), and its WAKEINT may be let in.
+            return self.sys.next_event_ps();
+        }
+        // SPI-A's flags change at the end of a character; the watchdog's WAKEINT at its overflow.
+        let spi = self.spi_armed().then(|| self.link.spi().current_frame().map(|f| f.end_ps)).flatten();
+        [self.irq.next_interrupt_ps(), spi, self.sys.next_event_ps()].into_iter().flatten().min()
+    }
+
+    fn spi_armed(&self) -> bool {
+        self.link.spi().interrupt_lines().iter().any(|l| l.2)
     }
 
     /// What keeps any interrupt from coming without a register access (None: one can come).
     pub fn interrupts_blocked(&self) -> Option<Blocked> {
-        self.irq.blocked()
+        let b = self.irq.blocked();
+        if b.is_none() && self.next_interrupt_ps().is_none() && self.irq.ier() & self.irq.ifr_now() & 0x3FFF == 0 {
+            let name = if self.spi_armed() { "SPIRXINTA/SPITXINTA" } else { "the interrupt" };
+            return Some(Blocked::Idle { name });
+        }
+        b
     }
 
     /// Timer 0's reloads since power-on and the time of the last one; its next reload (ps).
@@ -357,7 +389,7 @@ impl HostBoard {
     /// SPI-A event, timer 0's TCR at its next reload; None for a register that does not change by
     /// itself (or is not modelled); `now` for one that changes continually (TIM).
     pub fn next_change_ps(&self, addr: u32) -> Option<Ps> {
-        match addr {
+        let own = match addr {
             a if is_spi(a) => {
                 let spi = self.link.spi();
                 [self.link.int_flag_time(), self.link.buffull_clear_time(), spi.current_frame().map(|f| f.end_ps)]
@@ -367,9 +399,13 @@ impl HostBoard {
                     .min()
             }
             0x0C04 | 0x0CE0..=0x0CF9 => self.irq.next_reload_ps().filter(|&t| t > self.now),
-            0x0C00 | 0x0C01 => Some(self.now),
+            0x0C0C => self.irq.next_reload_ps_of(1).filter(|&t| t > self.now),
+            0x0C14 => self.irq.next_reload_ps_of(2).filter(|&t| t > self.now),
+            0x0C00 | 0x0C01 | 0x0C08 | 0x0C09 | 0x0C10 | 0x0C11 | sysctrl::WDCNTR => Some(self.now),
             _ => None,
-        }
+        };
+        // The PLL locking (PLLSTS) and a watchdog reset change what any register reads.
+        [own, self.sys.next_event_ps().filter(|&t| t > self.now)].into_iter().flatten().min()
     }
 
     /// Virtual time, ps.
@@ -387,7 +423,8 @@ impl HostBoard {
         self.link.spi().lspclk().hz()
     }
 
-    /// Move virtual time to `t` (≥ now): the device samples, characters shift.
+    /// Move virtual time to `t` (≥ now): the device samples, characters shift, the PLL locks, the
+    /// watchdog counts (a watchdog reset is an error from then on: the firmware's run ends there).
     pub fn advance_to(&mut self, t: Ps) -> Result<()> {
         if t < self.now {
             return Err(Error::Input(format!(
@@ -395,10 +432,60 @@ impl HostBoard {
                 self.now
             )));
         }
+        self.check_reset()?;
+        while let Some(next) = self.sys.next_event_ps().filter(|&n| n <= t) {
+            let next = next.max(self.now);
+            self.now = next;
+            self.link.advance(next)?;
+            if let Some(ev) = self.sys.advance(next) {
+                self.apply_sys(ev)?;
+            }
+        }
         self.now = t;
         let r = self.link.advance(t);
         self.sync();
         r
+    }
+
+    fn check_reset(&self) -> Result<()> {
+        match &self.in_reset {
+            Some(m) => Err(Error::Config(m.clone())),
+            None => Ok(()),
+        }
+    }
+
+    /// Act on what system control did: clocks changed, WAKEINT, a watchdog reset.
+    fn apply_sys(&mut self, ev: SysEvent) -> Result<()> {
+        match ev {
+            SysEvent::Clocks(t) => {
+                self.sysclkout = self.sys.sysclkout();
+                self.irq.set_sysclkout(self.sysclkout, t);
+                self.link.set_lspclk(self.sys.lspclk(), t)?;
+            }
+            SysEvent::Lspclk(t) => self.link.set_lspclk(self.sys.lspclk(), t)?,
+            SysEvent::WatchdogInterrupt(t) => {
+                self.irq.set_pie_flag(1, 8, t);
+                self.pending.push(Event::new(
+                    t,
+                    "watchdog_interrupt",
+                    crate::events::Severity::Info,
+                    "the watchdog counter overflowed with SCSR.WDENINT = 1: WAKEINT (PIE INT1.8) raised",
+                ));
+            }
+            SysEvent::WatchdogReset(t, overflow) => {
+                let why = if overflow {
+                    "its counter overflowed: WDKEY was not written 0x55 then 0xAA in time (ServiceDog), and the \
+                     dog was not disabled (DisableDog: WDCR = 0x0068)"
+                } else {
+                    "WDCR was written without WDCHK = 101 (bits 5:3): TI writes WDCR = 0x0068 or 0x0028"
+                };
+                let msg = format!("the watchdog reset the chip at t = {:.9} s: {why}", ps_to_s(t));
+                self.pending.push(Event::new(t, "watchdog_reset", crate::events::Severity::Error, msg.clone()));
+                self.in_reset = Some(msg.clone());
+                return Err(Error::Config(msg));
+            }
+        }
+        Ok(())
     }
 
     /// Let `cycles` SYSCLKOUT cycles pass (the CPU's time for code between register accesses).
@@ -458,8 +545,14 @@ impl HostBoard {
 
     fn write_unsynced(&mut self, addr: u32, value: u16) -> Result<()> {
         let now = self.now;
+        self.check_reset()?;
+        if !self.clock_gate(addr) {
+            return Ok(());
+        }
         match addr {
             LOSPCP => self.set_lospcp(value & 0x7),
+            a if SysCtrl::owns(a) => self.write_sys(a, value),
+            a if Unmodelled::owns(a) => self.write_other(a, value),
             a if is_spi(a) => self.link.write((a - SPIA_BASE) as u16, value, now),
             a if is_gpio(a) => self.write_gpio(a, value),
             a if Interrupts::owns(a) => self.irq.write(a, value, now),
@@ -470,8 +563,13 @@ impl HostBoard {
     /// Read the 16-bit word at a C28x address (reading SPIRXBUF clears INT_FLAG, as on the chip).
     pub fn read(&mut self, addr: u32) -> Result<u16> {
         let now = self.now;
+        self.check_reset()?;
+        if !self.clock_gate(addr) {
+            return Ok(0);
+        }
         let r = match addr {
-            LOSPCP => Ok(self.lospcp),
+            a if SysCtrl::owns(a) => self.sys.read(a, now),
+            a if Unmodelled::owns(a) => Ok(self.read_other(a)),
             a if is_spi(a) => self.link.read((a - SPIA_BASE) as u16, now),
             a if is_gpio(a) => Ok(self.read_gpio(a)),
             a if Interrupts::owns(a) => self.irq.read(a, now),
@@ -482,8 +580,20 @@ impl HostBoard {
     }
 
     /// Write a register by name; `value` is checked against its width (a 32-bit register is written
-    /// low word first).
+    /// low word first). An EALLOW-protected one (SysCtrlRegs) is written as a driver writes it,
+    /// between EALLOW and EDIS.
     pub fn write_named(&mut self, name: &str, value: i64) -> Result<()> {
+        let (addr, _) = register(name)?;
+        let eallow = self.irq.eallow();
+        if SysCtrl::owns(addr) {
+            self.irq.set_eallow(true);
+        }
+        let r = self.write_named_as_is(name, value);
+        self.irq.set_eallow(eallow);
+        r
+    }
+
+    fn write_named_as_is(&mut self, name: &str, value: i64) -> Result<()> {
         let (addr, bits) = register(name)?;
         let max = (1i64 << bits) - 1;
         if !(0..=max).contains(&value) {
@@ -524,9 +634,116 @@ impl HostBoard {
 
     fn set_lospcp(&mut self, lospcp: u16) -> Result<()> {
         let lspclk = if lospcp == 0 { self.sysclkout } else { self.sysclkout.divided(2 * u64::from(lospcp)) };
+        if !self.irq.eallow() {
+            self.ignored_write(LOSPCP, "LOSPCP");
+            return Ok(());
+        }
         self.link.set_lspclk(lspclk, self.now)?;
-        self.lospcp = lospcp;
+        self.sys.write(LOSPCP, lospcp, self.now)?;
         Ok(())
+    }
+
+    /// A write to an EALLOW-protected register without EALLOW: ignored, as on the chip.
+    fn ignored_write(&mut self, addr: u32, name: &str) {
+        self.pending.push(Event::new(
+            self.now,
+            "protected_write",
+            crate::events::Severity::Warning,
+            format!("{name} (0x{addr:04X}) written without EALLOW: the write is ignored, as on the chip"),
+        ));
+    }
+
+    fn write_sys(&mut self, addr: u32, value: u16) -> Result<()> {
+        if !self.irq.eallow() {
+            self.ignored_write(addr, register_name(addr).unwrap_or("SysCtrlRegs"));
+            return Ok(());
+        }
+        let now = self.now;
+        if let Some(ev) = self.sys.write(addr, value, now)? {
+            self.apply_sys(ev)?;
+        }
+        Ok(())
+    }
+
+    fn report_first_use(&mut self, addr: u32, what: &str) {
+        if let Some(f) = self.other.first_use(addr) {
+            self.pending.push(Event::new(
+                self.now,
+                "unmodelled_peripheral",
+                crate::events::Severity::Warning,
+                format!(
+                    "the firmware uses the {} ({}: {what} 0x{addr:04X}), which is not modelled: its registers read and \
+                     write with their reset values ({}), but it does nothing (no conversions, outputs, transfers \
+                     or interrupts); this is reported once for every {} module",
+                    f.instance, f.regs, f.guide, f.kind
+                ),
+            ));
+        }
+    }
+
+    fn read_other(&mut self, addr: u32) -> u16 {
+        self.report_first_use(addr, "a read at");
+        self.other.read(addr)
+    }
+
+    fn write_other(&mut self, addr: u32, value: u16) -> Result<()> {
+        self.report_first_use(addr, &format!("a write of 0x{value:04X} at"));
+        if unmodelled::protected(addr) && !self.irq.eallow() {
+            let regs = unmodelled::frame_of(addr).map_or("a register", |f| f.regs);
+            self.ignored_write(addr, regs);
+            return Ok(());
+        }
+        self.other.write(addr, value);
+        Ok(())
+    }
+
+    /// Whether the peripheral at `addr` has its clock on (PCLKCR0/1/3); when not, the access is lost
+    /// and reported once (until the clock is on again).
+    fn clock_gate(&mut self, addr: u32) -> bool {
+        let instance = match addr {
+            a if is_spi(a) => "SPI-A",
+            0x0C00..=0x0C07 => "CPU timer 0",
+            0x0C08..=0x0C0F => "CPU timer 1",
+            0x0C10..=0x0C17 => "CPU timer 2",
+            a => match unmodelled::frame_of(a) {
+                Some(f) => f.instance,
+                None => return true,
+            },
+        };
+        if self.sys.clock_on(instance) {
+            self.clock_off.retain(|p| *p != instance);
+            return true;
+        }
+        if !self.clock_off.contains(&instance) {
+            self.clock_off.push(instance);
+            let (reg, bit) = sysctrl::clock_bit(instance).unwrap_or((0, 0));
+            self.pending.push(Event::new(
+                self.now,
+                "peripheral_clock_off",
+                crate::events::Severity::Warning,
+                format!(
+                    "{instance} register 0x{addr:04X} accessed with its clock off ({} bit {} = 0: InitPeripheralClocks \
+                     enables it): writes are lost and reads give 0 until it is on",
+                    register_name(reg).unwrap_or("PCLKCR"),
+                    bit.trailing_zeros()
+                ),
+            ));
+        }
+        false
+    }
+
+    /// SPI-A's interrupt lines to the PIE (SPIRXINTA INT6.1, SPITXINTA INT6.2): a line's rise (its
+    /// flag set with its interrupt enabled, or enabled with its flag set) sets the PIE flag.
+    fn spi_interrupts(&mut self) {
+        let lines = self.link.spi().interrupt_lines();
+        for (k, &(level, raises, enabled)) in lines.iter().enumerate() {
+            let (seen, was) = self.spi_lines[k];
+            if level && (raises > seen || !was) {
+                self.irq.set_pie_flag(6, k as u8 + 1, self.now);
+            }
+            self.spi_lines[k] = (raises, level);
+            self.irq.set_armed(6, k as u8 + 1, enabled);
+        }
     }
 
     fn write_gpio(&mut self, addr: u32, value: u16) -> Result<()> {
@@ -627,7 +844,7 @@ impl HostBoard {
                 (l / f).ceil() - 1.0,
                 l / 128.0,
                 l / 4.0,
-                self.lospcp
+                self.sys.lospcp()
             ))),
         }
     }
@@ -751,6 +968,7 @@ impl HostBoard {
 
     /// Move what the link logged and the events raised into this board's own lists.
     fn sync(&mut self) {
+        self.spi_interrupts();
         for r in self.link.take_log() {
             if let LinkRecord::Frame(f) = r {
                 self.recent.push(f);

@@ -47,7 +47,7 @@ mod tests {
     use crate::time::PS_PER_S;
 
     fn clocks(crystal_hz: u64, pllcr: u32, divsel: u32, lospcp: u32) -> DspClocks {
-        DspClocks::from_profile(&profile::Clocks { crystal_hz, pllcr, divsel, lospcp }).unwrap()
+        DspClocks::from_profile(&profile::Clocks { crystal_hz, pllcr, divsel, lospcp, ..Default::default() }).unwrap()
     }
 
     #[test]

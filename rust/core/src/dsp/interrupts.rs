@@ -1,15 +1,15 @@
 //! CPU timer 0, the PIE and the C28x CPU's interrupt logic, register by register, as a host-built
 //! firmware drives them (the [`crate::host::HostBoard`] holds one).
 //!
-//! - **CPU timer 0** (`CpuTimer0Regs`, 0x0C00): TIM (32-bit counter), PRD, TCR, TPR/TPRH (the
-//!   prescaler TDDRH:TDDR). The counter decrements once every TDDR+1 SYSCLKOUT cycles and, after 0,
-//!   reloads from PRD and sets TCR.TIF: a period is (PRD+1)(TDDR+1) cycles, as [`super::CpuTimer`]
-//!   counts it. TCR.TSS stops it (reset value 0: it runs from reset with PRD = TIM = 0xFFFFFFFF),
-//!   TRB reloads TIM from PRD, TIE lets TIF raise TINT0, writing 1 to TIF clears it. The
-//!   prescaler's own counter (PSC) starts at TDDR at every reload; it reads as TDDR.
-//! - **PIE** (`PieCtrlRegs`, 0x0CE0): PIECTRL.ENPIE, PIEACK (write 1 to clear), PIEIER1…12,
-//!   PIEIFR1…12. TINT0 is group 1, INT7. A group's flag with its enable bit set reaches the CPU's
-//!   IFR when the group's PIEACK bit is clear, and sets that bit (TI's SPRUFB0, "PIE").
+//! - **CPU timers 0, 1, 2** (`CpuTimer0Regs` 0x0C00, `CpuTimer1Regs` 0x0C08, `CpuTimer2Regs`
+//!   0x0C10; SPRUFB0, "CPU Timers"): each a [`CpuTimerRegs`] counting SYSCLKOUT cycles. TINT0 goes
+//!   through the PIE (group 1, INT7); TINT1 is the CPU's INT13 and TINT2 its INT14, straight to IFR
+//!   bits 12 and 13 with no PIE and no PIEACK (SPRUFB0, "CPU Timer Interrupt Signals"). SYSCLKOUT
+//!   may change while they run (the PLL: [`Interrupts::set_sysclkout`]); cycles are counted on.
+//! - **PIE** (`PieCtrlRegs`, 0x0CE0; SPRUFB0, "Peripheral Interrupt Expansion"): PIECTRL.ENPIE,
+//!   PIEACK (write 1 to clear), PIEIER1…12, PIEIFR1…12, reset 0. A group's flag with its enable bit
+//!   set reaches the CPU's IFR when the group's PIEACK bit is clear, and sets that bit. A
+//!   peripheral raises its line with [`Interrupts::set_pie_flag`].
 //! - **CPU**: IER, IFR (TI's `cregister`s), INTM (EINT/DINT) and EALLOW. An interrupt is taken
 //!   when INTM = 0 and IER & IFR ≠ 0, lowest INTx first: its IFR bit is cleared, IER, INTM and
 //!   EALLOW are saved, its IER bit cleared, INTM set and EALLOW cleared (SPRU430, "Standard
@@ -20,6 +20,7 @@
 //!   of a host function, so it is set through [`Interrupts::set_vector`], not as two 16-bit words; a
 //!   write without EALLOW is ignored, as on the chip.
 
+use super::timer::CpuTimerRegs;
 use crate::error::{Error, Result};
 use crate::time::{Clock, Ps};
 
@@ -33,6 +34,45 @@ pub const PIE_VECT_BASE: u32 = 0x0D00;
 pub const VECTORS: usize = 128;
 /// TINT0's vector number (PIE group 1, INT7: `PieVectTable.TINT0` at 0x0D4C).
 pub const TINT0_VECTOR: usize = 38;
+/// INT13's vector number (`PieVectTable.XINT13`, CPU timer 1's TINT1, at 0x0D1A).
+pub const INT13_VECTOR: usize = 13;
+/// INT14's vector number (`PieVectTable.TINT2`, CPU timer 2, at 0x0D1C).
+pub const INT14_VECTOR: usize = 14;
+
+/// The PIE's 96 peripheral interrupts by group and line, as TI's `PIE_VECT_TABLE` names their vectors
+/// (vectors 32…127; SPRUFB0, "PIE Vector Table"). `rsvdG_L` are reserved lines.
+#[rustfmt::skip]
+pub const PIE_NAMES: [&str; 96] = [
+    "SEQ1INT", "SEQ2INT", "rsvd1_3", "XINT1", "XINT2", "ADCINT", "TINT0", "WAKEINT",
+    "EPWM1_TZINT", "EPWM2_TZINT", "EPWM3_TZINT", "EPWM4_TZINT", "EPWM5_TZINT", "EPWM6_TZINT", "rsvd2_7", "rsvd2_8",
+    "EPWM1_INT", "EPWM2_INT", "EPWM3_INT", "EPWM4_INT", "EPWM5_INT", "EPWM6_INT", "rsvd3_7", "rsvd3_8",
+    "ECAP1_INT", "ECAP2_INT", "ECAP3_INT", "ECAP4_INT", "ECAP5_INT", "ECAP6_INT", "rsvd4_7", "rsvd4_8",
+    "EQEP1_INT", "EQEP2_INT", "rsvd5_3", "rsvd5_4", "rsvd5_5", "rsvd5_6", "rsvd5_7", "rsvd5_8",
+    "SPIRXINTA", "SPITXINTA", "MRINTB", "MXINTB", "MRINTA", "MXINTA", "rsvd6_7", "rsvd6_8",
+    "DINTCH1", "DINTCH2", "DINTCH3", "DINTCH4", "DINTCH5", "DINTCH6", "rsvd7_7", "rsvd7_8",
+    "I2CINT1A", "I2CINT2A", "rsvd8_3", "rsvd8_4", "SCIRXINTC", "SCITXINTC", "rsvd8_7", "rsvd8_8",
+    "SCIRXINTA", "SCITXINTA", "SCIRXINTB", "SCITXINTB", "ECAN0INTA", "ECAN1INTA", "ECAN0INTB", "ECAN1INTB",
+    "rsvd10_1", "rsvd10_2", "rsvd10_3", "rsvd10_4", "rsvd10_5", "rsvd10_6", "rsvd10_7", "rsvd10_8",
+    "rsvd11_1", "rsvd11_2", "rsvd11_3", "rsvd11_4", "rsvd11_5", "rsvd11_6", "rsvd11_7", "rsvd11_8",
+    "XINT3", "XINT4", "XINT5", "XINT6", "XINT7", "rsvd12_6", "LVF", "LUF",
+];
+
+/// The name of PieVectTable vector `n` (TI's field name; vectors 1…12 are reserved for INT1…12,
+/// which the PIE serves from 32…127).
+pub fn vector_name(n: usize) -> &'static str {
+    #[rustfmt::skip]
+    const LOW: [&str; 32] = [
+        "PIE_RESERVED", "rsvd1_1", "rsvd1_2", "rsvd1_3", "rsvd1_4", "rsvd1_5", "rsvd1_6", "rsvd1_7", "rsvd1_8",
+        "rsvd1_9", "rsvd1_10", "rsvd1_11", "rsvd1_12", "XINT13", "TINT2", "DATALOG", "RTOSINT", "EMUINT", "XNMI",
+        "ILLEGAL", "USER1", "USER2", "USER3", "USER4", "USER5", "USER6", "USER7", "USER8", "USER9", "USER10",
+        "USER11", "USER12",
+    ];
+    match n {
+        0..=31 => LOW[n],
+        32..=127 => PIE_NAMES[n - 32],
+        _ => "?",
+    }
+}
 
 /// The registers of this module: name, address, width in bits.
 pub const REGISTERS: &[(&str, u32, u32)] = &[
@@ -41,6 +81,16 @@ pub const REGISTERS: &[(&str, u32, u32)] = &[
     ("TIMER0TCR", 0x0C04, 16),
     ("TIMER0TPR", 0x0C06, 16),
     ("TIMER0TPRH", 0x0C07, 16),
+    ("TIMER1TIM", 0x0C08, 32),
+    ("TIMER1PRD", 0x0C0A, 32),
+    ("TIMER1TCR", 0x0C0C, 16),
+    ("TIMER1TPR", 0x0C0E, 16),
+    ("TIMER1TPRH", 0x0C0F, 16),
+    ("TIMER2TIM", 0x0C10, 32),
+    ("TIMER2PRD", 0x0C12, 32),
+    ("TIMER2TCR", 0x0C14, 16),
+    ("TIMER2TPR", 0x0C16, 16),
+    ("TIMER2TPRH", 0x0C17, 16),
     ("PIECTRL", 0x0CE0, 16),
     ("PIEACK", 0x0CE1, 16),
     ("PIEIER1", 0x0CE2, 16),
@@ -69,13 +119,6 @@ pub const REGISTERS: &[(&str, u32, u32)] = &[
     ("PIEIFR12", 0x0CF9, 16),
 ];
 
-const TCR_TSS: u16 = 1 << 4;
-const TCR_TRB: u16 = 1 << 5;
-const TCR_TIE: u16 = 1 << 14;
-const TCR_TIF: u16 = 1 << 15;
-/// TCR bits kept as written (TSS, SOFT, FREE, TIE); TRB reads 0, TIF is the flag.
-const TCR_KEPT: u16 = TCR_TSS | (1 << 10) | (1 << 11) | TCR_TIE;
-
 /// An interrupt the CPU takes now.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Taken {
@@ -86,61 +129,101 @@ pub struct Taken {
 }
 
 /// Why no interrupt can come while the CPU's state stays as it is (for the diagnostic of a loop that
-/// makes no register access): `None` when one can.
+/// makes no register access), naming the interrupt concerned: the first one the firmware enabled
+/// (in PIEIERx, or IER's INT13/INT14), else TINT0.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Blocked {
     /// INTM is set (DINT, or inside an ISR that did not EINT).
     Intm,
-    /// No IER bit of an interrupt source that is modelled (INT1 for TINT0) is set.
-    Ier,
+    /// The interrupt's IER bit (`INTn`, n = 1…14) is clear.
+    Ier {
+        /// The CPU interrupt, 1…14.
+        int: u8,
+        /// The interrupt's vector name.
+        name: &'static str,
+    },
     /// PIECTRL.ENPIE is 0.
-    Pie,
-    /// PIEIER1.INTx7 (TINT0) is 0.
-    PieIer,
-    /// TCR.TIE is 0.
-    Tie,
-    /// The timer is stopped (TCR.TSS = 1).
-    Stopped,
+    Pie {
+        /// The interrupt's vector name.
+        name: &'static str,
+    },
+    /// Its PIEIERg.INTxl bit is 0.
+    PieIer {
+        /// PIE group, 1…12.
+        group: u8,
+        /// Line in the group, 1…8.
+        line: u8,
+        /// The interrupt's vector name.
+        name: &'static str,
+    },
+    /// A CPU timer's TCR.TIE is 0.
+    Tie {
+        /// Timer 0, 1 or 2.
+        timer: u8,
+    },
+    /// A CPU timer is stopped (TCR.TSS = 1).
+    Stopped {
+        /// Timer 0, 1 or 2.
+        timer: u8,
+    },
     /// The group's PIEACK bit is set and nothing will clear it.
-    PieAck,
+    PieAck {
+        /// PIE group, 1…12.
+        group: u8,
+    },
+    /// Its path is open, but no modelled peripheral will raise its flag by itself.
+    NoSource {
+        /// The interrupt's vector name.
+        name: &'static str,
+    },
+    /// Its path is open and its peripheral set to raise it, but nothing is under way that would.
+    Idle {
+        /// The interrupts concerned.
+        name: &'static str,
+    },
 }
 
 impl Blocked {
     /// What blocks, in words.
-    pub fn text(self) -> &'static str {
+    pub fn text(self) -> String {
         match self {
-            Blocked::Intm => "INTM is set (DINT, or inside an ISR)",
-            Blocked::Ier => "IER has INT1 (M_INT1, CPU timer 0's group) clear",
-            Blocked::Pie => "PIECTRL.ENPIE is 0 (the PIE is disabled)",
-            Blocked::PieIer => "PIEIER1.INTx7 (TINT0) is 0",
-            Blocked::Tie => "CpuTimer0Regs.TCR.TIE is 0",
-            Blocked::Stopped => "CPU timer 0 is stopped (TCR.TSS = 1)",
-            Blocked::PieAck => "PIEACK group 1 is set (the ISR never wrote PIEACK = PIEACK_GROUP1)",
+            Blocked::Intm => "INTM is set (DINT, or inside an ISR)".into(),
+            Blocked::Ier { int, name } => {
+                format!("IER has INT{int} (M_INT{int}, the CPU interrupt of {name}) clear")
+            }
+            Blocked::Pie { name } => format!("PIECTRL.ENPIE is 0 (the PIE is disabled; {name} goes through it)"),
+            Blocked::PieIer { group, line, name } => format!("PIEIER{group}.INTx{line} ({name}) is 0"),
+            Blocked::Tie { timer } => format!("CpuTimer{timer}Regs.TCR.TIE is 0"),
+            Blocked::Stopped { timer } => format!("CPU timer {timer} is stopped (TCR.TSS = 1)"),
+            Blocked::PieAck { group } => {
+                format!("PIEACK group {group} is set (the ISR never wrote PIEACK = PIEACK_GROUP{group})")
+            }
+            Blocked::NoSource { name } => {
+                format!("{name} is enabled, but its peripheral is not set to raise it")
+            }
+            Blocked::Idle { name } => {
+                format!("{name} enabled, but nothing under way will raise it (no transfer, no running timer)")
+            }
         }
     }
 }
 
-/// Timer 0, the PIE and the CPU's interrupt state.
+/// The CPU timers, the PIE and the CPU's interrupt state.
 #[derive(Debug, Clone)]
 pub struct Interrupts {
     sysclkout: Clock,
-    prd: u32,
-    tddr: u16,
-    tcr: u16,
-    tif: bool,
-    /// Running: the cycle of the next reload (underflow). Stopped: None.
-    next_reload: Option<u64>,
-    /// The counter while stopped.
-    held_tim: u32,
-    /// Underflows since power-on, and the cycle of the last one.
-    underflows: u64,
-    last_underflow: Option<u64>,
+    /// Cycles are counted from this time and cycle on at `sysclkout` (the last clock change).
+    epoch_ps: Ps,
+    epoch_cycle: u64,
+    timers: [CpuTimerRegs; 3],
     /// Cycle the state was brought up to.
     synced: u64,
     enpie: bool,
     pieack: u16,
     pieier: [u16; 12],
     pieifr: [u16; 12],
+    /// PIE lines a peripheral will raise by itself once its condition holds (set by the board).
+    armed: [u16; 12],
     ier: u16,
     ifr: u16,
     intm: bool,
@@ -151,24 +234,20 @@ pub struct Interrupts {
 }
 
 impl Interrupts {
-    /// The reset state at cycle 0: timer 0 running with PRD = TIM = 0xFFFFFFFF and TIE = 0, PIE
+    /// The reset state at cycle 0: the timers running with PRD = TIM = 0xFFFFFFFF and TIE = 0, PIE
     /// disabled, IER = IFR = 0, INTM = 1, EALLOW = 0, every vector 0.
     pub fn new(sysclkout: Clock) -> Interrupts {
         Interrupts {
             sysclkout,
-            prd: u32::MAX,
-            tddr: 0,
-            tcr: 0,
-            tif: false,
-            next_reload: Some(u64::from(u32::MAX) + 1),
-            held_tim: u32::MAX,
-            underflows: 0,
-            last_underflow: None,
+            epoch_ps: 0,
+            epoch_cycle: 0,
+            timers: Default::default(),
             synced: 0,
             enpie: false,
             pieack: 0,
             pieier: [0; 12],
             pieifr: [0; 12],
+            armed: [0; 12],
             ier: 0,
             ifr: 0,
             intm: true,
@@ -180,7 +259,7 @@ impl Interrupts {
 
     /// Whether `addr` is one of this module's registers.
     pub fn owns(addr: u32) -> bool {
-        matches!(addr, 0x0C00..=0x0C04 | 0x0C06 | 0x0C07 | 0x0CE0..=0x0CF9)
+        matches!(addr, 0x0C00..=0x0C17 if addr % 8 != 5) || matches!(addr, 0x0CE0..=0x0CF9)
     }
 
     /// The name of the register at `addr` (the low word's for a 32-bit one).
@@ -189,34 +268,58 @@ impl Interrupts {
     }
 
     fn cycle(&self, t: Ps) -> u64 {
-        self.sysclkout.ps_to_cycles(t)
+        self.epoch_cycle + self.sysclkout.ps_to_cycles(t.saturating_sub(self.epoch_ps))
     }
 
-    fn per_count(&self) -> u64 {
-        u64::from(self.tddr) + 1
+    fn ps_of(&self, c: u64) -> Ps {
+        self.epoch_ps + self.sysclkout.cycles_to_ps(c.saturating_sub(self.epoch_cycle))
     }
 
-    fn period(&self) -> u64 {
-        (u64::from(self.prd) + 1) * self.per_count()
+    /// SYSCLKOUT changes at time `t` (the PLL, SPRUFB0 "PLL-Based Clock Module"): the timers are
+    /// brought up to `t` and count on at the new rate.
+    pub fn set_sysclkout(&mut self, clock: Clock, t: Ps) {
+        self.sync(t);
+        self.epoch_cycle = self.synced;
+        self.epoch_ps = t;
+        self.sysclkout = clock;
     }
 
-    /// Bring the timer up to time `t`: every reload at or before it sets TIF (and, with TIE, the
-    /// PIE's TINT0 flag); the PIE passes flagged groups to the CPU's IFR.
+    /// Raise a peripheral's interrupt line at time `t`: PIE group `group` (1…12), line `bit` (1…8)
+    /// sets its PIEIFR bit; if its PIEIER bit is set, the PIE is enabled and the group's PIEACK bit
+    /// is clear, the CPU's IFR bit `group − 1` is set (and PIEACK's with it). Numbers out of range
+    /// are the caller's bug: ignored (a debug build panics).
+    pub fn set_pie_flag(&mut self, group: u8, bit: u8, t: Ps) {
+        debug_assert!((1..=12).contains(&group) && (1..=8).contains(&bit), "PIE INT{group}.{bit}");
+        if !(1..=12).contains(&group) || !(1..=8).contains(&bit) {
+            return;
+        }
+        self.sync(t);
+        self.pieifr[usize::from(group - 1)] |= 1 << (bit - 1);
+        self.pie_to_cpu();
+    }
+
+    /// Say whether a peripheral will raise PIE line `group`.`bit` by itself once its condition holds
+    /// (its interrupt enabled in the peripheral): for the diagnostic of a loop nothing can interrupt.
+    pub fn set_armed(&mut self, group: u8, bit: u8, armed: bool) {
+        if let Some(a) = self.armed.get_mut(usize::from(group.wrapping_sub(1))) {
+            let m = 1u16 << (bit.wrapping_sub(1) & 7);
+            *a = if armed { *a | m } else { *a & !m };
+        }
+    }
+
+    /// Bring the timers up to time `t`: every reload at or before it sets TIF (and, with TIE,
+    /// TINT0's PIE flag, INT13's or INT14's IFR bit); the PIE passes flagged groups to the CPU.
     pub fn sync(&mut self, t: Ps) {
         let c = self.cycle(t).max(self.synced);
         self.synced = c;
-        if let Some(next) = self.next_reload {
-            if next <= c {
-                let k = (c - next) / self.period() + 1;
-                self.underflows += k;
-                let last = next + (k - 1) * self.period();
-                self.last_underflow = Some(last);
-                self.next_reload = Some(next + k * self.period());
-                self.tif = true;
-                if self.tcr & TCR_TIE != 0 {
-                    self.pieifr[0] |= 1 << 6;
-                }
-            }
+        if self.timers[0].sync(c) {
+            self.pieifr[0] |= 1 << 6;
+        }
+        if self.timers[1].sync(c) {
+            self.ifr |= 1 << 12;
+        }
+        if self.timers[2].sync(c) {
+            self.ifr |= 1 << 13;
         }
         self.pie_to_cpu();
     }
@@ -233,27 +336,15 @@ impl Interrupts {
         }
     }
 
-    fn tim(&self) -> u32 {
-        match self.next_reload {
-            Some(next) => {
-                let left = next.saturating_sub(self.synced).div_ceil(self.per_count());
-                left.saturating_sub(1) as u32
-            }
-            None => self.held_tim,
-        }
-    }
-
     /// Read a register at time `t` (see [`Interrupts::owns`]).
     pub fn read(&mut self, addr: u32, t: Ps) -> Result<u16> {
         self.sync(t);
+        let c = self.synced;
         Ok(match addr {
-            0x0C00 => self.tim() as u16,
-            0x0C01 => (self.tim() >> 16) as u16,
-            0x0C02 => self.prd as u16,
-            0x0C03 => (self.prd >> 16) as u16,
-            0x0C04 => self.tcr | if self.tif { TCR_TIF } else { 0 },
-            0x0C06 => self.tddr & 0xFF | (self.tddr & 0xFF) << 8,
-            0x0C07 => self.tddr >> 8 | (self.tddr & 0xFF00),
+            0x0C00..=0x0C17 => {
+                let (n, off) = ((addr - 0x0C00) / 8, (addr - 0x0C00) % 8);
+                self.timers[n as usize].read(off, c).ok_or_else(|| no_register(addr))?
+            }
             0x0CE0 => u16::from(self.enpie) | (self.pending_vector().unwrap_or(0) as u16) << 1,
             0x0CE1 => self.pieack,
             a @ 0x0CE2..=0x0CF9 => {
@@ -273,34 +364,12 @@ impl Interrupts {
         self.sync(t);
         let c = self.synced;
         match addr {
-            0x0C00 | 0x0C01 => {
-                let tim = self.tim();
-                let tim = if addr == 0x0C00 {
-                    (tim & 0xFFFF_0000) | u32::from(value)
-                } else {
-                    (tim & 0xFFFF) | u32::from(value) << 16
-                };
-                self.load(tim, c);
-            }
-            0x0C02 => self.prd = (self.prd & 0xFFFF_0000) | u32::from(value),
-            0x0C03 => self.prd = (self.prd & 0xFFFF) | u32::from(value) << 16,
-            0x0C04 => {
-                if value & TCR_TIF != 0 {
-                    self.tif = false;
-                }
-                let was_stopped = self.next_reload.is_none();
-                let tim = self.tim();
-                self.tcr = value & TCR_KEPT;
-                let tim = if value & TCR_TRB != 0 { self.prd } else { tim };
-                if value & TCR_TSS != 0 {
-                    self.next_reload = None;
-                    self.held_tim = tim;
-                } else if was_stopped || value & TCR_TRB != 0 {
-                    self.load_running(tim, c);
+            0x0C00..=0x0C17 => {
+                let (n, off) = ((addr - 0x0C00) / 8, (addr - 0x0C00) % 8);
+                if !self.timers[n as usize].write(off, value, c) {
+                    return Err(no_register(addr));
                 }
             }
-            0x0C06 => self.tddr = (self.tddr & 0xFF00) | (value & 0xFF),
-            0x0C07 => self.tddr = (self.tddr & 0x00FF) | (value & 0xFF) << 8,
             0x0CE0 => self.enpie = value & 1 != 0,
             0x0CE1 => self.pieack &= !(value & 0x0FFF),
             a @ 0x0CE2..=0x0CF9 => {
@@ -317,18 +386,6 @@ impl Interrupts {
         Ok(())
     }
 
-    fn load(&mut self, tim: u32, c: u64) {
-        if self.next_reload.is_some() {
-            self.load_running(tim, c);
-        } else {
-            self.held_tim = tim;
-        }
-    }
-
-    fn load_running(&mut self, tim: u32, c: u64) {
-        self.next_reload = Some(c + (u64::from(tim) + 1) * self.per_count());
-    }
-
     /// IER.
     pub fn ier(&self) -> u16 {
         self.ier
@@ -342,6 +399,11 @@ impl Interrupts {
     /// IFR at time `t`.
     pub fn ifr(&mut self, t: Ps) -> u16 {
         self.sync(t);
+        self.ifr
+    }
+
+    /// IFR as last brought up to date.
+    pub fn ifr_now(&self) -> u16 {
         self.ifr
     }
 
@@ -402,31 +464,36 @@ impl Interrupts {
         })
     }
 
-    /// The interrupt the CPU takes at time `t`, if any (acknowledged: see the module's doc).
+    /// The interrupt the CPU takes at time `t`, if any (acknowledged: see the module's doc). INT13
+    /// and INT14 (timers 1 and 2) bypass the PIE: their vectors are 13 and 14.
     pub fn take(&mut self, t: Ps) -> Option<Taken> {
         self.sync(t);
         if self.intm {
             return None;
         }
-        let live = self.ier & self.ifr & 0x0FFF;
+        let live = self.ier & self.ifr & 0x3FFF;
         if live == 0 {
             return None;
         }
         let g = live.trailing_zeros() as usize;
         self.ifr &= !(1 << g);
-        let flagged = self.pieifr[g] & self.pieier[g];
-        if flagged == 0 {
-            // The flag went away between the PIE's request and now (cleared by the firmware):
-            // the chip fetches a default vector; the host has no ISR for it, so nothing runs.
-            return None;
-        }
-        let y = flagged.trailing_zeros();
-        self.pieifr[g] &= !(1 << y);
+        let vector = if g >= 12 {
+            g + 1
+        } else {
+            let flagged = self.pieifr[g] & self.pieier[g];
+            if flagged == 0 {
+                // The flag went away between the PIE's request and now (cleared by the firmware):
+                // the chip fetches a default vector; the host has no ISR for it, so nothing runs.
+                return None;
+            }
+            let y = flagged.trailing_zeros();
+            self.pieifr[g] &= !(1 << y);
+            32 + 8 * g + y as usize
+        };
         self.saved.push((self.ier, self.intm, self.eallow));
         self.ier &= !(1 << g);
         self.intm = true;
         self.eallow = false;
-        let vector = 32 + 8 * g + y as usize;
         Some(Taken { vector, isr: self.vectors[vector] })
     }
 
@@ -440,68 +507,131 @@ impl Interrupts {
         Ok(())
     }
 
-    /// When an interrupt may next become takeable by itself (timer 0's next reload, when it runs and
-    /// may interrupt), ps; None when none will without a register access.
+    /// When an interrupt may next become takeable by itself (a timer's next reload, when any may
+    /// interrupt), ps; None when none will without a register access. A peripheral's own flags
+    /// (SPI-A's) are the board's to add.
     pub fn next_interrupt_ps(&self) -> Option<Ps> {
         if self.blocked().is_some() {
             return None;
         }
-        self.next_reload.map(|c| self.sysclkout.cycles_to_ps(c))
+        self.timers.iter().filter(|t| t.tie()).filter_map(|t| t.next_reload()).min().map(|c| self.ps_of(c))
     }
 
     /// Timer 0's next reload, ps (None when stopped).
     pub fn next_reload_ps(&self) -> Option<Ps> {
-        self.next_reload.map(|c| self.sysclkout.cycles_to_ps(c))
+        self.next_reload_ps_of(0)
+    }
+
+    /// Timer `n`'s next reload, ps (None when stopped).
+    pub fn next_reload_ps_of(&self, n: usize) -> Option<Ps> {
+        self.timers[n].next_reload().map(|c| self.ps_of(c))
     }
 
     /// Timer 0's reloads since power-on, and the time of the last one.
     pub fn underflows(&self) -> (u64, Option<Ps>) {
-        (self.underflows, self.last_underflow.map(|c| self.sysclkout.cycles_to_ps(c)))
+        let (n, last) = self.timers[0].underflows();
+        (n, last.map(|c| self.ps_of(c)))
+    }
+
+    /// The interrupts whose path the firmware opened at least partly, in priority order: (CPU
+    /// interrupt 1…14, PIE line 1…8 or 0, vector). TINT0 when there is none.
+    fn candidates(&self) -> Vec<(u8, u8, usize)> {
+        let mut out = Vec::new();
+        for g in 0..12u8 {
+            for l in 0..8u8 {
+                if self.pieier[usize::from(g)] & (1 << l) != 0 {
+                    out.push((g + 1, l + 1, 32 + 8 * usize::from(g) + usize::from(l)));
+                }
+            }
+        }
+        if self.ier & (1 << 12) != 0 || self.timers[1].tie() {
+            out.push((13, 0, INT13_VECTOR));
+        }
+        if self.ier & (1 << 13) != 0 || self.timers[2].tie() {
+            out.push((14, 0, INT14_VECTOR));
+        }
+        if out.is_empty() {
+            out.push((1, 7, TINT0_VECTOR));
+        }
+        out
+    }
+
+    fn timer_path(&self, n: usize) -> Option<Blocked> {
+        let tm = &self.timers[n];
+        if !tm.tie() {
+            Some(Blocked::Tie { timer: n as u8 })
+        } else if tm.next_reload().is_none() {
+            Some(Blocked::Stopped { timer: n as u8 })
+        } else {
+            None
+        }
+    }
+
+    fn path(&self, (int, line, vector): (u8, u8, usize)) -> Option<Blocked> {
+        let name = vector_name(vector);
+        let g = usize::from(int - 1);
+        if self.ier & (1 << g) == 0 {
+            return Some(Blocked::Ier { int, name });
+        }
+        if int >= 13 {
+            return self.timer_path(usize::from(int - 12));
+        }
+        if !self.enpie {
+            return Some(Blocked::Pie { name });
+        }
+        let m = 1u16 << (line - 1);
+        if self.pieier[g] & m == 0 {
+            return Some(Blocked::PieIer { group: int, line, name });
+        }
+        if self.pieack & (1 << g) != 0 {
+            return Some(Blocked::PieAck { group: int });
+        }
+        if self.pieifr[g] & m != 0 {
+            return None;
+        }
+        if vector == TINT0_VECTOR {
+            return self.timer_path(0);
+        }
+        if self.armed[g] & m != 0 {
+            None
+        } else {
+            Some(Blocked::NoSource { name })
+        }
     }
 
     /// An interrupt pending right now (taken at the next check) or possible later without any
-    /// register access; else what blocks it.
+    /// register access; else what blocks the first interrupt the firmware enabled.
     pub fn blocked(&self) -> Option<Blocked> {
         if self.intm {
             return Some(Blocked::Intm);
         }
-        if self.ier & self.ifr & 0x0FFF != 0 {
+        if self.ier & self.ifr & 0x3FFF != 0 {
             return None;
         }
-        if self.ier & 1 == 0 {
-            return Some(Blocked::Ier);
+        let mut first = None;
+        for c in self.candidates() {
+            match self.path(c) {
+                None => return None,
+                Some(b) => {
+                    first.get_or_insert(b);
+                }
+            }
         }
-        if !self.enpie {
-            return Some(Blocked::Pie);
-        }
-        if self.pieier[0] & (1 << 6) == 0 {
-            return Some(Blocked::PieIer);
-        }
-        if self.pieack & 1 != 0 {
-            return Some(Blocked::PieAck);
-        }
-        if self.pieifr[0] & (1 << 6) != 0 {
-            return None;
-        }
-        if self.tcr & TCR_TIE == 0 {
-            return Some(Blocked::Tie);
-        }
-        if self.next_reload.is_none() {
-            return Some(Blocked::Stopped);
-        }
-        None
+        first
     }
 }
 
 fn no_register(addr: u32) -> Error {
-    Error::Register(format!("C28x address 0x{addr:04X}: not a CPU timer 0 or PIE register"))
+    Error::Register(format!("C28x address 0x{addr:04X}: not a CPU timer or PIE register"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dsp::timer::{TCR_TIE, TCR_TIF, TCR_TRB, TCR_TSS};
 
     const NS: Ps = 1000;
+    const US: Ps = 1_000_000;
 
     fn sys() -> Clock {
         Clock::from_hz(150_000_000)
@@ -561,7 +691,7 @@ mod tests {
         assert!(i.take(4_000_000_000).is_some());
         i.iret().unwrap();
         assert_eq!(i.take(8_000_000_000), None);
-        assert_eq!(i.blocked(), Some(Blocked::PieAck));
+        assert_eq!(i.blocked(), Some(Blocked::PieAck { group: 1 }));
         assert_eq!(i.read(0x0CE3, 8_000_000_000).unwrap(), 1 << 6, "the flag waits in PIEIFR1");
         i.write(0x0CE1, 1, 8_000_000_000).unwrap();
         assert!(i.take(8_000_000_000).is_some());
@@ -580,15 +710,15 @@ mod tests {
         let mut i = Interrupts::new(sys());
         assert_eq!(i.blocked(), Some(Blocked::Intm));
         i.set_intm(false);
-        assert_eq!(i.blocked(), Some(Blocked::Ier));
+        assert_eq!(i.blocked(), Some(Blocked::Ier { int: 1, name: "TINT0" }));
         i.set_ier(1);
-        assert_eq!(i.blocked(), Some(Blocked::Pie));
+        assert_eq!(i.blocked(), Some(Blocked::Pie { name: "TINT0" }));
         i.write(0x0CE0, 1, 0).unwrap();
-        assert_eq!(i.blocked(), Some(Blocked::PieIer));
+        assert_eq!(i.blocked(), Some(Blocked::PieIer { group: 1, line: 7, name: "TINT0" }));
         i.write(0x0CE2, 1 << 6, 0).unwrap();
-        assert_eq!(i.blocked(), Some(Blocked::Tie));
+        assert_eq!(i.blocked(), Some(Blocked::Tie { timer: 0 }));
         i.write(0x0C04, TCR_TSS | TCR_TIE, 0).unwrap();
-        assert_eq!(i.blocked(), Some(Blocked::Stopped));
+        assert_eq!(i.blocked(), Some(Blocked::Stopped { timer: 0 }));
         i.write(0x0C04, TCR_TIE, 0).unwrap();
         assert_eq!(i.blocked(), None);
         assert_eq!(i.next_interrupt_ps(), i.next_reload_ps());
@@ -605,5 +735,66 @@ mod tests {
         assert_eq!(i.next_reload_ps(), Some(sys().cycles_to_ps(300)));
         assert_eq!(i.read(0x0C00, sys().cycles_to_ps(3)).unwrap(), 98);
         assert_eq!(i.read(0x0C06, 0).unwrap(), 0x0202);
+    }
+    #[test]
+    fn set_pie_flag_reaches_ifr_only_through_an_enabled_unacknowledged_line() {
+        let mut i = Interrupts::new(sys());
+        i.set_pie_flag(6, 1, 0); // SPIRXINTA with the PIE off: flagged, not passed on
+        assert_eq!((i.read(0x0CED, 0).unwrap(), i.ifr(0)), (1, 0));
+        i.write(0x0CE0, 1, 0).unwrap();
+        assert_eq!(i.ifr(0), 0, "PIEIER6.INTx1 is 0");
+        i.write(0x0CEC, 0b11, 0).unwrap(); // PIEIER6: SPIRXINTA, SPITXINTA
+        assert_eq!((i.ifr(0), i.read(0x0CE1, 0).unwrap()), (1 << 5, 1 << 5), "IFR bit 5, PIEACK group 6");
+        i.set_ier(1 << 5);
+        i.set_intm(false);
+        i.set_eallow(true);
+        i.set_vector(72, 0x72).unwrap();
+        i.set_vector(73, 0x73).unwrap();
+        i.set_eallow(false);
+        assert_eq!(i.take(0), Some(Taken { vector: 72, isr: 0x72 }));
+        i.iret().unwrap();
+        i.set_pie_flag(6, 2, 1); // SPITXINTA: waits for PIEACK
+        assert_eq!(i.take(1), None);
+        assert_eq!(i.blocked(), Some(Blocked::PieAck { group: 6 }));
+        i.write(0x0CE1, 1 << 5, 1).unwrap();
+        assert_eq!(i.take(1).map(|t| t.vector), Some(73));
+        assert_eq!(vector_name(72), "SPIRXINTA");
+        assert_eq!(vector_name(73), "SPITXINTA");
+    }
+
+    #[test]
+    fn timers_1_and_2_interrupt_on_int13_and_int14_without_the_pie() {
+        let mut i = Interrupts::new(sys());
+        for base in [0x0C08, 0x0C10] {
+            i.write(base + 4, TCR_TSS, 0).unwrap();
+            i.write(base + 2, if base == 0x0C08 { 149 } else { 299 }, 0).unwrap(); // 1 µs and 2 µs
+            i.write(base + 3, 0, 0).unwrap();
+            i.write(base + 4, TCR_TIE | TCR_TRB, 0).unwrap();
+        }
+        i.set_ier((1 << 12) | (1 << 13));
+        i.set_intm(false);
+        assert_eq!(i.take(US - 1), None);
+        assert_eq!(i.take(US).map(|t| t.vector), Some(INT13_VECTOR));
+        i.iret().unwrap();
+        assert_eq!(i.take(2 * US).map(|t| t.vector), Some(INT13_VECTOR), "INT13 before INT14");
+        i.iret().unwrap();
+        assert_eq!(i.take(2 * US).map(|t| t.vector), Some(INT14_VECTOR));
+        i.iret().unwrap();
+        assert_eq!(i.read(0x0CE1, 2 * US).unwrap(), 0, "no PIEACK for INT13/INT14");
+        assert_eq!((vector_name(13), vector_name(14)), ("XINT13", "TINT2"));
+    }
+
+    #[test]
+    fn a_sysclkout_change_rescales_the_running_timers() {
+        let mut i = Interrupts::new(sys());
+        i.write(0x0C04, TCR_TSS, 0).unwrap();
+        i.write(0x0C02, 1499, 0).unwrap(); // 1500 cycles: 10 µs at 150 MHz
+        i.write(0x0C03, 0, 0).unwrap();
+        i.write(0x0C04, TCR_TIE | TCR_TRB, 0).unwrap();
+        assert_eq!(i.next_reload_ps(), Some(10 * US));
+        // Half way, SYSCLKOUT halves: the other 750 cycles take 10 µs.
+        i.set_sysclkout(Clock::from_hz(75_000_000), 5 * US);
+        assert_eq!(i.next_reload_ps(), Some(15 * US));
+        assert_eq!(i.read(0x0C00, 5 * US).unwrap(), 749);
     }
 }

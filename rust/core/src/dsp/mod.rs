@@ -1,11 +1,14 @@
-//! The F28335 peripherals the firmware touches: the clock tree, CPU timer 0 and SPI-A, plus a
-//! summary of what a profile's register values produce.
+//! The F28335 peripherals the firmware touches: the clock tree and system control, CPU timers 0-2,
+//! the PIE, SPI-A, the registers of the peripherals not modelled yet, plus a summary of what a
+//! profile's register values produce.
 
 pub mod clocks;
 pub mod interrupts;
 pub mod spi;
 pub mod summary;
+pub mod sysctrl;
 pub mod timer;
+pub mod unmodelled;
 
 pub use clocks::DspClocks;
 pub use spi::SpiA;

@@ -458,6 +458,9 @@ pub struct SpiA {
     rxffovf: bool,
     txffint: bool,
     rxffint: bool,
+    /// Times the receive (INT_FLAG, OVERRUN_FLAG, RXFFINT) and transmit (TXFFINT) flags went from
+    /// clear to set: the PIE latches a line's rising edge ([`SpiA::interrupt_lines`]).
+    raises: [u64; 2],
     active: Option<Active>,
     now: Ps,
     frames: u64,
@@ -491,6 +494,7 @@ impl SpiA {
             rxffovf: false,
             txffint: false,
             rxffint: false,
+            raises: [0; 2],
             active: None,
             now: 0,
             frames: 0,
@@ -667,6 +671,9 @@ impl SpiA {
             self.word_lost(frame, "spi_rx_overrun");
         }
         self.rxbuf = self.spidat;
+        if !self.int_flag {
+            self.raises[0] += 1;
+        }
         self.int_flag = true;
         self.int_flag_at = frame.end_ps;
     }
@@ -932,11 +939,13 @@ impl SpiA {
         if !self.fifo_mode() {
             return;
         }
-        if self.txffst() <= (self.spifftx & 0x1F) as usize {
+        if self.txffst() <= (self.spifftx & 0x1F) as usize && !self.txffint {
             self.txffint = true;
+            self.raises[1] += 1;
         }
-        if self.rx_fifo.len >= (self.spiffrx & 0x1F) as usize {
+        if self.rx_fifo.len >= (self.spiffrx & 0x1F) as usize && !self.rxffint {
             self.rxffint = true;
+            self.raises[0] += 1;
         }
     }
 
@@ -1202,6 +1211,25 @@ impl SpiA {
             return Some(self.now);
         }
         self.active.map(|a| a.frame.end_ps)
+    }
+
+    /// SPI-A's two interrupt lines (SPRUEU3, "SPI Interrupts" and "FIFO Interrupts"): SPIRXINTA
+    /// (PIE INT6.1) and SPITXINTA (INT6.2), each as (its level now, how many times its flag has
+    /// been raised since reset, whether its interrupt is enabled in SPI-A). In FIFO mode (SPIFFENA)
+    /// RXFFINT with RXFFIENA drives SPIRXINTA and TXFFINT with TXFFIENA drives SPITXINTA; in
+    /// normal mode INT_FLAG with SPIINTENA (SPICTL bit 0), or OVERRUN_FLAG with OVERRUNINTENA
+    /// (bit 4), drives SPIRXINTA, and SPITXINTA stays low.
+    pub fn interrupt_lines(&self) -> [(bool, u64, bool); 2] {
+        if self.fifo_mode() {
+            let rx_en = self.spiffrx & 0x20 != 0;
+            let tx_en = self.spifftx & 0x20 != 0;
+            [(self.rxffint && rx_en, self.raises[0], rx_en), (self.txffint && tx_en, self.raises[1], tx_en)]
+        } else {
+            let int_en = self.spictl & 1 != 0;
+            let ovr_en = self.spictl & 0x10 != 0;
+            let level = (self.int_flag && int_en) || (self.overrun && ovr_en);
+            [(level, self.raises[0], int_en || ovr_en), (false, self.raises[1], false)]
+        }
     }
 
     /// The character scheduled or shifting, if any.

@@ -1,3 +1,6 @@
+//! The CPU timers. [`CpuTimer`] is timer 0 as the profile's ConfigCpuTimer sets it (the model
+//! firmware's tick); [`CpuTimerRegs`] is any of timers 0–2 register by register (the host board).
+//!
 //! CPU timer 0: the counter decrements once every TDDR+1 SYSCLKOUT cycles and reloads from PRD
 //! when it passes zero, so one interrupt period is (PRD+1)(TDDR+1) SYSCLKOUT cycles. Tick `k`
 //! (the k-th TINT0) happens exactly k periods after the timer starts, in integer picoseconds.
@@ -87,6 +90,164 @@ impl CpuTimer {
     /// Index of the last tick at or before `t` (0 before the first interrupt).
     pub fn ticks_by(&self, t: Ps) -> u64 {
         self.sysclkout.ps_to_cycles(t).saturating_sub(self.start_cycle) / self.period_cycles()
+    }
+}
+
+/// TCR.TSS: the timer is stopped.
+pub const TCR_TSS: u16 = 1 << 4;
+/// TCR.TRB: reload TIM from PRD (reads 0).
+pub const TCR_TRB: u16 = 1 << 5;
+/// TCR.TIE: TIF raises the timer's interrupt.
+pub const TCR_TIE: u16 = 1 << 14;
+/// TCR.TIF: the timer passed zero (write 1 to clear).
+pub const TCR_TIF: u16 = 1 << 15;
+/// TCR bits kept as written (TSS, SOFT, FREE, TIE); TRB reads 0, TIF is the flag.
+const TCR_KEPT: u16 = TCR_TSS | (1 << 10) | (1 << 11) | TCR_TIE;
+
+/// One CPU timer's registers, as `CpuTimer0Regs`…`CpuTimer2Regs` lay them out (SPRUFB0, "CPU
+/// Timers": TIM at +0, PRD at +2, TCR at +4, TPR at +6, TPRH at +7), counted in SYSCLKOUT cycles of
+/// the owner's cycle count (see [`super::interrupts::Interrupts`]).
+///
+/// The counter decrements once every TDDR+1 SYSCLKOUT cycles and, after 0, reloads from PRD and
+/// sets TCR.TIF: a period is (PRD+1)(TDDR+1) cycles. Reset (SPRUFB0): TIM = PRD = 0xFFFFFFFF,
+/// TCR = 0 (running, TIE = 0), TPR = TPRH = 0. TSS stops it, TRB reloads TIM from PRD, TIE lets
+/// TIF raise the interrupt, writing 1 to TIF clears it. The prescaler's own counter (PSC) starts at
+/// TDDR at every reload; it reads as TDDR.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CpuTimerRegs {
+    prd: u32,
+    tddr: u16,
+    tcr: u16,
+    tif: bool,
+    /// Running: the cycle of the next reload (underflow). Stopped: None.
+    next_reload: Option<u64>,
+    /// The counter while stopped.
+    held_tim: u32,
+    /// Underflows since power-on, and the cycle of the last one.
+    underflows: u64,
+    last_underflow: Option<u64>,
+}
+
+impl Default for CpuTimerRegs {
+    fn default() -> Self {
+        CpuTimerRegs::reset()
+    }
+}
+
+impl CpuTimerRegs {
+    /// The reset state at cycle 0: running with PRD = TIM = 0xFFFFFFFF and TIE = 0.
+    pub fn reset() -> CpuTimerRegs {
+        CpuTimerRegs {
+            prd: u32::MAX,
+            tddr: 0,
+            tcr: 0,
+            tif: false,
+            next_reload: Some(u64::from(u32::MAX) + 1),
+            held_tim: u32::MAX,
+            underflows: 0,
+            last_underflow: None,
+        }
+    }
+
+    fn per_count(&self) -> u64 {
+        u64::from(self.tddr) + 1
+    }
+
+    fn period(&self) -> u64 {
+        (u64::from(self.prd) + 1) * self.per_count()
+    }
+
+    /// Bring the timer up to cycle `c`: every reload at or before it sets TIF. Returns whether a
+    /// reload happened with TIE set (the interrupt line pulses).
+    pub fn sync(&mut self, c: u64) -> bool {
+        let Some(next) = self.next_reload.filter(|&n| n <= c) else { return false };
+        let k = (c - next) / self.period() + 1;
+        self.underflows += k;
+        self.last_underflow = Some(next + (k - 1) * self.period());
+        self.next_reload = Some(next + k * self.period());
+        self.tif = true;
+        self.tcr & TCR_TIE != 0
+    }
+
+    /// The counter at cycle `c` (synced to `c`).
+    pub fn tim(&self, c: u64) -> u32 {
+        match self.next_reload {
+            Some(next) => next.saturating_sub(c).div_ceil(self.per_count()).saturating_sub(1) as u32,
+            None => self.held_tim,
+        }
+    }
+
+    /// Read the word at `offset` (0…7) at cycle `c`; None for offset 5 (reserved).
+    pub fn read(&self, offset: u32, c: u64) -> Option<u16> {
+        Some(match offset {
+            0 => self.tim(c) as u16,
+            1 => (self.tim(c) >> 16) as u16,
+            2 => self.prd as u16,
+            3 => (self.prd >> 16) as u16,
+            4 => self.tcr | if self.tif { TCR_TIF } else { 0 },
+            6 => self.tddr & 0xFF | (self.tddr & 0xFF) << 8,
+            7 => self.tddr >> 8 | (self.tddr & 0xFF00),
+            _ => return None,
+        })
+    }
+
+    /// Write the word at `offset` at cycle `c`; false for offset 5 (reserved).
+    pub fn write(&mut self, offset: u32, value: u16, c: u64) -> bool {
+        match offset {
+            0 | 1 => {
+                let tim = self.tim(c);
+                let tim = if offset == 0 {
+                    (tim & 0xFFFF_0000) | u32::from(value)
+                } else {
+                    (tim & 0xFFFF) | u32::from(value) << 16
+                };
+                if self.next_reload.is_some() {
+                    self.load_running(tim, c);
+                } else {
+                    self.held_tim = tim;
+                }
+            }
+            2 => self.prd = (self.prd & 0xFFFF_0000) | u32::from(value),
+            3 => self.prd = (self.prd & 0xFFFF) | u32::from(value) << 16,
+            4 => {
+                if value & TCR_TIF != 0 {
+                    self.tif = false;
+                }
+                let was_stopped = self.next_reload.is_none();
+                let tim = self.tim(c);
+                self.tcr = value & TCR_KEPT;
+                let tim = if value & TCR_TRB != 0 { self.prd } else { tim };
+                if value & TCR_TSS != 0 {
+                    self.next_reload = None;
+                    self.held_tim = tim;
+                } else if was_stopped || value & TCR_TRB != 0 {
+                    self.load_running(tim, c);
+                }
+            }
+            6 => self.tddr = (self.tddr & 0xFF00) | (value & 0xFF),
+            7 => self.tddr = (self.tddr & 0x00FF) | (value & 0xFF) << 8,
+            _ => return false,
+        }
+        true
+    }
+
+    fn load_running(&mut self, tim: u32, c: u64) {
+        self.next_reload = Some(c + (u64::from(tim) + 1) * self.per_count());
+    }
+
+    /// The cycle of the next reload (None when stopped).
+    pub fn next_reload(&self) -> Option<u64> {
+        self.next_reload
+    }
+
+    /// Whether TCR.TIE is set.
+    pub fn tie(&self) -> bool {
+        self.tcr & TCR_TIE != 0
+    }
+
+    /// Reloads since power-on and the cycle of the last one.
+    pub fn underflows(&self) -> (u64, Option<u64>) {
+        (self.underflows, self.last_underflow)
     }
 }
 

@@ -88,11 +88,25 @@ pub struct Clocks {
     pub divsel: u32,
     /// LOSPCP (0…7): LSPCLK = SYSCLKOUT / (2·LOSPCP), SYSCLKOUT when 0.
     pub lospcp: u32,
+    /// The system control state a C firmware's main starts from: "initialised" (every peripheral
+    /// clock on, the watchdog disabled, as TI's start-up code and InitSysCtrl leave them) or
+    /// "reset" (the chip's reset values: PCLKCR0/1 = 0, the watchdog running). The PLL is the keys
+    /// above either way.
+    pub at_main: String,
+    /// OSCCLK cycles the PLL takes to lock after PLLCR changes (SPRUFB0: 131072 [unconfirmed]).
+    pub pll_lock_oscclk: u64,
 }
 
 impl Default for Clocks {
     fn default() -> Self {
-        Clocks { crystal_hz: 30_000_000, pllcr: 10, divsel: 2, lospcp: 2 }
+        Clocks {
+            crystal_hz: 30_000_000,
+            pllcr: 10,
+            divsel: 2,
+            lospcp: 2,
+            at_main: "initialised".into(),
+            pll_lock_oscclk: 131_072,
+        }
     }
 }
 
@@ -109,6 +123,15 @@ impl Clocks {
         }
         if self.lospcp > 7 {
             return Err(bad("clocks.lospcp", self.lospcp, "0…7"));
+        }
+        if !["initialised", "reset"].contains(&self.at_main.as_str()) {
+            return Err(Error::Profile(format!(
+                "key `clocks.at_main` = \"{}\": expected \"initialised\" or \"reset\"",
+                self.at_main
+            )));
+        }
+        if self.pll_lock_oscclk > 1 << 24 {
+            return Err(bad("clocks.pll_lock_oscclk", self.pll_lock_oscclk, "0…16777216 OSCCLK cycles"));
         }
         // The three keys together set SYSCLKOUT; the part is rated for 150 MHz at most.
         let pll = if self.pllcr == 0 { 1 } else { u64::from(self.pllcr) };
