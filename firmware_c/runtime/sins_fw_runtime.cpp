@@ -77,6 +77,17 @@ extern uint64_t sins_fw_cregs[2];
 extern "C" void sins_fw_user_main(void) __attribute__((weak));
 void sins_fw_user_main_cxx(void) __asm__("_Z17sins_fw_user_mainv") __attribute__((weak));
 
+/* SCI-A/B/C's registers (rust/core/src/dsp/sci.rs: offsets 0-7, 9-0xC, 0xF of 0x7050/0x7750/0x7770). */
+static bool is_sci(uint32_t a) {
+    for (uint32_t base : {0x7050u, 0x7750u, 0x7770u}) {
+        if (a >= base && a < base + 0x10u) {
+            uint32_t o = a - base;
+            return o != 8 && o != 0xD && o != 0xE;
+        }
+    }
+    return false;
+}
+
 /* The modelled registers (rust/core/src/host.rs `Host::read`: LOSPCP, SPI-A, the GPIO data registers,
    CPU timer 0 and the PIE; rust/core/src/dsp/interrupts.rs `Interrupts::owns`). */
 static bool is_modelled(uint32_t a) {
@@ -87,6 +98,7 @@ static bool is_modelled(uint32_t a) {
     }
     if (a >= 0x6FC0u && a < 0x6FC0u + 24) return true;               /* GPxDAT/SET/CLEAR/TOGGLE */
     if ((a >= 0x0C00u && a <= 0x0C04u) || a == 0x0C06u || a == 0x0C07u) return true; /* CPU timer 0 */
+    if (is_sci(a)) return true;                                      /* SCI-A/B/C (dsp/sci.rs) */
     return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */
 }
 
@@ -101,12 +113,6 @@ static const struct {
     {0x701Au, 0x0001u}, /* HISPCP */
     {0x7020u, 0x2700u}, /* PCLKCR3: CPU timers 0-2, GPIOIN */
     {0x7022u, 0x0001u}, /* SCSR: WDOVERRIDE */
-    {0x705Au, 0xA000u}, /* SCIFFTX-A */
-    {0x705Bu, 0x201Fu}, /* SCIFFRX-A */
-    {0x775Au, 0xA000u}, /* SCIFFTX-B */
-    {0x775Bu, 0x201Fu}, /* SCIFFRX-B */
-    {0x777Au, 0xA000u}, /* SCIFFTX-C */
-    {0x777Bu, 0x201Fu}, /* SCIFFRX-C */
     {0x7902u, 0x0410u}, /* I2CSTR: XSMT, XRDY */
     {0x0A86u, 0x0F0Fu}, /* FBANKWAIT */
     {0x0A87u, 0x001Fu}, /* FOTPWAIT */
@@ -137,8 +143,14 @@ static const char *const PIE_NAMES[96] = {"SEQ1INT","SEQ2INT","rsvd1_3","XINT1",
    the vector, its PIE group and line. */
 static void warn_never_raised(const char *what) {
     std::fprintf(stderr, "sins-fw: warning: the firmware enables %s, which the emulator cannot raise "
-                         "(of the interrupts only CPU timer 0, TINT0 = INT1.7, is modelled): its ISR will never run\n",
+                         "(of the interrupts only CPU timer 0, TINT0 = INT1.7, and the SCIs' are modelled): its ISR will never run\n",
                  what);
+}
+
+/* Whether the emulator raises PIE group `group` (0-based), line `line` (0-based): TINT0 (1.7), the SCIs'
+   RX/TX (9.1-9.4, 8.5/8.6). */
+static bool raised(unsigned group, unsigned line) {
+    return (group == 0 && line == 6) || (group == 8 && line <= 3) || (group == 7 && (line == 4 || line == 5));
 }
 
 static void check_pie_enable(uint32_t address, uint16_t value) {
@@ -149,7 +161,7 @@ static void check_pie_enable(uint32_t address, uint16_t value) {
     uint16_t fresh = static_cast<uint16_t>(value & 0xFFu & ~pie_enabled[group]);
     pie_enabled[group] |= fresh;
     for (unsigned line = 0; line < 8; line++) {
-        if ((fresh >> line & 1u) && !(group == 0 && line == 6)) {
+        if ((fresh >> line & 1u) && !raised(group, line)) {
             char what[96];
             std::snprintf(what, sizeof what, "%s (PIE group %u, INT%u.%u, vector %u)", PIE_NAMES[group * 8 + line],
                           group + 1, group + 1, line + 1, 32 + group * 8 + line);

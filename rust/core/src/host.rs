@@ -22,6 +22,7 @@ use crate::device::error_model::ErrorModel;
 use crate::device::{Adis16407, Constant, Physical};
 use crate::dsp::clocks::DspClocks;
 use crate::dsp::interrupts::{Blocked, Interrupts, Taken};
+use crate::dsp::serial::SerialPorts;
 use crate::dsp::spi;
 use crate::error::{Error, Result};
 use crate::events::Event;
@@ -67,7 +68,7 @@ pub const LOSPCP: u32 = 0x701B;
 pub const CS_GPIO: u32 = 57;
 
 fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
-    REGISTERS.iter().chain(crate::dsp::interrupts::REGISTERS)
+    REGISTERS.iter().chain(crate::dsp::interrupts::REGISTERS).chain(crate::dsp::sci::REGISTERS)
 }
 
 /// A register by name: (address, width in bits). CPU timer 0's are `TIMER0TIM`, `TIMER0PRD`,
@@ -89,7 +90,7 @@ fn no_register(addr: u32) -> Error {
     Error::Register(format!(
         "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, LOSPCP 0x701B, \
          GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timer 0 0x0C00…0x0C07, PIE control \
-         0x0CE0…0x0CF9; PieVectTable 0x0D00… is set through its vectors)"
+         0x0CE0…0x0CF9; SCI-A/B/C 0x7050/0x7750/0x7770…+0xF; PieVectTable 0x0D00… is set through its vectors)"
     ))
 }
 
@@ -164,6 +165,8 @@ pub struct HostBoard {
     /// Keep the transaction log for [`HostBoard::take_log`] (not on a board reading a trace: a
     /// firmware run would keep every frame).
     keep_log: bool,
+    /// SCI-A/B/C.
+    serial: SerialPorts,
 }
 
 impl HostBoard {
@@ -188,6 +191,7 @@ impl HostBoard {
         let clocks = DspClocks::from_profile(&profile.clocks)?;
         let mut link = SpiLink::from_profile(profile, dev)?;
         link.enable_log();
+        let serial = SerialPorts::new(profile, link.spi().lspclk())?;
         Ok(HostBoard {
             link,
             now: 0,
@@ -203,6 +207,7 @@ impl HostBoard {
             feed: None,
             tint0_taken: 0,
             keep_log: true,
+            serial,
         })
     }
 
@@ -332,12 +337,13 @@ impl HostBoard {
     /// When an interrupt may next become takeable without a register access (timer 0's next
     /// reload, when nothing masks it), ps.
     pub fn next_interrupt_ps(&self) -> Option<Ps> {
-        self.irq.next_interrupt_ps()
+        let serial = self.serial.next_interrupt_ps().filter(|_| !self.irq.intm());
+        self.irq.next_interrupt_ps().into_iter().chain(serial).min()
     }
 
     /// What keeps any interrupt from coming without a register access (None: one can come).
     pub fn interrupts_blocked(&self) -> Option<Blocked> {
-        self.irq.blocked()
+        self.irq.blocked().filter(|b| *b == Blocked::Intm || self.serial.next_interrupt_ps().is_none())
     }
 
     /// Timer 0's reloads since power-on and the time of the last one; its next reload (ps).
@@ -345,6 +351,11 @@ impl HostBoard {
         self.irq.sync(self.now);
         let (n, last) = self.irq.underflows();
         (n, last, self.irq.next_reload_ps())
+    }
+
+    /// SCI-A/B/C.
+    pub fn serial(&self) -> &SerialPorts {
+        &self.serial
     }
 
     /// SYSCLKOUT.
@@ -368,6 +379,7 @@ impl HostBoard {
             }
             0x0C04 | 0x0CE0..=0x0CF9 => self.irq.next_reload_ps().filter(|&t| t > self.now),
             0x0C00 | 0x0C01 => Some(self.now),
+            a if SerialPorts::owns(a) => self.serial.next_change_ps(a),
             _ => None,
         }
     }
@@ -397,6 +409,7 @@ impl HostBoard {
         }
         self.now = t;
         let r = self.link.advance(t);
+        self.serial.advance(t);
         self.sync();
         r
     }
@@ -463,6 +476,7 @@ impl HostBoard {
             a if is_spi(a) => self.link.write((a - SPIA_BASE) as u16, value, now),
             a if is_gpio(a) => self.write_gpio(a, value),
             a if Interrupts::owns(a) => self.irq.write(a, value, now),
+            a if SerialPorts::owns(a) => self.serial.write(a, value, now),
             a => Err(no_register(a)),
         }
     }
@@ -475,6 +489,7 @@ impl HostBoard {
             a if is_spi(a) => self.link.read((a - SPIA_BASE) as u16, now),
             a if is_gpio(a) => Ok(self.read_gpio(a)),
             a if Interrupts::owns(a) => self.irq.read(a, now),
+            a if SerialPorts::owns(a) => self.serial.read(a, now),
             a => Err(no_register(a)),
         };
         self.sync();
@@ -525,6 +540,7 @@ impl HostBoard {
     fn set_lospcp(&mut self, lospcp: u16) -> Result<()> {
         let lspclk = if lospcp == 0 { self.sysclkout } else { self.sysclkout.divided(2 * u64::from(lospcp)) };
         self.link.set_lspclk(lspclk, self.now)?;
+        self.serial.set_lspclk(lspclk, self.now);
         self.lospcp = lospcp;
         Ok(())
     }
@@ -761,6 +777,7 @@ impl HostBoard {
         }
         self.pending.extend(self.link.drain_events());
         self.pending.extend(self.link.slave_mut().drain_events());
+        self.pending.extend(self.serial.drain(&mut self.irq));
         if self.pending.is_empty() && self.recent.len() > 64 {
             let keep = self.recent.len() - 1;
             self.recent.drain(..keep);

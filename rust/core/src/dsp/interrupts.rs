@@ -493,6 +493,21 @@ impl Interrupts {
     }
 }
 
+impl Interrupts {
+    /// A peripheral's interrupt request at time `t`: PIE group `group` (1…12), line `bit` (1…8).
+    /// Sets PIEIFRg bit `bit`; when PIEIERg has it set and the group's PIEACK bit is clear, the
+    /// group reaches the CPU's IFR (bit g−1) and PIEACK is set, as the PIE does (SPRUFB0, "PIE").
+    /// Out-of-range numbers are ignored.
+    pub fn set_pie_flag(&mut self, group: u8, bit: u8, t: Ps) {
+        if !(1..=12).contains(&group) || !(1..=8).contains(&bit) {
+            return;
+        }
+        self.sync(t);
+        self.pieifr[usize::from(group - 1)] |= 1 << (bit - 1);
+        self.pie_to_cpu();
+    }
+}
+
 fn no_register(addr: u32) -> Error {
     Error::Register(format!("C28x address 0x{addr:04X}: not a CPU timer 0 or PIE register"))
 }

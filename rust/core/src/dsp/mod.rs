@@ -3,6 +3,8 @@
 
 pub mod clocks;
 pub mod interrupts;
+pub mod sci;
+pub mod serial;
 pub mod spi;
 pub mod summary;
 pub mod timer;
