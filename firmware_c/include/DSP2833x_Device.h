@@ -72,6 +72,7 @@ extern cregister volatile unsigned int IER;
 #include "DSP2833x_Gpio.h"
 #include "DSP2833x_PieCtrl.h"
 #include "DSP2833x_PieVect.h"
+#include "DSP2833x_Sci.h"
 #include "DSP2833x_Spi.h"
 #include "DSP2833x_SysCtrl.h"
 

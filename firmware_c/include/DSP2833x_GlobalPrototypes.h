@@ -24,6 +24,13 @@ void InitGpio(void);
 void InitSpiGpio(void);
 void InitSpiaGpio(void);
 
+/* DSP2833x_Sci.c */
+void InitSci(void);
+void InitSciGpio(void);
+void InitSciaGpio(void);
+void InitScibGpio(void);
+void InitScicGpio(void);
+
 /* DSP2833x_PieCtrl.c, DSP2833x_PieVect.c */
 void InitPieCtrl(void);
 void EnableInterrupts(void);

@@ -77,11 +77,22 @@ extern uint64_t sins_fw_cregs[2];
 extern "C" void sins_fw_user_main(void) __attribute__((weak));
 void sins_fw_user_main_cxx(void) __asm__("_Z17sins_fw_user_mainv") __attribute__((weak));
 
+/* SCI-A/B/C's registers (rust/core/src/dsp/sci.rs: offsets 0-7, 9-0xC, 0xF of 0x7050/0x7750/0x7770). */
+static bool is_sci(uint32_t a) {
+    for (uint32_t base : {0x7050u, 0x7750u, 0x7770u}) {
+        if (a >= base && a < base + 0x10u) {
+            uint32_t o = a - base;
+            return o != 8 && o != 0xD && o != 0xE;
+        }
+    }
+    return false;
+}
+
 /* The modelled registers (rust/core/src/host.rs `HostBoard::read`: SPI-A, the GPIO data registers,
    the system control registers (dsp/sysctrl.rs `SysCtrl::owns`), CPU timers 0-2 and the PIE
-   (dsp/interrupts.rs `Interrupts::owns`), and the frames of the peripherals not modelled yet, whose
-   registers the board holds with their reset values and whose first use it reports
-   (dsp/unmodelled.rs `FRAMES`). */
+   (dsp/interrupts.rs `Interrupts::owns`), SCI-A/B/C (dsp/sci.rs), and the frames of the peripherals
+   not modelled yet, whose registers the board holds with their reset values and whose first use it
+   reports (dsp/unmodelled.rs `FRAMES`). */
 static bool is_modelled(uint32_t a) {
     if (a == 0x7011u || (a >= 0x701Au && a <= 0x701Eu) || (a >= 0x7020u && a <= 0x7023u) || a == 0x7025u ||
         a == 0x7029u) {
@@ -98,6 +109,7 @@ static bool is_modelled(uint32_t a) {
     }
     if (a >= 0x6FC0u && a < 0x6FC0u + 24) return true;               /* GPxDAT/SET/CLEAR/TOGGLE */
     if (a >= 0x0C00u && a < 0x0C18u) return a % 8 != 5;              /* CPU timers 0-2 */
+    if (is_sci(a)) return true;                                      /* SCI-A/B/C (dsp/sci.rs) */
     return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */
 }
 
@@ -108,12 +120,6 @@ static const struct {
     uint32_t address;
     uint16_t value;
 } RESET_VALUES[] = {
-    {0x705Au, 0xA000u}, /* SCIFFTX-A */
-    {0x705Bu, 0x201Fu}, /* SCIFFRX-A */
-    {0x775Au, 0xA000u}, /* SCIFFTX-B */
-    {0x775Bu, 0x201Fu}, /* SCIFFRX-B */
-    {0x777Au, 0xA000u}, /* SCIFFTX-C */
-    {0x777Bu, 0x201Fu}, /* SCIFFRX-C */
     {0x7902u, 0x0410u}, /* I2CSTR: XSMT, XRDY */
 };
 
@@ -146,9 +152,11 @@ static void warn_never_raised(const char *what) {
                  what);
 }
 
-/* The PIE lines a modelled peripheral raises (group and line, 0-based). */
+/* The PIE lines a modelled peripheral raises (group and line, 0-based): TINT0 and WAKEINT (1.7, 1.8),
+   SPI-A's RX/TX (6.1, 6.2), the SCIs' RX/TX (9.1-9.4, 8.5/8.6). */
 static bool raised_by_the_board(unsigned group, unsigned line) {
-    return (group == 0 && (line == 6 || line == 7)) || (group == 5 && line <= 1);
+    return (group == 0 && (line == 6 || line == 7)) || (group == 5 && line <= 1) || (group == 8 && line <= 3) ||
+           (group == 7 && (line == 4 || line == 5));
 }
 
 static void check_pie_enable(uint32_t address, uint16_t value) {

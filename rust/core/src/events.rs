@@ -381,6 +381,19 @@ pub const KINDS: &[EventKind] = &[
         "mcu",
         "the watchdog counter overflowed with SCSR.WDENINT = 1: WAKEINT (PIE INT1.8) raised instead of a reset",
     ),
+    // The F28335's serial peripherals as a host-built firmware drives them (rust/core/src/dsp/sci.rs).
+    kind(
+        "sci_tx_line",
+        Info,
+        "mcu",
+        "a line an SCI port transmitted (up to a newline or 128 bytes), prefixed with the port (`SCI-B> …`)",
+    ),
+    kind(
+        "sci_misuse",
+        Warning,
+        "mcu",
+        "an SCI register used against SPRUFZ5 (a TX FIFO full or held in reset, SCIRXBUF read empty, a read-only register written)",
+    ),
     // The wing unit (firmware/wing/app.rs).
     kind(
         "wing_zero_lengthened",

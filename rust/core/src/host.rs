@@ -22,6 +22,7 @@ use crate::device::error_model::ErrorModel;
 use crate::device::{Adis16407, Constant, Physical};
 use crate::dsp::clocks::DspClocks;
 use crate::dsp::interrupts::{Blocked, Interrupts, Taken};
+use crate::dsp::serial::SerialPorts;
 use crate::dsp::spi;
 use crate::dsp::sysctrl::{self, SysCtrl, SysEvent};
 use crate::dsp::unmodelled::{self, Unmodelled};
@@ -69,7 +70,11 @@ pub const LOSPCP: u32 = 0x701B;
 pub const CS_GPIO: u32 = 57;
 
 fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
-    REGISTERS.iter().chain(crate::dsp::interrupts::REGISTERS).chain(sysctrl::REGISTERS)
+    REGISTERS
+        .iter()
+        .chain(crate::dsp::interrupts::REGISTERS)
+        .chain(sysctrl::REGISTERS)
+        .chain(crate::dsp::sci::REGISTERS)
 }
 
 /// A register by name: (address, width in bits). CPU timer 0's are `TIMER0TIM`, `TIMER0PRD`,
@@ -92,7 +97,7 @@ fn no_register(addr: u32) -> Error {
         "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, SysCtrlRegs \
          PLLSTS, HISPCP, LOSPCP, PCLKCR0/1/3, LPMCR0, PLLCR, SCSR, WDCNTR, WDKEY, WDCR (0x7011…0x7029), \
          GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timers 0-2 0x0C00…0x0C17, PIE control \
-         0x0CE0…0x0CF9, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
+         0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
          peripherals); PieVectTable 0x0D00… is set through its vectors)"
     ))
 }
@@ -177,6 +182,8 @@ pub struct HostBoard {
     /// Keep the transaction log for [`HostBoard::take_log`] (not on a board reading a trace: a
     /// firmware run would keep every frame).
     keep_log: bool,
+    /// SCI-A/B/C.
+    serial: SerialPorts,
 }
 
 impl HostBoard {
@@ -201,6 +208,7 @@ impl HostBoard {
         let clocks = DspClocks::from_profile(&profile.clocks)?;
         let mut link = SpiLink::from_profile(profile, dev)?;
         link.enable_log();
+        let serial = SerialPorts::new(profile, link.spi().lspclk())?;
         Ok(HostBoard {
             link,
             now: 0,
@@ -220,6 +228,7 @@ impl HostBoard {
             feed: None,
             tint0_taken: 0,
             keep_log: true,
+            serial,
         })
     }
 
@@ -350,12 +359,16 @@ impl HostBoard {
     /// reload, when nothing masks it), ps.
     pub fn next_interrupt_ps(&self) -> Option<Ps> {
         if self.irq.blocked().is_some() {
-            // A watchdog about to bite ends any loop (a reset), and its WAKEINT may be let in.
-            return self.sys.next_event_ps();
+            // A watchdog about to bite ends any loop (a reset), and its WAKEINT may be let in; an SCI
+            // line's request may come when only INTM is clear.
+            let serial = self.serial.next_interrupt_ps().filter(|_| !self.irq.intm());
+            return [self.sys.next_event_ps(), serial].into_iter().flatten().min();
         }
-        // SPI-A's flags change at the end of a character; the watchdog's WAKEINT at its overflow.
+        // SPI-A's flags change at the end of a character; the watchdog's WAKEINT at its overflow; an
+        // SCI's at its character's end.
         let spi = self.spi_armed().then(|| self.link.spi().current_frame().map(|f| f.end_ps)).flatten();
-        [self.irq.next_interrupt_ps(), spi, self.sys.next_event_ps()].into_iter().flatten().min()
+        let serial = self.serial.next_interrupt_ps().filter(|_| !self.irq.intm());
+        [self.irq.next_interrupt_ps(), spi, self.sys.next_event_ps(), serial].into_iter().flatten().min()
     }
 
     fn spi_armed(&self) -> bool {
@@ -364,7 +377,7 @@ impl HostBoard {
 
     /// What keeps any interrupt from coming without a register access (None: one can come).
     pub fn interrupts_blocked(&self) -> Option<Blocked> {
-        let b = self.irq.blocked();
+        let b = self.irq.blocked().filter(|b| *b == Blocked::Intm || self.serial.next_interrupt_ps().is_none());
         if b.is_none() && self.next_interrupt_ps().is_none() && self.irq.ier() & self.irq.ifr_now() & 0x3FFF == 0 {
             let name = if self.spi_armed() { "SPIRXINTA/SPITXINTA" } else { "the interrupt" };
             return Some(Blocked::Idle { name });
@@ -377,6 +390,11 @@ impl HostBoard {
         self.irq.sync(self.now);
         let (n, last) = self.irq.underflows();
         (n, last, self.irq.next_reload_ps())
+    }
+
+    /// SCI-A/B/C.
+    pub fn serial(&self) -> &SerialPorts {
+        &self.serial
     }
 
     /// SYSCLKOUT.
@@ -402,6 +420,7 @@ impl HostBoard {
             0x0C0C => self.irq.next_reload_ps_of(1).filter(|&t| t > self.now),
             0x0C14 => self.irq.next_reload_ps_of(2).filter(|&t| t > self.now),
             0x0C00 | 0x0C01 | 0x0C08 | 0x0C09 | 0x0C10 | 0x0C11 | sysctrl::WDCNTR => Some(self.now),
+            a if SerialPorts::owns(a) => self.serial.next_change_ps(a),
             _ => None,
         };
         // The PLL locking (PLLSTS) and a watchdog reset change what any register reads.
@@ -443,6 +462,7 @@ impl HostBoard {
         }
         self.now = t;
         let r = self.link.advance(t);
+        self.serial.advance(t);
         self.sync();
         r
     }
@@ -461,8 +481,12 @@ impl HostBoard {
                 self.sysclkout = self.sys.sysclkout();
                 self.irq.set_sysclkout(self.sysclkout, t);
                 self.link.set_lspclk(self.sys.lspclk(), t)?;
+                self.serial.set_lspclk(self.sys.lspclk(), t);
             }
-            SysEvent::Lspclk(t) => self.link.set_lspclk(self.sys.lspclk(), t)?,
+            SysEvent::Lspclk(t) => {
+                self.link.set_lspclk(self.sys.lspclk(), t)?;
+                self.serial.set_lspclk(self.sys.lspclk(), t);
+            }
             SysEvent::WatchdogInterrupt(t) => {
                 self.irq.set_pie_flag(1, 8, t);
                 self.pending.push(Event::new(
@@ -556,6 +580,7 @@ impl HostBoard {
             a if is_spi(a) => self.link.write((a - SPIA_BASE) as u16, value, now),
             a if is_gpio(a) => self.write_gpio(a, value),
             a if Interrupts::owns(a) => self.irq.write(a, value, now),
+            a if SerialPorts::owns(a) => self.serial.write(a, value, now),
             a => Err(no_register(a)),
         }
     }
@@ -573,6 +598,7 @@ impl HostBoard {
             a if is_spi(a) => self.link.read((a - SPIA_BASE) as u16, now),
             a if is_gpio(a) => Ok(self.read_gpio(a)),
             a if Interrupts::owns(a) => self.irq.read(a, now),
+            a if SerialPorts::owns(a) => self.serial.read(a, now),
             a => Err(no_register(a)),
         };
         self.sync();
@@ -639,6 +665,7 @@ impl HostBoard {
             return Ok(());
         }
         self.link.set_lspclk(lspclk, self.now)?;
+        self.serial.set_lspclk(lspclk, self.now);
         self.sys.write(LOSPCP, lospcp, self.now)?;
         Ok(())
     }
@@ -705,6 +732,9 @@ impl HostBoard {
             0x0C00..=0x0C07 => "CPU timer 0",
             0x0C08..=0x0C0F => "CPU timer 1",
             0x0C10..=0x0C17 => "CPU timer 2",
+            0x7050..=0x705F => "SCI-A",
+            0x7750..=0x775F => "SCI-B",
+            0x7770..=0x777F => "SCI-C",
             a => match unmodelled::frame_of(a) {
                 Some(f) => f.instance,
                 None => return true,
@@ -979,6 +1009,7 @@ impl HostBoard {
         }
         self.pending.extend(self.link.drain_events());
         self.pending.extend(self.link.slave_mut().drain_events());
+        self.pending.extend(self.serial.drain(&mut self.irq));
         if self.pending.is_empty() && self.recent.len() > 64 {
             let keep = self.recent.len() - 1;
             self.recent.drain(..keep);

@@ -4,6 +4,8 @@
 
 pub mod clocks;
 pub mod interrupts;
+pub mod sci;
+pub mod serial;
 pub mod spi;
 pub mod summary;
 pub mod sysctrl;

@@ -7,6 +7,7 @@ mod board;
 mod faults;
 mod geomag;
 mod sections;
+mod serial;
 
 pub use board::{
     link_kind, link_kinds, link_names, Board, BoardDevice, BoxedLink, Devices, I2cBus, LinkKind, Placed, SciPort,
@@ -15,6 +16,7 @@ pub use board::{
 pub use faults::*;
 pub use geomag::{AxisCal, Geomag};
 pub use sections::*;
+pub use serial::{Serial, SerialRx};
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -52,6 +54,10 @@ pub struct Profile {
     /// "ads8344-geomag"`; absent on the other boards).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub geomag: Option<Geomag>,
+    /// What arrives on the SCI ports from outside (`[serial.sci_b]`: a GPS's NMEA file); none by
+    /// default.
+    #[serde(skip_serializing_if = "Serial::is_default")]
+    pub serial: Serial,
 }
 
 impl Profile {
@@ -106,6 +112,7 @@ impl Profile {
         // The link kinds' sections, absent from the defaults' text (the reference profile stays as it is).
         keys.extend(Board::section_keys());
         keys.push("firmware.application".into());
+        keys.extend(Serial::keys());
         // Its optional keys too (absent from the defaults' text).
         if let Ok(v) = toml::Value::try_from(Geomag {
             gyro_delay_s: Some(0.0),
@@ -137,6 +144,7 @@ impl Profile {
         if let Some(g) = &self.geomag {
             g.validate()?;
         }
+        self.serial.validate()?;
         Ok(())
     }
 }

@@ -1,0 +1,110 @@
+//! The serial peripherals a host-built firmware reaches besides SPI-A, held together for the
+//! [`crate::host::HostBoard`]: SCI-A/B/C ([`super::sci`]). It owns their addresses, brings them up
+//! to time, and hands their PIE requests and events to the board.
+
+use crate::error::Result;
+use crate::events::Event;
+use crate::profile::Profile;
+use crate::time::{s_to_ps, Clock, Ps};
+
+use super::interrupts::Interrupts;
+use super::sci::{self, RxFeed, Sci};
+
+/// The serial peripherals.
+#[derive(Debug, Clone)]
+pub struct SerialPorts {
+    sci: [Sci; 3],
+}
+
+impl SerialPorts {
+    /// The ports at reset, clocked by `lspclk`, with the profile's receive feeds (`[serial.*]`):
+    /// an unreadable file is an error naming its key.
+    pub fn new(profile: &Profile, lspclk: Clock) -> Result<SerialPorts> {
+        let mut sci = [Sci::new(0, lspclk), Sci::new(1, lspclk), Sci::new(2, lspclk)];
+        for (port, (key, rx)) in sci.iter_mut().zip(profile.serial.ports()) {
+            if !rx.rx_file.is_empty() {
+                port.set_feed(RxFeed::from_file(
+                    &rx.rx_file,
+                    rx.rx_baud,
+                    s_to_ps(rx.rx_start_s),
+                    s_to_ps(rx.rx_line_period_s),
+                    &format!("{key}.rx_file"),
+                )?);
+            }
+        }
+        Ok(SerialPorts { sci })
+    }
+
+    /// Whether `addr` is one of their registers.
+    pub fn owns(addr: u32) -> bool {
+        sci::port_of(addr).is_some()
+    }
+
+    /// The name of the register at `addr` (`SCIB_SCIRXBUF`).
+    pub fn register_name(addr: u32) -> Option<&'static str> {
+        sci::REGISTERS.iter().find(|r| r.1 == addr).map(|r| r.0)
+    }
+
+    /// Read a register at `t`.
+    pub fn read(&mut self, addr: u32, t: Ps) -> Result<u16> {
+        match sci::port_of(addr) {
+            Some((p, off)) => self.sci[p].read(off, t),
+            None => Err(crate::error::Error::Register(format!("C28x address 0x{addr:04X}: not a serial register"))),
+        }
+    }
+
+    /// Write a register at `t`.
+    pub fn write(&mut self, addr: u32, value: u16, t: Ps) -> Result<()> {
+        match sci::port_of(addr) {
+            Some((p, off)) => self.sci[p].write(off, value, t),
+            None => Err(crate::error::Error::Register(format!("C28x address 0x{addr:04X}: not a serial register"))),
+        }
+    }
+
+    /// Bring every port up to `t`.
+    pub fn advance(&mut self, t: Ps) {
+        for s in &mut self.sci {
+            s.advance(t);
+        }
+    }
+
+    /// LSPCLK changes at `t`.
+    pub fn set_lspclk(&mut self, lspclk: Clock, t: Ps) {
+        for s in &mut self.sci {
+            s.set_lspclk(lspclk, t);
+        }
+    }
+
+    /// Pass the PIE requests raised to `irq` and return the events.
+    pub fn drain(&mut self, irq: &mut Interrupts) -> Vec<Event> {
+        let mut events = Vec::new();
+        for s in &mut self.sci {
+            for (g, b, t) in s.take_requests() {
+                irq.set_pie_flag(g, b, t);
+            }
+            events.extend(s.drain_events());
+        }
+        events
+    }
+
+    /// When the register at `addr` may next read differently by itself (None: not one of theirs,
+    /// or no change coming).
+    pub fn next_change_ps(&self, addr: u32) -> Option<Ps> {
+        sci::port_of(addr).and_then(|(p, _)| self.sci[p].next_change_ps())
+    }
+
+    /// When a port with an interrupt enabled next changes by itself (it may raise one then).
+    pub fn next_interrupt_ps(&self) -> Option<Ps> {
+        self.sci.iter().filter_map(Sci::next_interrupt_ps).min()
+    }
+
+    /// SCI port `port` (0 = A).
+    pub fn sci(&self, port: usize) -> &Sci {
+        &self.sci[port]
+    }
+
+    /// SCI port `port`, to give it a feed.
+    pub fn sci_mut(&mut self, port: usize) -> &mut Sci {
+        &mut self.sci[port]
+    }
+}
