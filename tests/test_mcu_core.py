@@ -307,5 +307,6 @@ def test_the_stop_message_names_the_interrupt_involved(tmp_path: Path):
         "}\n",
     )
     fw = build_firmware([src], tmp_path / "ier.so")
-    with pytest.raises(FirmwareStopped, match=r"IER has INT6 \(M_INT6, the CPU interrupt of SPIRXINTA\) clear"):
+    named = r"IER has INT6 \(M_INT6, the CPU interrupt of SPIRXINTA\) clear"
+    with pytest.raises(FirmwareStopped, match=named):
         _run(fw, tmp_path, 0.01, done="uint16")

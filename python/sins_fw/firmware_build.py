@@ -9,7 +9,8 @@ space at their C28x addresses (:data:`REGISTER_FILES`, those of TI's ``DSP2833x_
 and the pass maps a raw address (``*(volatile Uint16 *)0x701B``) to the same image, so that TI's own
 headers and the replacements of ``firmware_c/include`` behave alike. ``sins_fw_prelude.h`` is
 force-included (TI's ``interrupt``, ``cregister``, ``far``, ``asm``/``__asm``, the DSP28 data types,
-``void main``); TI's pragmas are ignored by clang, silently (``CODE_SECTION(f, "ramfuncs")`` is read by the build: see :func:`ramfuncs`). Each register access is charged the cycles of
+``void main``); TI's pragmas are ignored by clang, silently (the build reads ``CODE_SECTION(f,
+"ramfuncs")``: see :func:`ramfuncs`). Each register access is charged the cycles of
 ``firmware_model/c28x-costs.toml`` ``[io]``, and every basic block of the firmware's code the C28x
 cycles of its optimised IR, priced at compile time by the pass (:func:`block_costs`,
 docs/c-cycles.md). The result is a shared library linked against the C ABI
@@ -117,7 +118,9 @@ RUNTIME_ARRAYS: Mapping[str, int] = {
 RAMFUNC_WORDS = 8
 
 #: TI's pragma that places a function in a section: ``#pragma CODE_SECTION(func, "section")`` (C).
-_CODE_SECTION = re.compile(r'^[ \t]*#[ \t]*pragma[ \t]+CODE_SECTION[ \t]*\([ \t]*(\w+)[ \t]*,[ \t]*"(\w+)"', re.M)
+_CODE_SECTION = re.compile(
+    r'^[ \t]*#[ \t]*pragma[ \t]+CODE_SECTION[ \t]*\([ \t]*(\w+)[ \t]*,[ \t]*"(\w+)"', re.M
+)
 
 
 def ramfuncs(sources: Sequence[Path]) -> list[str]:
@@ -147,8 +150,10 @@ def placement_assembly(n_ramfuncs: int = 0) -> str:
     lines += ["RamfuncsLoadStart:"]
     lines += [f"\t.short {0x7600 + k % 256}" for k in range(words)]
     lines += ["RamfuncsLoadEnd:", "\t.short 0"]
-    lines += ["\t.globl RamfuncsLoadSize", "\t.hidden RamfuncsLoadSize", f"\t.set RamfuncsLoadSize, {2 * words}"]
-    lines += ["\t.bss", "\t.globl RamfuncsRunStart", "\t.p2align 4", "RamfuncsRunStart:", f"\t.zero {2 * words}"]
+    lines += ["\t.globl RamfuncsLoadSize", "\t.hidden RamfuncsLoadSize"]
+    lines += [f"\t.set RamfuncsLoadSize, {2 * words}"]
+    lines += ["\t.bss", "\t.globl RamfuncsRunStart", "\t.p2align 4", "RamfuncsRunStart:"]
+    lines += [f"\t.zero {2 * words}"]
     for name, size in RUNTIME_ARRAYS.items():
         lines += [f"\t.globl {name}", "\t.p2align 6", f"\t.type {name}, @object", f"\t.size {name}, {size}"]
         lines += [f"{name}:", f"\t.zero {size}"]
