@@ -158,6 +158,36 @@ def test_a_non_finite_geomag_state_is_an_error_at_its_first_step_and_every_step_
     assert np.isfinite(q[0]).all() and not np.isfinite(q[1:]).any(), "finite at step 0, not from step 1"
 
 
+def test_a_runaway_gyro_free_navigation_is_an_error_at_its_first_packet_and_every_cycle_is_written(
+    vehicle, tmp_path
+):
+    """`array.lever_arm_m=1e-12` (accepted: any positive arm) divides the products of the array's
+    accelerations by l²: the rate recovery, then the DSP's attitude, become NaN about 1.3 s in. The
+    DSP's navigation gets the other boards' range check: one `state_out_of_range` error at the
+    first packet out of range, exit 1 (it was "events" without it and exit 0), and the output has
+    every cycle, finite before that packet, not from it."""
+    out = tmp_path / "run.csv"
+    runaway = ("--set", "array.lever_arm_m=1e-12")
+    r = run_cli("run", str(vehicle), "--profile", GFSINS, *runaway, "--out", str(out), "--json")
+    assert r.code == 1, r.err
+    summary = json.loads(r.out)
+    bad = summary["events"]["state_out_of_range"]
+    assert bad["count"] == 1, bad
+    assert "C6727, packet" in bad["first"]["message"] and "not finite" in bad["first"]["message"], bad
+    assert "state_out_of_range" in r.err
+    from sins_fw.tablefile import open_table
+
+    blocks = list(open_table(out, gfsins.RUN_SCHEMA, 10_000, False, 1.5).blocks)
+    cols = {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
+    assert len(cols["t_s"]) == summary["cycles"]
+    finite = np.isfinite(cols["nav_roll_deg"])  # NaN before the navigation starts, too
+    first = int(np.flatnonzero(np.abs(cols["dsp_irq_s"] - bad["first"]["t_s"]) < 1e-9)[0])
+    start = int(np.argmax(finite))
+    assert 0 < start < first and finite[start:first].all() and not finite[first:].any()
+    ok = run_cli("run", str(vehicle), "--profile", GFSINS, "--json")
+    assert ok.code == 0 and "state_out_of_range" not in ok.out, ok.out
+
+
 def test_a_part_that_never_samples_is_a_no_data_error(tmp_path):
     trace = tmp_path / "wing.h5"
     r = run_cli("synth", "wing", "--flap", "sine", "--duration-s", "4", "--rest-s", "1", "--out", str(trace))

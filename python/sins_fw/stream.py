@@ -14,11 +14,23 @@ its chunks lie interleaved in the file (each block writes one chunk of every col
 whole-array writer wrote one column after the other: HDF5 places a dataset's chunk index before
 its chunks only when the whole column is written by one call, which a stream cannot do. Its bytes
 therefore differ from that writer's; the same rows still give the same bytes.
+
+Memory of a streamed HDF5 file: HDF5's chunk cache (8 MiB per dataset in HDF5 2.0, an entry per
+chunk, uncompressed) kept the chunks written until it had to make room, so the process held up to
+8 MiB per column (16 chunks of doubles): a 41-column gyro-free vehicle trace of 900 s peaked at
+440 MB. The rows now go to a scratch HDF5 file beside the output with no cache (each chunk
+compressed and written as it comes), and the output receives the same dataset creations,
+extensions and first writes as before, and each compressed chunk copied over as it is
+(``read_direct_chunk`` / ``write_direct_chunk``) at the moment HDF5's cache would have written it
+(:class:`_CacheModel`: its hash slots, its byte limit, least recently used first, and the rest,
+column by column, at the end): the same bytes as before, with a chunk of every column held at most.
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
+import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,7 +40,7 @@ from typing import IO, Any
 import h5py
 import numpy as np
 
-from sins_fw.atomic import atomic_path, kept_error_file
+from sins_fw.atomic import TEMP_SUFFIX, atomic_path, kept_error_file
 from sins_fw.errors import TraceError
 from sins_fw.tablefile import (
     BLOCK_ROWS,
@@ -53,6 +65,47 @@ WHOLE_ROWS = 5 * BLOCK_ROWS
 #: wider table (the gyro-free vehicle's 41 columns) is held for fewer rows, so that what is held does
 #: not grow with the width (a 41-column trace held 327 680 rows, ≈ 107 MB and its copies).
 WHOLE_BYTES = WHOLE_ROWS * 17 * 8
+
+
+class _CacheModel:
+    """When HDF5's chunk cache writes a dataset's chunks (H5Dchunk.c) for writes that each fill one
+    new chunk, in row order: a new chunk takes slot ``index % nslots``, writing out the chunk that
+    held it; then, while the cached chunks and the new one exceed ``nbytes``, the least recently
+    used is written out; at close the rest, oldest first. Only chunk indices are kept."""
+
+    def __init__(self, nslots: int, nbytes: int, chunk_bytes: int) -> None:
+        self.nslots, self.nbytes, self.chunk_bytes = nslots, nbytes, chunk_bytes
+        self.entries: dict[int, None] = {}  # insertion order: least recently used first
+        self.slots: dict[int, int] = {}
+
+    def add(self, index: int) -> list[int]:
+        """Chunk ``index`` written: the chunks written out to make room, in order."""
+        if index in self.entries or self.chunk_bytes > self.nbytes:
+            return []  # already cached (not met here), or too large to be cached: written through
+        out: list[int] = []
+        slot = index % self.nslots
+        held = self.slots.get(slot)
+        if held is not None:
+            out.append(held)
+            self._drop(held)
+        while self.entries and (len(self.entries) + 1) * self.chunk_bytes > self.nbytes:
+            first = next(iter(self.entries))
+            out.append(first)
+            self._drop(first)
+        self.entries[index] = None
+        self.slots[slot] = index
+        return out
+
+    def rest(self) -> list[int]:
+        """At close: every chunk still cached, oldest first."""
+        out = list(self.entries)
+        self.entries.clear()
+        self.slots.clear()
+        return out
+
+    def _drop(self, index: int) -> None:
+        del self.entries[index]
+        del self.slots[index % self.nslots]
 
 
 class TableWriter:
@@ -101,6 +154,10 @@ class TableWriter:
         self._csv: IO[str] | None = None
         self._h5: h5py.File | None = None
         self._datasets: dict[str, Any] = {}
+        # A streamed HDF5 file's rows, compressed, until they are copied into the output (see above).
+        self._scratch: h5py.File | None = None
+        self._scratch_sets: dict[str, Any] = {}
+        self._caches: dict[str, _CacheModel] = {}
 
     def __enter__(self) -> TableWriter:
         self._tmp = self._stack.enter_context(atomic_path(self.path))
@@ -194,11 +251,30 @@ class TableWriter:
                 self._h5.attrs[k] = v
             for name, arr in block.items():
                 self._datasets[name] = h5_create(self._h5, self.schema.column(name), arr[:0], BLOCK_ROWS)
+            folder = self._tmp.parent
+            fd, scratch = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=TEMP_SUFFIX, dir=folder)
+            os.close(fd)
+            self._stack.callback(Path(scratch).unlink, missing_ok=True)
+            scratch_file = self._stack.enter_context(kept_error_file(scratch))
+            self._scratch = h5py.File(scratch_file, "w", rdcc_nbytes=0)  # no cache: written as it comes
+            for name, arr in block.items():
+                column = self.schema.column(name)
+                self._scratch_sets[name] = h5_create(self._scratch, column, arr[:0], BLOCK_ROWS)
+                ds = self._datasets[name]
+                nslots, nbytes, _ = ds.id.get_access_plist().get_chunk_cache()
+                self._caches[name] = _CacheModel(nslots, nbytes, BLOCK_ROWS * ds.dtype.itemsize)
         start = self.rows - self._pending_rows - rows
         for name, arr in block.items():
             ds = self._datasets[name]
             ds.resize((start + rows,))
-            ds[start : start + rows] = arr
+            if start == 0:
+                # The output's first write creates the column's chunk index where it always was;
+                # HDF5 caches this one chunk until its copy replaces it.
+                ds[0:1] = arr[:1]
+            kept = self._scratch_sets[name]
+            self._copy_chunks(name, self._caches[name].add(start // BLOCK_ROWS))
+            kept.resize((start + rows,))
+            kept[start : start + rows] = arr
 
     def _finish(self) -> None:
         if self._names is None or self.rows == 0:
@@ -211,16 +287,33 @@ class TableWriter:
             return
         if self._pending_rows:
             self._flush_chunk(self._pending_rows)
+        assert self._names is not None
+        for name in self._names:  # at close HDF5 wrote each column's cached chunks in turn
+            self._copy_chunks(name, self._caches[name].rest())
+
+    def _copy_chunks(self, name: str, chunks: list[int]) -> None:
+        """Chunks of column ``name`` from the scratch file into the output, compressed as they
+        are, one at a time."""
+        src, dst = self._scratch_sets[name].id, self._datasets[name].id
+        for index in chunks:
+            offset = (index * BLOCK_ROWS,)
+            mask, data = src.read_direct_chunk(offset)
+            dst.write_direct_chunk(offset, data, mask)
 
     def _close_files(self) -> None:
         csv, self._csv = self._csv, None
         h5, self._h5 = self._h5, None
+        scratch, self._scratch = self._scratch, None
         try:
             if csv is not None:
                 csv.close()  # closed even when its last flush fails
         finally:
-            if h5 is not None:
-                h5.close()
+            try:
+                if h5 is not None:
+                    h5.close()
+            finally:
+                if scratch is not None:
+                    scratch.close()
 
 
 @dataclass

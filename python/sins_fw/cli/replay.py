@@ -27,11 +27,11 @@ from sins_fw.cli.common import (
     add_profile_options,
     add_trace_or_run_argument,
     check_error_counts,
-    check_events,
     emit,
     exit_epilog,
     profile_from_args,
 )
+from sins_fw.cli.stop import check_stop
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import CHUNK_ROWS, Run, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile
@@ -392,12 +392,13 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
     if not args.trace.is_file():
         raise TraceError(f"{args.trace}: no such trace file")
     prof = gfsins.load(args.profile, args.overrides)
-    trace = PhysicalTrace.load(args.trace)
-    try:
-        out = gfsins.run(trace, gfsins.ticks_in(trace, prof), prof)
-    except TraceError as e:
-        raise TraceError(f"{args.trace}: {e}") from None
-    truth = gfsins.truth_tilt_deg(trace, out["t0_s"][:, 0])
+    # The board runs block by block over the trace read a chunk at a time (as `run` does): memory
+    # holds a chunk and a block whatever the trace's length, and a stop is seen between blocks.
+    chunks = PhysicalTrace.iter_chunks(args.trace, gfsins.CHUNK_ROWS)
+    stream = gfsins.Stream(prof)
+    kinds: Counter[str] = Counter()
+    errors: Counter[str] = Counter()
+    first_error: dict[str, Any] | None = None
     trace_hash = bytes.fromhex(file_sha256(args.trace))
     overrides = "\n".join(prof.overrides)
     rid = recording.recording_id(prof.text, overrides, args.trace.name, trace_hash, repr(window))
@@ -424,12 +425,29 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
                 except Exception as e:  # the viewer failed to start: say why, no traceback
                     raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
                 streams.append(rec)
-            for r in streams:
-                logged = view.record(r, out, truth, window)
+            recorders = [view.Recorder(r, window) for r in streams]
+            try:
+                for part in stream.parts(chunks):
+                    check_stop()
+                    for e in part["events"]:
+                        kinds[str(e["kind"])] += 1
+                        if e["severity"] == "error":
+                            errors[str(e["kind"])] += 1
+                            first_error = first_error or e
+                    for recorder in recorders:
+                        recorder.add(part, part["truth_deg"][:, 1:3])
+            except KeyboardInterrupt as e:
+                where = f"; {args.out} not written" if args.out is not None else ""
+                raise type(e)(f"stopped after {stream.ticks} cycles{where}") from None
+            except TraceError as e:
+                if str(e).startswith(str(args.trace)):
+                    raise
+                raise TraceError(f"{args.trace}: {e}") from None
+            for recorder in recorders:
+                logged = recorder.finish()
             if args.spawn and problem is None:
                 streams[-1].flush()
-        kinds = Counter(str(e["kind"]) for e in out["events"])
-        ticks = len(out["sequence"])
+        ticks = stream.ticks
         report = {
             "trace": str(args.trace),
             "profile": prof.source,
@@ -455,7 +473,7 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
         code = _report_and_serve(args, report, lines, problem, served)
         if code != 0:
             return code
-    check_events(out["events"])
+    check_error_counts(errors, first_error)
     return 0
 
 

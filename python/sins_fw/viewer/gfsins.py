@@ -110,57 +110,95 @@ def bus_lanes(
     return result
 
 
+class Recorder:
+    """The run logged block by block as the board streams it (``sins_fw.gfsins.Stream.parts``):
+    each block's series, events and its ticks of the bus window go out as they come, so that
+    memory holds a block whatever the run's length. The ticks are numbered across blocks (1 is
+    the first)."""
+
+    def __init__(self, rec: rr.RecordingStream, window: tuple[int, int] | None) -> None:
+        self.rec = rec
+        self.window = window
+        self.ticks = 0
+        self.events = 0
+        #: Bus transactions logged so far.
+        self.logged = 0
+        self._declared = False
+
+    def _declare(self) -> None:
+        if self._declared:
+            return
+        self._declared = True
+        for angle in ("pitch", "roll"):
+            for what, colour in (("estimate", (66, 135, 245)), ("truth", (120, 120, 120))):
+                _series(self.rec, paths.attitude(angle, what), [f"{angle} {what}"], [colour])
+            _series(self.rec, paths.attitude_error(angle), [f"{angle} error"])
+        _series(self.rec, paths.GFSINS_ARRAY, [f"A{i}" for i in range(1, 10)])
+        _series(self.rec, paths.GFSINS_COMPASS, ["heading"])
+        _series(self.rec, paths.GFSINS_NODE_BUSY, ["node CPU (µs)"])
+        _series(self.rec, paths.GFSINS_DSP_BUSY, ["DSP handler (µs)"])
+
+    def add(self, out: dict[str, Any], truth_tilt_deg: NDArray[Any]) -> None:
+        """One block of cycles (the arrays of ``sins_fw.gfsins.run`` for these ticks, their
+        ``events``) and the trace's pitch and roll at each of its ticks."""
+        self._declare()
+        rec, first = self.rec, self.ticks
+        n = len(out["sequence"])
+        t = _ps(out["t0_s"][:, 0])
+        if n:
+            index = [_time(t), _seq(paths.TICK, np.arange(first + 1, first + n + 1))]
+            tilt = out["tilt_deg"]
+            for i, angle in enumerate(("pitch", "roll")):
+                for what, values in (("estimate", tilt[:, i]), ("truth", truth_tilt_deg[:, i])):
+                    _send(rec, paths.attitude(angle, what), index, rr.Scalars.columns(scalars=values))
+                error = tilt[:, i] - truth_tilt_deg[:, i]
+                _send(rec, paths.attitude_error(angle), index, rr.Scalars.columns(scalars=error))
+            _send(rec, paths.GFSINS_ARRAY, index, rr.Scalars.columns(scalars=out["accel_g"]))
+            _send(rec, paths.GFSINS_COMPASS, index, rr.Scalars.columns(scalars=out["compass_deg"][:, 0]))
+            node = out["node_cpu_s"][:, 0] * 1e6
+            _send(rec, paths.GFSINS_NODE_BUSY, index, rr.Scalars.columns(scalars=node))
+            busy = (out["t_done_s"][:, 0] - out["t_irq_s"][:, 0]) * 1e6
+            _send(rec, paths.GFSINS_DSP_BUSY, index, rr.Scalars.columns(scalars=busy))
+        events = out["events"]
+        if events:
+            et = _ps(np.array([e["t_s"] for e in events]))
+            tick = first + np.clip(np.searchsorted(t, et, side="right"), 1, max(n, 1))
+            seq = np.arange(self.events, self.events + len(events))
+            ev_index = [_time(et), _seq(paths.TICK, tick), _seq(paths.EVENT, seq)]
+            text = [f"[{e['kind']}] {e['message']}" for e in events]
+            level = [SEVERITY_LEVEL.get(e["severity"], rr.TextLogLevel.INFO) for e in events]
+            _send(rec, paths.EVENTS, ev_index, rr.TextLog.columns(text=text, level=level))
+            self.events += len(events)
+        if self.window is not None and n:
+            # The window's ticks in this block, numbered within it.
+            lo, hi = max(self.window[0], first + 1), min(self.window[1], first + n)
+            if lo <= hi:
+                for link, (lt, states) in bus_lanes(out, (lo - first, hi - first)).items():
+                    if len(lt):
+                        tick = first + np.clip(np.searchsorted(t, lt, side="right"), 1, n)
+                        _send(
+                            rec,
+                            paths.bus_lane(link),
+                            [_time(lt), _seq(paths.TICK, tick)],
+                            rr.StateChange.columns(state=states),
+                        )
+                        self.logged += len(states) // 2
+        self.ticks += n
+
+    def finish(self) -> int:
+        """Write what waits; the number of bus transactions logged."""
+        _flush(self.rec)
+        return self.logged
+
+
 def record(
     rec: rr.RecordingStream,
     out: dict[str, Any],
     truth_tilt_deg: NDArray[Any],
     window: tuple[int, int] | None,
 ) -> int:
-    """Log a run of the board (``sins_fw.gfsins.run``'s output; the trace's tilt at each tick) into
-    ``rec``; returns the number of bus transactions logged."""
-    n = len(out["sequence"])
-    t = _ps(out["t0_s"][:, 0])
-    index = [_time(t), _seq(paths.TICK, np.arange(1, n + 1))]
-    tilt = out["tilt_deg"]
-    for i, angle in enumerate(("pitch", "roll")):
-        for what, values, colour in (
-            ("estimate", tilt[:, i], (66, 135, 245)),
-            ("truth", truth_tilt_deg[:, i], (120, 120, 120)),
-        ):
-            path = paths.attitude(angle, what)
-            _series(rec, path, [f"{angle} {what}"], [colour])
-            _send(rec, path, index, rr.Scalars.columns(scalars=values))
-        path = paths.attitude_error(angle)
-        _series(rec, path, [f"{angle} error"])
-        _send(rec, path, index, rr.Scalars.columns(scalars=tilt[:, i] - truth_tilt_deg[:, i]))
-    _series(rec, paths.GFSINS_ARRAY, [f"A{i}" for i in range(1, 10)])
-    _send(rec, paths.GFSINS_ARRAY, index, rr.Scalars.columns(scalars=out["accel_g"]))
-    _series(rec, paths.GFSINS_COMPASS, ["heading"])
-    _send(rec, paths.GFSINS_COMPASS, index, rr.Scalars.columns(scalars=out["compass_deg"][:, 0]))
-    _series(rec, paths.GFSINS_NODE_BUSY, ["node CPU (µs)"])
-    _send(rec, paths.GFSINS_NODE_BUSY, index, rr.Scalars.columns(scalars=out["node_cpu_s"][:, 0] * 1e6))
-    _series(rec, paths.GFSINS_DSP_BUSY, ["DSP handler (µs)"])
-    busy = (out["t_done_s"][:, 0] - out["t_irq_s"][:, 0]) * 1e6
-    _send(rec, paths.GFSINS_DSP_BUSY, index, rr.Scalars.columns(scalars=busy))
-    events = out["events"]
-    if events:
-        et = _ps(np.array([e["t_s"] for e in events]))
-        tick = np.clip(np.searchsorted(t, et, side="right"), 1, n)
-        ev_index = [_time(et), _seq(paths.TICK, tick), _seq(paths.EVENT, np.arange(len(events)))]
-        text = [f"[{e['kind']}] {e['message']}" for e in events]
-        level = [SEVERITY_LEVEL.get(e["severity"], rr.TextLogLevel.INFO) for e in events]
-        _send(rec, paths.EVENTS, ev_index, rr.TextLog.columns(text=text, level=level))
-    logged = 0
-    if window is not None:
-        for link, (lt, states) in bus_lanes(out, window).items():
-            if len(lt):
-                tick = np.clip(np.searchsorted(t, lt, side="right"), 1, n)
-                _send(
-                    rec,
-                    paths.bus_lane(link),
-                    [_time(lt), _seq(paths.TICK, tick)],
-                    rr.StateChange.columns(state=states),
-                )
-                logged += len(states) // 2
-    _flush(rec)
-    return logged
+    """Log a whole run of the board (``sins_fw.gfsins.run``'s output; the trace's tilt at each
+    tick) into ``rec``; returns the number of bus transactions logged."""
+    recorder = Recorder(rec, window)
+    recorder.add(out, truth_tilt_deg)
+    return recorder.finish()

@@ -42,6 +42,12 @@ from sins_fw.traces import RAW_WORD_COLUMNS
 from sins_fw.viewer import paths
 from sins_fw.viewer.layout import default_blueprint
 
+# The recording's Arrow buffers (each entity's rows until a chunk is cut, each chunk until the
+# writer has it) come and go by the megabyte: Arrow's default pool (its bundled jemalloc) kept the
+# freed ones mapped, 46 MB of a one-hour `replay` (282 → 236 MB, benchmarks/peak_rss.md). The
+# system allocator returns them.
+pa.set_memory_pool(pa.system_memory_pool())
+
 Array = NDArray[np.float64]
 PS_PER_NS = 1000
 #: Board drawing, metres-free "board units": a 2:2:1 box, the ADIS16407 on top.

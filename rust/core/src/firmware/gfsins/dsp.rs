@@ -137,6 +137,8 @@ pub struct Dsp {
     /// Cycles per (stage, branch pattern), counted once.
     costs: HashMap<(Stage, u32), u64>,
     flushes: u64,
+    /// A packet's navigation has been out of range ([`check_state`]): reported once.
+    state_tripped: bool,
 }
 
 impl Dsp {
@@ -161,6 +163,7 @@ impl Dsp {
             nav: Nav::new(cfg),
             costs: HashMap::new(),
             flushes: 0,
+            state_tripped: false,
             cfg: profile.dsp.clone(),
             cpu,
             rti: cpu.divided(2),
@@ -281,6 +284,12 @@ impl Dsp {
         let mut cycles = [("decode", 0), ("strapdown", 0), ("compass filter", 0), ("GPS filter", 0), ("fusion", 0)];
         let nav = self.navigate(&packet, t_irq, &mut cycles);
         self.flushes += c67x::flushes().wrapping_sub(flushes_before);
+        if !self.state_tripped && self.nav.started() {
+            if let Some(e) = check_state(t_irq, packet.sequence, &nav) {
+                self.state_tripped = true;
+                self.events.push(e);
+            }
+        }
         let mut stages = Stages::default();
         for (name, c) in cycles.iter().filter(|(_, c)| *c > 0) {
             stages.push(name, self.cpu.cycles_to_ps(*c));
@@ -319,6 +328,60 @@ impl Dsp {
     }
 }
 
+/// The navigation's state checked after every packet once it has started, with the ranges of the
+/// other boards' step rows (`firmware::state_check`, firmware_model/SCHEMA.md "Firmware state
+/// checked at every step"): attitude finite, each velocity component within ±1e4 m/s, latitude
+/// within (−90°, 90°), longitude finite, height within −1e4 … 1e5 m. Every comparison is false for
+/// NaN, so a non-finite value is out of range too. The first packet out of range is one
+/// `state_out_of_range` error naming every variable out of range and its value.
+pub fn check_state(t_irq: Ps, sequence: u16, nav: &NavOutput) -> Option<Event> {
+    use crate::firmware::state_check::{HEIGHT_RANGE_M, LATITUDE_LIMIT_DEG, VELOCITY_LIMIT_M_S};
+    let [lat_rad, lon_rad, h] = nav.pos;
+    let lat = lat_rad.to_degrees();
+    let (h_min, h_max) = HEIGHT_RANGE_M;
+    let mut bad: Vec<(f64, f64, String)> = Vec::new();
+    if !nav.attitude.iter().all(|a| a.is_finite()) {
+        let deg = nav.attitude.map(f64::to_degrees);
+        bad.push((f64::NAN, 0.0, format!("roll, pitch, heading {deg:?}° not finite")));
+    }
+    for (axis, v) in ["east", "north", "up"].iter().zip(nav.vel) {
+        let in_range = v.abs() <= VELOCITY_LIMIT_M_S;
+        if !in_range {
+            bad.push((
+                v,
+                VELOCITY_LIMIT_M_S,
+                format!("velocity {axis} = {v:e} m/s, expected within ±{VELOCITY_LIMIT_M_S:e}"),
+            ));
+        }
+    }
+    let lat_in_range = lat.abs() < LATITUDE_LIMIT_DEG;
+    if !lat_in_range {
+        bad.push((lat, LATITUDE_LIMIT_DEG, format!("latitude = {lat:e}°, expected within ±{LATITUDE_LIMIT_DEG}°")));
+    }
+    if !lon_rad.is_finite() {
+        bad.push((lon_rad, 0.0, format!("longitude = {}°, expected finite", lon_rad.to_degrees())));
+    }
+    let h_in_range = h >= h_min && h <= h_max;
+    if !h_in_range {
+        let limit = if h < h_min { h_min } else { h_max };
+        bad.push((h, limit, format!("height = {h:e} m, expected {h_min:e} … {h_max:e} m")));
+    }
+    let (value, limit, _) = bad.first()?;
+    let what = bad.iter().map(|b| b.2.as_str()).collect::<Vec<_>>().join("; ");
+    Some(Event::rule(
+        t_irq,
+        "state_out_of_range",
+        Severity::Error,
+        format!(
+            "C6727, packet {sequence} at {:.3} s: the navigation state is out of range: {what}; the output is \
+             no navigation solution from here",
+            crate::time::ps_to_s(t_irq)
+        ),
+        *value,
+        *limit,
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -341,6 +404,42 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    fn nav_at(attitude: [f64; 3], vel: [f64; 3], pos: [f64; 3]) -> NavOutput {
+        NavOutput {
+            rate: [0.0; 3],
+            bridged: [false; 3],
+            attitude,
+            vel,
+            pos,
+            compass_update: false,
+            gps_update: false,
+            fused: None,
+        }
+    }
+
+    /// The range check: a solution in range passes; each variable out of range (and NaN, ±inf)
+    /// is an error naming it.
+    #[test]
+    fn the_navigation_state_is_checked_for_range() {
+        let (lat, lon) = (28.2f64.to_radians(), 112.9f64.to_radians());
+        let good = nav_at([0.01, -0.02, 1.0], [19.2, 11.1, 0.1], [lat, lon, 5.0]);
+        assert!(check_state(5, 1, &good).is_none());
+        let cases = [
+            (nav_at([f64::NAN, 0.0, 0.0], good.vel, good.pos), "roll, pitch, heading"),
+            (nav_at(good.attitude, [2e4, 0.0, 0.0], good.pos), "velocity east"),
+            (nav_at(good.attitude, [0.0, 0.0, f64::NEG_INFINITY], good.pos), "velocity up"),
+            (nav_at(good.attitude, good.vel, [1.6, lon, 5.0]), "latitude"),
+            (nav_at(good.attitude, good.vel, [lat, f64::INFINITY, 5.0]), "longitude"),
+            (nav_at(good.attitude, good.vel, [lat, lon, 2e5]), "height"),
+            (nav_at(good.attitude, good.vel, [lat, lon, f64::NAN]), "height"),
+        ];
+        for (nav, what) in cases {
+            let e = check_state(7_000_000_000, 42, &nav).unwrap_or_else(|| panic!("{what} not refused"));
+            assert_eq!((e.kind, e.severity, e.t_ps), ("state_out_of_range", Severity::Error, 7_000_000_000));
+            assert!(e.message.contains(what) && e.message.contains("packet 42"), "{}", e.message);
         }
     }
 }
