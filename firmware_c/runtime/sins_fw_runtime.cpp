@@ -77,7 +77,7 @@ extern uint64_t sins_fw_cregs[2];
 extern "C" void sins_fw_user_main(void) __attribute__((weak));
 void sins_fw_user_main_cxx(void) __asm__("_Z17sins_fw_user_mainv") __attribute__((weak));
 
-/* The modelled registers (rust/core/src/host.rs `Host::read`: LOSPCP, SPI-A, the GPIO data registers,
+/* The modelled registers (rust/core/src/host.rs `Host::read`: LOSPCP, SPI-A, the GPIO registers,
    CPU timer 0 and the PIE; rust/core/src/dsp/interrupts.rs `Interrupts::owns`). */
 static bool is_modelled(uint32_t a) {
     if (a == 0x701Bu) return true;                                   /* LOSPCP */
@@ -86,6 +86,8 @@ static bool is_modelled(uint32_t a) {
         return o <= 2 || (o >= 4 && o <= 0xC) || o == 0xF;
     }
     if (a >= 0x6FC0u && a < 0x6FC0u + 24) return true;               /* GPxDAT/SET/CLEAR/TOGGLE */
+    if ((a >= 0x6F80u && a < 0x6F8Eu) || (a >= 0x6F90u && a < 0x6F9Eu) || (a >= 0x6FA6u && a < 0x6FAEu))
+        return true;                                                 /* GpioCtrlRegs (dsp/gpio.rs) */
     if ((a >= 0x0C00u && a <= 0x0C04u) || a == 0x0C06u || a == 0x0C07u) return true; /* CPU timer 0 */
     return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */
 }

@@ -2,6 +2,7 @@
 //! summary of what a profile's register values produce.
 
 pub mod clocks;
+pub mod gpio;
 pub mod interrupts;
 pub mod spi;
 pub mod summary;

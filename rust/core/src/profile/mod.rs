@@ -106,6 +106,7 @@ impl Profile {
         // The link kinds' sections, absent from the defaults' text (the reference profile stays as it is).
         keys.extend(Board::section_keys());
         keys.push("firmware.application".into());
+        keys.push("firmware.gpio_at_start".into());
         // Its optional keys too (absent from the defaults' text).
         if let Ok(v) = toml::Value::try_from(Geomag {
             gyro_delay_s: Some(0.0),
