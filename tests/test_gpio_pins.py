@@ -98,8 +98,9 @@ def test_spistea_muxed_by_init_spia_gpio_selects_the_adis16407(tmp_path: Path):
     """TI's idiom: InitSpiaGpio muxes GPIO57 to SPISTEA and SPI-A drives it around each character, so
     PROD_ID reads 0x4017 (before: the slave saw no chip select, 0xFFFF and `spi_frame_without_cs`
     warnings, exit 0). The bus log shows CS low around each frame, set up ½ SCLK before its first
-    edge and released ½ SCLK after its last."""
-    src = _prod_id("InitSpiaGpio()")
+    edge and released ½ SCLK after its last (the frames are 40 µs apart: a gap, so STE rises between
+    them)."""
+    src = _prod_id("InitSpiaGpio()", "GpioDataRegs.GPBCLEAR.bit.GPIO57 = 1")
     (tmp_path / "fw.c").write_text(src)
     fw = build_firmware([tmp_path / "fw.c", TI / "DSP2833x_Spi.c"], tmp_path / "fw.so")
     parts: list[dict[str, Any]] = []
@@ -116,6 +117,10 @@ def test_spistea_muxed_by_init_spia_gpio_selects_the_adis16407(tmp_path: Path):
     assert run.final["mux"] == 1
     assert run.final["prod_id"] == ADIS16407_PROD_ID
     assert not [e for e in events if e["kind"] == "spi_frame_without_cs"], events[:3]
+    # The firmware also clears GPIO57 as if it were a GPIO: the pin is SPISTEA's, it does not move
+    # (reported once).
+    not_driven = [e for e in events if e["kind"] == "gpio_not_driven"]
+    assert len(not_driven) == 1 and "muxed to SPISTEA (its GPBMUX field = 1)" in not_driven[0]["message"]
     bus = run.bus
     assert bus is not None
     starts, ends = bus["frame_first_edge_ps"], bus["frame_last_edge_ps"]

@@ -177,7 +177,11 @@ impl SpiSlave for SpiParts {
     fn drain_events(&mut self) -> Vec<Event> {
         let mut out = Vec::new();
         for (_, _, p) in &mut self.parts {
-            out.extend(p.slave().drain_events());
+            out.extend(match p {
+                // The ADIS16xxx model keeps its events itself (its SpiSlave side reports none).
+                SpiPart::Adis(d) => d.drain_events(),
+                p => p.slave().drain_events(),
+            });
         }
         out
     }
