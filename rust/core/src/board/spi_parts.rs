@@ -147,34 +147,44 @@ impl SpiParts {
             })
             .collect()
     }
+}
 
-    #[inline(always)]
-    fn current(&mut self) -> &mut dyn SpiSlave {
-        self.parts[self.selected].2.slave()
-    }
+/// `$body` with `$d` the selected part, each kind called directly (the ADIS16xxx model's methods
+/// inline into the link's frame path, as they did when the host board held that part alone).
+macro_rules! on_selected {
+    ($self:ident, $d:ident => $body:expr) => {
+        match &mut $self.parts[$self.selected].2 {
+            SpiPart::Adis($d) => $body,
+            SpiPart::Analog($d) => $body,
+            SpiPart::Other($d) => $body,
+        }
+    };
 }
 
 impl SpiSlave for SpiParts {
     #[inline]
     fn set_cs(&mut self, low: bool, t: Ps) {
-        self.current().set_cs(low, t);
+        on_selected!(self, d => d.set_cs(low, t))
     }
     #[inline]
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
-        self.current().begin_frame(timing)
+        on_selected!(self, d => d.begin_frame(timing))
     }
     #[inline]
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
-        self.current().end_frame(din, timing);
+        on_selected!(self, d => d.end_frame(din, timing))
     }
     #[inline]
     fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
-        self.current().run_frames(run, din, dout);
+        on_selected!(self, d => d.run_frames(run, din, dout))
     }
     fn answers_as_sampled(&self) -> bool {
         self.parts.get(self.selected).is_some_and(|p| p.2.slave_ref().answers_as_sampled())
     }
     fn drain_events(&mut self) -> Vec<Event> {
+        if let [(_, _, SpiPart::Adis(d))] = self.parts.as_mut_slice() {
+            return d.drain_events(); // the reference board's one part: no copy
+        }
         let mut out = Vec::new();
         for (_, _, p) in &mut self.parts {
             out.extend(match p {

@@ -102,8 +102,9 @@ impl Gpio {
     }
 
     /// Whether `addr` is a word of a modelled control register.
+    #[inline]
     pub fn owns_ctrl(addr: u32) -> bool {
-        ctrl_register(addr).is_some()
+        (CTRL_BASE..CTRL_BASE + CTRL_WORDS as u32).contains(&addr) && ctrl_register(addr).is_some()
     }
 
     /// Whether `addr` is a word of a data register (GPADAT…GPCTOGGLE).
