@@ -1,10 +1,10 @@
 """The C firmware benchmark's main figure (`benchmarks/c_firmware.py`: the timer0_burst firmware on
 the first ``--duration-s`` s of pitch_sweep.h5, the reference profile) for two builds in the same run:
 A, another build of the C runtime and the C ABI library (``--base-cabi``: the folder of its
-``libsins_cabi.so``; ``--base-c-dir``: its ``firmware_c``), and B, this tree's. Rounds alternate A, B,
-A, B… so that the machine's load falls on both alike; each round builds nothing (each side's firmware
-is built once) and counts the host CPU time of the run (the firmware's process included). Prints the
-medians and the ratio B/A.
+``libsins_cabi.so``; ``--base-c-dir``: its ``firmware_c``), and B, this tree's. Rounds alternate A B,
+B A, A B… so that the machine's load and the order fall on both alike; each round builds nothing
+(each side's firmware is built once) and counts the host CPU time of the run (the firmware's
+process included). Prints the medians and the ratio B/A.
 
     python benchmarks/c_firmware_ab.py --base-cabi /path/to/base/target/release \\
         --base-c-dir /path/to/base/firmware_c [--duration-s 60] [--rounds 7]
@@ -61,7 +61,8 @@ def main() -> None:
     accesses: dict[str, int] = {}
     with tempfile.TemporaryDirectory() as tmp:
         for i in range(args.rounds):
-            for k, (name, env_add) in enumerate(sides.items()):
+            order = list(enumerate(sides.items()))
+            for k, (name, env_add) in order if i % 2 == 0 else order[::-1]:
                 env = {
                     key: v
                     for key, v in os.environ.items()

@@ -37,17 +37,10 @@ impl SpiPart {
             SpiPart::Other(d) => d.as_mut(),
         }
     }
-
-    fn slave_ref(&self) -> &dyn SpiSlave {
-        match self {
-            SpiPart::Adis(d) => d.as_ref(),
-            SpiPart::Analog(d) => d.as_ref(),
-            SpiPart::Other(d) => d.as_ref(),
-        }
-    }
 }
 
-/// The parts on SPI-A by chip select; frames and CS edges reach the selected one.
+/// The parts on SPI-A by chip select; frames and CS edges reach the selected one. There is always
+/// one at least: a validated profile places a part on GPIO57.
 pub struct SpiParts {
     parts: Vec<(u8, String, SpiPart)>,
     selected: usize,
@@ -178,8 +171,13 @@ impl SpiSlave for SpiParts {
     fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {
         on_selected!(self, d => d.run_frames(run, din, dout))
     }
+    #[inline]
     fn answers_as_sampled(&self) -> bool {
-        self.parts.get(self.selected).is_some_and(|p| p.2.slave_ref().answers_as_sampled())
+        match &self.parts[self.selected].2 {
+            SpiPart::Adis(d) => d.answers_as_sampled(),
+            SpiPart::Analog(d) => d.answers_as_sampled(),
+            SpiPart::Other(d) => d.answers_as_sampled(),
+        }
     }
     fn drain_events(&mut self) -> Vec<Event> {
         if let [(_, _, SpiPart::Adis(d))] = self.parts.as_mut_slice() {
