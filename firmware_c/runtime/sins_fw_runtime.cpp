@@ -88,7 +88,7 @@ static bool is_sci(uint32_t a) {
     return false;
 }
 
-/* The modelled registers (rust/core/src/host.rs `HostBoard::read`: SPI-A, the GPIO data registers,
+/* The modelled registers (rust/core/src/host.rs `HostBoard::read`: SPI-A, the GPIO registers,
    the system control registers (dsp/sysctrl.rs `SysCtrl::owns`), CPU timers 0-2 and the PIE
    (dsp/interrupts.rs `Interrupts::owns`), SCI-A/B/C (dsp/sci.rs), and the frames of the peripherals
    not modelled yet, whose registers the board holds with their reset values and whose first use it
@@ -108,6 +108,8 @@ static bool is_modelled(uint32_t a) {
         return o <= 2 || (o >= 4 && o <= 0xC) || o == 0xF;
     }
     if (a >= 0x6FC0u && a < 0x6FC0u + 24) return true;               /* GPxDAT/SET/CLEAR/TOGGLE */
+    if ((a >= 0x6F80u && a < 0x6F8Eu) || (a >= 0x6F90u && a < 0x6F9Eu) || (a >= 0x6FA6u && a < 0x6FAEu))
+        return true;                                                 /* GpioCtrlRegs (dsp/gpio.rs) */
     if (a >= 0x0C00u && a < 0x0C18u) return a % 8 != 5;              /* CPU timers 0-2 */
     if (is_sci(a)) return true;                                      /* SCI-A/B/C (dsp/sci.rs) */
     return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */

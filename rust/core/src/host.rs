@@ -1,13 +1,19 @@
 //! The board as a driver author drives it from the host, with no firmware model: SPI-A, LOSPCP and
-//! the GPIO data registers at their C28x addresses (GPIO57 is the ADIS16407's chip select), the
-//! ADIS16407 with the profile's sensor errors (`errors.*`) and faults (`faults.*`), and virtual time
-//! that only the caller moves. The Python `Board` and the C ABI (`rust/cabi`) are thin wrappers of
-//! [`HostBoard`].
+//! the GPIO registers at their C28x addresses, the SPI parts the profile's `[[board.devices]]` places
+//! on SPI-A, each behind its GPIO chip select (`board::spi_parts`: the ADIS16xxx part on GPIO57 with
+//! the profile's sensor errors `errors.*` and faults `faults.*`), and virtual time that only the
+//! caller moves. The Python `Board` and the C ABI (`rust/cabi`, which the C firmware runtime drives)
+//! are thin wrappers of [`HostBoard`].
 //!
-//! - Registers are 16-bit words at C28x data addresses ([`REGISTERS`]); the GPIO data registers are
-//!   32-bit (two words, low word first). A GPxSET/GPxCLEAR/GPxTOGGLE word reads 0, as on the chip;
-//!   GPxDAT reads the output latch (every pin is taken as an output: GPxDIR and the mux are not
-//!   modelled). LOSPCP (bits 2:0) changes LSPCLK at once; EALLOW protection is not modelled.
+//! - Registers are 16-bit words at C28x data addresses ([`REGISTERS`]); the GPIO registers are
+//!   32-bit (two words, low word first). The GPIO (`dsp::gpio`, SPRUFB0): mux, direction, pull-ups,
+//!   EALLOW protection of the control registers (a write without EALLOW is ignored, with a
+//!   `protected_write` event); a GPxSET/GPxCLEAR/GPxTOGGLE word reads 0; GPxDAT reads the pins'
+//!   levels. A chip select reaches its part when its pin is a GPIO output driven low; GPIO57 muxed
+//!   to SPISTEA (GPBMUX2 = 1) is driven by SPI-A around each character instead. A write that asks a
+//!   pin that is an input or a peripheral's to move is a `gpio_not_driven` warning (once per pin).
+//!   `firmware.gpio_at_start` says how the pins are set at t = 0. LOSPCP (bits 2:0) changes LSPCLK
+//!   at once.
 //! - Time is whole picoseconds. A step that rounds to no time (a rounding residue of the caller's
 //!   float arithmetic: below half a picosecond, or below the resolution of an f64 number of seconds
 //!   at the current time) is no step; a real step back is refused.
@@ -16,11 +22,13 @@
 //!   to the frame that ended last before it. An event inside a character still shifting waits until
 //!   the character ends.
 
+use crate::board::spi_parts::SpiParts;
 use crate::board::InputFeed;
 use crate::bus::link::{FrameRecord, LinkRecord, SpiLink};
-use crate::device::error_model::ErrorModel;
-use crate::device::{Adis16407, Constant, Physical};
+use crate::bus::SpiSlave;
+use crate::device::{Constant, Physical};
 use crate::dsp::clocks::DspClocks;
+use crate::dsp::gpio::{self, Gpio};
 use crate::dsp::interrupts::{Blocked, Interrupts, Taken};
 use crate::dsp::serial::SerialPorts;
 use crate::dsp::spi;
@@ -28,7 +36,7 @@ use crate::dsp::sysctrl::{self, SysCtrl, SysEvent};
 use crate::dsp::unmodelled::{self, Unmodelled};
 use crate::error::{Error, Result};
 use crate::events::Event;
-use crate::profile::{self, FaultKind, Profile};
+use crate::profile::{self, FaultKind, GpioAtStart, Profile};
 use crate::time::{ps_to_s, Clock, Ps, PS_PER_S};
 
 /// Every register the host board models: name, C28x word address, width in bits.
@@ -75,6 +83,7 @@ fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
         .chain(crate::dsp::interrupts::REGISTERS)
         .chain(sysctrl::REGISTERS)
         .chain(crate::dsp::sci::REGISTERS)
+        .chain(gpio::CTRL_REGISTERS)
 }
 
 /// A register by name: (address, width in bits). CPU timer 0's are `TIMER0TIM`, `TIMER0PRD`,
@@ -96,7 +105,7 @@ fn no_register(addr: u32) -> Error {
     Error::Register(format!(
         "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, SysCtrlRegs \
          PLLSTS, HISPCP, LOSPCP, PCLKCR0/1/3, LPMCR0, PLLCR, SCSR, WDCNTR, WDKEY, WDCR (0x7011…0x7029), \
-         GPIO data registers GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timers 0-2 0x0C00…0x0C17, PIE control \
+         GPIO registers GPACTRL…GPCPUD 0x6F80…0x6FAD and GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timers 0-2 0x0C00…0x0C17, PIE control \
          0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
          peripherals); PieVectTable 0x0D00… is set through its vectors)"
     ))
@@ -150,7 +159,7 @@ pub struct SpiSetting {
 
 /// The board without firmware, driven from the host in virtual time.
 pub struct HostBoard {
-    link: SpiLink<Adis16407>,
+    link: SpiLink<SpiParts>,
     now: Ps,
     sysclkout: Clock,
     /// System control: the PLL, the clock prescalers and enables, the watchdog.
@@ -165,8 +174,12 @@ pub struct HostBoard {
     in_reset: Option<String>,
     spi_profile: profile::Spi,
     t_sfs: Ps,
-    /// GPIO output latches of ports A, B, C.
-    gpio: [u32; 3],
+    /// GPIO ports A, B, C.
+    gpio: Gpio,
+    /// The chip select asserted on the link (its pin a GPIO output driven low), if any.
+    cs_low: Option<u8>,
+    /// Pins a `gpio_not_driven` warning was raised for (ports A, B, C).
+    gpio_warned: [u32; 3],
     /// Transaction log not yet taken.
     log: Vec<LinkRecord>,
     /// Frames events may still be tied to (the last one at least).
@@ -175,8 +188,8 @@ pub struct HostBoard {
     pending: Vec<Event>,
     /// CPU timer 0, the PIE and the CPU's interrupt state.
     irq: Interrupts,
-    /// The device's input when it reads a trace ([`HostBoard::with_input`]).
-    feed: Option<InputFeed>,
+    /// The parts' inputs when they read a trace ([`HostBoard::with_input`]).
+    feeds: Vec<InputFeed>,
     /// Timer 0's reloads when its interrupt was last taken.
     tint0_taken: u64,
     /// Keep the transaction log for [`HostBoard::take_log`] (not on a board reading a trace: a
@@ -200,13 +213,15 @@ impl HostBoard {
                     .into(),
             ));
         }
-        let mut dev = Adis16407::new(&profile.device)?;
-        let period_s = dev.sample_clock().period_s();
-        dev.set_sensor_errors(Box::new(ErrorModel::from_profile(&profile.errors, period_s)?));
-        dev.set_faults(&profile.faults);
-        dev.set_stimulus(Box::new(Constant(Physical::powered_idle())));
+        let mut parts = SpiParts::from_profile(profile)?;
+        parts.select(CS_GPIO as u8);
+        let mut gpio = Gpio::new();
+        if profile.firmware.gpio_at_start == GpioAtStart::ChipSelects {
+            let pins: Vec<u32> = parts.chip_selects().map(u32::from).collect();
+            gpio.boot_outputs_high(&pins);
+        }
         let clocks = DspClocks::from_profile(&profile.clocks)?;
-        let mut link = SpiLink::from_profile(profile, dev)?;
+        let mut link = SpiLink::from_profile(profile, parts)?;
         link.enable_log();
         let serial = SerialPorts::new(profile, link.spi().lspclk())?;
         Ok(HostBoard {
@@ -220,48 +235,56 @@ impl HostBoard {
             in_reset: None,
             spi_profile: profile.spi.clone(),
             t_sfs: (profile.device.t_sfs_ns * 1e3).ceil() as Ps,
-            gpio: [0, 1 << (CS_GPIO - 32), 0],
+            gpio,
+            cs_low: None,
+            gpio_warned: [0; 3],
             log: Vec::new(),
             recent: Vec::new(),
             pending: Vec::new(),
             irq: Interrupts::new(clocks.sysclkout),
-            feed: None,
+            feeds: Vec::new(),
             tint0_taken: 0,
             keep_log: true,
             serial,
         })
     }
 
-    /// The board of a profile whose ADIS16407 sees a streamed input (a trace: push its rows with
-    /// [`HostBoard::push_input`], time 0 is power-on) instead of a still, powered part.
+    /// The board of a profile whose parts see a streamed input (a trace: push its rows with
+    /// [`HostBoard::push_input`], time 0 is power-on) instead of being still and powered: each
+    /// ADIS16xxx part, and the ADS8344's `[geomag]` front end.
     pub fn with_input(profile: &Profile) -> Result<HostBoard> {
         let mut b = HostBoard::new(profile)?;
-        let (feed, stimulus) = InputFeed::new();
-        b.link.slave_mut().set_stimulus(Box::new(stimulus));
-        b.feed = Some(feed);
+        let mut feeds = b.link.slave().own_feeds();
+        for dev in b.link.slave_mut().adis_parts() {
+            let (feed, stimulus) = InputFeed::new();
+            dev.set_stimulus(Box::new(stimulus));
+            feeds.push(feed);
+        }
+        b.feeds = feeds;
         b.keep_log = false;
         Ok(b)
     }
 
     /// Append rows of input (times in s since power-on, strictly increasing across calls).
     pub fn push_input(&mut self, t_s: &[f64], samples: Vec<Physical>) -> Result<()> {
-        match &self.feed {
-            Some(f) => f.push(t_s, samples),
-            None => Err(Error::Input("push_input: this board reads no input stream (build it with an input)".into())),
+        let Some((last, others)) = self.feeds.split_last() else {
+            return Err(Error::Input("push_input: this board reads no input stream (build it with an input)".into()));
+        };
+        for f in others {
+            f.push(t_s, samples.clone())?;
         }
+        last.push(t_s, samples)
     }
 
     /// No more input will come.
     pub fn end_input(&mut self) {
-        if let Some(f) = &self.feed {
-            f.end();
-        }
+        self.feeds.iter().for_each(InputFeed::end);
     }
 
     /// The last time the input covers (ps, rounded down), and whether it has ended; None before the
     /// first row or without an input stream.
     pub fn input_until(&self) -> Option<(Ps, bool)> {
-        let f = self.feed.as_ref()?;
+        let f = self.feeds.first()?;
         let t = f.last_time_s()?;
         Some(((t.max(0.0) * PS_PER_S as f64).floor() as Ps, f.ended()))
     }
@@ -579,6 +602,7 @@ impl HostBoard {
             a if Unmodelled::owns(a) => self.write_other(a, value),
             a if is_spi(a) => self.link.write((a - SPIA_BASE) as u16, value, now),
             a if is_gpio(a) => self.write_gpio(a, value),
+            a if Gpio::owns_ctrl(a) => self.write_gpio_ctrl(a, value),
             a if Interrupts::owns(a) => self.irq.write(a, value, now),
             a if SerialPorts::owns(a) => self.serial.write(a, value, now),
             a => Err(no_register(a)),
@@ -597,6 +621,7 @@ impl HostBoard {
             a if Unmodelled::owns(a) => Ok(self.read_other(a)),
             a if is_spi(a) => self.link.read((a - SPIA_BASE) as u16, now),
             a if is_gpio(a) => Ok(self.read_gpio(a)),
+            a if Gpio::owns_ctrl(a) => self.gpio.read_ctrl(a),
             a if Interrupts::owns(a) => self.irq.read(a, now),
             a if SerialPorts::owns(a) => self.serial.read(a, now),
             a => Err(no_register(a)),
@@ -776,34 +801,123 @@ impl HostBoard {
         }
     }
 
+    /// A pin's level when it is not a GPIO output: GPIO57 as SPISTEA shows the STE line; any
+    /// other pin reads high (pulled up, or an undriven line, read as the link's floating level).
+    fn pin_level(&self) -> impl Fn(u32) -> bool {
+        let ste_low = self.link.ste_driven() && self.link.cs_asserted_by_ste();
+        move |pin| !(pin == CS_GPIO && ste_low)
+    }
+
     fn write_gpio(&mut self, addr: u32, value: u16) -> Result<()> {
-        let off = addr - GPIO_DATA_BASE;
-        let (port, kind, high_word) = ((off / 8) as usize, (off % 8) / 2, off % 2 == 1);
-        let bits = if high_word { u32::from(value) << 16 } else { u32::from(value) };
-        let keep = if high_word { 0x0000_FFFF } else { 0xFFFF_0000 };
-        let before = self.gpio[port];
-        self.gpio[port] = match kind {
-            0 => (before & keep) | bits,
-            1 => before | bits,
-            2 => before & !bits,
-            _ => before ^ bits,
-        };
-        let cs = 1 << (CS_GPIO - 32);
-        if port == 1 && (before ^ self.gpio[1]) & cs != 0 {
-            let now = self.now;
-            self.link.set_gpio57(self.gpio[1] & cs != 0, now)?;
+        let level = self.pin_level();
+        let w = self.gpio.write_data(addr, value, level);
+        let fresh = w.not_driven & !self.gpio_warned[w.port];
+        if fresh != 0 {
+            self.gpio_warned[w.port] |= fresh;
+            self.warn_not_driven(addr, w.port, fresh);
+        }
+        if w.changed != 0 {
+            self.route_chip_selects()?;
         }
         Ok(())
     }
 
-    fn read_gpio(&self, addr: u32) -> u16 {
-        let off = addr - GPIO_DATA_BASE;
-        let (port, kind, high_word) = ((off / 8) as usize, (off % 8) / 2, off % 2 == 1);
-        match (kind, high_word) {
-            (0, false) => self.gpio[port] as u16,
-            (0, true) => (self.gpio[port] >> 16) as u16,
-            _ => 0,
+    #[cold]
+    fn warn_not_driven(&mut self, addr: u32, port: usize, pins: u32) {
+        let reg = register_name(addr).unwrap_or("GPIO data register");
+        let mut bits = pins;
+        while bits != 0 {
+            let bit = bits.trailing_zeros();
+            bits &= bits - 1;
+            let pin = 32 * port as u32 + bit;
+            let port_name = ["A", "B", "C"][port];
+            let mux = self.gpio.mux(pin);
+            let why = match (mux, gpio::function_name(pin, mux)) {
+                (0, _) => format!("an input (GP{port_name}DIR bit {bit} = 0)"),
+                (m, Some(f)) => format!("muxed to {f} (its GP{port_name}MUX field = {m})"),
+                (m, None) => format!("muxed to a peripheral (its GP{port_name}MUX field = {m})"),
+            };
+            self.pending.push(Event::new(
+                self.now,
+                "gpio_not_driven",
+                crate::events::Severity::Warning,
+                format!(
+                    "{reg} written for GPIO{pin}, which is {why}: the output latch changes but the pin does not \
+                     move, as on the chip (reported once per pin)"
+                ),
+            ));
         }
+    }
+
+    fn write_gpio_ctrl(&mut self, addr: u32, value: u16) -> Result<()> {
+        if !self.gpio.write_ctrl(addr, value, self.irq.eallow())? {
+            self.pending.push(Event::new(
+                self.now,
+                "protected_write",
+                crate::events::Severity::Warning,
+                format!(
+                    "{} (0x{addr:04X}) written without EALLOW: the write is ignored, as on the chip (SPRUFB0: the \
+                     GPIO control registers are EALLOW-protected)",
+                    register_name(addr).unwrap_or("GpioCtrlRegs")
+                ),
+            ));
+            return Ok(());
+        }
+        self.route_chip_selects()
+    }
+
+    /// Connect the chip selects as the pins now stand: GPIO57 muxed to SPISTEA is driven by SPI-A;
+    /// a part's chip select whose pin is a GPIO output driven low is asserted (the first one when
+    /// several are: a contention, reported).
+    fn route_chip_selects(&mut self) -> Result<()> {
+        let now = self.now;
+        let ste = self.gpio.mux(CS_GPIO) == 1;
+        if ste != self.link.ste_driven() {
+            if ste && self.cs_low.is_none() {
+                self.link.slave_mut().select(CS_GPIO as u8);
+            }
+            self.link.set_ste_driven(ste, now)?;
+        }
+        let mut low = None;
+        let mut others = Vec::new();
+        for cs in self.link.slave().chip_selects() {
+            if self.gpio.driven(u32::from(cs)) == Some(false) {
+                if low.is_none() {
+                    low = Some(cs);
+                } else {
+                    others.push(cs);
+                }
+            }
+        }
+        if low == self.cs_low {
+            return Ok(());
+        }
+        if self.cs_low.is_some() {
+            self.link.set_gpio57(true, now)?;
+        }
+        if let Some(cs) = low {
+            self.link.slave_mut().select(cs);
+            self.link.set_gpio57(false, now)?;
+            if !others.is_empty() {
+                let names: Vec<String> = others.iter().map(|g| format!("GPIO{g}")).collect();
+                self.pending.push(Event::new(
+                    now,
+                    "cs_contention",
+                    crate::events::Severity::Error,
+                    format!(
+                        "chip selects GPIO{cs} and {} are low together: two parts drive SPISOMIA (the emulator \
+                         connects GPIO{cs}'s only)",
+                        names.join(", ")
+                    ),
+                ));
+            }
+        }
+        self.cs_low = low;
+        Ok(())
+    }
+
+    fn read_gpio(&self, addr: u32) -> u16 {
+        self.gpio.read_data(addr, self.pin_level())
     }
 
     /// The published InitSpi register writes of the profile, now.
@@ -923,14 +1037,16 @@ impl HostBoard {
         Ok(rx)
     }
 
-    /// What the ADIS16407 sees from now on (held constant).
+    /// What the ADIS16xxx parts see from now on (held constant).
     pub fn set_physical(&mut self, p: Physical) -> Result<()> {
         if !p.is_finite() {
             return Err(Error::Input("set_physical: every value must be finite".into()));
         }
         let now = self.now;
         self.link.advance(now)?;
-        self.link.slave_mut().set_stimulus(Box::new(Constant(p)));
+        for dev in self.link.slave_mut().adis_parts() {
+            dev.set_stimulus(Box::new(Constant(p)));
+        }
         self.sync();
         Ok(())
     }
@@ -940,7 +1056,13 @@ impl HostBoard {
         let a = u8::try_from(addr).ok().filter(|a| *a <= 0x7F).ok_or_else(|| {
             Error::Register(format!("ADIS16407 register address {addr} ({}): expected 0…0x7F", hex(addr)))
         })?;
-        self.link.slave().peek(a)
+        let sensor = self.link.slave().sensor().ok_or_else(|| {
+            Error::Register(format!(
+                "peek_device: the part on GPIO57 is not an ADIS16xxx part ({})",
+                self.link.slave().part_name(CS_GPIO as u8).unwrap_or("none")
+            ))
+        })?;
+        sensor.peek(a)
     }
 
     /// Keep the transaction log for [`HostBoard::take_log`] from now on (`on`), or stop keeping it
@@ -999,6 +1121,7 @@ impl HostBoard {
     /// Move what the link logged and the events raised into this board's own lists.
     fn sync(&mut self) {
         self.spi_interrupts();
+        self.link.flush_ste(self.now);
         for r in self.link.take_log() {
             if let LinkRecord::Frame(f) = r {
                 self.recent.push(f);

@@ -8,6 +8,7 @@ pub(crate) mod glitch;
 pub mod input;
 pub mod links;
 pub mod sensor;
+pub mod spi_parts;
 
 pub use input::{InputFeed, StreamStimulus};
 pub use sensor::{FrameSummary, Reach, Sensor, StreamedDevice};

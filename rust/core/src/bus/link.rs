@@ -90,6 +90,13 @@ struct Wires<S> {
     exchange_map: Option<(ExchangeKey, Box<bitlevel::ExchangeMap>)>,
     log: Option<Vec<LinkRecord>>,
     events: EventLog,
+    /// SPISTE drives the chip select (GPIO57 muxed to SPISTEA, SPI-A master): low from ½ SCLK period
+    /// before each character's first edge to ½ after its last, low throughout between characters
+    /// that follow without a gap (spec f28335-peripherals.md §4 [unconfirmed]).
+    ste: bool,
+    /// The STE line is low (the slave was told), and when it is due to rise (after a character).
+    ste_low: bool,
+    ste_rise: Option<Ps>,
 }
 
 impl<S: SpiSlave> SpiWire for Wires<S> {
@@ -176,7 +183,10 @@ impl<S: SpiSlave> Wires<S> {
             }
             BusLevel::Bit => self.waveform_of(frame).timing(frame.index, frame.start_cycle),
         };
-        let selected = self.cs_low;
+        if self.ste && !self.cs_low {
+            self.ste_fall(&timing);
+        }
+        let selected = self.cs_low || self.ste_low;
         let dout = if selected { self.slave.begin_frame(&timing) } else { self.unselected(frame) };
         InFlight { timing, dout, selected }
     }
@@ -226,6 +236,9 @@ impl<S: SpiSlave> Wires<S> {
         if f.selected {
             self.slave.end_frame(ex.slave_din, &f.timing);
         }
+        if self.ste_low {
+            self.ste_rise = Some(f.timing.last_edge + f.timing.sclk_period / 2);
+        }
         if let Some(log) = self.log.as_mut() {
             log.push(LinkRecord::Frame(FrameRecord {
                 index: frame.index,
@@ -240,6 +253,32 @@ impl<S: SpiSlave> Wires<S> {
             }));
         }
         ex.master_rx
+    }
+}
+
+impl<S: SpiSlave> Wires<S> {
+    /// SPISTE falls ½ SCLK period before the character's first edge, unless it is still low from a
+    /// character that ended no sooner than that (no gap: it stays low).
+    #[cold]
+    #[inline(never)]
+    fn ste_fall(&mut self, timing: &FrameTiming) {
+        let fall = timing.first_edge.saturating_sub(timing.sclk_period / 2);
+        if let Some(rise) = self.ste_rise.take() {
+            if rise >= fall {
+                return; // back to back: STE stays low
+            }
+            self.ste_edge(false, rise);
+        }
+        self.ste_edge(true, fall);
+    }
+
+    /// SPISTE moves at `t` (`low`: asserted): the slave and the log are told.
+    fn ste_edge(&mut self, low: bool, t: Ps) {
+        self.ste_low = low;
+        self.slave.set_cs(low, t);
+        if let Some(log) = self.log.as_mut() {
+            log.push(LinkRecord::Cs { t_ps: t, low });
+        }
     }
 }
 
@@ -315,6 +354,9 @@ impl<S: SpiSlave> SpiLink<S> {
                 exchange_map: None,
                 log: None,
                 events: EventLog::default(),
+                ste: false,
+                ste_low: false,
+                ste_rise: None,
             },
             spi,
             polled_fast_path: true,
@@ -421,6 +463,36 @@ impl<S: SpiSlave> SpiLink<S> {
             log.push(LinkRecord::Cs { t_ps: t, low });
         }
         Ok(())
+    }
+
+    /// GPIO57 is muxed to SPISTEA (`on`) or not, from time `t`: with it, SPI-A drives the chip select
+    /// around each character as a master does (see `Wires::ste`); without it, only
+    /// [`SpiLink::set_gpio57`] moves it.
+    pub fn set_ste_driven(&mut self, on: bool, t: Ps) -> Result<()> {
+        self.spi.advance(t, &mut self.wires)?;
+        self.flush_ste(if on { t } else { Ps::MAX });
+        self.wires.ste = on;
+        Ok(())
+    }
+
+    /// SPISTE rises if it was due to by `t` and no character followed (the caller moved time to `t`).
+    #[inline]
+    pub fn flush_ste(&mut self, t: Ps) {
+        if let Some(rise) = self.wires.ste_rise.filter(|&r| r <= t && self.wires.in_flight.is_none()) {
+            self.wires.ste_rise = None;
+            self.wires.ste_edge(false, rise);
+        }
+    }
+
+    /// Whether SPISTE drives the chip select (GPIO57 muxed to SPISTEA).
+    pub fn ste_driven(&self) -> bool {
+        self.wires.ste
+    }
+
+    /// Whether SPISTE is low now (a character is on the wires, or one just ended and its rise is
+    /// not due yet).
+    pub fn cs_asserted_by_ste(&self) -> bool {
+        self.wires.ste_low
     }
 
     /// A new LSPCLK from time `t` on (the firmware wrote LOSPCP); see [`SpiA::set_lspclk`].

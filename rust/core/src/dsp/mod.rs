@@ -3,6 +3,7 @@
 //! profile's register values produce.
 
 pub mod clocks;
+pub mod gpio;
 pub mod interrupts;
 pub mod sci;
 pub mod serial;

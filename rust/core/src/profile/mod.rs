@@ -113,6 +113,7 @@ impl Profile {
         keys.extend(Board::section_keys());
         keys.push("firmware.application".into());
         keys.extend(Serial::keys());
+        keys.push("firmware.gpio_at_start".into());
         // Its optional keys too (absent from the defaults' text).
         if let Ok(v) = toml::Value::try_from(Geomag {
             gyro_delay_s: Some(0.0),

@@ -865,6 +865,25 @@ pub enum OverrunPolicy {
     Nest,
 }
 
+/// How the GPIO pins are set when the firmware's `main` starts (the C firmware runtime and the host
+/// board: `host::HostBoard`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GpioAtStart {
+    /// The chip selects of the SPI parts of `[[board.devices]]` are GPIO outputs driven high (what
+    /// the board's boot code leaves them as [unconfirmed]: the reference firmware never sets their
+    /// direction); every other pin as reset leaves it.
+    #[default]
+    ChipSelects,
+    /// Every pin as reset leaves it (a GPIO input): the firmware sets up its pins itself, as a
+    /// TI-style project's `InitGpio` does.
+    Reset,
+}
+
+fn is_default_gpio(g: &GpioAtStart) -> bool {
+    *g == GpioAtStart::default()
+}
+
 /// Where the firmware's code runs from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -957,6 +976,9 @@ pub struct Firmware {
     pub mag_gate: MagGate,
     /// The VQF-class algorithm's parameters (`firmware.algorithm` = "vqf").
     pub vqf: Vqf,
+    /// How the GPIO pins are set when the firmware's `main` starts.
+    #[serde(skip_serializing_if = "is_default_gpio")]
+    pub gpio_at_start: GpioAtStart,
 }
 
 impl Default for Firmware {
@@ -984,6 +1006,7 @@ impl Default for Firmware {
             dcm: Dcm::default(),
             mag_gate: MagGate::default(),
             vqf: Vqf::default(),
+            gpio_at_start: GpioAtStart::default(),
         }
     }
 }
