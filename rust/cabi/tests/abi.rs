@@ -53,7 +53,13 @@ fn registers_at_their_c28x_addresses() {
         assert_eq!(sins_write16(b, 0x6FCD, 1 << 9), SinsStatus::SinsOk);
         assert_eq!(sins_read16(b, 0x6FC9, &mut v), SinsStatus::SinsOk);
         assert_eq!(v & (1 << 9), 0);
+        // LOSPCP is EALLOW-protected: without EALLOW the write is ignored, as on the chip.
+        assert_eq!(sins_write16(b, 0x701B, 6), SinsStatus::SinsOk);
+        assert_eq!(sins_read16(b, 0x701B, &mut v), SinsStatus::SinsOk);
+        assert_eq!(v, 2);
+        assert_eq!(sins_set_eallow(b, 1), SinsStatus::SinsOk);
         assert_eq!(sins_write16(b, 0x701B, 6), SinsStatus::SinsOk); // LOSPCP: 12.5 MHz
+        assert_eq!(sins_set_eallow(b, 0), SinsStatus::SinsOk);
         let mut set = SinsSpiSetting::default();
         assert_eq!(sins_configure_spi(b, 100e3, 3, &mut set), SinsStatus::SinsOk, "{}", last_error());
         assert_eq!((set.spibrr, set.exact, set.mode, set.sclk_hz), (124, 1, 3, 100e3));
@@ -66,8 +72,8 @@ fn errors_come_back_as_codes_with_a_message() {
     let b = new_board(&[]);
     unsafe {
         let mut v = 0u16;
-        assert_eq!(sins_read16(b, 0x0C08, &mut v), SinsStatus::SinsErrRegister); // CPU timer 1: not modelled
-        assert!(last_error().contains("C28x address 0x0C08"), "{}", last_error());
+        assert_eq!(sins_read16(b, 0x0C0D, &mut v), SinsStatus::SinsErrRegister); // CPU timer 1: reserved word
+        assert!(last_error().contains("C28x address 0x0C0D"), "{}", last_error());
         assert_eq!(sins_read16(b, 0x7044, ptr::null_mut()), SinsStatus::SinsErrNull);
         assert!(last_error().contains("out"), "{}", last_error());
         assert_eq!(sins_advance_ps(b, 1000), SinsStatus::SinsOk);
