@@ -637,6 +637,26 @@ mod tests {
         Clock::from_hz(150_000_000)
     }
 
+    #[test]
+    fn a_peripheral_flag_reaches_ifr_through_its_enable_and_pieack() {
+        let mut i = Interrupts::new(sys());
+        i.write(0x0CE0, 1, 0).unwrap(); // ENPIE
+        i.set_pie_flag(9, 1, 0); // SCIRXINTA, PIEIER9 clear: flagged, not passed on
+        assert_eq!(i.read(0x0CF3, 0).unwrap(), 1);
+        assert_eq!(i.ifr(0), 0);
+        i.write(0x0CF2, 0x3, 0).unwrap(); // PIEIER9.INTx1/2: the pending flag goes to INT9
+        assert_eq!(i.ifr(0), 1 << 8);
+        assert_eq!(i.read(0x0CE1, 0).unwrap(), 1 << 8);
+        i.set_ifr(0, 0);
+        i.set_pie_flag(9, 2, 0); // PIEACK group 9 still set: held in the PIE
+        assert_eq!(i.ifr(0), 0);
+        i.write(0x0CE1, 1 << 8, 0).unwrap();
+        assert_eq!(i.ifr(0), 1 << 8);
+        i.set_pie_flag(13, 1, 0);
+        i.set_pie_flag(8, 9, 0);
+        assert_eq!(i.read(0x0CF1, 0).unwrap(), 0);
+    }
+
     /// TI's ConfigCpuTimer(&CpuTimer0, 150, 4000) with C2000Ware's PRD rule, then start with TIE.
     fn configured(i: &mut Interrupts, t: Ps) {
         i.write(0x0C04, TCR_TSS, t).unwrap(); // stop
