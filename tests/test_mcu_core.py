@@ -82,9 +82,11 @@ def test_spi_fifo_loopback_with_interrupts(tmp_path: Path):
     pair_s = 2 * 16 * 100 / LSPCLK_HZ
     assert 0.95 * until / pair_s <= run.final["rx_isr"] <= until / pair_s
     assert run.final["tx_isr"] - run.final["rx_isr"] in (1, 2)
-    # (The link reports the words SPI-A clocks with the ADIS16407's chip select high: in loopback it
-    # takes part in no transfer.)
-    assert {e["kind"] for e in events} <= {"spi_frame_without_cs"}
+    # InitSpiaGpio muxes GPIO57 to SPISTEA, so the reference board's ADIS16407 is selected around
+    # the words SPI-A clocks in loopback (SPILBK ties SIMO to SOMI inside the chip; SIMO still drives
+    # the pin): the part reports what it is sent, which is not its protocol (words closer than its
+    # stall time are an error, as they would be on the board). Nothing else happens.
+    assert {e["kind"] for e in events} <= {"spi_mode", "stall_too_short", "read_only_write"}
 
 
 def test_a_flash_build_copies_its_ram_functions_before_running_them(tmp_path: Path):

@@ -94,6 +94,9 @@ struct Wires<S> {
     /// before each character's first edge to ½ after its last, low throughout between characters
     /// that follow without a gap (spec f28335-peripherals.md §4 [unconfirmed]).
     ste: bool,
+    /// STE pulses high between characters that follow without a gap (profile
+    /// `spi.ste_pulse_between_words`, [unconfirmed]); otherwise it stays low between them.
+    ste_pulse: bool,
     /// The STE line is low (the slave was told), and when it is due to rise (after a character).
     ste_low: bool,
     ste_rise: Option<Ps>,
@@ -258,16 +261,17 @@ impl<S: SpiSlave> Wires<S> {
 
 impl<S: SpiSlave> Wires<S> {
     /// SPISTE falls ½ SCLK period before the character's first edge, unless it is still low from a
-    /// character that ended no sooner than that (no gap: it stays low).
+    /// character that ended no sooner than that (no gap: it stays low, or with `ste_pulse` rises and
+    /// falls again at that instant).
     #[cold]
     #[inline(never)]
     fn ste_fall(&mut self, timing: &FrameTiming) {
         let fall = timing.first_edge.saturating_sub(timing.sclk_period / 2);
         if let Some(rise) = self.ste_rise.take() {
-            if rise >= fall {
+            if rise >= fall && !self.ste_pulse {
                 return; // back to back: STE stays low
             }
-            self.ste_edge(false, rise);
+            self.ste_edge(false, rise.min(fall));
         }
         self.ste_edge(true, fall);
     }
@@ -355,6 +359,7 @@ impl<S: SpiSlave> SpiLink<S> {
                 log: None,
                 events: EventLog::default(),
                 ste: false,
+                ste_pulse: false,
                 ste_low: false,
                 ste_rise: None,
             },
@@ -368,7 +373,9 @@ impl<S: SpiSlave> SpiLink<S> {
     pub fn from_profile(profile: &Profile, slave: S) -> Result<SpiLink<S>> {
         let clocks = DspClocks::from_profile(&profile.clocks)?;
         let spi = SpiA::new(clocks.lspclk, profile.spi.start_latency_lspclk);
-        Ok(SpiLink::new(spi, slave, profile.spi.level))
+        let mut link = SpiLink::new(spi, slave, profile.spi.level);
+        link.set_ste_pulse_between_words(profile.spi.ste_pulse_between_words);
+        Ok(link)
     }
 
     /// The published InitSpi register writes at time `t` (see [`SpiA::init_writes`]).
@@ -473,6 +480,12 @@ impl<S: SpiSlave> SpiLink<S> {
         self.flush_ste(if on { t } else { Ps::MAX });
         self.wires.ste = on;
         Ok(())
+    }
+
+    /// Whether SPISTE pulses high between characters that follow without a gap (profile
+    /// `spi.ste_pulse_between_words`, [unconfirmed]) or stays low (the default).
+    pub fn set_ste_pulse_between_words(&mut self, on: bool) {
+        self.wires.ste_pulse = on;
     }
 
     /// SPISTE rises if it was due to by `t` and no character followed (the caller moved time to `t`).

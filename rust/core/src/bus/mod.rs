@@ -446,6 +446,38 @@ mod tests {
         assert!(link.take_log().is_empty());
     }
 
+    /// SPISTE as a master drives it (GPIO57 muxed to SPISTEA): two characters back to back (the
+    /// second written to SPITXBUF while the first shifts) keep it low between them by default, and
+    /// pulse it high between them with `spi.ste_pulse_between_words` (spec §4 [unconfirmed]).
+    #[test]
+    fn spiste_between_back_to_back_characters_follows_the_switch() {
+        for pulse in [false, true] {
+            let mut p = Setup::reference().profile(BusLevel::Transaction);
+            p.spi.ste_pulse_between_words = pulse;
+            let mut link = SpiLink::from_profile(&p, Recorder::default()).unwrap();
+            link.init_from_profile(&p.spi, 0).unwrap();
+            link.set_ste_driven(true, 0).unwrap();
+            let t0 = 10_000_000; // 10 µs: STE falls ½ SCLK before the first edge, after t = 0
+            link.write(SPITXBUF, 0x4200, t0).unwrap();
+            link.write(SPITXBUF, 0x5600, t0).unwrap();
+            let end = 1_000_000_000;
+            link.advance(end).unwrap();
+            link.flush_ste(end);
+            let cs = &link.slave().cs;
+            assert_eq!(link.slave().timings.len(), 2, "both characters reach the slave");
+            let t = &link.slave().timings;
+            let half = t[0].sclk_period / 2;
+            let mut expected = vec![(true, t[0].first_edge - half)];
+            if pulse {
+                expected.push((false, t[1].first_edge - half));
+                expected.push((true, t[1].first_edge - half));
+            }
+            expected.push((false, t[1].last_edge + half));
+            assert_eq!(cs, &expected, "pulse = {pulse}");
+            assert!(t[0].last_edge + half >= t[1].first_edge - half, "back to back: no gap for STE to rise in");
+        }
+    }
+
     #[test]
     fn loopback_and_talk() {
         for level in [BusLevel::Transaction, BusLevel::Bit] {

@@ -185,6 +185,12 @@ pub struct Spi {
     pub level: BusLevel,
     /// LSPCLK cycles from a SPITXBUF write (shifter idle) to the first SCLK edge [unconfirmed].
     pub start_latency_lspclk: u32,
+    /// SPISTE (GPIO57 muxed to SPISTEA) between characters that follow without a gap: `false` keeps
+    /// it low (the F2833x data sheet's SPI master timing notes, spec f28335-peripherals.md §4
+    /// [unconfirmed]), `true` pulses it high between them. Left out of the profile's text when
+    /// `false`.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub ste_pulse_between_words: bool,
 }
 
 impl Default for Spi {
@@ -199,6 +205,7 @@ impl Default for Spi {
             spiffct: 0,
             level: BusLevel::Transaction,
             start_latency_lspclk: 1,
+            ste_pulse_between_words: false,
         }
     }
 }
