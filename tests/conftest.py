@@ -45,6 +45,27 @@ def cli() -> type:
     return run_cli
 
 
+@pytest.fixture(scope="module")
+def cabi_library() -> None:
+    """The C ABI library `sins-fw build-firmware` links a firmware against, built (or found up to
+    date) once for a module that builds C firmware (`pytestmark = pytest.mark.usefixtures(...)`)."""
+    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
+    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
+    assert built.returncode == 0, built.stderr
+
+
+def write_globals(folder: Path, **types: str) -> Path:
+    """A C firmware's globals file in `folder` watching each named global with its type, in a column of
+    its own name."""
+    path = folder / "globals.toml"
+    path.write_text(
+        "".join(
+            f'[[global]]\nname = "{n}"\ntype = "{t}"\ncolumn = "{n}"\nunit = "1"\n' for n, t in types.items()
+        )
+    )
+    return path
+
+
 #: Modules whose tests start what is sized for the whole machine (a process pool and a Dask cluster of
 #: two workers each; a web server and headless Chromium drawing WebGL in software) and wait on it with
 #: deadlines. `make test` runs the rest on two pytest-xdist workers, then these alone (marker `alone`).

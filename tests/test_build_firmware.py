@@ -4,7 +4,6 @@ against the emulated board. Issue 37's C-as-C build and TI's project layout: tes
 
 from __future__ import annotations
 
-import subprocess
 import tomllib
 from pathlib import Path
 
@@ -21,11 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PROD_ID_EXAMPLE = ROOT / "firmware_c" / "examples" / "prod_id"
 
 
-@pytest.fixture(scope="module", autouse=True)
-def cabi_library() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
+pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 def test_the_prod_id_firmware_reads_0x4017(tmp_path: Path, capsys: pytest.CaptureFixture[str]):

@@ -6,11 +6,11 @@ check. The TI-style examples and the sensor driver are under firmware_c/examples
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 
 import pytest
 
+from conftest import write_globals
 from sins_fw.cli import main
 from sins_fw.errors import InputError
 from sins_fw.firmware_build import build_firmware, read_project
@@ -26,26 +26,12 @@ SENSOR = EXAMPLES / "c_sensor_driver"
 LSPCLK_HZ = 37.5e6
 
 
-@pytest.fixture(scope="module", autouse=True)
-def cabi_library() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
-
-
-def _globals(folder: Path, **types: str) -> Path:
-    path = folder / "globals.toml"
-    path.write_text(
-        "".join(
-            f'[[global]]\nname = "{n}"\ntype = "{t}"\ncolumn = "{n}"\nunit = "1"\n' for n, t in types.items()
-        )
-    )
-    return path
+pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 def _run(fw: Path, folder: Path, until_s: float, profile: str = "reference", **types: str):
     return run_c_firmware(
-        fw, None, load_profile(profile), globals_file=_globals(folder, **types), until_s=until_s
+        fw, None, load_profile(profile), globals_file=write_globals(folder, **types), until_s=until_s
     )
 
 
@@ -227,7 +213,7 @@ def test_the_ti_style_led_blink_runs_its_timer_under_the_frequency_guard(tmp_pat
     assert run.isr_rows == 4
     slow = load_profile("reference", ["clocks.crystal_hz=20000000"])  # 20 MHz × 10 / 2 = 100 MHz
     fw = build_firmware([TI_STYLE / "led_blink"], tmp_path / "blink100.so", profile=slow)
-    run = run_c_firmware(fw, None, slow, globals_file=_globals(tmp_path, ticks="uint16"), until_s=1.2)
+    run = run_c_firmware(fw, None, slow, globals_file=write_globals(tmp_path, ticks="uint16"), until_s=1.2)
     assert run.final["ticks"] == 2
 
 

@@ -8,7 +8,6 @@ from __future__ import annotations
 import ctypes
 import random
 import struct
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -52,11 +51,7 @@ void main(void) {}
 """
 
 
-@pytest.fixture(scope="module", autouse=True)
-def cabi_library() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
+pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 @pytest.fixture(scope="module")

@@ -5,12 +5,12 @@ the SPI parts the profile places on SPI-A each behind its own GPIO chip select."
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from conftest import write_globals
 from sins_fw.firmware_build import build_firmware
 from sins_fw.firmware_run import FirmwareResult, run_c_firmware
 from sins_fw.profile import load_profile
@@ -23,21 +23,7 @@ TI = ROOT / "firmware_c" / "ti"
 ADIS16407_PROD_ID = 0x4017
 
 
-@pytest.fixture(scope="module", autouse=True)
-def cabi_library() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
-
-
-def _globals(folder: Path, **types: str) -> Path:
-    path = folder / "globals.toml"
-    path.write_text(
-        "".join(
-            f'[[global]]\nname = "{n}"\ntype = "{t}"\ncolumn = "{n}"\nunit = "1"\n' for n, t in types.items()
-        )
-    )
-    return path
+pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 def _run(
@@ -50,7 +36,7 @@ def _run(
         fw,
         None,
         load_profile("reference", overrides or []),
-        globals_file=_globals(folder, **types),
+        globals_file=write_globals(folder, **types),
         until_s=until_s,
         sink=parts.append,
     )
@@ -108,7 +94,7 @@ def test_spistea_muxed_by_init_spia_gpio_selects_the_adis16407(tmp_path: Path):
         fw,
         None,
         load_profile("reference"),
-        globals_file=_globals(tmp_path, prod_id="uint16", mux="uint16"),
+        globals_file=write_globals(tmp_path, prod_id="uint16", mux="uint16"),
         until_s=0.05,
         sink=parts.append,
         bus_log=True,

@@ -5,12 +5,12 @@ warning each). Each firmware is written the way TI's 2833x examples are and buil
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from conftest import write_globals
 from sins_fw.firmware_build import build_firmware
 from sins_fw.firmware_run import FirmwareStopped, run_c_firmware
 from sins_fw.profile import load_profile
@@ -23,21 +23,7 @@ OSCCLK_HZ = 30e6
 LSPCLK_HZ = 37.5e6
 
 
-@pytest.fixture(scope="module", autouse=True)
-def cabi_library() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
-
-
-def _globals(folder: Path, **types: str) -> Path:
-    path = folder / "globals.toml"
-    path.write_text(
-        "".join(
-            f'[[global]]\nname = "{n}"\ntype = "{t}"\ncolumn = "{n}"\nunit = "1"\n' for n, t in types.items()
-        )
-    )
-    return path
+pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 def _run(
@@ -48,7 +34,7 @@ def _run(
         fw,
         None,
         load_profile("reference", list(overrides)),
-        globals_file=_globals(folder, **types),
+        globals_file=write_globals(folder, **types),
         until_s=until_s,
         sink=parts.append,
     )
@@ -209,7 +195,7 @@ def test_a_serviced_watchdog_never_bites_and_an_unserviced_one_resets_the_chip(t
             starved,
             None,
             load_profile("reference"),
-            globals_file=_globals(tmp_path, ticks="uint16"),
+            globals_file=write_globals(tmp_path, ticks="uint16"),
             until_s=0.05,
             sink=parts.append,
         )
@@ -240,7 +226,7 @@ def test_from_the_chips_reset_state_the_dog_runs_and_the_clocks_are_off(tmp_path
             fw,
             None,
             load_profile("reference", ["clocks.at_main=reset"]),
-            globals_file=_globals(tmp_path, ccr="uint16"),
+            globals_file=write_globals(tmp_path, ccr="uint16"),
             until_s=0.01,
             sink=parts.append,
         )

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import ctypes
 import math
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -31,11 +30,7 @@ void reference_test_burst(const Uint16 *words) { reference_process_burst(words);
 """
 
 
-@pytest.fixture(scope="module", autouse=True)
-def cabi_library() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
+pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 def c_run(tmp_path: Path, float_mode: str) -> tuple[np.ndarray, np.ndarray]:

@@ -5,12 +5,12 @@ read as framing errors). The firmwares are under firmware_c/examples/ti_style/sc
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from conftest import write_globals
 from sins_fw.errors import InputError
 from sins_fw.firmware_build import build_firmware
 from sins_fw.firmware_run import run_c_firmware
@@ -24,21 +24,7 @@ LSPCLK_HZ = 37.5e6
 SYSCLKOUT_HZ = 150e6
 
 
-@pytest.fixture(scope="module", autouse=True)
-def cabi_library() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
-
-
-def _globals(folder: Path, **types: str) -> Path:
-    path = folder / "globals.toml"
-    path.write_text(
-        "".join(
-            f'[[global]]\nname = "{n}"\ntype = "{t}"\ncolumn = "{n}"\nunit = "1"\n' for n, t in types.items()
-        )
-    )
-    return path
+pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 def _char_s(brr: int, bits: int = 10) -> float:
@@ -53,7 +39,7 @@ def test_sci_fifo_loopback_polled_returns_each_character_at_the_baud(tmp_path: P
         fw,
         None,
         load_profile("reference"),
-        globals_file=_globals(tmp_path, loops="uint16", errors="uint16", rdata="uint16", sdata="uint16"),
+        globals_file=write_globals(tmp_path, loops="uint16", errors="uint16", rdata="uint16", sdata="uint16"),
         until_s=until,
     )
     char = _char_s(0x0F)  # 34.1 µs
@@ -74,7 +60,7 @@ def test_sci_fifo_loopback_with_interrupts_on_groups_9_and_8(tmp_path: Path):
         fw,
         None,
         load_profile("reference"),
-        globals_file=_globals(tmp_path, **dict.fromkeys(INT_GLOBALS, "uint16")),
+        globals_file=write_globals(tmp_path, **dict.fromkeys(INT_GLOBALS, "uint16")),
         until_s=until,
     )
     f = run.final
@@ -118,7 +104,7 @@ def _gps_run(tmp_path: Path, *overrides: str) -> tuple[Any, list[dict[str, Any]]
         fw,
         None,
         profile,
-        globals_file=_globals(tmp_path, **GPS_GLOBALS),
+        globals_file=write_globals(tmp_path, **GPS_GLOBALS),
         until_s=1.5,
         sink=lambda part: events.extend(part["events"]),
     )
@@ -189,7 +175,7 @@ def test_sci_misuse_is_an_event(tmp_path: Path):
             fw,
             None,
             load_profile("reference"),
-            globals_file=_globals(tmp_path, r="uint16"),
+            globals_file=write_globals(tmp_path, r="uint16"),
             until_s=0.01,
             sink=lambda part: events.extend(part["events"]),
         )
