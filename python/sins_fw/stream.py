@@ -255,8 +255,8 @@ class TableWriter:
             fd, scratch = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=TEMP_SUFFIX, dir=folder)
             os.close(fd)
             self._stack.callback(Path(scratch).unlink, missing_ok=True)
-            scratch_file = self._stack.enter_context(kept_error_file(scratch))
-            self._scratch = h5py.File(scratch_file, "w", rdcc_nbytes=0)  # no cache: written as it comes
+            scratch_tmp = self._stack.enter_context(kept_error_file(scratch))  # removed when the writer ends
+            self._scratch = h5py.File(scratch_tmp, "w", rdcc_nbytes=0)  # no cache: written as it comes
             for name, arr in block.items():
                 column = self.schema.column(name)
                 self._scratch_sets[name] = h5_create(self._scratch, column, arr[:0], BLOCK_ROWS)
