@@ -1,7 +1,7 @@
 //! SCI-A/B/C, the F28335's UARTs, register by register as a host-built firmware drives them (the
 //! [`crate::host::HostBoard`] holds three). Source: TI's SPRUFZ5 (TMS320x2833x/2823x Serial
 //! Communications Interface reference guide); register layout and reset values as
-//! `/work/shared/spec/f28335-peripherals.md` §6 lists them.
+//! the spec's `f28335-peripherals.md` §6 lists them.
 //!
 //! - **Character format** (SCICCR, SPRUFZ5 "SCI communication control register"): SCICHAR + 1 data
 //!   bits (1…8), an optional parity bit (PARITYENA, PARITY 1 = even), one or two stop bits
