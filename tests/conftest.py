@@ -5,6 +5,8 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -52,6 +54,41 @@ def cabi_library() -> None:
     cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
     built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
     assert built.returncode == 0, built.stderr
+
+
+def peak_rss_mb(args: list[str], cwd: Path) -> float:
+    """Peak resident memory (MB) of ``python -m sins_fw ARGS`` run to completion in its own process."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sins_fw", *args], cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    )
+    _, status, usage = os.wait4(proc.pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0, proc.stderr.read().decode() if proc.stderr else ""
+    return usage.ru_maxrss / 1024.0
+
+
+def signal_once_started(
+    args: list[str], started: Callable[[], bool], settle_s: float, sig: int
+) -> tuple[float, int, str]:
+    """Start ``python -m sins_fw ARGS`` (from the repository), wait (up to 120 s) until `started()`,
+    let it run `settle_s` more, send `sig`: the seconds from the signal to its exit, its exit code
+    and its standard error."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sins_fw", *args],
+        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    deadline = time.monotonic() + 120
+    while not started() and time.monotonic() < deadline:
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.05)
+    time.sleep(settle_s)
+    assert proc.poll() is None, proc.communicate()
+    sent = time.monotonic()
+    proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=30)
+    finally:
+        proc.kill()
+    return time.monotonic() - sent, proc.returncode, err
 
 
 def write_globals(folder: Path, **types: str) -> Path:

@@ -14,14 +14,13 @@ import platform
 import signal
 import subprocess
 import sys
-import time
 import tracemalloc
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import BROAD, ROOT, run_cli
+from conftest import BROAD, ROOT, run_cli, signal_once_started
 from sins_fw import _core, gfsins, parity, synth
 from sins_fw.run_output import load_run
 
@@ -99,28 +98,22 @@ def test_a_long_gyro_free_run_stops_within_a_second_with_nothing_written(tmp_pat
     access: every tick takes dozens of periods)."""
     trace = drive_120s
     out = tmp_path / "run.csv"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "sins_fw", "run", str(trace), "--profile", GFSINS,
-         "--set", "node.plb_access_cycles=375000", "--out", str(out)],
-        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
     # Started: the writer's temporary file is there (the loop over the blocks of ticks is running).
-    deadline = time.monotonic() + 120
-    while not any(tmp_path.iterdir()) and time.monotonic() < deadline:
-        assert proc.poll() is None, proc.communicate()
-        time.sleep(0.05)
-    time.sleep(0.5)
-    assert proc.poll() is None, proc.communicate()
-    sent = time.monotonic()
-    proc.send_signal(sig)
-    try:
-        _, err = proc.communicate(timeout=30)
-    finally:
-        proc.kill()
+    args = [
+        "run",
+        str(trace),
+        "--profile",
+        GFSINS,
+        "--set",
+        "node.plb_access_cycles=375000",
+        "--out",
+        str(out),
+    ]
+    took, returncode, err = signal_once_started(args, lambda: any(tmp_path.iterdir()), 0.5, sig)
     # The stop itself must come within a second; the margin is the interpreter's exit on a loaded
     # machine (measured: under 0.3 s from the signal to the exit on an idle one).
-    assert time.monotonic() - sent < 5.0
-    assert proc.returncode == code, err
+    assert took < 5.0
+    assert returncode == code, err
     assert "stopped" in err and "not written" in err, err
     assert not any(tmp_path.iterdir()), "nothing half-written"
 

@@ -6,17 +6,13 @@ written; the recording holds what the whole run's recording held."""
 from __future__ import annotations
 
 import json
-import os
 import platform
 import signal
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import peak_rss_mb, run_cli, signal_once_started
 from sins_fw import gfsins
 from sins_fw.traces import PhysicalTrace, file_sha256
 
@@ -75,36 +71,23 @@ def test_a_long_gyro_free_replay_stops_within_a_second_with_nothing_written(tmp_
     trace = tmp_path / "long.h5"
     assert run_cli("synth", "vehicle", "--duration-s", "60", "--out", str(trace)).code == 0
     out = tmp_path / "r.rrd"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "sins_fw", "replay", str(trace), "--profile", "gfsins",
-         "--set", "node.plb_access_cycles=375000", "--out", str(out)],
-        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
     # Started: the recording's temporary file is there (the board runs once it is open).
-    deadline = time.monotonic() + 120
-    while len(list(tmp_path.iterdir())) < 2 and time.monotonic() < deadline:
-        assert proc.poll() is None, proc.communicate()
-        time.sleep(0.05)
-    time.sleep(1.0)
-    assert proc.poll() is None, proc.communicate()
-    sent = time.monotonic()
-    proc.send_signal(sig)
-    try:
-        _, err = proc.communicate(timeout=30)
-    finally:
-        proc.kill()
+    args = [
+        "replay",
+        str(trace),
+        "--profile",
+        "gfsins",
+        "--set",
+        "node.plb_access_cycles=375000",
+        "--out",
+        str(out),
+    ]
+    took, returncode, err = signal_once_started(args, lambda: len(list(tmp_path.iterdir())) >= 2, 1.0, sig)
     # The stop itself comes within a second; the margin is the interpreter's exit on a loaded machine.
-    assert time.monotonic() - sent < 5.0
-    assert proc.returncode == code, err
+    assert took < 5.0
+    assert returncode == code, err
     assert "stopped" in err and "not written" in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.h5"], "nothing half-written"
-
-
-def _peak_mb(args: list[str], cwd: Path) -> float:
-    proc = subprocess.Popen([sys.executable, "-m", "sins_fw", *args], cwd=cwd, stdout=subprocess.DEVNULL)
-    _, status, usage = os.wait4(proc.pid, 0)
-    assert os.waitstatus_to_exitcode(status) == 0
-    return usage.ru_maxrss / 1024.0
 
 
 @pytest.mark.skipif(platform.system() != "Linux", reason="ru_maxrss in kB is Linux's")
@@ -119,6 +102,6 @@ def test_the_gyro_free_replay_streams_in_bounded_memory(tmp_path):
         trace = tmp_path / f"v{seconds}.h5"
         assert run_cli("synth", "vehicle", "--duration-s", str(seconds), "--out", str(trace)).code == 0
         peaks.append(
-            _peak_mb(["replay", str(trace), "--profile", "gfsins", "--out", f"r{seconds}.rrd"], tmp_path)
+            peak_rss_mb(["replay", str(trace), "--profile", "gfsins", "--out", f"r{seconds}.rrd"], tmp_path)
         )
     assert peaks[1] - peaks[0] < 16.0, peaks

@@ -4,15 +4,11 @@ the duration."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from pathlib import Path
-
 import h5py
 import numpy as np
 import pytest
 
+from conftest import peak_rss_mb
 from sins_fw import stream, synth
 from sins_fw.errors import TraceError
 from sins_fw.traces import PhysicalTrace
@@ -93,16 +89,6 @@ def test_a_stream_that_fails_leaves_the_old_file(tmp_path, monkeypatch):
 
 #: Rows a streaming command holds at once (a trace chunk), and the bytes per row it may hold per chunk.
 CHUNK = synth.CHUNK_ROWS
-
-
-def peak_rss_mb(args: list[str], cwd: Path) -> float:
-    """Peak resident memory (MB) of ``python -m sins_fw ARGS`` run to completion in its own process."""
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "sins_fw", *args], cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
-    )
-    _, status, usage = os.wait4(proc.pid, 0)
-    assert os.waitstatus_to_exitcode(status) == 0, proc.stderr.read().decode() if proc.stderr else ""
-    return usage.ru_maxrss / 1024.0
 
 
 def test_synth_memory_does_not_grow_with_the_duration(tmp_path):
