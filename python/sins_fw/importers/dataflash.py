@@ -116,11 +116,14 @@ def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_
     try:
         with _c_stderr_into(noise), contextlib.redirect_stdout(noise), contextlib.redirect_stderr(noise):  # type: ignore[type-var]
             log = DFReader.DFReader_binary(str(p), zero_time_base=False)
-            while (m := log.recv_match(type=list(_FIELDS))) is not None:
-                kind = m.get_type()
-                if kind in ("IMU", "MAG", "GPS") and _instance(m):
-                    continue
-                rows[kind].append((m.TimeUS, tuple(float(getattr(m, f)) for f in _FIELDS[kind])))
+            try:
+                while (m := log.recv_match(type=list(_FIELDS))) is not None:
+                    kind = m.get_type()
+                    if kind in ("IMU", "MAG", "GPS") and _instance(m):
+                        continue
+                    rows[kind].append((m.TimeUS, tuple(float(getattr(m, f)) for f in _FIELDS[kind])))
+            finally:
+                log.close()  # its file and memory map: left to the collector, a ResourceWarning later
     except Exception as e:  # pymavlink raises assorted errors on what is not a DataFlash log
         raise TraceError(
             f"{p}: not a readable DataFlash log ({e}{noise.said()}); expected an ArduPilot .bin log"
