@@ -21,6 +21,34 @@ from sins_fw.errors import InputError
 
 #: Temporary files are named ``.NAME.<random>.tmp`` beside the destination (hidden, recognisable).
 TEMP_SUFFIX = ".tmp"
+#: The environment variable that gives a command run by sins_fw.launch's supervisor the descriptor
+#: of its ledger of temporary files (:func:`temporary_file` notes every one there).
+LEDGER_ENV = "SINS_FW_TEMPORARY_LEDGER_FD"
+
+
+def _ledger_fd() -> int | None:
+    """The descriptor of the supervisor's ledger of temporary files, if this process has it: the
+    variable names the descriptor and the file's device and inode, checked here (a program started
+    by a supervised command inherits the variable, not the file)."""
+    try:
+        fd, dev, ino = (int(x) for x in os.environ[LEDGER_ENV].split(":"))
+        st = os.fstat(fd)
+    except (KeyError, ValueError, OSError):
+        return None
+    return fd if (st.st_dev, st.st_ino) == (dev, ino) else None
+
+
+def temporary_file(dest: Path, folder: Path) -> Path:
+    """Create an empty temporary file for ``dest`` in ``folder`` (``.NAME.<random>.tmp``), noted in
+    the supervisor's ledger when there is one, so that it is removed even if this process is killed
+    by a signal it cannot handle (sins_fw.launch). The caller removes or renames it."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=TEMP_SUFFIX, dir=folder)
+    os.close(fd)
+    ledger = _ledger_fd()
+    if ledger is not None:
+        with contextlib.suppress(OSError):  # the ledger is a safety net, never a failure of the write
+            os.write(ledger, os.fsencode(os.path.abspath(tmp)) + b"\0")
+    return Path(tmp)
 
 
 def _umask() -> int:
@@ -43,11 +71,10 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
         raise NotADirectoryError(errno.ENOTDIR, f"{folder} is not a folder", str(dest))
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=TEMP_SUFFIX, dir=folder)
+        tmp = str(temporary_file(dest, folder))
     except OSError as e:
         # Name the file the user asked for, not the temporary one.
         raise OSError(e.errno, e.strerror, str(dest)) from None
-    os.close(fd)
     existed = dest.exists()
     try:
         yield Path(tmp)

@@ -29,8 +29,6 @@ column by column, at the end): the same bytes as before, with a chunk of every c
 from __future__ import annotations
 
 import contextlib
-import os
-import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,7 +38,7 @@ from typing import IO, Any
 import h5py
 import numpy as np
 
-from sins_fw.atomic import TEMP_SUFFIX, atomic_path, kept_error_file
+from sins_fw.atomic import atomic_path, kept_error_file, temporary_file
 from sins_fw.errors import TraceError
 from sins_fw.tablefile import (
     BLOCK_ROWS,
@@ -252,9 +250,8 @@ class TableWriter:
             for name, arr in block.items():
                 self._datasets[name] = h5_create(self._h5, self.schema.column(name), arr[:0], BLOCK_ROWS)
             folder = self._tmp.parent
-            fd, scratch = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=TEMP_SUFFIX, dir=folder)
-            os.close(fd)
-            self._stack.callback(Path(scratch).unlink, missing_ok=True)
+            scratch = temporary_file(self.path, folder)
+            self._stack.callback(scratch.unlink, missing_ok=True)
             scratch_tmp = self._stack.enter_context(kept_error_file(scratch))  # removed when the writer ends
             self._scratch = h5py.File(scratch_tmp, "w", rdcc_nbytes=0)  # no cache: written as it comes
             for name, arr in block.items():

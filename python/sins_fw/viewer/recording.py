@@ -817,22 +817,26 @@ class _Pump:
     def __init__(self, tmp: Path) -> None:
         self.tmp = tmp
         self.error: OSError | None = None
+        # One buffer, made here: the thread allocates nothing as it pumps, so that under a memory
+        # cap (sins_fw.launch) running out is the main thread's MemoryError, never the pump's.
+        self.buffer = memoryview(bytearray(1 << 20))
         self.read_end, self.write_end = os.pipe()
         self.thread = threading.Thread(target=self._pump, name="rrd-writer", daemon=True)
 
     def _pump(self) -> None:
-        fh = self.tmp.open("wb")
+        fh = self.tmp.open("wb", buffering=0)
         try:
             with open(self.read_end, "rb", buffering=0) as pipe:
-                for block in iter(lambda: pipe.read(1 << 20), b""):
-                    if self.error is None:
+                while n := pipe.readinto(self.buffer):
+                    block = self.buffer[:n]
+                    while block and self.error is None:  # an unbuffered write may write part of it
                         try:
-                            fh.write(block)
+                            block = block[fh.write(block) or 0 :]
                         except OSError as e:
                             self.error = e
         finally:
-            # Closing flushes what the buffer still holds: on a full disk that fails too, and after a
-            # failed write it fails again. Either is this save's error, never a thread's traceback.
+            # Closing can fail too (a file system that reports a full disk only then): this save's
+            # error, never a thread's traceback.
             try:
                 fh.close()
             except OSError as e:
