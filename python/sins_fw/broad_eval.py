@@ -65,7 +65,7 @@ FIGURES = ("inclination", "heading", "total")
 _GYRO_WORDS = slice(2, 5)
 _FULL_SCALE_CODES = (0x1FFF, 0x2000)
 #: A trial "clips" through the board when a gyro word is at full scale in at least this fraction of its
-#: movement steps. Measured on the ten (benchmarks/broad_eval.md): 06, 21 and 28 clip in 14–17 % of their
+#: movement steps. Measured on the ten (benchmarks/broad_eval.md): 06, 21 and 28 clip in 14–18 % of their
 #: movement (swings of 900–1400 °/s, tens of clips a minute), the others in at most 0.7 % (single taps and
 #: jerks of 20–30 ms); any bound between those splits the ten alike.
 CLIPPED_FRACTION = 0.01
