@@ -87,3 +87,28 @@ def test_the_dcm_through_the_board_reports_its_clip_and_recovers_from_it():
     after = r.total_deg[last:]
     assert np.nanmax(after) <= r.total_deg[last] + 1e-9, (r.total_deg[last], np.nanmax(after))
     assert r.errors["inclination"] < 1.2 and r.errors["heading"] < 2.7 and r.errors["total"] < 2.9, r.errors
+
+
+def test_the_clipped_trials_are_told_apart_and_the_saturation_alone_is_measured():
+    # Trial 06 (fast rotation) clips in 14.3 % of its movement steps through the board, trial 10 (slow
+    # translation) never (benchmarks/broad_eval.md): the report's means split them, every column over the
+    # same trials. `clip_dps` runs the algorithm on the recording's gyro held at the part's code limit:
+    # trial 10 never reaches it (the same figures as unclipped), trial 06 loses its inclination to it
+    # (measured 2.08° → 11.89°, through the board 8.46° with the firmware's clip guard).
+    t06, t10 = BROAD / "06_undisturbed_fast_rotation_A.hdf5", BROAD / "10_undisturbed_slow_translation_A.hdf5"
+    r = evaluate([t06, t10], ("dcm",), board=True, clip_dps=409.55)
+    assert r["subsets"]["clipped"]["trials"] == [t06.stem]
+    assert r["subsets"]["unclipped"]["trials"] == [t10.stem]
+    row06, row10 = r["trials"]
+    assert 0.10 < row06["clip_fraction"] < 0.20 and row10["clip_fraction"] == 0.0, (row06, row10)
+    for col in ("dcm", "dcm@clipped", "dcm@board", "madgwick-published"):
+        assert r["subsets"]["clipped"]["mean"][col] == pytest.approx(row06[col])
+        assert r["subsets"]["unclipped"]["mean"][col] == pytest.approx(row10[col])
+    assert row10["dcm@clipped"] == pytest.approx(row10["dcm"], abs=1e-12)
+    assert row06["dcm@clipped"]["inclination"] > 3 * row06["dcm"]["inclination"], row06
+    rec = row06["dcm@board:recovery"]
+    assert rec is not None and 150 < rec["last_clip_s"] < 160, rec
+    assert rec["at_last_clip_deg"] <= rec["max_after_deg"] and np.isfinite(rec["end_deg"]), rec
+    assert row10["dcm@board:recovery"] is None
+    bad = run_cli("broad-eval", str(t10), "--clip-dps", "0")
+    assert bad.code == 2 and "--clip-dps" in bad.err and "Traceback" not in bad.err

@@ -17,7 +17,7 @@ declination against the optical ENU, for every method alike (the published basel
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -64,6 +64,11 @@ FIGURES = ("inclination", "heading", "total")
 #: The ADIS16407's gyro clips at its 14-bit code: 0x1FFF or 0x2000 in X/Y/Z GYRO_OUT (burst words 2…4).
 _GYRO_WORDS = slice(2, 5)
 _FULL_SCALE_CODES = (0x1FFF, 0x2000)
+#: A trial "clips" through the board when a gyro word is at full scale in at least this fraction of its
+#: movement steps. Measured on the ten (benchmarks/broad_eval.md): 06, 21 and 28 clip in 14–18 % of their
+#: movement (swings of 900–1400 °/s, tens of clips a minute), the others in at most 0.7 % (single taps and
+#: jerks of 20–30 ms); any bound between those splits the ten alike.
+CLIPPED_FRACTION = 0.01
 
 
 @dataclass(frozen=True)
@@ -158,6 +163,15 @@ def initial_enu(trial: Trial) -> np.ndarray:
     return algorithm_quats(_first(trial), "dcm")[0]
 
 
+def clipped_gyro(trial: Trial, limit_dps: float) -> Trial:
+    """`trial` with each gyro axis held within ±`limit_dps`: the saturation alone, without the rest of the
+    board (its filter, quantisation, update rate, and the clip flags the firmware reads there)."""
+    if not limit_dps > 0:
+        raise InputError(f"broad-eval: --clip-dps {limit_dps}; expected a rate above 0 °/s")
+    lim = np.radians(limit_dps)
+    return replace(trial, gyr=np.clip(trial.gyr, -lim, lim))
+
+
 def _first(trial: Trial) -> Trial:
     return Trial(
         trial.name,
@@ -229,7 +243,28 @@ class BoardRun:
     inclination_deg: np.ndarray
     heading_deg: np.ndarray
     clipped: np.ndarray
+    moving: np.ndarray
     events: dict[str, int]
+
+    @property
+    def clip_fraction(self) -> float:
+        """The fraction of the movement steps with a gyro word at full scale."""
+        n = int(self.moving.sum())
+        return float((self.clipped & self.moving).sum() / n) if n else 0.0
+
+    def recovery(self) -> dict[str, float] | None:
+        """The total error (°) at the last clipped step, its largest value after it and at the end, and
+        that step's time (s); None when no step clipped."""
+        hit = np.flatnonzero(self.clipped)
+        if not len(hit):
+            return None
+        after = self.total_deg[hit[-1] :]
+        return {
+            "last_clip_s": float(self.time_s[hit[-1]]),
+            "at_last_clip_deg": float(after[0]),
+            "max_after_deg": float(np.nanmax(after)),
+            "end_deg": float(after[np.isfinite(after)][-1]) if np.isfinite(after).any() else float("nan"),
+        }
 
 
 def board_run(
@@ -268,6 +303,7 @@ def board_run(
         inclination_deg=e.inclination,
         heading_deg=e.heading,
         clipped=clipped,
+        moving=np.asarray(run.moving, dtype=bool),
         events=kinds,
     )
 
@@ -287,6 +323,7 @@ def evaluate(
     ahrs: bool = False,
     board: bool = False,
     numeric: str = "f64",
+    clip_dps: float | None = None,
 ) -> dict[str, Any]:
     """Per-trial RMSE of each algorithm (algorithm level; through the board with `board`), the dataset's
     published per-trial figures where the trial has them, the `ahrs` filters with `ahrs`; and the means
@@ -294,8 +331,11 @@ def evaluate(
     paths = trial_paths([sources] if isinstance(sources, Path) else list(sources))
     for a in algorithms:
         settings(a)
+    if clip_dps is not None and not clip_dps > 0:
+        raise InputError(f"broad-eval: --clip-dps {clip_dps}; expected a rate above 0 °/s")
     methods = [
         *algorithms,
+        *([f"{a}@clipped" for a in algorithms] if clip_dps is not None else []),
         *([f"{a}@board" for a in algorithms] if board else []),
         *(["mahony-ahrs", "madgwick-ahrs"] if ahrs else []),
     ]
@@ -309,9 +349,15 @@ def evaluate(
                 r = board_run(path, m.split("@")[0], extra, numeric)
                 row[m] = r.errors
                 row[f"{m}:events"] = r.events
+                row[f"{m}:clip_fraction"] = r.clip_fraction
+                row[f"{m}:recovery"] = r.recovery()
+                row["clip_fraction"] = r.clip_fraction  # the part's: alike for every algorithm
                 continue
             if m.endswith("-ahrs"):
                 q = ahrs_quats(t, m.split("-")[0], frames[m])
+            elif m.endswith("@clipped"):
+                assert clip_dps is not None
+                q = algorithm_quats(clipped_gyro(t, clip_dps), m.split("@")[0], extra, numeric)
             else:
                 q = algorithm_quats(t, m, extra, numeric)
             if not np.isfinite(q).all():
@@ -322,20 +368,43 @@ def evaluate(
                 row[f"{pub}-published"] = dict(zip(FIGURES, per_trial[t.name], strict=True))
         rows.append(row)
     columns = [*methods, *(f"{p}-published" for p in PUBLISHED_PER_TRIAL)]
+    mean = _means(rows, columns)
+    # Through the board: the means over the trials the part clips and over the others, every column over
+    # the same trials (where the clip costs the error, and what the published methods did on them).
+    subsets: dict[str, Any] = {}
+    if board:
+        for name, pick in (
+            ("clipped", lambda f: f >= CLIPPED_FRACTION),
+            ("unclipped", lambda f: f < CLIPPED_FRACTION),
+        ):
+            chosen = [r for r in rows if pick(r["clip_fraction"])]
+            subsets[name] = {"trials": [r["trial"] for r in chosen], "mean": _means(chosen, columns)}
+    return {
+        "algorithms": list(algorithms),
+        "settings": {a: settings(a, extra)[1:] for a in algorithms},
+        "numeric": numeric,
+        "clip_dps": clip_dps,
+        "trials": rows,
+        "columns": [c for c in columns if c in mean],
+        "mean": mean,
+        "subsets": subsets,
+        "published_trials": sum(all(f"{p}-published" in r for p in PUBLISHED_PER_TRIAL) for r in rows),
+    }
+
+
+def _means(rows: list[dict[str, Any]], columns: list[str]) -> dict[str, dict[str, float]]:
+    """Each column's mean of each figure over the rows that have it."""
     mean: dict[str, dict[str, float]] = {}
     for m in columns:
         have = [r[m] for r in rows if m in r]
         if have:
             mean[m] = {k: float(np.mean([h[k] for h in have])) for k in FIGURES}
-    return {
-        "algorithms": list(algorithms),
-        "settings": {a: settings(a, extra)[1:] for a in algorithms},
-        "numeric": numeric,
-        "trials": rows,
-        "columns": [c for c in columns if c in mean],
-        "mean": mean,
-        "published_trials": sum(all(f"{p}-published" in r for p in PUBLISHED_PER_TRIAL) for r in rows),
-    }
+    return mean
+
+
+def _num(v: float, width: int) -> str:
+    """`v` right-aligned in `width` characters, always after a space (one decimal fewer from 100°)."""
+    return f"{v:>{width}.2f}" if abs(v) < 10 ** (width - 4) else f"{v:>{width}.1f}"
 
 
 def table(report: dict[str, Any]) -> str:
@@ -349,17 +418,47 @@ def table(report: dict[str, Any]) -> str:
         out = ""
         for m in methods:
             if m in r:
-                out += f"{r[m]['inclination']:>8.2f}{r[m]['heading']:>6.2f}{r[m]['total']:>6.2f}"
+                out += _num(r[m]["inclination"], 8) + _num(r[m]["heading"], 6) + _num(r[m]["total"], 6)
             else:
                 out += f"{'—':>{width}}"
         return out
 
-    lines += [r["trial"].ljust(44) + cells(r) for r in report["trials"]]
+    def clip(r: dict[str, Any]) -> str:
+        return f" {100 * r['clip_fraction']:5.1f} % clipped" if "clip_fraction" in r else ""
+
+    lines += [r["trial"].ljust(44) + cells(r) + clip(r) for r in report["trials"]]
     lines.append(f"mean of {len(report['trials'])}".ljust(44) + cells(report["mean"]))
+    for name, sub in report.get("subsets", {}).items():
+        if sub["trials"]:
+            label = f"mean of {len(sub['trials'])} {name}"
+            lines.append(label.ljust(44) + cells(sub["mean"]))
+    if report.get("subsets"):
+        lines.append(
+            f"clipped: a gyro word at full scale in ≥ {100 * CLIPPED_FRACTION:g} % of the movement steps "
+            "through the board (the part's, alike for every algorithm)"
+        )
+    recover = [
+        (r["trial"], m, r[f"{m}:recovery"])
+        for r in report["trials"]
+        for m in methods
+        if r.get(f"{m}:recovery") is not None
+    ]
+    if recover:
+        lines.append("after the last clipped step, total error °: at it / largest after / at the end")
+        lines += [
+            f"  {t[:40]:<40} {m:<12} {v['last_clip_s']:7.1f} s {v['at_last_clip_deg']:7.2f} "
+            f"{v['max_after_deg']:7.2f} {v['end_deg']:7.2f}"
+            for t, m, v in recover
+        ]
     lines.append(
         f"published: the dataset's tuned Madgwick (β {MADGWICK_BETA}) and Mahony (k_P {MAHONY_KP}, k_I "
         f"{MAHONY_KI}), per trial, on {report['published_trials']} of these trials (their mean over those)"
     )
+    if report.get("clip_dps") is not None:
+        lines.append(
+            f"@clipped: algorithm level on the recording's gyro held within ±{report['clip_dps']:g} °/s "
+            "(no clip flags: the saturation alone)"
+        )
     lines.append(f"numeric: {report['numeric']}")
     for a, s in report["settings"].items():
         lines.append(f"{a}: " + " ".join(s))
@@ -403,6 +502,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--board", action="store_true", help="also through the whole board (ADIS16407 model)")
     p.add_argument(
+        "--clip-dps",
+        type=float,
+        default=None,
+        metavar="DPS",
+        help="also at algorithm level on the gyro held within ±DPS (the saturation alone; the ADIS16407's "
+        "14-bit code clips at 409.55)",
+    )
+    p.add_argument(
         "--numeric",
         choices=tuple(_core.NUMERICS),
         default="f64",
@@ -422,6 +529,7 @@ def run(args: argparse.Namespace) -> int:
         ahrs=args.ahrs and not args.no_baselines,
         board=args.board,
         numeric=args.numeric,
+        clip_dps=args.clip_dps,
     )
     report["machine"] = machine()  # the benchmarks' one (sins_fw.bench)
     emit(args, report, table(report))

@@ -73,6 +73,13 @@ pub struct Dcm<T> {
     lag_compensation: bool,
     /// Errors beyond 90° at full strength (`full_range`).
     full_range: bool,
+    /// `accel_norm_band`: (g, 1/(band·g)) when the roll–pitch error is weighted by the specific force's
+    /// norm (None: not weighted).
+    accel_band: Option<(T, T)>,
+    /// `clip_accel_band`: as `accel_band`, for the raised part of the gain.
+    clip_band: Option<(T, T)>,
+    /// K_P·(clip_gain − 1).
+    kp_extra: T,
     /// Events of the last update (drained by the ISR).
     events: Events,
 }
@@ -112,6 +119,9 @@ impl<T: Scalar> Dcm<T> {
             rest: RestDetector::new(gate, g, step_s),
             lag_compensation: p.lag_compensation,
             full_range: p.full_range,
+            accel_band: band(p.accel_norm_band, g),
+            clip_band: band(p.clip_accel_band, g),
+            kp_extra: lit(p.kp * (p.clip_gain - 1.0)),
             events: Events::new(),
         }
     }
@@ -161,6 +171,9 @@ impl<T: Scalar> Dcm<T> {
                     if let Some(u) = unit(&e_rp) {
                         e_rp = u;
                     }
+                }
+                if let Some(k) = self.accel_weight(&g) {
+                    e_rp = e_rp.map(|x| (k * x).to_class(QClass::Quat));
                 }
                 if self.printed_sign {
                     e_rp = e_rp.map(|x| -x);
@@ -220,6 +233,12 @@ impl<T: Scalar> Dcm<T> {
         Ok([total, e_rp, e_yaw])
     }
 
+    /// `accel_norm_band`'s weight of the roll–pitch error for the specific force `f`:
+    /// max(0, 1 − |‖f‖ − g|/(band·g)), 1 at ‖f‖ = g, 0 beyond the band (None: no weighting).
+    fn accel_weight(&self, f: &Vec3<T>) -> Option<T> {
+        norm_weight(self.accel_band?, f)
+    }
+
     /// The latest usable fix (None while the stream's first fix is within its latency); an error when
     /// the board has no GPS at all.
     fn gps(&self, inputs: &StepInputs<'_, T>, key: &str) -> Result<Option<GpsAiding<T>>> {
@@ -258,7 +277,20 @@ impl<T: Scalar> Dcm<T> {
         let raised = self.clip.update(inputs.clipped.gyro, &mut self.events) == ClipState::Raised;
         let [total, e_rp, e_yaw] = self.errors(&r, &w1, &w, raised, inputs)?;
         mark("errors");
-        let kp = if raised { self.kp_raised } else { self.kp };
+        let kp = match (raised, self.clip_band) {
+            (false, _) => self.kp,
+            (true, None) => self.kp_raised,
+            // The raised part only as far as the accelerometer's norm says it measures gravity (no
+            // specific force, or a clipped one: none of it).
+            (true, Some(b)) => {
+                let k = inputs
+                    .specific_force
+                    .filter(|_| inputs.clipped.accel == 0)
+                    .and_then(|f| norm_weight(b, &f))
+                    .unwrap_or(T::from_f64(0.0, QClass::Quat));
+                (self.kp + self.kp_extra * k).to_class(QClass::Rate)
+            }
+        };
         let omega_p = total.map(|e| (kp * e).to_class(QClass::Rate));
         for (wi, e) in self.omega_i.iter_mut().zip(total).filter(|_| !raised) {
             let next = (*wi + self.ki_dt * e).to_class(QClass::Quat);
@@ -343,6 +375,23 @@ impl<T: Scalar> AttitudeUpdate<T> for Dcm<T> {
     fn correction(&self) -> Option<Correction> {
         Some(self.last)
     }
+}
+
+/// (g, 1/(band·g)) of a band given as a fraction of g (None: band 0, no weighting).
+fn band<T: Scalar>(fraction: f64, g: f64) -> Option<(T, T)> {
+    (fraction > 0.0).then(|| {
+        let inv = 1.0 / (fraction * g);
+        (T::from_f64(g, QClass::Accel), T::from_f64_range(inv, inv))
+    })
+}
+
+/// max(0, 1 − |‖f‖ − g|/(band·g)) for the band's (g, 1/(band·g)).
+fn norm_weight<T: Scalar>((g, inv): (T, T), f: &Vec3<T>) -> Option<T> {
+    let n = dot(f, f).sqrt().to_class(QClass::Accel);
+    let off = ((n - g).abs() * inv).to_class(QClass::Quat);
+    let one = T::from_f64(1.0, QClass::Quat);
+    let zero = T::from_f64(0.0, QClass::Quat);
+    Some(if off >= one { zero } else { (one - off).to_class(QClass::Quat) })
 }
 
 /// C_b^n (navigation east-north-up) from one specific-force and one magnetic-field sample: up along f,
@@ -695,6 +744,62 @@ mod tests {
         let t = reached.expect("never recovered");
         assert!((t / theory - 1.0).abs() < 0.02, "{t} s, theory {theory} s");
         assert_eq!(events, ["gyro_clipped"], "one event at the first clipped update");
+    }
+
+    /// Seconds until a 30° roll error, at rest with the specific force `f_g` (in g, along up), is below
+    /// 1° (None within 10 s); `clipped` a gyro axis clipped throughout.
+    fn tilt_recovery_with(p: &DcmProfile, f_g: f64, clipped: bool) -> Option<f64> {
+        let mut dcm = Dcm::<f64>::new(p, DT);
+        let c0 = rx(30.0 * D);
+        let mut q = quat_from_dcm(&c0);
+        let rates = [[0.0; 3]; 2];
+        for k in 0..(10.0 / DT) as usize {
+            let inputs = StepInputs {
+                specific_force: Some([0.0, 0.0, f_g * G]),
+                clipped: super::super::attitude::Clipped {
+                    gyro: if clipped { 0b010 } else { 0 },
+                    ..Default::default()
+                },
+                ..StepInputs::rates(&rates, None)
+            };
+            let c = dcm.matrix().unwrap_or(c0);
+            dcm.step(&mut q, &c, &inputs).unwrap();
+            if tilt_deg(&dcm.matrix().unwrap(), &rx(0.0)) <= 1.0 {
+                return Some((k + 1) as f64 * DT);
+            }
+        }
+        None
+    }
+
+    /// `accel_norm_band`: the roll–pitch error weighted by k = 1 − |‖f‖ − g|/(band·g). With band 0.2 and
+    /// ‖f‖ = 1.1 g, k = 0.5: at K_P 1 the recovery takes 3.424/(K_P·0.5) s (ln(tan 15°/tan 0.5°) = 3.424,
+    /// the P-only loop's time); beyond the band (1.25 g) k = 0 and the tilt error stays; band 0: 3.424/K_P.
+    #[test]
+    fn accel_norm_band_weights_the_tilt_correction_by_the_specific_force_norm() {
+        let theory = ((15.0 * D).tan() / (0.5 * D).tan()).ln();
+        let p = DcmProfile { accel_norm_band: 0.2, ..gains(1.0, 0.0) };
+        let t = tilt_recovery_with(&p, 1.1, false).expect("never recovered");
+        assert!((t * 0.5 / theory - 1.0).abs() < 0.02, "{t} s, theory {} s", theory / 0.5);
+        assert_eq!(tilt_recovery_with(&p, 1.25, false), None, "no correction beyond the band");
+        let off = tilt_recovery_with(&gains(1.0, 0.0), 1.1, false).expect("never recovered");
+        assert!((off / theory - 1.0).abs() < 0.02, "band 0: {off} s, theory {theory} s");
+    }
+
+    /// `clip_accel_band`: while a gyro axis clips, K_P·(1 + (clip_gain − 1)·k): clip_gain 4, band 0.2,
+    /// ‖f‖ = 1.1 g (k 0.5) gives 2.5·K_P, the recovery 3.424/(0.2·2.5) s; at ‖f‖ = g the whole raised
+    /// gain (3.424/(0.2·4)); beyond the band K_P alone (3.424/0.2 = 17.1 s: not within 10 s).
+    #[test]
+    fn clip_accel_band_raises_the_gain_only_as_far_as_the_norm_is_g() {
+        let theory = ((15.0 * D).tan() / (0.5 * D).tan()).ln();
+        let p = DcmProfile { clip_gain: 4.0, clip_recovery_s: 1.0, clip_accel_band: 0.2, ..gains(0.2, 0.0) };
+        for (f_g, k) in [(1.1, 2.5), (1.0, 4.0)] {
+            let t = tilt_recovery_with(&p, f_g, true).expect("never recovered");
+            assert!((t * 0.2 * k / theory - 1.0).abs() < 0.02, "‖f‖ {f_g} g: {t} s, theory {} s", theory / (0.2 * k));
+        }
+        assert_eq!(tilt_recovery_with(&p, 1.25, true), None, "beyond the band: K_P alone");
+        let whole = DcmProfile { clip_accel_band: 0.0, ..p };
+        let t = tilt_recovery_with(&whole, 1.1, true).expect("never recovered");
+        assert!((t * 0.2 * 4.0 / theory - 1.0).abs() < 0.02, "band 0: the whole raised gain, {t} s");
     }
 
     /// The lag compensation: dθ·(1 + |dθ|²/3) turns the renormalised first-order update by |dθ| + O(|dθ|⁵):

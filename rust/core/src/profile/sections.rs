@@ -632,6 +632,13 @@ pub struct Dcm {
     /// Errors beyond 90° (tilt, or heading from the magnetometer) pull at full strength: the error vector
     /// at unit length instead of sin e (which falls back to 0 at 180°).
     pub full_range: bool,
+    /// The roll–pitch error is weighted by max(0, 1 − |‖f‖ − g|/(band·g)): a specific force whose norm is
+    /// not g proves an acceleration, and then the accelerometer is not gravity; 0: no weighting.
+    pub accel_norm_band: f64,
+    /// While the gain is raised after a gyro clip, only K_P·(clip_gain − 1)·k is added, k the weight
+    /// max(0, 1 − |‖f‖ − g|/(band·g)) of this band: the raised gain trusts the accelerometer only when its
+    /// norm says it measures gravity; 0: the whole raised gain.
+    pub clip_accel_band: f64,
 }
 
 impl Default for Dcm {
@@ -650,6 +657,8 @@ impl Default for Dcm {
             clip_recovery_s: 0.0,
             lag_compensation: false,
             full_range: false,
+            accel_norm_band: 0.0,
+            clip_accel_band: 0.0,
         }
     }
 }
@@ -666,6 +675,8 @@ impl Dcm {
         check_range("firmware.dcm.gps_min_speed_mps", self.gps_min_speed_mps, 0.0, 100.0, "0…100 m/s")?;
         check_range("firmware.dcm.clip_gain", self.clip_gain, 1.0, 100.0, "1…100")?;
         check_range("firmware.dcm.clip_recovery_s", self.clip_recovery_s, 0.0, 600.0, "0…600 s")?;
+        check_range("firmware.dcm.accel_norm_band", self.accel_norm_band, 0.0, 1.0, "0…1 (a fraction of g)")?;
+        check_range("firmware.dcm.clip_accel_band", self.clip_accel_band, 0.0, 1.0, "0…1 (a fraction of g)")?;
         Ok(())
     }
 }
