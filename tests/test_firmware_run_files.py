@@ -130,8 +130,7 @@ def test_replay_of_a_firmware_run_shows_its_globals_attitude_and_error_as_record
     times, _ = _scalars(store, paths.firmware_global("q0"), index=paths.TIME)
     t_ns = times.astype("timedelta64[ns]").astype(np.int64)
     assert np.array_equal(t_ns, np.rint(cols["t_s"] * 1e12).astype(np.int64) // 1000)
-    # The reference firmware's tick is 2.44 ms (one update every second ISR): the tick numbers are
-    # the times over the period.
+    # The tick numbers are the times over the tick period (the file's `sample_rate_hz`: 4 ms).
     rate = float(meta["sample_rate_hz"])
     assert np.array_equal(ticks.astype(np.int64), np.rint(cols["t_s"] * rate).astype(np.int64))
     # The model run's Attitude tab: the board, the Euler angles of the firmware's quaternion, the

@@ -37,6 +37,8 @@ from sins_fw.run_output import FirmwareRunFile
 #: Globals drawn, one panel each, on the page of a firmware whose globals do not give the attitude;
 #: the others are named in the metadata panel.
 MAX_GLOBAL_PANELS = 6
+#: Characters of a metadata line before it wraps (monospace, 8 pt: the page's width).
+METADATA_WIDTH = 125
 
 
 class FirmwarePage:
@@ -93,7 +95,7 @@ class FirmwarePage:
         ]
         if self.trace is not None:
             truth = "its truth compared" if self.has_truth else "it has no truth to compare with"
-            lines.append(f"trace: {m.get('trace', '?')}, found at {self.trace}: {truth}")
+            lines.append(f"trace: {m.get('trace', '?')}, found at {os.path.normpath(self.trace)}: {truth}")
         elif self.trace_note is not None:
             lines.append(f"trace: not found, so no truth: {self.trace_note}")
         else:
@@ -165,16 +167,19 @@ def firmware_report_figure(page: FirmwarePage, *, title: str = "") -> tuple[Figu
     else:
         names = list(page.globals) or ["globals"]
         ratios = [1.5] * len(names)
+    # The metadata panel: about a fifth of the page, whatever the number of panels above it.
     fig, axes = plt.subplots(
         len(names) + 1,
         1,
         figsize=FIGSIZE,
         dpi=DPI,
-        gridspec_kw={"height_ratios": [*ratios, 1.6]},
+        gridspec_kw={"height_ratios": [*ratios, max(1.6, 0.3 * sum(ratios))]},
     )
     panels = dict(zip(names, axes[:-1], strict=True))
     for ax in axes[1:-1]:
         ax.sharex(axes[0])
+    for ax in axes[:-2]:
+        ax.tick_params(labelbottom=False)  # one time axis, under the last panel
     if page.data is not None:
         _euler_panel(panels["attitude"], page)
         if page.has_truth:
@@ -188,7 +193,7 @@ def firmware_report_figure(page: FirmwarePage, *, title: str = "") -> tuple[Figu
     meta = axes[-1]
     meta.axis("off")
     meta.set_title("The run, as its file records it", loc="left", fontsize=10)
-    text = "\n".join(_wrap(line, TITLE_WIDTH + 40) for line in page.metadata_lines())
+    text = "\n".join(_wrap(line, METADATA_WIDTH) for line in page.metadata_lines())
     meta.text(0.0, 1.0, text, transform=meta.transAxes, va="top", ha="left", fontsize=8, family="monospace")
     head = title or "sins-fw run --firmware"
     firmware = Path(page.run.metadata.get("firmware", "?")).name
