@@ -43,6 +43,7 @@ def _ran(rc: int, stdout: str) -> dict:
     assert rc == 0 or (rc == 1 and set(summary["events"]["by_kind"]) == {"stall_too_short"}), summary
     return summary
 
+
 pytestmark = [pytest.mark.usefixtures("cabi_library"), pytest.mark.filterwarnings("error")]
 
 
@@ -271,3 +272,47 @@ def test_parity_of_a_firmware_run_is_refused(reference_run: tuple[Path, dict], t
     assert main(["replay", str(run), "--out", str(out), "--parity", "f64"]) == 2
     assert "shown as recorded" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_a_firmware_run_with_euler_angles_only_is_posed_from_them(tmp_path: Path, capsys):
+    """A firmware whose globals give roll_deg/pitch_deg/yaw_deg and no quaternion: the board is posed
+    at q = from_euler(the columns), its Euler plots are the columns themselves, and its error is
+    against the trace's truth (here the static trace: a firmware holding the truth's own angles has
+    no error beyond the angles' float64 round trip)."""
+    from fractions import Fraction
+
+    from sins_fw.profile import load_profile
+    from sins_fw.run_output import FIRMWARE_CREATED_BY, _run_metadata, firmware_run_schema, trace_reference
+    from sins_fw.tablefile import write_table
+    from sins_fw.traces import PhysicalTrace
+
+    static = ROOT / "traces" / "static_60s.h5"
+    truth = PhysicalTrace.load(static)
+    out = tmp_path / "euler.csv"
+    t = np.arange(1, 1001) * 0.004
+    # The truth at the rows' times (the static board: one attitude throughout).
+    euler = np.repeat(quaternion.to_euler_deg(truth.truth_q[:1]), len(t), axis=0)
+    cols = {"t_s": t, "roll_deg": euler[:, 0], "pitch_deg": euler[:, 1], "yaw_deg": euler[:, 2], "n": t * 250}
+    schema = firmware_run_schema(
+        [("roll_deg", "°", ""), ("pitch_deg", "°", ""), ("yaw_deg", "°", ""), ("n", "1", "")]
+    )
+    extra = {**trace_reference(static, out), "created_by": FIRMWARE_CREATED_BY, "firmware": "fw.so"}
+    write_table(out, schema, _run_metadata(load_profile("reference"), Fraction(1, 250), 0.0, extra), cols)
+    rrd = tmp_path / "r.rrd"
+    assert main(["replay", str(out), "--out", str(rrd), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["attitude"] is True and report["truth"] is True and report["float_mode"] is None
+    store = _store(rrd)
+    _, roll = _scalars(store, "attitude/roll/estimate")
+    assert np.array_equal(roll, cols["roll_deg"])
+    table = store.reader(index=paths.TICK, contents=paths.BOARD).to_arrow_table()
+    q_xyzw = np.array(table.column(f"/{paths.BOARD}:Transform3D:quaternion").to_pylist(), dtype=np.float64)
+    q = quaternion.from_euler(*np.radians(euler).T)
+    assert np.allclose(q_xyzw, q[:, [1, 2, 3, 0]], rtol=0, atol=1e-7)  # stored as float32 by Rerun
+    _, total = _scalars(store, "attitude_error/total")
+    # to_euler then from_euler in float64: a few ulps of each angle, ~1e-14 rad (6e-13°); the error
+    # angle is 2·atan2(|v|, |w|), well conditioned there. 1e-10° leaves two orders of magnitude.
+    assert len(total) == len(t) and float(np.max(total)) < 1e-10
+    png = tmp_path / "p.png"
+    assert main(["report", str(out), "--out", str(png)]) == 0
+    assert png.is_file()

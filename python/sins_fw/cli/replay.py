@@ -556,6 +556,7 @@ def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
             "profile": profile.source,
             "overrides": list(profile.overrides),
             "rows": rows,
+            "cycles": rows,  # as a model run's report names them: one row per ISR
             "globals": run_file.columns,
             "attitude": run_file.has_attitude,
             "truth": truth,

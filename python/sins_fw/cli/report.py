@@ -105,6 +105,7 @@ def _report_firmware(args: argparse.Namespace) -> int:
         "profile": profile.source,
         "overrides": list(profile.overrides),
         "rows": page.rows,
+        "cycles": page.rows,  # as a model run's report names them: one row per ISR
         "globals": run_file.columns,
         "attitude": run_file.has_attitude,
         "truth": page.has_truth,
