@@ -316,3 +316,23 @@ def test_a_firmware_run_with_euler_angles_only_is_posed_from_them(tmp_path: Path
     png = tmp_path / "p.png"
     assert main(["report", str(out), "--out", str(png)]) == 0
     assert png.is_file()
+
+
+def test_a_damaged_firmware_run_file_is_exit_2_naming_the_line_and_writes_nothing(
+    timer0: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    out = tmp_path / "run.csv"
+    _run(timer0, TIMER0 / "globals.toml", PITCH_SWEEP, out, capsys)
+    lines = out.read_text().splitlines(keepends=True)
+    row = next(i for i, line in enumerate(lines) if line[:1].isdigit()) + 500
+    cells = lines[row].split(",")
+    cells[1] = "oops"
+    lines[row] = ",".join(cells)
+    out.write_text("".join(lines))
+    for command, made in (("replay", tmp_path / "r.rrd"), ("report", tmp_path / "r.png")):
+        made.write_bytes(b"an old file")
+        assert main([command, str(out), "--out", str(made)]) == 2
+        err = capsys.readouterr().err
+        assert str(out) in err and f"line {row + 1}" in err, err
+        assert "Traceback" not in err
+        assert made.read_bytes() == b"an old file", "a previous output is left as it was"
