@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import tomllib
 from collections.abc import Iterator
 from fractions import Fraction
 from pathlib import Path
@@ -15,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from sins_fw import _core
+from sins_fw import _core, quaternion
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import PS, Run, check_until_s, emulate, has_dcm, has_wing
+from sins_fw.harness import CHUNK_ROWS, PS, Run, _chunks, _truth_at, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
 from sins_fw.tablefile import (
@@ -522,10 +523,14 @@ def _file_units(path: Path, meta: dict[str, str], names: list[str]) -> dict[str,
                 if unit is not None:
                     units[n] = unit.decode() if isinstance(unit, bytes) else str(unit)
     elif meta.get("globals") and Path(meta["globals"]).is_file():
-        from sins_fw.firmware_run import load_globals  # the firmware's module: only for a CSV file
-
-        with contextlib.suppress(InputError):
-            units |= {g.column: g.unit for g in load_globals(meta["globals"]) if g.column in names}
+        # Read for the units alone, leniently (sins_fw.firmware_run.load_globals checks the file
+        # when a run reads it; it may have changed since): a file that does not read gives none.
+        with contextlib.suppress(OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+            entries = tomllib.loads(Path(meta["globals"]).read_text(encoding="utf-8")).get("global")
+            for e in entries if isinstance(entries, list) else []:
+                column, unit = (e.get("column"), e.get("unit")) if isinstance(e, dict) else (None, None)
+                if column in names and isinstance(unit, str):
+                    units[column] = unit
     run_cols = {c.name: c for c in RUN_SCHEMA.columns}
     for n in names:
         if not units.get(n) and n in run_cols:
@@ -611,8 +616,6 @@ class FirmwareRunFile:
         self.trace_path = found
         read = ReadOptions(units=self.metadata.get("trace_units"), columns=self.metadata.get("trace_columns"))
         if read:
-            from sins_fw.harness import CHUNK_ROWS
-
             return PhysicalTrace.iter_chunks(found, CHUNK_ROWS, allow_gaps=True, read=read), None
         return found, None
 
@@ -629,9 +632,6 @@ class FirmwareRunFile:
         those of its columns, or its quaternion's (:func:`sins_fw.quaternion.to_euler`). With
         ``trace`` (the recorded trace, :meth:`truth`) a part carries the truth at each row's time
         and the movement mask, as `run --firmware` attached them."""
-        from sins_fw import quaternion
-        from sins_fw.harness import _truth_at
-
         until = _until_s(self.path, self.metadata.get("until_s"))
         window = _TruthReader(trace, until) if trace is not None and self.has_attitude else None
         step_s = 1 / self.rate
@@ -682,8 +682,6 @@ class _TruthReader:
     rows as over the whole trace (:func:`sins_fw.harness._truth_at`), bit for bit."""
 
     def __init__(self, trace: Path | Iterator[PhysicalTrace], until_s: float | None = None) -> None:
-        from sins_fw.harness import CHUNK_ROWS, _chunks
-
         # Gaps allowed: the truth is only read here (a run with --allow-gaps recorded such a trace).
         self.chunks = _chunks(trace, CHUNK_ROWS, allow_gaps=True)
         self.t0: float | None = None
