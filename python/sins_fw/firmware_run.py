@@ -208,6 +208,7 @@ def run_c_firmware(
     until_s: float | None = None,
     on_chunk: Callable[[float], None] | None = None,
     bus_log: bool = False,
+    on_loaded: Callable[[str], None] | None = None,
 ) -> FirmwareResult:
     """Run the firmware library on ``trace`` (None: a still board for ``until_s`` s) with the board
     of ``profile``; each part of the output (see the module's doc) goes to ``sink``. The firmware runs
@@ -218,7 +219,9 @@ def run_c_firmware(
     firmware's file and line where the build tells; the parts up to there have gone to ``sink``, and
     the exception carries the result so far. An ISR that has not returned by its deadline when the
     input ends is an error event (``isr_not_returned``). ``bus_log`` keeps the SPI bus log of the
-    whole run (:attr:`FirmwareResult.bus`). Ctrl-C (KeyboardInterrupt) and SIGTERM stop the child."""
+    whole run (:attr:`FirmwareResult.bus`). ``on_loaded`` is called with the float mode the library
+    was built with once it is loaded, before any row. Ctrl-C (KeyboardInterrupt) and SIGTERM stop
+    the child."""
     gfile = Path(globals_file) if globals_file is not None else None
     watched = load_globals(gfile) if gfile is not None else []
     costs = _costs(profile)
@@ -249,6 +252,8 @@ def run_c_firmware(
             if kind == "loaded":
                 loaded = True
                 result.float_mode = "c28x" if message[1] == 4 else "host"
+                if on_loaded is not None:
+                    on_loaded(result.float_mode)
                 rows.row_times = message[2]
                 child.send(feeder.next_piece())
             elif kind == "rows":
@@ -866,6 +871,13 @@ class FirmwareRunWriter(RunWriter):
                 for g in watched
             ]
         )
+
+    def record_float_mode(self, float_mode: str) -> None:
+        """Record the float mode the firmware was built with (``float_mode`` metadata): called when
+        the library is loaded, before any row, so before the metadata is written."""
+        if self._writer is not None:
+            raise InternalError("the float mode came after the run output's metadata was written")
+        self.metadata = {**self.metadata, "float_mode": float_mode}
 
     def _columns(self, part: dict[str, Any]) -> dict[str, np.ndarray]:
         cols = {"t_s": part["cycle_t_ps"].astype(np.float64) * PS}

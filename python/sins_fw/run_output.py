@@ -8,15 +8,17 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import tomllib
+from collections.abc import Iterator
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from sins_fw import _core
+from sins_fw import _core, quaternion
 from sins_fw.errors import CheckFailed, InputError
-from sins_fw.harness import PS, Run, check_until_s, emulate, has_dcm, has_wing
+from sins_fw.harness import CHUNK_ROWS, PS, Run, _chunks, _truth_at, check_until_s, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile, load_profile
 from sins_fw.stream import TableWriter
 from sins_fw.tablefile import (
@@ -26,6 +28,7 @@ from sins_fw.tablefile import (
     Schema,
     csv_separator,
     open_table,
+    parse_rate,
     rate_text,
     read_metadata,
     table_extension,
@@ -440,6 +443,15 @@ def recorded_trace(path: str | os.PathLike[str], meta: dict[str, str]) -> Path |
     return PhysicalTrace.load(trace, read=read) if read else trace
 
 
+def recorded_profile(path: str | os.PathLike[str], meta: dict[str, str]) -> Profile:
+    """The profile a run output records (``profile``, ``overrides``), loaded."""
+    try:
+        overrides = [str(o) for o in json.loads(meta.get("overrides") or "[]")]
+    except (json.JSONDecodeError, TypeError):
+        raise InputError(f"{path}: metadata `overrides` is not a JSON list of key=value texts") from None
+    return load_profile(meta.get("profile", "reference"), overrides)
+
+
 def replay_check(
     path: str | os.PathLike[str], bus_window: tuple[int, int] | None = None
 ) -> tuple[Run, dict[str, str]]:
@@ -447,22 +459,20 @@ def replay_check(
     that every per-step value comes out bit for bit the same, like ArduPilot's replay checker. Returns
     the new Run and the metadata (``trace`` is where the trace was found: :func:`resolve_trace`);
     raises CheckFailed naming the first differing column and row. A C firmware's run output is
-    refused (InputError): its rows are the firmware's, which the Rust model does not re-emulate."""
+    refused (InputError): its rows are the firmware's, which the Rust model does not re-emulate
+    (`sins-fw replay` and `report` show it as recorded: :class:`FirmwareRunFile`)."""
     meta, saved = load_run(path)
     if meta.get("created_by") == FIRMWARE_CREATED_BY:
         raise InputError(
             f"{path}: a run of the C firmware {meta.get('firmware', '(its `firmware` metadata)')}: its rows "
-            "are the firmware's globals, which the Rust model does not re-emulate; read it with "
-            "sins_fw.load_run, or run the firmware again (`sins-fw run TRACE --firmware FW.so`)"
+            "are the firmware's globals, which the Rust model does not re-emulate; `sins-fw replay` and "
+            "`sins-fw report` show it as recorded, sins_fw.load_run reads it, and `sins-fw run TRACE "
+            "--firmware FW.so` runs the firmware again"
         )
     meta = {**meta, "trace": str(resolve_trace(path, meta))}  # the trace as found
     trace = recorded_trace(path, meta)
-    try:
-        overrides = [str(o) for o in json.loads(meta.get("overrides") or "[]")]
-    except (json.JSONDecodeError, TypeError):
-        raise InputError(f"{path}: metadata `overrides` is not a JSON list of key=value texts") from None
     until = _until_s(path, meta.get("until_s"))
-    profile = load_profile(meta.get("profile", "reference"), overrides)
+    profile = recorded_profile(path, meta)
     run = emulate(trace, profile, bus_window=bus_window, until_s=until)
     fresh = run_columns(run)
     for name, column in saved.items():
@@ -478,3 +488,241 @@ def replay_check(
                 f"{path}: replay differs at row {row}, column `{name}`: saved {a[row]!r}, now {b[row]!r}"
             )
     return run, meta
+
+
+# A C firmware's run output read back (`replay` and `report` of a `run --firmware --out` file) --------
+
+#: The run output's attitude columns a firmware's globals may fill: the quaternion (all four) and the
+#: Euler angles (all three, degrees).
+FIRMWARE_QUAT = ("q0", "q1", "q2", "q3")
+FIRMWARE_EULER = ("roll_deg", "pitch_deg", "yaw_deg")
+#: Rows of a firmware's run output read at a time (a block and the trace rows it spans are what
+#: memory holds, whatever the run's length).
+FIRMWARE_BLOCK_ROWS = 1 << 13
+
+
+def is_firmware_run(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a C firmware's run output (`run --firmware --out`; False when unreadable)."""
+    if not Path(path).is_file():
+        return False
+    meta = read_metadata(path)
+    return meta.get("format") == RUN_FORMAT and meta.get("created_by") == FIRMWARE_CREATED_BY
+
+
+def _file_units(path: Path, meta: dict[str, str], names: list[str]) -> dict[str, str]:
+    """The unit of each column where it is known: an HDF5 dataset's ``unit`` attribute; else the
+    globals file the run recorded (when it is still there and names the column); else the run
+    output's own unit of an attitude column."""
+    units: dict[str, str] = {}
+    if table_extension(path) == ".h5":
+        import h5py  # a heavy import: only for an HDF5 file
+
+        with h5py.File(path, "r") as f:
+            for n in names:
+                unit = f[n].attrs.get("unit")
+                if unit is not None:
+                    units[n] = unit.decode() if isinstance(unit, bytes) else str(unit)
+    elif meta.get("globals") and Path(meta["globals"]).is_file():
+        # Read for the units alone, leniently (sins_fw.firmware_run.load_globals checks the file
+        # when a run reads it; it may have changed since): a file that does not read gives none.
+        with contextlib.suppress(OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+            entries = tomllib.loads(Path(meta["globals"]).read_text(encoding="utf-8")).get("global")
+            for e in entries if isinstance(entries, list) else []:
+                column, unit = (e.get("column"), e.get("unit")) if isinstance(e, dict) else (None, None)
+                if column in names and isinstance(unit, str):
+                    units[column] = unit
+    run_cols = {c.name: c for c in RUN_SCHEMA.columns}
+    for n in names:
+        if not units.get(n) and n in run_cols:
+            units[n] = run_cols[n].unit
+    return units
+
+
+#: A firmware run's file holds no burst reads and no budget rows: a part's are empty.
+_NO_READS: dict[str, np.ndarray] = {
+    **{
+        f"read_{k}": np.zeros(0, np.uint64)
+        for k in ("tick", "t_cs_ps", "t_start_ps", "t_end_ps", "sample_ps", "age_ps")
+    },
+    "read_words": np.zeros((0, _core.READ_WORDS), np.uint16),
+    "read_rate": np.zeros((0, 3)),
+    "read_accel": np.zeros((0, 3)),
+    "read_sample_index": np.zeros(0, np.int64),
+    "read_assumed_s": np.zeros(0),
+}
+_NO_BUDGET: dict[str, np.ndarray] = {
+    **{
+        f"budget_{k}": np.zeros(0, np.uint64)
+        for k in (
+            "tick",
+            "tick_ps",
+            "start_ps",
+            "entry_end_ps",
+            "spi_start_ps",
+            "spi_end_ps",
+            "decode_end_ps",
+            "attitude_end_ps",
+            "euler_end_ps",
+            "nav_end_ps",
+            "end_ps",
+            "deadline_ps",
+        )
+    },
+    "budget_step": np.zeros(0, np.uint8),
+    "budget_overrun": np.zeros(0, np.uint8),
+}
+
+
+class FirmwareRunFile:
+    """A C firmware's run output opened for `replay` and `report`, shown as recorded (the Rust
+    model does not re-emulate a C firmware): its metadata, its columns (name and unit, when known)
+    and their rows read a block at a time (:meth:`parts`: the parts a firmware run hands its sink,
+    with the trace's truth where the trace is found)."""
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        self.metadata = read_metadata(self.path)
+        names = [n for n in _header_names(self.path) if n != "t_s"]
+        self.schema = firmware_run_schema([(n, "", "firmware global after the ISR") for n in names])
+        self.units = _file_units(self.path, self.metadata, names)
+        #: The watched globals' columns, in file order.
+        self.columns = names
+        self.has_quat = all(n in names for n in FIRMWARE_QUAT)
+        self.has_euler = all(n in names for n in FIRMWARE_EULER)
+        self.rate = parse_rate(
+            self.metadata.get("sample_rate_hz", ""), f"{self.path}: metadata `sample_rate_hz`"
+        )
+        #: Where :meth:`truth` found the recorded trace.
+        self.trace_path: Path | None = None
+
+    @property
+    def has_attitude(self) -> bool:
+        """Whether the firmware's columns give its attitude (q0…q3 and/or the Euler angles)."""
+        return self.has_quat or self.has_euler
+
+    def label(self, column: str) -> str:
+        """``column (unit)``, or the column alone when its unit is unknown or dimensionless."""
+        unit = self.units.get(column, "")
+        return f"{column} ({unit})" if unit not in ("", "1") else column
+
+    def truth(self) -> tuple[Path | Iterator[PhysicalTrace] | None, str | None]:
+        """The trace the run recorded (:func:`resolve_trace`; :attr:`trace_path` is where it was
+        found), to be read as the run read it (its ``--units`` / ``--columns``, streamed), or None
+        and why not (one line)."""
+        try:
+            found = resolve_trace(self.path, self.metadata)
+        except InputError as e:
+            return None, str(e)
+        self.trace_path = found
+        read = ReadOptions(units=self.metadata.get("trace_units"), columns=self.metadata.get("trace_columns"))
+        if read:
+            return PhysicalTrace.iter_chunks(found, CHUNK_ROWS, allow_gaps=True, read=read), None
+        return found, None
+
+    def blocks(self) -> Iterator[dict[str, np.ndarray]]:
+        """The file's rows, :data:`FIRMWARE_BLOCK_ROWS` at a time, validated as :func:`load_run` does."""
+        src = open_table(self.path, self.schema, FIRMWARE_BLOCK_ROWS, True, 1.5)
+        yield from src.blocks
+
+    def parts(self, trace: Path | Iterator[PhysicalTrace] | None = None) -> Iterator[dict[str, Any]]:
+        """The rows as parts of a run (the keys :func:`sins_fw.harness.emulate` hands a sink; no
+        budget, bus reads or events: the file holds none), each row stamped with its tick
+        (``cycle_tick``: its time over the tick period). The attitude is the firmware's quaternion, or
+        its Euler angles made one (``q = from_euler``) when it has no quaternion; its Euler angles
+        those of its columns, or its quaternion's (:func:`sins_fw.quaternion.to_euler`). With
+        ``trace`` (the recorded trace, :meth:`truth`) a part carries the truth at each row's time
+        and the movement mask, as `run --firmware` attached them."""
+        until = _until_s(self.path, self.metadata.get("until_s"))
+        window = _TruthReader(trace, until) if trace is not None and self.has_attitude else None
+        step_s = 1 / self.rate
+        for block in self.blocks():
+            t_s = block["t_s"]
+            n = len(t_s)
+            t_ps = np.rint(t_s * 1e12).astype(np.uint64)
+            tick = np.rint(t_s / float(step_s)).astype(np.int64)
+            quat, euler = np.full((n, 4), np.nan), np.full((n, 3), np.nan)
+            if self.has_quat:
+                quat = np.stack([block[c] for c in FIRMWARE_QUAT], axis=1).astype(np.float64)
+            if self.has_euler:
+                euler = np.stack([block[c] for c in FIRMWARE_EULER], axis=1).astype(np.float64)
+                if not self.has_quat:
+                    quat = quaternion.from_euler(*np.radians(euler).T)
+            elif self.has_quat:
+                with np.errstate(invalid="ignore"):
+                    euler = quaternion.to_euler_deg(quat)
+            part: dict[str, Any] = {
+                "cycle_t_ps": t_ps,
+                "cycle_step": tick.astype(np.uint64),
+                "cycle_tick": tick,
+                "cycle_quat": quat,
+                "cycle_euler_deg": euler,
+                "cycle_vel_enu": np.full((n, 3), np.nan),
+                "cycle_pos": np.full((n, 3), np.nan),
+                **_NO_READS,
+                "events": [],
+                "firmware_t_s": t_s,
+                "firmware_globals": {c: block[c] for c in self.columns},
+                **_NO_BUDGET,
+            }
+            if window is not None and n:
+                t, q, moving, q0 = window.covering(float(t_s[-1]))
+                if len(t):
+                    part["truth_q"] = _truth_at(t, q, t_s)
+                    part["truth_q0"] = q0
+                    if moving is not None:
+                        idx = np.clip(np.searchsorted(t, t_s, side="right") - 1, 0, len(t) - 1)
+                        part["moving"] = moving[idx]
+            yield part
+
+
+class _TruthReader:
+    """The truth of the recorded trace around the rows being read, a chunk at a time (times from
+    the trace's first sample, as the firmware run counted them): the rows from the one before the
+    block's first time on, so that the truth at a row is interpolated between the same two trace
+    rows as over the whole trace (:func:`sins_fw.harness._truth_at`), bit for bit."""
+
+    def __init__(self, trace: Path | Iterator[PhysicalTrace], until_s: float | None = None) -> None:
+        # Gaps allowed: the truth is only read here (a run with --allow-gaps recorded such a trace).
+        self.chunks = _chunks(trace, CHUNK_ROWS, allow_gaps=True)
+        self.t0: float | None = None
+        self.t = np.empty(0)
+        self.q = np.empty((0, 4))
+        self.moving: np.ndarray | None = None
+        self.q0: np.ndarray | None = None
+        self.ended = False
+        #: The run's `--until-s`: its input, so its truth, ended there.
+        self.until_s = until_s
+
+    def covering(self, until_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+        """The truth rows read so far from the last one at or before the previous call's end, read
+        on until one is past ``until_s`` (or the trace ends). Empty when the trace has no truth."""
+        while not self.ended and (not len(self.t) or self.t[-1] <= until_s):
+            chunk = next(self.chunks, None)
+            if chunk is None:
+                self.ended = True
+                break
+            if not len(chunk):
+                continue
+            if self.t0 is None:
+                self.t0 = float(chunk.t_s[0])
+            if chunk.truth_q is None:  # a trace without truth: nothing to compare with
+                self.ended = True
+                break
+            if self.q0 is None:
+                self.q0 = np.asarray(chunk.truth_q[0], dtype=np.float64).copy()
+            t = chunk.t_s - self.t0
+            stop = len(t) if self.until_s is None else int(np.searchsorted(t, self.until_s, side="right"))
+            self.t = np.concatenate([self.t, t[:stop]])
+            self.q = np.concatenate([self.q, chunk.truth_q[:stop]])
+            if chunk.moving is not None:
+                moving = chunk.moving[:stop]
+                self.moving = moving if self.moving is None else np.concatenate([self.moving, moving])
+            if stop < len(t):
+                self.ended = True
+        out = (self.t, self.q, self.moving, self.q0)
+        # Keep the row before the end for the next block (its first rows may fall before it).
+        keep = max(int(np.searchsorted(self.t, until_s, side="right")) - 1, 0)
+        self.t, self.q = self.t[keep:], self.q[keep:]
+        if self.moving is not None:
+            self.moving = self.moving[keep:]
+        return out

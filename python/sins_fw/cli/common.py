@@ -250,7 +250,8 @@ def add_trace_or_run_argument(p: argparse.ArgumentParser) -> None:
         type=Path,
         metavar="TRACE_OR_RUN",
         help="physical trace (.h5 or .csv), or a `sins-fw run --out` file: re-emulated from its recorded "
-        "trace and profile and checked bit for bit against it (exit 1 on a difference)",
+        "trace and profile and checked bit for bit against it (exit 1 on a difference); a C firmware's "
+        "(`run --firmware --out`) is shown as recorded, not re-emulated",
     )
 
 

@@ -112,8 +112,24 @@ def _trace_or_run(label: str) -> Expand:
             recorded = _recorded_trace(p)
             if recorded is not None:
                 yield f"{label}'s recorded trace", recorded
+            globals_file = _recorded_globals(p)
+            if globals_file is not None:
+                yield f"{label}'s recorded globals file", globals_file
 
     return expand
+
+
+def _recorded_globals(path: Path) -> Path | None:
+    """The globals file a C firmware's run output records (read for its columns' units), if it exists."""
+    from sins_fw.run_output import is_firmware_run  # heavy: only for a command that reads such files
+    from sins_fw.traces import read_metadata  # heavy (numpy, the core)
+
+    with contextlib.suppress(SinsError, OSError, ValueError):
+        if is_firmware_run(path):
+            written = read_metadata(path).get("globals")
+            if written and Path(written).is_file():
+                return Path(written)
+    return None
 
 
 def _recorded_trace(path: Path) -> Path | None:

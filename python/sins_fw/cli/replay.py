@@ -2,8 +2,9 @@
 recording (3-D attitude, time series, budget, events, the SPI bus of a window of ticks) with its
 default layout; `--spawn` opens it in the Rerun viewer when one can be shown.
 
-TRACE is a physical trace (.h5 or .csv, docs/traces.md). Saved run outputs are not accepted yet:
-the project has no run-output file format.
+TRACE is a physical trace (.h5 or .csv, docs/traces.md) or a run output (`sins-fw run --out`): a
+run of the Rust model is re-emulated and checked bit for bit before it is shown; a C firmware's
+(`run --firmware --out`) is shown as recorded (:mod:`sins_fw.viewer.firmware`).
 """
 
 from __future__ import annotations
@@ -35,7 +36,15 @@ from sins_fw.cli.stop import check_stop
 from sins_fw.errors import InputError, TraceError
 from sins_fw.harness import CHUNK_ROWS, Run, emulate, has_dcm, has_wing
 from sins_fw.profile import Profile
-from sins_fw.run_output import RUN_FORMAT, recorded_trace, replay_check, resolve_trace
+from sins_fw.run_output import (
+    FIRMWARE_CREATED_BY,
+    RUN_FORMAT,
+    FirmwareRunFile,
+    recorded_profile,
+    recorded_trace,
+    replay_check,
+    resolve_trace,
+)
 from sins_fw.traces import PhysicalTrace, file_sha256, read_metadata
 from sins_fw.viewer import serve
 
@@ -56,7 +65,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Emulate a physical trace and write a Rerun recording: the board at the estimated "
         "attitude (and its truth), roll/pitch/yaw and their errors, decoded vs physical IMU data, raw "
         "register words with ND/EA, sample age, the ISR budget per tick, events, and the SPI bus "
-        "(CS, frames with DIN/DOUT, stalls) for a window of ticks. Open it with `rerun FILE.rrd`.",
+        "(CS, frames with DIN/DOUT, stalls) for a window of ticks. Open it with `rerun FILE.rrd`. A C "
+        "firmware's run output (`run --firmware --out`) is shown as recorded, not re-emulated: its "
+        "globals as time series and, when they give the attitude, the board, the Euler angles and the "
+        "error against the recorded trace's truth.",
         epilog=exit_epilog(f"{EVENTS_CHECK}, or a saved run does not replay bit for bit"),
     )
     add_trace_or_run_argument(p)
@@ -252,6 +264,8 @@ def run(args: argparse.Namespace) -> int:
             f"{args.trace}: a saved run of the gyro-free board; replay the trace it records "
             f"({meta.get('trace', 'its `trace` metadata')}) with --profile {meta.get('profile', 'gfsins')}"
         )
+    if meta.get("format") == RUN_FORMAT and meta.get("created_by") == FIRMWARE_CREATED_BY:
+        return _replay_firmware(args, problem)
     if gfsins.has_own_schema(args.profile) and meta.get("format") != RUN_FORMAT:
         return _replay_gfsins(args, window, problem)
     saved_run: Run | None = None
@@ -474,6 +488,98 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
         if code != 0:
             return code
     check_error_counts(errors, first_error)
+    return 0
+
+
+def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
+    """`replay RUN` of a C firmware's run output: the recording made from the file as recorded, a
+    block at a time (:mod:`sins_fw.viewer.firmware`); nothing is re-emulated."""
+    from sins_fw.viewer import firmware as view
+    from sins_fw.viewer import recording
+
+    if args.parity:
+        raise InputError(
+            f"{args.trace}: --parity re-runs the Rust model's numeric backends; a C firmware's run output "
+            "is shown as recorded"
+        )
+    run_file = FirmwareRunFile(args.trace)
+    profile = recorded_profile(args.trace, run_file.metadata)
+    trace, note = run_file.truth() if run_file.has_attitude else (None, None)
+    if note is not None:
+        print(f"{note}: recorded without the truth", file=sys.stderr)
+    rid = recording.recording_id(
+        "sins-fw run --firmware",
+        profile.text,
+        "\n".join(profile.overrides),
+        args.trace.name,
+        bytes.fromhex(file_sha256(args.trace)),
+    )
+    bp = view.blueprint(run_file)
+    with contextlib.ExitStack() as keep:
+        served = args.out
+        if served is None and args.serve:
+            tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
+            served = Path(tmp) / f"{args.trace.stem}.rrd"
+        with contextlib.ExitStack() as files:  # the file is complete once this block ends
+            streams = []
+            if served is not None:
+                out_file = recording.recording_file(
+                    served, recording_id=rid, blueprint=bp, name=args.trace.name
+                )
+                streams.append(files.enter_context(out_file))
+            if args.spawn and problem is None:
+                import rerun as rr
+
+                rec = rr.RecordingStream("sins-fw", recording_id=rid)
+                try:
+                    rec.spawn(default_blueprint=bp)
+                except Exception as e:  # the viewer failed to start: say why, no traceback
+                    raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
+                streams.append(rec)
+            recorders = [view.FirmwareRecorder(r, run_file, profile) for r in streams]
+            rows, truth = 0, False
+            for part in run_file.parts(trace):
+                check_stop()
+                rows += len(part["cycle_step"])
+                truth |= "truth_q" in part
+                for recorder in recorders:
+                    recorder.add(part)
+            for recorder in recorders:
+                recorder.finish()
+            if args.spawn and problem is None:
+                streams[-1].flush()
+        m = run_file.metadata
+        report = {
+            "trace": str(args.trace),
+            "firmware": m.get("firmware"),
+            "float_mode": m.get("float_mode"),
+            "profile": profile.source,
+            "overrides": list(profile.overrides),
+            "rows": rows,
+            "cycles": rows,  # as a model run's report names them: one row per ISR
+            "globals": run_file.columns,
+            "attitude": run_file.has_attitude,
+            "truth": truth,
+            "trace_found": None if run_file.trace_path is None else str(run_file.trace_path),
+            "trace_missing": note,
+            "re_emulated": False,
+            "saved": None if args.out is None else str(args.out),
+        }
+        if not run_file.has_attitude:
+            attitude = "no attitude columns (q0…q3, roll_deg/pitch_deg/yaw_deg)"
+        elif truth:
+            attitude = "its attitude against the trace's truth"
+        else:
+            attitude = "its attitude, no truth (" + (
+                "the trace has none)" if trace is not None else "trace not found)"
+            )
+        lines = [
+            f"replay of {args.trace}, a run of the C firmware {m.get('firmware', '?')} shown as recorded "
+            f"(not re-emulated): {rows} ISR rows, {len(run_file.columns)} globals, {attitude}",
+        ]
+        code = _report_and_serve(args, report, lines, problem, served)
+        if code != 0:
+            return code
     return 0
 
 

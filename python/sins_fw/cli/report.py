@@ -1,9 +1,11 @@
 """`sins-fw report TRACE --out FILE.png`: emulate a trace and draw a one-page static report (attitude
-error, ISR budget, events) for people without the Rerun viewer."""
+error, ISR budget, events) for people without the Rerun viewer. A C firmware's run output (`run
+--firmware --out`) is drawn as recorded (:mod:`sins_fw.report_firmware`), not re-emulated."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 
 from sins_fw.atomic import check_output_folder
 from sins_fw.cli.common import (
@@ -18,8 +20,9 @@ from sins_fw.cli.common import (
     exit_epilog,
     profile_from_args,
 )
+from sins_fw.cli.stop import check_stop
 from sins_fw.harness import emulate
-from sins_fw.run_output import RUN_FORMAT, replay_check
+from sins_fw.run_output import RUN_FORMAT, FirmwareRunFile, is_firmware_run, recorded_profile, replay_check
 from sins_fw.traces import read_metadata
 
 
@@ -27,6 +30,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "report",
         help="emulate a trace and draw a one-page PNG report (attitude error, ISR budget, events)",
+        description="Emulate a physical trace, or re-emulate and check a saved run, and draw a one-page "
+        "PNG report: the attitude error, the ISR budget per tick, the events. A C firmware's run output "
+        "(`run --firmware --out`) is shown as recorded, not re-emulated: its attitude and the error "
+        "against the recorded trace's truth when its globals give the attitude, else its globals; and "
+        "what the file records (firmware, float mode, trace).",
         epilog=exit_epilog(f"{EVENTS_CHECK}, or a saved run does not replay bit for bit"),
     )
     add_trace_or_run_argument(p)
@@ -39,6 +47,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     check_png(args.out, "--out")
     check_output_folder(args.out, "--out")  # missing folders are created, as for every output
+    if is_firmware_run(args.trace):
+        return _report_firmware(args)
     saved_run = read_metadata(args.trace).get("format") == RUN_FORMAT if args.trace.is_file() else False
     from sins_fw.report_page import PageData, save_report  # matplotlib is a heavy import
 
@@ -69,4 +79,45 @@ def run(args: argparse.Namespace) -> int:
         f"report of {args.trace} ({s.cycles} cycles, {s.events_total} events) written to {args.out}",
     )
     check_error_counts(s.error_counts(), s.first_error())
+    return 0
+
+
+def _report_firmware(args: argparse.Namespace) -> int:
+    """`report RUN` of a C firmware's run output: the page drawn from the file as recorded, a block at
+    a time; nothing is re-emulated (and the file holds no events to check)."""
+    from sins_fw.report_firmware import FirmwarePage, save_firmware_report  # matplotlib: heavy
+
+    run_file = FirmwareRunFile(args.trace)
+    profile = recorded_profile(args.trace, run_file.metadata)
+    trace, note = run_file.truth() if run_file.has_attitude else (None, None)
+    if note is not None:
+        print(f"{note}: drawn without the truth", file=sys.stderr)
+    page = FirmwarePage(run_file, profile, trace=run_file.trace_path, trace_note=note)
+    for part in run_file.parts(trace):
+        check_stop()
+        page.add(part)
+    save_firmware_report(page, args.out, title=args.trace.name)
+    m = run_file.metadata
+    report = {
+        "trace": str(args.trace),
+        "firmware": m.get("firmware"),
+        "float_mode": m.get("float_mode"),
+        "profile": profile.source,
+        "overrides": list(profile.overrides),
+        "rows": page.rows,
+        "cycles": page.rows,  # as a model run's report names them: one row per ISR
+        "globals": run_file.columns,
+        "attitude": run_file.has_attitude,
+        "truth": page.has_truth,
+        "trace_found": None if run_file.trace_path is None else str(run_file.trace_path),
+        "trace_missing": note,
+        "re_emulated": False,
+        "png": str(args.out),
+    }
+    emit(
+        args,
+        report,
+        f"report of {args.trace}, a run of the C firmware {m.get('firmware', '?')} shown as recorded "
+        f"(not re-emulated; {page.rows} ISR rows), written to {args.out}",
+    )
     return 0

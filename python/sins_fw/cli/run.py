@@ -374,6 +374,14 @@ def _run_firmware(args: argparse.Namespace) -> int:
         writer = None
         if args.out is not None:
             meta = {**trace_reference(args.trace, args.out), **firmware_metadata(args.firmware, globals_file)}
+            if read is not None:  # how the trace was read (replay and report read its truth the same way)
+                meta.update(
+                    {
+                        k: str(v)
+                        for k, v in (("trace_units", read.units), ("trace_columns", read.columns))
+                        if v
+                    }
+                )
             if args.until_s is not None:
                 meta["until_s"] = repr(args.until_s)
             t0 = _first_time(args.trace, read) or 0.0
@@ -399,6 +407,8 @@ def _run_firmware(args: argparse.Namespace) -> int:
                 sink=sink,
                 until_s=args.until_s,
                 on_chunk=on_chunk,
+                # Known once the library is loaded, before the file's metadata is written.
+                on_loaded=None if writer is None else writer.record_float_mode,
             )
         except FirmwareStopped as e:
             # The firmware ended the run: what it computed up to there is kept (the summary, the

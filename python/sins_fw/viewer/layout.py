@@ -4,12 +4,14 @@ ghost, roll/pitch/yaw against truth, the errors, the events). *Sensor*: what the
 next to what the IMU felt, the raw register words and their ND/EA flags, the sample age. *Budget*:
 which cycle missed its deadline. *DCM*: how the DCM's drift cancellation pulls the attitude (its
 correction terms and errors, the matrix's orthogonality). *Bus*: what was on the SPI bus in the
-recorded window. *Parity*: how the other numeric backends differ."""
+recorded window. *Parity*: how the other numeric backends differ. A C firmware's run output
+(`replay RUN.h5` of a `run --firmware --out` file): the same *Attitude* tab when its globals give the
+attitude, and *Globals*, one plot per watched global."""
 
 from __future__ import annotations
 
 import uuid
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 import rerun.blueprint as rrb
 
@@ -21,32 +23,25 @@ def _events(name: str = "Events") -> rrb.TextLogView:
 
 
 def default_blueprint(
-    *, bus: bool, parity: Iterable[str] = (), dcm: bool = False, wing: bool = False
+    *,
+    bus: bool,
+    parity: Iterable[str] = (),
+    dcm: bool = False,
+    wing: bool = False,
+    firmware: Mapping[str, str] | None = None,
+    attitude: bool = True,
 ) -> rrb.Blueprint:
     """Tabs Attitude, Sensor, Budget, and DCM / Bus / Parity when the recording has them (``dcm``:
     the firmware is the DCM, :func:`sins_fw.harness.has_dcm`; ``bus``: a bus window was recorded;
-    ``parity``: the other backends' names); emulated time selected."""
+    ``parity``: the other backends' names); emulated time selected.
+
+    ``firmware`` (column → its series' name): the recording of a C firmware's run output, which
+    holds the firmware's globals and no sensor reads or budget: the Attitude tab (when ``attitude``:
+    the globals give it), then a Globals tab with one plot per global."""
+    if firmware is not None:
+        return _firmware_blueprint(firmware, attitude)
     parity = list(parity)
-    angles = [
-        rrb.TimeSeriesView(
-            name=f"{angle.capitalize()}: estimate and truth (°)",
-            origin=f"attitude/{angle}",
-        )
-        for angle in paths.ANGLES
-    ]
-    attitude = rrb.Horizontal(
-        rrb.Vertical(
-            rrb.Spatial3DView(name="Board (estimate) and truth (wireframe), ENU", origin="world"),
-            _events(),
-            row_shares=[3, 1],
-        ),
-        rrb.Vertical(
-            *angles,
-            rrb.TimeSeriesView(name="Attitude error (°), estimate − truth", origin="attitude_error"),
-        ),
-        column_shares=[2, 3],
-        name="Attitude",
-    )
+    tabs: list[rrb.Container] = [_attitude_tab()]
     sensor = rrb.Vertical(
         rrb.Horizontal(
             rrb.TimeSeriesView(name="Rate: decoded and physical (°/s)", origin="imu/rate"),
@@ -70,7 +65,7 @@ def default_blueprint(
         row_shares=[2, 1, 1],
         name="Budget",
     )
-    tabs: list[rrb.Container] = [attitude, sensor, budget]
+    tabs += [sensor, budget]
     if dcm:
         tabs.append(
             rrb.Vertical(
@@ -117,6 +112,43 @@ def default_blueprint(
                 name="Parity",
             )
         )
+    return _blueprint(tabs)
+
+
+def _attitude_tab() -> rrb.Container:
+    angles = [
+        rrb.TimeSeriesView(
+            name=f"{angle.capitalize()}: estimate and truth (°)",
+            origin=f"attitude/{angle}",
+        )
+        for angle in paths.ANGLES
+    ]
+    return rrb.Horizontal(
+        rrb.Vertical(
+            rrb.Spatial3DView(name="Board (estimate) and truth (wireframe), ENU", origin="world"),
+            _events(),
+            row_shares=[3, 1],
+        ),
+        rrb.Vertical(
+            *angles,
+            rrb.TimeSeriesView(name="Attitude error (°), estimate − truth", origin="attitude_error"),
+        ),
+        column_shares=[2, 3],
+        name="Attitude",
+    )
+
+
+def _firmware_blueprint(globals_: Mapping[str, str], attitude: bool) -> rrb.Blueprint:
+    views = [
+        rrb.TimeSeriesView(name=name, origin=paths.firmware_global(column))
+        for column, name in globals_.items()
+    ]
+    tabs: list[rrb.Container] = [_attitude_tab()] if attitude else []
+    tabs.append(rrb.Grid(*views, name="Globals"))
+    return _blueprint(tabs)
+
+
+def _blueprint(tabs: list[rrb.Container]) -> rrb.Blueprint:
     root = rrb.Tabs(*tabs, active_tab=0)
     _name_ids(root, "")
     return rrb.Blueprint(root, rrb.TimePanel(timeline=paths.TIME, expanded=True), collapse_panels=False)

@@ -70,6 +70,15 @@ BUS_STALL = "bus/stall"
 BUS_STALL_MIN = "bus/stall_min"
 
 
+#: A C firmware's watched globals (`replay` of a `run --firmware --out` file): one series each.
+FIRMWARE_GLOBALS = "firmware"
+
+
+def firmware_global(column: str) -> str:
+    """``firmware/<column>``: a watched global of a C firmware, as its run output names it."""
+    return f"{FIRMWARE_GLOBALS}/{column}"
+
+
 def parity(backend: str, what: str) -> str:
     """``parity/<backend>/<euler|angle>``: that backend minus this run."""
     return f"parity/{backend}/{what}"

@@ -386,9 +386,13 @@ class Recorder:
             self.first_tick = int(ticks[0])
         step = part["cycle_step"]
         if len(step):
-            # The tick whose ISR computed each step: the first at or after the step's time.
-            i = np.clip(np.searchsorted(tick_ps, part["cycle_t_ps"]), 0, max(len(tick_ps) - 1, 0))
-            cyc_ps, cyc_tick = tick_ps[i], ticks[i].astype(np.int64)
+            if "cycle_tick" in part:  # rows that carry their tick (a C firmware's run output)
+                cyc_ps = np.asarray(part["cycle_t_ps"], dtype=np.uint64)
+                cyc_tick = np.asarray(part["cycle_tick"], dtype=np.int64)
+            else:
+                # The tick whose ISR computed each step: the first at or after the step's time.
+                i = np.clip(np.searchsorted(tick_ps, part["cycle_t_ps"]), 0, max(len(tick_ps) - 1, 0))
+                cyc_ps, cyc_tick = tick_ps[i], ticks[i].astype(np.int64)
             self._log_cycles(part, cyc_ps, cyc_tick)
             self._log_dcm(part, cyc_ps, cyc_tick)
             self._log_wing(part, cyc_ps, cyc_tick)
