@@ -398,6 +398,7 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
    IR instruction by instruction and puts at the block's first insertion point one call
    `sins_fw_block(cycles, &counter)` (`sins_fw_enter` at a function's entry block, which also counts the
    call): the runtime adds the cycles to the time due and to `counter`, the function's own ("self") cycles, which the runtime lists by function name (sins_fw_function_cycles).
+   Before each return it calls `sins_fw_leave(&counter)`: the function's inclusive cycles.
    An empty endless loop (`for (;;) {}`: a block that only branches to itself) calls
    `sins_fw_idle(cycles)` instead: the runtime moves time to the next interrupt in whole passes.
    Without $SINS_FW_PASS_COSTS the pass prices nothing (a build of another tool). */
@@ -558,6 +559,7 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         FunctionCallee block = m.getOrInsertFunction("sins_fw_block", Type::getVoidTy(ctx), i32, i8p);
         FunctionCallee enter = m.getOrInsertFunction("sins_fw_enter", Type::getVoidTy(ctx), i32, i8p);
         FunctionCallee idle = m.getOrInsertFunction("sins_fw_idle", Type::getVoidTy(ctx), i32);
+        FunctionCallee leave = m.getOrInsertFunction("sins_fw_leave", Type::getVoidTy(ctx), i8p);
         /* The functions the sources place in section ramfuncs (`#pragma CODE_SECTION(f, "ramfuncs")`,
            found by the build): the runtime checks at their entry that the section was copied to RAM. */
         std::set<std::string> ramfuncs;
@@ -586,8 +588,9 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
             }
         }
         for (Function *f : fns) {
-            auto *counter = new GlobalVariable(m, ArrayType::get(i64, 2), false, GlobalValue::PrivateLinkage,
-                                               ConstantAggregateZero::get(ArrayType::get(i64, 2)),
+            /* {self cycles, calls, inclusive cycles, frames running}: the runtime's FunctionRow. */
+            auto *counter = new GlobalVariable(m, ArrayType::get(i64, 4), false, GlobalValue::PrivateLinkage,
+                                               ConstantAggregateZero::get(ArrayType::get(i64, 4)),
                                                "sins_fw_cycles." + f->getName());
             Constant *name = ConstantExpr::getPointerCast(
                 IRBuilder<>(ctx).CreateGlobalStringPtr(f->getName(), "sins_fw_name." + f->getName(), 0, &m), i8p);
@@ -616,6 +619,10 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
                     if (&bb == &f->getEntryBlock() && ramfuncs.count(f->getName().str()) != 0) {
                         b.CreateCall(ramfunc, {b.CreateGlobalStringPtr(f->getName(), "sins_fw_ramfunc." + f->getName())});
                     }
+                }
+                /* A return ends the function's frame: its inclusive cycles (sins_fw_leave). */
+                if (isa<ReturnInst>(bb.getTerminator())) {
+                    IRBuilder<>(bb.getTerminator()).CreateCall(leave, {calls});
                 }
             }
         }
