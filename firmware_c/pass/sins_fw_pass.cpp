@@ -483,6 +483,12 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
             {"atanf", "float.atan"}, {"atan", "float.atan"}, {"asinf", "float.asin"}, {"asin", "float.asin"},
             {"acosf", "float.asin"}, {"acos", "float.asin"}, {"fabsf", "float.abs"}, {"fabs", "float.abs"},
         };
+        /* A division by a constant power of two is a multiplication by its exact inverse: cl2000
+           -O2 emits MPYF32 for it (the result is the same to the bit), as clang does for a host
+           float; the C28x mode's call blocks that, so it is priced as the multiplication. */
+        if (name == "sins_c28x_div" && call.arg_size() == 2 && exact_inverse(call.getArgOperand(1))) {
+            return price("float.mul");
+        }
         for (const auto &e : table) {
             size_t n = std::strlen(e.prefix);
             bool prefix = e.prefix[n - 1] == '_';
@@ -492,6 +498,17 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         }
         /* A call of the firmware's own or of a library: LCR and an argument move per argument. */
         return price("call") + price("int") * static_cast<unsigned>(call.arg_size());
+    }
+
+    /* A floating-point constant (or one converted from one) whose inverse is exact: ±2^k. */
+    static bool exact_inverse(Value *v) {
+        if (auto *c = dyn_cast<ConstantExpr>(v)) {
+            if (c->isCast()) {
+                v = c->getOperand(0);
+            }
+        }
+        auto *f = dyn_cast<ConstantFP>(v);
+        return f != nullptr && f->getValueAPF().getExactInverse(nullptr);
     }
 
     unsigned load_store_price(Type *t, bool store, const DataLayout &dl) const {
@@ -511,7 +528,8 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
                 case Instruction::FAdd:
                 case Instruction::FSub: return price("float.add");
                 case Instruction::FMul: return price("float.mul");
-                case Instruction::FDiv: return price("float.div");
+                case Instruction::FDiv:
+                    return exact_inverse(bo->getOperand(1)) ? price("float.mul") : price("float.div");
                 case Instruction::FRem: return price("float.div") + price("call");
                 case Instruction::Mul: return wide ? price("mul64") : price("mul");
                 case Instruction::SDiv:
