@@ -123,7 +123,7 @@ def _run(fw: Path, out: Path) -> tuple[str, list[int]]:
 def test_same_input_same_library_same_counts(tmp_path: Path):
     """Built twice from the same sources and run: the same cycles per function and the same ISR
     times, and so again for a second run of the same library. The attitude update is charged its
-    float operations (over a thousand cycles a call)."""
+    float operations."""
     built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
     assert built.returncode == 0
     a = build_firmware([REFERENCE], tmp_path / "a.so", float_mode="c28x")
@@ -133,7 +133,9 @@ def test_same_input_same_library_same_counts(tmp_path: Path):
     assert _run(b, tmp_path / "3.tsv") == first
     rows = {line.split("\t")[0]: line.split("\t")[1:] for line in first[0].splitlines()}
     cycles, calls = (int(x) for x in rows["updateQ"])
-    assert calls > 0 and cycles / calls > 1000
+    # At least the RK4's float operations the model counts (without the earth-rate correction: 49
+    # additions, 29 subtractions, 134 multiplications at 3 cycles, 4 divisions at 24): 732 cycles.
+    assert calls > 0 and cycles / calls >= (49 + 29 + 134) * 3 + 4 * 24
 
 
 def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
