@@ -24,6 +24,7 @@ STATIC = ROOT / "traces" / "static_60s.h5"
 SOURCE = """
 float g;
 float f(float a, float b) { return a * b + g / b; }
+float half(float a) { return a / 2.0f - a / 3.0f; }
 void idle(void) { for (;;) {} }
 """
 
@@ -71,6 +72,18 @@ def test_a_block_is_priced_from_the_two_tables(tmp_path: Path, float_mode: str):
     assert f"call void @sins_fw_idle(i32 {p['branch']})" in ir
 
 
+@pytest.mark.parametrize("float_mode", ["host", "c28x"])
+def test_a_division_by_a_power_of_two_is_priced_as_the_multiplication(tmp_path: Path, float_mode: str):
+    """`a / 2.0f` is `a * 0.5f` to the bit, and cl2000 -O2 emits MPYF32 for it: priced `float.mul`
+    in both float modes (clang makes the multiplication for host float; the C28x mode's backend call
+    hides it); `a / 3.0f` stays a division."""
+    p = block_costs(None)
+    ir = _ir(tmp_path, float_mode)
+    m = re.search(r"define [^@]*@half\(.*?\n\s*call void @sins_fw_enter\(i32 (\d+),", ir)
+    assert m is not None, ir
+    assert int(m.group(1)) == p["float.mul"] + p["float.div"] + p["float.add"] + p["ret"] == 3 + 24 + 3 + 8
+
+
 def test_a_price_that_is_not_cycles_is_named(tmp_path: Path):
     from sins_fw.errors import ProfileError
 
@@ -110,7 +123,7 @@ def _run(fw: Path, out: Path) -> tuple[str, list[int]]:
 def test_same_input_same_library_same_counts(tmp_path: Path):
     """Built twice from the same sources and run: the same cycles per function and the same ISR
     times, and so again for a second run of the same library. The attitude update is charged its
-    float operations (over a thousand cycles a call)."""
+    float operations."""
     built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
     assert built.returncode == 0
     a = build_firmware([REFERENCE], tmp_path / "a.so", float_mode="c28x")
@@ -120,7 +133,9 @@ def test_same_input_same_library_same_counts(tmp_path: Path):
     assert _run(b, tmp_path / "3.tsv") == first
     rows = {line.split("\t")[0]: line.split("\t")[1:] for line in first[0].splitlines()}
     cycles, calls = (int(x) for x in rows["updateQ"])
-    assert calls > 0 and cycles / calls > 1000
+    # At least the RK4's float operations the model counts (without the earth-rate correction: 49
+    # additions, 29 subtractions, 134 multiplications at 3 cycles, 4 divisions at 24): 732 cycles.
+    assert calls > 0 and cycles / calls >= (49 + 29 + 134) * 3 + 4 * 24
 
 
 def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
@@ -128,7 +143,8 @@ def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
     the static trace, c28x float in both, each ISR's time from entry to IRET. The issue's bounds: the
     whole ISR within ±10 % of the model's, and an update tick's (the attitude solution's) within ±15 %
     of the published 0.35 ms. Measured (2 s): 349.5 µs against the model's 347.7 µs on update ticks,
-    329.0 against 334.5 on the others; the attitude update (updateQ) within ±15 % of the model's."""
+    329.0 against 334.5 on the others (before a division by 2 was priced as the multiplication it
+    compiles to: 349.5 on update ticks); the attitude update (updateQ) within ±15 % of the model's."""
     from sins_fw import emulate
 
     built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
@@ -169,10 +185,153 @@ def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
     for c, m in ((c_isr[c_update], m_isr[m_update]), (c_isr[~c_update], m_isr[~m_update])):
         assert abs(c.mean() / m.mean() - 1) <= 0.10
     assert abs(c_isr[c_update].mean() / 0.35e-3 - 1) <= 0.15
-    # The attitude update: updateQ's own cycles a call against the model's attitude stage, ±15 %
-    # (measured: 1347 cycles, 8.98 µs, against 8.25 µs).
+    # The attitude update: updateQ (the RK4 and the normalisation, its own cycles a call) against
+    # the model's attitude stage without the earth-rate correction (`firmware.earth_rate=false`:
+    # the same RK4 and normalisation; with it, the stage also holds what the C's body_rates does),
+    # ±15 %. Measured: 843 cycles (5.62 µs; its 24 divisions by 2 priced as the multiplications by
+    # 0.5 cl2000 makes of them) against 765 cycles (5.10 µs).
     cycles, calls = functions["updateQ"]
-    m_attitude = (b["attitude_end_ps"].astype(np.int64) - b["decode_end_ps"].astype(np.int64))[
-        m_update
-    ] * 1e-12
+    rk4 = emulate(STATIC, "reference", overrides=[*overrides, "firmware.earth_rate=false"], until_s=0.2)
+    b4 = rk4.budget
+    m_rk4 = (b4["attitude_end_ps"].astype(np.int64) - b4["decode_end_ps"].astype(np.int64)) * 1e-12
+    m_attitude = m_rk4[m_rk4 > 0]
+    assert len(m_attitude) > 20
     assert abs(cycles / calls / 150e6 / m_attitude.mean() - 1) <= 0.15
+
+
+def test_the_budget_splits_a_c_isr_by_its_functions(tmp_path: Path, cli):
+    """`sins-fw budget --firmware` on the reference C firmware (issue 38, item 2): the tick's stages
+    (entry, CS set-up, SPI from the bus log, compute, exit) in the model's table shape, and the
+    compute by the firmware's own functions with their calls, self and inclusive cycles. Every figure
+    checked comes from the run: the ISR calls each of its helpers as the sources say (the attitude
+    update on every second ISR: its `schedule_div`; the navigation's `earth_rates` twice per
+    update), the functions' own cycles add up to the ISR's inclusive cycles (everything the ISR runs
+    is called from it), and the compute stage after the SPI holds `reference_process_burst`
+    (called after the burst) plus at most the ISR's own code."""
+    import json
+
+    from sins_fw.firmware_budget import firmware_budget_report
+
+    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
+    assert built.returncode == 0
+    fw = build_firmware([REFERENCE], tmp_path / "ref.so", float_mode="c28x")
+    prof = load_profile("reference", overrides=["firmware.numeric=c28x-f32", "device.timing_mode=lenient"])
+    r = firmware_budget_report(fw, prof, seconds=0.5)
+    fns = {f["function"]: f for f in r["functions"]}
+    isrs = r["isrs"]
+    assert isrs == r["summary"]["ticks"] > 100
+    assert fns["cpu_timer0_isr"]["calls"] == isrs
+    assert fns["convert_data"]["calls"] == isrs
+    updates = fns["updateQ"]["calls"]
+    assert abs(updates - isrs / 2) <= 1
+    assert fns["navigate"]["calls"] == updates and fns["earth_rates"]["calls"] == 2 * updates
+    total_self = sum(f["self_cycles"] for f in r["functions"])
+    assert total_self == fns["cpu_timer0_isr"]["inclusive_cycles"]
+    for f in r["functions"]:
+        assert f["self_cycles"] <= f["inclusive_cycles"]
+        assert f["inclusive_s"]["max"] * 1e6 == pytest.approx(f["inclusive_pct"]["max"] * 40.0)
+    # The compute stage (after the SPI) holds the processing of the burst and the ISR's last blocks.
+    worst = r["tick"]["compute"]["worst_s"]
+    burst = fns["reference_process_burst"]["inclusive_s"]["max"]
+    assert 0 <= worst - burst <= fns["cpu_timer0_isr"]["self_s"]["max"]
+    # The SPI stage: 15 frames of 16 bits at the profile's 0.75 MHz SCLK at least.
+    assert r["tick"]["spi"]["typical_s"] >= 15 * 16 / 0.75e6
+    # The CLI: the same report, the table in text, the rule the lenient device reports: exit 1.
+    res = cli("budget", "--firmware", str(fw), "--set", "firmware.numeric=c28x-f32",
+              "--set", "device.timing_mode=lenient", "--duration-s", "0.5", "--json")  # fmt: skip
+    assert res.code == 1, res.err
+    out = json.loads(res.out)
+    assert [f["function"] for f in out["functions"]] == [f["function"] for f in r["functions"]]
+    assert out["tick"] == r["tick"]
+    text = cli("budget", "--firmware", str(fw), "--duration-s", "0.5", "--set", "device.timing_mode=lenient")
+    assert "updateQ" in text.out and "reference_process_burst" in text.out and "spi" in text.out
+
+
+def _scheduling(run_budget: dict, events: list[dict], until_ps: int) -> dict:
+    """The scheduling figures of a run: its ticks, ISRs run, ticks skipped and flagged overrun (budget
+    rows up to ``until_ps``), its `overrun` and `tick_lost` events there, and the mean ISR time."""
+    tick_ps = run_budget["tick_ps"].astype(np.int64)
+    keep = tick_ps <= until_ps
+    b = {k: np.asarray(v)[keep] for k, v in run_budget.items()}
+    skipped = b["deadline_ps"] == b["tick_ps"]
+    overrun = b["overrun"].astype(bool)
+    inside = [e for e in events if e["t_s"] <= until_ps * 1e-12]
+    busy = (b["end_ps"].astype(np.int64) - b["start_ps"].astype(np.int64))[~skipped]
+    return {
+        "ticks": len(b["tick"]),
+        "run": int((~skipped).sum()),
+        "skipped": [int(t) for t in b["tick"][skipped]],
+        "late": [int(t) for t in b["tick"][overrun & ~skipped]],
+        "lost_events": sorted(
+            int(
+                re.match(
+                    r"tick (\d+): TINT0 arrived while the previous one was still pending: lost$", e["message"]
+                ).group(1)
+            )
+            for e in inside
+            if e["kind"] == "tick_lost"
+        ),
+        "overrun_events": sorted(
+            int(
+                re.match(
+                    r"tick (\d+): the previous ISR ran [\d.]+ µs past this tick \(Queue\)$", e["message"]
+                ).group(1)
+            )
+            for e in inside
+            if e["kind"] == "overrun"
+        ),
+        "kinds": {e["kind"] for e in inside if e["source"] == "emulator"},
+        "busy_mean_ps": float(busy.mean()),
+    }
+
+
+def test_an_overrun_is_the_same_event_for_c_and_the_model(tmp_path: Path):
+    """One accounting of time (issue 38, item 3): the reference C firmware built with a 300 µs timer
+    (`-DTIMER_PERIOD_US=300`) and the model with `timer.period_us=300` both take longer than a tick
+    on every ISR (≈ 340 µs: the SPI burst alone clocks 320 µs), so every tick after the first comes
+    while an ISR runs. In both, each tick is either run late (an `overrun` event at its arrival, its
+    budget row flagged) or lost while the previous one was pending (a `tick_lost` event, a skipped
+    budget row, flagged): the same kinds, the same messages, and the rows and events name the same
+    ticks. The CPU is never idle, so the ISRs run back to back: over T, T / mean ISR time of them,
+    and the other ticks are lost, the lost share 1 − P / mean ISR time in each (±2 ticks: a partial
+    ISR at each end); the C's and the model's ISR times differ by under 2 % (the calibration), so
+    their lost shares agree to 1 − P/L differences of that size."""
+    from sins_fw._core import EVENT_KINDS
+
+    from sins_fw import emulate
+
+    source = {k["name"]: k["source"] for k in EVENT_KINDS}
+    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
+    assert built.returncode == 0
+    fw = build_firmware([REFERENCE], tmp_path / "fast.so", float_mode="c28x", defines=["TIMER_PERIOD_US=300"])
+    overrides = ["firmware.numeric=c28x-f32", "device.timing_mode=lenient", "timer.period_us=300"]
+    parts: list[dict] = []
+    until = 0.3
+    run_c_firmware(
+        fw, STATIC, load_profile("reference", overrides=overrides), sink=parts.append, until_s=until
+    )
+    c_budget = {
+        k.removeprefix("budget_"): np.concatenate([p[k] for p in parts])
+        for k in parts[0]
+        if k.startswith("budget_")
+    }
+    c_events = [{**e, "source": source.get(e["kind"])} for p in parts for e in p["events"]]
+    model = emulate(STATIC, "reference", overrides=overrides, until_s=until)
+    m_events = [{**e, "source": source.get(e["kind"])} for e in model.events]
+    # Both up to the C's last ISR row (the input's end cuts the ISR running then).
+    end_ps = int(c_budget["tick_ps"][-1]) - 1
+    c = _scheduling(c_budget, c_events, end_ps)
+    m = _scheduling(model.budget, m_events, end_ps)
+    for s in (c, m):
+        assert s["kinds"] == {"overrun", "tick_lost"}
+        assert s["lost_events"] == s["skipped"] and len(s["skipped"]) > 50
+        assert s["overrun_events"] == s["late"] and len(s["late"]) > 500
+        assert s["run"] + len(s["skipped"]) == s["ticks"]
+        # Back to back: the ISRs run fill the time from the first to the last.
+        period_ps = 300e6
+        span_ps = s["ticks"] * period_ps
+        assert abs(s["run"] - span_ps / s["busy_mean_ps"]) <= 2
+        assert abs(len(s["skipped"]) / s["ticks"] - (1 - period_ps / s["busy_mean_ps"])) <= 2 / s["ticks"]
+    assert abs(c["busy_mean_ps"] / m["busy_mean_ps"] - 1) <= 0.02
+    share = abs(len(c["skipped"]) - len(m["skipped"])) / c["ticks"]
+    assert share <= abs(300e6 / c["busy_mean_ps"] - 300e6 / m["busy_mean_ps"]) + 4 / c["ticks"]

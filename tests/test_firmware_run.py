@@ -209,7 +209,8 @@ def test_load_globals_names_line_and_field(tmp_path: Path):
 
 def test_a_tick_that_comes_while_the_last_is_pending_is_lost(tmp_path: Path):
     """An ISR of 9 ms on a 4 ms timer: the tick during it waits (INTM is set), the next one finds the
-    flag still set: lost, a `tick_lost` event from the core; the budget has one row per ISR run."""
+    flag still set: lost, a `tick_lost` event from the core, the ISR of the tick after it late: an
+    `overrun` event; the budget has a row per tick, a skipped one for a lost tick (as the model's)."""
     fw = _firmware(
         tmp_path,
         '#include "DSP2833x_Device.h"\n'
@@ -237,16 +238,31 @@ def test_a_tick_that_comes_while_the_last_is_pending_is_lost(tmp_path: Path):
     parts: list[dict] = []
     r = run_c_firmware(fw, PITCH_SWEEP, load_profile("reference"), sink=parts.append, until_s=0.1)
     events = [e for p in parts for e in p["events"]]
-    assert {e["kind"] for e in events} == {"tick_lost"}
+    assert {e["kind"] for e in events} == {"tick_lost", "overrun"}
     # Ticks every 4 ms, an ISR of 9 ms + entry and exit: tick 1's ISR runs from 4 to 13 ms, ticks 2
-    # (8 ms) and 3 (12 ms) come meanwhile: 2 is lost, the ISR runs for 3 at 13 ms until 22 ms, for 5
-    # (tick 4 lost) at 22 ms, …
+    # (8 ms) and 3 (12 ms) come meanwhile: 2 is lost, the ISR runs for 3 at 13 ms (an overrun,
+    # 1 ms late) until 22 ms, for 5 (tick 4 lost) at 22 ms, … as the model accounts them: the
+    # budget has a row for every tick, a lost one skipped (no deadline) and flagged overrun.
     ticks = np.concatenate([p["budget_tick"] for p in parts])
-    assert list(ticks[:3]) == [1, 3, 5]
-    assert r.isr_rows == len(ticks)
-    assert "ticks 2…2 came while the interrupt was still pending" in events[0]["message"]
+    assert list(ticks[:5]) == [1, 2, 3, 4, 5]
+    skipped = np.concatenate([p["budget_deadline_ps"] == p["budget_tick_ps"] for p in parts])
+    assert list(skipped[:5]) == [False, True, False, True, False]
+    assert r.isr_rows == (~skipped).sum()
     overrun = np.concatenate([p["budget_overrun"] for p in parts])
-    assert list(overrun[:3]) == [0, 1, 1]
+    assert list(overrun[:5]) == [0, 1, 1, 1, 1]
+    tick_ps = np.concatenate([p["budget_tick_ps"] for p in parts]).astype(np.int64)
+    assert list(np.diff(tick_ps[:5])) == [4_000_000_000] * 4
+    lost = [e for e in events if e["kind"] == "tick_lost"]
+    late = [e for e in events if e["kind"] == "overrun"]
+    assert lost[0]["message"] == "tick 2: TINT0 arrived while the previous one was still pending: lost"
+    assert lost[0]["t_s"] == tick_ps[1] * 1e-12
+    assert late[0]["message"].startswith("tick 3: the previous ISR ran 1")
+    assert late[0]["t_s"] == tick_ps[2] * 1e-12 and late[0]["measured"] > 1e-3
+    # Each event has its row, up to the last ISR run: the ISR the input's end cut has no row (its
+    # tick's overrun and the tick lost before it have their events).
+    end = tick_ps[-1] * 1e-12
+    assert len([e for e in lost if e["t_s"] <= end]) == skipped.sum()
+    assert len([e for e in late if e["t_s"] <= end]) == (overrun.astype(bool) & ~skipped).sum()
 
 
 def test_tis_support_sources_link_from_their_host_replacements(tmp_path: Path):

@@ -398,6 +398,7 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
    IR instruction by instruction and puts at the block's first insertion point one call
    `sins_fw_block(cycles, &counter)` (`sins_fw_enter` at a function's entry block, which also counts the
    call): the runtime adds the cycles to the time due and to `counter`, the function's own ("self") cycles, which the runtime lists by function name (sins_fw_function_cycles).
+   Before each return it calls `sins_fw_leave(&counter)`: the function's inclusive cycles.
    An empty endless loop (`for (;;) {}`: a block that only branches to itself) calls
    `sins_fw_idle(cycles)` instead: the runtime moves time to the next interrupt in whole passes.
    Without $SINS_FW_PASS_COSTS the pass prices nothing (a build of another tool). */
@@ -482,6 +483,12 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
             {"atanf", "float.atan"}, {"atan", "float.atan"}, {"asinf", "float.asin"}, {"asin", "float.asin"},
             {"acosf", "float.asin"}, {"acos", "float.asin"}, {"fabsf", "float.abs"}, {"fabs", "float.abs"},
         };
+        /* A division by a constant power of two is a multiplication by its exact inverse: cl2000
+           -O2 emits MPYF32 for it (the result is the same to the bit), as clang does for a host
+           float; the C28x mode's call blocks that, so it is priced as the multiplication. */
+        if (name == "sins_c28x_div" && call.arg_size() == 2 && exact_inverse(call.getArgOperand(1))) {
+            return price("float.mul");
+        }
         for (const auto &e : table) {
             size_t n = std::strlen(e.prefix);
             bool prefix = e.prefix[n - 1] == '_';
@@ -491,6 +498,17 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         }
         /* A call of the firmware's own or of a library: LCR and an argument move per argument. */
         return price("call") + price("int") * static_cast<unsigned>(call.arg_size());
+    }
+
+    /* A floating-point constant (or one converted from one) whose inverse is exact: ±2^k. */
+    static bool exact_inverse(Value *v) {
+        if (auto *c = dyn_cast<ConstantExpr>(v)) {
+            if (c->isCast()) {
+                v = c->getOperand(0);
+            }
+        }
+        auto *f = dyn_cast<ConstantFP>(v);
+        return f != nullptr && f->getValueAPF().getExactInverse(nullptr);
     }
 
     unsigned load_store_price(Type *t, bool store, const DataLayout &dl) const {
@@ -510,7 +528,8 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
                 case Instruction::FAdd:
                 case Instruction::FSub: return price("float.add");
                 case Instruction::FMul: return price("float.mul");
-                case Instruction::FDiv: return price("float.div");
+                case Instruction::FDiv:
+                    return exact_inverse(bo->getOperand(1)) ? price("float.mul") : price("float.div");
                 case Instruction::FRem: return price("float.div") + price("call");
                 case Instruction::Mul: return wide ? price("mul64") : price("mul");
                 case Instruction::SDiv:
@@ -558,6 +577,7 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         FunctionCallee block = m.getOrInsertFunction("sins_fw_block", Type::getVoidTy(ctx), i32, i8p);
         FunctionCallee enter = m.getOrInsertFunction("sins_fw_enter", Type::getVoidTy(ctx), i32, i8p);
         FunctionCallee idle = m.getOrInsertFunction("sins_fw_idle", Type::getVoidTy(ctx), i32);
+        FunctionCallee leave = m.getOrInsertFunction("sins_fw_leave", Type::getVoidTy(ctx), i8p);
         /* The functions the sources place in section ramfuncs (`#pragma CODE_SECTION(f, "ramfuncs")`,
            found by the build): the runtime checks at their entry that the section was copied to RAM. */
         std::set<std::string> ramfuncs;
@@ -586,8 +606,9 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
             }
         }
         for (Function *f : fns) {
-            auto *counter = new GlobalVariable(m, ArrayType::get(i64, 2), false, GlobalValue::PrivateLinkage,
-                                               ConstantAggregateZero::get(ArrayType::get(i64, 2)),
+            /* {self cycles, calls, inclusive cycles, frames running}: the runtime's FunctionRow. */
+            auto *counter = new GlobalVariable(m, ArrayType::get(i64, 4), false, GlobalValue::PrivateLinkage,
+                                               ConstantAggregateZero::get(ArrayType::get(i64, 4)),
                                                "sins_fw_cycles." + f->getName());
             Constant *name = ConstantExpr::getPointerCast(
                 IRBuilder<>(ctx).CreateGlobalStringPtr(f->getName(), "sins_fw_name." + f->getName(), 0, &m), i8p);
@@ -616,6 +637,10 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
                     if (&bb == &f->getEntryBlock() && ramfuncs.count(f->getName().str()) != 0) {
                         b.CreateCall(ramfunc, {b.CreateGlobalStringPtr(f->getName(), "sins_fw_ramfunc." + f->getName())});
                     }
+                }
+                /* A return ends the function's frame: its inclusive cycles (sins_fw_leave). */
+                if (isa<ReturnInst>(bb.getTerminator())) {
+                    IRBuilder<>(bb.getTerminator()).CreateCall(leave, {calls});
                 }
             }
         }

@@ -259,8 +259,11 @@ const void *access_pc = nullptr;
 /* A polling loop is taken for one from its third identical read on (two equal periods), and for one
    that cannot end from its POLL_ENDLESS-th: reading a register twice in straight-line code is not a loop. */
 constexpr uint64_t POLL_ENDLESS = 16;
-std::vector<uint64_t> row_times;
-std::vector<double> row_values;
+/* Never destroyed (as the function records below): an exit() in the firmware runs the static
+   destructors before the crash report (on_exit_call) writes these rows, and a freed vector's first
+   words are the allocator's (the first row's tick read as a heap address). */
+std::vector<uint64_t> &row_times = *new std::vector<uint64_t>;
+std::vector<double> &row_values = *new std::vector<double>;
 
 void check(SinsStatus status, const char *what) {
     if (status != SINS_OK) {
@@ -339,7 +342,25 @@ void pass_ps(uint64_t ps) {
     update_flush();
 }
 
+/* Per function, per ISR run: how many rows have been recorded (the next row's index), the clock of
+   the firmware's own cycles (the blocks' cycles; ISRs' cycles are taken out again at their return, so
+   a frame of main interrupted by an ISR does not count the ISR's), the shadow stack of the priced
+   functions running (their counter and the clock at entry: inclusive cycles at their return), and
+   the function records of the ISRs run since the harness last took them
+   {row index, function index, self cycles, calls, inclusive cycles} (sins_fw_take_function_rows). */
+uint64_t rows_recorded = 0;
+uint64_t fn_clock = 0;
+struct Frame {
+    uint64_t *counter;
+    uint64_t clock;
+};
+std::vector<Frame> &fn_stack = *new std::vector<Frame>;
+std::vector<uint64_t> &fn_rows = *new std::vector<uint64_t>;
+size_t function_total();
+uint64_t *function_counter(size_t i);
+
 void record_row(const uint64_t *times) {
+    rows_recorded++;
     row_times.insert(row_times.end(), times, times + ROW_TIMES);
     for (size_t i = 0; i < n_globals; i++) {
         const void *p = cfg->global_addr[i];
@@ -387,8 +408,24 @@ void run_isr(int vector, uint64_t isr) {
     }
     irq_at = 0;
     update_flush();
+    /* The functions' counters before the ISR: its records are the differences at its return. */
+    size_t nf = function_total();
+    std::vector<uint64_t> before(nf * 3);
+    for (size_t i = 0; i < nf; i++) {
+        std::memcpy(&before[i * 3], function_counter(i), 3 * sizeof(uint64_t));
+    }
+    size_t stack_at = fn_stack.size();
+    uint64_t clock_at = fn_clock;
     reinterpret_cast<void (*)(void)>(static_cast<uintptr_t>(isr))();
     isr_depth--;
+    /* Frames left without a return (a longjmp out of them) end with the ISR. */
+    while (fn_stack.size() > stack_at) {
+        Frame f = fn_stack.back();
+        fn_stack.pop_back();
+        if (f.counter[3] > 0 && --f.counter[3] == 0) {
+            f.counter[2] += fn_clock - f.clock;
+        }
+    }
     uint64_t c = pending_cycles;
     pending_cycles = 0;
     pass_cycles(c);
@@ -397,6 +434,15 @@ void run_isr(int vector, uint64_t isr) {
     times[ROW_END] = now_ps;
     check(sins_iret(board), "IRET");
     poll_valid = false;
+    for (size_t i = 0; i < nf; i++) {
+        const uint64_t *k = function_counter(i);
+        if (k[1] != before[i * 3 + 1] || k[0] != before[i * 3]) {
+            const uint64_t r[5] = {rows_recorded, i, k[0] - before[i * 3], k[1] - before[i * 3 + 1],
+                                   k[2] - before[i * 3 + 2]};
+            fn_rows.insert(fn_rows.end(), r, r + 5);
+        }
+    }
+    fn_clock = clock_at; /* the interrupted code's functions do not count the ISR's cycles */
     record_row(times);
 }
 
@@ -798,8 +844,11 @@ extern "C" void sins_fw_asm(const char *text) {
 /* The build's LLVM pass prices each basic block of the firmware's own code in C28x cycles from its
    optimised IR (firmware_c/pass/sins_fw_pass.cpp, SinsFwCyclePass; the prices: docs/c-cycles.md) and
    calls sins_fw_block at the block's start with them and its function's counter (sins_fw_enter at a
-   function's entry block, which also counts the call). The counters: {self cycles, calls}, one per
-   function, listed by the pass's table {name, counter} in the section `sins_fw_functions`. */
+   function's entry block, which also counts the call) and sins_fw_leave before each return. The
+   counters: {self cycles, calls, inclusive cycles, frames running}, one per function, listed by the
+   pass's table {name, counter} in the section `sins_fw_functions`. Inclusive cycles are the
+   function's own and its callees' (priced) cycles from its entry to its return, counted once for a
+   recursive function (at its outermost frame's return); a function that has not returned has none. */
 struct FunctionRow {
     const char *name;
     uint64_t *counter;
@@ -811,6 +860,7 @@ extern const FunctionRow __stop_sins_fw_functions[] __attribute__((weak));
 
 __attribute__((always_inline)) static inline void charge_block(uint32_t cycles) {
     blocks++;
+    fn_clock += cycles;
     last_pc = __builtin_return_address(0);
     pending_cycles += cycles;
     if (++blocks_since_access >= cfg->spin_blocks && blocks_since_access % cfg->spin_blocks == 0) {
@@ -835,7 +885,38 @@ extern "C" void sins_fw_enter(uint32_t cycles, uint64_t *counter) {
     }
     counter[0] += cycles;
     counter[1] += 1;
+    counter[3] += 1;
+    fn_stack.push_back(Frame{counter, fn_clock});
     charge_block(cycles);
+}
+
+extern "C" void sins_fw_leave(uint64_t *counter) {
+    if (cfg == nullptr) {
+        return;
+    }
+    /* Frames above this function's (left by longjmp) end here too. */
+    while (!fn_stack.empty()) {
+        Frame f = fn_stack.back();
+        fn_stack.pop_back();
+        if (f.counter[3] > 0 && --f.counter[3] == 0) {
+            f.counter[2] += fn_clock - f.clock;
+        }
+        if (f.counter == counter) {
+            return;
+        }
+    }
+}
+
+/* The function records of the ISRs run since the last call (see fn_rows): up to `capacity` records of
+   5 words into `out`; returns how many. */
+extern "C" size_t sins_fw_function_rows_ready(void) { return fn_rows.size() / 5; }
+
+extern "C" size_t sins_fw_take_function_rows(uint64_t *out, size_t capacity) {
+    size_t have = fn_rows.size() / 5;
+    size_t n = have < capacity ? have : capacity;
+    std::memcpy(out, fn_rows.data(), n * 5 * sizeof(uint64_t));
+    fn_rows.erase(fn_rows.begin(), fn_rows.begin() + static_cast<long>(n * 5));
+    return n;
 }
 
 /* The functions priced: how many, and the i-th's name, self cycles and calls in this run. */
@@ -855,11 +936,24 @@ extern "C" const char *sins_fw_function_at(size_t i, uint64_t *cycles, uint64_t 
     return r.name;
 }
 
+namespace {
+size_t function_total() { return sins_fw_function_count(); }
+uint64_t *function_counter(size_t i) { return __start_sins_fw_functions[i].counter; }
+}  // namespace
+
+/* The i-th function's inclusive cycles in this run (0 past the end). */
+extern "C" uint64_t sins_fw_function_inclusive(size_t i) {
+    return i < sins_fw_function_count() ? __start_sins_fw_functions[i].counter[2] : 0;
+}
+
 static void reset_function_cycles() {
     for (size_t i = 0; i < sins_fw_function_count(); i++) {
-        __start_sins_fw_functions[i].counter[0] = 0;
-        __start_sins_fw_functions[i].counter[1] = 0;
+        std::memset(__start_sins_fw_functions[i].counter, 0, 4 * sizeof(uint64_t));
     }
+    fn_stack.clear();
+    fn_rows.clear();
+    fn_clock = 0;
+    rows_recorded = 0;
 }
 
 /* $SINS_FW_FUNCTION_CYCLES names a file: at the end of a run the runtime writes there, one line a

@@ -208,6 +208,24 @@ class Library:
         self.row_times = tuple(
             (name or b"").decode() for name in (ctypes.c_char_p * count).in_dll(lib, "sins_fw_row_times")
         )
+        #: The priced functions' names, in the runtime's order (`sins_fw_function_at`; none in a build
+        #: without the cycle model's per-ISR records).
+        self.functions: tuple[str, ...] = ()
+        self.take_functions = getattr(lib, "sins_fw_take_function_rows", None)
+        if self.take_functions is not None:
+            lib.sins_fw_function_count.restype = ctypes.c_size_t
+            lib.sins_fw_function_at.restype = ctypes.c_char_p
+            lib.sins_fw_function_at.argtypes = [ctypes.c_size_t, ctypes.c_void_p, ctypes.c_void_p]
+            lib.sins_fw_function_rows_ready.restype = ctypes.c_size_t
+            self.take_functions.restype = ctypes.c_size_t
+            self.take_functions.argtypes = [ctypes.c_void_p, ctypes.c_size_t]
+            word = ctypes.c_uint64()
+            self.functions = tuple(
+                (lib.sins_fw_function_at(i, ctypes.byref(word), ctypes.byref(word)) or b"").decode(
+                    errors="replace"
+                )
+                for i in range(int(lib.sins_fw_function_count()))
+            )
         try:
             self.double_bytes = ctypes.c_int.in_dll(lib, "sins_fw_double_bytes").value
         except ValueError:
@@ -314,6 +332,30 @@ def take_rows(lib: Library, n: int) -> tuple[np.ndarray, np.ndarray]:
     return times[:got], values[:got]
 
 
+#: One function's share of one ISR run (the runtime's sins_fw_take_function_rows): the row's index in
+#: the run, the function's index in :attr:`Library.functions`, its own cycles, calls and inclusive
+#: cycles in that ISR.
+FUNCTION_RECORD = np.dtype(
+    [
+        ("row", np.uint64),
+        ("function", np.uint64),
+        ("self", np.uint64),
+        ("calls", np.uint64),
+        ("inclusive", np.uint64),
+    ]
+)
+
+
+def take_function_rows(lib: Library) -> np.ndarray:
+    """The per-function records of the ISRs run since the last call."""
+    if lib.take_functions is None:
+        return np.zeros(0, FUNCTION_RECORD)
+    ready = int(lib.lib.sins_fw_function_rows_ready())
+    out = np.zeros(ready, FUNCTION_RECORD)
+    got = lib.take_functions(out.ctypes.data, ready)
+    return out[:got]
+
+
 def take_bus_log(lib: Library, board: ctypes.c_void_p) -> np.ndarray:
     """The bus-log records the board has kept since the last call."""
     chunks = []
@@ -357,16 +399,18 @@ def serve(job: Job, commands: Connection, out: Connection) -> None:
     """The child's work: load, check the globals, run ``main``, streaming to ``out``; the pieces of
     input come from ``commands``. Messages (tuples, first the kind):
 
-    - ``("loaded", double_bytes, row_times)``: the library's static constructors ran (its ``double``'s
-      size, the names of an ISR row's times: the runtime's ``sins_fw_row_times``);
-    - ``("rows", times, values, events, bus, floor_ps, now_ps, more)``: the rows, events and bus-log
-      records since the last message; with ``more`` (a request for input) the child then waits for
+    - ``("loaded", double_bytes, row_times, functions)``: the library's static constructors ran (its
+      ``double``'s size, the names of an ISR row's times: the runtime's ``sins_fw_row_times``, the
+      priced functions' names);
+    - ``("rows", times, values, events, bus, functions, floor_ps, now_ps, more)``: the rows, events,
+      bus-log records and per-function records (:data:`FUNCTION_RECORD`) since the last message;
+      with ``more`` (a request for input) the child then waits for
       ``("piece", columns)`` or ``("end",)``;
     - ``("failed", rc, message, fault_offset, events)``: the runtime stopped the run (rows sent first);
     - ``("done", now_ps, accesses, blocks, final)``;
     - ``("error", exception)``: bad input (an InputError), before or while running."""
     lib = Library(job.library)
-    out.send(("loaded", lib.double_bytes, lib.row_times))
+    out.send(("loaded", lib.double_bytes, lib.row_times, lib.functions))
     addrs = [lib.address(g) for g in job.watched]
     n = len(addrs)
     board = ctypes.c_void_p()
@@ -385,11 +429,12 @@ def serve(job: Job, commands: Connection, out: Connection) -> None:
 
     def send_rows(more: bool) -> None:
         times, values = take_rows(lib, n)
+        functions = take_function_rows(lib)
         events = take_events(lib, board)
         bus = take_bus_log(lib, board)
         floor = int(lib.floor()) if lib.floor is not None else 0
         lib.lib.sins_now_ps(board, ctypes.byref(now))
-        out.send(("rows", times, values, events, bus, floor, int(now.value), more))
+        out.send(("rows", times, values, events, bus, functions, floor, int(now.value), more))
 
     def push(message: tuple[Any, ...]) -> None:
         if message[0] == "end":

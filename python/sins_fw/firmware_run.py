@@ -63,6 +63,18 @@ ATTITUDE = {
     **{f"q{i}": ("cycle_quat", i) for i in range(4)},
     **{n: ("cycle_euler_deg", i) for i, n in enumerate(("roll_deg", "pitch_deg", "yaw_deg"))},
 }
+#: One function's share of one ISR (a run part's ``firmware_functions``): the tick of the ISR row, the
+#: function's index in :attr:`FirmwareResult.functions`, its own C28x cycles, its calls and its
+#: inclusive cycles (its own and its callees', from entry to return) in that ISR.
+FUNCTION_TICKS = np.dtype(
+    [
+        ("tick", np.uint64),
+        ("function", np.uint32),
+        ("self", np.uint64),
+        ("calls", np.uint64),
+        ("inclusive", np.uint64),
+    ]
+)
 #: Basic blocks without a register access before the runtime checks for a loop that cannot end
 #: (2^24 blocks: about 1 s of virtual time at 9 cycles each and 150 MHz, 0.1 s of host time).
 SPIN_BLOCKS = 1 << 24
@@ -183,6 +195,9 @@ class FirmwareResult:
     #: :attr:`sins_fw.harness.Run.bus` (``cs_t_ps``, ``cs_low``, ``frame_index``, ``frame_start_ps``,
     #: ``frame_din``, ``frame_dout``, ...), times in ps since power-on.
     bus: dict[str, np.ndarray] | None = None
+    #: The names of the firmware's priced functions (the ``function`` index of the parts'
+    #: ``firmware_functions`` records).
+    functions: tuple[str, ...] = ()
 
 
 def _still_trace(until_s: float) -> PhysicalTrace:
@@ -255,14 +270,15 @@ def run_c_firmware(
                 if on_loaded is not None:
                     on_loaded(result.float_mode)
                 rows.row_times = message[2]
+                result.functions = message[3]
                 child.send(feeder.next_piece())
             elif kind == "rows":
-                _, times, values, events, records, floor_ps, now_ps, more = message
+                _, times, values, events, records, functions, floor_ps, now_ps, more = message
                 result.now_s = now_ps * PS
                 if bus is not None and len(records):
                     bus.append(records)
                 ignored += [e for e in events if e["kind"] == "protected_write"][: 1 - len(ignored)]
-                rows.add(feeder.window, rows.columns(times), values, events, records, floor_ps)
+                rows.add(feeder.window, rows.columns(times), values, events, records, floor_ps, functions)
                 result.isr_rows = rows.count
                 if more:
                     child.send(feeder.next_piece())
@@ -703,6 +719,8 @@ class _Rows:
         self.watched, self.sink = watched, sink
         self.count = 0
         self.prev_end = 0
+        #: The tick of the last ISR row (a row's tick beyond the next: the ticks between were lost).
+        self.prev_tick = 0
         #: Bus-log records that may still matter to an ISR row not yet turned into a part: those from
         #: the firmware process's floor on (the entry of the ISR running, else the time reached), in
         #: pieces joined only when rows need them. So the records kept stay those of one ISR and
@@ -727,19 +745,34 @@ class _Rows:
         events: list[dict[str, Any]],
         bus: np.ndarray,
         floor_ps: int = 0,
+        functions: np.ndarray | None = None,
     ) -> None:
         n = len(values)
         if len(bus):
             self.bus.append(bus)
         if n or events:
-            self.count += n
             part = self._part(times, values, events)
+            part["firmware_functions"] = self._functions(times, functions)
+            self.count += n
             if self.has_quat and window.t is not None and n:
                 window.attach(part)
             if self.sink is not None:
                 self.sink(part)
         if floor_ps and self.bus:
             self._trim(floor_ps)
+
+    def _functions(self, times: dict[str, np.ndarray], functions: np.ndarray | None) -> np.ndarray:
+        """The per-function records of this part's ISR rows (the runtime's, by row index in the run)
+        by the tick of their row: :data:`FUNCTION_TICKS`."""
+        if functions is None or not len(functions):
+            return np.zeros(0, FUNCTION_TICKS)
+        local = functions["row"].astype(np.int64) - self.count
+        ok = (local >= 0) & (local < len(times["tick"]))
+        out = np.zeros(int(ok.sum()), FUNCTION_TICKS)
+        out["tick"] = times["tick"][local[ok]]
+        for k in ("function", "self", "calls", "inclusive"):
+            out[k] = functions[k][ok]
+        return out
 
     def add_events(self, events: list[dict[str, Any]], window: _TruthWindow) -> None:
         """A part of events alone (no ISR row)."""
@@ -822,9 +855,12 @@ class _Rows:
         """One budget row per ISR, in the Rust model's columns: the entry (context save and prologue),
         the wait for CS and the first frame (`cs_setup`), the SPI transfers and their register waits
         (`spi`, from the bus log: :meth:`_spi_stage`), the rest of the ISR's body as the `decode`
-        stage (the runtime cannot tell the decode from the attitude code), the exit. (A tick whose
-        interrupt was never taken is the core's `tick_lost` event.)"""
+        stage (the runtime cannot tell the decode from the attitude code), the exit. A tick whose
+        interrupt was never taken (the core's `tick_lost` event) is a skipped row, as in the model's
+        budget (`BudgetRow::skipped`: every time at its arrival, flagged overrun); a tick that came
+        while the previous ISR ran (the core's `overrun` event) is flagged overrun."""
         u = {k: v.astype(np.uint64) for k, v in col.items()}
+        u = self._with_lost_ticks(u)
         spi_start, spi_end = self._spi_stage(u["entry_end_ps"], u["body_end_ps"])
         b = {
             "tick": u["tick"],
@@ -842,12 +878,37 @@ class _Rows:
             "step": np.ones(len(u["tick"]), np.uint8),
             "overrun": np.zeros(len(u["tick"]), np.uint8),
         }
-        # A tick that arrived while the previous ISR was still running.
-        prev_end = np.r_[self.prev_end, u["end_ps"][:-1]].astype(np.uint64)
-        b["overrun"] = (u["tick_ps"] < prev_end).astype(np.uint8)
+        # A tick that arrived while the previous ISR was still running, and a tick never run.
+        skipped = u["deadline_ps"] == u["tick_ps"]
+        ends = np.maximum.accumulate(np.r_[self.prev_end, u["end_ps"]].astype(np.uint64))
+        b["overrun"] = ((u["tick_ps"] < ends[:-1]) | skipped).astype(np.uint8)
+        b["step"] = (~skipped).astype(np.uint8)
         if len(u["tick"]):
-            self.prev_end = int(u["end_ps"][-1])
+            self.prev_end = int(ends[-1])
         return b
+
+    def _with_lost_ticks(self, u: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """The rows with a skipped row before each for every tick lost since the row before (its
+        tick number missing): at its arrival, counted back from the row's tick at the row's period."""
+        ticks = u["tick"].astype(np.int64)
+        prev = np.r_[self.prev_tick, ticks[:-1]]
+        gaps = np.maximum(ticks - prev - 1, 0)
+        if len(ticks):
+            self.prev_tick = int(ticks[-1])
+        if not gaps.any():
+            return u
+        row = np.repeat(np.arange(len(ticks)), gaps + 1)
+        first = np.cumsum(gaps + 1) - (gaps + 1)
+        back = (first + gaps)[row] - np.arange(len(row))  # ticks before the row's own
+        period = u["deadline_ps"].astype(np.int64) - u["tick_ps"].astype(np.int64)
+        lost = back > 0
+        out = {k: v[row].copy() for k, v in u.items()}
+        at = (u["tick_ps"].astype(np.int64)[row] - back * period[row]).astype(np.uint64)
+        for k in out:
+            if k.endswith("_ps"):
+                out[k][lost] = at[lost]
+        out["tick"][lost] = (ticks[row] - back)[lost].astype(out["tick"].dtype)
+        return out
 
 
 class FirmwareRunWriter(RunWriter):

@@ -13,7 +13,9 @@
 #include "reference.h"
 
 #define BURST_WORDS 15
+#ifndef TIMER_PERIOD_US /* the published 4 ms; a build may define another (-DTIMER_PERIOD_US=300) */
 #define TIMER_PERIOD_US 4000
+#endif
 
 interrupt void cpu_timer0_isr(void);
 

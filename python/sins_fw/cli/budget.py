@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 from typing import Any
 
 from sins_fw import budget, gfsins
@@ -47,6 +48,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         help=f"emulated time after any alignment (default {budget.DEFAULT_SECONDS:g} s: one full phase "
         "pattern of 4 ms reads against the 819.2 Hz sample clock)",
     )
+    p.add_argument(
+        "--firmware",
+        type=Path,
+        metavar="FW.so",
+        help="the budget of this host-built C firmware's ISR (`sins-fw build-firmware`) instead of the "
+        "profile's Rust model: entry, CS set-up, SPI (from the bus log), compute, exit, and the compute "
+        "by the firmware's own functions (calls, self and inclusive C28x cycles per ISR, share of the tick)",
+    )
     p.set_defaults(func=run)
 
 
@@ -55,6 +64,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--duration-s {args.duration_s}: expected a finite duration > 0")
     if args.plot is not None and (args.plot.suffix.lower() != ".png" or args.plot.is_dir()):
         raise InputError(f"--plot {args.plot}: expected a file name ending in .png")
+    if args.firmware is not None:
+        return _firmware(args)
     if gfsins.has_own_schema(args.profile):
         return _gfsins(args)
     report = budget.budget_report(profile_from_args(args), seconds=args.duration_s)
@@ -277,4 +288,28 @@ def _gfsins(args: argparse.Namespace) -> int:
             + ", ".join(f"{k} ×{n}" for k, n in kinds.items())
             + f"; the first at {float(first['t_s']):.6g} s: {first['message']}"
         )
+    return 0
+
+
+def _firmware(args: argparse.Namespace) -> int:
+    """`budget --firmware FW.so`: the C firmware's ISR on the model budget's synthetic input."""
+    from sins_fw import firmware_budget
+
+    if args.plot is not None:
+        raise InputError(
+            f"--plot {args.plot}: with --firmware the budget is the table (--json for every figure)"
+        )
+    if not args.firmware.is_file():
+        raise InputError(
+            f"{args.firmware}: no such firmware library (build it with `sins-fw build-firmware`)"
+        )
+    if gfsins.has_own_schema(args.profile):
+        raise InputError(f"--profile {args.profile}: a C firmware runs on the F28335 boards' profiles")
+    report = firmware_budget.firmware_budget_report(args.firmware, profile_from_args(args), args.duration_s)
+    emit(args, report, firmware_budget.render(report))
+    su = report["summary"]
+    overruns = 0 if su is None else su["overruns"]["count"] + len(su["overruns"]["skipped_ticks"])
+    if overruns or report["rules_broken"]:
+        kinds = ", ".join(f"{v['kind']} ×{v['count']}" for v in report["rules_broken"]) or "none"
+        raise CheckFailed(f"{overruns} tick(s) overran or never ran; rules broken: {kinds}")
     return 0

@@ -229,7 +229,9 @@ FILES: dict[str, Files] = {
         outputs=(_out(), _out("raw_out", "--raw-out")),
     ),
     "board": Files(inputs=(_PROFILE,)),
-    "budget": Files(inputs=(_PROFILE,), outputs=(_out("plot", "--plot"),)),
+    "budget": Files(
+        inputs=(_PROFILE, Role("firmware", plain("--firmware"))), outputs=(_out("plot", "--plot"),)
+    ),
     "parity": Files(
         inputs=(Role("traces", plain("TRACE")), _PROFILE, Role("thresholds", plain("--thresholds")))
     ),

@@ -192,6 +192,10 @@ pub struct HostBoard {
     feeds: Vec<InputFeed>,
     /// Timer 0's reloads when its interrupt was last taken.
     tint0_taken: u64,
+    /// The interrupts being serviced, innermost last (whether each is timer 0's), and the time the
+    /// last ISR of timer 0 returned (IRET): a tick before it was an overrun.
+    servicing: Vec<bool>,
+    tint0_free_ps: Ps,
     /// Keep the transaction log for [`HostBoard::take_log`] (not on a board reading a trace: a
     /// firmware run would keep every frame).
     keep_log: bool,
@@ -244,6 +248,8 @@ impl HostBoard {
             irq: Interrupts::new(clocks.sysclkout),
             feeds: Vec::new(),
             tint0_taken: 0,
+            servicing: Vec::new(),
+            tint0_free_ps: 0,
             keep_log: true,
             serial,
         })
@@ -291,34 +297,46 @@ impl HostBoard {
 
     /// The interrupt the CPU takes now, if any, acknowledged as the CPU and the PIE do it (see
     /// [`crate::dsp::interrupts`]).
-    /// Timer 0's ticks that came while its interrupt was still pending are lost: a `tick_lost` event
-    /// when the ISR is taken.
+    /// Timer 0's ticks, accounted as the firmware model accounts them (`Emulator::run_tick`, the
+    /// `queue` policy the PIE's latch is): a tick that came while the previous one was still pending
+    /// or masked is lost, one `tick_lost` event each at its time; the tick whose ISR is taken, when
+    /// it came before timer 0's previous ISR returned, is an `overrun` event at its time, measured
+    /// how late the ISR starts.
     pub fn take_interrupt(&mut self) -> Option<Taken> {
         let taken = self.irq.take(self.now)?;
-        if taken.vector == crate::dsp::interrupts::TINT0_VECTOR {
+        let tint0 = taken.vector == crate::dsp::interrupts::TINT0_VECTOR;
+        if tint0 {
             let (n, last) = self.irq.underflows();
-            if n > self.tint0_taken + 1 {
+            for k in self.tint0_taken + 1..n {
                 self.pending.push(Event::new(
-                    last.unwrap_or(self.now),
+                    self.irq.underflow_ps(k).unwrap_or(self.now),
                     "tick_lost",
                     crate::events::Severity::Error,
-                    format!(
-                        "timer 0 ticks {}…{} came while the interrupt was still pending or masked: the ISR runs once \
-                         for ticks {}…{n}",
-                        self.tint0_taken + 1,
-                        n - 1,
-                        self.tint0_taken + 1
-                    ),
+                    format!("tick {k}: TINT0 arrived while the previous one was still pending: lost"),
                 ));
             }
             self.tint0_taken = n;
+            let tick_ps = last.unwrap_or(self.now);
+            if n > 0 && tick_ps < self.tint0_free_ps {
+                let late = self.now - tick_ps;
+                self.pending.push(crate::deadline::overrun(
+                    tick_ps,
+                    late,
+                    format!("tick {n}: the previous ISR ran {:.1} µs past this tick (Queue)", late as f64 / 1e6),
+                ));
+            }
         }
+        self.servicing.push(tint0);
         Some(taken)
     }
 
     /// IRET: the end of the ISR being serviced.
     pub fn iret(&mut self) -> Result<()> {
-        self.irq.iret()
+        self.irq.iret()?;
+        if self.servicing.pop() == Some(true) {
+            self.tint0_free_ps = self.now;
+        }
+        Ok(())
     }
 
     /// The CPU's IER.

@@ -533,6 +533,14 @@ impl Interrupts {
         (n, last.map(|c| self.ps_of(c)))
     }
 
+    /// The time of timer 0's `k`-th reload (`k` ≤ the reloads so far), counted back from the last at
+    /// its period now (a PRD written between them is not seen); None before the first.
+    pub fn underflow_ps(&self, k: u64) -> Option<Ps> {
+        let (n, last) = self.timers[0].underflows();
+        let back = n.checked_sub(k)?.checked_mul(self.timers[0].reload_period())?;
+        Some(self.ps_of(last?.checked_sub(back)?))
+    }
+
     /// The interrupts whose path the firmware opened at least partly, in priority order: (CPU
     /// interrupt 1…14, PIE line 1…8 or 0, vector). TINT0 when there is none.
     fn candidates(&self) -> Vec<(u8, u8, usize)> {

@@ -245,6 +245,11 @@ impl CpuTimerRegs {
         self.tcr & TCR_TIE != 0
     }
 
+    /// The cycles between two reloads with the PRD and TDDR written now.
+    pub fn reload_period(&self) -> u64 {
+        self.period()
+    }
+
     /// Reloads since power-on and the cycle of the last one.
     pub fn underflows(&self) -> (u64, Option<u64>) {
         (self.underflows, self.last_underflow)
