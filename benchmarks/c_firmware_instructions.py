@@ -76,7 +76,8 @@ def side(name: str, root: Path, env: dict[str, str], args: argparse.Namespace, t
     subprocess.run([*cmd, "build", *rest], env=env, check=True, cwd=root)
     subprocess.run(["strip", "--strip-debug", str(fw)], check=True)
     # A short run first, outside valgrind: Python's byte-code caches are written before counting.
-    subprocess.run([*cmd, "run", args.example, str(args.trace), "0.01"], env=env, check=True, cwd=root)
+    warm = [*cmd, "run", args.example, str(args.trace), "0.01"]
+    subprocess.run(warm, env=env, check=True, cwd=root, stdout=subprocess.DEVNULL)
     out = tmp / f"{name}.%p.cg"
     run = subprocess.run(
         ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", *cmd, "run", *rest],
