@@ -170,6 +170,9 @@ pub struct HostBoard {
     spi_lines: [(u64, bool); 2],
     /// Peripherals reported used with their clock off (until it is on again).
     clock_off: Vec<&'static str>,
+    /// The peripheral whose clock enable [`HostBoard::clock_gate`] looked up last, and its
+    /// PCLKCR register and bit.
+    gate_bit: (&'static str, (u32, u16)),
     /// The watchdog reset the chip: what is said of every later access.
     in_reset: Option<String>,
     spi_profile: profile::Spi,
@@ -236,6 +239,7 @@ impl HostBoard {
             other: Unmodelled::new(),
             spi_lines: [(0, false); 2],
             clock_off: Vec::new(),
+            gate_bit: ("", (0, 0)),
             in_reset: None,
             spi_profile: profile.spi.clone(),
             t_sfs: (profile.device.t_sfs_ns * 1e3).ceil() as Ps,
@@ -783,8 +787,23 @@ impl HostBoard {
                 None => return true,
             },
         };
-        if self.sys.clock_on(instance) {
-            self.clock_off.retain(|p| *p != instance);
+        // The enable bit is found by the instance's name; the last one found is kept (an access is
+        // most often to the peripheral of the access before it).
+        let (reg, mask) = if std::ptr::eq(instance, self.gate_bit.0) {
+            self.gate_bit.1
+        } else {
+            match sysctrl::clock_bit(instance) {
+                Some(bit) => {
+                    self.gate_bit = (instance, bit);
+                    bit
+                }
+                None => return true,
+            }
+        };
+        if self.sys.read(reg, self.now).map_or(true, |v| v & mask != 0) {
+            if !self.clock_off.is_empty() {
+                self.clock_off.retain(|p| *p != instance);
+            }
             return true;
         }
         if !self.clock_off.contains(&instance) {
@@ -1136,21 +1155,26 @@ impl HostBoard {
         None
     }
 
-    /// Move what the link logged and the events raised into this board's own lists.
+    /// Move what the link logged and the events raised into this board's own lists. It runs after
+    /// every register access and every step of time, so it touches nothing that is empty: the link's
+    /// log is drained in place (its buffer kept, not reallocated for each frame) and an empty list of
+    /// events is not appended.
     fn sync(&mut self) {
         self.spi_interrupts();
         self.link.flush_ste(self.now);
-        for r in self.link.take_log() {
-            if let LinkRecord::Frame(f) = r {
-                self.recent.push(f);
-            }
-            if self.keep_log {
-                self.log.push(r);
+        if let Some(log) = self.link.log_mut().filter(|l| !l.is_empty()) {
+            for r in log.drain(..) {
+                if let LinkRecord::Frame(f) = r {
+                    self.recent.push(f);
+                }
+                if self.keep_log {
+                    self.log.push(r);
+                }
             }
         }
-        self.pending.extend(self.link.drain_events());
-        self.pending.extend(self.link.slave_mut().drain_events());
-        self.pending.extend(self.serial.drain(&mut self.irq));
+        append(&mut self.pending, self.link.drain_events());
+        append(&mut self.pending, self.link.slave_mut().drain_events());
+        append(&mut self.pending, self.serial.drain(&mut self.irq));
         if self.pending.is_empty() && self.recent.len() > 64 {
             let keep = self.recent.len() - 1;
             self.recent.drain(..keep);
@@ -1158,8 +1182,18 @@ impl HostBoard {
     }
 }
 
+/// Append `more` to `to` (nothing to do, no call, when it is empty: the common case, on every access).
+#[inline(always)]
+fn append(to: &mut Vec<Event>, mut more: Vec<Event>) {
+    if !more.is_empty() {
+        to.append(&mut more);
+    }
+}
+
+/// Whether `a` is one of SPI-A's registers ([`REGISTERS`]: SPICCR…SPISTS, SPIBRR, SPIRXEMU…SPIFFCT,
+/// SPIPRI): a match on the offset, not a search of the register table, as it runs on every access.
 fn is_spi(a: u32) -> bool {
-    (SPIA_BASE..SPIA_BASE + 16).contains(&a) && register_name(a).is_some()
+    matches!(a.wrapping_sub(SPIA_BASE), 0..=2 | 4 | 6..=0xC | 0xF)
 }
 
 fn is_gpio(a: u32) -> bool {
@@ -1171,5 +1205,18 @@ fn hex(v: i64) -> String {
         format!("-0x{:X}", v.unsigned_abs())
     } else {
         format!("0x{v:X}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn is_spi_is_the_register_tables_spi_a() {
+        for a in 0..0x1_0000u32 {
+            let by_table = (SPIA_BASE..SPIA_BASE + 16).contains(&a) && register_name(a).is_some();
+            assert_eq!(is_spi(a), by_table, "0x{a:04X}");
+        }
     }
 }

@@ -179,6 +179,7 @@ impl SpiSlave for SpiParts {
             SpiPart::Other(d) => d.answers_as_sampled(),
         }
     }
+    #[inline]
     fn drain_events(&mut self) -> Vec<Event> {
         if let [(_, _, SpiPart::Adis(d))] = self.parts.as_mut_slice() {
             return d.drain_events(); // the reference board's one part: no copy

@@ -550,6 +550,12 @@ impl<S: SpiSlave> SpiLink<S> {
         self.wires.log.as_mut().map(std::mem::take).unwrap_or_default()
     }
 
+    /// The log recorded so far, to drain in place (None when logging is off): its buffer stays the
+    /// link's, so a caller that empties it after each access does not reallocate it for each frame.
+    pub fn log_mut(&mut self) -> Option<&mut Vec<LinkRecord>> {
+        self.wires.log.as_mut()
+    }
+
     /// The level an undriven line (SPISIMO with TALK = 0, DOUT with CS high) reads as.
     pub fn set_floating_level(&mut self, high: bool) {
         self.wires.floating = high;
@@ -594,7 +600,10 @@ impl<S: SpiSlave> SpiLink<S> {
     /// Take the link's and SPI-A's events out, in that order.
     pub fn drain_events(&mut self) -> Vec<Event> {
         let mut e = self.wires.events.drain();
-        e.extend(self.spi.drain_events());
+        let mut spi = self.spi.drain_events();
+        if !spi.is_empty() {
+            e.append(&mut spi);
+        }
         e
     }
 }

@@ -67,7 +67,10 @@ pub const FRAMES: &[Frame] = &[
 
 /// The frame holding `addr`, if any.
 pub fn frame_of(addr: u32) -> Option<&'static Frame> {
-    FRAMES.iter().find(|f| (f.base..f.base + f.len).contains(&addr))
+    // FRAMES is in address order and its frames do not overlap: the last one starting at or below
+    // `addr` is the only one that can hold it (a binary search: the board asks on every access).
+    let k = FRAMES.partition_point(|f| f.base <= addr);
+    k.checked_sub(1).map(|k| &FRAMES[k]).filter(|f| addr < f.base + f.len)
 }
 
 /// The reset value of the word at `addr` (see the module's doc).
@@ -149,6 +152,17 @@ impl Unmodelled {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn frames_are_in_address_order_and_frame_of_finds_each_word() {
+        for w in FRAMES.windows(2) {
+            assert!(w[0].base + w[0].len <= w[1].base, "{} overlaps or precedes {}", w[1].regs, w[0].regs);
+        }
+        for addr in 0..0x8000u32 {
+            let linear = FRAMES.iter().find(|f| (f.base..f.base + f.len).contains(&addr));
+            assert_eq!(frame_of(addr).map(|f| f.regs), linear.map(|f| f.regs), "0x{addr:04X}");
+        }
+    }
 
     #[test]
     fn reset_values_and_frames() {
