@@ -7,7 +7,7 @@
 use crate::bus::i2c::I2cTarget;
 use crate::bus::uart::UartPeer;
 use crate::bus::{Address, Device, Link, SpiSlave};
-use crate::device::{ads8344, adxl345, gps, hmc6343, parts, Adis};
+use crate::device::{ads8344, adxl345, eeprom24, gps, hmc6343, parts, Adis};
 use crate::error::{Error, Result};
 use crate::events::Event;
 use crate::profile::{self, BoxedLink, Devices, LinkKind, Profile, SENSOR_CHIP_SELECT};
@@ -17,10 +17,10 @@ use crate::profile::{self, BoxedLink, Devices, LinkKind, Profile, SENSOR_CHIP_SE
 pub type Catalogue<'a> = &'a dyn Fn(&str, &LinkKind) -> Option<Result<Device>>;
 
 /// The parts of other families than the ADIS16xxx, one arm each in [`known_parts`].
-const OTHER_PARTS: &[&str] = &["ADS8344", "ADXL345", "HMC6343", "GR-87"];
+const OTHER_PARTS: &[&str] = &["ADS8344", "ADXL345", "HMC6343", "24LC256", "GR-87"];
 
 /// The parts the crate declares: the ADIS16xxx family (`device::part`), the ADS8344 ADC and the ADXL345 on SPI, the HMC6343
-/// on I²C, the GR-87 GPS on a UART.
+/// and the 24LC256 EEPROM on I²C, the GR-87 GPS on a UART.
 pub fn known_parts(name: &str, kind: &LinkKind) -> Option<Result<Device>> {
     let only = |want: &str, build: fn() -> Device| -> Option<Result<Device>> {
         Some(if kind.name == want {
@@ -36,6 +36,9 @@ pub fn known_parts(name: &str, kind: &LinkKind) -> Option<Result<Device>> {
         }
         "ADXL345" => return only("spi", || Device::new::<dyn SpiSlave + Send>(Box::new(adxl345::Adxl345::at_rest()))),
         "HMC6343" => return only("i2c", || Device::new::<dyn I2cTarget + Send>(Box::new(hmc6343::Hmc6343::at_rest()))),
+        "24LC256" => {
+            return only("i2c", || Device::new::<dyn I2cTarget + Send>(Box::new(eeprom24::Eeprom24lc256::erased())))
+        }
         "GR-87" | "GPS" => return only("uart", || Device::new::<dyn UartPeer + Send>(Box::new(gps::Gps::at_rest()))),
         _ => {}
     }
