@@ -866,6 +866,7 @@ impl HostBoard {
             ));
             return Ok(());
         }
+        self.serial.set_i2c_pins(self.gpio.mux(32) == 1 && self.gpio.mux(33) == 1);
         self.route_chip_selects()
     }
 

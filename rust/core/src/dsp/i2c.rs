@@ -46,6 +46,10 @@
 //!   [unconfirmed]); the others 0 (the spec's §10 says the FIFO registers reset as SPI's, 0xA000/0x201F,
 //!   itself [unconfirmed]; SPRUG03's I2CFFTX/I2CFFRX bit tables give 0: followed here).
 //!
+//! - **Pins**: the module reaches the bus only through GPIO32/33 muxed to SDAA/SCLA (GPBMUX1 = 1, as
+//!   TI's InitI2CGpio sets them); a START without them is an `i2c_misuse` warning (once) and every
+//!   address reads NACKed (the idle bus's SDA, pulled high).
+//!
 //! Not modelled, each an `i2c_misuse` warning when asked for: slave mode (MST = 0 with STT), 10-bit
 //! addressing (XA), the free data format (FDF), digital loopback (DLB), arbitration (one master: ARBL
 //! never sets), the emulation modes (FREE is ignored).
@@ -221,6 +225,10 @@ pub struct I2cA {
     halted: bool,
     /// Addresses reported absent already.
     absent_reported: Vec<u8>,
+    /// GPIO32/33 are muxed to SDAA/SCLA (GPBMUX1 = 1): the module reaches the bus.
+    pins: bool,
+    /// The unmuxed pins were reported.
+    pins_reported: bool,
     /// Interrupt lines as last seen (I2CINT1A, I2CINT2A).
     lines: [bool; 2],
     requests: Vec<(u8, u8, Ps)>,
@@ -281,6 +289,8 @@ impl I2cA {
             reading: false,
             halted: false,
             absent_reported: Vec::new(),
+            pins: false,
+            pins_reported: false,
             lines: [false; 2],
             requests: Vec::new(),
             now: 0,
@@ -295,6 +305,11 @@ impl I2cA {
     /// SYSCLKOUT changes (taken at the next IRS 0 → 1, as the prescaler).
     pub fn set_sysclkout(&mut self, c: Clock) {
         self.sysclkout = c;
+    }
+
+    /// Whether GPIO32/33 are muxed to SDAA/SCLA (the board says so when the mux changes).
+    pub fn set_pins(&mut self, muxed: bool) {
+        self.pins = muxed;
     }
 
     /// SCL's low and high phases now, ps.
@@ -566,7 +581,15 @@ impl I2cA {
         let addr = (self.sar & 0x7F) as u8;
         self.reading = self.mdr & MDR_TRX == 0;
         self.left = if self.cnt == 0 { 65_536 } else { u32::from(self.cnt) };
-        self.target = self.m.targets.iter().position(|(a, _)| *a == addr);
+        self.target = self.m.targets.iter().position(|(a, _)| *a == addr).filter(|_| self.pins);
+        if !self.pins && !self.pins_reported {
+            self.pins_reported = true;
+            self.misuse(
+                "a START with GPIO32/33 not muxed to SDAA/SCLA (GPBMUX1 = 1, TI's InitI2CGpio): the module drives \
+                 no pin, no part sees the transfer, and the address reads NACKed (SDA pulled high)"
+                    .into(),
+            );
+        }
         if let Some(i) = self.target {
             self.m.targets[i].1.start(start);
         }
@@ -639,7 +662,7 @@ impl I2cA {
                 };
                 self.wire = Wire::Held { since: end };
                 if !ack {
-                    if address && self.target.is_none() {
+                    if address && self.target.is_none() && self.pins {
                         let a = (self.sar & 0x7F) as u8;
                         if !self.absent_reported.contains(&a) {
                             self.absent_reported.push(a);
@@ -791,6 +814,7 @@ mod tests {
     /// the FIFOs on, a 24LC256 at 0x50.
     fn ti_setup() -> I2cA {
         let mut i = I2cA::new(Clock::from_hz(150_000_000), vec![(0x50, Box::new(Eeprom24lc256::erased()))]);
+        i.set_pins(true);
         for (off, v) in [(I2CSAR, 0x50), (I2CPSC, 14), (I2CCLKL, 10), (I2CCLKH, 5), (I2CIER, 0x24), (I2CMDR, 0x0020)] {
             i.write(off, v, 0).unwrap();
         }

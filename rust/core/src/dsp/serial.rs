@@ -125,6 +125,11 @@ impl SerialPorts {
         self.sci.iter().filter_map(Sci::next_interrupt_ps).chain(self.i2c.next_interrupt_ps()).min()
     }
 
+    /// Whether GPIO32/33 are muxed to SDAA/SCLA.
+    pub fn set_i2c_pins(&mut self, muxed: bool) {
+        self.i2c.set_pins(muxed);
+    }
+
     /// I2C-A.
     pub fn i2c(&self) -> &I2cA {
         &self.i2c
