@@ -716,6 +716,12 @@ impl HostBoard {
         if let Some(ev) = self.sys.write(addr, value, now)? {
             self.apply_sys(ev)?;
         }
+        if addr == sysctrl::PCLKCR3 {
+            // CPUTIMER0/1/2ENCLK gate the timers' clocks (SPRUFB0): with it off a timer stands still.
+            for (n, name) in ["CPU timer 0", "CPU timer 1", "CPU timer 2"].into_iter().enumerate() {
+                self.irq.set_timer_clock(n, self.sys.clock_on(name), now);
+            }
+        }
         Ok(())
     }
 
