@@ -224,7 +224,8 @@ impl HostBoard {
         let clocks = DspClocks::from_profile(&profile.clocks)?;
         let mut link = SpiLink::from_profile(profile, parts)?;
         link.enable_log();
-        let serial = SerialPorts::new(profile, link.spi().lspclk(), clocks.sysclkout)?;
+        let i2c = crate::board::links::i2c_targets(profile)?;
+        let serial = SerialPorts::new(profile, link.spi().lspclk(), clocks.sysclkout, i2c)?;
         Ok(HostBoard {
             link,
             now: 0,

@@ -56,12 +56,10 @@
 
 use std::collections::VecDeque;
 
-use crate::board::links::known_parts;
 use crate::bus::i2c::{nack_address, stretch_rule, I2cTarget, Master};
 use crate::bus::Address;
 use crate::error::{Error, Result};
 use crate::events::{Event, Severity};
-use crate::profile::{link_kind, Profile};
 use crate::time::{Clock, Ps};
 
 /// I2C-A's base address (I2caRegs).
@@ -239,23 +237,6 @@ impl std::fmt::Debug for I2cA {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("I2cA").field("mdr", &self.mdr).field("status", &self.status).field("wire", &self.wire).finish()
     }
-}
-
-/// The I²C parts `profile` places on `i2c-a`, by 7-bit address: a part that is not an I²C target
-/// is a profile error naming its `board.devices` key.
-pub fn targets_from_profile(profile: &Profile) -> Result<Vec<(u8, Box<dyn I2cTarget + Send>)>> {
-    let Some(kind) = link_kind("i2c-a") else { return Ok(Vec::new()) };
-    let mut out = Vec::new();
-    for (i, d) in profile.board.devices.iter().enumerate().filter(|(_, d)| d.link == "i2c-a") {
-        let bad = |why: String| Error::Profile(format!("key `board.devices[{i}].part` = \"{}\": {why}", d.part));
-        let Some(Address::I2c(a)) = d.place() else {
-            return Err(Error::Profile(format!("key `board.devices[{i}].address`: expected a 7-bit address")));
-        };
-        let built = known_parts(&d.part, kind).ok_or_else(|| bad("not a part the emulator models".into()))?;
-        let target = built?.take::<dyn I2cTarget + Send>().ok_or_else(|| bad("not an I²C part".into()))?;
-        out.push((a, target));
-    }
-    Ok(out)
 }
 
 impl I2cA {

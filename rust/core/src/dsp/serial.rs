@@ -3,6 +3,7 @@
 //! parts the profile places on it. It owns their addresses, brings them up to time, and hands their
 //! PIE requests and events to the board.
 
+use crate::bus::i2c::I2cTarget;
 use crate::error::Result;
 use crate::events::Event;
 use crate::profile::Profile;
@@ -22,8 +23,13 @@ pub struct SerialPorts {
 impl SerialPorts {
     /// The ports at reset, the SCIs clocked by `lspclk` with the profile's receive feeds
     /// (`[serial.*]`: an unreadable file is an error naming its key), I2C-A by `sysclkout` with the
-    /// parts the profile places on `i2c-a`.
-    pub fn new(profile: &Profile, lspclk: Clock, sysclkout: Clock) -> Result<SerialPorts> {
+    /// parts the profile places on `i2c-a` (`board::links::i2c_targets`).
+    pub fn new(
+        profile: &Profile,
+        lspclk: Clock,
+        sysclkout: Clock,
+        i2c_targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
+    ) -> Result<SerialPorts> {
         let mut sci = [Sci::new(0, lspclk), Sci::new(1, lspclk), Sci::new(2, lspclk)];
         for (port, (key, rx)) in sci.iter_mut().zip(profile.serial.ports()) {
             if !rx.rx_file.is_empty() {
@@ -36,7 +42,7 @@ impl SerialPorts {
                 )?);
             }
         }
-        let i2c = I2cA::new(sysclkout, i2c::targets_from_profile(profile)?);
+        let i2c = I2cA::new(sysclkout, i2c_targets);
         Ok(SerialPorts { sci, i2c })
     }
 
