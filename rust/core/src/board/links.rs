@@ -128,6 +128,23 @@ impl BoardLinks {
     }
 }
 
+/// The I²C parts `profile` places on `i2c-a`, by 7-bit address: a part that is not an I²C target
+/// is a profile error naming its `board.devices` key.
+pub fn i2c_targets(profile: &Profile) -> Result<Vec<(u8, Box<dyn I2cTarget + Send>)>> {
+    let Some(kind) = link_kind("i2c-a") else { return Ok(Vec::new()) };
+    let mut out = Vec::new();
+    for (i, d) in profile.board.devices.iter().enumerate().filter(|(_, d)| d.link == "i2c-a") {
+        let bad = |why: String| Error::Profile(format!("key `board.devices[{i}].part` = \"{}\": {why}", d.part));
+        let Some(Address::I2c(a)) = d.place() else {
+            return Err(Error::Profile(format!("key `board.devices[{i}].address`: expected a 7-bit address")));
+        };
+        let built = known_parts(&d.part, kind).ok_or_else(|| bad("not a part the emulator models".into()))?;
+        let target = built?.take::<dyn I2cTarget + Send>().ok_or_else(|| bad("not an I²C part".into()))?;
+        out.push((a, target));
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -339,21 +356,4 @@ address = 0x1E
             assert!(e.to_string().contains(key), "{text}: {e}");
         }
     }
-}
-
-/// The I²C parts `profile` places on `i2c-a`, by 7-bit address: a part that is not an I²C target
-/// is a profile error naming its `board.devices` key.
-pub fn i2c_targets(profile: &Profile) -> Result<Vec<(u8, Box<dyn I2cTarget + Send>)>> {
-    let Some(kind) = link_kind("i2c-a") else { return Ok(Vec::new()) };
-    let mut out = Vec::new();
-    for (i, d) in profile.board.devices.iter().enumerate().filter(|(_, d)| d.link == "i2c-a") {
-        let bad = |why: String| Error::Profile(format!("key `board.devices[{i}].part` = \"{}\": {why}", d.part));
-        let Some(Address::I2c(a)) = d.place() else {
-            return Err(Error::Profile(format!("key `board.devices[{i}].address`: expected a 7-bit address")));
-        };
-        let built = known_parts(&d.part, kind).ok_or_else(|| bad("not a part the emulator models".into()))?;
-        let target = built?.take::<dyn I2cTarget + Send>().ok_or_else(|| bad("not an I²C part".into()))?;
-        out.push((a, target));
-    }
-    Ok(out)
 }
