@@ -316,3 +316,57 @@ def test_the_stop_message_names_the_interrupt_involved(tmp_path: Path):
     named = r"IER has INT6 \(M_INT6, the CPU interrupt of SPIRXINTA\) clear"
     with pytest.raises(FirmwareStopped, match=named):
         _run(fw, tmp_path, 0.01, done="uint16")
+
+
+def test_a_cpu_timer_with_its_clock_gated_off_stands_still(tmp_path: Path):
+    """PCLKCR3.CPUTIMER0ENCLK (bit 8) gates CPU timer 0's clock (SPRUFB0; CPU timers count SYSCLKOUT):
+    with it off for 5 ms the counter holds, no tick comes, and it goes on from where it stood, so the
+    run counts 5 ms of ticks fewer (1 ms periods: 20 in 20.5 ms, 15 with the gate)."""
+    src = _source(
+        tmp_path,
+        "interrupt void tick(void);\n"
+        "volatile Uint16 ticks;\n"
+        "Uint16 ticks_gated;\n"
+        "void main(void) {\n"
+        "    InitSysCtrl();\n"
+        "    DINT;\n"
+        "    InitPieCtrl();\n"
+        "    IER = 0; IFR = 0;\n"
+        "    InitPieVectTable();\n"
+        "    EALLOW;\n"
+        "    PieVectTable.TINT0 = &tick;\n"
+        "    EDIS;\n"
+        "    InitCpuTimers();\n"
+        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
+        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
+        "    IER |= M_INT1;\n"
+        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
+        "    EINT;\n"
+        "    while (ticks < 3) {}\n"
+        "#ifdef GATE\n"
+        "    EALLOW;\n"
+        "    SysCtrlRegs.PCLKCR3.bit.CPUTIMER0ENCLK = 0;\n"
+        "    EDIS;\n"
+        "#endif\n"
+        "    DELAY_US(5000);\n"
+        "    ticks_gated = ticks;\n"
+        "    EALLOW;\n"
+        "    SysCtrlRegs.PCLKCR3.bit.CPUTIMER0ENCLK = 1;\n"
+        "    EDIS;\n"
+        "    for (;;) {}\n"
+        "}\n"
+        "interrupt void tick(void) { ticks++; PieCtrlRegs.PIEACK.all = PIEACK_GROUP1; }\n",
+    )
+    until = 0.0205
+    free, _ = _run(
+        build_firmware([src], tmp_path / "free.so"), tmp_path, until, ticks="uint16", ticks_gated="uint16"
+    )
+    gated, _ = _run(
+        build_firmware([src], tmp_path / "gated.so", defines=["GATE"]),
+        tmp_path,
+        until,
+        ticks="uint16",
+        ticks_gated="uint16",
+    )
+    assert (free.final["ticks_gated"], free.final["ticks"]) == (8, 20)
+    assert (gated.final["ticks_gated"], gated.final["ticks"]) == (3, 15)

@@ -74,7 +74,7 @@ def test_the_installed_wheel_finds_its_bundled_profiles(installed):
         assert r.returncode == 0, (name, r.stderr)
     r = _sins_fw(installed, "board", "--profile", "no-such-profile")
     assert r.returncode == 2
-    assert "known profiles: adis_ads8344, geomag, gfsins, reference, wing" in r.stderr
+    assert "known profiles: adis_ads8344, geomag, gfsins, i2c_eeprom, reference, wing" in r.stderr
 
 
 def test_the_package_is_imported_from_the_environment_not_the_checkout(installed):

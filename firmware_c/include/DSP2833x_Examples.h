@@ -10,6 +10,7 @@
 #include "DSP2833x_Device.h"
 #include "DSP2833x_DefaultIsr.h"
 #include "DSP2833x_GlobalPrototypes.h"
+#include "DSP2833x_I2c_defines.h"
 
 #ifndef SINS_FW_PLLCR
 #define SINS_FW_PLLCR 10

@@ -25,6 +25,7 @@ void InitSpiGpio(void);
 void InitSpiaGpio(void);
 
 /* DSP2833x_Sci.c */
+void InitI2CGpio(void);
 void InitSci(void);
 void InitSciGpio(void);
 void InitSciaGpio(void);

@@ -90,7 +90,7 @@ static bool is_sci(uint32_t a) {
 
 /* The modelled registers (rust/core/src/host.rs `HostBoard::read`: SPI-A, the GPIO registers,
    the system control registers (dsp/sysctrl.rs `SysCtrl::owns`), CPU timers 0-2 and the PIE
-   (dsp/interrupts.rs `Interrupts::owns`), SCI-A/B/C (dsp/sci.rs), and the frames of the peripherals
+   (dsp/interrupts.rs `Interrupts::owns`), SCI-A/B/C (dsp/sci.rs), I2C-A (dsp/i2c.rs), and the frames of the peripherals
    not modelled yet, whose registers the board holds with their reset values and whose first use it
    reports (dsp/unmodelled.rs `FRAMES`). */
 static bool is_modelled(uint32_t a) {
@@ -112,6 +112,7 @@ static bool is_modelled(uint32_t a) {
         return true;                                                 /* GpioCtrlRegs (dsp/gpio.rs) */
     if (a >= 0x0C00u && a < 0x0C18u) return a % 8 != 5;              /* CPU timers 0-2 */
     if (is_sci(a)) return true;                                      /* SCI-A/B/C (dsp/sci.rs) */
+    if ((a >= 0x7900u && a <= 0x790Cu) || a == 0x7920u || a == 0x7921u) return true; /* I2C-A (dsp/i2c.rs) */
     return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */
 }
 
@@ -155,10 +156,10 @@ static void warn_never_raised(const char *what) {
 }
 
 /* The PIE lines a modelled peripheral raises (group and line, 0-based): TINT0 and WAKEINT (1.7, 1.8),
-   SPI-A's RX/TX (6.1, 6.2), the SCIs' RX/TX (9.1-9.4, 8.5/8.6). */
+   SPI-A's RX/TX (6.1, 6.2), the SCIs' RX/TX (9.1-9.4, 8.5/8.6), I2C-A's I2CINT1A/I2CINT2A (8.1, 8.2). */
 static bool raised_by_the_board(unsigned group, unsigned line) {
     return (group == 0 && (line == 6 || line == 7)) || (group == 5 && line <= 1) || (group == 8 && line <= 3) ||
-           (group == 7 && (line == 4 || line == 5));
+           (group == 7 && line <= 5 && line != 2 && line != 3);
 }
 
 static void check_pie_enable(uint32_t address, uint16_t value) {

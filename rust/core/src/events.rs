@@ -394,6 +394,18 @@ pub const KINDS: &[EventKind] = &[
         "mcu",
         "an SCI register used against SPRUFZ5 (a TX FIFO full or held in reset, SCIRXBUF read empty, a read-only register written)",
     ),
+    kind(
+        "i2c_misuse",
+        Warning,
+        "mcu",
+        "an I2C-A register used against SPRUG03 (a module clock outside 7-12 MHz, I2CDXR overwritten, a START in reset, a mode not modelled)",
+    ),
+    kind(
+        "eeprom_page_wrap",
+        Warning,
+        "device",
+        "more bytes than a serial EEPROM's page in one page write: the address wrapped to the page's start, overwriting the first bytes",
+    ),
     // The wing unit (firmware/wing/app.rs).
     kind(
         "wing_zero_lengthened",

@@ -83,6 +83,7 @@ fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
         .chain(crate::dsp::interrupts::REGISTERS)
         .chain(sysctrl::REGISTERS)
         .chain(crate::dsp::sci::REGISTERS)
+        .chain(crate::dsp::i2c::REGISTERS)
         .chain(gpio::CTRL_REGISTERS)
 }
 
@@ -106,7 +107,7 @@ fn no_register(addr: u32) -> Error {
         "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, SysCtrlRegs \
          PLLSTS, HISPCP, LOSPCP, PCLKCR0/1/3, LPMCR0, PLLCR, SCSR, WDCNTR, WDKEY, WDCR (0x7011…0x7029), \
          GPIO registers GPACTRL…GPCPUD 0x6F80…0x6FAD and GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timers 0-2 0x0C00…0x0C17, PIE control \
-         0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
+         0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, I2C-A 0x7900…0x790C and 0x7920/0x7921, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
          peripherals); PieVectTable 0x0D00… is set through its vectors)"
     ))
 }
@@ -230,7 +231,8 @@ impl HostBoard {
         let clocks = DspClocks::from_profile(&profile.clocks)?;
         let mut link = SpiLink::from_profile(profile, parts)?;
         link.enable_log();
-        let serial = SerialPorts::new(profile, link.spi().lspclk())?;
+        let i2c = crate::board::links::i2c_targets(profile)?;
+        let serial = SerialPorts::new(profile, link.spi().lspclk(), clocks.sysclkout, i2c)?;
         Ok(HostBoard {
             link,
             now: 0,
@@ -527,6 +529,7 @@ impl HostBoard {
                 self.irq.set_sysclkout(self.sysclkout, t);
                 self.link.set_lspclk(self.sys.lspclk(), t)?;
                 self.serial.set_lspclk(self.sys.lspclk(), t);
+                self.serial.set_sysclkout(self.sysclkout);
             }
             SysEvent::Lspclk(t) => {
                 self.link.set_lspclk(self.sys.lspclk(), t)?;
@@ -736,6 +739,12 @@ impl HostBoard {
         if let Some(ev) = self.sys.write(addr, value, now)? {
             self.apply_sys(ev)?;
         }
+        if addr == sysctrl::PCLKCR3 {
+            // CPUTIMER0/1/2ENCLK gate the timers' clocks (SPRUFB0): with it off a timer stands still.
+            for (n, name) in ["CPU timer 0", "CPU timer 1", "CPU timer 2"].into_iter().enumerate() {
+                self.irq.set_timer_clock(n, self.sys.clock_on(name), now);
+            }
+        }
         Ok(())
     }
 
@@ -782,6 +791,7 @@ impl HostBoard {
             0x7050..=0x705F => "SCI-A",
             0x7750..=0x775F => "SCI-B",
             0x7770..=0x777F => "SCI-C",
+            0x7900..=0x793F => "I2C-A",
             a => match unmodelled::frame_of(a) {
                 Some(f) => f.instance,
                 None => return true,
@@ -900,6 +910,7 @@ impl HostBoard {
             ));
             return Ok(());
         }
+        self.serial.set_i2c_pins(self.gpio.mux(32) == 1 && self.gpio.mux(33) == 1);
         self.route_chip_selects()
     }
 

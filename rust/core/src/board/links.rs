@@ -7,20 +7,20 @@
 use crate::bus::i2c::I2cTarget;
 use crate::bus::uart::UartPeer;
 use crate::bus::{Address, Device, Link, SpiSlave};
-use crate::device::{ads8344, adxl345, gps, hmc6343, parts, Adis};
+use crate::device::{ads8344, adxl345, eeprom24, gps, hmc6343, parts, Adis};
 use crate::error::{Error, Result};
 use crate::events::Event;
-use crate::profile::{self, BoxedLink, Devices, LinkKind, Profile, SENSOR_CHIP_SELECT};
+use crate::profile::{self, link_kind, BoxedLink, Devices, LinkKind, Profile, SENSOR_CHIP_SELECT};
 
 /// What builds a part for a link kind: `None` for a part it does not know, an error for a part
 /// that cannot sit on that kind of link.
 pub type Catalogue<'a> = &'a dyn Fn(&str, &LinkKind) -> Option<Result<Device>>;
 
 /// The parts of other families than the ADIS16xxx, one arm each in [`known_parts`].
-const OTHER_PARTS: &[&str] = &["ADS8344", "ADXL345", "HMC6343", "GR-87"];
+const OTHER_PARTS: &[&str] = &["ADS8344", "ADXL345", "HMC6343", "24LC256", "GR-87"];
 
 /// The parts the crate declares: the ADIS16xxx family (`device::part`), the ADS8344 ADC and the ADXL345 on SPI, the HMC6343
-/// on I²C, the GR-87 GPS on a UART.
+/// and the 24LC256 EEPROM on I²C, the GR-87 GPS on a UART.
 pub fn known_parts(name: &str, kind: &LinkKind) -> Option<Result<Device>> {
     let only = |want: &str, build: fn() -> Device| -> Option<Result<Device>> {
         Some(if kind.name == want {
@@ -36,6 +36,9 @@ pub fn known_parts(name: &str, kind: &LinkKind) -> Option<Result<Device>> {
         }
         "ADXL345" => return only("spi", || Device::new::<dyn SpiSlave + Send>(Box::new(adxl345::Adxl345::at_rest()))),
         "HMC6343" => return only("i2c", || Device::new::<dyn I2cTarget + Send>(Box::new(hmc6343::Hmc6343::at_rest()))),
+        "24LC256" => {
+            return only("i2c", || Device::new::<dyn I2cTarget + Send>(Box::new(eeprom24::Eeprom24lc256::erased())))
+        }
         "GR-87" | "GPS" => return only("uart", || Device::new::<dyn UartPeer + Send>(Box::new(gps::Gps::at_rest()))),
         _ => {}
     }
@@ -123,6 +126,23 @@ impl BoardLinks {
     pub fn is_empty(&self) -> bool {
         self.places.is_empty()
     }
+}
+
+/// The I²C parts `profile` places on `i2c-a`, by 7-bit address: a part that is not an I²C target
+/// is a profile error naming its `board.devices` key.
+pub fn i2c_targets(profile: &Profile) -> Result<Vec<(u8, Box<dyn I2cTarget + Send>)>> {
+    let Some(kind) = link_kind("i2c-a") else { return Ok(Vec::new()) };
+    let mut out = Vec::new();
+    for (i, d) in profile.board.devices.iter().enumerate().filter(|(_, d)| d.link == "i2c-a") {
+        let bad = |why: String| Error::Profile(format!("key `board.devices[{i}].part` = \"{}\": {why}", d.part));
+        let Some(Address::I2c(a)) = d.place() else {
+            return Err(Error::Profile(format!("key `board.devices[{i}].address`: expected a 7-bit address")));
+        };
+        let built = known_parts(&d.part, kind).ok_or_else(|| bad("not a part the emulator models".into()))?;
+        let target = built?.take::<dyn I2cTarget + Send>().ok_or_else(|| bad("not an I²C part".into()))?;
+        out.push((a, target));
+    }
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -95,15 +95,15 @@ fn i2c_a(profile: &Profile, link: &str, devices: Devices) -> Result<BoxedLink> {
 
 /// The minimum phases of one I²C mode (i2c.md, Table 10 as reproduced), ps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct Mode {
-    pub(super) name: &'static str,
-    pub(super) t_low: Ps,
-    pub(super) t_high: Ps,
-    pub(super) t_buf: Ps,
+pub(crate) struct Mode {
+    pub(crate) name: &'static str,
+    pub(crate) t_low: Ps,
+    pub(crate) t_high: Ps,
+    pub(crate) t_buf: Ps,
 }
 
-pub(super) const STANDARD: Mode = Mode { name: "standard mode", t_low: 4_700_000, t_high: 4_000_000, t_buf: 4_700_000 };
-pub(super) const FAST: Mode = Mode { name: "fast mode", t_low: 1_300_000, t_high: 600_000, t_buf: 1_300_000 };
+pub(crate) const STANDARD: Mode = Mode { name: "standard mode", t_low: 4_700_000, t_high: 4_000_000, t_buf: 4_700_000 };
+pub(crate) const FAST: Mode = Mode { name: "fast mode", t_low: 1_300_000, t_high: 600_000, t_buf: 1_300_000 };
 
 /// SCL's low and high phases from `bus`, and the rules that apply: up to 100 kHz the standard
 /// mode's, above it the fast mode's.
@@ -112,20 +112,21 @@ pub(super) fn phases(bus: &I2cBus) -> (Ps, Ps, Mode) {
     (low, high, if low + high >= 10_000_000 { STANDARD } else { FAST })
 }
 
-/// The master's side of an I²C link, the same at both levels (`I2cLink`, `i2c_bits::I2cBitLink`):
+/// The master's side of an I²C link, the same at both levels (`I2cLink`, `i2c_bits::I2cBitLink`)
+/// and for the F28335's I2C-A registers (`dsp::i2c`):
 /// its targets by address, SCL's phases and the mode whose rules they meet, the last STOP, whether
 /// it waits for a stretched SCL, its events; and what a transfer does before its bytes.
-pub(super) struct Master {
-    pub(super) targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
+pub(crate) struct Master {
+    pub(crate) targets: Vec<(u8, Box<dyn I2cTarget + Send>)>,
     /// SCL low and high phases, ps.
-    pub(super) low: Ps,
-    pub(super) high: Ps,
-    pub(super) mode: Mode,
+    pub(crate) low: Ps,
+    pub(crate) high: Ps,
+    pub(crate) mode: Mode,
     /// The last STOP (the bus is free tBUF after it).
-    pub(super) last_stop: Option<Ps>,
+    pub(crate) last_stop: Option<Ps>,
     /// Whether the master waits for a stretched SCL (a master that does not breaks the rule).
-    pub(super) honours_stretching: bool,
-    pub(super) events: EventLog,
+    pub(crate) honours_stretching: bool,
+    pub(crate) events: EventLog,
 }
 
 impl Master {
@@ -135,11 +136,24 @@ impl Master {
         Master { targets, low, high, mode, last_stop: None, honours_stretching: true, events: EventLog::default() }
     }
 
+    /// A master with `targets` whose SCL phases are set later ([`Master::set_phases`]).
+    pub(crate) fn with_targets(targets: Vec<(u8, Box<dyn I2cTarget + Send>)>) -> Master {
+        Master::new(&I2cBus::default(), targets)
+    }
+
+    /// SCL's low and high phases (ps), and the rules that apply: up to 100 kHz the standard mode's,
+    /// above it the fast mode's (as [`phases`]).
+    pub(crate) fn set_phases(&mut self, low: Ps, high: Ps) {
+        self.low = low;
+        self.high = high;
+        self.mode = if low + high >= 10_000_000 { STANDARD } else { FAST };
+    }
+
     /// A transfer to `to` asked at `t`: the target's 7-bit address and the START's time (the master
     /// waits for the bus to be free, tBUF after the last STOP); SCL phases below the mode's are
     /// reported once per transfer. An error for an address that is not I²C's or a byte that does
     /// not fit.
-    pub(super) fn begin(&mut self, to: Address, tx: &[u16], t: Ps) -> Result<(u8, Ps)> {
+    pub(crate) fn begin(&mut self, to: Address, tx: &[u16], t: Ps) -> Result<(u8, Ps)> {
         let Address::I2c(address) = to else {
             return Err(Error::Config(format!("I2C-A addresses a device by its 7-bit address, not by {to}")));
         };
@@ -173,7 +187,7 @@ impl Master {
 
 /// No target acknowledged `address` (in a read or a write): an `i2c_nack` event at `t`.
 #[cold]
-pub(super) fn nack_address(events: &mut EventLog, t: Ps, address: u8, reading: bool) {
+pub(crate) fn nack_address(events: &mut EventLog, t: Ps, address: u8, reading: bool) {
     let what =
         format!("I2C-A: no device acknowledged address 0x{address:02X} ({})", if reading { "read" } else { "write" });
     events.push(Event::new(t, "i2c_nack", Severity::Warning, what));
@@ -314,7 +328,7 @@ impl Link for I2cLink {
 /// The rule of a stretched SCL: the master that honours it goes on from `release` when that is
 /// after its own low phase; one that does not keeps its own time and an `i2c_stretch_ignored` event
 /// is reported. Returns the time the bus goes on from (the clock's fall before the next low phase).
-pub(super) fn stretch_rule(release: Ps, fall: Ps, low: Ps, honours: bool, events: &mut EventLog) -> Ps {
+pub(crate) fn stretch_rule(release: Ps, fall: Ps, low: Ps, honours: bool, events: &mut EventLog) -> Ps {
     if release <= fall + low {
         return fall;
     }

@@ -13,6 +13,7 @@ mod adis;
 pub mod ads8344;
 pub mod adxl345;
 pub mod analog;
+pub mod eeprom24;
 pub mod encoding;
 mod faults;
 pub mod filter;

@@ -275,6 +275,16 @@ impl Interrupts {
         self.epoch_ps + self.sysclkout.cycles_to_ps(c.saturating_sub(self.epoch_cycle))
     }
 
+    /// CPU timer `n`'s clock (PCLKCR3.CPUTIMERnENCLK) goes off or on at time `t`: brought up to `t`,
+    /// then held or counting on ([`super::timer::CpuTimerRegs::set_clock`]).
+    pub fn set_timer_clock(&mut self, n: usize, on: bool, t: Ps) {
+        self.sync(t);
+        let c = self.synced;
+        if let Some(tm) = self.timers.get_mut(n) {
+            tm.set_clock(on, c);
+        }
+    }
+
     /// SYSCLKOUT changes at time `t` (the PLL, SPRUFB0 "PLL-Based Clock Module"): the timers are
     /// brought up to `t` and count on at the new rate.
     pub fn set_sysclkout(&mut self, clock: Clock, t: Ps) {

@@ -126,6 +126,8 @@ pub struct CpuTimerRegs {
     /// Underflows since power-on, and the cycle of the last one.
     underflows: u64,
     last_underflow: Option<u64>,
+    /// Its clock is gated off (PCLKCR3.CPUTIMERnENCLK = 0): the counter holds `held_tim`.
+    gated: bool,
 }
 
 impl Default for CpuTimerRegs {
@@ -146,6 +148,26 @@ impl CpuTimerRegs {
             held_tim: u32::MAX,
             underflows: 0,
             last_underflow: None,
+            gated: false,
+        }
+    }
+
+    /// Its clock (PCLKCR3.CPUTIMERnENCLK, SPRUFB0) goes off or on at cycle `c`: with it off the
+    /// counter holds its value (no count, no reload, no interrupt), and goes on from that value
+    /// when it is on again, if TSS = 0. (Its registers are out of reach meanwhile: the board loses
+    /// the accesses.)
+    pub fn set_clock(&mut self, on: bool, c: u64) {
+        if !on && !self.gated {
+            self.gated = true;
+            if self.next_reload.is_some() {
+                self.held_tim = self.tim(c);
+                self.next_reload = None;
+            }
+        } else if on && self.gated {
+            self.gated = false;
+            if self.tcr & TCR_TSS == 0 {
+                self.load_running(self.held_tim, c);
+            }
         }
     }
 
@@ -295,6 +317,22 @@ mod tests {
         let c = Clock::new(100_000_000, 1);
         let t = CpuTimer::from_profile(&profile::Timer { period_us: 10.0 / 3.0, tddr: 0 }, c).unwrap();
         assert_eq!(t.period_cycles(), 333);
+    }
+
+    #[test]
+    fn a_timer_with_its_clock_off_holds_its_count() {
+        let mut t = CpuTimerRegs::reset();
+        t.write(2, 999, 0);
+        t.write(3, 0, 0);
+        t.write(4, TCR_TRB, 0); // TIM = 999: reloads at cycles 1000, 2000, …
+        assert_eq!(t.tim(400), 599);
+        t.set_clock(false, 400);
+        assert!(!t.sync(5_000) && t.underflows().0 == 0);
+        assert_eq!((t.tim(5_000), t.next_reload()), (599, None));
+        t.set_clock(true, 5_000);
+        assert_eq!(t.next_reload(), Some(5_600));
+        t.sync(5_600);
+        assert_eq!(t.underflows(), (1, Some(5_600)));
     }
 
     #[test]
