@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import build_cabi
 from sins_fw.firmware_build import CLANG, block_costs, build_firmware, pass_plugin
 from sins_fw.firmware_run import run_c_firmware
 from sins_fw.profile import load_profile
@@ -111,8 +112,7 @@ def test_same_input_same_library_same_counts(tmp_path: Path):
     """Built twice from the same sources and run: the same cycles per function and the same ISR
     times, and so again for a second run of the same library. The attitude update is charged its
     float operations (over a thousand cycles a call)."""
-    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
-    assert built.returncode == 0
+    build_cabi()
     a = build_firmware([REFERENCE], tmp_path / "a.so", float_mode="c28x")
     b = build_firmware([REFERENCE], tmp_path / "b.so", float_mode="c28x")
     first = _run(a, tmp_path / "1.tsv")
@@ -131,8 +131,7 @@ def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
     329.0 against 334.5 on the others; the attitude update (updateQ) within ±15 % of the model's."""
     from sins_fw import emulate
 
-    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
-    assert built.returncode == 0
+    build_cabi()
     fw = build_firmware([REFERENCE], tmp_path / "ref.so", float_mode="c28x")
     overrides = [
         "firmware.quat_derivative=published",
