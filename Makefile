@@ -47,12 +47,14 @@ cabi: $(CABI)
 # one codegen unit, whose long single-threaded compile and link of the core leave a core idle), run at
 # the same time, sharing make's two job slots with the cargo processes (`+`: cargo reads make's
 # jobserver, so two compilers run at a time, not four); then the tests run. The C ABI library is the
-# Rust tests' (CABI_WITH_TESTS=1, above): its rule's `cargo test --no-run` is the same build as
-# test-rust-built's (the second of the two waits on cargo's lock and finds everything built).
+# Rust tests' (CABI_WITH_TESTS=1, above), copied after their build, not beside it: in the parallel
+# stage its cargo waited on the tests' cargo's lock for their whole build while holding one of the two
+# slots, and the dependencies' install and the extension's build, the longest chain, started only
+# after it (a fresh clone, load 12: `pip install` began 2 497 s in).
 CARGO_TEST := cargo test --workspace --release
 
 test:
-	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT) $(CABI) CABI_WITH_TESTS=1
+	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT)
 	$(MAKE) --no-print-directory $(CABI) test-rust test-python CABI_WITH_TESTS=1
 
 test-rust-built:
@@ -61,9 +63,17 @@ test-rust-built:
 test-rust:
 	$(CARGO_TEST)
 
+# Python keeps each module's compiled bytecode for the next start, unless told not to write it
+# (PYTHONDONTWRITEBYTECODE, which some machines set to keep source trees free of __pycache__): then each
+# of the ~290 `sins-fw` processes the tests start compiled the package's modules again, about 0.25 s
+# of CPU a start (`sins-fw --version`: 0.65 s of CPU, 0.40 s from the cache; benchmarks/test-suite.md).
+# The tests' Python writes its cache under the build folder instead (PYTHONPYCACHEPREFIX): the source
+# tree stays as it was.
+PYTEST := env -u PYTHONDONTWRITEBYTECODE PYTHONPYCACHEPREFIX=$(abspath $(or $(CARGO_TARGET_DIR),target))/pycache $(BIN)/pytest
+
 test-python: $(BUILT) firmware-toolchain
-	$(BIN)/pytest -q -m "not alone" -n $(PYTEST_WORKERS) --dist loadscope
-	$(BIN)/pytest -q -m alone
+	$(PYTEST) -q -m "not alone" -n $(PYTEST_WORKERS) --dist loadscope
+	$(PYTEST) -q -m alone
 
 # `sins-fw build-firmware` compiles with Debian's clang 14 and an LLVM pass built against llvm-14-dev
 # (sins_fw.firmware_build, docs/c-drivers.md): installed here when missing (as root, with apt-get).

@@ -57,6 +57,8 @@ def test_test_takes_the_library_from_the_rust_tests_build():
     features for the core's dependencies and compiled it again)."""
     _, test_recipe = _rule(_database(), "test")
     assert all("CABI_WITH_TESTS=1" in line for line in test_recipe if "$(CABI)" in line), test_recipe
+    # Not in the parallel stage: its cargo would hold one of the two slots waiting on the tests' build.
+    assert not any("-j2" in line and "$(CABI)" in line for line in test_recipe), test_recipe
     db = _database("CABI_WITH_TESTS=1")
     library = f"target/release/{CABI_LIBRARY}"
     prerequisites, recipe = _rule(db, library)
