@@ -66,7 +66,7 @@ test-rust:
 # Python keeps each module's compiled bytecode for the next start, unless told not to write it
 # (PYTHONDONTWRITEBYTECODE, which some machines set to keep source trees free of __pycache__): then each
 # of the ~290 `sins-fw` processes the tests start compiled the package's modules again, about 0.25 s
-# of CPU a start (`sins-fw --version`: 0.65 s of CPU, 0.40 s from the cache; benchmarks/test-suite.md).
+# of CPU a start (`sins-fw --version`: 0.65 s of CPU, 0.40 s from the cache; benchmarks/test_time.md).
 # The tests' Python writes its cache under the build folder instead (PYTHONPYCACHEPREFIX): the source
 # tree stays as it was.
 PYTEST := env -u PYTHONDONTWRITEBYTECODE PYTHONPYCACHEPREFIX=$(abspath $(or $(CARGO_TARGET_DIR),target))/pycache $(BIN)/pytest
