@@ -18,7 +18,9 @@ pytestmark = pytest.mark.skipif(shutil.which("make") is None, reason="make is no
 
 
 def _database(*variables: str) -> str:
-    env = {k: v for k, v in os.environ.items() if k not in ("CARGO_TARGET_DIR", "MAKEFLAGS", "MAKELEVEL")}
+    # make test exports CABI_WITH_TESTS=1 to the tests: the database read is the default one.
+    drop = ("CARGO_TARGET_DIR", "MAKEFLAGS", "MAKELEVEL", "CABI_WITH_TESTS")
+    env = {k: v for k, v in os.environ.items() if k not in drop}
     # -p prints the rules read; -n -q run nothing (the target named is one without a `+` recipe).
     run = subprocess.run(
         ["make", "-p", "-n", "-q", "-f", "Makefile", ".venv/bin/python", *variables],
