@@ -16,30 +16,46 @@ RUST_SOURCES := Cargo.toml $(wildcard Cargo.lock) pyproject.toml $(shell find ru
 PYTEST_WORKERS ?= 2
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test test-rust test-rust-built test-python lint fmt bench clean golden docs wheel firmware-toolchain
+.PHONY: demo cabi test test-rust test-rust-built test-python lint fmt bench clean golden docs wheel firmware-toolchain
 
 demo: $(BUILT) $(CABI)
 	$(BIN)/sins-fw demo
 
 # The C ABI library `sins-fw build-firmware` links a user's firmware against, where the source tree's
 # sins_fw.firmware_build.cabi_dirs looks for it (`cargo test` leaves its copy in target/release/deps/
-# only): built by `make demo` and `make test` too.
+# only): built by `make demo` and `make test` too. `cargo build -p sins-cabi` resolves the features of
+# the core's dependencies for sins-cabi alone (no num-traits `std` or `i128`, no libc `std`, a smaller
+# syn for the derive macros), so after `cargo test --workspace --release` it compiled the core, and
+# everything above serde, a second time (117.5 s of CPU, benchmarks/test-suite.md). With
+# CABI_WITH_TESTS=1 (`make test`, and the tests' own `make cabi`: tests/conftest.py) the library is
+# the one the Rust tests' build makes, copied out of deps/ (atomically: a running firmware may have it
+# mapped): one core for both. `make demo` keeps the smaller build of the library alone.
+CABI_WITH_TESTS ?=
+ifneq ($(CABI_WITH_TESTS),)
+$(CABI): $(RUST_SOURCES)
+	+$(CARGO_TEST) --no-run
+	cp -f $(dir $@)deps/$(notdir $@) $@.$$$$ && mv -f $@.$$$$ $@
+else
 $(CABI): $(RUST_SOURCES)
 	+cargo build --release -p sins-cabi
 	touch $@
+endif
+
+cabi: $(CABI)
 
 # The two Rust builds `make test` needs, the Rust tests (`release`) and the extension (`dist`: fat LTO in
 # one codegen unit, whose long single-threaded compile and link of the core leave a core idle), run at
 # the same time, sharing make's two job slots with the cargo processes (`+`: cargo reads make's
-# jobserver, so two compilers run at a time, not four); then the tests run. The C ABI library is built
-# in the same stage, when a slot is free: `cargo build -p sins-cabi` resolves the features for sins-cabi
-# alone, so it compiles sins-core again (the tests build it the same way), and waits for the Rust
-# tests' build (one build directory) but not for the extension's long link.
+# jobserver, so two compilers run at a time, not four); then the tests run. The C ABI library is the
+# Rust tests' (CABI_WITH_TESTS=1, above), copied after their build, not beside it: in the parallel
+# stage its cargo waited on the tests' cargo's lock for their whole build while holding one of the two
+# slots, and the dependencies' install and the extension's build, the longest chain, started only
+# after it (a fresh clone, load 12: `pip install` began 2 497 s in).
 CARGO_TEST := cargo test --workspace --release
 
 test:
-	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT) $(CABI)
-	$(MAKE) --no-print-directory $(CABI) test-rust test-python
+	$(MAKE) --no-print-directory -j2 test-rust-built $(BUILT)
+	$(MAKE) --no-print-directory $(CABI) test-rust test-python CABI_WITH_TESTS=1
 
 test-rust-built:
 	+$(CARGO_TEST) --no-run
@@ -47,9 +63,17 @@ test-rust-built:
 test-rust:
 	$(CARGO_TEST)
 
+# Python keeps each module's compiled bytecode for the next start, unless told not to write it
+# (PYTHONDONTWRITEBYTECODE, which some machines set to keep source trees free of __pycache__): then each
+# of the ~290 `sins-fw` processes the tests start compiled the package's modules again, about 0.25 s
+# of CPU a start (`sins-fw --version`: 0.65 s of CPU, 0.40 s from the cache; benchmarks/test_time.md).
+# The tests' Python writes its cache under the build folder instead (PYTHONPYCACHEPREFIX): the source
+# tree stays as it was.
+PYTEST := env -u PYTHONDONTWRITEBYTECODE PYTHONPYCACHEPREFIX=$(abspath $(or $(CARGO_TARGET_DIR),target))/pycache $(BIN)/pytest
+
 test-python: $(BUILT) firmware-toolchain
-	$(BIN)/pytest -q -m "not alone" -n $(PYTEST_WORKERS) --dist loadscope
-	$(BIN)/pytest -q -m alone
+	$(PYTEST) -q -m "not alone" -n $(PYTEST_WORKERS) --dist loadscope
+	$(PYTEST) -q -m alone
 
 # `sins-fw build-firmware` compiles with Debian's clang 14 and an LLVM pass built against llvm-14-dev
 # (sins_fw.firmware_build, docs/c-drivers.md): installed here when missing (as root, with apt-get).
@@ -78,10 +102,9 @@ bench: $(BUILT)
 # Rust toolchain.
 WHEEL_DIR ?= dist
 CABI_STAGE := python/sins_fw/cabi
-wheel: $(DEPS)
-	cargo build --release -p sins-cabi
+wheel: $(DEPS) $(CABI)
 	mkdir -p $(CABI_STAGE)
-	cp $${CARGO_TARGET_DIR:-target}/release/libsins_cabi.so rust/cabi/include/sins_fw.h $(CABI_STAGE)/
+	cp $(CABI) rust/cabi/include/sins_fw.h $(CABI_STAGE)/
 	$(BIN)/maturin build --profile dist --quiet --out $(WHEEL_DIR); rc=$$?; rm -rf $(CABI_STAGE); exit $$rc
 
 # Regenerate tests/golden/hashes.toml (f64 output hashes on the bundled traces), printing old → new.

@@ -47,13 +47,22 @@ def cli() -> type:
     return run_cli
 
 
+def build_cabi() -> None:
+    """Build (or find up to date) the C ABI library `sins-fw build-firmware` links a firmware against,
+    where it looks for it, as `make test` builds it: with the Rust tests (`make cabi CABI_WITH_TESTS=1`,
+    Makefile), whose build of the core it shares. (`cargo build -p sins-cabi` resolved the core's
+    dependencies' features for sins-cabi alone and compiled the core a second time.)"""
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL")}
+    make = ["make", "-s", "--no-print-directory", "cabi", "CABI_WITH_TESTS=1"]
+    built = subprocess.run(make, cwd=ROOT, env=env, capture_output=True, text=True, check=False)
+    assert built.returncode == 0, built.stdout + built.stderr
+
+
 @pytest.fixture(scope="module")
 def cabi_library() -> None:
-    """The C ABI library `sins-fw build-firmware` links a firmware against, built (or found up to
-    date) once for a module that builds C firmware (`pytestmark = pytest.mark.usefixtures(...)`)."""
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
+    """The C ABI library (:func:`build_cabi`), built (or found up to date) once for a module that
+    builds C firmware (`pytestmark = pytest.mark.usefixtures(...)`)."""
+    build_cabi()
 
 
 def peak_rss_mb(args: list[str], cwd: Path) -> float:

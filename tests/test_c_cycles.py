@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import build_cabi
 from sins_fw.firmware_build import CLANG, block_costs, build_firmware, pass_plugin
 from sins_fw.firmware_run import run_c_firmware
 from sins_fw.profile import load_profile
@@ -124,8 +125,7 @@ def test_same_input_same_library_same_counts(tmp_path: Path):
     """Built twice from the same sources and run: the same cycles per function and the same ISR
     times, and so again for a second run of the same library. The attitude update is charged its
     float operations."""
-    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
-    assert built.returncode == 0
+    build_cabi()
     a = build_firmware([REFERENCE], tmp_path / "a.so", float_mode="c28x")
     b = build_firmware([REFERENCE], tmp_path / "b.so", float_mode="c28x")
     first = _run(a, tmp_path / "1.tsv")
@@ -147,8 +147,7 @@ def test_the_reference_isr_takes_the_models_time(tmp_path: Path):
     compiles to: 349.5 on update ticks); the attitude update (updateQ) within ±15 % of the model's."""
     from sins_fw import emulate
 
-    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
-    assert built.returncode == 0
+    build_cabi()
     fw = build_firmware([REFERENCE], tmp_path / "ref.so", float_mode="c28x")
     overrides = [
         "firmware.quat_derivative=published",
@@ -212,8 +211,7 @@ def test_the_budget_splits_a_c_isr_by_its_functions(tmp_path: Path, cli):
 
     from sins_fw.firmware_budget import firmware_budget_report
 
-    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
-    assert built.returncode == 0
+    build_cabi()
     fw = build_firmware([REFERENCE], tmp_path / "ref.so", float_mode="c28x")
     prof = load_profile("reference", overrides=["firmware.numeric=c28x-f32", "device.timing_mode=lenient"])
     r = firmware_budget_report(fw, prof, seconds=0.5)
@@ -301,8 +299,7 @@ def test_an_overrun_is_the_same_event_for_c_and_the_model(tmp_path: Path):
     from sins_fw import emulate
 
     source = {k["name"]: k["source"] for k in EVENT_KINDS}
-    built = subprocess.run(["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, capture_output=True)
-    assert built.returncode == 0
+    build_cabi()
     fw = build_firmware([REFERENCE], tmp_path / "fast.so", float_mode="c28x", defines=["TIMER_PERIOD_US=300"])
     overrides = ["firmware.numeric=c28x-f32", "device.timing_mode=lenient", "timer.period_us=300"]
     parts: list[dict] = []

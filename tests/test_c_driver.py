@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+from conftest import build_cabi
 from sins_fw.board import Board
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -26,9 +27,7 @@ def _build(out: Path, *make_vars: str) -> Path:
             pytest.fail(
                 f"`{tool}` not found: the README's set-up needs a Rust toolchain and a C/C++ compiler"
             )
-    subprocess.run(
-        ["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, check=True, capture_output=True
-    )
+    build_cabi()
     libdir = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release"
     make = ["make", "-C", str(EXAMPLE), f"OUT={out}", f"LIBDIR={libdir}", *make_vars]
     run = subprocess.run(make, capture_output=True, text=True, check=False)

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from conftest import build_cabi
 from sins_fw import synth
 from sins_fw.cli import main
 from sins_fw.errors import InputError
@@ -82,9 +83,7 @@ GLOBALS = '[[global]]\nname = "ticks"\ntype = "uint32"\ncolumn = "ticks"\nunit =
 
 @pytest.fixture(scope="module", autouse=True)
 def cabi() -> None:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
+    build_cabi()
 
 
 @pytest.fixture(scope="module")

@@ -5,12 +5,12 @@ read after each ISR, the usual summary, budget and --out."""
 from __future__ import annotations
 
 import json
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from conftest import build_cabi
 from sins_fw import adis16407
 from sins_fw.cli import main
 from sins_fw.errors import InputError
@@ -28,9 +28,7 @@ UNTIL_S = "8"
 
 @pytest.fixture(scope="module")
 def firmware(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
+    build_cabi()
     return build_firmware([EXAMPLE], tmp_path_factory.mktemp("fw") / "timer0_burst.so")
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+from conftest import build_cabi
 from sins_fw.errors import ProfileError
 from sins_fw.harness import new_emulator
 from sins_fw.profile import MODEL_DIR, load_profile
@@ -85,9 +86,7 @@ def _build_c(tmp_path: Path) -> Path:
     for tool in ("cargo", "cc"):
         if shutil.which(tool) is None:
             pytest.fail(f"`{tool}` not found: the README's set-up needs a Rust toolchain and a C compiler")
-    subprocess.run(
-        ["cargo", "build", "--release", "-p", "sins-cabi"], cwd=ROOT, check=True, capture_output=True
-    )
+    build_cabi()
     libdir = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release"
     src = tmp_path / "kinds.c"
     src.write_text(

@@ -17,11 +17,13 @@ from sins_fw.firmware_paths import CABI_LIBRARY, ROOT
 pytestmark = pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
 
 
-def _database() -> str:
-    env = {k: v for k, v in os.environ.items() if k not in ("CARGO_TARGET_DIR", "MAKEFLAGS", "MAKELEVEL")}
+def _database(*variables: str) -> str:
+    # make test exports CABI_WITH_TESTS=1 to the tests: the database read is the default one.
+    drop = ("CARGO_TARGET_DIR", "MAKEFLAGS", "MAKELEVEL", "CABI_WITH_TESTS")
+    env = {k: v for k, v in os.environ.items() if k not in drop}
     # -p prints the rules read; -n -q run nothing (the target named is one without a `+` recipe).
     run = subprocess.run(
-        ["make", "-p", "-n", "-q", "-f", "Makefile", ".venv/bin/python"],
+        ["make", "-p", "-n", "-q", "-f", "Makefile", ".venv/bin/python", *variables],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -49,3 +51,23 @@ def test_demo_and_test_build_the_c_abi_library_where_build_firmware_looks():
     _, test_recipe = _rule(db, "test")
     assert any("$(CABI)" in line for line in test_recipe), test_recipe
     assert re.search(r"^CABI := target/release/libsins_cabi\.so$", db, re.MULTILINE)
+
+
+def test_test_takes_the_library_from_the_rust_tests_build():
+    """`make test` (and the tests' `make cabi`, conftest.build_cabi) take the library the Rust tests'
+    build makes, so that the core is compiled once for both (`cargo build -p sins-cabi` resolves other
+    features for the core's dependencies and compiled it again)."""
+    _, test_recipe = _rule(_database(), "test")
+    assert all("CABI_WITH_TESTS=1" in line for line in test_recipe if "$(CABI)" in line), test_recipe
+    # Not in the parallel stage: its cargo would hold one of the two slots waiting on the tests' build.
+    assert not any("-j2" in line and "$(CABI)" in line for line in test_recipe), test_recipe
+    db = _database("CABI_WITH_TESTS=1")
+    library = f"target/release/{CABI_LIBRARY}"
+    prerequisites, recipe = _rule(db, library)
+    assert "rust/cabi/src/lib.rs" in prerequisites and "rust/core/src/lib.rs" in prerequisites
+    assert any("$(CARGO_TEST) --no-run" in line for line in recipe), recipe
+    assert not any("-p sins-cabi" in line for line in recipe), recipe
+    assert any("deps/$(notdir $@)" in line and "mv -f" in line for line in recipe), recipe
+    assert re.search(r"^CARGO_TEST := cargo test --workspace --release$", db, re.MULTILINE)
+    _, wheel_recipe = _rule(db, "wheel")
+    assert not any("cargo build" in line for line in wheel_recipe), wheel_recipe

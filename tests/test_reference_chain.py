@@ -18,13 +18,13 @@ differing frame and reason."""
 from __future__ import annotations
 
 import math
-import subprocess
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
 
+from conftest import build_cabi
 from sins_fw import emulate
 from sins_fw.firmware_build import build_firmware
 from sins_fw.firmware_run import FirmwareResult, first_frame_difference, run_c_firmware
@@ -47,9 +47,7 @@ LENIENT = "device.timing_mode=lenient"
 @pytest.fixture(scope="module")
 def firmware(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """The reference firmware built once per float mode, from its folder as a user passes it."""
-    cargo = ["cargo", "build", "--release", "-p", "sins-cabi"]
-    built = subprocess.run(cargo, cwd=ROOT, capture_output=True, text=True, check=False)
-    assert built.returncode == 0, built.stderr
+    build_cabi()
     out = tmp_path_factory.mktemp("reference")
     return {m: build_firmware([REFERENCE], out / f"reference_{m}.so", float_mode=m) for m in NUMERIC}
 
