@@ -22,6 +22,7 @@ import numpy as np
 
 from sins_fw import budget, synth
 from sins_fw.budget import I64, _i64, _sysclk_hz, _table, skipped_ticks, summarise
+from sins_fw.firmware_run import FUNCTION_TICKS, run_c_firmware
 from sins_fw.harness import PS, _assemble
 from sins_fw.profile import Profile
 from sins_fw.traces import PhysicalTrace
@@ -80,8 +81,6 @@ def firmware_budget_report(
     library: str | Path, profile: Profile, seconds: float = budget.DEFAULT_SECONDS
 ) -> dict[str, Any]:
     """Everything `sins-fw budget --firmware` shows, as plain JSON-able values (docs/budget.md)."""
-    from sins_fw.firmware_run import FUNCTION_TICKS, run_c_firmware
-
     # The model's input (constant rates after any alignment) on the part's sample grid (a trace's rows
     # must be no more than 1.5 sample periods apart).
     t9, _, _ = budget._synthetic_input(profile, seconds)
