@@ -16,6 +16,7 @@ import shutil
 import sys
 import tempfile
 from collections import Counter
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -283,10 +284,7 @@ def run(args: argparse.Namespace) -> int:
             raise TraceError(f"{trace}: no such trace file")
     names = [n for n in dict.fromkeys(args.parity) if n != profile.get("firmware.numeric")]
     with contextlib.ExitStack() as keep:
-        served = args.out
-        if served is None and args.serve:
-            tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
-            served = Path(tmp) / f"{args.trace.stem}.rrd"
+        served = _served(args, keep)
         tally, bus_frames = _record(
             args, trace, profile, saved_run, window, names, served, problem is None, source
         )
@@ -349,21 +347,7 @@ def _record(
     )
     tally = _Tally()
     with contextlib.ExitStack() as stack:
-        streams = []
-        if served is not None:
-            out = recording.recording_file(
-                served, recording_id=rid, blueprint=blueprint, name=args.trace.name
-            )
-            streams.append(stack.enter_context(out))
-        if args.spawn and spawn:
-            import rerun as rr
-
-            rec = rr.RecordingStream("sins-fw", recording_id=rid)
-            try:
-                rec.spawn(default_blueprint=blueprint)
-            except Exception as e:  # the viewer failed to start: say why, no traceback
-                raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
-            streams.append(rec)
+        streams = stack.enter_context(_recording_streams(args, served, rid, blueprint, spawn))
         recorders = [
             recording.Recorder(r, profile, trace=source or trace, parity=names, bus_window=window)
             for r in streams
@@ -388,8 +372,6 @@ def _record(
         others.finish()
         for r in recorders:
             r.finish(bus)
-        if args.spawn and spawn:
-            streams[-1].flush()
     return tally, 0 if bus is None else len(bus["frame_index"])
 
 
@@ -418,27 +400,9 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
     rid = recording.recording_id(prof.text, overrides, args.trace.name, trace_hash, repr(window))
     bp = view.blueprint(bus=window is not None)
     with contextlib.ExitStack() as keep:
-        served = args.out
-        if served is None and args.serve:
-            tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
-            served = Path(tmp) / f"{args.trace.stem}.rrd"
+        served = _served(args, keep)
         logged = 0
-        with contextlib.ExitStack() as files:  # the file is complete once this block ends
-            streams = []
-            if served is not None:
-                out_file = recording.recording_file(
-                    served, recording_id=rid, blueprint=bp, name=args.trace.name
-                )
-                streams.append(files.enter_context(out_file))
-            if args.spawn and problem is None:
-                import rerun as rr
-
-                rec = rr.RecordingStream("sins-fw", recording_id=rid)
-                try:
-                    rec.spawn(default_blueprint=bp)
-                except Exception as e:  # the viewer failed to start: say why, no traceback
-                    raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
-                streams.append(rec)
+        with _recording_streams(args, served, rid, bp, problem is None) as streams:
             recorders = [view.Recorder(r, window) for r in streams]
             try:
                 for part in stream.parts(chunks):
@@ -459,8 +423,6 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
                 raise TraceError(f"{args.trace}: {e}") from None
             for recorder in recorders:
                 logged = recorder.finish()
-            if args.spawn and problem is None:
-                streams[-1].flush()
         ticks = stream.ticks
         report = {
             "trace": str(args.trace),
@@ -516,26 +478,8 @@ def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
     )
     bp = view.blueprint(run_file)
     with contextlib.ExitStack() as keep:
-        served = args.out
-        if served is None and args.serve:
-            tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
-            served = Path(tmp) / f"{args.trace.stem}.rrd"
-        with contextlib.ExitStack() as files:  # the file is complete once this block ends
-            streams = []
-            if served is not None:
-                out_file = recording.recording_file(
-                    served, recording_id=rid, blueprint=bp, name=args.trace.name
-                )
-                streams.append(files.enter_context(out_file))
-            if args.spawn and problem is None:
-                import rerun as rr
-
-                rec = rr.RecordingStream("sins-fw", recording_id=rid)
-                try:
-                    rec.spawn(default_blueprint=bp)
-                except Exception as e:  # the viewer failed to start: say why, no traceback
-                    raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
-                streams.append(rec)
+        served = _served(args, keep)
+        with _recording_streams(args, served, rid, bp, problem is None) as streams:
             recorders = [view.FirmwareRecorder(r, run_file, profile) for r in streams]
             rows, truth = 0, False
             for part in run_file.parts(trace):
@@ -546,8 +490,6 @@ def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
                     recorder.add(part)
             for recorder in recorders:
                 recorder.finish()
-            if args.spawn and problem is None:
-                streams[-1].flush()
         m = run_file.metadata
         report = {
             "trace": str(args.trace),
@@ -581,6 +523,45 @@ def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
         if code != 0:
             return code
     return 0
+
+
+def _served(args: argparse.Namespace, keep: contextlib.ExitStack) -> Path | None:
+    """The file the replay's recording is written to: ``--out``, or for ``--serve`` alone a
+    temporary one (removed when ``keep`` closes); None when only a viewer is spawned."""
+    if args.out is None and args.serve:
+        tmp = keep.enter_context(tempfile.TemporaryDirectory(prefix="sins-fw-serve-"))
+        return Path(tmp) / f"{args.trace.stem}.rrd"
+    return args.out
+
+
+@contextlib.contextmanager
+def _recording_streams(
+    args: argparse.Namespace, served: Path | None, rid: str, blueprint: Any, spawn: bool
+) -> Iterator[list[Any]]:
+    """Where a replay logs: the recording file ``served`` (complete once the block ends cleanly:
+    :func:`sins_fw.viewer.recording.recording_file`) and/or, with ``--spawn`` (and ``spawn``), a
+    Rerun viewer started for the recording ``rid``, flushed at the end."""
+    from sins_fw.viewer import recording  # rerun is a heavy import
+
+    with contextlib.ExitStack() as files:
+        streams: list[Any] = []
+        if served is not None:
+            name = args.trace.name
+            out = recording.recording_file(served, recording_id=rid, blueprint=blueprint, name=name)
+            streams.append(files.enter_context(out))
+        viewer = None
+        if args.spawn and spawn:
+            import rerun as rr  # as above
+
+            viewer = rr.RecordingStream("sins-fw", recording_id=rid)
+            try:
+                viewer.spawn(default_blueprint=blueprint)
+            except Exception as e:  # the viewer failed to start: say why, no traceback
+                raise ViewerUnavailableError(f"cannot open the Rerun viewer: {e}") from None
+            streams.append(viewer)
+        yield streams
+        if viewer is not None:
+            viewer.flush()
 
 
 def _report_and_serve(
