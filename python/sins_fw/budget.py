@@ -288,9 +288,13 @@ def cost_provenance(text: str) -> dict[str, dict[str, Any]]:
     return out
 
 
-def _synthetic_input(profile: Profile, seconds: float) -> tuple[NDArray[np.float64], ...]:
+def _synthetic_input(
+    profile: Profile, seconds: float, rate_hz: float | None = None
+) -> tuple[NDArray[np.float64], ...]:
     """A level board turning slowly at a constant rate: still enough for the alignment of a `level`
-    start, and moving so that the attitude arithmetic is not trivially on zeros."""
+    start, and moving so that the attitude arithmetic is not trivially on zeros. Nine rows (the
+    emulator interpolates between them), or with ``rate_hz`` rows at that rate up to at least the same
+    end (a trace, whose rows must be no more than 1.5 sample periods apart: the C firmware's)."""
     period_s = float(profile.get("timer.period_us")) * 1e-6
     align = (
         float(profile.get("firmware.alignment_s"))
@@ -299,7 +303,7 @@ def _synthetic_input(profile: Profile, seconds: float) -> tuple[NDArray[np.float
     )
     # Whole ticks past the alignment, plus half a tick so the last one is inside the input.
     end = align + (np.ceil(seconds / period_s) + 0.5) * period_s
-    t = np.linspace(0.0, end, 9)
+    t = np.linspace(0.0, end, 9) if rate_hz is None else np.arange(int(np.ceil(end * rate_hz)) + 1) / rate_hz
     gyro = np.tile(np.array(SLOW_TURN_DPS, dtype=np.float64), (len(t), 1))
     if align > 0:
         gyro[t <= align] = 0.0

@@ -81,18 +81,8 @@ def firmware_budget_report(
     library: str | Path, profile: Profile, seconds: float = budget.DEFAULT_SECONDS
 ) -> dict[str, Any]:
     """Everything `sins-fw budget --firmware` shows, as plain JSON-able values (docs/budget.md)."""
-    # The model's input (constant rates after any alignment) on the part's sample grid (a trace's rows
-    # must be no more than 1.5 sample periods apart).
-    t9, _, _ = budget._synthetic_input(profile, seconds)
-    align = (
-        float(profile.get("firmware.alignment_s"))
-        if profile.get("firmware.initial_attitude") == "level"
-        else 0.0
-    )
-    rate = float(synth.DEFAULT_RATE_HZ)
-    t = np.arange(int(np.ceil(t9[-1] * rate)) + 1) / rate
-    gyro = np.where((t > align)[:, None], np.array(budget.SLOW_TURN_DPS), 0.0)
-    accel = np.tile([0.0, 0.0, 1.0], (len(t), 1))
+    # The model's input (constant rates after any alignment) on the part's sample grid.
+    t, gyro, accel = budget._synthetic_input(profile, seconds, float(synth.DEFAULT_RATE_HZ))
     parts: list[dict[str, Any]] = []
     trace = PhysicalTrace(
         t_s=t, gyro_dps=gyro, accel_g=accel, metadata={"sample_rate_hz": str(synth.DEFAULT_RATE_HZ)}
