@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
-from sins_fw import launch
+from sins_fw import memory
 
 STATIC = ROOT / "traces" / "static_60s.h5"
 MIB = 1 << 20
@@ -78,7 +78,7 @@ COMMANDS = {
 def test_a_capped_command_works_or_says_it_needs_more_memory(name, cap_mib, tmp_path):
     r = capped(COMMANDS[name], cap_mib, tmp_path)
     assert_clean(r, f"{name} under {cap_mib} MiB")
-    if cap_mib < launch.STARTUP_FLOOR_MIB:
+    if cap_mib < memory.STARTUP_FLOOR_MIB:
         assert r.returncode == 2 and "to start" in r.stderr
     if cap_mib >= 1536:
         assert r.returncode in (0, 1), r.stderr
@@ -95,7 +95,7 @@ def test_a_capped_replay_writes_its_recording_or_nothing(tmp_path):
     """Rerun's threads and allocator under a cap: at the stated cap the recording is written; below
     it, exit 2 and no file. At 600 MiB an allocation in Rerun's Rust code failed and the process
     ended with SIGABRT (Rust cannot report it): `replay` is refused under its floor, before any
-    work (sins_fw.launch.COMMAND_FLOOR_MIB)."""
+    work (sins_fw.memory.COMMAND_FLOOR_MIB)."""
     out = tmp_path / "r.rrd"
     r = capped(["replay", str(STATIC), "--out", str(out)], STATED["replay"], tmp_path)
     assert_clean(r, "replay")
@@ -118,7 +118,7 @@ def test_a_replay_below_its_floor_ends_cleanly_whichever_allocation_fails(cap_mi
     out = tmp_path / "r.rrd"
     out.write_bytes(b"the previous recording")
     code = (
-        "import sys; from sins_fw import launch; launch.COMMAND_FLOOR_MIB.clear(); "
+        "import sys; from sins_fw import launch, memory; memory.COMMAND_FLOOR_MIB.clear(); "
         "sys.argv[0] = 'sins-fw'; launch.entry()"
     )
     r = capped(["replay", str(STATIC), "--out", str(out)], cap_mib, tmp_path, code=code)
@@ -252,10 +252,10 @@ def test_an_allocation_that_fails_in_python_is_exit_2_naming_the_command(tmp_pat
 
 
 def test_out_of_memory_is_recognised():
-    assert launch.is_out_of_memory(MemoryError())
-    assert launch.is_out_of_memory(ImportError("libarrow.so.2600: failed to map segment from shared object"))
-    assert launch.is_out_of_memory(OSError(12, "Cannot allocate memory"))
-    assert launch.is_out_of_memory(RuntimeError("can't start new thread"))
-    assert not launch.is_out_of_memory(ImportError("No module named 'foo'"))
-    assert not launch.is_out_of_memory(OSError(2, "No such file or directory"))
-    assert not launch.is_out_of_memory(ValueError("cannot allocate memory"))
+    assert memory.is_out_of_memory(MemoryError())
+    assert memory.is_out_of_memory(ImportError("libarrow.so.2600: failed to map segment from shared object"))
+    assert memory.is_out_of_memory(OSError(12, "Cannot allocate memory"))
+    assert memory.is_out_of_memory(RuntimeError("can't start new thread"))
+    assert not memory.is_out_of_memory(ImportError("No module named 'foo'"))
+    assert not memory.is_out_of_memory(OSError(2, "No such file or directory"))
+    assert not memory.is_out_of_memory(ValueError("cannot allocate memory"))

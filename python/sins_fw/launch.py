@@ -18,22 +18,22 @@ for it (:func:`_supervise`): a child ended by SIGABRT, SIGSEGV or SIGBUS is the 
 and exit 2, and the temporary files it was writing (:data:`sins_fw.atomic.LEDGER_ENV`) are removed,
 so that nothing half-written is left.
 
-This module imports nothing heavy (sins_fw.atomic needs the standard library only): it must run
-before numpy, the extension and Rerun are loaded.
+This module imports nothing heavy (sins_fw.atomic and sins_fw.memory need the standard library
+only): it must run before numpy, the extension and Rerun are loaded.
 """
 
 from __future__ import annotations
 
 import contextlib
 import ctypes
-import errno
 import os
-import resource
 import signal
 import sys
 import tempfile
 
+from sins_fw import memory
 from sins_fw.atomic import LEDGER_ENV
+from sins_fw.memory import STARTUP_FLOOR_MIB, is_out_of_memory, memory_cap, out_of_memory_message
 
 #: glibc's mallopt parameter M_ARENA_MAX (malloc.h).
 _M_ARENA_MAX = -8
@@ -51,24 +51,6 @@ CAPPED_ENVIRONMENT = {
 }
 #: glibc malloc arenas under a cap (each a 64 MB reservation; the default is 8 per core).
 CAPPED_MALLOC_ARENAS = 2
-#: Messages of failures that mean "the cap was reached" (a library that could not be mapped, a
-#: thread whose stack could not be).
-_OUT_OF_MEMORY_TEXTS = (
-    "failed to map segment",
-    "cannot allocate memory",
-    "can't start new thread",
-    "failed to spawn background thread",
-)
-
-
-def memory_cap() -> int | None:
-    """The smaller of the soft address-space and data-segment limits, in bytes; None without one."""
-    caps = []
-    for which in (resource.RLIMIT_AS, resource.RLIMIT_DATA):
-        soft, _ = resource.getrlimit(which)
-        if soft != resource.RLIM_INFINITY:
-            caps.append(soft)
-    return min(caps) if caps else None
 
 
 def fit_to_memory_cap() -> None:
@@ -87,64 +69,8 @@ def fit_to_memory_cap() -> None:
         mallopt(_M_ARENA_MAX, CAPPED_MALLOC_ARENAS)
 
 
-def is_out_of_memory(e: BaseException) -> bool:
-    """Whether ``e`` says that memory ran out: a MemoryError (numpy's ``_ArrayMemoryError``
-    included), or a library, mapping or thread that could not be made for lack of memory."""
-    if isinstance(e, MemoryError):
-        return True
-    if isinstance(e, OSError) and e.errno == errno.ENOMEM:
-        return True
-    if isinstance(e, (ImportError, OSError, RuntimeError)):
-        text = str(e).lower()
-        return any(t in text for t in _OUT_OF_MEMORY_TEXTS)
-    return False
-
-
-def out_of_memory_message(what: str, needed: str = "") -> str:
-    """``not enough memory for WHAT: raise the limit or ...``, with the limit in force (and what is
-    ``needed``, when known)."""
-    cap = memory_cap()
-    limit = (
-        f" (the process's memory limit is {cap / 2**20:.0f} MiB: `ulimit -v` / `ulimit -d`)"
-        if cap is not None
-        else ""
-    )
-    return (
-        f"not enough memory for {what}{limit}: raise the limit{' to ' + needed if needed else ''} "
-        "or use a shorter trace or run "
-        '(docs/cli.md, "Memory limits")'
-    )
-
-
-#: Below this cap the interpreter and numpy's start-up do not reliably get as far as Python code
-#: that could report it (OpenBLAS ends the process with its own message and exit 1 under ≈ 110
-#: MiB on the benchmark machine): refused before loading anything. sins-fw itself needs more
-#: (docs/cli.md, "Memory limits").
-STARTUP_FLOOR_MIB = 256
-#: Commands whose Rust code (Rerun's writer threads) needs more than the start-up: under these caps
-#: (MiB) an allocation there would fail, and Rust ends the process with SIGABRT (it cannot report
-#: it as an error), so the command is refused up front. Measured with benchmarks/memory_cap.py:
-#: `replay` aborted at 600 MiB and worked from 625 (docs/cli.md, "Memory limits").
-COMMAND_FLOOR_MIB = {"replay": 700}
-#: Set when a command ended for lack of memory (sins_fw.cli): the process then exits at once.
-ran_out = False
-
-
-def require_memory(command: str) -> None:
-    """Refuse ``command`` (exit 2, through InputError) under a cap below its floor
-    (:data:`COMMAND_FLOOR_MIB`), before any work."""
-    from sins_fw.errors import (
-        InputError,  # the launcher loads nothing of the package before the cap is fitted
-    )
-
-    cap, floor = memory_cap(), COMMAND_FLOOR_MIB.get(command)
-    if cap is not None and floor is not None and cap < floor << 20:
-        raise InputError(out_of_memory_message(f"`sins-fw {command}`", f"at least {floor} MiB"))
-
-
 def entry() -> None:
     """Console-script entry point (``sins-fw``)."""
-    global ran_out
     cap = memory_cap()
     if cap is not None and cap < STARTUP_FLOOR_MIB << 20:
         print(f"sins-fw: error: {out_of_memory_message('sins-fw to start')}", file=sys.stderr)
@@ -160,9 +86,9 @@ def entry() -> None:
         if not is_out_of_memory(e):
             raise
         print(f"sins-fw: error: {out_of_memory_message('sins-fw')}", file=sys.stderr)
-        ran_out = True
+        memory.ran_out = True
         code = 2
-    if ran_out:
+    if memory.ran_out:
         _exit_now(code)
     sys.exit(code)
 

@@ -23,10 +23,11 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
 
-from sins_fw import __version__, broad_eval, launch
+from sins_fw import __version__, memory
 from sins_fw.cli import (
     bench,
     board,
+    broad_eval,
     budget,
     build_firmware,
     calibrate,
@@ -139,7 +140,7 @@ def _show_warning(
 def _run(args: argparse.Namespace) -> int:
     """The command of `args`, its errors turned into a line and an exit code."""
     try:
-        launch.require_memory(args.command)
+        memory.require_memory(args.command)
         # Before any work: no output may be one of the command's inputs (cli/files.py).
         files.check(args.command_line, args)
         code = int(args.func(args))
@@ -168,7 +169,7 @@ def _run(args: argparse.Namespace) -> int:
     except SinsError as e:
         return _fail(args, e, EXIT_USAGE)
     except OSError as e:
-        if launch.is_out_of_memory(e):
+        if memory.is_out_of_memory(e):
             return _out_of_memory(args, e)
         # The file system said no (permissions, a full disk, a missing folder): the user's to fix.
         # A write that names no file was a print to standard output (a full disk behind `>`).
@@ -176,7 +177,7 @@ def _run(args: argparse.Namespace) -> int:
         where = f"{name}: " if name else ""
         return _fail(args, InputError(f"{where}{e.strerror or e}"), EXIT_USAGE, e)
     except Exception as e:
-        if launch.is_out_of_memory(e):  # MemoryError, numpy's _ArrayMemoryError, a library or thread
+        if memory.is_out_of_memory(e):  # MemoryError, numpy's _ArrayMemoryError, a library or thread
             return _out_of_memory(args, e)
         # A bug of ours: one line naming it (the traceback with --debug), never a raw traceback.
         return _fail(
@@ -219,8 +220,8 @@ def _drop_stdout() -> None:
 
 def _out_of_memory(args: argparse.Namespace, e: BaseException) -> int:
     """The memory cap or the machine's memory ran out: the user's to fix, one line, exit 2."""
-    launch.ran_out = True
-    return _fail(args, InputError(launch.out_of_memory_message(f"`sins-fw {args.command}`")), EXIT_USAGE, e)
+    memory.ran_out = True
+    return _fail(args, InputError(memory.out_of_memory_message(f"`sins-fw {args.command}`")), EXIT_USAGE, e)
 
 
 def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseException | None = None) -> int:
@@ -231,9 +232,3 @@ def _fail(args: argparse.Namespace, e: BaseException, code: int, cause: BaseExce
     emit_error(args, kind, code, str(e))
     print(f"sins-fw: {what}: {e}", file=sys.stderr)
     return code
-
-
-def entry() -> None:
-    """Console-script entry point (`sins-fw`): sins_fw.launch.entry, which fits the process to a
-    memory cap before this module's imports."""
-    launch.entry()

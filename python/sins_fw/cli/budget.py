@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from sins_fw import budget, gfsins
+from sins_fw import budget, firmware_budget, gfsins, synth
 from sins_fw.cli.common import (
     add_json_option,
     add_option,
@@ -229,8 +229,6 @@ def render(r: dict[str, Any]) -> str:
 def _gfsins(args: argparse.Namespace) -> int:
     """The gyro-free board: both processors' stages at 200 Hz / 10 Hz / 1 Hz (peak and mean) on
     ``sins-fw synth vehicle``'s default scenario (the thesis's chapter 5 drive)."""
-    from sins_fw import synth
-
     if args.plot is not None:
         raise InputError(
             f"--plot {args.plot}: the plot draws the F28335 ISR's timeline; the gyro-free board's budget is "
@@ -293,8 +291,6 @@ def _gfsins(args: argparse.Namespace) -> int:
 
 def _firmware(args: argparse.Namespace) -> int:
     """`budget --firmware FW.so`: the C firmware's ISR on the model budget's synthetic input."""
-    from sins_fw import firmware_budget
-
     if args.plot is not None:
         raise InputError(
             f"--plot {args.plot}: with --firmware the budget is the table (--json for every figure)"

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sins_fw.errors import CheckFailed, InputError, ProfileError
+from sins_fw.montecarlo import default_workers, make_engine
 from sins_fw.profile import Profile, load_profile, resolve_profile_path
 from sins_fw.traces import ReadOptions
 
@@ -318,8 +319,6 @@ def emit_error(args: argparse.Namespace | None, kind: str, code: int, message: s
 def add_engine_options(p: argparse.ArgumentParser) -> None:
     """Where the runs execute: `--engine local|dask`, `--workers`, `--scheduler`, `--local-workers`,
     `--batch`."""
-    from sins_fw.montecarlo import default_workers
-
     g = p.add_argument_group("engine (where the runs execute; the results are the same bits on any)")
     g.add_argument(
         "--engine",
@@ -360,8 +359,6 @@ def add_engine_options(p: argparse.ArgumentParser) -> None:
 
 def engine_from_args(args: argparse.Namespace) -> Any:
     """The engine the options ask for (a context manager; closing it stops a cluster it started)."""
-    from sins_fw.montecarlo import make_engine
-
     if args.engine == "dask" and args.workers is not None:
         raise InputError(
             "--workers is the local engine's; with --engine dask the cluster's workers run the jobs"
@@ -379,7 +376,7 @@ def engine_from_args(args: argparse.Namespace) -> Any:
 def run_progress(total: int, show: bool) -> Iterator[Callable[[int, int, int], None]]:
     """A progress bar on stderr (when ``show``) with completed and failed counts and an ETA; yields
     the callback the Monte Carlo collector calls. An interruption says how far the runs got."""
-    from tqdm import tqdm
+    from tqdm import tqdm  # as in sins_fw.progress: loaded only by a command that counts its runs
 
     bar = tqdm(total=total, disable=not show, unit="run", file=sys.stderr, dynamic_ncols=True)
     counts = [0, 0]

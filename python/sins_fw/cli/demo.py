@@ -118,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
             )
 
     if recording is not None:
-        from sins_fw.viewer import save_recording
+        from sins_fw.viewer import save_recording  # Rerun is a heavy import: only for --recording
 
         out = recording
         out.parent.mkdir(parents=True, exist_ok=True)

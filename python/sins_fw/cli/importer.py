@@ -25,7 +25,7 @@ from sins_fw.cli.common import (
     read_options,
 )
 from sins_fw.errors import InputError, TraceError
-from sins_fw.importers import DEFAULT_GPS_LATENCY_S, check_gps_latency
+from sins_fw.importers import DEFAULT_GPS_LATENCY_S, check_gps_latency, importer
 from sins_fw.stream import save_chunks
 from sins_fw.traces import (
     DEFAULT_MAX_GAP_PERIODS,
@@ -152,8 +152,6 @@ def _latency(text: str) -> float:
 
 
 def _import_log(args: argparse.Namespace) -> PhysicalTrace:
-    from sins_fw.importers import importer
-
     options: dict[str, Any] = {}
     if args.kind == "euroc":
         options["truth"] = args.truth

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from sins_fw import montecarlo as mc
-from sins_fw import synth
+from sins_fw import sweep, synth
 from sins_fw.cli.common import (
     add_engine_options,
     add_json_option,
@@ -112,8 +112,6 @@ def scenario_case(name: str, preset: str | None, params: list[str]) -> mc.Case:
 
 
 def run(args: argparse.Namespace) -> int:
-    from sins_fw import sweep
-
     if args.runs < 1:
         raise InputError(f"--runs {args.runs}: expected at least 1")
     if args.out is not None:
@@ -197,8 +195,6 @@ def write_and_emit(
 ) -> int:
     """The end `montecarlo` and `sweep` share: the per-run tables (--out) and the picture (--plot,
     drawn by ``plot``) written, the warning said, the report printed."""
-    from sins_fw import sweep
-
     written = []
     if args.out is not None:
         written += sweep.write_tables(args.out, outcomes)

@@ -331,7 +331,7 @@ def _record(
     the report says and the number of bus frames. ``source``: the trace as the saved run read it,
     when that differs from the file ``trace`` (see :func:`sins_fw.run_output.recorded_trace`)."""
     from sins_fw.viewer import recording  # rerun is a heavy import
-    from sins_fw.viewer.layout import default_blueprint
+    from sins_fw.viewer.layout import default_blueprint  # as recording: Rerun
 
     blueprint = default_blueprint(
         bus=window is not None, parity=names, dcm=has_dcm(profile), wing=has_wing(profile)
@@ -378,8 +378,8 @@ def _record(
 def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, problem: str | None) -> int:
     """`replay TRACE --profile gfsins.toml`: the gyro-free board's run as a Rerun recording with a
     bus lane per link (sins_fw.viewer.gfsins)."""
-    from sins_fw.viewer import gfsins as view
-    from sins_fw.viewer import recording
+    from sins_fw.viewer import gfsins as view  # rerun is a heavy import: only for a replay
+    from sins_fw.viewer import recording  # as above
 
     if args.parity:
         raise InputError(
@@ -456,8 +456,8 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
 def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
     """`replay RUN` of a C firmware's run output: the recording made from the file as recorded, a
     block at a time (:mod:`sins_fw.viewer.firmware`); nothing is re-emulated."""
-    from sins_fw.viewer import firmware as view
-    from sins_fw.viewer import recording
+    from sins_fw.viewer import firmware as view  # rerun is a heavy import: only for a replay
+    from sins_fw.viewer import recording  # as above
 
     if args.parity:
         raise InputError(

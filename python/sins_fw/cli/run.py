@@ -29,6 +29,14 @@ from sins_fw.cli.common import (
 from sins_fw.cli.stop import check_stop
 from sins_fw.earth import earth_rate_place
 from sins_fw.errors import InputError, TraceError
+from sins_fw.firmware_run import (
+    FirmwareRunWriter,
+    FirmwareStopped,
+    default_globals,
+    firmware_metadata,
+    load_globals,
+    run_c_firmware,
+)
 from sins_fw.harness import CHUNK_ROWS, check_until_s, emulate
 from sins_fw.profile import load_profile
 from sins_fw.report import ALIGNMENTS, render
@@ -331,15 +339,6 @@ def _raw_metadata(args: argparse.Namespace) -> dict[str, str]:
 def _run_firmware(args: argparse.Namespace) -> int:
     """`run TRACE --firmware FW.so`: the host-built C firmware on the trace, reported as a run of the
     Rust model is (summary, events, budget, --out in the run output's format)."""
-    from sins_fw.firmware_run import (
-        FirmwareRunWriter,
-        FirmwareStopped,
-        default_globals,
-        firmware_metadata,
-        load_globals,
-        run_c_firmware,
-    )
-
     if args.raw_out is not None:
         raise InputError(
             "--raw-out records the Rust model's burst reads; with --firmware it is not available"

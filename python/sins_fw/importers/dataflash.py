@@ -105,8 +105,7 @@ def _instance(m: Any) -> int:
 
 def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) -> PhysicalTrace:
     """An ArduPilot DataFlash log as a physical trace."""
-    need("pymavlink", "pymavlink", "dataflash")
-    from pymavlink import DFReader
+    dfreader = need("pymavlink.DFReader", "pymavlink", "dataflash")
 
     p = check_file(path, "DataFlash log")
     rows: dict[str, list[tuple[int, tuple[float, ...]]]] = {k: [] for k in _FIELDS}
@@ -115,7 +114,7 @@ def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_
     noise = _Lines()
     try:
         with _c_stderr_into(noise), contextlib.redirect_stdout(noise), contextlib.redirect_stderr(noise):  # type: ignore[type-var]
-            log = DFReader.DFReader_binary(str(p), zero_time_base=False)
+            log = dfreader.DFReader_binary(str(p), zero_time_base=False)
             try:
                 while (m := log.recv_match(type=list(_FIELDS))) is not None:
                     kind = m.get_type()
