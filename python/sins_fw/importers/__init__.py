@@ -201,6 +201,52 @@ def make_trace(
     )
 
 
+def seconds_since(t_us: Array, t0_us: int) -> NDArray[np.float64]:
+    """Microsecond time stamps as seconds since ``t0_us``."""
+    return (t_us - t0_us).astype(np.float64) * 1e-6
+
+
+def frd_ned_trace(
+    *,
+    kind: str,
+    source: str,
+    path: Path,
+    t_abs: Array,
+    origin: str,
+    gyro_rad_s: Array,
+    accel_m_s2: Array,
+    mag_gauss: Array | None,
+    truth_q_ned: Array | None,
+    gps: GpsStream | str | None,
+    units: str,
+    magnetometer: str,
+    truth: str,
+    where: str,
+) -> PhysicalTrace:
+    """The physical trace of an autopilot's log (`sins-fw import KIND`) in its FRD body and NED earth
+    frames (:data:`FRAME_FRD_NED`): rates (rad/s), specific force (m/s²) and field (gauss) turned to
+    FLU °/s, g and gauss, the FRD→NED attitude ``truth_q_ned`` to the trace's C_b^n."""
+    return make_trace(
+        t_abs=t_abs,
+        origin=origin,
+        gyro_dps=np.degrees(gyro_rad_s) * FLU_FROM_FRD,
+        accel_g=accel_m_s2 / G0 * FLU_FROM_FRD,
+        mag_gauss=None if mag_gauss is None else mag_gauss * FLU_FROM_FRD,
+        truth_q=None if truth_q_ned is None else truth_from_ned(truth_q_ned),
+        gps=gps,
+        metadata={
+            "source": f"{source} {path.name}",
+            "source_file": path.name,
+            "generator": f"sins-fw import {kind} {path.name}",
+            "frame": FRAME_FRD_NED,
+            "units": units,
+            "magnetometer": magnetometer,
+            "truth": truth,
+        },
+        where=where,
+    )
+
+
 #: The GPS latency an import writes unless told (`--gps-latency-s`): the log's stamp of a fix is taken
 #: as its time of validity.
 DEFAULT_GPS_LATENCY_S = 0.0

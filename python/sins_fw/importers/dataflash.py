@@ -16,24 +16,11 @@ from typing import Any
 
 import numpy as np
 
+from sins_fw import importers as imp
 from sins_fw import quaternion
 from sins_fw.errors import TraceError
-from sins_fw.importers import (
-    DEFAULT_GPS_LATENCY_S,
-    FLU_FROM_FRD,
-    FRAME_FRD_NED,
-    PathLike,
-    ascending,
-    check_file,
-    gps_stream,
-    interpolate,
-    interpolate_truth,
-    make_trace,
-    need,
-    stamp_array,
-    truth_from_ned,
-)
-from sins_fw.traces import G0, PhysicalTrace
+from sins_fw.importers import DEFAULT_GPS_LATENCY_S, PathLike
+from sins_fw.traces import PhysicalTrace
 
 MILLIGAUSS = 1e-3
 _FIELDS = {
@@ -105,9 +92,9 @@ def _instance(m: Any) -> int:
 
 def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) -> PhysicalTrace:
     """An ArduPilot DataFlash log as a physical trace."""
-    dfreader = need("pymavlink.DFReader", "pymavlink", "dataflash")
+    dfreader = imp.need("pymavlink.DFReader", "pymavlink", "dataflash")
 
-    p = check_file(path, "DataFlash log")
+    p = imp.check_file(path, "DataFlash log")
     rows: dict[str, list[tuple[int, tuple[float, ...]]]] = {k: [] for k in _FIELDS}
     # pymavlink prints a line per damaged message header on stdout (tens of thousands for a file that
     # is not a log): they are counted here, and said once in the error or not at all.
@@ -132,55 +119,52 @@ def import_dataflash(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_
         raise TraceError(f"{p}: no IMU messages (instance 0){why}; expected an ArduPilot log with IMU data")
 
     def arrays(kind: str) -> tuple[np.ndarray, np.ndarray]:
-        t = stamp_array([r[0] for r in rows[kind]], f"{p}: {kind} TimeUS", "µs")
+        t = imp.stamp_array([r[0] for r in rows[kind]], f"{p}: {kind} TimeUS", "µs")
         v = np.array([r[1] for r in rows[kind]], dtype=np.float64)
-        return ascending(t, v)  # type: ignore[return-value]
+        return imp.ascending(t, v)  # type: ignore[return-value]
 
     t_us, imu = arrays("IMU")
     t0 = int(t_us[0])
-    t = (t_us - t0).astype(np.float64) * 1e-6
+    t = imp.seconds_since(t_us, t0)
     mag, truth = None, None
     if rows["MAG"]:
         tm, m = arrays("MAG")
-        mag = interpolate(t, (tm - t0).astype(np.float64) * 1e-6, m) * MILLIGAUSS * FLU_FROM_FRD
+        mag = imp.interpolate(t, imp.seconds_since(tm, t0), m) * MILLIGAUSS
     if rows["ATT"]:
         ta, att = arrays("ATT")
         q_ned = quaternion.from_euler(*np.radians(att).T)
-        truth = truth_from_ned(interpolate_truth(t, (ta - t0).astype(np.float64) * 1e-6, q_ned))
+        truth = imp.interpolate_truth(t, imp.seconds_since(ta, t0), q_ned)
     gps: Any = "none (no GPS messages)"
     if rows["GPS"]:
-        tg = stamp_array([r[0] for r in rows["GPS"]], f"{p}: GPS TimeUS", "µs")
+        tg = imp.stamp_array([r[0] for r in rows["GPS"]], f"{p}: GPS TimeUS", "µs")
         g = np.array([r[1] for r in rows["GPS"]], dtype=np.float64)
         fix = g[:, 0] >= 3
         source = (
             f"GPS instance 0 (Spd, GCrs, Lat, Lng; Alt above mean sea level taken as the height; "
             f"{int((~fix).sum())} messages without a 3D fix left out)"
         )
-        gps = gps_stream(
+        gps = imp.gps_stream(
             t_us, tg[fix], g[fix, 1:], ticks_per_s=1_000_000, latency_s=gps_latency_s, source=source
         )
-    return make_trace(
+    return imp.frd_ned_trace(
+        kind="dataflash",
+        source="ArduPilot DataFlash log",
+        path=p,
         t_abs=t,
         origin=f"t_s = 0 at the log's IMU TimeUS {t0} µs",
-        gyro_dps=np.degrees(imu[:, :3]) * FLU_FROM_FRD,
-        accel_g=imu[:, 3:] / G0 * FLU_FROM_FRD,
+        gyro_rad_s=imu[:, :3],
+        accel_m_s2=imu[:, 3:],
         mag_gauss=mag,
-        truth_q=truth,
+        truth_q_ned=truth,
         gps=gps,
-        metadata={
-            "source": f"ArduPilot DataFlash log {p.name}",
-            "source_file": p.name,
-            "generator": f"sins-fw import dataflash {p.name}",
-            "frame": FRAME_FRD_NED,
-            "units": "IMU Gyr rad/s → °/s, Acc m/s² → g, MAG milligauss → gauss (instance 0 of each)",
-            "magnetometer": "MAG instance 0, interpolated linearly at the IMU times"
-            if mag is not None
-            else "none (no MAG messages)",
-            "truth": "ATT Roll, Pitch, Yaw (Z-Y-X Euler angles, FRD → NED): the autopilot's estimate "
-            "(EKF), not "
-            "an independent truth; interpolated (normalised linear) at the IMU times, NaN outside"
-            if truth is not None
-            else "none (no ATT messages)",
-        },
+        units="IMU Gyr rad/s → °/s, Acc m/s² → g, MAG milligauss → gauss (instance 0 of each)",
+        magnetometer="MAG instance 0, interpolated linearly at the IMU times"
+        if mag is not None
+        else "none (no MAG messages)",
+        truth="ATT Roll, Pitch, Yaw (Z-Y-X Euler angles, FRD → NED): the autopilot's estimate "
+        "(EKF), not "
+        "an independent truth; interpolated (normalised linear) at the IMU times, NaN outside"
+        if truth is not None
+        else "none (no ATT messages)",
         where=f"{p}: IMU",
     )

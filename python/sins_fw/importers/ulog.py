@@ -17,20 +17,18 @@ import numpy as np
 from sins_fw.errors import TraceError
 from sins_fw.importers import (
     DEFAULT_GPS_LATENCY_S,
-    FLU_FROM_FRD,
-    FRAME_FRD_NED,
     PathLike,
     ascending,
     check_file,
+    frd_ned_trace,
     gps_stream,
     interpolate,
     interpolate_truth,
-    make_trace,
     need,
+    seconds_since,
     stamp_array,
-    truth_from_ned,
 )
-from sins_fw.traces import G0, PhysicalTrace
+from sins_fw.traces import PhysicalTrace
 
 _TOPICS = (
     "sensor_combined",
@@ -104,46 +102,39 @@ def import_ulog(path: PathLike, gps_latency_s: float = DEFAULT_GPS_LATENCY_S) ->
     accel = _vectors(imu, "accelerometer_m_s2[{}]", ("0", "1", "2"), where)
     t_us, gyro, accel = ascending(t_us, gyro, accel)
     t0 = int(t_us[0])
-    t = (t_us - t0).astype(np.float64) * 1e-6
+    t = seconds_since(t_us, t0)
     mag, mag_note = None, "none (no vehicle_magnetometer or sensor_mag topic)"
     for topic, pattern in _MAGS:
         data = topics.get((topic, 0))
         if data is not None:
-            tm = (stamp_array(data["timestamp"], f"{p}: {topic}.timestamp", "µs") - t0).astype(
-                np.float64
-            ) * 1e-6
+            tm = seconds_since(stamp_array(data["timestamp"], f"{p}: {topic}.timestamp", "µs"), t0)
             axes = ("0", "1", "2") if "[" in pattern else ("x", "y", "z")
             tm, m = ascending(tm, _vectors(data, pattern, axes, f"{p}: {topic}"))
-            mag = interpolate(t, tm, m) * FLU_FROM_FRD
+            mag = interpolate(t, tm, m)
             mag_note = f"{topic} (gauss), interpolated linearly at the IMU times"
             break
     truth, truth_note = None, "none (no vehicle_attitude topic)"
     for topic, what in _ATTITUDES:
         data = topics.get((topic, 0))
         if data is not None:
-            tq = (stamp_array(data["timestamp"], f"{p}: {topic}.timestamp", "µs") - t0).astype(
-                np.float64
-            ) * 1e-6
+            tq = seconds_since(stamp_array(data["timestamp"], f"{p}: {topic}.timestamp", "µs"), t0)
             tq, q = ascending(tq, _vectors(data, "q[{}]", ("0", "1", "2", "3"), f"{p}: {topic}"))
-            truth = truth_from_ned(interpolate_truth(t, tq, q))
+            truth = interpolate_truth(t, tq, q)
             truth_note = f"{topic}.q: {what}; interpolated (normalised linear) at the IMU times, NaN outside"
             break
-    return make_trace(
+    return frd_ned_trace(
+        kind="ulog",
+        source="PX4 ULog",
+        path=p,
         t_abs=t,
         origin=f"t_s = 0 at the log's sensor_combined time stamp {t0} µs",
-        gyro_dps=np.degrees(gyro) * FLU_FROM_FRD,
-        accel_g=accel / G0 * FLU_FROM_FRD,
+        gyro_rad_s=gyro,
+        accel_m_s2=accel,
         mag_gauss=mag,
-        truth_q=truth,
+        truth_q_ned=truth,
         gps=_gps(topics, t_us, gps_latency_s, p),
-        metadata={
-            "source": f"PX4 ULog {p.name}",
-            "source_file": p.name,
-            "generator": f"sins-fw import ulog {p.name}",
-            "frame": FRAME_FRD_NED,
-            "units": "gyro_rad rad/s → °/s, accelerometer_m_s2 m/s² → g, magnetometer gauss",
-            "magnetometer": mag_note,
-            "truth": truth_note,
-        },
+        units="gyro_rad rad/s → °/s, accelerometer_m_s2 m/s² → g, magnetometer gauss",
+        magnetometer=mag_note,
+        truth=truth_note,
         where=where,
     )
