@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -9,8 +10,12 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pytest
+
+from sins_fw.firmware_run import run_c_firmware
+from sins_fw.profile import Profile, load_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 # The shared data sits beside the repository (../shared); from a git worktree one level deeper too.
@@ -75,6 +80,31 @@ def peak_rss_mb(args: list[str], cwd: Path) -> float:
     return usage.ru_maxrss / 1024.0
 
 
+#: A script that runs each command line of the JSON list ``argv[1]`` in one process (the CLI's
+#: ``main``) and prints the process's peak RSS (MB) after each; ``{setup}``: Python run first.
+PEAKS_SCRIPT = """
+import json, resource, sys
+{setup}
+from sins_fw.cli import main
+peaks = []
+for argv in json.loads(sys.argv[1]):
+    code = main(argv)
+    assert code in (0, 1), (argv, code)
+    peaks.append(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
+print(json.dumps(peaks))
+"""
+
+
+def peaks_mb(runs: list[list[str]], cwd: Path, script: str = PEAKS_SCRIPT.format(setup="")) -> list[float]:
+    """The process's peak RSS (MB) after each run of ``runs``, run in that order in one process
+    (``script``: :data:`PEAKS_SCRIPT` or one like it)."""
+    out = subprocess.run(
+        [sys.executable, "-c", script, json.dumps(runs)], cwd=cwd, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.splitlines()[-1])
+
+
 def signal_once_started(
     args: list[str], started: Callable[[], bool], settle_s: float, sig: int
 ) -> tuple[float, int, str]:
@@ -110,6 +140,43 @@ def write_globals(folder: Path, **types: str) -> Path:
         )
     )
     return path
+
+
+def run_alone(
+    fw: Path,
+    folder: Path,
+    until_s: float,
+    profile: Profile | None = None,
+    events: list[dict[str, Any]] | None = None,
+    bus_log: bool = False,
+    **types: str,
+) -> tuple[Any, list[dict[str, Any]]]:
+    """A C firmware's run without a trace on ``profile`` (the reference board's), watching the named
+    globals (:func:`write_globals` in ``folder``), and its events, gathered into ``events`` when given
+    (where the run stops with an error they are all the test sees)."""
+    events = [] if events is None else events
+    run = run_c_firmware(
+        fw,
+        None,
+        profile or load_profile("reference"),
+        globals_file=write_globals(folder, **types),
+        until_s=until_s,
+        sink=lambda part: events.extend(part["events"]),
+        bus_log=bus_log,
+    )
+    return run, events
+
+
+#: C statements of a test firmware's main() that enable CPU timer 0's interrupt (TINT0: PIE group 1,
+#: line 7; CPU INT1) and the CPU's.
+TINT0_ENABLE = "    IER |= M_INT1;\n    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n    EINT;\n"
+#: The same after starting CPU timer 0 with a 1 ms period at 150 MHz, as TI's examples do.
+TIMER0_1MS = (
+    "    InitCpuTimers();\n"
+    "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
+    "    CpuTimer0Regs.TCR.all = 0x4001;\n"
+    f"{TINT0_ENABLE}"
+)
 
 
 #: Modules whose tests start what is sized for the whole machine (a process pool and a Dask cluster of

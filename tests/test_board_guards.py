@@ -12,15 +12,13 @@ import math
 import os
 import platform
 import signal
-import subprocess
-import sys
 import tracemalloc
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import BROAD, ROOT, run_cli, signal_once_started
+from conftest import BROAD, PEAKS_SCRIPT, ROOT, peaks_mb, run_cli, signal_once_started
 from sins_fw import _core, gfsins, parity, synth
 from sins_fw.run_output import load_run
 
@@ -265,20 +263,6 @@ def test_synth_vehicle_and_turn_stream_in_bounded_memory(name):
     assert long - short < bound, (short, long, bound)
 
 
-TWICE = """
-import json, resource, sys
-import sins_fw.gfsins
-from sins_fw.cli import main
-sins_fw.gfsins.CHUNK_ROWS = int(sys.argv[2])
-peaks = []
-for argv in json.loads(sys.argv[1]):
-    code = main(argv)
-    assert code in (0, 1), (argv, code)
-    peaks.append(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
-print(json.dumps(peaks))
-"""
-
-
 @pytest.mark.skipif(platform.system() != "Linux", reason="ru_maxrss in kB is Linux's")
 def test_the_gyro_free_run_streams_in_bounded_memory(tmp_path, drive_120s):
     """`run --profile gfsins --out` on a 30 s and a 120 s drive in one process, read in chunks of
@@ -294,14 +278,8 @@ def test_the_gyro_free_run_streams_in_bounded_memory(tmp_path, drive_120s):
         ["run", str(traces[n]), "--profile", GFSINS, "--out", str(tmp_path / f"{n}.csv")]
         for n in ("short", "long")
     ]
-    proc = subprocess.run(
-        [sys.executable, "-c", TWICE, json.dumps(runs), str(CHUNK)],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-    )
-    assert proc.returncode == 0, proc.stderr
-    short, long = json.loads(proc.stdout.splitlines()[-1])
+    setup = f"import sins_fw.gfsins\nsins_fw.gfsins.CHUNK_ROWS = {CHUNK}"
+    short, long = peaks_mb(runs, tmp_path, PEAKS_SCRIPT.format(setup=setup))
     bound = 2 * CHUNK * 170 * 8 / 1e6
     assert bound < 90 * 1.4
     assert long - short < bound, (short, long, bound)

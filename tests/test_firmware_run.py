@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import build_cabi
+from conftest import TIMER0_1MS, TINT0_ENABLE, build_cabi
 from sins_fw import adis16407
 from sins_fw.cli import main
 from sins_fw.errors import InputError
@@ -157,9 +157,7 @@ def test_a_vector_set_without_eallow_is_ignored_and_reported(tmp_path: Path):
         "    PieCtrlRegs.PIECTRL.bit.ENPIE = 1;\n"
         "    CpuTimer0Regs.PRD.all = 149999;\n"
         "    CpuTimer0Regs.TCR.all = 0x4020;\n"
-        "    IER |= M_INT1;\n"
-        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
-        "    EINT;\n"
+        f"{TINT0_ENABLE}"
         "    for (;;) {\n"
         "    }\n"
         "}\n",
@@ -226,9 +224,7 @@ def test_a_tick_that_comes_while_the_last_is_pending_is_lost(tmp_path: Path):
         "    PieCtrlRegs.PIECTRL.bit.ENPIE = 1;\n"
         "    CpuTimer0Regs.PRD.all = 599999;\n"
         "    CpuTimer0Regs.TCR.all = 0x4020;\n"
-        "    IER |= M_INT1;\n"
-        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
-        "    EINT;\n"
+        f"{TINT0_ENABLE}"
         "    for (;;) {\n"
         "    }\n"
         "}\n",
@@ -289,12 +285,7 @@ def test_tis_support_sources_link_from_their_host_replacements(tmp_path: Path):
         "    IER = 0x0000;\n"
         "    IFR = 0x0000;\n"
         "    InitPieVectTable();\n"
-        "    InitCpuTimers();\n"
-        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
-        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
-        "    IER |= M_INT1;\n"
-        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
-        "    EINT;\n"
+        f"{TIMER0_1MS}"
         "    for (;;) {\n"
         "    }\n"
         "}\n"
@@ -325,12 +316,7 @@ def test_a_firmwares_own_definition_takes_the_place_of_the_replacement(
         "    InitSysCtrl();\n"
         "    InitPieCtrl();\n"
         "    InitPieVectTable();\n"
-        "    InitCpuTimers();\n"
-        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
-        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
-        "    IER |= M_INT1;\n"
-        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
-        "    EINT;\n"
+        f"{TIMER0_1MS}"
         "    for (;;) {\n"
         "    }\n"
         "}\n"

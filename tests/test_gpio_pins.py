@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from conftest import write_globals
+from conftest import run_alone
 from sins_fw.firmware_build import build_firmware
 from sins_fw.firmware_run import FirmwareResult, run_c_firmware
 from sins_fw.profile import load_profile
@@ -27,20 +27,17 @@ pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
 def _run(
-    src: str, folder: Path, until_s: float, overrides: list[str] | None = None, **types: str
+    src: str,
+    folder: Path,
+    until_s: float,
+    overrides: list[str] | None = None,
+    bus_log: bool = False,
+    **types: str,
 ) -> tuple[FirmwareResult, list[dict[str, Any]]]:
     (folder / "fw.c").write_text(src)
     fw = build_firmware([folder / "fw.c", TI / "DSP2833x_Spi.c"], folder / "fw.so")
-    parts: list[dict[str, Any]] = []
-    run = run_c_firmware(
-        fw,
-        None,
-        load_profile("reference", overrides or []),
-        globals_file=write_globals(folder, **types),
-        until_s=until_s,
-        sink=parts.append,
-    )
-    return run, [e for p in parts for e in p["events"]]
+    profile = load_profile("reference", overrides or [])
+    return run_alone(fw, folder, until_s, profile, bus_log=bus_log, **types)
 
 
 #: PROD_ID read over and over with polled SPI-A in mode 3 (16-bit, 0.75 MHz); `CS_DOWN`/`CS_UP` move
@@ -87,19 +84,7 @@ def test_spistea_muxed_by_init_spia_gpio_selects_the_adis16407(tmp_path: Path):
     edge and released ½ SCLK after its last (the frames are 40 µs apart: a gap, so STE rises between
     them)."""
     src = _prod_id("InitSpiaGpio()", "GpioDataRegs.GPBCLEAR.bit.GPIO57 = 1")
-    (tmp_path / "fw.c").write_text(src)
-    fw = build_firmware([tmp_path / "fw.c", TI / "DSP2833x_Spi.c"], tmp_path / "fw.so")
-    parts: list[dict[str, Any]] = []
-    run = run_c_firmware(
-        fw,
-        None,
-        load_profile("reference"),
-        globals_file=write_globals(tmp_path, prod_id="uint16", mux="uint16"),
-        until_s=0.05,
-        sink=parts.append,
-        bus_log=True,
-    )
-    events = [e for p in parts for e in p["events"]]
+    run, events = _run(src, tmp_path, 0.05, bus_log=True, prod_id="uint16", mux="uint16")
     assert run.final["mux"] == 1
     assert run.final["prod_id"] == ADIS16407_PROD_ID
     assert not [e for e in events if e["kind"] == "spi_frame_without_cs"], events[:3]

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from conftest import write_globals
+from conftest import TIMER0_1MS, run_alone, write_globals
 from sins_fw.firmware_build import build_firmware
 from sins_fw.firmware_run import FirmwareStopped, run_c_firmware
 from sins_fw.profile import load_profile
@@ -31,16 +31,7 @@ pytestmark = pytest.mark.usefixtures("cabi_library")
 def _run(
     fw: Path, folder: Path, until_s: float, overrides: tuple[str, ...] = (), **types: str
 ) -> tuple[Any, list[dict[str, Any]]]:
-    parts: list[dict[str, Any]] = []
-    run = run_c_firmware(
-        fw,
-        None,
-        load_profile("reference", list(overrides)),
-        globals_file=write_globals(folder, **types),
-        until_s=until_s,
-        sink=parts.append,
-    )
-    return run, [e for p in parts for e in p["events"]]
+    return run_alone(fw, folder, until_s, load_profile("reference", list(overrides)), **types)
 
 
 def _source(folder: Path, text: str, name: str = "main.c") -> Path:
@@ -167,6 +158,17 @@ def test_initialising_the_adc_and_epwms_runs_with_one_warning_each(tmp_path: Pat
     assert {e["kind"] for e in events} == {"unmodelled_peripheral"}
 
 
+#: C statements of main() that reset the PIE with the CPU's interrupts off and install ``tick`` as
+#: TINT0's ISR (EALLOW left on).
+_TICK_VECTOR = (
+    "    DINT;\n"
+    "    InitPieCtrl();\n"
+    "    IER = 0; IFR = 0;\n"
+    "    InitPieVectTable();\n"
+    "    EALLOW;\n"
+    "    PieVectTable.TINT0 = &tick;\n"
+)
+
 #: A firmware that enables the watchdog (WDPS = 0: 4.37 ms at 30 MHz) and, with SERVICE defined,
 #: services it from a 1 ms timer interrupt.
 WATCHDOG = (
@@ -174,20 +176,10 @@ WATCHDOG = (
     "Uint16 ticks;\n"
     "void main(void) {\n"
     "    InitSysCtrl();\n"
-    "    DINT;\n"
-    "    InitPieCtrl();\n"
-    "    IER = 0; IFR = 0;\n"
-    "    InitPieVectTable();\n"
-    "    EALLOW;\n"
-    "    PieVectTable.TINT0 = &tick;\n"
+    f"{_TICK_VECTOR}"
     "    SysCtrlRegs.WDCR = 0x0028;\n"
     "    EDIS;\n"
-    "    InitCpuTimers();\n"
-    "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
-    "    CpuTimer0Regs.TCR.all = 0x4001;\n"
-    "    IER |= M_INT1;\n"
-    "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
-    "    EINT;\n"
+    f"{TIMER0_1MS}"
     "    for (;;) {}\n"
     "}\n"
     "interrupt void tick(void) {\n"
@@ -207,19 +199,11 @@ def test_a_serviced_watchdog_never_bites_and_an_unserviced_one_resets_the_chip(t
     assert run.final["ticks"] == 50
     assert not events
     starved = build_firmware([src], tmp_path / "starved.so")
-    parts: list[dict[str, Any]] = []
+    events = []
     with pytest.raises(FirmwareStopped, match=r"the watchdog reset the chip at t = 0\.0043") as stop:
-        run_c_firmware(
-            starved,
-            None,
-            load_profile("reference"),
-            globals_file=write_globals(tmp_path, ticks="uint16"),
-            until_s=0.05,
-            sink=parts.append,
-        )
+        run_alone(starved, tmp_path, 0.05, events=events, ticks="uint16")
     # WDCLK = OSCCLK / 512, 256 counts: 4.369 ms after the dog was enabled (a few µs after t = 0).
     bite_s = 512 * 256 / OSCCLK_HZ
-    events = [e for p in parts for e in p["events"]]
     assert [e["kind"] for e in events] == ["watchdog_reset"]
     assert bite_s <= events[0]["t_s"] <= bite_s + 50e-6
     assert "ServiceDog" in str(stop.value)
@@ -265,19 +249,9 @@ def test_a_pll_setting_changes_the_timer_period(tmp_path: Path):
         "    InitPeripheralClocks();\n"
         "    divsel = SysCtrlRegs.PLLSTS.bit.DIVSEL;\n"
         "    pll_div = SysCtrlRegs.PLLCR.bit.DIV;\n"
-        "    DINT;\n"
-        "    InitPieCtrl();\n"
-        "    IER = 0; IFR = 0;\n"
-        "    InitPieVectTable();\n"
-        "    EALLOW;\n"
-        "    PieVectTable.TINT0 = &tick;\n"
+        f"{_TICK_VECTOR}"
         "    EDIS;\n"
-        "    InitCpuTimers();\n"
-        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
-        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
-        "    IER |= M_INT1;\n"
-        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
-        "    EINT;\n"
+        f"{TIMER0_1MS}"
         "    for (;;) {}\n"
         "}\n"
         "interrupt void tick(void) { ticks++; PieCtrlRegs.PIEACK.all = PIEACK_GROUP1; }\n",
@@ -329,19 +303,9 @@ def test_a_cpu_timer_with_its_clock_gated_off_stands_still(tmp_path: Path):
         "Uint16 ticks_gated;\n"
         "void main(void) {\n"
         "    InitSysCtrl();\n"
-        "    DINT;\n"
-        "    InitPieCtrl();\n"
-        "    IER = 0; IFR = 0;\n"
-        "    InitPieVectTable();\n"
-        "    EALLOW;\n"
-        "    PieVectTable.TINT0 = &tick;\n"
+        f"{_TICK_VECTOR}"
         "    EDIS;\n"
-        "    InitCpuTimers();\n"
-        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
-        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
-        "    IER |= M_INT1;\n"
-        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
-        "    EINT;\n"
+        f"{TIMER0_1MS}"
         "    while (ticks < 3) {}\n"
         "#ifdef GATE\n"
         "    EALLOW;\n"

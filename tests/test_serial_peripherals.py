@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from conftest import write_globals
+from conftest import run_alone, write_globals
 from sins_fw.errors import InputError
 from sins_fw.firmware_build import build_firmware
 from sins_fw.firmware_run import run_c_firmware
@@ -120,18 +120,9 @@ def _gps_run(tmp_path: Path, *overrides: str) -> tuple[Any, list[dict[str, Any]]
             *overrides,
         ],
     )
-    events: list[dict[str, Any]] = []
     with pytest.MonkeyPatch.context() as env:
         env.setenv("SINS_FW_FUNCTION_CYCLES", str(tmp_path / "fn.tsv"))
-        run = run_c_firmware(
-            fw,
-            None,
-            profile,
-            globals_file=write_globals(tmp_path, **GPS_GLOBALS),
-            until_s=1.5,
-            sink=lambda part: events.extend(part["events"]),
-        )
-    return run, events
+        return run_alone(fw, tmp_path, 1.5, profile, **GPS_GLOBALS)
 
 
 def test_scib_receives_an_nmea_file_at_9600_baud_with_the_line_timing(tmp_path: Path):
@@ -197,14 +188,7 @@ def test_sci_misuse_is_an_event(tmp_path: Path):
     fw = build_firmware([src], tmp_path / "misuse.so")
     events: list[dict[str, Any]] = []
     with pytest.raises(InputError):  # the idle loop with nothing to interrupt it
-        run_c_firmware(
-            fw,
-            None,
-            load_profile("reference"),
-            globals_file=write_globals(tmp_path, r="uint16"),
-            until_s=0.01,
-            sink=lambda part: events.extend(part["events"]),
-        )
+        run_alone(fw, tmp_path, 0.01, events=events, r="uint16")
     misuse = [e["message"] for e in events if e["kind"] == "sci_misuse"]
     assert len(misuse) == 2, events
     assert "held in reset" in misuse[0] and "RX FIFO empty" in misuse[1]

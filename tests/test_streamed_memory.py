@@ -11,13 +11,14 @@ The 24-hour figures (the target: under 300 MB each) are in benchmarks/peak_rss.m
 
 from __future__ import annotations
 
-import json
 import platform
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from conftest import peaks_mb
 
 pytestmark = pytest.mark.skipif(platform.system() != "Linux", reason="ru_maxrss in kB is Linux's")
 
@@ -27,26 +28,6 @@ STEPS_HZ = 125.0
 SHORT_S, LONG_S = 100.0, 1000.0
 #: Doubles per row of a physical trace (t, gyro, accel, mag, baro, temp, truth q, moving).
 TRACE_DOUBLES = 17
-
-TWICE = """
-import json, resource, sys
-from sins_fw.cli import main
-peaks = []
-for argv in json.loads(sys.argv[1]):
-    code = main(argv)
-    assert code in (0, 1), (argv, code)
-    peaks.append(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
-print(json.dumps(peaks))
-"""
-
-
-def peaks_mb(runs: list[list[str]], cwd: Path, script: str = TWICE) -> list[float]:
-    """The process's peak RSS (MB) after each run of ``runs``, run in that order in one process."""
-    out = subprocess.run(
-        [sys.executable, "-c", script, json.dumps(runs)], cwd=cwd, capture_output=True, text=True
-    )
-    assert out.returncode == 0, out.stderr
-    return json.loads(out.stdout.splitlines()[-1])
 
 
 @pytest.fixture(scope="module")
