@@ -59,3 +59,15 @@ class Terminated(KeyboardInterrupt):
 class TraceWarning(UserWarning):
     """A trace reads, but something in it looks wrong: a unit (9.8 g at rest: m/s² in a `_g` column),
     a time unit, a rate. The message says what was seen and how to read the file otherwise."""
+
+
+def utf8_text(data: bytes, where: object, expected: str, error: type[InputError], first_line: int = 1) -> str:
+    """``data`` as UTF-8 text, else ``error`` naming ``where``, the line (``data`` starting at line
+    ``first_line``) and the byte that is not UTF-8, and what was ``expected``."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = first_line + data.count(b"\n", 0, e.start)
+        raise error(
+            f"{where}: line {line}: byte 0x{data[e.start]:02x} is not UTF-8 text; expected {expected}"
+        ) from None

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from sins_fw import _core
 from sins_fw.alignment import ALIGNMENTS, aligned_estimate
-from sins_fw.errors import InputError, ProfileError, TraceError
+from sins_fw.errors import InputError, ProfileError, TraceError, utf8_text
 from sins_fw.metrics import AttitudeErrors, attitude_errors, valid_mask
 from sins_fw.profile import MODEL_DIR, Profile, check_overrides, cost_table_text, load_profile, short
 from sins_fw.tablefile import rate_text
@@ -738,14 +738,7 @@ def toml_table(data: bytes, where: str | os.PathLike[str]) -> dict[str, Any]:
     nul = data.find(b"\0")
     if nul >= 0:
         raise ProfileError(f"{where}: binary data (NUL byte at offset {nul}); expected a TOML text file")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
-        raise ProfileError(
-            f"{where}: line {line}: byte 0x{data[e.start]:02x} is not UTF-8 text; expected a TOML file "
-            "(UTF-8)"
-        ) from None
+    text = utf8_text(data, where, "a TOML file (UTF-8)", ProfileError)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sins_fw.atomic import atomic_path, kept_error_file
-from sins_fw.errors import TraceError, TraceWarning
+from sins_fw.errors import TraceError, TraceWarning, utf8_text
 
 Array = NDArray[np.float64]
 PathLike = str | os.PathLike[str]
@@ -675,13 +675,7 @@ def csv_separator(header: str) -> str:
 
 
 def _decode(raw: bytes, p: Path, first_line: int) -> str:
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError as e:
-        line = first_line + raw.count(b"\n", 0, e.start)
-        raise TraceError(
-            f"{p}: line {line}: byte 0x{raw[e.start]:02x} is not UTF-8 text; expected a UTF-8 CSV trace"
-        ) from None
+    return utf8_text(raw, p, "a UTF-8 CSV trace", TraceError, first_line)
 
 
 def _open_csv(
@@ -729,11 +723,7 @@ def _open_csv(
         fh.close()
         raise
 
-    def where(row: int) -> str:
-        return f"line {header_line + 1 + row} (row {row})"
-
-    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields, metadata)
-    _note_conversions(metadata, fields)
+    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, header_line + 1, fields, metadata)
     blocks = _csv_blocks(p, fh, head, header_line, fields, sep, rows, checker)
     return OpenedTable(metadata, [f.name for f in fields if f.name], blocks)
 
@@ -756,10 +746,16 @@ def _checker(
     rate: Fraction,
     allow_gaps: bool,
     max_gap_periods: float,
-    where: Callable[[int], str],
+    first_line: int | None,
     fields: list[Field],
-    metadata: Mapping[str, str],
+    metadata: dict[str, str],
 ) -> Checker:
+    """The checker of a table's rows, which names a row by its number and, in a file of lines (CSV),
+    by its line (``first_line``: row 0's); the conversions of ``fields`` noted in ``metadata``."""
+
+    def where(row: int) -> str:
+        return f"row {row}" if first_line is None else f"line {first_line + row} (row {row})"
+
     labels = {f.name: f.source for f in fields if f.name and f.name != f.source}
     t_field = next(f for f in fields if f.name == "t_s")
     checker = Checker(
@@ -777,6 +773,7 @@ def _checker(
         checker.plausibility = schema.plausibility(
             src, float(1 / rate), {f.name: f for f in fields if f.name}
         )
+    _note_conversions(metadata, fields)
     return checker
 
 
@@ -1005,11 +1002,7 @@ def _open_h5(
         f.close()
         raise
 
-    def where(row: int) -> str:
-        return f"row {row}"
-
-    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, where, fields, metadata)
-    _note_conversions(metadata, fields)
+    checker = _checker(schema, str(p), rate, allow_gaps, max_gap_periods, None, fields, metadata)
     return OpenedTable(
         metadata, [str(x.name) for x in fields], _h5_blocks(p, f, fields, schema, int(length), rows, checker)
     )

@@ -36,22 +36,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         required=True,
         help="the shared library to write (e.g. fw.so)",
     )
-    p.add_argument(
-        "-I",
-        dest="include",
-        action="append",
-        default=[],
-        metavar="DIR",
-        help="an include folder, searched before the project's and the replacement headers (repeatable)",
+
+    def repeatable(flag: str, dest: str, metavar: str, what: str) -> None:
+        p.add_argument(
+            flag, dest=dest, action="append", default=[], metavar=metavar, help=f"{what} (repeatable)"
+        )
+
+    repeatable(
+        "-I", "include", "DIR", "an include folder, searched before the project's and the replacement headers"
     )
-    p.add_argument(
-        "-D",
-        dest="defines",
-        action="append",
-        default=[],
-        metavar="NAME[=VALUE]",
-        help="a macro definition, as the compiler's -D (repeatable)",
-    )
+    repeatable("-D", "defines", "NAME[=VALUE]", "a macro definition, as the compiler's -D")
     p.add_argument(
         "--profile",
         default="reference",

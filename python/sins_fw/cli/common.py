@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 from sins_fw.errors import CheckFailed, InputError, ProfileError
 from sins_fw.montecarlo import default_workers, make_engine
 from sins_fw.profile import Profile, load_profile, resolve_profile_path
+from sins_fw.run_output import FirmwareRunFile, recorded_profile
 from sins_fw.traces import ReadOptions
 
 if TYPE_CHECKING:
@@ -314,6 +315,46 @@ def emit_error(args: argparse.Namespace | None, kind: str, code: int, message: s
     if _emitted or not getattr(args, "json", False):
         return
     print(json.dumps({"error": {"kind": kind, "exit": code, "message": message}}))
+
+
+def open_firmware_run(path: Path, what: str) -> tuple[FirmwareRunFile, Profile, Any, str | None]:
+    """A C firmware's run output as `report RUN` and `replay RUN` show it (as recorded, nothing
+    re-emulated): the file, the profile it was run on, and the trace of its truth or, when that is
+    not found, why (said on stderr: "... : ``what`` without the truth")."""
+    run_file = FirmwareRunFile(path)
+    profile = recorded_profile(path, run_file.metadata)
+    trace, note = run_file.truth() if run_file.has_attitude else (None, None)
+    if note is not None:
+        print(f"{note}: {what} without the truth", file=sys.stderr)
+    return run_file, profile, trace, note
+
+
+def firmware_run_report(
+    args: argparse.Namespace,
+    run_file: FirmwareRunFile,
+    profile: Profile,
+    rows: int,
+    truth: bool,
+    note: str | None,
+) -> dict[str, Any]:
+    """The JSON report of `report RUN` and `replay RUN` on a C firmware's run output (the command
+    adds where it wrote)."""
+    m = run_file.metadata
+    return {
+        "trace": str(args.trace),
+        "firmware": m.get("firmware"),
+        "float_mode": m.get("float_mode"),
+        "profile": profile.source,
+        "overrides": list(profile.overrides),
+        "rows": rows,
+        "cycles": rows,  # as a model run's report names them: one row per ISR
+        "globals": run_file.columns,
+        "attitude": run_file.has_attitude,
+        "truth": truth,
+        "trace_found": None if run_file.trace_path is None else str(run_file.trace_path),
+        "trace_missing": note,
+        "re_emulated": False,
+    }
 
 
 def add_engine_options(p: argparse.ArgumentParser) -> None:

@@ -31,6 +31,8 @@ from sins_fw.cli.common import (
     check_error_counts,
     emit,
     exit_epilog,
+    firmware_run_report,
+    open_firmware_run,
     profile_from_args,
 )
 from sins_fw.cli.stop import check_stop
@@ -40,8 +42,6 @@ from sins_fw.profile import Profile
 from sins_fw.run_output import (
     FIRMWARE_CREATED_BY,
     RUN_FORMAT,
-    FirmwareRunFile,
-    recorded_profile,
     recorded_trace,
     replay_check,
     resolve_trace,
@@ -464,11 +464,7 @@ def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
             f"{args.trace}: --parity re-runs the Rust model's numeric backends; a C firmware's run output "
             "is shown as recorded"
         )
-    run_file = FirmwareRunFile(args.trace)
-    profile = recorded_profile(args.trace, run_file.metadata)
-    trace, note = run_file.truth() if run_file.has_attitude else (None, None)
-    if note is not None:
-        print(f"{note}: recorded without the truth", file=sys.stderr)
+    run_file, profile, trace, note = open_firmware_run(args.trace, "recorded")
     rid = recording.recording_id(
         "sins-fw run --firmware",
         profile.text,
@@ -491,22 +487,8 @@ def _replay_firmware(args: argparse.Namespace, problem: str | None) -> int:
             for recorder in recorders:
                 recorder.finish()
         m = run_file.metadata
-        report = {
-            "trace": str(args.trace),
-            "firmware": m.get("firmware"),
-            "float_mode": m.get("float_mode"),
-            "profile": profile.source,
-            "overrides": list(profile.overrides),
-            "rows": rows,
-            "cycles": rows,  # as a model run's report names them: one row per ISR
-            "globals": run_file.columns,
-            "attitude": run_file.has_attitude,
-            "truth": truth,
-            "trace_found": None if run_file.trace_path is None else str(run_file.trace_path),
-            "trace_missing": note,
-            "re_emulated": False,
-            "saved": None if args.out is None else str(args.out),
-        }
+        report = firmware_run_report(args, run_file, profile, rows, truth, note)
+        report["saved"] = None if args.out is None else str(args.out)
         if not run_file.has_attitude:
             attitude = "no attitude columns (q0…q3, roll_deg/pitch_deg/yaw_deg)"
         elif truth:

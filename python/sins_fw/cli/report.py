@@ -5,7 +5,6 @@ error, ISR budget, events) for people without the Rerun viewer. A C firmware's r
 from __future__ import annotations
 
 import argparse
-import sys
 
 from sins_fw.atomic import check_output_folder
 from sins_fw.cli.common import (
@@ -18,11 +17,13 @@ from sins_fw.cli.common import (
     check_png,
     emit,
     exit_epilog,
+    firmware_run_report,
+    open_firmware_run,
     profile_from_args,
 )
 from sins_fw.cli.stop import check_stop
 from sins_fw.harness import emulate
-from sins_fw.run_output import RUN_FORMAT, FirmwareRunFile, is_firmware_run, recorded_profile, replay_check
+from sins_fw.run_output import RUN_FORMAT, is_firmware_run, replay_check
 from sins_fw.traces import read_metadata
 
 
@@ -87,37 +88,19 @@ def _report_firmware(args: argparse.Namespace) -> int:
     a time; nothing is re-emulated (and the file holds no events to check)."""
     from sins_fw.report_firmware import FirmwarePage, save_firmware_report  # matplotlib: heavy
 
-    run_file = FirmwareRunFile(args.trace)
-    profile = recorded_profile(args.trace, run_file.metadata)
-    trace, note = run_file.truth() if run_file.has_attitude else (None, None)
-    if note is not None:
-        print(f"{note}: drawn without the truth", file=sys.stderr)
+    run_file, profile, trace, note = open_firmware_run(args.trace, "drawn")
     page = FirmwarePage(run_file, profile, trace=run_file.trace_path, trace_note=note)
     for part in run_file.parts(trace):
         check_stop()
         page.add(part)
     save_firmware_report(page, args.out, title=args.trace.name)
-    m = run_file.metadata
-    report = {
-        "trace": str(args.trace),
-        "firmware": m.get("firmware"),
-        "float_mode": m.get("float_mode"),
-        "profile": profile.source,
-        "overrides": list(profile.overrides),
-        "rows": page.rows,
-        "cycles": page.rows,  # as a model run's report names them: one row per ISR
-        "globals": run_file.columns,
-        "attitude": run_file.has_attitude,
-        "truth": page.has_truth,
-        "trace_found": None if run_file.trace_path is None else str(run_file.trace_path),
-        "trace_missing": note,
-        "re_emulated": False,
-        "png": str(args.out),
-    }
+    report = firmware_run_report(args, run_file, profile, page.rows, page.has_truth, note)
+    report["png"] = str(args.out)
+    firmware = run_file.metadata.get("firmware", "?")
     emit(
         args,
         report,
-        f"report of {args.trace}, a run of the C firmware {m.get('firmware', '?')} shown as recorded "
+        f"report of {args.trace}, a run of the C firmware {firmware} shown as recorded "
         f"(not re-emulated; {page.rows} ISR rows), written to {args.out}",
     )
     return 0

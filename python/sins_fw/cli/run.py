@@ -239,17 +239,7 @@ def run(args: argparse.Namespace) -> int:
     with contextlib.ExitStack() as files, progress.trace_bar(progress.wanted(args), span) as bar:
         writers: list[Any] = []
         if args.out is not None:
-            recorded = trace_reference(args.trace, args.out)
-            if read is not None:  # how the trace was read (replay and report read it the same way)
-                recorded.update(
-                    {
-                        k: str(v)
-                        for k, v in (("trace_units", read.units), ("trace_columns", read.columns))
-                        if v
-                    }
-                )
-            if args.until_s is not None:
-                recorded["until_s"] = repr(args.until_s)
+            recorded = {**trace_reference(args.trace, args.out), **_how_read(args, read)}
             writers.append(files.enter_context(RunWriter(args.out, profile, t0 or 0.0, recorded)))
         if args.raw_out is not None:
             writers.append(files.enter_context(RawWriter(args.raw_out, _raw_metadata(args))))
@@ -336,6 +326,17 @@ def _raw_metadata(args: argparse.Namespace) -> dict[str, str]:
     }
 
 
+def _how_read(args: argparse.Namespace, read: ReadOptions | None) -> dict[str, str]:
+    """What a run output records of how its trace was read (replay and report read it, and its
+    truth, the same way) and of where the run stopped."""
+    out: dict[str, str] = {}
+    if read is not None:
+        out = {k: str(v) for k, v in (("trace_units", read.units), ("trace_columns", read.columns)) if v}
+    if args.until_s is not None:
+        out["until_s"] = repr(args.until_s)
+    return out
+
+
 def _run_firmware(args: argparse.Namespace) -> int:
     """`run TRACE --firmware FW.so`: the host-built C firmware on the trace, reported as a run of the
     Rust model is (summary, events, budget, --out in the run output's format)."""
@@ -372,17 +373,11 @@ def _run_firmware(args: argparse.Namespace) -> int:
     with contextlib.ExitStack() as files, progress.trace_bar(progress.wanted(args), span) as bar:
         writer = None
         if args.out is not None:
-            meta = {**trace_reference(args.trace, args.out), **firmware_metadata(args.firmware, globals_file)}
-            if read is not None:  # how the trace was read (replay and report read its truth the same way)
-                meta.update(
-                    {
-                        k: str(v)
-                        for k, v in (("trace_units", read.units), ("trace_columns", read.columns))
-                        if v
-                    }
-                )
-            if args.until_s is not None:
-                meta["until_s"] = repr(args.until_s)
+            meta = {
+                **trace_reference(args.trace, args.out),
+                **firmware_metadata(args.firmware, globals_file),
+                **_how_read(args, read),
+            }
             t0 = _first_time(args.trace, read) or 0.0
             writer = files.enter_context(FirmwareRunWriter(args.out, profile, t0, meta, watched))
         reached: list[float] = []

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sins_fw.errors import TraceError
+from sins_fw.errors import TraceError, utf8_text
 from sins_fw.importers import PathLike, check_file, interpolate_truth, make_trace, stamp_array
 from sins_fw.traces import G0, PhysicalTrace
 
@@ -44,14 +44,7 @@ def _text(path: Path) -> str:
             f"{path}: binary data (NUL byte at offset {nul}, line {line}); expected a EuRoC-style CSV "
             "text file"
         )
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
-        raise TraceError(
-            f"{path}: line {line}: byte 0x{data[e.start]:02x} is not UTF-8 text; expected a EuRoC-style "
-            "CSV (ASCII numbers)"
-        ) from None
+    return utf8_text(data, path, "a EuRoC-style CSV (ASCII numbers)", TraceError)
 
 
 def _read(path: Path, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
