@@ -484,12 +484,10 @@ def emulate(
                 None if chunk.baro_mbar is None else np.ascontiguousarray(chunk.baro_mbar[s]),
                 None if chunk.temp_c is None else np.ascontiguousarray(chunk.temp_c[s]),
             )
-            _run(emu, parts, sink, bus, window)
             # The emulator holds the output (in columns) until `take`: one take at the end gives the
             # Run without concatenating, unless the bus window watches the ticks or a sink streams
             # (then each piece's output is taken: what a sink receives is bounded by FEED_ROWS).
-            if bus is not None or sink is not None:
-                _take(emu, parts, sink, bus, window)
+            _run(emu, parts, sink, bus, window)
         if keep_truth and sink is None and chunk.truth_q is not None:
             if not truth:
                 truth_q0 = chunk.truth_q[0].copy()
@@ -538,8 +536,6 @@ def _replay(
         for s in _pieces(t, bus):
             emu.push_words(t[s], np.ascontiguousarray(words[s]))
             _run(emu, parts, sink, bus)
-            if bus is not None or sink is not None:
-                _take(emu, parts, sink, bus)
         if on_chunk is not None and len(t):
             on_chunk(float(t[-1]))
         if until_s is not None and len(t) < len(chunk):
@@ -567,8 +563,7 @@ def _finish(
 ) -> Run:
     """End the input, run the ticks it still covers and assemble the Run (with the bus window)."""
     emu.end()
-    _run(emu, parts, sink, bus, window)
-    _take(emu, parts, sink, bus, window)
+    _run(emu, parts, sink, bus, window, last=True)
     run = _assemble(prof, t0, parts, dict(emu.stage_cycles()))
     if bus is not None:
         run.bus = bus.finish()
@@ -581,30 +576,26 @@ def _run(
     sink: Callable[[dict[str, Any]], None] | None,
     bus: _BusWindow | None,
     window: _TruthWindow | None = None,
+    *,
+    last: bool = False,
 ) -> None:
     """Run the ticks the input pushed so far covers, a block at a time: a sink or the bus window
     takes each block's output as it comes, so what is held stays bounded whatever the input covers
-    (a long gap, a tiny timer period). Without them the Run keeps every row anyway."""
-    while emu.run_block() == "block_full":
-        if sink is not None or bus is not None:
-            _take(emu, parts, sink, bus, window)
-
-
-def _take(
-    emu: Any,
-    parts: list[dict[str, Any]],
-    sink: Callable[[dict[str, Any]], None] | None,
-    bus: _BusWindow | None,
-    window: _TruthWindow | None = None,
-) -> None:
-    """Take the output so far: the bus window sees it, then it is kept or handed to the sink (with
-    the truth at its steps when ``window`` holds the input's truth)."""
-    part = emu.take()
-    if bus is not None:
-        bus.after(part)
-    if window is not None and window.t is not None:
-        window.attach(part)
-    _collect(part, parts, sink)
+    (a long gap, a tiny timer period); without them the Run keeps every row anyway, taken once at
+    the ``last`` run. A take: the bus window sees the output, then it is kept or handed to the sink
+    (with the truth at its steps when ``window`` holds the input's truth)."""
+    streaming = sink is not None or bus is not None
+    while True:
+        full = emu.run_block() == "block_full"
+        if streaming or (last and not full):
+            part = emu.take()
+            if bus is not None:
+                bus.after(part)
+            if window is not None and window.t is not None:
+                window.attach(part)
+            _collect(part, parts, sink)
+        if not full:
+            return
 
 
 def _collect(

@@ -41,7 +41,7 @@ import numpy as np
 
 from sins_fw import _core, earth, quaternion, synth
 from sins_fw.errors import ConfigError
-from sins_fw.harness import emulate
+from sins_fw.harness import Run, emulate
 from sins_fw.profile import load_profile
 from sins_fw.traces import CheckedTrace
 
@@ -177,22 +177,40 @@ def _board_trace(rate: float, duration_s: float, yaw_deg: float, field: Sequence
     return CheckedTrace(trace)
 
 
-def _board_unit(
-    trace: CheckedTrace, rate: float, unit: int, yaw_deg: float, m_n: list[float], compensate: bool
-) -> tuple[float, float, float, int]:
+def _aided_and_plain(
+    trace: CheckedTrace,
+    unit: int,
+    ideal: bool,
+    keys: Sequence[str],
+    m_n: list[float],
+    compensate: bool,
+    calibration: Sequence[str] = (),
+) -> tuple[Run, Run]:
+    """The geomag board's runs on ``trace`` with sensor unit ``unit`` (its seed), with the
+    magnetometer aid and without it: the field ``m_n``, the group-delay compensation when
+    ``compensate``, the run's own profile ``keys`` and ``calibration``."""
     profile = load_profile(
         BOARD_PROFILE,
         [
             f"errors.seed={unit}",
-            "geomag.ideal_sensors=false",
-            f"firmware.initial_yaw_deg={float(yaw_deg)!r}",
+            f"geomag.ideal_sensors={'true' if ideal else 'false'}",
+            *keys,
             "geomag.field_enu_gauss=[{}]".format(", ".join(repr(float(x)) for x in m_n)),
             f"geomag.mag_cutoff_hz={MAG_CUTOFF_HZ if compensate else 0.0!r}",
             *([f"geomag.gyro_delay_s={GYRO_DELAY_S!r}"] if compensate else []),
+            *calibration,
         ],
     )
     aided = emulate(trace, profile)
     plain = emulate(trace, profile, overrides=["geomag.aid_kp=0", "geomag.aid_ki=0"])
+    return aided, plain
+
+
+def _board_unit(
+    trace: CheckedTrace, rate: float, unit: int, yaw_deg: float, m_n: list[float], compensate: bool
+) -> tuple[float, float, float, int]:
+    yaw_key = f"firmware.initial_yaw_deg={float(yaw_deg)!r}"
+    aided, plain = _aided_and_plain(trace, unit, False, [yaw_key], m_n, compensate)
     assert aided.truth_q is not None and plain.truth_q is not None
     end = float(roll_errors(plain.quat, plain.truth_q)[-1])
     t_end = float(plain.time_s[-1])
@@ -481,20 +499,8 @@ def arc_table(
         truth = None
         t = None
         for unit in range(seed, seed + runs):
-            profile = load_profile(
-                BOARD_PROFILE,
-                [
-                    f"errors.seed={unit}",
-                    f"geomag.ideal_sensors={'true' if ideal else 'false'}",
-                    *launch_keys,
-                    "geomag.field_enu_gauss=[{}]".format(", ".join(repr(float(x)) for x in m_n)),
-                    f"geomag.mag_cutoff_hz={MAG_CUTOFF_HZ if compensate else 0.0!r}",
-                    *([f"geomag.gyro_delay_s={GYRO_DELAY_S!r}"] if compensate else []),
-                    *(IDEAL_CALIBRATION if ideal else []),
-                ],
-            )
-            aided = emulate(trace, profile)
-            plain = emulate(trace, profile, overrides=["geomag.aid_kp=0", "geomag.aid_ki=0"])
+            calibration = IDEAL_CALIBRATION if ideal else []
+            aided, plain = _aided_and_plain(trace, unit, ideal, launch_keys, m_n, compensate, calibration)
             assert aided.truth_q is not None and plain.truth_q is not None
             if bound is None:
                 t, truth = aided.time_s, aided.truth_q

@@ -200,6 +200,18 @@ def _out_state(out: Path | None, existed: bool) -> str:
     return f"; {out} left as it was" if existed else f"; {out} not written"
 
 
+def _check_paths(args: argparse.Namespace, *outputs: tuple[str, Path | None]) -> None:
+    """Before any work: each output file given (option, path) a table file name in a folder that can
+    take it, --until-s, the trace there."""
+    for option, out in outputs:
+        if out is not None:
+            check_output_path(out)
+            check_output_folder(out, option)
+    check_until_s(args.until_s, "--until-s")
+    if not args.trace.is_file():
+        raise TraceError(f"{args.trace}: no such trace file")
+
+
 def run(args: argparse.Namespace) -> int:
     if gfsins.has_own_schema(args.profile):
         return _run_gfsins(args)
@@ -207,13 +219,7 @@ def run(args: argparse.Namespace) -> int:
         return _run_firmware(args)
     if args.globals is not None:
         raise InputError("--globals names the globals of a C firmware: give --firmware too")
-    for option, out in (("--out", args.out), ("--raw-out", args.raw_out)):
-        if out is not None:
-            check_output_path(out)
-            check_output_folder(out, option)
-    check_until_s(args.until_s, "--until-s")
-    if not args.trace.is_file():
-        raise TraceError(f"{args.trace}: no such trace file")
+    _check_paths(args, ("--out", args.out), ("--raw-out", args.raw_out))
     profile = profile_from_args(args)
     attitude_only = _attitude_only(args)
     if attitude_only:
@@ -344,12 +350,7 @@ def _run_firmware(args: argparse.Namespace) -> int:
         raise InputError(
             "--raw-out records the Rust model's burst reads; with --firmware it is not available"
         )
-    if args.out is not None:
-        check_output_path(args.out)
-        check_output_folder(args.out, "--out")
-    check_until_s(args.until_s, "--until-s")
-    if not args.trace.is_file():
-        raise TraceError(f"{args.trace}: no such trace file")
+    _check_paths(args, ("--out", args.out))
     if is_raw_register_trace(args.trace):
         raise TraceError(
             f"{args.trace}: a raw-register trace replays recorded words into the Rust model; a C firmware "
@@ -465,12 +466,7 @@ def _run_gfsins(args: argparse.Namespace) -> int:
                 f"{option} concerns the F28335 boards (its C firmware, its ADIS16407 burst words); the "
                 f"gyro-free board ({args.profile}) runs its own firmware models"
             )
-    if args.out is not None:
-        check_output_path(args.out)
-        check_output_folder(args.out, "--out")
-    check_until_s(args.until_s, "--until-s")
-    if not args.trace.is_file():
-        raise TraceError(f"{args.trace}: no such trace file")
+    _check_paths(args, ("--out", args.out))
     prof = gfsins.load(args.profile, args.overrides)
     if is_raw_register_trace(args.trace):
         raise TraceError(
