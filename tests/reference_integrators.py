@@ -49,3 +49,25 @@ def integrate_attitude(q0: np.ndarray, w_ib_b: np.ndarray, w_in_n: np.ndarray, h
 def quat_distance(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """‖a − ±b‖ with the sign that makes it smallest (q and −q are the same attitude)."""
     return np.minimum(np.linalg.norm(a - b, axis=-1), np.linalg.norm(a + b, axis=-1))
+
+
+def assert_simpson_velocity(
+    a: np.ndarray, v_n: np.ndarray, step: float, v0: np.ndarray | float = 0.0
+) -> np.ndarray:
+    """The acceleration ``a`` (rows ``step`` apart) integrated from ``v0`` by Simpson's rule over
+    pairs of steps, at that step and at twice it, meets the truth ``v_n`` at every other row within
+    twice Richardson's bound (Simpson: order 4, so |v_h − v_2h| / 15) plus 8 ulp of the velocity per
+    step. Returns the truth compared."""
+    n = (len(a) - 1) // 4 * 4
+    v_h = v0 + np.vstack(
+        [np.zeros(3), np.cumsum(step / 3 * (a[0:n:2] + 4 * a[1:n:2] + a[2 : n + 1 : 2]), axis=0)]
+    )
+    v_2h = v0 + np.vstack(
+        [np.zeros(3), np.cumsum(2 * step / 3 * (a[0:n:4] + 4 * a[2:n:4] + a[4 : n + 1 : 4]), axis=0)]
+    )
+    truth = v_n[: n + 1 : 2]
+    error = np.linalg.norm(v_h - truth, axis=1)
+    richardson = np.linalg.norm(v_h[::2] - v_2h, axis=1) / 15.0
+    rounding = 8 * EPS * np.abs(truth).max() * np.arange(1, len(truth) + 1)
+    assert (error[::2] <= 2 * richardson + rounding[::2]).all()
+    return truth

@@ -112,23 +112,6 @@ def test_until_s_is_checked_by_one_function_for_the_api_the_cli_and_a_run_output
     _same_run(emulate(trace, until_s=np.float64(0.2)), emulate(trace, until_s=0.2))
 
 
-@pytest.mark.parametrize(
-    ("kw", "fragment"),
-    [
-        ({"chunk_rows": 0}, "chunk_rows = 0: expected a whole number of rows >= 1"),
-        ({"chunk_rows": 2.5}, "chunk_rows = 2.5: expected a whole number"),
-        ({"sink": "out.h5"}, "sink = 'out.h5': expected a function or None"),
-        ({"on_chunk": 1}, "on_chunk = 1: expected a function or None"),
-    ],
-)
-def test_other_arguments_are_checked(trace, kw, fragment):
-    # Before: chunk_rows=0 raised ValueError (range() arg 3 must not be zero), 2.5 a TypeError; a sink
-    # that is not a function a TypeError at the first chunk.
-    with pytest.raises(InputError) as e:
-        emulate(trace, **kw)
-    assert fragment in str(e.value)
-
-
 # ---------------------------------------------------------------------------------------------------
 # PhysicalTrace's arrays: converted exactly, or refused naming the field and the shape expected
 # ---------------------------------------------------------------------------------------------------
@@ -316,6 +299,12 @@ def test_every_refusal_is_a_sins_error_never_a_raw_python_error(trace):
         ({"bus_window": (0, 3)}, "bus_window = (0, 3): expected"),
         ({"keep_truth": "no"}, "keep_truth = 'no': expected True or False"),
         ({"allow_gaps": 1}, "allow_gaps = 1: expected True or False"),
+        # Before: chunk_rows=0 raised ValueError (range() arg 3 must not be zero), 2.5 a TypeError; a
+        # sink that is not a function a TypeError at the first chunk.
+        ({"chunk_rows": 0}, "chunk_rows = 0: expected a whole number of rows >= 1"),
+        ({"chunk_rows": 2.5}, "chunk_rows = 2.5: expected a whole number"),
+        ({"sink": "out.h5"}, "sink = 'out.h5': expected a function or None"),
+        ({"on_chunk": 1}, "on_chunk = 1: expected a function or None"),
     ],
 )
 def test_emulate_names_a_bad_keyword(trace, kw, fragment):

@@ -245,6 +245,12 @@ def test_the_budget_splits_a_c_isr_by_its_functions(tmp_path: Path, cli):
     assert "updateQ" in text.out and "reference_process_burst" in text.out and "spi" in text.out
 
 
+def _event_ticks(events: list[dict], kind: str, message: str) -> list[int]:
+    """The ticks the events of ``kind`` name, in order: each message matches ``message``, whose group
+    is the tick."""
+    return sorted(int(re.match(message, e["message"]).group(1)) for e in events if e["kind"] == kind)
+
+
 def _scheduling(run_budget: dict, events: list[dict], until_ps: int) -> dict:
     """The scheduling figures of a run: its ticks, ISRs run, ticks skipped and flagged overrun (budget
     rows up to ``until_ps``), its `overrun` and `tick_lost` events there, and the mean ISR time."""
@@ -260,23 +266,11 @@ def _scheduling(run_budget: dict, events: list[dict], until_ps: int) -> dict:
         "run": int((~skipped).sum()),
         "skipped": [int(t) for t in b["tick"][skipped]],
         "late": [int(t) for t in b["tick"][overrun & ~skipped]],
-        "lost_events": sorted(
-            int(
-                re.match(
-                    r"tick (\d+): TINT0 arrived while the previous one was still pending: lost$", e["message"]
-                ).group(1)
-            )
-            for e in inside
-            if e["kind"] == "tick_lost"
+        "lost_events": _event_ticks(
+            inside, "tick_lost", r"tick (\d+): TINT0 arrived while the previous one was still pending: lost$"
         ),
-        "overrun_events": sorted(
-            int(
-                re.match(
-                    r"tick (\d+): the previous ISR ran [\d.]+ µs past this tick \(Queue\)$", e["message"]
-                ).group(1)
-            )
-            for e in inside
-            if e["kind"] == "overrun"
+        "overrun_events": _event_ticks(
+            inside, "overrun", r"tick (\d+): the previous ISR ran [\d.]+ µs past this tick \(Queue\)$"
         ),
         "kinds": {e["kind"] for e in inside if e["source"] == "emulator"},
         "busy_mean_ps": float(busy.mean()),

@@ -94,38 +94,14 @@ def test_debug_after_the_subcommand_shows_the_traceback(tmp_path):
 
 
 WARNING = "is deprecated, use"
+_SPIN_TABLE = ["--runs", "1", "--duration-s", "3", "--rates-dps", "100", "--json"]
 
 
 @pytest.mark.parametrize(
     ("old", "new"),
     [
         (["budget", "--seconds", "0.05", "--json"], ["budget", "--duration-s", "0.05", "--json"]),
-        (
-            [
-                "spin-table",
-                "--seed",
-                "3",
-                "--runs",
-                "1",
-                "--duration-s",
-                "3",
-                "--rates-dps",
-                "100",
-                "--json",
-            ],
-            [
-                "spin-table",
-                "--first-seed",
-                "3",
-                "--runs",
-                "1",
-                "--duration-s",
-                "3",
-                "--rates-dps",
-                "100",
-                "--json",
-            ],
-        ),
+        (["spin-table", "--seed", "3", *_SPIN_TABLE], ["spin-table", "--first-seed", "3", *_SPIN_TABLE]),
         (
             ["montecarlo", "static", "--param", "duration_s=0.5", "--runs", "1", "--workers", "1", "--json"],
             ["montecarlo", "static", "--param", "duration-s=0.5", "--runs", "1", "--workers", "1", "--json"],
