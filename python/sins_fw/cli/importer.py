@@ -48,22 +48,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=exit_epilog(None),
     )
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
-    b = kinds.add_parser(
+    b = _kind(
+        kinds,
         "broad",
-        help="a BROAD trial (.hdf5) → physical trace with truth and movement mask",
-        epilog=exit_epilog(None),
+        "a BROAD trial (.hdf5) → physical trace with truth and movement mask",
+        "BROAD trial, e.g. 01_undisturbed_slow_rotation_A.hdf5",
     )
-    b.add_argument("file", type=Path, help="BROAD trial, e.g. 01_undisturbed_slow_rotation_A.hdf5")
-    add_out_option(b, "output trace, .csv or .h5", required=True)
     add_json_option(b)
     b.set_defaults(func=run)
-    t = kinds.add_parser(
+    t = _kind(
+        kinds,
         "trace",
-        help="validate a physical or raw-register trace and write it as .csv or .h5",
-        epilog=exit_epilog(None),
+        "validate a physical or raw-register trace and write it as .csv or .h5",
+        "input trace, .csv or .h5",
     )
-    t.add_argument("file", type=Path, help="input trace, .csv or .h5")
-    add_out_option(t, "output trace, .csv or .h5", required=True)
     t.add_argument("--allow-gaps", action="store_true", help="accept time steps longer than the gap limit")
     t.add_argument(
         "--max-gap-periods",
@@ -75,6 +73,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_json_option(t)
     t.set_defaults(func=run)
     _register_logs(kinds)
+
+
+def _kind(
+    kinds: argparse._SubParsersAction,
+    name: str,
+    help_text: str,
+    file_help: str,
+    description: str | None = None,
+) -> argparse.ArgumentParser:
+    """`sins-fw import NAME FILE --out TRACE`: the parser of one kind of input, with its FILE and --out."""
+    k = kinds.add_parser(name, help=help_text, description=description, epilog=exit_epilog(None))
+    k.add_argument("file", type=Path, help=file_help)
+    add_out_option(k, "output trace, .csv or .h5", required=True)
+    return k
 
 
 _LOGS = {  # the kinds of sins_fw.importers.IMPORTERS
@@ -97,14 +109,7 @@ _LOGS = {  # the kinds of sins_fw.importers.IMPORTERS
 
 def _register_logs(kinds: argparse._SubParsersAction) -> None:
     for kind, (help_text, file_help) in _LOGS.items():
-        k = kinds.add_parser(
-            kind,
-            help=help_text,
-            description=help_text + " (docs/traces.md, 'Importing logs')",
-            epilog=exit_epilog(None),
-        )
-        k.add_argument("file", type=Path, help=file_help)
-        add_out_option(k, "output trace, .csv or .h5", required=True)
+        k = _kind(kinds, kind, help_text, file_help, help_text + " (docs/traces.md, 'Importing logs')")
         if kind == "euroc":
             k.add_argument(
                 "--truth",
