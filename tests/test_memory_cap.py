@@ -132,14 +132,19 @@ def test_a_replay_below_its_floor_ends_cleanly_whichever_allocation_fails(cap_mi
 
 #: A command (``sins-fw run X --out OUT``) that starts writing its output and then, instead of
 #: finishing, does what the test's argument says: ``abort`` (what Rust does when an allocation
-#: fails) or ``wait`` (to be signalled).
+#: fails), ``wait`` (to be signalled) or ``interrupted`` (a Ctrl-C that comes after the temporary file
+#: is made and before the code that would remove it runs: the command exits 130 with it left).
 _WRITING_COMMAND = """\
 import os, sys, time
+from pathlib import Path
 from sins_fw import launch
-from sins_fw.atomic import atomic_path
+from sins_fw.atomic import atomic_path, temporary_file
 from sins_fw.cli import run as cmd
 how = sys.argv.pop()
 def writing(args):
+    if how == "interrupted":
+        temporary_file(Path(args.out), Path(args.out).parent)
+        raise KeyboardInterrupt
     with atomic_path(args.out) as tmp:
         tmp.write_bytes(b"half of it")
         if how == "abort":
@@ -207,6 +212,18 @@ def test_a_signal_sent_to_the_supervisor_reaches_the_command(sig, tmp_path):
     finally:
         proc.kill()
     assert proc.returncode == 128 + sig, err
+    assert "Traceback" not in err, err
+    assert out.read_bytes() == b"the previous output"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "t.csv"]
+
+
+def test_a_temporary_file_left_by_a_command_that_exited_is_removed(tmp_path):
+    """A signal the command handles can still come between the creation of its temporary file and
+    the code that removes it (a window a loaded machine widens): the command then exits 130 with the
+    file left, and the supervisor removes what the ledger still lists, whatever the exit."""
+    proc, out = _writing(tmp_path, "interrupted")
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode == 130, err
     assert "Traceback" not in err, err
     assert out.read_bytes() == b"the previous output"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "t.csv"]

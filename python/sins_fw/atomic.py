@@ -69,13 +69,13 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     folder = dest.parent if str(dest.parent) else Path(".")
     if folder.exists() and not folder.is_dir():
         raise NotADirectoryError(errno.ENOTDIR, f"{folder} is not a folder", str(dest))
+    existed = dest.exists()
     try:
         folder.mkdir(parents=True, exist_ok=True)
         tmp = str(temporary_file(dest, folder))
     except OSError as e:
         # Name the file the user asked for, not the temporary one.
         raise OSError(e.errno, e.strerror, str(dest)) from None
-    existed = dest.exists()
     try:
         yield Path(tmp)
         # mkstemp creates the file private (0600); give it the permissions a plain open() would.

@@ -144,10 +144,13 @@ def _supervise(argv: list[str]) -> None:
                 break
         elif info.si_code <= 0:  # sent by a process (SI_USER, SI_QUEUE, SI_TKILL), not the terminal
             os.kill(pid, info.si_signo)
+    # Whatever the command left in the ledger is an orphan now, however it ended: a signal it could
+    # not handle, or one it handled but that came between the temporary file's creation and the
+    # code that would have removed it (sins_fw.atomic.atomic_path).
+    _remove_temporaries(_read_all(ledger))
     if os.WIFEXITED(status):
         _exit_now(os.WEXITSTATUS(status))
     signum = os.WTERMSIG(status)
-    _remove_temporaries(_read_all(ledger))
     if signum in _ALLOCATION_FAILURE_SIGNALS:
         command = next((a for a in argv if not a.startswith("-")), None)
         what = f"`sins-fw {command}`" if command else "sins-fw"
