@@ -77,7 +77,7 @@ fn readings_reach_the_dsp() {
     for i in 0..6 {
         let k = i as f64 + 1.0;
         let f = [0.01 * k, -0.02 * k, 0.9 + 0.01 * k];
-        assert_eq!(last.packet.accel[i], count(f[node::AXES[i]]), "A{}", i + 1);
+        assert_eq!(last.packet.accel[i], count(f[crate::firmware::gfnav::array::SENSING_AXIS[i]]), "A{}", i + 1);
     }
     assert_eq!(&last.packet.accel[6..], &[count(0.07), count(-0.14), count(0.97)]);
     assert_eq!(last.packet.compass, [300, 15, -20]);
