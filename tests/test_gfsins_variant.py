@@ -59,6 +59,16 @@ def test_the_variant_is_the_profile_and_nothing_else() -> None:
     assert shipped == {"lever_arm_m": 0.1, "array_positions": tuple(float(x) for x in gfsins_layout())}
 
 
+def test_synth_refuses_an_array_of_other_than_seven_places() -> None:
+    from sins_fw import synth
+    from sins_fw.errors import ConfigError
+
+    with pytest.raises(ConfigError, match="array_positions has 20 values; expected 21"):
+        synth.generate("vehicle", duration_s=1.0, array_positions=(0.0,) * 20)
+    r = run_cli("synth", "vehicle", "--duration-s", "1", "--array-positions", "0,1,0", "--out", "x.h5")
+    assert r.code == 2 and "expected 21" in r.err and "Traceback" not in r.err, r.err
+
+
 def gfsins_layout() -> np.ndarray:
     from sins_fw import synth
 
