@@ -4,9 +4,9 @@ processors' budget per rate class and the events.
 
 The compass's truth comes from the trace: heading (clockwise from north), pitch (nose up) and roll
 (right side down) of the body's x (forward) axis from ``truth_q`` (C_b^n, ENU; the synth flight
-kinematics' x forward, y left, z up), its specific force from the centre part (``array7_*``), its
-field from ``mag_*``. The GPS rows are held from fix to fix (the receiver samples the truth at its
-own epochs)."""
+kinematics' x forward, y left, z up), its specific force at the body's reference point
+(``accel_g``), its field from ``mag_*``. The GPS rows are held from fix to fix (the receiver samples
+the truth at its own epochs)."""
 
 from __future__ import annotations
 

@@ -17,7 +17,8 @@
 //!
 //! Each 5 ms timer interrupt (`tick`):
 //! 1. enters the handler (`isr_entry_cycles`);
-//! 2. loads and starts SPI #1–#7, one after the other (SSR, 7 TX FIFO writes, CR: 9 accesses each):
+//! 2. loads and starts SPI #1–#7, one after the other in the order of `array.parts` (each part on
+//!    the core its `link` names; SSR, 7 TX FIFO writes, CR: 9 accesses each):
 //!    each core reads DATAX0…DATAZ1 of its part (0xF2 + 6 dummy bytes) under its own SS, the seven
 //!    shifting at the same time ([unconfirmed]: one core per part is what makes parallel reads
 //!    possible, the thesis does not say the firmware uses it);
