@@ -55,7 +55,7 @@ def test_the_streamed_replay_records_what_the_whole_run_records(tmp_path):
     rid = recording.recording_id(prof.text, "", trace.name, bytes.fromhex(file_sha256(trace)), repr(window))
     bp = view.blueprint(bus=True)
     with recording.recording_file(tmp_path / "w.rrd", recording_id=rid, blueprint=bp, name=trace.name) as rec:
-        logged = view.record(rec, whole, truth, window)
+        logged = view.record(rec, whole, truth, window, int(prof.get("compass.address")))
     assert report["cycles"] == len(whole["sequence"]) and report["bus_transactions"] == logged > 0
     streamed, reference = _content(out), _content(tmp_path / "w.rrd")
     assert sorted(streamed) == sorted(reference)

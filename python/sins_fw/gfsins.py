@@ -4,9 +4,9 @@ processors' budget per rate class and the events.
 
 The compass's truth comes from the trace: heading (clockwise from north), pitch (nose up) and roll
 (right side down) of the body's x (forward) axis from ``truth_q`` (C_b^n, ENU; the synth flight
-kinematics' x forward, y left, z up), its specific force from the centre part (``array7_*``), its
-field from ``mag_*``. The GPS rows are held from fix to fix (the receiver samples the truth at its
-own epochs)."""
+kinematics' x forward, y left, z up), its specific force at the body's reference point
+(``accel_g``), its field from ``mag_*``. The GPS rows are held from fix to fix (the receiver samples
+the truth at its own epochs)."""
 
 from __future__ import annotations
 
@@ -67,6 +67,17 @@ def load(
     return GfsinsProfile(str(path), text, checked, tomllib.loads(resolved))
 
 
+def vehicle_array(profile: GfsinsProfile) -> dict[str, Any]:
+    """The ``synth vehicle`` keys that place the trace's array where ``profile`` places its parts
+    (``array.lever_arm_m``, the ``array.parts`` positions in order): the trace's ``array1_*`` …
+    ``array7_*`` forces are then those the profile's parts feel."""
+    parts = profile.get("array.parts")
+    return {
+        "lever_arm_m": float(profile.get("array.lever_arm_m")),
+        "array_positions": tuple(float(x) for part in parts for x in part["position"]),
+    }
+
+
 def ticks_in(trace: PhysicalTrace, profile: GfsinsProfile) -> int:
     """The node's timer ticks that fall within the trace (the first at ``node.start_ms``)."""
     end = float(trace.t_s[-1] - trace.t_s[0])
@@ -74,7 +85,8 @@ def ticks_in(trace: PhysicalTrace, profile: GfsinsProfile) -> int:
 
 
 def compass_truth(trace: PhysicalTrace) -> np.ndarray:
-    """(n, 9): heading, pitch, roll (°), specific force (g), field (gauss) at the compass."""
+    """(n, 9): heading, pitch, roll (°), specific force (g), field (gauss) at the compass (at the
+    body's reference point, where the thesis's layout has its centre part: ``accel_g``)."""
     if trace.truth_q is None or trace.array_g is None:
         raise TraceError("gfsins: the trace needs truth_q and the array columns (sins-fw synth vehicle)")
     w, x, y, z = trace.truth_q.T
@@ -85,7 +97,7 @@ def compass_truth(trace: PhysicalTrace) -> np.ndarray:
     pitch = np.degrees(np.arctan2(xu, np.hypot(yu, zu)))
     roll = np.degrees(np.arctan2(yu, zu))
     mag = trace.mag_gauss if trace.mag_gauss is not None else np.zeros((len(trace), 3))
-    return np.column_stack([heading, pitch, roll, trace.array_g[:, 18:21], mag])
+    return np.column_stack([heading, pitch, roll, trace.accel_g, mag])
 
 
 def held_gps(trace: PhysicalTrace) -> np.ndarray:

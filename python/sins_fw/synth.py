@@ -694,11 +694,14 @@ def turn_motion(
     return _plan_motion(plan, latitude_deg, height_m, rate_hz, rows)
 
 
-#: The gyro-free array's outer parts' positions in units of the lever arm l (algorithms.md §4:
-#: u₁…u₆, body axes); the seventh part is at the centre.
+#: The gyro-free array's parts' positions in units of the lever arm l (algorithms.md §4: u₁…u₆,
+#: body axes; the seventh part at the centre): gfsins.toml's ``array.parts`` positions, in order
+#: (``--array-positions`` places them elsewhere, as a variant profile does).
 ARRAY_POSITIONS = np.array(
     [[0, 1, 0], [0, 0, 1], [1, 0, 0], [0, 0, -1], [-1, 0, 0], [0, -1, 0], [0, 0, 0]], float
 )
+#: The array's parts (``array1_*`` … ``array7_*``).
+ARRAY_PARTS = 7
 #: The thesis's chapter-5 scenario (algorithms.md §4 corrections): 80 km/h, heading 30°, its place.
 VEHICLE_SPEED_MPS = 80.0 / 3.6
 VEHICLE_LATITUDE_DEG = 28.20021
@@ -713,6 +716,7 @@ def vehicle_motion(
     turn_rate_dps: float = 0.0,
     duration_s: float = 60.0,
     lever_arm_m: float = 0.1,
+    array_positions: Sequence[float] = tuple(ARRAY_POSITIONS.ravel()),
     latitude_deg: float = VEHICLE_LATITUDE_DEG,
     height_m: float = VEHICLE_HEIGHT_M,
     rate_hz: str = "1000",
@@ -721,13 +725,21 @@ def vehicle_motion(
     """The gyro-free vehicle board's scenario (issue 25; the thesis's chapter 5 by default): a level
     vehicle at constant speed on a straight line (``turn_rate_dps`` = 0) or a coordinated turn, with
     the specific force at each of the seven ADXL345 of the array at lever arm l: f_p = f_c + ω̇×r_p +
-    ω×(ω×r_p) (rigid body, ω = ω_ib^b, r_p = l u_p in body axes, gravity uniform over the array).
+    ω×(ω×r_p) (rigid body, ω = ω_ib^b, r_p = l u_p in body axes, u_p the seven ``array_positions``
+    in units of l, x y z each: a gyro-free profile's ``array.parts`` positions in order, as
+    :func:`sins_fw.gfsins.vehicle_array` gives them; gravity uniform over the array).
     ω is exact; ω̇ is its second-order central difference on the sample grid, exact to O(h² ω⃛/6):
     in a turn ω_ib^b turns with the body against the earth rate (|ω̇| ≈ |ω_nb × ω_in| ≈ 1.3e-5 rad/s²
     at 10 °/s, ω⃛ ≈ 4e-7 rad/s³), so at 1 kHz the difference is off by ≈ 1e-13 rad/s², 2e-15 g at
     l = 0.2 m: a few units in the last place of f."""
     if speed_mps <= 0 or duration_s <= 0 or not 0.0 < lever_arm_m <= 1.0:
         raise ConfigError("vehicle: speed and duration must be positive, the lever arm 0 < l ≤ 1 m")
+    positions = np.asarray(array_positions, dtype=np.float64)
+    if positions.shape != (3 * ARRAY_PARTS,) or not np.all(np.abs(positions) <= 10.0):
+        raise ConfigError(
+            f"vehicle: array_positions has {positions.size} values; expected {3 * ARRAY_PARTS} "
+            "(x, y, z of each part in turn, in units of the lever arm, each within ±10)"
+        )
     plan = _FlightPlan(
         speed=MotionProfile.build(0.0, speed_mps, []),
         gamma=MotionProfile.build(0.0, 0.0, []),
@@ -744,7 +756,7 @@ def vehicle_motion(
     dw = np.gradient(w, m.t_s, axis=0, edge_order=2) if len(m.t_s) > 2 else np.zeros_like(w)
     f_c = m.specific_force()
     forces = []
-    for u in ARRAY_POSITIONS:
+    for u in positions.reshape(ARRAY_PARTS, 3):
         r = np.broadcast_to(lever_arm_m * u, w.shape)
         forces.append(f_c + np.cross(dw, r) + np.cross(w, np.cross(w, r)))
     m.array_g = np.concatenate(forces, axis=1) / earth.G0
@@ -1411,6 +1423,13 @@ SCENARIOS: dict[str, Scenario] = {
                 Param("turn_rate_dps", "float", 0.0, "turn rate, °/s (0: straight line)"),
                 Param("duration_s", "float", 60.0, "duration, s"),
                 Param("lever_arm_m", "float", 0.1, "array lever arm l, m (gfsins.toml array.lever_arm_m)"),
+                Param(
+                    "array_positions",
+                    "floats",
+                    tuple(float(x) for x in ARRAY_POSITIONS.ravel()),
+                    "the 7 parts' places x,y,z in turn, in lever arms (gfsins.toml array.parts positions)",
+                    True,
+                ),
                 Param("latitude_deg", "float", VEHICLE_LATITUDE_DEG, "geodetic latitude, degrees"),
                 Param("height_m", "float", VEHICLE_HEIGHT_M, "height above the ellipsoid, m"),
                 Param("rate_hz", "rate", "1000", "sample rate, Hz (exact decimal)"),

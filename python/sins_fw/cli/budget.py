@@ -242,7 +242,7 @@ def _gfsins(args: argparse.Namespace) -> int:
         "vehicle",
         rows=gfsins.CHUNK_ROWS,
         duration_s=prof.start_s + seconds,
-        lever_arm_m=float(prof.get("array.lever_arm_m")),
+        **gfsins.vehicle_array(prof),
     )
     stream = gfsins.Stream(prof)
     kinds: dict[str, int] = {}

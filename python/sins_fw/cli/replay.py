@@ -403,7 +403,8 @@ def _replay_gfsins(args: argparse.Namespace, window: tuple[int, int] | None, pro
         served = _served(args, keep)
         logged = 0
         with _recording_streams(args, served, rid, bp, problem is None) as streams:
-            recorders = [view.Recorder(r, window) for r in streams]
+            address = int(prof.get("compass.address"))
+            recorders = [view.Recorder(r, window, address) for r in streams]
             try:
                 for part in stream.parts(chunks):
                     check_stop()

@@ -66,10 +66,11 @@ def blueprint(*, bus: bool) -> rrb.Blueprint:
 
 
 def bus_lanes(
-    out: dict[str, Any], window: tuple[int, int]
+    out: dict[str, Any], window: tuple[int, int], compass_address: int
 ) -> dict[str, tuple[NDArray[np.uint64], list[str]]]:
     """Each link's state changes in the ticks ``window`` (first, last; 1 is the first tick), as
-    (times in ps, states): what the link carries from each change to the next, ``idle`` between."""
+    (times in ps, states): what the link carries from each change to the next, ``idle`` between;
+    an I²C transaction names the address it was sent to (the profile's ``compass.address``)."""
     first, last = window
     rows = np.arange(first - 1, min(last, len(out["sequence"])))
     lanes: dict[str, tuple[list[int], list[str]]] = {link: ([], []) for link in paths.GFSINS_LINKS}
@@ -94,7 +95,8 @@ def bus_lanes(
         span(
             "iic1",
             *out["iic_s"][r],
-            "write 0x50 (post heading)" if phase == 0 else "read 6 bytes (heading, pitch, roll)",
+            f"0x{compass_address:02X} "
+            + ("write 0x50 (post heading)" if phase == 0 else "read 6 bytes (heading, pitch, roll)"),
         )
         n = int(out["nmea_bytes"][r, 0])
         span(
@@ -116,9 +118,10 @@ class Recorder:
     memory holds a block whatever the run's length. The ticks are numbered across blocks (1 is
     the first)."""
 
-    def __init__(self, rec: rr.RecordingStream, window: tuple[int, int] | None) -> None:
+    def __init__(self, rec: rr.RecordingStream, window: tuple[int, int] | None, compass_address: int) -> None:
         self.rec = rec
         self.window = window
+        self.compass_address = compass_address
         self.ticks = 0
         self.events = 0
         #: Bus transactions logged so far.
@@ -173,7 +176,9 @@ class Recorder:
             # The window's ticks in this block, numbered within it.
             lo, hi = max(self.window[0], first + 1), min(self.window[1], first + n)
             if lo <= hi:
-                for link, (lt, states) in bus_lanes(out, (lo - first, hi - first)).items():
+                for link, (lt, states) in bus_lanes(
+                    out, (lo - first, hi - first), self.compass_address
+                ).items():
                     if len(lt):
                         tick = first + np.clip(np.searchsorted(t, lt, side="right"), 1, n)
                         _send(
@@ -196,9 +201,11 @@ def record(
     out: dict[str, Any],
     truth_tilt_deg: NDArray[Any],
     window: tuple[int, int] | None,
+    compass_address: int,
 ) -> int:
     """Log a whole run of the board (``sins_fw.gfsins.run``'s output; the trace's tilt at each
-    tick) into ``rec``; returns the number of bus transactions logged."""
-    recorder = Recorder(rec, window)
+    tick; the profile's ``compass.address``) into ``rec``; returns the number of bus transactions
+    logged."""
+    recorder = Recorder(rec, window, compass_address)
     recorder.add(out, truth_tilt_deg)
     return recorder.finish()

@@ -359,16 +359,21 @@ pub fn gfsins_board<'py>(
         ])
     };
     let mut links = Vec::new();
-    for i in 0..7 {
-        let part = if i < 6 { format!("ADXL345 #{} (outer)", i + 1) } else { "ADXL345 #7 (centre)".into() };
+    // The cores in order, each with the part `array.parts` puts on it.
+    let cores = p.array.cores();
+    for core in 0..gfsins::profile::ARRAY_LINKS.len() {
+        let Some(i) = cores.iter().position(|&c| c == core) else { continue };
+        let part = &p.array.parts[i];
+        let [x, y, z] = part.position;
+        let part = format!("ADXL345 #{} at ({x}, {y}, {z})·l, channels {}", i + 1, part.channels.join(" "));
         let read = (0.5 * n.ss_setup_half_periods as f64 + 56.0) * adxl_sck as f64 * 1e-12;
         links.push(link(
-            &format!("spi{}", i + 1),
+            gfsins::profile::ARRAY_LINKS[core],
             "spi",
             hz(adxl_sck),
             format!(
                 "node SPI #{} → {part}, mode {}, 7-byte read (PLB / {})",
-                i + 1,
+                core + 1,
                 adxl345::spi::MODE,
                 n.adxl_sck_ratio
             ),
@@ -379,7 +384,7 @@ pub fn gfsins_board<'py>(
         "iic1",
         "i2c",
         hz(scl_ps),
-        format!("node IIC #1 → HMC6343 at 0x{:02X}", sins_core::device::hmc6343::ADDRESS),
+        format!("node IIC #1 → HMC6343 at 0x{:02X}", p.compass.address()),
         ps_to_s(9 * 7 * scl_ps),
     )?);
     links.push(link(
@@ -413,8 +418,8 @@ pub fn gfsins_board<'py>(
                 ("part", s("HMC6343")?),
                 ("links", s("iic1")?),
                 ("settings", s(&format!(
-                    "10 Hz (OP mode 2 in EEPROM), {} command set, errors {}",
-                    p.compass.revision, p.compass.errors
+                    "address 0x{:02X}, 10 Hz (OP mode 2 in EEPROM), {} command set, errors {}",
+                    p.compass.address(), p.compass.revision, p.compass.errors
                 ))?),
             ])?,
             item(&[

@@ -21,5 +21,5 @@ pub mod compass;
 pub mod federated;
 pub mod rate;
 
-pub use array::{invert, readings, ArrayMotion};
+pub use array::{invert, readings, ArrayMotion, Channel, GeometryError, Inverse};
 pub use rate::{singular_event, Bridge, RateConfig, RateOutput, RateRecovery, ZNumerator};

@@ -32,7 +32,8 @@
 //!   (TI RTS atan2/sqrt against Rust's) is not modelled.
 //!
 //! Besides the navigation the handler outputs the packet's values in physical units and a tilt
-//! (pitch, roll) from the centre accelerometer (A₇, A₈, A₉) by the reference design's level
+//! (pitch, roll) from the specific force at the array's origin (the centre accelerometer's A₇, A₈,
+//! A₉ in the thesis's layout) by the reference design's level
 //! formula, θ = atan2(−f_x, √(f_y² + f_z²)), φ = atan2(f_y, f_z) — the attitude only when the
 //! vehicle does not accelerate (priced with the decode).
 
@@ -66,7 +67,8 @@ pub struct DspOutput {
     pub compass_deg: [f64; 3],
     /// GPS latitude, longitude (°), altitude (m), speed (m/s), course (°), UTC (s of the day).
     pub gps: [f64; 6],
-    /// Pitch and roll from the centre accelerometer, rad.
+    /// Pitch and roll from the specific force at the array's origin (the centre accelerometer in
+    /// the thesis's layout), rad.
     pub tilt: [f64; 2],
     /// The navigation after this packet (NaN until it starts).
     pub nav: NavOutput,
@@ -153,7 +155,7 @@ impl Dsp {
         let lsb_g = adxl345::resolution(profile.array.data_format).1;
         let cfg = NavConfig {
             dt: period as f64 * 1e-12,
-            lever_arm_m: profile.array.lever_arm_m,
+            array: profile.array.inverse(),
             lsb_g,
             min_denominator: profile.dsp.min_denominator,
             gps_age_s: profile.dsp.gps_age_ms * 1e-3,
@@ -181,11 +183,12 @@ impl Dsp {
         let d = nav::decode::<C67xF32>(packet, lsb);
         let key = u32::from(packet.flags & (frame::NEW_COMPASS | frame::NEW_GPS | frame::GPS_VALID));
         let fixed = self.cfg.isr_entry_cycles + self.cfg.crc_cycles_per_word * frame::WORDS as u64;
+        let array = self.nav.array();
         stages[0].1 = fixed
             + cost(&mut self.costs, &self.cfg, Stage::Decode, key, || {
                 count(|| {
                     let d = nav::decode::<Counted>(packet, lsb);
-                    tilt([d.accel[6], d.accel[7], d.accel[8]])
+                    tilt(array.accel(&d.accel))
                 })
                 .1
             });
@@ -279,7 +282,7 @@ impl Dsp {
             f64::from(g.course_cdeg) / 100.0,
             f64::from(g.utc_ms) / 1000.0,
         ];
-        let tilt = tilt([accel_g[6], accel_g[7], accel_g[8]]);
+        let tilt = tilt(self.nav.array().accel(&accel_g));
         let flushes_before = c67x::flushes();
         let mut cycles = [("decode", 0), ("strapdown", 0), ("compass filter", 0), ("GPS filter", 0), ("fusion", 0)];
         let nav = self.navigate(&packet, t_irq, &mut cycles);

@@ -28,7 +28,8 @@ use std::sync::Arc;
 /// What the vehicle's parts feel at one time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Truth {
-    /// Specific force at each ADXL345 (0–5 outer, 6 centre), g, part axes (= body axes).
+    /// Specific force at each ADXL345 (`array.parts` in order: in the thesis's layout 0–5 outer, 6
+    /// centre), g, part axes (= body axes).
     pub array_g: [[f64; 3]; 7],
     /// What the compass sees.
     pub compass: hmc6343::Truth,

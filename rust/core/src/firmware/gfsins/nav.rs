@@ -3,8 +3,8 @@
 //! Per packet (200 Hz), stage by stage (each a generic function, so the timing model counts the
 //! very code that runs; [`Nav::step`] runs them):
 //! - **decode**: the nine counts to m/s² (`INTSP` + `MPYSP`), the compass and GPS words when new;
-//! - **strapdown**: the array's exact inversion ([`gfnav::invert`]), the rate recovery
-//!   ([`gfnav::RateRecovery`], singular steps bridged), the attitude quaternion's RK4 step
+//! - **strapdown**: the array's exact inversion ([`Inverse`], built from the profile's layout: for
+//!   the thesis's, eq. 2.11–2.13), the rate recovery ([`RateRecovery`], singular steps bridged), the attitude quaternion's RK4 step
 //!   ([`Rk4`], rates ω_nb^b = ω_ib^b − C_n^b ω_in^n at the step's start, middle and end), velocity
 //!   and position (explicit Euler, [`EarthModel`]'s gravity and earth rates);
 //! - **compass filter** (10 Hz, on `NEW_COMPASS`): sub-filter 1 (18 states) predicted over the time
@@ -19,7 +19,8 @@
 //!
 //! Choices ([unconfirmed]: the thesis publishes no DSP code):
 //! - Start: at the first packet that has both a compass reading and a valid GPS fix. Attitude from
-//!   the centre part's tilt (pitch atan2(f_x, √(f_y² + f_z²)), roll atan2(f_y, f_z)) and the
+//!   the tilt of the specific force at the array's origin (pitch atan2(f_x, √(f_y² + f_z²)), roll
+//!   atan2(f_y, f_z); the centre part's A₇…A₉ in the thesis's layout) and the
 //!   compass heading; velocity from the fix's speed and course (no vertical speed in NMEA: 0);
 //!   position at the fix moved forward by v·`gps_age_ms` (the fix is that old); the recovered rate
 //!   starts at the earth and transport rate in body axes.
@@ -38,7 +39,7 @@
 use super::frame::{self, Packet};
 use crate::firmware::euler::euler_to_quat;
 use crate::firmware::gfnav::federated::{self, Kf, Linearisation, Scenario, N_COMPASS, N_GPS};
-use crate::firmware::gfnav::{self, Bridge, RateConfig, RateOutput, RateRecovery, ZNumerator};
+use crate::firmware::gfnav::{Bridge, Inverse, RateConfig, RateOutput, RateRecovery, ZNumerator};
 use crate::firmware::{body_rate_nav, dcm, lit, EarthModel, Mat3, NavState, Quat, Rk4, Vec3};
 use crate::numerics::{QClass, Scalar};
 use crate::profile::{Navigation, QuatDerivative};
@@ -51,8 +52,9 @@ pub const G0: f64 = 9.806_65;
 pub struct NavConfig {
     /// The packet period, s.
     pub dt: f64,
-    /// The array's lever arm l, m.
-    pub lever_arm_m: f64,
+    /// The array's inversion, built from the places and channels of the parts
+    /// (`array.parts`, `array.lever_arm_m`: the node reads the parts the same profile places).
+    pub array: Inverse,
     /// One count, g.
     pub lsb_g: f64,
     /// Rate recovery's singular threshold |D|, rad²/s².
@@ -101,7 +103,7 @@ struct Origin {
 pub struct Ins<T> {
     earth: EarthModel<T>,
     rk4: Rk4<T>,
-    lever_arm_m: f64,
+    array: Inverse,
     lat0: T,
     h0: T,
     /// 1/(R_M + h₀), 1/((R_N + h₀) cos lat₀), rad per metre.
@@ -180,7 +182,7 @@ impl<T: Scalar> Ins<T> {
         Ins {
             earth: EarthModel::new(&Navigation::default()),
             rk4: Rk4::new(self.rk4.step().to_f64(), QuatDerivative::Correct),
-            lever_arm_m: self.lever_arm_m,
+            array: self.array,
             lat0: c(self.lat0),
             h0: c(self.h0),
             per_m: self.per_m.map(c),
@@ -206,7 +208,7 @@ impl<T: Scalar> Ins<T> {
 
     /// One step: inversion, rate recovery, attitude, velocity and position.
     pub fn step(&mut self, a: &[T; 9]) -> RateOutput<T> {
-        let m = gfnav::invert(a, self.lever_arm_m);
+        let m = self.array.apply(a);
         let out = match self.rate.as_mut() {
             Some(r) => r.step(&m),
             None => {
@@ -258,7 +260,7 @@ impl<T: Scalar> Nav<T> {
             ins: Ins {
                 earth: EarthModel::new(&Navigation::default()),
                 rk4: Rk4::new(cfg.dt, QuatDerivative::Correct),
-                lever_arm_m: cfg.lever_arm_m,
+                array: cfg.array,
                 lat0: zero,
                 h0: zero,
                 per_m: [zero; 2],
@@ -301,6 +303,11 @@ impl<T: Scalar> Nav<T> {
         }
     }
 
+    /// The array's inversion (`array.parts`).
+    pub fn array(&self) -> &Inverse {
+        &self.cfg.array
+    }
+
     /// Whether the navigation has started.
     pub fn started(&self) -> bool {
         self.ins.rate.is_some()
@@ -337,7 +344,7 @@ impl<T: Scalar> Nav<T> {
         ins.per_m = [one / r.rn_h, one / (r.re_h * r.cos_lat)];
         let tenth_deg: T = lit(0.1f64.to_radians());
         let heading = tenth_deg.mul_i32(i32::from(p.compass[0]));
-        let [fx, fy, fz] = [d.accel[6], d.accel[7], d.accel[8]];
+        let [fx, fy, fz] = self.cfg.array.accel(&d.accel);
         let pitch = fx.atan2((fy * fy + fz * fz).sqrt());
         let roll = fy.atan2(fz);
         ins.q = euler_quat(heading, pitch, roll);

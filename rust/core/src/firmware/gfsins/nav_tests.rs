@@ -123,7 +123,7 @@ fn dsp_navigation_is_the_gfnav_modules_offline() {
     let lsb = crate::device::adxl345::resolution(p.array.data_format).1;
     let cfg = NavConfig {
         dt: 0.005,
-        lever_arm_m: p.array.lever_arm_m,
+        array: p.array.inverse(),
         lsb_g: lsb,
         min_denominator: p.dsp.min_denominator,
         gps_age_s: p.dsp.gps_age_ms * 1e-3,

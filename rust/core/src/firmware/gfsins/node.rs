@@ -17,7 +17,8 @@
 //!
 //! Each 5 ms timer interrupt (`tick`):
 //! 1. enters the handler (`isr_entry_cycles`);
-//! 2. loads and starts SPI #1–#7, one after the other (SSR, 7 TX FIFO writes, CR: 9 accesses each):
+//! 2. loads and starts SPI #1–#7, one after the other in the order of `array.parts` (each part on
+//!    the core its `link` names; SSR, 7 TX FIFO writes, CR: 9 accesses each):
 //!    each core reads DATAX0…DATAZ1 of its part (0xF2 + 6 dummy bytes) under its own SS, the seven
 //!    shifting at the same time ([unconfirmed]: one core per part is what makes parallel reads
 //!    possible, the thesis does not say the firmware uses it);
@@ -29,7 +30,7 @@
 //! 5. takes the NMEA bytes DMA1 has put in memory since the last tick, checks and parses each
 //!    complete sentence (GGA gives position and altitude, RMC speed and course; a fix is new when
 //!    the RMC of the GGA's second arrives);
-//! 6. pre-processes (selects each outer part's sensing axis, §4's A₁…A₉) and builds the packet
+//! 6. pre-processes (selects each part's channels in turn, §4's A₁…A₉: `array.parts`) and builds the packet
 //!    (frame.rs), then starts DMA2 (3 accesses), which feeds SPI #8; DMA2's completion interrupt
 //!    costs one more handler entry and 2 accesses.
 
@@ -48,11 +49,6 @@ use crate::profile::I2cBus;
 use crate::time::{Clock, Ps};
 use std::sync::{Arc, Mutex};
 
-/// Positions of the six outer parts in units of l (algorithms.md §4: u₁…u₆); the centre part is at 0.
-pub const POSITIONS: [[f64; 3]; 6] =
-    [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]];
-/// The sensing axis of each outer part (x, y, z, x, y, z).
-pub const AXES: [usize; 6] = [0, 1, 2, 0, 1, 2];
 /// Ticks per compass poll at 10 Hz (200 Hz / 10).
 const COMPASS_DIVIDER: u64 = 20;
 /// HMC6343 command: post heading data.
@@ -93,7 +89,7 @@ impl I2cTarget for SharedCompass {
 pub struct TickTiming {
     /// The timer interrupt.
     pub t0: Ps,
-    /// Each SPI core's SS↓ and SS↑.
+    /// Each SPI core's SS↓ and SS↑ (#1–#7, whichever part sits on it).
     pub spi: [(Ps, Ps); 7],
     /// The MicroBlaze has collected the seven reads.
     pub collected: Ps,
@@ -125,9 +121,15 @@ pub struct Node {
     plb: Clock,
     cfg: super::profile::Node,
     parts: Vec<Adxl345>,
+    /// The SPI core of each part (0 = #1; `array.parts[].link`).
+    cores: Vec<usize>,
+    /// The packet's channels: (part, axis) each (`array.parts[].channels` in turn).
+    channels: [(usize, usize); 9],
     /// Characters clocked on each part's SPI core since power-up (the index of its next frame).
     frames: Vec<u64>,
     iic: I2cLink,
+    /// The compass's 7-bit address (`compass.address`).
+    compass_address: Address,
     compass_part: Arc<Mutex<Hmc6343>>,
     /// The error model the compass part was built with.
     compass_errors: crate::device::hmc6343::ErrorModel,
@@ -161,7 +163,7 @@ impl std::fmt::Debug for Node {
 
 impl Node {
     /// The node of `profile` at power-up with its parts: `array(i, t)` is the force part `i` feels
-    /// (0–5 outer, 6 centre), `compass` and `gps` the other parts' stimuli. Sets the parts up as
+    /// (`array.parts` in order), `compass` and `gps` the other parts' stimuli. Sets the parts up as
     /// the firmware's initialisation does (before the first tick at `node.start_ms`).
     pub fn new(
         profile: &GfsinsProfile,
@@ -172,7 +174,7 @@ impl Node {
         use crate::device::{gps as g, hmc6343 as h};
         let cfg = profile.node.clone();
         let preset = ErrorPreset::by_name(&profile.array.preset).unwrap_or(&adxl345::PRESETS[0]);
-        let parts: Vec<Adxl345> = (0..7)
+        let parts: Vec<Adxl345> = (0..profile.array.parts.len())
             .map(|i| {
                 let a = array.clone();
                 Adxl345::new(Box::new(move |t| a(i, t)), preset, profile.array.seed + i as u64)
@@ -184,7 +186,8 @@ impl Node {
         let errors = h::ErrorModel { tau_s: profile.compass.correlation_time_s, ..errors };
         let hmc = Arc::new(Mutex::new(h::Hmc6343::new(revision, compass, errors, profile.compass.seed)));
         let bus = I2cBus { scl_low_ns: cfg.iic_scl_low_ns, scl_high_ns: cfg.iic_scl_high_ns };
-        let iic = I2cLink::new(&bus, vec![(h::ADDRESS, Box::new(SharedCompass(hmc.clone())))]);
+        let address = profile.compass.address();
+        let iic = I2cLink::new(&bus, vec![(address, Box::new(SharedCompass(hmc.clone())))]);
         let settings = g::Settings {
             latency_ps: profile.gps.latency_ms * 1_000_000_000,
             cep_m: profile.gps.cep_m,
@@ -202,7 +205,10 @@ impl Node {
             cfg,
             frames: vec![0; parts.len()],
             parts,
+            cores: profile.array.cores(),
+            channels: profile.array.channel_parts(),
             iic,
+            compass_address: Address::I2c(address),
             compass_part: hmc,
             compass_errors: errors,
             gps: Gps::new(settings, gps),
@@ -235,14 +241,14 @@ impl Node {
     fn set_up(&mut self, profile: &GfsinsProfile) -> Result<()> {
         let a = &profile.array;
         let mut t = 2_000_000_000;
-        for i in 0..7 {
+        for i in 0..self.parts.len() {
             for (reg, value) in [(0x2C, a.bw_rate), (0x31, a.data_format), (0x38, a.fifo_ctl), (0x2D, 0x08)] {
                 let mut rx = [0u8; 2];
                 t = self.spi(i, &[reg, value], &mut rx, t) + 1_000_000;
             }
         }
         use crate::device::hmc6343::{eeprom, STARTUP_PS};
-        let hmc = Address::I2c(crate::device::hmc6343::ADDRESS);
+        let hmc = self.compass_address;
         let w = self.iic.transfer(hmc, &[0xF1, u16::from(eeprom::OP_MODE_2), 0x02], &mut [], STARTUP_PS)?;
         let reset = self.iic.transfer(hmc, &[0x82], &mut [], w.end + 10_000_000_000)?;
         self.compass_ready = reset.end + STARTUP_PS;
@@ -306,17 +312,17 @@ impl Node {
         let mut timing = TickTiming { t0, compass_phase: 3, ..TickTiming::default() };
         let mut t = t0 + self.cycles(self.cfg.isr_entry_cycles);
         timing.stages.push("entry", t - t0);
-        // 2. Load and start the seven cores; 3. collect them.
+        // 2. Load and start the seven cores, in the order of the parts; 3. collect them.
         let mut raw = [[0u8; 7]; 7];
-        for (i, rx) in raw.iter_mut().enumerate() {
+        for (i, rx) in raw.iter_mut().enumerate().take(self.parts.len()) {
             t += self.accesses(9);
             let mut tx = [0u8; 7];
             tx[0] = READ_DATA;
             let end = self.spi(i, &tx, rx, t);
-            timing.spi[i] = (t, end);
+            timing.spi[self.cores[i]] = (t, end);
         }
-        for (_, end) in timing.spi {
-            t = t.max(end) + self.accesses(9);
+        for &core in &self.cores {
+            t = t.max(timing.spi[core].1) + self.accesses(9);
         }
         timing.collected = t;
         timing.stages.push("accelerometers", t - (t0 + timing.stages.total()));
@@ -324,7 +330,7 @@ impl Node {
         let mut flags = 0;
         if t0 >= self.compass_ready {
             let phase = k % COMPASS_DIVIDER;
-            let hmc = Address::I2c(crate::device::hmc6343::ADDRESS);
+            let hmc = self.compass_address;
             match phase {
                 0 => {
                     t += self.accesses(4);
@@ -383,15 +389,8 @@ impl Node {
                 + u64::from(timing.nmea_sentences) * self.cfg.nmea_cycles_per_sentence,
         );
         timing.stages.push("gps", t - before_gps);
-        // 6. Pre-processing: the nine channels.
-        let counts: [[i16; 3]; 7] = std::array::from_fn(|i| {
-            std::array::from_fn(|ax| i16::from_le_bytes([raw[i][1 + 2 * ax], raw[i][2 + 2 * ax]]))
-        });
-        let mut accel = [0i16; 9];
-        for i in 0..6 {
-            accel[i] = counts[i][AXES[i]];
-        }
-        accel[6..].copy_from_slice(&counts[6]);
+        // 6. Pre-processing: the nine channels, each part's axes in turn (`array.parts`).
+        let accel = self.channels.map(|(i, ax)| i16::from_le_bytes([raw[i][1 + 2 * ax], raw[i][2 + 2 * ax]]));
         if self.gps_valid {
             flags |= frame::GPS_VALID;
         }

@@ -3,6 +3,7 @@
 //! thesis's value as its default, or a marked choice; SCHEMA.md-style notes are in the TOML itself.
 
 use crate::error::{Error, Result};
+use crate::firmware::gfnav::{Channel, GeometryError, Inverse};
 use serde::{Deserialize, Serialize};
 
 /// The whole profile.
@@ -119,11 +120,152 @@ pub struct Array {
     pub preset: String,
     /// Seed of the parts' errors (part i uses seed + i).
     pub seed: u64,
+    /// The seven parts, in the order the node reads them and the trace's `array1_*`…`array7_*`
+    /// columns give their forces: the SPI core each sits on, its place and its channels; the
+    /// navigation's inversion is built from the same places and channels.
+    pub parts: Vec<ArrayPart>,
 }
+
+/// One `[[array.parts]]` entry: an ADXL345 of the array.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArrayPart {
+    /// The node's SPI core it sits on (`spi1` … `spi7`; its slave select is the core's own, thesis
+    /// §4.3.3): one part per core.
+    pub link: String,
+    /// Its place in body axes (x forward, y left, z up), in units of `array.lever_arm_m`.
+    pub position: [f64; 3],
+    /// Its axes whose readings the node puts in the packet, in order (`x`, `y`, `z`): the parts'
+    /// channels in turn are the packet's A₁…A₉.
+    pub channels: Vec<String>,
+}
+
+/// The SPI cores the array's parts may sit on (#8 carries the packet to the DSP).
+pub const ARRAY_LINKS: [&str; 7] = ["spi1", "spi2", "spi3", "spi4", "spi5", "spi6", "spi7"];
+
+/// The parts of the array: seven, one part per core, the channels one in all nine.
+pub const ARRAY_PARTS: usize = 7;
+
+/// The axis names of `array.parts[].channels`.
+const AXIS_NAMES: [&str; 3] = ["x", "y", "z"];
 
 impl Default for Array {
     fn default() -> Self {
-        Array { lever_arm_m: 0.1, bw_rate: 0x0B, data_format: 0x0B, fifo_ctl: 0x80, preset: "adxl345".into(), seed: 1 }
+        // The thesis's layout (algorithms.md §4): u₁…u₆ at l sensing x, y, z, x, y, z on SPI #1–#6,
+        // the triaxial part at the centre on SPI #7 giving A₇…A₉.
+        use crate::firmware::gfnav::array::{POSITIONS, SENSING_AXIS};
+        let mut parts: Vec<ArrayPart> = (0..6)
+            .map(|i| ArrayPart {
+                link: ARRAY_LINKS[i].into(),
+                position: POSITIONS[i],
+                channels: vec![AXIS_NAMES[SENSING_AXIS[i]].into()],
+            })
+            .collect();
+        parts.push(ArrayPart {
+            link: ARRAY_LINKS[6].into(),
+            position: [0.0; 3],
+            channels: vec!["x".into(), "y".into(), "z".into()],
+        });
+        Array {
+            lever_arm_m: 0.1,
+            bw_rate: 0x0B,
+            data_format: 0x0B,
+            fifo_ctl: 0x80,
+            preset: "adxl345".into(),
+            seed: 1,
+            parts,
+        }
+    }
+}
+
+impl Array {
+    /// The packet's nine channels (checked profile): (part index, axis) in order.
+    pub fn channel_parts(&self) -> [(usize, usize); 9] {
+        let mut out = [(0, 0); 9];
+        let all = self.parts.iter().enumerate().flat_map(|(p, part)| {
+            part.channels.iter().map(move |c| (p, AXIS_NAMES.iter().position(|a| a == c).unwrap_or(0)))
+        });
+        for (o, c) in out.iter_mut().zip(all) {
+            *o = c;
+        }
+        out
+    }
+
+    /// The nine channels' geometry (checked profile): each one's part position and axis.
+    pub fn channels(&self) -> [Channel; 9] {
+        self.channel_parts().map(|(p, axis)| Channel { position: self.parts[p].position, axis })
+    }
+
+    /// The SPI core (0 = `spi1`) of each part (checked profile).
+    pub fn cores(&self) -> Vec<usize> {
+        self.parts.iter().map(|p| ARRAY_LINKS.iter().position(|l| *l == p.link).unwrap_or(0)).collect()
+    }
+
+    /// The navigation's inversion of the nine channels (checked profile: it exists).
+    pub fn inverse(&self) -> Inverse {
+        Inverse::new(&self.channels(), self.lever_arm_m).unwrap_or_else(|_| {
+            Inverse::new(&crate::firmware::gfnav::array::thesis_channels(), self.lever_arm_m)
+                .expect("the thesis's layout is regular")
+        })
+    }
+
+    fn check(&self) -> std::result::Result<(), (String, String)> {
+        let bad = |key: String, why: String| Err((key, why));
+        if self.parts.len() != ARRAY_PARTS {
+            return bad(
+                "array.parts".into(),
+                format!(
+                    "{} parts: expected {ARRAY_PARTS}, one on each of the node's SPI cores #1–#7",
+                    self.parts.len()
+                ),
+            );
+        }
+        let mut n = 0;
+        for (i, p) in self.parts.iter().enumerate() {
+            let key = |k: &str| format!("array.parts[{i}].{k}");
+            if !ARRAY_LINKS.contains(&p.link.as_str()) {
+                return bad(key("link"), format!("`{}`: expected one of {}", p.link, ARRAY_LINKS.join(", ")));
+            }
+            if let Some(j) = self.parts[..i].iter().position(|q| q.link == p.link) {
+                return bad(
+                    key("link"),
+                    format!(
+                        "`{}`: array.parts[{j}] is on it already (one part per core: its own slave select)",
+                        p.link
+                    ),
+                );
+            }
+            if let Some(x) = p.position.iter().find(|x| !(x.is_finite() && x.abs() <= 10.0)) {
+                return bad(key("position"), format!("{x}: expected finite values of at most 10 lever arms"));
+            }
+            for (k, c) in p.channels.iter().enumerate() {
+                if !AXIS_NAMES.contains(&c.as_str()) {
+                    return bad(key("channels"), format!("`{c}`: expected x, y or z"));
+                }
+                if p.channels[..k].contains(c) {
+                    return bad(key("channels"), format!("`{c}` twice"));
+                }
+            }
+            n += p.channels.len();
+        }
+        if n != 9 {
+            return bad(
+                "array.parts".into(),
+                format!(
+                    "{n} channels in all: the packet carries nine (A₁…A₉), the unknowns A, ω̇ and the rate products"
+                ),
+            );
+        }
+        match Inverse::new(&self.channels(), self.lever_arm_m) {
+            Ok(_) => Ok(()),
+            Err(e) => {
+                let key = match e {
+                    GeometryError::AlongLever(c) => format!("array.parts[{}].channels", self.channel_parts()[c].0),
+                    GeometryError::Singular(_) => "array.parts".into(),
+                };
+                bad(key, format!("{e} (the positions and channels of array.parts)"))
+            }
+        }
     }
 }
 
@@ -142,11 +284,27 @@ pub struct Compass {
     /// (`gfnav::federated::Scenario::compass_tau`). The thesis's (3.40) names T_ec but gives no value
     /// [unconfirmed: 100 s, the value its chapter-5 filter was given here].
     pub correlation_time_s: f64,
+    /// Its 7-bit address on the node's I²C #1 (hmc6343.md: 0x19, the EEPROM's default; the part's
+    /// address is an EEPROM setting).
+    pub address: u32,
 }
 
 impl Default for Compass {
     fn default() -> Self {
-        Compass { revision: "later".into(), errors: "hmc6343".into(), seed: 2, correlation_time_s: 100.0 }
+        Compass {
+            revision: "later".into(),
+            errors: "hmc6343".into(),
+            seed: 2,
+            correlation_time_s: 100.0,
+            address: u32::from(crate::device::hmc6343::ADDRESS),
+        }
+    }
+}
+
+impl Compass {
+    /// Its 7-bit address (checked profile).
+    pub fn address(&self) -> u8 {
+        self.address as u8
     }
 }
 
@@ -386,6 +544,19 @@ impl GfsinsProfile {
         }
         if crate::device::adxl345::ErrorPreset::by_name(&self.array.preset).is_none() {
             return bad("array.preset", format!("`{}`: known presets: ideal, adxl345", self.array.preset));
+        }
+        if let Err((key, why)) = self.array.check() {
+            return bad(&key, why);
+        }
+        // The I²C links' rule (bus/i2c.rs): 0x00–0x07 and 0x78–0x7F are reserved.
+        if !(0x08..=0x77).contains(&self.compass.address) {
+            return bad(
+                "compass.address",
+                format!(
+                    "0x{:X}: expected a 7-bit address 0x08…0x77 (0x00–0x07 and 0x78–0x7F are reserved)",
+                    self.compass.address
+                ),
+            );
         }
         if !["later", "earlier"].contains(&self.compass.revision.as_str()) {
             return bad("compass.revision", format!("`{}`: expected later or earlier", self.compass.revision));

@@ -77,7 +77,7 @@ fn readings_reach_the_dsp() {
     for i in 0..6 {
         let k = i as f64 + 1.0;
         let f = [0.01 * k, -0.02 * k, 0.9 + 0.01 * k];
-        assert_eq!(last.packet.accel[i], count(f[node::AXES[i]]), "A{}", i + 1);
+        assert_eq!(last.packet.accel[i], count(f[crate::firmware::gfnav::array::SENSING_AXIS[i]]), "A{}", i + 1);
     }
     assert_eq!(&last.packet.accel[6..], &[count(0.07), count(-0.14), count(0.97)]);
     assert_eq!(last.packet.compass, [300, 15, -20]);
@@ -175,6 +175,74 @@ fn profile_errors_name_the_key() {
     assert!(e.contains("array.fifo_ctl") && e.contains("stream"), "{e}");
     let shipped = include_str!("../../../../../firmware_model/gfsins.toml");
     assert_eq!(GfsinsProfile::parse(shipped, "gfsins.toml").unwrap(), GfsinsProfile::default());
+}
+
+/// The array's and the compass's keys: errors name the key (a layout the nine channels cannot
+/// invert, a part sensing along its own lever, two parts on one core, a wrong channel count, an
+/// address beyond 7 bits or reserved).
+#[test]
+fn layout_and_address_errors_name_the_key() {
+    let parts = |rows: &[&str]| format!("[array]\nparts = [\n{}\n]\n", rows.join(",\n"));
+    let thesis = [
+        r#"{ link = "spi1", position = [0.0, 1.0, 0.0], channels = ["x"] }"#,
+        r#"{ link = "spi2", position = [0.0, 0.0, 1.0], channels = ["y"] }"#,
+        r#"{ link = "spi3", position = [1.0, 0.0, 0.0], channels = ["z"] }"#,
+        r#"{ link = "spi4", position = [0.0, 0.0, -1.0], channels = ["x"] }"#,
+        r#"{ link = "spi5", position = [-1.0, 0.0, 0.0], channels = ["y"] }"#,
+        r#"{ link = "spi6", position = [0.0, -1.0, 0.0], channels = ["z"] }"#,
+        r#"{ link = "spi7", position = [0.0, 0.0, 0.0], channels = ["x", "y", "z"] }"#,
+    ];
+    assert_eq!(GfsinsProfile::parse(&parts(&thesis), "x.toml").unwrap().array, GfsinsProfile::default().array);
+    let err = |text: String| GfsinsProfile::parse(&text, "x.toml").unwrap_err().to_string();
+    let mut along = thesis;
+    along[0] = r#"{ link = "spi1", position = [0.0, 1.0, 0.0], channels = ["y"] }"#;
+    let e = err(parts(&along));
+    assert!(e.contains("`array.parts[0].channels`") && e.contains("own lever"), "{e}");
+    let mut shared = thesis;
+    shared[1] = r#"{ link = "spi1", position = [0.0, 0.0, 1.0], channels = ["y"] }"#;
+    let e = err(parts(&shared));
+    assert!(e.contains("`array.parts[1].link`") && e.contains("array.parts[0]"), "{e}");
+    let mut short = thesis;
+    short[6] = r#"{ link = "spi7", position = [0.0, 0.0, 0.0], channels = ["x", "y"] }"#;
+    let e = err(parts(&short));
+    assert!(e.contains("`array.parts`") && e.contains("8 channels"), "{e}");
+    let e = err(parts(&thesis[..6]));
+    assert!(e.contains("`array.parts`") && e.contains("6 parts"), "{e}");
+    let singular = include_str!("../../../../../tests/data/bad/profiles/gfsins_singular_array.toml");
+    let e = err(singular.into());
+    assert!(e.contains("`array.parts`") && e.contains("singular"), "{e}");
+    for a in ["0x80", "0x07", "0x78"] {
+        let e = err(format!("[compass]\naddress = {a}\n"));
+        assert!(e.contains("`compass.address`") && e.contains("7-bit"), "{e}");
+    }
+}
+
+/// The variant of tests/data/gfsins (the parts elsewhere, on other cores, the triaxial part read
+/// first; the compass at 0x1E), with ideal parts: each channel is its part's axis as the profile
+/// lists them, the cores start in the parts' order, and the compass answers at its address.
+#[test]
+fn a_variant_layout_reaches_the_dsp() {
+    let text = include_str!("../../../../../tests/data/gfsins/variant.toml");
+    let mut p = GfsinsProfile::parse(text, "variant.toml").unwrap();
+    (p.array.preset, p.compass.errors) = ("ideal".into(), "ideal".into());
+    let (steps, _, events) = run(&p, vehicle(), 600).unwrap();
+    assert!(events.iter().all(|e| e.kind == "rate_singular"), "{events:?}");
+    let last = steps.last().unwrap();
+    let count = |g: f64| (g * 256.0).round() as i16;
+    let force = |part: usize| {
+        let k = part as f64 + 1.0;
+        [0.01 * k, -0.02 * k, 0.9 + 0.01 * k]
+    };
+    let channels = [(0, 0), (0, 1), (0, 2), (1, 0), (2, 1), (3, 2), (4, 0), (5, 1), (6, 2)];
+    for (c, (part, axis)) in channels.into_iter().enumerate() {
+        assert_eq!(last.packet.accel[c], count(force(part)[axis]), "A{}", c + 1);
+    }
+    // Cores by part: spi7, spi2, spi1, spi3…spi6, started one after the other in that order.
+    let starts: Vec<Ps> = [6, 1, 0, 2, 3, 4, 5].iter().map(|&core| last.timing.spi[core].0).collect();
+    assert!(starts.windows(2).all(|w| w[0] < w[1]), "{starts:?}");
+    assert_eq!(last.packet.compass, [300, 15, -20]);
+    let compass = steps.iter().filter(|s| s.packet.flags & frame::NEW_COMPASS != 0).count();
+    assert_eq!(compass, 25, "10 Hz from ≈ 1.02 s, as at 0x19");
 }
 
 /// Each processor's stages add up to its time in every tick (nothing lost or counted twice), the
