@@ -427,7 +427,11 @@ impl Ads8344 {
                     t,
                     "cs_setup",
                     Severity::Error,
-                    format!("ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ 50 ns", setup),
+                    format!(
+                        "ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ {} ns",
+                        setup,
+                        self.config.timing.t_css_min_ps / 1_000
+                    ),
                     ps_to_s(setup),
                     ps_to_s(self.config.timing.t_css_min_ps),
                 ));
