@@ -1052,6 +1052,31 @@ mod tests {
         assert_eq!(dev.drain_events().iter().map(|e| e.kind).collect::<Vec<_>>(), ["byte_frame_length"]);
     }
 
+    /// Each SPI rule's message states the part's declared limit: CS↓ 1 ns before a mode-0 frame
+    /// clocked at 10 MHz, CS↑ 1 ns after it, CS high for 100 ns.
+    #[test]
+    fn rule_messages_state_the_declared_limits() {
+        let mut dev = Adxl345::at_rest();
+        let frame =
+            FrameTiming { index: 0, first_edge: 1_000, last_edge: 701_000, sclk_period: 100_000, bits: 8, mode: 0 };
+        dev.set_cs(true, 0);
+        dev.begin_frame(&frame);
+        dev.end_frame(0, &frame);
+        dev.set_cs(false, frame.last_edge + 1_000);
+        dev.set_cs(true, frame.last_edge + 101_000);
+        let messages: Vec<String> = dev.drain_events().into_iter().map(|e| e.message).collect();
+        assert_eq!(
+            messages,
+            [
+                "ADXL345: first SCLK edge 1000 ps after CS↓ (tDELAY 5 ns)",
+                "ADXL345: SCLK period 100000 ps, below 200 ns (5 MHz)",
+                "ADXL345: a frame in SPI mode 0, the part is mode 3",
+                "ADXL345: CS rose 1000 ps after SCLK (tQUIET 5 ns)",
+                "ADXL345: CS high for 100000 ps between communications (tCS,DIS 150 ns)",
+            ]
+        );
+    }
+
     /// A `[[board.devices]]` table places the part by name on SPI, and refuses it on another link.
     #[test]
     fn a_board_declaration_builds_the_part_on_spi() {
