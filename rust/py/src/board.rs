@@ -144,13 +144,10 @@ impl Board {
                 .transpose()?;
             s.configure_spi(sclk_hz, m)
         })?;
-        let d = PyDict::new(py);
-        d.set_item("spibrr", set.spibrr)?;
-        d.set_item("sclk_hz", set.sclk_hz)?;
-        d.set_item("exact", set.exact)?;
-        d.set_item("mode", set.mode)?;
-        d.set_item("lspclk_hz", set.lspclk_hz)?;
-        Ok(d)
+        Ok(py_dict!(py;
+            "spibrr" => set.spibrr, "sclk_hz" => set.sclk_hz, "exact" => set.exact, "mode" => set.mode,
+            "lspclk_hz" => set.lspclk_hz,
+        ))
     }
 
     /// One frame as a polling driver does it (see `HostBoard::transfer`); returns the received word.

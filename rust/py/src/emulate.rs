@@ -470,13 +470,9 @@ fn stage_dict<'py>(
     let lines = terms
         .iter()
         .map(|t| {
-            let l = PyDict::new(py);
-            l.set_item("op", t.op)?;
-            l.set_item("count", t.count)?;
-            l.set_item("key", t.key)?;
-            l.set_item("unit_cycles", t.unit_cycles)?;
-            l.set_item("scaled", t.scaled)?;
-            Ok(l)
+            Ok(py_dict!(py;
+                "op" => t.op, "count" => t.count, "key" => t.key, "unit_cycles" => t.unit_cycles, "scaled" => t.scaled,
+            ))
         })
         .collect::<PyResult<Vec<_>>>()?;
     d.set_item("terms", lines)?;

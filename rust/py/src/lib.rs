@@ -14,6 +14,16 @@ use sins_core::timing::CostTable;
 #[global_allocator]
 static ALLOC: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
 
+/// A dict of `key => value` pairs, each value converted as `PyDict::set_item` converts it; the
+/// first failure returns from the enclosing function (which returns a `PyResult`).
+macro_rules! py_dict {
+    ($py:expr; $($key:expr => $value:expr),* $(,)?) => {{
+        let d = pyo3::types::PyDict::new($py);
+        $(d.set_item($key, $value)?;)*
+        d
+    }};
+}
+
 mod board;
 mod emulate;
 mod errors;
@@ -38,15 +48,10 @@ fn profile_keys() -> Vec<String> {
 /// An event as a dict: t_s, kind, severity, message, measured, required, frame (the bus frame it is
 /// about, as the bus log's `frame_index` numbers it, or None).
 pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("t_s", ps_to_s(e.t_ps))?;
-    d.set_item("kind", e.kind)?;
-    d.set_item("severity", e.severity.as_str())?;
-    d.set_item("message", &e.message)?;
-    d.set_item("measured", e.measured)?;
-    d.set_item("required", e.required)?;
-    d.set_item("frame", e.frame)?;
-    Ok(d)
+    Ok(py_dict!(py;
+        "t_s" => ps_to_s(e.t_ps), "kind" => e.kind, "severity" => e.severity.as_str(), "message" => &e.message,
+        "measured" => e.measured, "required" => e.required, "frame" => e.frame,
+    ))
 }
 
 /// What the profile's registers produce (clocks, SPI baud and mode, frame and burst times, rules
@@ -95,13 +100,10 @@ fn preset_table<'py>(py: Python<'py>, name: &str) -> PyResult<Vec<Bound<'py, PyD
     let rows = guard(|| sins_core::device::error_model::preset_table(name))?.map_err(to_py)?;
     rows.iter()
         .map(|r| {
-            let d = PyDict::new(py);
-            d.set_item("quantity", r.quantity)?;
-            d.set_item("value", r.value)?;
-            d.set_item("unit", r.unit)?;
-            d.set_item("source", r.source)?;
-            d.set_item("unconfirmed", r.unconfirmed)?;
-            Ok(d)
+            Ok(py_dict!(py;
+                "quantity" => r.quantity, "value" => r.value, "unit" => r.unit, "source" => r.source,
+                "unconfirmed" => r.unconfirmed,
+            ))
         })
         .collect()
 }
@@ -200,13 +202,10 @@ fn event_kinds(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     sins_core::events::KINDS
         .iter()
         .map(|k| {
-            let d = PyDict::new(py);
-            d.set_item("name", k.name)?;
-            d.set_item("severity", k.severity.as_str())?;
-            d.set_item("source", k.source)?;
-            d.set_item("spi_rule", k.spi_rule)?;
-            d.set_item("meaning", k.meaning)?;
-            Ok(d)
+            Ok(py_dict!(py;
+                "name" => k.name, "severity" => k.severity.as_str(), "source" => k.source, "spi_rule" => k.spi_rule,
+                "meaning" => k.meaning,
+            ))
         })
         .collect()
 }
@@ -222,12 +221,7 @@ fn column_dicts<'py>(py: Python<'py>, table: &[sins_core::output::Column]) -> Py
     table
         .iter()
         .map(|c| {
-            let d = PyDict::new(py);
-            d.set_item("name", c.name)?;
-            d.set_item("unit", c.unit)?;
-            d.set_item("meaning", c.meaning)?;
-            d.set_item("file", c.file.to_vec())?;
-            Ok(d)
+            Ok(py_dict!(py; "name" => c.name, "unit" => c.unit, "meaning" => c.meaning, "file" => c.file.to_vec()))
         })
         .collect()
 }
@@ -237,14 +231,7 @@ fn column_dicts<'py>(py: Python<'py>, table: &[sins_core::output::Column]) -> Py
 fn budget_stages(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     sins_core::output::BUDGET_STAGES
         .iter()
-        .map(|s| {
-            let d = PyDict::new(py);
-            d.set_item("name", s.name)?;
-            d.set_item("start", s.start)?;
-            d.set_item("end", s.end)?;
-            d.set_item("solution", s.solution)?;
-            Ok(d)
-        })
+        .map(|s| Ok(py_dict!(py; "name" => s.name, "start" => s.start, "end" => s.end, "solution" => s.solution)))
         .collect()
 }
 
@@ -254,11 +241,10 @@ fn parts(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let out = PyDict::new(py);
     for p in sins_core::device::parts::PARTS {
         let burst: Vec<&str> = p.burst.iter().filter_map(|&a| p.lookup(a).map(|r| r.name)).collect();
-        let d = PyDict::new(py);
-        d.set_item("prod_id", p.prod_id)?;
-        d.set_item("burst_command", p.burst_command)?;
-        d.set_item("burst", burst)?;
-        out.set_item(p.name, d)?;
+        out.set_item(
+            p.name,
+            py_dict!(py; "prod_id" => p.prod_id, "burst_command" => p.burst_command, "burst" => burst),
+        )?;
     }
     Ok(out)
 }

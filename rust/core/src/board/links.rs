@@ -211,25 +211,13 @@ mod tests {
     }
 
     const BOARD: &str = r#"
-[[board.devices]]
-part = "ADIS16407"
-link = "spi-a"
-chip_select = "GPIO57"
-
-[[board.devices]]
-part = "REGFILE-A"
-link = "spi-a"
-chip_select = "GPIO58"
-
-[[board.devices]]
-part = "REGFILE-B"
-link = "spi-a"
-chip_select = "GPIO59"
-
-[[board.devices]]
-part = "REGFILE-C"
-link = "i2c-a"
-address = 0x1E
+[board]
+devices = [
+    { part = "ADIS16407", link = "spi-a", chip_select = "GPIO57" },
+    { part = "REGFILE-A", link = "spi-a", chip_select = "GPIO58" },
+    { part = "REGFILE-B", link = "spi-a", chip_select = "GPIO59" },
+    { part = "REGFILE-C", link = "i2c-a", address = 0x1E },
+]
 "#;
 
     /// The test's catalogue: the crate's parts plus three register files tagged 0xA1, 0xB2, 0xC3;

@@ -4,7 +4,7 @@
 //! events): the profile's link-kind registry (`profile::LinkKind`) is written in these terms, and
 //! each kind's file under `bus/` implements them.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::events::Event;
 use crate::time::Ps;
 use std::any::Any;
@@ -86,4 +86,24 @@ impl std::fmt::Debug for Device {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("Device")
     }
+}
+
+/// A link's devices as its kind's trait objects `T`, each by the kind's own number for its place
+/// (`place`: `None` for an address that is not a place of this kind). A device built for another
+/// kind, or at another kind's place, is an error naming `link` and saying it is not `what` (the
+/// kind's word for its devices: "an SPI slave").
+pub fn devices_of<T: ?Sized + Send + 'static, A>(
+    link: &str,
+    devices: impl IntoIterator<Item = (Address, Device)>,
+    what: &str,
+    place: impl Fn(Address) -> Option<A>,
+) -> Result<Vec<(A, Box<T>)>> {
+    let mut out = Vec::new();
+    for (address, device) in devices {
+        match (place(address), device.take::<T>()) {
+            (Some(a), Some(d)) => out.push((a, d)),
+            _ => return Err(Error::Profile(format!("{link}: the device at {address} is not {what}"))),
+        }
+    }
+    Ok(out)
 }

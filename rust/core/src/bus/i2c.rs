@@ -12,7 +12,7 @@
 //! (`i2c_stretch_ignored`). The bit level (`i2c_bits.rs`) walks the same traffic on SCL and SDA.
 //! Not modelled: arbitration, bus clear.
 
-use super::{Address, Device, Link, Transfer};
+use super::{devices_of, Address, Device, Link, Transfer};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventLog, Severity};
 use crate::profile::{Board, BoardDevice, BoxedLink, Devices, I2cBus, LinkKind, Placed, Profile};
@@ -83,13 +83,10 @@ fn check_bus(board: &Board) -> Result<()> {
 
 /// I2C-A with its targets by address, at `[board.i2c]`'s SCL phases.
 fn i2c_a(profile: &Profile, link: &str, devices: Devices) -> Result<BoxedLink> {
-    let mut targets = Vec::new();
-    for (address, device) in devices {
-        match (address, device.take::<dyn I2cTarget + Send>()) {
-            (Address::I2c(a), Some(target)) => targets.push((a, target)),
-            _ => return Err(Error::Profile(format!("{link}: the device at {address} is not an I²C target"))),
-        }
-    }
+    let targets = devices_of::<dyn I2cTarget + Send, _>(link, devices, "an I²C target", |a| match a {
+        Address::I2c(a) => Some(a),
+        _ => None,
+    })?;
     Ok(Box::new(I2cLink::new(&profile.board.section("i2c")?, targets)))
 }
 
@@ -344,34 +341,62 @@ pub(crate) fn stretch_rule(release: Ps, fall: Ps, low: Ps, honours: bool, events
     fall
 }
 
+/// A target for the tests of both link levels: records every call with its time, answers reads
+/// from a counter, refuses a write of 0xEE and, given a stretch, holds SCL that long after each
+/// byte (recording the hold).
 #[cfg(test)]
-mod tests {
+pub(crate) mod probe {
     use super::*;
 
-    /// Records what it sees; answers reads with a counter.
-    #[derive(Default)]
-    struct Probe {
-        seen: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
-        next: u8,
+    /// What a [`Probe`] saw, shared with the test.
+    pub(crate) type Seen = std::sync::Arc<std::sync::Mutex<Vec<String>>>;
+
+    pub(crate) struct Probe {
+        pub seen: Seen,
+        pub next: u8,
+        /// `None`: the target never stretches SCL (the trait's default).
+        pub stretch: Option<Ps>,
+    }
+
+    impl Probe {
+        /// A probe recording into `seen`, stretching by `stretch`.
+        pub(crate) fn new(seen: &Seen, stretch: Option<Ps>) -> Probe {
+            Probe { seen: std::sync::Arc::clone(seen), next: 0, stretch }
+        }
+
+        fn note(&self, what: String) {
+            self.seen.lock().unwrap().push(what);
+        }
     }
 
     impl I2cTarget for Probe {
         fn start(&mut self, t: Ps) {
-            self.seen.lock().unwrap().push(format!("S@{t}"));
+            self.note(format!("S@{t}"));
         }
         fn write(&mut self, byte: u8, t: Ps) -> bool {
-            self.seen.lock().unwrap().push(format!("W{byte:02X}@{t}"));
-            true
+            self.note(format!("W{byte:02X}@{t}"));
+            byte != 0xEE
         }
         fn read(&mut self, t: Ps, ack: bool) -> u8 {
-            self.seen.lock().unwrap().push(format!("R{}@{t}", if ack { "A" } else { "N" }));
-            self.next += 1;
+            self.note(format!("R{}@{t}", if ack { "A" } else { "N" }));
+            self.next = self.next.wrapping_add(1);
             self.next
         }
         fn stop(&mut self, t: Ps) {
-            self.seen.lock().unwrap().push(format!("P@{t}"));
+            self.note(format!("P@{t}"));
+        }
+        fn hold_scl(&mut self, t: Ps) -> Ps {
+            let Some(stretch) = self.stretch else { return t };
+            self.note(format!("H@{t}"));
+            t + stretch
         }
     }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::probe::Probe;
+    use super::*;
 
     /// At 100 kHz (5 µs + 5 µs) a write of one register address then a read of two bytes takes:
     /// START + 5 µs hold, address+W and one byte (2 × 90 µs), repeated START (10 µs + 5 µs hold),
@@ -380,7 +405,7 @@ mod tests {
     #[test]
     fn a_register_read_is_timed_by_the_protocol() {
         let seen = std::sync::Arc::default();
-        let probe = Probe { seen: std::sync::Arc::clone(&seen), next: 0 };
+        let probe = Probe::new(&seen, None);
         let mut link = I2cLink::new(&I2cBus::default(), vec![(0x19, Box::new(probe))]);
         let mut rx = [0u16; 2];
         let tr = link.transfer(Address::I2c(0x19), &[0x42], &mut rx, 1_000).unwrap();

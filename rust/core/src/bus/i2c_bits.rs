@@ -308,47 +308,16 @@ impl Link for I2cBitLink {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bus::i2c::probe::{Probe, Seen};
     use crate::bus::i2c::I2cLink;
-    use std::sync::{Arc, Mutex};
-
-    type Seen = Arc<Mutex<Vec<String>>>;
-
-    /// Records every call with its time; answers reads from a counter, refuses a write of 0xEE, and
-    /// stretches SCL by `stretch` after each byte.
-    struct Probe {
-        seen: Seen,
-        next: u8,
-        stretch: Ps,
-    }
-
-    impl I2cTarget for Probe {
-        fn start(&mut self, t: Ps) {
-            self.seen.lock().unwrap().push(format!("S@{t}"));
-        }
-        fn write(&mut self, byte: u8, t: Ps) -> bool {
-            self.seen.lock().unwrap().push(format!("W{byte:02X}@{t}"));
-            byte != 0xEE
-        }
-        fn read(&mut self, t: Ps, ack: bool) -> u8 {
-            self.seen.lock().unwrap().push(format!("R{}@{t}", if ack { "A" } else { "N" }));
-            self.next = self.next.wrapping_mul(37).wrapping_add(11);
-            self.next
-        }
-        fn stop(&mut self, t: Ps) {
-            self.seen.lock().unwrap().push(format!("P@{t}"));
-        }
-        fn hold_scl(&mut self, t: Ps) -> Ps {
-            self.seen.lock().unwrap().push(format!("H@{t}"));
-            t + self.stretch
-        }
-    }
+    use std::sync::Arc;
 
     type Outcome = (Vec<String>, Vec<(Vec<u16>, Transfer)>, Vec<(&'static str, Ps)>);
 
     /// Run `traffic` (address, bytes written, bytes read, start time) through one level.
     fn run(bits: bool, bus: &I2cBus, stretch: Ps, honours: bool, traffic: &[(u8, Vec<u16>, usize, Ps)]) -> Outcome {
         let seen: Seen = Arc::default();
-        let probe = Probe { seen: Arc::clone(&seen), next: 0, stretch };
+        let probe = Probe::new(&seen, Some(stretch));
         let targets: Vec<(u8, Box<dyn I2cTarget + Send>)> = vec![(0x19, Box::new(probe))];
         let mut link: Box<dyn Link> = if bits {
             let mut l = I2cBitLink::new(bus, targets);
@@ -409,7 +378,7 @@ mod tests {
     #[test]
     fn the_wires_show_start_address_ack_stop() {
         let seen: Seen = Arc::default();
-        let probe = Probe { seen, next: 0, stretch: 0 };
+        let probe = Probe::new(&seen, Some(0));
         let mut link = I2cBitLink::new(&I2cBus::default(), vec![(0x19, Box::new(probe))]);
         link.transfer(Address::I2c(0x19), &[0x50], &mut [], 0).unwrap();
         let tr = link.trace();

@@ -6,7 +6,8 @@
 //! the frame starts, and delivers DIN when it ends.
 
 use super::{
-    bitlevel, transaction, Address, BusLevel, Device, Exchange, FrameTiming, Lines, Link, RunTiming, SpiSlave, Transfer,
+    bitlevel, devices_of, transaction, Address, BusLevel, Device, Exchange, FrameTiming, Lines, Link, RunTiming,
+    SpiSlave, Transfer,
 };
 use crate::dsp::spi::{
     self, CharShape, FlagTime, Frame, FrameRun, PollSteps, PolledLoop, SpiA, SpiWire, SPIRXBUF, SPITXBUF,
@@ -758,13 +759,10 @@ fn chip_select(d: &BoardDevice) -> Placed {
 
 /// SPI-A with its devices by chip select, initialised as InitSpi leaves it at power-on.
 fn spi_a(profile: &Profile, link: &str, devices: Devices) -> Result<BoxedLink> {
-    let mut slaves = Vec::new();
-    for (address, device) in devices {
-        match (address, device.take::<dyn SpiSlave + Send>()) {
-            (Address::ChipSelect(gpio), Some(slave)) => slaves.push((gpio, slave)),
-            _ => return Err(Error::Profile(format!("{link}: the device at {address} is not an SPI slave"))),
-        }
-    }
+    let slaves = devices_of::<dyn SpiSlave + Send, _>(link, devices, "an SPI slave", |a| match a {
+        Address::ChipSelect(gpio) => Some(gpio),
+        _ => None,
+    })?;
     let mut spi = SpiLink::from_profile(profile, ChipSelects::new(slaves))?;
     spi.init_from_profile(&profile.spi, 0)?;
     Ok(Box::new(spi))

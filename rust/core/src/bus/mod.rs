@@ -22,7 +22,7 @@ pub mod uart;
 pub mod uart_bits;
 
 pub use crate::profile::BusLevel;
-pub use door::{Address, Device, Link, Transfer};
+pub use door::{devices_of, Address, Device, Link, Transfer};
 pub use link::{ChipSelects, FrameRecord, LinkRecord, SpiLink};
 
 use crate::dsp::spi::closest_spacing;

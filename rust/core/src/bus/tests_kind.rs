@@ -4,7 +4,7 @@
 //! the tests only). The test shows the profile and the board take it without an edit of theirs.
 
 use crate::board::links::{known_parts, BoardLinks};
-use crate::bus::{Address, Device, Link, Transfer};
+use crate::bus::{devices_of, Address, Device, Link, Transfer};
 use crate::error::{Error, Result};
 use crate::events::Event;
 use crate::profile::{Board, BoardDevice, BoxedLink, Devices, LinkKind, Placed, Profile};
@@ -82,13 +82,10 @@ fn channel(d: &BoardDevice) -> Placed {
 
 fn loop_a(profile: &Profile, link: &str, devices: Devices) -> Result<BoxedLink> {
     let word_ps = Ps::from(profile.board.section::<LoopSection>("loop")?.word_ns) * 1_000;
-    let mut out = Vec::new();
-    for (address, device) in devices {
-        match (address, device.take::<dyn Reflector + Send>()) {
-            (Address::Id(c), Some(d)) => out.push((c, d)),
-            _ => return Err(Error::Profile(format!("{link}: the device at {address} is not a reflector"))),
-        }
-    }
+    let out = devices_of::<dyn Reflector + Send, _>(link, devices, "a reflector", |a| match a {
+        Address::Id(c) => Some(c),
+        _ => None,
+    })?;
     Ok(Box::new(LoopLink { devices: out, word_ps }))
 }
 

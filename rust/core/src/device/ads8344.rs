@@ -427,7 +427,11 @@ impl Ads8344 {
                     t,
                     "cs_setup",
                     Severity::Error,
-                    format!("ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ 50 ns", setup),
+                    format!(
+                        "ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ {} ns",
+                        setup,
+                        self.config.timing.t_css_min_ps / 1_000
+                    ),
                     ps_to_s(setup),
                     ps_to_s(self.config.timing.t_css_min_ps),
                 ));
@@ -641,8 +645,11 @@ mod tests {
         adc.begin_frame(&f2);
         adc.end_frame(0, &f2);
         adc.set_cs(false, f2.last_edge + P);
-        let kinds: Vec<_> = adc.drain_events().iter().map(|e| e.kind).collect();
+        let events = adc.drain_events();
+        let kinds: Vec<_> = events.iter().map(|e| e.kind).collect();
         assert_eq!(kinds, ["spi_mode", "cs_setup", "spi_mode", "adc_conversion_aborted"]);
+        // The message states the declared t_CSS.
+        assert_eq!(events[1].message, "ADS8344: CS↓ 20000 ps before the first DCLK edge, t_CSS ≥ 50 ns");
     }
 
     /// Internal clock (PD = 10): the control byte alone, CS↑, then 3 bytes after the conversion

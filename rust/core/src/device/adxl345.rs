@@ -630,7 +630,11 @@ impl SpiSlave for Adxl345 {
     fn set_cs(&mut self, low: bool, t: Ps) {
         if low {
             if let Some(h) = self.cs_high_at.filter(|&h| self.rules.high_short(h, t)) {
-                let what = format!("ADXL345: CS high for {} ps between communications (tCS,DIS 150 ns)", t - h);
+                let what = format!(
+                    "ADXL345: CS high for {} ps between communications (tCS,DIS {} ns)",
+                    t - h,
+                    spi::T_CS_DIS / 1_000
+                );
                 self.rule(t, "cs_high_too_short", what, t - h, spi::T_CS_DIS);
             }
             self.cs_low_at = t;
@@ -641,7 +645,7 @@ impl SpiSlave for Adxl345 {
                 self.rule(
                     t,
                     "cs_hold",
-                    format!("ADXL345: CS rose {} ps after SCLK (tQUIET 5 ns)", t - e),
+                    format!("ADXL345: CS rose {} ps after SCLK (tQUIET {} ns)", t - e, spi::T_QUIET / 1_000),
                     t - e,
                     spi::T_QUIET,
                 );
@@ -662,17 +666,22 @@ impl SpiSlave for Adxl345 {
                 self.rule(
                     t,
                     "cs_setup",
-                    format!("ADXL345: first SCLK edge {d} ps after CS↓ (tDELAY 5 ns)"),
+                    format!("ADXL345: first SCLK edge {d} ps after CS↓ (tDELAY {} ns)", spi::T_DELAY / 1_000),
                     d,
                     spi::T_DELAY,
                 );
             }
             if found.contains(Violations::SCLK_TOO_FAST) {
-                let what = format!("ADXL345: SCLK period {} ps, below 200 ns (5 MHz)", timing.sclk_period);
+                let what = format!(
+                    "ADXL345: SCLK period {} ps, below {} ns ({} MHz)",
+                    timing.sclk_period,
+                    spi::T_SCLK_MIN / 1_000,
+                    SPI.sclk_max_hz / 1e6
+                );
                 self.rule(t, "sclk_too_fast", what, timing.sclk_period, spi::T_SCLK_MIN);
             }
             if found.contains(Violations::SPI_MODE) {
-                let what = format!("ADXL345: a frame in SPI mode {}, the part is mode 3", timing.mode);
+                let what = format!("ADXL345: a frame in SPI mode {}, the part is mode {}", timing.mode, spi::MODE);
                 self.events.push(Event::new(t, "spi_mode", Severity::Error, what));
             }
             if found.contains(Violations::FRAME_LENGTH) {
@@ -1041,6 +1050,31 @@ mod tests {
         dev.set_cs(true, 10);
         assert_eq!(dev.begin_frame(&timing), 0xFFFF);
         assert_eq!(dev.drain_events().iter().map(|e| e.kind).collect::<Vec<_>>(), ["byte_frame_length"]);
+    }
+
+    /// Each SPI rule's message states the part's declared limit: CS↓ 1 ns before a mode-0 frame
+    /// clocked at 10 MHz, CS↑ 1 ns after it, CS high for 100 ns.
+    #[test]
+    fn rule_messages_state_the_declared_limits() {
+        let mut dev = Adxl345::at_rest();
+        let frame =
+            FrameTiming { index: 0, first_edge: 1_000, last_edge: 701_000, sclk_period: 100_000, bits: 8, mode: 0 };
+        dev.set_cs(true, 0);
+        dev.begin_frame(&frame);
+        dev.end_frame(0, &frame);
+        dev.set_cs(false, frame.last_edge + 1_000);
+        dev.set_cs(true, frame.last_edge + 101_000);
+        let messages: Vec<String> = dev.drain_events().into_iter().map(|e| e.message).collect();
+        assert_eq!(
+            messages,
+            [
+                "ADXL345: first SCLK edge 1000 ps after CS↓ (tDELAY 5 ns)",
+                "ADXL345: SCLK period 100000 ps, below 200 ns (5 MHz)",
+                "ADXL345: a frame in SPI mode 0, the part is mode 3",
+                "ADXL345: CS rose 1000 ps after SCLK (tQUIET 5 ns)",
+                "ADXL345: CS high for 100000 ps between communications (tCS,DIS 150 ns)",
+            ]
+        );
     }
 
     /// A `[[board.devices]]` table places the part by name on SPI, and refuses it on another link.

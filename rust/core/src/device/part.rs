@@ -200,6 +200,17 @@ pub mod family {
     pub const T_CS_NS: f64 = 48.8;
     /// tSFS, ns.
     pub const T_SFS_NS: f64 = 48.8;
+    /// tSTALL, µs: the sibling ADIS16405's timing table, which the ADIS16407 and the ADIS16362 take
+    /// [unconfirmed for each: `adis16407.md`].
+    pub const T_STALL_US: f64 = 9.0;
+    /// tSTALL in the slow sample modes, µs (the ADIS16405's table, as [`T_STALL_US`]).
+    pub const T_STALL_SLOW_US: f64 = 75.0;
+    /// tDATARATE, µs (the ADIS16405's table, as [`T_STALL_US`]).
+    pub const T_DATARATE_US: f64 = 40.0;
+    /// SCLK limit in normal mode, Hz (Linux `ADIS16400_HAS_SLOW_MODE`: 2 MHz fast mode).
+    pub const SCLK_MAX_HZ: f64 = 2.0e6;
+    /// SCLK limit during a burst read, Hz (Linux: 1 MHz in a burst).
+    pub const SCLK_BURST_MAX_HZ: f64 = 1.0e6;
 
     /// A part's SPI timing: the family's mode, 16-bit frames, tCS and tSFS (no CS-high minimum is
     /// given), the part's normal-mode SCLK limit; the rules allow 1 ps for the bus's flooring of

@@ -56,6 +56,7 @@
 
 use std::collections::VecDeque;
 
+use super::fifo_bits::{FF_IENA, FF_IL, FF_INT, FF_INTCLR, FF_RST, FF_ST};
 use crate::bus::i2c::{nack_address, stretch_rule, I2cTarget, Master};
 use crate::bus::Address;
 use crate::error::{Error, Result};
@@ -158,11 +159,6 @@ pub const MDR_STT: u16 = 1 << 13;
 /// NACK mode.
 pub const MDR_NACKMOD: u16 = 1 << 15;
 
-const FF_IL: u16 = 0x1F;
-const FF_IENA: u16 = 1 << 5;
-const FF_INTCLR: u16 = 1 << 6;
-const FF_INT: u16 = 1 << 7;
-const FF_RST: u16 = 1 << 13;
 const FFTX_I2CFFEN: u16 = 1 << 14;
 /// FIFO depth [unconfirmed, spec §7].
 pub const FIFO_DEPTH: usize = 16;
@@ -375,12 +371,12 @@ impl I2cA {
 
     fn fftx_value(&self) -> u16 {
         let st = (self.tx_fifo.len() as u16) << 8;
-        (self.fftx & !(0x1F00 | FF_INT | FF_INTCLR)) | st | if self.txffint() { FF_INT } else { 0 }
+        (self.fftx & !(FF_ST | FF_INT | FF_INTCLR)) | st | if self.txffint() { FF_INT } else { 0 }
     }
 
     fn ffrx_value(&self) -> u16 {
         let st = (self.rx_fifo.len() as u16) << 8;
-        (self.ffrx & !(0x1F00 | FF_INT | FF_INTCLR)) | st | if self.rxffint() { FF_INT } else { 0 }
+        (self.ffrx & !(FF_ST | FF_INT | FF_INTCLR)) | st | if self.rxffint() { FF_INT } else { 0 }
     }
 
     /// TXFFINT: the condition itself (a clear by TXFFINTCLR sets again at once while it holds).
@@ -488,14 +484,14 @@ impl I2cA {
         if value & FF_RST == 0 {
             self.tx_fifo.clear();
         }
-        self.fftx = value & !(FF_INT | FF_INTCLR | 0x1F00);
+        self.fftx = value & !(FF_INT | FF_INTCLR | FF_ST);
     }
 
     fn write_ffrx(&mut self, value: u16) {
         if value & FF_RST == 0 {
             self.rx_fifo.clear();
         }
-        self.ffrx = value & !(FF_INT | FF_INTCLR | 0x1F00);
+        self.ffrx = value & !(FF_INT | FF_INTCLR | FF_ST);
     }
 
     fn write_mdr(&mut self, value: u16) {

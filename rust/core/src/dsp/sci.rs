@@ -41,6 +41,7 @@
 
 use std::collections::VecDeque;
 
+use super::fifo_bits::{FF_IENA, FF_IL, FF_INTCLR};
 use crate::error::{Error, Result};
 use crate::events::{Event, Severity};
 use crate::time::{Clock, Ps, PS_PER_S};
@@ -161,9 +162,6 @@ const CTL1_SWRESET: u16 = 1 << 5;
 const CTL1_RXERRINTENA: u16 = 1 << 6;
 const CTL2_TXINTENA: u16 = 1 << 0;
 const CTL2_RXBKINTENA: u16 = 1 << 1;
-const FF_IL: u16 = 0x1F;
-const FF_IENA: u16 = 1 << 5;
-const FF_INTCLR: u16 = 1 << 6;
 const FFTX_TXFIFOXRESET: u16 = 1 << 13;
 const FFTX_SCIFFENA: u16 = 1 << 14;
 const FFTX_SCIRST: u16 = 1 << 15;
@@ -538,15 +536,7 @@ impl Sci {
             }
             if self.rx_fifo.len() >= FIFO_DEPTH {
                 if !self.rxffovf {
-                    self.events.push(Event::new(
-                        t,
-                        "uart_overrun",
-                        Severity::Warning,
-                        format!(
-                            "{}: a character arrived with the 16-word RX FIFO full: lost (RXFFOVF set)",
-                            self.name()
-                        ),
-                    ));
+                    self.overrun(t, "with the 16-word RX FIFO full: lost (RXFFOVF set)");
                 }
                 self.rxffovf = true;
             } else {
@@ -555,15 +545,7 @@ impl Sci {
         } else {
             if self.rxrdy {
                 if !self.oe {
-                    self.events.push(Event::new(
-                        t,
-                        "uart_overrun",
-                        Severity::Warning,
-                        format!(
-                            "{}: a character arrived before SCIRXBUF's last one was read: it is overwritten (OE set)",
-                            self.name()
-                        ),
-                    ));
+                    self.overrun(t, "before SCIRXBUF's last one was read: it is overwritten (OE set)");
                 }
                 self.oe = true;
             }
@@ -571,6 +553,12 @@ impl Sci {
             self.rxrdy = true;
         }
         self.update_irq(t);
+    }
+
+    /// A character lost or overwritten at `t` (`how` it arrived and what became of it).
+    fn overrun(&mut self, t: Ps, how: &str) {
+        let what = format!("{}: a character arrived {how}", self.name());
+        self.events.push(Event::new(t, "uart_overrun", Severity::Warning, what));
     }
 
     fn rxerror(&self) -> bool {

@@ -402,15 +402,21 @@ fn outputs_are_pinned_bit_for_bit() {
     }
 }
 
+/// The reference board (f64) with a `period_us` timer and nested interrupts, run for `t_end_s`
+/// turning at 10 °/s about z.
+fn nested_run(period_us: f64, t_end_s: f64) -> Output {
+    let mut p = reference_f64();
+    p.timer.period_us = period_us;
+    p.firmware.overrun = crate::profile::OverrunPolicy::Nest;
+    run::<f64>(&p, t_end_s, [0.0, 0.0, 10.0])
+}
+
 #[test]
 fn nested_interrupts_run_inside_the_isr_they_preempt() {
     // A 338 µs timer: a tick without an attitude step (≈ 335 µs) fits, a step tick (≈ 348 µs) does
     // not; with `nest` the late tick preempts the running ISR at its next interruptible point and
     // runs to completion there.
-    let mut p = reference_f64();
-    p.timer.period_us = 338.0;
-    p.firmware.overrun = crate::profile::OverrunPolicy::Nest;
-    let out = run::<f64>(&p, 0.05, [0.0, 0.0, 10.0]);
+    let out = nested_run(338.0, 0.05);
     let nested = out.events.iter().filter(|e| e.kind == "nested_interrupt").count();
     assert!(nested > 0);
     // Every tick ran exactly once, in order.
@@ -429,10 +435,7 @@ fn nesting_inside_a_burst_corrupts_it() {
     // frames of its burst; the nested ISR's own burst shares SPI-A and the chip select, so the outer
     // burst breaks the device's rules, which the events show. Every ISR still ends (one nested ISR
     // per interruptible point).
-    let mut p = reference_f64();
-    p.timer.period_us = 300.0;
-    p.firmware.overrun = crate::profile::OverrunPolicy::Nest;
-    let out = run::<f64>(&p, 0.02, [0.0, 0.0, 10.0]);
+    let out = nested_run(300.0, 0.02);
     assert!(out.events.iter().any(|e| e.kind == "nested_interrupt"));
     assert!(out.events.iter().any(|e| e.severity == Severity::Error && e.kind != "overrun"));
 }

@@ -152,25 +152,19 @@ impl DecodeReport {
         if self.is_clean() {
             return;
         }
+        let mut warn = |kind: &'static str, what: String| log.push(Event::new(t_ps, kind, Severity::Warning, what));
         for (i, (name, word)) in CHANNELS.iter().zip(words).enumerate() {
             let bit = 1u8 << i;
             if self.stale & bit != 0 {
-                log.push(Event::new(
-                    t_ps,
+                warn(
                     "stale_decode",
-                    Severity::Warning,
                     format!("{name} = 0x{word:04X}: outside both published ranges, previous value kept"),
-                ));
+                );
             } else if self.differs & bit != 0 {
-                log.push(Event::new(t_ps, "decode_mismatch", Severity::Warning, self.mismatch_message(name, *word)));
+                warn("decode_mismatch", self.mismatch_message(name, *word));
             }
             if self.saturated & bit != 0 {
-                log.push(Event::new(
-                    t_ps,
-                    "saturated_reading",
-                    Severity::Warning,
-                    format!("{name} = 0x{word:04X}: code at the 14-bit limit"),
-                ));
+                warn("saturated_reading", format!("{name} = 0x{word:04X}: code at the 14-bit limit"));
             }
         }
     }

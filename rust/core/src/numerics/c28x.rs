@@ -459,29 +459,22 @@ fn from_library<const RZ: bool>(y: f64) -> C28xF32<RZ> {
     C28xF32::new(round_f64::<RZ>(y, 0.0))
 }
 
-impl<const RZ: bool> Add for C28xF32<RZ> {
-    type Output = Self;
-    #[inline]
-    fn add(self, rhs: Self) -> Self {
-        C28xF32(add::<RZ>(self.0, rhs.0))
-    }
+/// `$trait` by the FPU operation of the same name in the mode (`add`, `sub`, `mul` above).
+macro_rules! binop {
+    ($trait:ident, $method:ident) => {
+        impl<const RZ: bool> $trait for C28xF32<RZ> {
+            type Output = Self;
+            #[inline]
+            fn $method(self, rhs: Self) -> Self {
+                C28xF32($method::<RZ>(self.0, rhs.0))
+            }
+        }
+    };
 }
 
-impl<const RZ: bool> Sub for C28xF32<RZ> {
-    type Output = Self;
-    #[inline]
-    fn sub(self, rhs: Self) -> Self {
-        C28xF32(sub::<RZ>(self.0, rhs.0))
-    }
-}
-
-impl<const RZ: bool> Mul for C28xF32<RZ> {
-    type Output = Self;
-    #[inline]
-    fn mul(self, rhs: Self) -> Self {
-        C28xF32(mul::<RZ>(self.0, rhs.0))
-    }
-}
+binop!(Add, add);
+binop!(Sub, sub);
+binop!(Mul, mul);
 
 impl<const RZ: bool> Div for C28xF32<RZ> {
     type Output = Self;

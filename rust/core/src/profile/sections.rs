@@ -2,7 +2,7 @@
 //! [unconfirmed] in the spec are parameters here, documented in `firmware_model/SCHEMA.md`.
 
 use crate::device::encoding::GyroRange;
-use crate::device::part::{Part, Role};
+use crate::device::part::{family, Part, Role};
 use crate::device::parts;
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -325,49 +325,41 @@ pub struct Device {
 }
 
 impl Default for Device {
+    /// The reference board's part, the ADIS16407, with its declared values.
     fn default() -> Self {
-        Device {
-            part: "ADIS16407".into(),
-            prod_id: 0x4017,
-            burst_command: 0x4200,
-            smpl_prd: 0x0001,
-            sens_avg: 0x0402,
-            msc_ctrl: 0x0006,
-            clock_ppb: 0,
-            first_sample_us: 0.0,
-            reset_time_ms: 130.0,
-            powered_before_ms: 1000.0,
-            timing_mode: TimingMode::Strict,
-            sclk_max_hz: 2.0e6,
-            sclk_burst_max_hz: 1.0e6,
-            t_stall_us: 9.0,
-            t_stall_slow_us: 75.0,
-            t_datarate_us: 40.0,
-            t_cs_ns: 48.8,
-            t_sfs_ns: 48.8,
-            lot_id1: 0,
-            lot_id2: 0,
-            serial_num: 0,
-            dout_after_write: 0x0000,
-            corrupt_word: 0xFFFF,
-        }
+        Device::of_part(&parts::adis16407::PART)
     }
 }
 
 impl Device {
-    /// The defaults with the part's declared values (what a profile naming only `part` gives).
+    /// The defaults with the part's declared values (what a profile naming only `part` gives): its
+    /// PROD_ID, burst command, reset time and SPI timing from the declaration, the family's tCS and
+    /// tSFS; the rest the model's own defaults.
     pub fn of_part(part: &Part) -> Device {
         Device {
             part: part.name.into(),
             prod_id: u32::from(part.prod_id),
             burst_command: u32::from(part.burst_command),
+            smpl_prd: 0x0001,
+            sens_avg: 0x0402,
+            msc_ctrl: 0x0006,
+            clock_ppb: 0,
+            first_sample_us: 0.0,
             reset_time_ms: part.reset_ms,
+            powered_before_ms: 1000.0,
+            timing_mode: TimingMode::Strict,
             sclk_max_hz: part.spi.sclk_max_hz,
             sclk_burst_max_hz: part.sclk_burst_max_hz,
             t_stall_us: part.t_stall_us,
             t_stall_slow_us: part.t_stall_slow_us,
             t_datarate_us: part.t_datarate_us,
-            ..Device::default()
+            t_cs_ns: family::T_CS_NS,
+            t_sfs_ns: family::T_SFS_NS,
+            lot_id1: 0,
+            lot_id2: 0,
+            serial_num: 0,
+            dout_after_write: 0x0000,
+            corrupt_word: 0xFFFF,
         }
     }
 }

@@ -159,24 +159,36 @@ const GEOMAG_CODES: [u16; 8] = [34_000, 31_500, 33_100, 35_389, 31_457, 38_011, 
 /// (volts, rates, compensation, field, temperature), attitude the three-sample rotation vector with
 /// the roll aid, Euler the spin-body angles; no navigation, no interpolation.
 fn geomag_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
-    let arith = arith_for(profile.firmware.numeric, table);
-    let factor = location_factor(profile, table);
     let mut lp = GeomagLoop::<Counted>::new(profile, profile.timer.period_us * 1e-6)?;
     let (d, decode) = count(|| lp.decode(&GEOMAG_CODES));
     let dtheta = [d.1; 3];
     let (r, attitude) = count(|| lp.update(&dtheta, 0));
     r?;
     let (_, euler) = count(|| lp.euler());
-    let stage = |counts: OpCounts| StageCost { counts, cycles: price(&counts, arith, factor) };
-    Ok(StageCosts {
+    Ok(priced_stages(profile, table, [decode, attitude, euler, OpCounts::default(), OpCounts::default()]))
+}
+
+/// A stage's operations priced at `arith` with the code-location `factor`.
+fn priced(counts: OpCounts, arith: &ArithCosts, factor: f64) -> StageCost {
+    StageCost { counts, cycles: price(&counts, arith, factor) }
+}
+
+/// The stages of a profile's firmware from their operations (decode, attitude, Euler, navigation,
+/// interpolation), priced at the profile's arithmetic and code location, with the interrupt's entry
+/// and exit.
+fn priced_stages(profile: &Profile, table: &CostTable, counts: [OpCounts; 5]) -> StageCosts {
+    let arith = arith_for(profile.firmware.numeric, table);
+    let factor = location_factor(profile, table);
+    let [decode, attitude, euler, navigation, interpolation] = counts.map(|c| priced(c, arith, factor));
+    StageCosts {
         entry: price_terms(&entry_terms(&table.interrupt), factor),
         exit: price_terms(&exit_terms(&table.interrupt), factor),
-        decode: stage(decode),
-        attitude: stage(attitude),
-        euler: stage(euler),
-        navigation: stage(OpCounts::default()),
-        interpolation: stage(OpCounts::default()),
-    })
+        decode,
+        attitude,
+        euler,
+        navigation,
+        interpolation,
+    }
 }
 
 /// X/Y/Z MAGN_OUT of the counting inputs: 0.25, −0.05, −0.4 gauss (positive and negative codes).
@@ -236,16 +248,11 @@ pub fn attitude_parts(profile: &Profile, table: &CostTable) -> Result<Vec<(&'sta
         if !parts.is_empty() && rest.total() > 0 {
             parts.push(("other", rest));
         }
-        Ok(parts
-            .into_iter()
-            .map(|(n, counts)| (n, StageCost { counts, cycles: price(&counts, arith, factor) }))
-            .collect())
+        Ok(parts.into_iter().map(|(n, counts)| (n, priced(counts, arith, factor))).collect())
     })
 }
 
 fn counted_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts> {
-    let arith = arith_for(profile.firmware.numeric, table);
-    let factor = location_factor(profile, table);
     let Counting { mut fw, rates, f_b } = counting_firmware(profile)?;
     let lit = |x: f64| Counted(x);
 
@@ -266,16 +273,8 @@ fn counted_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCost
         }
     });
 
-    let stage = |counts: OpCounts| StageCost { counts, cycles: price(&counts, arith, factor) };
-    Ok(StageCosts {
-        entry: price_terms(&entry_terms(&table.interrupt), factor),
-        exit: price_terms(&exit_terms(&table.interrupt), factor),
-        decode: stage(decode),
-        attitude: stage(attitude_counts),
-        euler: stage(euler),
-        navigation: stage(if profile.firmware.navigation { navigation } else { OpCounts::default() }),
-        interpolation: stage(interpolation),
-    })
+    let navigation = if profile.firmware.navigation { navigation } else { OpCounts::default() };
+    Ok(priced_stages(profile, table, [decode, attitude_counts, euler, navigation, interpolation]))
 }
 
 #[cfg(test)]

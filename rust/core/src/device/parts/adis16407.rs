@@ -167,13 +167,11 @@ pub const PART: Part = Part {
     startup_ms: 210.0,
     // [unconfirmed]: siblings 90–170 ms; Linux's ADIS16362 timeouts give 130 ms.
     reset_ms: 130.0,
-    // [unconfirmed for the ADIS16407]: the sibling ADIS16405's timing table (adis16407.md): tSTALL
-    // 9 µs (75 µs in the slow sample modes), tDATARATE 40 µs.
-    t_stall_us: 9.0,
-    t_stall_slow_us: 75.0,
-    t_datarate_us: 40.0,
-    spi: family::spi(2.0e6),
-    sclk_burst_max_hz: 1.0e6,
+    t_stall_us: family::T_STALL_US,
+    t_stall_slow_us: family::T_STALL_SLOW_US,
+    t_datarate_us: family::T_DATARATE_US,
+    spi: family::spi(family::SCLK_MAX_HZ),
+    sclk_burst_max_hz: family::SCLK_BURST_MAX_HZ,
     error_preset: "adis16407",
 };
 

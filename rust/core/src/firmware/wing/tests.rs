@@ -494,19 +494,21 @@ fn rms(xs: &[f64]) -> f64 {
     (xs.iter().map(|x| x * x).sum::<f64>() / xs.len() as f64).sqrt()
 }
 
+/// The mean specific force of `n` readings at rest at the pose α.
+fn mean_at_rest(sensor: &mut Adis16362, h: &Hinge, alpha: f64, n: usize) -> [f64; 3] {
+    let f = h.f_rest(alpha);
+    let mut s = [0.0; 3];
+    for _ in 0..n {
+        let (_, m) = sensor.read([0.0; 3], f);
+        (0..3).for_each(|i| s[i] += m[i] / n as f64);
+    }
+    s
+}
+
 /// Static α from `n` readings at the zero and `n` at the pose α (the model runs on between them).
 fn static_run(sensor: &mut Adis16362, h: &Hinge, alpha: f64, n: usize) -> f64 {
-    let mut mean = |alpha: f64| -> [f64; 3] {
-        let f = h.f_rest(alpha);
-        let mut s = [0.0; 3];
-        for _ in 0..n {
-            let (_, m) = sensor.read([0.0; 3], f);
-            (0..3).for_each(|i| s[i] += m[i] / n as f64);
-        }
-        s
-    };
-    let f0 = mean(0.0);
-    let f = mean(alpha);
+    let f0 = mean_at_rest(sensor, h, 0.0, n);
+    let f = mean_at_rest(sensor, h, alpha, n);
     let q_wr = level_attitude(&f0, 0.0);
     wrap(hinge_angle(&q_wr, &h.a_r(), &level_attitude(&f, 0.0)) - alpha)
 }
@@ -620,15 +622,7 @@ fn monte_carlo_with_the_adis16362_preset() {
     // is in every d_k, so more poses do not average it away (reported).
     let axis_err = |count: usize, spread_deg: f64, seed: u64| -> f64 {
         let mut sensor = Adis16362::new(&quiet, seed);
-        let mut mean = |alpha: f64| -> [f64; 3] {
-            let f = h.f_rest(alpha);
-            let mut s = [0.0; 3];
-            for _ in 0..n {
-                let (_, m) = sensor.read([0.0; 3], f);
-                (0..3).for_each(|i| s[i] += m[i] / n as f64);
-            }
-            up_vector(&s)
-        };
+        let mut mean = |alpha: f64| up_vector(&mean_at_rest(&mut sensor, &h, alpha, n));
         let u0 = mean(0.0);
         let poses: Vec<[f64; 3]> =
             (0..count).map(|k| mean(spread_deg * D * if k % 2 == 0 { 1.0 } else { -1.0 })).collect();
