@@ -12,7 +12,9 @@
 //!   levels. A chip select reaches its part when its pin is a GPIO output driven low; GPIO57 muxed
 //!   to SPISTEA (GPBMUX2 = 1) is driven by SPI-A around each character instead. A write that asks a
 //!   pin that is an input or a peripheral's to move is a `gpio_not_driven` warning (once per pin).
-//!   `firmware.gpio_at_start` says how the pins are set at t = 0. LOSPCP (bits 2:0) changes LSPCLK
+//!   `firmware.gpio_at_start` says how the pins are set at t = 0. SPI-A's pins GPIO54–56 driven as
+//!   GPIO (a bit-banged SPI) clock the selected part with their edges, and its DOUT is on GPIO55
+//!   (`board::bitbang`). LOSPCP (bits 2:0) changes LSPCLK
 //!   at once.
 //! - Time is whole picoseconds. A step that rounds to no time (a rounding residue of the caller's
 //!   float arithmetic: below half a picosecond, or below the resolution of an f64 number of seconds
@@ -22,6 +24,7 @@
 //!   to the frame that ended last before it. An event inside a character still shifting waits until
 //!   the character ends.
 
+use crate::board::bitbang::{self, BitBang};
 use crate::board::spi_parts::SpiParts;
 use crate::board::InputFeed;
 use crate::bus::link::{FrameRecord, LinkRecord, SpiLink};
@@ -205,6 +208,8 @@ pub struct HostBoard {
     keep_log: bool,
     /// SCI-A/B/C.
     serial: SerialPorts,
+    /// SPI bit-banged on SPI-A's pins driven as GPIO (`board::bitbang`).
+    bitbang: BitBang,
 }
 
 impl HostBoard {
@@ -258,6 +263,7 @@ impl HostBoard {
             tint0_free_ps: 0,
             keep_log: true,
             serial,
+            bitbang: BitBang::new(),
         })
     }
 
@@ -852,7 +858,13 @@ impl HostBoard {
     /// other pin reads high (pulled up, or an undriven line, read as the link's floating level).
     fn pin_level(&self) -> impl Fn(u32) -> bool {
         let ste_low = self.link.ste_driven() && self.link.cs_asserted_by_ste();
-        move |pin| !(pin == CS_GPIO && ste_low)
+        // GPIO55 as a GPIO input shows the selected part's DOUT in a bit-banged window.
+        let somi = self.cs_low.and_then(|_| self.bitbang.somi(self.link.slave().answers_as_sampled()));
+        move |pin| match pin {
+            CS_GPIO => !ste_low,
+            bitbang::SOMI => somi.unwrap_or(true),
+            _ => true,
+        }
     }
 
     fn write_gpio(&mut self, addr: u32, value: u16) -> Result<()> {
@@ -864,6 +876,7 @@ impl HostBoard {
             self.warn_not_driven(addr, w.port, fresh);
         }
         if w.changed != 0 {
+            self.bitbang_pins()?;
             self.route_chip_selects()?;
         }
         Ok(())
@@ -911,7 +924,20 @@ impl HostBoard {
             return Ok(());
         }
         self.serial.set_i2c_pins(self.gpio.mux(32) == 1 && self.gpio.mux(33) == 1);
+        self.bitbang_pins()?;
         self.route_chip_selects()
+    }
+
+    /// Tell the bit-banged master's frames how SPI-A's pins stand now (an SCLK edge clocks the
+    /// selected part).
+    fn bitbang_pins(&mut self) -> Result<()> {
+        let sclk = self.gpio.driven(bitbang::CLK);
+        let simo = self.gpio.driven(bitbang::SIMO).unwrap_or(true);
+        if sclk.is_some() {
+            self.link.advance(self.now)?;
+        }
+        self.bitbang.pins(self.now, sclk, simo, self.cs_low.is_some(), self.link.slave_mut());
+        Ok(())
     }
 
     /// Connect the chip selects as the pins now stand: GPIO57 muxed to SPISTEA is driven by SPI-A;
@@ -940,6 +966,7 @@ impl HostBoard {
         if low == self.cs_low {
             return Ok(());
         }
+        self.bitbang.before_cs_change(self.link.slave_mut());
         if self.cs_low.is_some() {
             self.link.set_gpio57(true, now)?;
         }
