@@ -71,6 +71,7 @@ extern cregister volatile unsigned int IER;
 #include "DSP2833x_CpuTimers.h"
 #include "DSP2833x_Gpio.h"
 #include "DSP2833x_I2c.h"
+#include "DSP2833x_McBSP.h"
 #include "DSP2833x_PieCtrl.h"
 #include "DSP2833x_PieVect.h"
 #include "DSP2833x_Sci.h"

@@ -24,6 +24,27 @@ void InitGpio(void);
 void InitSpiGpio(void);
 void InitSpiaGpio(void);
 
+/* DSP2833x_McBSP.c */
+void InitMcbsp(void);
+void InitMcbspa(void);
+void InitMcbspb(void);
+void InitMcbspGpio(void);
+void InitMcbspaGpio(void);
+void InitMcbspbGpio(void);
+void InitMcbspa8bit(void);
+void InitMcbspa12bit(void);
+void InitMcbspa16bit(void);
+void InitMcbspa20bit(void);
+void InitMcbspa24bit(void);
+void InitMcbspa32bit(void);
+void InitMcbspb8bit(void);
+void InitMcbspb12bit(void);
+void InitMcbspb16bit(void);
+void InitMcbspb20bit(void);
+void InitMcbspb24bit(void);
+void InitMcbspb32bit(void);
+void delay_loop(void);
+void clkg_delay_loop(void);
 /* DSP2833x_Sci.c */
 void InitI2CGpio(void);
 void InitSci(void);

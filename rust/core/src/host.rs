@@ -33,6 +33,7 @@ use crate::device::{Constant, Physical};
 use crate::dsp::clocks::DspClocks;
 use crate::dsp::gpio::{self, Gpio};
 use crate::dsp::interrupts::{Blocked, Interrupts, Taken};
+use crate::dsp::mcbsp::{self, McbspPorts};
 use crate::dsp::serial::SerialPorts;
 use crate::dsp::spi;
 use crate::dsp::sysctrl::{self, SysCtrl, SysEvent};
@@ -87,6 +88,7 @@ fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
         .chain(sysctrl::REGISTERS)
         .chain(crate::dsp::sci::REGISTERS)
         .chain(crate::dsp::i2c::REGISTERS)
+        .chain(mcbsp::REGISTERS)
         .chain(gpio::CTRL_REGISTERS)
 }
 
@@ -110,7 +112,7 @@ fn no_register(addr: u32) -> Error {
         "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, SysCtrlRegs \
          PLLSTS, HISPCP, LOSPCP, PCLKCR0/1/3, LPMCR0, PLLCR, SCSR, WDCNTR, WDKEY, WDCR (0x7011…0x7029), \
          GPIO registers GPACTRL…GPCPUD 0x6F80…0x6FAD and GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timers 0-2 0x0C00…0x0C17, PIE control \
-         0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, I2C-A 0x7900…0x790C and 0x7920/0x7921, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
+         0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, I2C-A 0x7900…0x790C and 0x7920/0x7921, McBSP-A/B 0x5000/0x5040…+0x23, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
          peripherals); PieVectTable 0x0D00… is set through its vectors)"
     ))
 }
@@ -210,6 +212,8 @@ pub struct HostBoard {
     serial: SerialPorts,
     /// SPI bit-banged on SPI-A's pins driven as GPIO (`board::bitbang`).
     bitbang: BitBang,
+    /// McBSP-A and McBSP-B (`dsp::mcbsp`).
+    mcbsp: McbspPorts,
 }
 
 impl HostBoard {
@@ -264,6 +268,7 @@ impl HostBoard {
             keep_log: true,
             serial,
             bitbang: BitBang::new(),
+            mcbsp: McbspPorts::new(),
         })
     }
 
@@ -474,6 +479,7 @@ impl HostBoard {
             0x0C14 => self.irq.next_reload_ps_of(2).filter(|&t| t > self.now),
             0x0C00 | 0x0C01 | 0x0C08 | 0x0C09 | 0x0C10 | 0x0C11 | sysctrl::WDCNTR => Some(self.now),
             a if SerialPorts::owns(a) => self.serial.next_change_ps(a),
+            a if McbspPorts::owns(a) => self.mcbsp.next_change_ps(a).filter(|&t| t > self.now),
             _ => None,
         };
         // The PLL locking (PLLSTS) and a watchdog reset change what any register reads.
@@ -636,6 +642,10 @@ impl HostBoard {
             a if Gpio::owns_ctrl(a) => self.write_gpio_ctrl(a, value),
             a if Interrupts::owns(a) => self.irq.write(a, value, now),
             a if SerialPorts::owns(a) => self.serial.write(a, value, now),
+            a if McbspPorts::owns(a) => {
+                self.mcbsp.write(a, value, now, self.link.spi().lspclk());
+                Ok(())
+            }
             a => Err(no_register(a)),
         }
     }
@@ -655,6 +665,7 @@ impl HostBoard {
             a if Gpio::owns_ctrl(a) => self.gpio.read_ctrl(a),
             a if Interrupts::owns(a) => self.irq.read(a, now),
             a if SerialPorts::owns(a) => self.serial.read(a, now),
+            a if McbspPorts::owns(a) => Ok(self.mcbsp.read(a, now, self.link.spi().lspclk())),
             a => Err(no_register(a)),
         };
         self.sync();
@@ -798,6 +809,7 @@ impl HostBoard {
             0x7750..=0x775F => "SCI-B",
             0x7770..=0x777F => "SCI-C",
             0x7900..=0x793F => "I2C-A",
+            a if McbspPorts::owns(a) => McbspPorts::instance(a),
             a => match unmodelled::frame_of(a) {
                 Some(f) => f.instance,
                 None => return true,
