@@ -119,8 +119,8 @@ def test_the_memcpy_idiom_uses_the_load_size(tmp_path: Path):
 def test_initialising_the_adc_and_epwms_runs_with_one_warning_each(tmp_path: Path):
     src = _source(
         tmp_path,
-        "/* ePWM and ADC registers by address (TI's DSP2833x_EPwm.h / DSP2833x_Adc.h are not among\n"
-        "   the replacement headers: a project brings TI's). */\n"
+        "/* ePWM and ADC registers by address, as a project without the register files reaches them\n"
+        "   (tests/test_unmodelled_init.py: by the register files, with TI's support functions). */\n"
         "#define EPWM_TBCTL(n) (*(volatile Uint16 *)(0x6800 + 0x40 * ((n) - 1)))\n"
         "#define EPWM_TBPRD(n) (*(volatile Uint16 *)(0x6805 + 0x40 * ((n) - 1)))\n"
         "#define EPWM_CMPA(n) (*(volatile Uint16 *)(0x6809 + 0x40 * ((n) - 1)))\n"

@@ -68,13 +68,20 @@ extern cregister volatile unsigned int IER;
 #define BIT14 0x4000
 #define BIT15 0x8000
 
+#include "DSP2833x_Adc.h"
 #include "DSP2833x_CpuTimers.h"
+#include "DSP2833x_DMA.h"
+#include "DSP2833x_ECan.h"
+#include "DSP2833x_ECap.h"
+#include "DSP2833x_EPwm.h"
 #include "DSP2833x_Gpio.h"
 #include "DSP2833x_I2c.h"
+#include "DSP2833x_McBSP.h"
 #include "DSP2833x_PieCtrl.h"
 #include "DSP2833x_PieVect.h"
 #include "DSP2833x_Sci.h"
 #include "DSP2833x_Spi.h"
 #include "DSP2833x_SysCtrl.h"
+#include "DSP2833x_Xintf.h"
 
 #endif

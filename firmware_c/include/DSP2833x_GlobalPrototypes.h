@@ -24,6 +24,47 @@ void InitGpio(void);
 void InitSpiGpio(void);
 void InitSpiaGpio(void);
 
+/* DSP2833x_Adc.c, DSP2833x_EPwm.c, DSP2833x_ECap.c, DSP2833x_ECan.c, DSP2833x_DMA.c, DSP2833x_Xintf.c:
+   the peripherals not modelled (their registers hold what is written; each first use is reported) */
+void InitAdc(void);
+void InitEPwm(void);
+void InitEPwmGpio(void);
+void InitEPwm1Gpio(void);
+void InitEPwm2Gpio(void);
+void InitEPwm3Gpio(void);
+void InitEPwm4Gpio(void);
+void InitEPwm5Gpio(void);
+void InitEPwm6Gpio(void);
+void InitECap(void);
+void InitECan(void);
+void InitECana(void);
+void InitECanb(void);
+void InitECanGpio(void);
+void InitECanaGpio(void);
+void DMAInitialize(void);
+void InitXintf(void);
+
+/* DSP2833x_McBSP.c */
+void InitMcbsp(void);
+void InitMcbspa(void);
+void InitMcbspb(void);
+void InitMcbspGpio(void);
+void InitMcbspaGpio(void);
+void InitMcbspbGpio(void);
+void InitMcbspa8bit(void);
+void InitMcbspa12bit(void);
+void InitMcbspa16bit(void);
+void InitMcbspa20bit(void);
+void InitMcbspa24bit(void);
+void InitMcbspa32bit(void);
+void InitMcbspb8bit(void);
+void InitMcbspb12bit(void);
+void InitMcbspb16bit(void);
+void InitMcbspb20bit(void);
+void InitMcbspb24bit(void);
+void InitMcbspb32bit(void);
+void delay_loop(void);
+void clkg_delay_loop(void);
 /* DSP2833x_Sci.c */
 void InitI2CGpio(void);
 void InitSci(void);

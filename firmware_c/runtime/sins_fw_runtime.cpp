@@ -90,7 +90,7 @@ static bool is_sci(uint32_t a) {
 
 /* The modelled registers (rust/core/src/host.rs `HostBoard::read`: SPI-A, the GPIO registers,
    the system control registers (dsp/sysctrl.rs `SysCtrl::owns`), CPU timers 0-2 and the PIE
-   (dsp/interrupts.rs `Interrupts::owns`), SCI-A/B/C (dsp/sci.rs), I2C-A (dsp/i2c.rs), and the frames of the peripherals
+   (dsp/interrupts.rs `Interrupts::owns`), SCI-A/B/C (dsp/sci.rs), I2C-A (dsp/i2c.rs), McBSP-A/B (dsp/mcbsp.rs), and the frames of the peripherals
    not modelled yet, whose registers the board holds with their reset values and whose first use it
    reports (dsp/unmodelled.rs `FRAMES`). */
 static bool is_modelled(uint32_t a) {
@@ -113,6 +113,7 @@ static bool is_modelled(uint32_t a) {
     if (a >= 0x0C00u && a < 0x0C18u) return a % 8 != 5;              /* CPU timers 0-2 */
     if (is_sci(a)) return true;                                      /* SCI-A/B/C (dsp/sci.rs) */
     if ((a >= 0x7900u && a <= 0x790Cu) || a == 0x7920u || a == 0x7921u) return true; /* I2C-A (dsp/i2c.rs) */
+    if ((a >= 0x5000u && a < 0x5024u) || (a >= 0x5040u && a < 0x5064u)) return true; /* McBSP-A/B (dsp/mcbsp.rs) */
     return a >= 0x0CE0u && a <= 0x0CF9u;                             /* PIE control */
 }
 

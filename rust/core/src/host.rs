@@ -12,7 +12,9 @@
 //!   levels. A chip select reaches its part when its pin is a GPIO output driven low; GPIO57 muxed
 //!   to SPISTEA (GPBMUX2 = 1) is driven by SPI-A around each character instead. A write that asks a
 //!   pin that is an input or a peripheral's to move is a `gpio_not_driven` warning (once per pin).
-//!   `firmware.gpio_at_start` says how the pins are set at t = 0. LOSPCP (bits 2:0) changes LSPCLK
+//!   `firmware.gpio_at_start` says how the pins are set at t = 0. SPI-A's pins GPIO54–56 driven as
+//!   GPIO (a bit-banged SPI) clock the selected part with their edges, and its DOUT is on GPIO55
+//!   (`board::bitbang`). LOSPCP (bits 2:0) changes LSPCLK
 //!   at once.
 //! - Time is whole picoseconds. A step that rounds to no time (a rounding residue of the caller's
 //!   float arithmetic: below half a picosecond, or below the resolution of an f64 number of seconds
@@ -22,6 +24,7 @@
 //!   to the frame that ended last before it. An event inside a character still shifting waits until
 //!   the character ends.
 
+use crate::board::bitbang::{self, BitBang};
 use crate::board::spi_parts::SpiParts;
 use crate::board::InputFeed;
 use crate::bus::link::{FrameRecord, LinkRecord, SpiLink};
@@ -30,6 +33,7 @@ use crate::device::{Constant, Physical};
 use crate::dsp::clocks::DspClocks;
 use crate::dsp::gpio::{self, Gpio};
 use crate::dsp::interrupts::{Blocked, Interrupts, Taken};
+use crate::dsp::mcbsp::{self, McbspPorts};
 use crate::dsp::serial::SerialPorts;
 use crate::dsp::spi;
 use crate::dsp::sysctrl::{self, SysCtrl, SysEvent};
@@ -84,6 +88,7 @@ fn all_registers() -> impl Iterator<Item = &'static (&'static str, u32, u32)> {
         .chain(sysctrl::REGISTERS)
         .chain(crate::dsp::sci::REGISTERS)
         .chain(crate::dsp::i2c::REGISTERS)
+        .chain(mcbsp::REGISTERS)
         .chain(gpio::CTRL_REGISTERS)
 }
 
@@ -107,7 +112,7 @@ fn no_register(addr: u32) -> Error {
         "C28x address 0x{addr:04X}: no modelled register there (modelled: SPI-A 0x7040…0x704F, SysCtrlRegs \
          PLLSTS, HISPCP, LOSPCP, PCLKCR0/1/3, LPMCR0, PLLCR, SCSR, WDCNTR, WDKEY, WDCR (0x7011…0x7029), \
          GPIO registers GPACTRL…GPCPUD 0x6F80…0x6FAD and GPADAT…GPCTOGGLE 0x6FC0…0x6FD7, CPU timers 0-2 0x0C00…0x0C17, PIE control \
-         0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, I2C-A 0x7900…0x790C and 0x7920/0x7921, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
+         0x0CE0…0x0CF9, SCI-A/B/C 0x7050/0x7750/0x7770…+0xF, I2C-A 0x7900…0x790C and 0x7920/0x7921, McBSP-A/B 0x5000/0x5040…+0x23, the registers of ADC, ePWM, eCAP, eCAN, DMA, XINTF and FlashRegs (not modelled \
          peripherals); PieVectTable 0x0D00… is set through its vectors)"
     ))
 }
@@ -205,6 +210,10 @@ pub struct HostBoard {
     keep_log: bool,
     /// SCI-A/B/C.
     serial: SerialPorts,
+    /// SPI bit-banged on SPI-A's pins driven as GPIO (`board::bitbang`).
+    bitbang: BitBang,
+    /// McBSP-A and McBSP-B (`dsp::mcbsp`).
+    mcbsp: McbspPorts,
 }
 
 impl HostBoard {
@@ -258,6 +267,8 @@ impl HostBoard {
             tint0_free_ps: 0,
             keep_log: true,
             serial,
+            bitbang: BitBang::new(),
+            mcbsp: McbspPorts::new(),
         })
     }
 
@@ -468,6 +479,7 @@ impl HostBoard {
             0x0C14 => self.irq.next_reload_ps_of(2).filter(|&t| t > self.now),
             0x0C00 | 0x0C01 | 0x0C08 | 0x0C09 | 0x0C10 | 0x0C11 | sysctrl::WDCNTR => Some(self.now),
             a if SerialPorts::owns(a) => self.serial.next_change_ps(a),
+            a if McbspPorts::owns(a) => self.mcbsp.next_change_ps(a).filter(|&t| t > self.now),
             _ => None,
         };
         // The PLL locking (PLLSTS) and a watchdog reset change what any register reads.
@@ -630,6 +642,10 @@ impl HostBoard {
             a if Gpio::owns_ctrl(a) => self.write_gpio_ctrl(a, value),
             a if Interrupts::owns(a) => self.irq.write(a, value, now),
             a if SerialPorts::owns(a) => self.serial.write(a, value, now),
+            a if McbspPorts::owns(a) => {
+                self.mcbsp.write(a, value, now, self.link.spi().lspclk());
+                Ok(())
+            }
             a => Err(no_register(a)),
         }
     }
@@ -649,6 +665,7 @@ impl HostBoard {
             a if Gpio::owns_ctrl(a) => self.gpio.read_ctrl(a),
             a if Interrupts::owns(a) => self.irq.read(a, now),
             a if SerialPorts::owns(a) => self.serial.read(a, now),
+            a if McbspPorts::owns(a) => Ok(self.mcbsp.read(a, now, self.link.spi().lspclk())),
             a => Err(no_register(a)),
         };
         self.sync();
@@ -792,6 +809,7 @@ impl HostBoard {
             0x7750..=0x775F => "SCI-B",
             0x7770..=0x777F => "SCI-C",
             0x7900..=0x793F => "I2C-A",
+            a if McbspPorts::owns(a) => McbspPorts::instance(a),
             a => match unmodelled::frame_of(a) {
                 Some(f) => f.instance,
                 None => return true,
@@ -852,7 +870,13 @@ impl HostBoard {
     /// other pin reads high (pulled up, or an undriven line, read as the link's floating level).
     fn pin_level(&self) -> impl Fn(u32) -> bool {
         let ste_low = self.link.ste_driven() && self.link.cs_asserted_by_ste();
-        move |pin| !(pin == CS_GPIO && ste_low)
+        // GPIO55 as a GPIO input shows the selected part's DOUT in a bit-banged window.
+        let somi = self.cs_low.and_then(|_| self.bitbang.somi(self.link.slave().answers_as_sampled()));
+        move |pin| match pin {
+            CS_GPIO => !ste_low,
+            bitbang::SOMI => somi.unwrap_or(true),
+            _ => true,
+        }
     }
 
     fn write_gpio(&mut self, addr: u32, value: u16) -> Result<()> {
@@ -864,6 +888,7 @@ impl HostBoard {
             self.warn_not_driven(addr, w.port, fresh);
         }
         if w.changed != 0 {
+            self.bitbang_pins()?;
             self.route_chip_selects()?;
         }
         Ok(())
@@ -911,7 +936,20 @@ impl HostBoard {
             return Ok(());
         }
         self.serial.set_i2c_pins(self.gpio.mux(32) == 1 && self.gpio.mux(33) == 1);
+        self.bitbang_pins()?;
         self.route_chip_selects()
+    }
+
+    /// Tell the bit-banged master's frames how SPI-A's pins stand now (an SCLK edge clocks the
+    /// selected part).
+    fn bitbang_pins(&mut self) -> Result<()> {
+        let sclk = self.gpio.driven(bitbang::CLK);
+        let simo = self.gpio.driven(bitbang::SIMO).unwrap_or(true);
+        if sclk.is_some() {
+            self.link.advance(self.now)?;
+        }
+        self.bitbang.pins(self.now, sclk, simo, self.cs_low.is_some(), self.link.slave_mut());
+        Ok(())
     }
 
     /// Connect the chip selects as the pins now stand: GPIO57 muxed to SPISTEA is driven by SPI-A;
@@ -940,6 +978,7 @@ impl HostBoard {
         if low == self.cs_low {
             return Ok(());
         }
+        self.bitbang.before_cs_change(self.link.slave_mut());
         if self.cs_low.is_some() {
             self.link.set_gpio57(true, now)?;
         }

@@ -4,6 +4,7 @@
 //! declares, on their links (`links.rs`).
 
 pub mod analog;
+pub mod bitbang;
 pub(crate) mod glitch;
 pub mod input;
 pub mod links;

@@ -129,6 +129,14 @@ impl SpiParts {
         })
     }
 
+    /// The selected part is told the shape of a bit-banged frame at its end (see
+    /// [`Adis16407::bitbanged_shape`]); the other parts check a frame's shape when it starts only.
+    pub fn bitbanged_shape(&mut self, timing: &FrameTiming) {
+        if let Some((_, _, SpiPart::Adis(d))) = self.parts.get_mut(self.selected) {
+            d.bitbanged_shape(timing);
+        }
+    }
+
     /// The input feeds of the parts that read the board's input and have their own (the ADS8344's
     /// front end).
     pub fn own_feeds(&self) -> Vec<InputFeed> {

@@ -108,6 +108,25 @@ impl Adis {
         self.spi.burst.is_some()
     }
 
+    /// A frame clocked bit by bit from GPIO pins (a bit-banged master, `board::bitbang`) is over:
+    /// `timing` is its shape as measured (its length, its shortest SCLK period), which its start
+    /// (`begin_frame` at its first edge) could not know. The shape rules it breaks that its start
+    /// did not find are reported as any frame's, by the same checker ([`Adis::shape_violations`]),
+    /// and recorded before the frame ends (`end_frame`), so that a frame of the wrong length is
+    /// ignored as any other.
+    pub fn bitbanged_shape(&mut self, timing: &FrameTiming) {
+        let slot = self.spi.current();
+        let rec = self.spi.records[slot];
+        if rec.violations.intersects(Violations::IGNORE_DIN) {
+            return;
+        }
+        let found = Violations(self.shape_violations(timing, rec.in_burst).0 & !rec.violations.0);
+        if !found.is_empty() {
+            self.report_timing(timing, rec.in_burst, found);
+            self.spi.records[slot].violations.insert(found);
+        }
+    }
+
     /// The event of a broken rule `v` in bus frame `frame` (the caller records the bit in the
     /// frame's record).
     fn violation(&mut self, v: Violations, t: Ps, frame: u64, message: String, measured: f64, required: f64) {
