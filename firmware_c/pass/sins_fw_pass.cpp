@@ -393,12 +393,15 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
 
 
 /* The C28x cycles of each basic block ($SINS_FW_PASS_COSTS: `key=cycles,...`, written by the build
-   from firmware_model/c28x-c-costs.toml and the profile's c28x-costs.toml: sins_fw.firmware_build
+   from the profile's cost table, c28x-costs.toml [instructions], [float], [iq]: sins_fw.firmware_build
    .block_costs). Run at the end of the optimisation pipeline, it prices each block of the optimised
    IR instruction by instruction and puts at the block's first insertion point one call
    `sins_fw_block(cycles, &counter)` (`sins_fw_enter` at a function's entry block, which also counts the
    call): the runtime adds the cycles to the time due and to `counter`, the function's own ("self") cycles, which the runtime lists by function name (sins_fw_function_cycles).
-   Before each return it calls `sins_fw_leave(&counter)`: the function's inclusive cycles.
+   Before each return it calls `sins_fw_leave(&counter)`: the function's inclusive cycles. In a block
+   with register accesses the first call charges the instructions up to the first access, and a
+   `sins_fw_block` after each access the instructions after it (an access is timed after the code
+   before it, as on the target).
    An empty endless loop (`for (;;) {}`: a block that only branches to itself) calls
    `sins_fw_idle(cycles)` instead: the runtime moves time to the next interrupt in whole passes.
    Without $SINS_FW_PASS_COSTS the pass prices nothing (a build of another tool). */
