@@ -415,7 +415,7 @@ fn without_the_counted_work_the_outputs_are_those_pinned_before_it() {
 /// The pinned runs' digests (see [`outputs_are_pinned_bit_for_bit`]).
 fn pinned_digests() -> [(&'static str, u64); 11] {
     let adis = "errors.preset=adis16407";
-    let got = [
+    [
         ("f64", pinned_run::<f64>(&["firmware.numeric=\"f64\"", adis], 3.0, false)),
         ("c28x-f32", pinned_run::<crate::numerics::C28xF32Rn>(&[adis, "errors.seed=7"], 3.0, false)),
         ("c28x-f32-rz", pinned_run::<crate::numerics::C28xF32Rz>(&["firmware.numeric=\"c28x-f32-rz\""], 2.0, false)),
@@ -438,8 +438,7 @@ fn pinned_digests() -> [(&'static str, u64); 11] {
         ("overrun-queue", pinned_run::<f64>(&["timer.period_us=310.0"], 0.3, false)),
         ("spibrr-9", pinned_run::<f64>(&["spi.spibrr=9", "device.timing_mode=\"lenient\""], 0.5, true)),
         ("spibrr-9-strict", pinned_run::<f64>(&["spi.spibrr=9"], 0.5, false)),
-    ];
-    got
+    ]
 }
 
 /// The digests of [`pinned_digests`] (re-pinned when the model's counter began to tally the firmware's
