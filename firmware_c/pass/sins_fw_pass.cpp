@@ -393,12 +393,15 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
 
 
 /* The C28x cycles of each basic block ($SINS_FW_PASS_COSTS: `key=cycles,...`, written by the build
-   from firmware_model/c28x-c-costs.toml and the profile's c28x-costs.toml: sins_fw.firmware_build
+   from the profile's cost table, c28x-costs.toml [instructions], [float], [iq]: sins_fw.firmware_build
    .block_costs). Run at the end of the optimisation pipeline, it prices each block of the optimised
    IR instruction by instruction and puts at the block's first insertion point one call
    `sins_fw_block(cycles, &counter)` (`sins_fw_enter` at a function's entry block, which also counts the
    call): the runtime adds the cycles to the time due and to `counter`, the function's own ("self") cycles, which the runtime lists by function name (sins_fw_function_cycles).
-   Before each return it calls `sins_fw_leave(&counter)`: the function's inclusive cycles.
+   Before each return it calls `sins_fw_leave(&counter)`: the function's inclusive cycles. In a block
+   with register accesses the first call charges the instructions up to the first access, and a
+   `sins_fw_block` after each access the instructions after it (an access is timed after the code
+   before it, as on the target).
    An empty endless loop (`for (;;) {}`: a block that only branches to itself) calls
    `sins_fw_idle(cycles)` instead: the runtime moves time to the next interrupt in whole passes.
    Without $SINS_FW_PASS_COSTS the pass prices nothing (a build of another tool). */
@@ -511,7 +514,19 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         return f != nullptr && f->getValueAPF().getExactInverse(nullptr);
     }
 
+    /* A call of the runtime's register access (the register's cycles are the runtime's). */
+    static bool is_register_access(const Instruction &i) {
+        const auto *call = dyn_cast<CallBase>(&i);
+        const Function *fn = call != nullptr ? call->getCalledFunction() : nullptr;
+        return fn != nullptr && (fn->getName().startswith("sins_fw_ld") || fn->getName().startswith("sins_fw_st"));
+    }
+
     unsigned load_store_price(Type *t, bool store, const DataLayout &dl) const {
+        /* A float or double value: its MOV32 to or from an FPU register is the operand move the cost
+           table's float prices include (c28x-costs.toml: one per operation), not priced twice. */
+        if (t->isFloatingPointTy()) {
+            return 0;
+        }
         uint64_t bits = t->isSized() ? dl.getTypeSizeInBits(t).getFixedSize() : 32;
         uint64_t words = bits <= 32 ? 1 : (bits + 31) / 32; /* MOV / MOVL: 16 or 32 bits a cycle */
         return static_cast<unsigned>(words) * (store ? price("store") : price("load") + price("data_wait"));
@@ -523,6 +538,10 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         }
         if (auto *bo = dyn_cast<BinaryOperator>(&i)) {
             Type *t = bo->getType();
+            /* The host's 64-bit integers are its pointer-width indices and `long`, 32 bits on the C28x
+               (an index of a 16-bit `int`, a 22/32-bit XAR address, a 32-bit `long`): priced as one
+               32-bit operation (ADDL, CMPL, ...). A multiplication or division of 64 bits keeps the
+               RTS price (`long long`). */
             bool wide = t->isIntegerTy() && t->getIntegerBitWidth() > 32;
             switch (bo->getOpcode()) {
                 case Instruction::FAdd:
@@ -536,7 +555,7 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
                 case Instruction::UDiv:
                 case Instruction::SRem:
                 case Instruction::URem: return wide ? price("div64") : price("div");
-                default: return wide ? 2 * price("int") : price("int");
+                default: return price("int");
             }
         }
         switch (i.getOpcode()) {
@@ -555,7 +574,16 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
             case Instruction::Load: return load_store_price(i.getType(), false, dl);
             case Instruction::Store:
                 return load_store_price(cast<StoreInst>(i).getValueOperand()->getType(), true, dl);
-            case Instruction::Br: return cast<BranchInst>(i).isConditional() ? price("cond_branch") : price("branch");
+            case Instruction::Br: {
+                /* An unconditional branch to the block laid out next is no instruction: the code
+                   falls through. */
+                auto &br = cast<BranchInst>(i);
+                if (br.isConditional()) {
+                    return price("cond_branch");
+                }
+                BasicBlock *next = i.getParent()->getNextNode();
+                return br.getSuccessor(0) == next ? 0 : price("branch");
+            }
             case Instruction::Switch:
                 return price("cond_branch") * static_cast<unsigned>(cast<SwitchInst>(i).getNumCases()) / 2 +
                        price("cond_branch");
@@ -620,9 +648,30 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
             appendToUsed(m, {row});
             Constant *calls = ConstantExpr::getPointerCast(counter, i8p);
             for (BasicBlock &bb : *f) {
+                /* A register access (the runtime's sins_fw_ldN/stN) is timed after the instructions
+                   before it only: the block's charge at its start runs up to its first access, and each
+                   access is followed by the charge of the instructions after it, up to the next. (A
+                   poll's status read comes before its test and branch, as on the C28x; charged whole
+                   at the block's start, the read would come after them.) */
                 uint64_t cycles = 0;
+                std::vector<std::pair<Instruction *, uint64_t>> after_access;
                 for (Instruction &i : bb) {
-                    cycles += instruction_price(i, dl);
+                    uint64_t p = instruction_price(i, dl);
+                    if (after_access.empty()) {
+                        cycles += p;
+                    } else {
+                        after_access.back().second += p;
+                    }
+                    if (is_register_access(i)) {
+                        after_access.emplace_back(&i, 0);
+                    }
+                }
+                for (const auto &access : after_access) {
+                    uint64_t rest = access.second;
+                    if (rest > 0) {
+                        IRBuilder<>(access.first->getNextNode())
+                            .CreateCall(block, {ConstantInt::get(i32, rest > 0xFFFFFFFFu ? 0xFFFFFFFFu : rest), calls});
+                    }
                 }
                 auto *br = dyn_cast<BranchInst>(bb.getTerminator());
                 bool self_loop = br != nullptr && br->isUnconditional() && br->getSuccessor(0) == &bb &&

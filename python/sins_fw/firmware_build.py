@@ -213,41 +213,30 @@ def _tool(name: str) -> str:
     return found
 
 
-#: The prices of the IR's integer, memory and control instructions (the pass's keys without a dot).
-C_COSTS = "c28x-c-costs.toml"
-
-
 def block_costs(profile: ProfileValues | None) -> dict[str, int]:
-    """The prices the pass gives a basic block's instructions, in C28x cycles: ``[instructions]`` of
-    ``firmware_model/c28x-c-costs.toml`` (integer and address arithmetic, loads and stores with the
-    data memory's wait states, branches, calls), and ``[float]`` / ``[iq]`` of the profile's cost
-    table (``timing.costs``, the table the model's operation counter uses) as ``float.add``,
-    ``iq.mul``, ... Default: the reference profile. A missing or non-integer price is a
-    :class:`~sins_fw.errors.ProfileError` naming the file and key."""
+    """The prices the pass gives a basic block's instructions, in C28x cycles, from the profile's cost
+    table (``timing.costs``, the table the model's operation counter uses; default the reference
+    profile's ``firmware_model/c28x-costs.toml``): ``[instructions]`` (integer and address arithmetic,
+    loads and stores with the data memory's wait states, branches, calls) under their own names, and
+    ``[float]`` / ``[iq]`` as ``float.add``, ``iq.mul``, ... A missing section or a price that is not
+    cycles is a :class:`~sins_fw.errors.ProfileError` naming the file and key."""
     if profile is None:
         profile = load_profile("reference")
-    path = MODEL_DIR / C_COSTS
-    try:
-        own = tomllib.loads(path.read_text(encoding="utf-8"))["instructions"]
-    except (OSError, tomllib.TOMLDecodeError, KeyError) as e:
-        raise ProfileError(f"{path}: cannot read the C instruction prices ({e})") from None
-    out: dict[str, int] = {}
-    for key, v in own.items():
-        if not isinstance(v, int) or isinstance(v, bool) or v < 0:
-            raise ProfileError(f"{path}: key `instructions.{key}` = {v!r}: expected cycles (an integer ≥ 0)")
-        out[key] = v
     if not isinstance(profile, Profile) or not profile.get("timing.costs"):
         text, source = (MODEL_DIR / "c28x-costs.toml").read_text(encoding="utf-8"), "c28x-costs.toml"
     else:
         text, source = cost_table_text(profile)
     table = tomllib.loads(text)
-    for section in ("float", "iq"):
-        for key, v in table.get(section, {}).items():
+    out: dict[str, int] = {}
+    for section in ("instructions", "float", "iq"):
+        if not isinstance(table.get(section), dict):
+            raise ProfileError(f"{source}: no section [{section}]: the firmware build prices it")
+        for key, v in table[section].items():
             if not isinstance(v, int) or isinstance(v, bool) or v < 0:
                 raise ProfileError(
                     f"{source}: key `{section}.{key}` = {v!r}: expected cycles (an integer ≥ 0)"
                 )
-            out[f"{section}.{key}"] = v
+            out[key if section == "instructions" else f"{section}.{key}"] = v
     return out
 
 
@@ -281,6 +270,18 @@ def pass_plugin() -> Path:
     return plugin
 
 
+#: The optimisation levels of a build, as cl2000's ``--opt_level``, and the host compiler's level that
+#: stands for each (docs/c-cycles.md): ``2`` (the default) clang's -O1, whose optimised IR the pass
+#: prices as cl2000 -O2's code; ``off`` clang's -O0 (every variable in memory, no inlining), as
+#: cl2000 builds without optimisation (a CCS project's Debug configuration).
+OPT_LEVELS = {"2": "-O1", "off": "-O0"}
+
+
+def check_opt_level(opt_level: str) -> None:
+    if opt_level not in OPT_LEVELS:
+        raise InputError(f"optimisation level `{opt_level}`: expected one of {', '.join(OPT_LEVELS)}")
+
+
 def compile_flags(
     project: Project,
     sources: Sequence[Path],
@@ -288,6 +289,7 @@ def compile_flags(
     include: Sequence[str | os.PathLike[str]] = (),
     defines: Sequence[str] = (),
     profile: ProfileValues | None = None,
+    opt_level: str = "2",
 ) -> list[str]:
     """The flags every source of ``project`` is compiled with, but the language standard: the
     optimisation and code generation, the prelude and the float mode's headers, TI's clock macros
@@ -295,6 +297,7 @@ def compile_flags(
     (the ``-I`` folders, the project's, the sources' folders, the replacement headers, the C ABI's).
     A malformed ``-D`` or a missing ``-I`` folder is an :class:`~sins_fw.errors.InputError`."""
     firmware_arith.check_float_mode(float_mode)
+    check_opt_level(opt_level)
     for d in defines:
         if not re.fullmatch(r"[A-Za-z_]\w*(=.*)?", d):
             raise InputError(f"-D {d}: expected NAME or NAME=VALUE")
@@ -308,7 +311,7 @@ def compile_flags(
         if d.resolve() not in folders:
             folders.append(d.resolve())
     return [
-        "-O1",
+        OPT_LEVELS[opt_level],
         "-g",
         "-fPIC",
         "-fexceptions",
@@ -380,6 +383,7 @@ def build_firmware(
     include: Sequence[str | os.PathLike[str]] = (),
     defines: Sequence[str] = (),
     profile: ProfileValues | None = None,
+    opt_level: str = "2",
 ) -> Path:
     """Compile the firmware (files, folders or a CCS project: :func:`read_project`) into the shared
     library ``out``, its ``float`` and ``double`` in ``float_mode`` (``host`` or ``c28x``:
@@ -394,10 +398,12 @@ def build_firmware(
     are. The pass prices every basic block of the firmware's sources in C28x cycles at the end of the
     optimisation pipeline (:func:`block_costs`) and calls the runtime there with them, which charges
     the block's time and lets interrupts in; an idle ``for (;;) {}`` calls ``sins_fw_idle`` instead.
-    ``-g`` keeps the sources' lines, for the error that names a loop that can never end."""
+    ``-g`` keeps the sources' lines, for the error that names a loop that can never end.
+    ``opt_level`` is the build's optimisation as cl2000's (:data:`OPT_LEVELS`): ``2`` (default) or
+    ``off``, the code the pass prices."""
     project = read_project(paths)
     sources, _ = with_ti_support(project.sources)
-    common = compile_flags(project, sources, float_mode, include, defines, profile)
+    common = compile_flags(project, sources, float_mode, include, defines, profile, opt_level)
     clang, clangxx = _tool(CLANG), _tool(CLANGXX)
     plugin = pass_plugin()
     libdir, cabi_include = cabi_dirs()

@@ -10,7 +10,7 @@ from pathlib import Path
 from sins_fw.cli.common import add_json_option, emit, exit_epilog
 from sins_fw.errors import SinsError
 from sins_fw.firmware_arith import FLOAT_MODES, diagnose_int
-from sins_fw.firmware_build import build_firmware, included_headers, with_ti_support
+from sins_fw.firmware_build import OPT_LEVELS, build_firmware, included_headers, with_ti_support
 from sins_fw.firmware_paths import read_project, sources_of
 from sins_fw.profile import load_profile
 
@@ -61,6 +61,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         "float with the c28x-f32 backend's operations (docs/c-arithmetic.md)",
     )
     p.add_argument(
+        "--opt-level",
+        choices=list(OPT_LEVELS),
+        default="2",
+        help="the optimisation the build's C28x cycles are those of, as cl2000's --opt_level: 2 (default; "
+        "the host compiler's -O1) or off (its -O0: every variable in memory, no inlining, as a CCS "
+        "Debug build) (docs/c-cycles.md)",
+    )
+    p.add_argument(
         "--diagnose-int",
         action="store_true",
         help="also list the implicit conversions that lose bits where int is 16-bit, as on the C28x "
@@ -81,6 +89,7 @@ def run(args: argparse.Namespace) -> int:
         include=args.include,
         defines=args.defines,
         profile=profile,
+        opt_level=args.opt_level,
     )
     _, replaced = with_ti_support(project.sources)
     text = f"built {out} from {len(project.sources)} source(s), float mode {args.float_mode}"
@@ -98,6 +107,7 @@ def run(args: argparse.Namespace) -> int:
         "include": [str(i) for i in [*args.include, *project.include]],
         "defines": [*args.defines, *project.defines],
         "float_mode": args.float_mode,
+        "opt_level": args.opt_level,
         "replaced_ti_sources": replaced,
     }
     if args.diagnose_int:

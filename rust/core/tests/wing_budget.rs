@@ -54,8 +54,8 @@ fn the_wing_filter_fits_the_tick() {
     let moving = [c(0.4, QClass::Rate), c(-0.2, QClass::Rate), c(0.3, QClass::Rate)];
     let (out, moving_ops) = count(|| filter.step(&moving, &f));
     assert!(!out.at_rest);
-    let moving_cycles = price(&moving_ops, arith, factor);
-    let rest_cycles = price(&rest_ops, arith, factor);
+    let moving_cycles = price(&moving_ops, arith, &table.instructions, factor);
+    let rest_cycles = price(&rest_ops, arith, &table.instructions, factor);
     let wing = moving_cycles.max(rest_cycles);
 
     // The board's own costing (timing::stages, what `sins-fw budget` shows) counts the wing unit's update

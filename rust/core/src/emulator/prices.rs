@@ -64,7 +64,7 @@ pub fn price_list(profile: &Profile, costs: &CostTable, stages: &StageCosts) -> 
             name,
             cycles: stage.cycles,
             counts: Some(stage.counts),
-            terms: arith_terms(&stage.counts, section, arith).to_vec(),
+            terms: arith_terms(&stage.counts, section, arith, &costs.instructions).to_vec(),
             parts,
         };
         // The profile was validated when the emulator was built: its parts count as its stages did.

@@ -260,12 +260,31 @@ fn pinned_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool) -> u64
     digest_run::<T>(overrides, seconds, bus_log, true).unwrap()
 }
 
+thread_local! {
+    /// Price the counted integer, memory and control work at zero (`[instructions]` all 0) in this
+    /// thread's runs: the stage costs as they were before the counter tallied it (issue 38).
+    static WITHOUT_WORK: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// The cost table of this thread's runs (see [`WITHOUT_WORK`]).
+fn run_costs() -> CostTable {
+    let mut t = costs();
+    if WITHOUT_WORK.with(|w| w.get()) {
+        let i = &mut t.instructions;
+        for v in [&mut i.int, &mut i.load, &mut i.store, &mut i.data_wait, &mut i.branch, &mut i.cond_branch] {
+            *v = 0;
+        }
+        (i.call, i.ret) = (0, 0);
+    }
+    t
+}
+
 /// [`pinned_run`] with the link's one-step polled frame on or off; a run that fails gives its error.
 fn digest_run<T: Scalar>(overrides: &[&str], seconds: f64, bus_log: bool, polled_fast_path: bool) -> Result<u64> {
     let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let profile = Profile::from_toml("", "pinned", &ov)?;
     let run = || -> Result<u64> {
-        let mut emu = Emulator::<T>::new(&profile, &costs())?;
+        let mut emu = Emulator::<T>::new(&profile, &run_costs())?;
         emu.board.link.set_polled_fast_path(polled_fast_path);
         if bus_log {
             emu.enable_bus_log();
@@ -358,8 +377,45 @@ fn the_polled_frame_fast_path_changes_nothing() {
 /// rule violations, and the bus log.
 #[test]
 fn outputs_are_pinned_bit_for_bit() {
+    let got = pinned_digests();
+    for ((name, h), (pinned_name, want)) in got.iter().zip(PINNED) {
+        assert_eq!(*name, pinned_name);
+        assert_eq!(*h, want, "{name}: the outputs changed (digest 0x{h:016x}, pinned 0x{want:016x})");
+    }
+}
+
+/// The digests as they were pinned before the model's counter tallied the firmware's integer, memory
+/// and control work (issue 38): priced at zero, that work leaves every run as it was, so it is the
+/// only change of the pinned outputs (their times: the compute stages are longer; the overrun runs'
+/// dropped and late ticks follow from them).
+#[test]
+fn without_the_counted_work_the_outputs_are_those_pinned_before_it() {
+    WITHOUT_WORK.with(|w| w.set(true));
+    let got = pinned_digests();
+    WITHOUT_WORK.with(|w| w.set(false));
+    let before = [
+        ("f64", 0xcce95b087c285cea),
+        ("c28x-f32", 0x3dc46306a0df6947),
+        ("c28x-f32-rz", 0x3f0bfd2872701dec),
+        ("iq", 0xc4193d8829a6ade2),
+        ("bit", 0x4dcb7345c898da5f),
+        ("endpoint", 0xf8f7d2cbb6d69426),
+        ("back-to-back-level", 0xd16ec5455ac63714),
+        ("overrun-drop", 0x153ef5e6f7035e57),
+        ("overrun-queue", 0xada9072c98b84575),
+        ("spibrr-9", 0x061253dfd77aaed8),
+        ("spibrr-9-strict", 0xc36eb556409cd505),
+    ];
+    for ((name, h), (pinned_name, want)) in got.iter().zip(before) {
+        assert_eq!(*name, pinned_name);
+        assert_eq!(*h, want, "{name}: digest 0x{h:016x}, pinned before the counted work 0x{want:016x}");
+    }
+}
+
+/// The pinned runs' digests (see [`outputs_are_pinned_bit_for_bit`]).
+fn pinned_digests() -> [(&'static str, u64); 11] {
     let adis = "errors.preset=adis16407";
-    let got = [
+    [
         ("f64", pinned_run::<f64>(&["firmware.numeric=\"f64\"", adis], 3.0, false)),
         ("c28x-f32", pinned_run::<crate::numerics::C28xF32Rn>(&[adis, "errors.seed=7"], 3.0, false)),
         ("c28x-f32-rz", pinned_run::<crate::numerics::C28xF32Rz>(&["firmware.numeric=\"c28x-f32-rz\""], 2.0, false)),
@@ -382,24 +438,7 @@ fn outputs_are_pinned_bit_for_bit() {
         ("overrun-queue", pinned_run::<f64>(&["timer.period_us=310.0"], 0.3, false)),
         ("spibrr-9", pinned_run::<f64>(&["spi.spibrr=9", "device.timing_mode=\"lenient\""], 0.5, true)),
         ("spibrr-9-strict", pinned_run::<f64>(&["spi.spibrr=9"], 0.5, false)),
-    ];
-    let pinned = [
-        ("f64", 0xcce95b087c285cea),
-        ("c28x-f32", 0x3dc46306a0df6947),
-        ("c28x-f32-rz", 0x3f0bfd2872701dec),
-        ("iq", 0xc4193d8829a6ade2),
-        ("bit", 0x4dcb7345c898da5f),
-        ("endpoint", 0xf8f7d2cbb6d69426),
-        ("back-to-back-level", 0xd16ec5455ac63714),
-        ("overrun-drop", 0x153ef5e6f7035e57),
-        ("overrun-queue", 0xada9072c98b84575),
-        ("spibrr-9", 0x061253dfd77aaed8),
-        ("spibrr-9-strict", 0xc36eb556409cd505),
-    ];
-    for ((name, h), (pinned_name, want)) in got.iter().zip(pinned) {
-        assert_eq!(*name, pinned_name);
-        assert_eq!(*h, want, "{name}: the outputs changed (digest 0x{h:016x}, pinned 0x{want:016x})");
-    }
+    ]
 }
 
 /// The reference board (f64) with a `period_us` timer and nested interrupts, run for `t_end_s`
@@ -410,6 +449,24 @@ fn nested_run(period_us: f64, t_end_s: f64) -> Output {
     p.firmware.overrun = crate::profile::OverrunPolicy::Nest;
     run::<f64>(&p, t_end_s, [0.0, 0.0, 10.0])
 }
+
+/// The digests of [`pinned_digests`] (re-pinned when the model's counter began to tally the firmware's
+/// integer, memory and control work, issue 38: the runs' times changed, and with them the overrun
+/// runs' dropped and late ticks; [`without_the_counted_work_the_outputs_are_those_pinned_before_it`]
+/// shows that work is the only change).
+const PINNED: [(&str, u64); 11] = [
+    ("f64", 0x0f56234ecc9b50a9),
+    ("c28x-f32", 0x164e601510304898),
+    ("c28x-f32-rz", 0xe5b02845b3488a0c),
+    ("iq", 0x788d47171cf6ff9f),
+    ("bit", 0x8f9f3081201bd6df),
+    ("endpoint", 0x8d93d1ca1037e530),
+    ("back-to-back-level", 0x86dc3d95eea16ead),
+    ("overrun-drop", 0x59b10b19356fcb7d),
+    ("overrun-queue", 0x7c9ff7853c1473f0),
+    ("spibrr-9", 0x66b9df5240e0df00),
+    ("spibrr-9-strict", 0x6297c87df40ae311),
+];
 
 #[test]
 fn nested_interrupts_run_inside_the_isr_they_preempt() {

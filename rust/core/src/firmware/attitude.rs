@@ -6,6 +6,7 @@
 
 use super::quat::{body_rate_nav, Rk4};
 use super::{Mat3, Quat, Vec3};
+use crate::numerics::counter::Work;
 use crate::numerics::Scalar;
 use crate::Result;
 
@@ -147,6 +148,8 @@ impl<T: Scalar> AttitudeUpdate<T> for Rk4<T> {
         };
         if let Some(w_in) = inputs.nav_rate {
             for wi in w.iter_mut() {
+                // The C's loops over the samples and their three components ([`Scalar::work`]).
+                (0..4).for_each(|_| T::work(Work::LOOP_PASS));
                 *wi = body_rate_nav(c_bn, wi, &w_in);
             }
         }

@@ -22,6 +22,7 @@ use super::{lit, Vec3};
 use crate::device::part::Part;
 use crate::device::GyroRange;
 use crate::events::{Event, EventLog, Severity};
+use crate::numerics::counter::Work;
 use crate::numerics::{QClass, Scalar};
 use crate::profile::{Decode, Device, Firmware as FirmwareProfile};
 use crate::time::Ps;
@@ -256,16 +257,26 @@ impl<T: Scalar> Decoder<T> {
         })
     }
 
-    /// The published range test on one 14-bit code: `Some(held value)` or `None` (stale).
+    /// The published range test on one 14-bit code: `Some(held value)` or `None` (stale). Its
+    /// integer work as the C executes it ([`Scalar::work`]): the load of `rdata1[i]`, per test one
+    /// compare and conditional branch (`rdata1[i] >= 0x0000` is always true of an unsigned word: no
+    /// code), the positive branch's jump over the negative one, the negative's XOR, ADD and store.
     fn published(&self, code: u16, (hi, lo): (u16, u16), lsb: T) -> Option<T> {
+        let test = Work { int_ops: 1, cond_branches: 1, ..Work::NONE };
+        T::work(Work { loads: 1, ..test });
         if code <= hi {
+            T::work(Work { branches: 1, ..Work::NONE });
             Some(lsb.mul_i32(code as i32))
-        } else if code >= lo {
-            // `r ^= 0x3FFF; r = r + 1; a = 0 - (r * scale);`
-            let r = (code ^ VALID_BITS_MASK) + 1;
-            Some(self.zero - lsb.mul_i32(r as i32))
         } else {
-            None
+            T::work(test);
+            if code >= lo {
+                // `r ^= 0x3FFF; r = r + 1; a = 0 - (r * scale);`
+                T::work(Work { int_ops: 2, stores: 1, ..Work::NONE });
+                let r = (code ^ VALID_BITS_MASK) + 1;
+                Some(self.zero - lsb.mul_i32(r as i32))
+            } else {
+                None
+            }
         }
     }
 
@@ -275,14 +286,21 @@ impl<T: Scalar> Decoder<T> {
     pub fn decode_magnetometer(&self, words: &[u16; 3]) -> Vec3<T> {
         let lsb = T::from_f64_range(MAG_LSB_GAUSS, MAG_LSB_GAUSS * FULL_SCALE_CODE);
         words.map(|w| {
+            // Per word: its load, the mask, the sign test and branch, the subtraction; the loop.
+            T::work(Work { int_ops: 4, loads: 1, cond_branches: 2, ..Work::NONE });
             let code = (w & VALID_BITS_MASK) as i32;
             let signed = if code >= 0x2000 { code - 0x4000 } else { code };
             lsb.mul_i32(signed).to_class(QClass::Accel)
         })
     }
 
-    /// Decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (burst words 2…7).
+    /// Decode X/Y/Z GYRO_OUT and X/Y/Z ACCL_OUT (burst words 2…7). The integer work of the C
+    /// ([`Scalar::work`]): the call `convert_data(rdata)`; the published code's first loop (per word a
+    /// load, the AND, the store into `rdata1`) and its range-test loops ([`Decoder::published`]), each
+    /// pass an increment, compare and branch; the correct decode's one loop (load, AND, the sign
+    /// extension's XOR and SUB).
     pub fn decode(&mut self, words: &[u16; 6]) -> Decoded<T> {
+        T::work(Work::call(1));
         let codes = words.map(|w| w & VALID_BITS_MASK);
         let mut report = DecodeReport::of_codes(&codes, &self.stale, !self.published_matches_range);
         report.ranges_dps = self.ranges_dps;
@@ -297,8 +315,17 @@ impl<T: Scalar> Decoder<T> {
             // Both decodes of a channel share the unit (the same π/180 or g), so the held value of
             // either converts with `correct_scale`'s unit.
             let held = match self.mode {
-                Decode::Published => self.published(code, range, published_scale.lsb).unwrap_or(self.previous[i]),
-                Decode::Correct => correct_scale.lsb.mul_i32(sign_extend_14(code)),
+                Decode::Published => {
+                    // The first loop's pass (AND and the loop's two), then the second loop's.
+                    T::work(Work { int_ops: 3, loads: 1, stores: 1, ..Work::LOOP_PASS });
+                    T::work(Work::LOOP_PASS);
+                    self.published(code, range, published_scale.lsb).unwrap_or(self.previous[i])
+                }
+                Decode::Correct => {
+                    // AND, XOR, SUB and the loop's two.
+                    T::work(Work { int_ops: 5, loads: 1, ..Work::LOOP_PASS });
+                    correct_scale.lsb.mul_i32(sign_extend_14(code))
+                }
             };
             self.previous[i] = held;
             out[i] = correct_scale.firmware_unit(held);

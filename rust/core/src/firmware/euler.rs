@@ -12,6 +12,7 @@
 //! to ±90° (a limit of the published atan-of-ratio tables in GLOBAL_Q; the atan2 method has none).
 
 use super::{lit, Mat3, Quat};
+use crate::numerics::counter::Work;
 use crate::numerics::{QClass, Scalar};
 use crate::profile::Euler;
 
@@ -56,6 +57,8 @@ impl<T: Scalar> EulerExtractor<T> {
     /// Roll by table 2-1: T33 → 0 gives ±90° by the sign of T32; T33 > 0 the principal value;
     /// T33 < 0 the principal value +180° (T32 ≥ 0) or −180° (T32 < 0).
     fn roll_table(&self, t32: T, t33: T) -> T {
+        // The C's call of the table function with two arguments ([`Scalar::work`]).
+        T::work(Work::call(2));
         if t33.abs() < self.eps {
             return if t32 >= self.zero { self.half_pi } else { -self.half_pi };
         }
@@ -72,6 +75,8 @@ impl<T: Scalar> EulerExtractor<T> {
     /// Yaw by table 2-2: T11 → 0 gives 90° (T21 ≥ 0) or 270°; T11 > 0 the principal value, +360°
     /// when T21 < 0; T11 < 0 the principal value +180°.
     fn yaw_table(&self, t21: T, t11: T) -> T {
+        // The C's call of the table function with two arguments ([`Scalar::work`]).
+        T::work(Work::call(2));
         if t11.abs() < self.eps {
             return if t21 >= self.zero { self.half_pi } else { self.three_half_pi };
         }

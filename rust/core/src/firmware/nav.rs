@@ -23,6 +23,7 @@
 //! earth-rate correction of the attitude; it is not a positioning solution.
 
 use super::{lit, Mat3, Vec3};
+use crate::numerics::counter::Work;
 use crate::numerics::{QClass, Scalar};
 use crate::profile::Navigation;
 
@@ -72,8 +73,9 @@ pub struct EarthRates<T> {
 }
 
 impl<T: Scalar> EarthRates<T> {
-    /// ω_in^n = ω_ie^n + ω_en^n.
+    /// ω_in^n = ω_ie^n + ω_en^n (in the C, a loop of three passes: [`Scalar::work`]).
     pub fn w_in(&self) -> Vec3<T> {
+        (0..3).for_each(|_| T::work(Work::LOOP_PASS));
         [0, 1, 2].map(|i| (self.w_ie[i] + self.w_en[i]).to_class(QClass::Rate))
     }
 }
@@ -113,6 +115,8 @@ impl<T: Scalar> EarthModel<T> {
 
     /// Earth rate, transport rate and radii at a state.
     pub fn rates(&self, s: &NavState<T>) -> EarthRates<T> {
+        // The C's `earth_rates()` call ([`Scalar::work`]).
+        T::work(Work::call(0));
         let sin_lat = s.lat.sin();
         let cos_lat = s.lat.cos();
         let s2 = sin_lat * sin_lat;
@@ -136,6 +140,8 @@ impl<T: Scalar> EarthModel<T> {
 
     /// Normal gravity γ(φ, h), m/s².
     pub fn gravity(&self, sin_lat: T, height: T) -> T {
+        // The C's `gravity(s, h)` call ([`Scalar::work`]).
+        T::work(Work::call(2));
         let s2 = sin_lat * sin_lat;
         let gamma = self.gamma_e * (self.one + self.k * s2) / (self.one - self.e2 * s2).sqrt();
         (gamma * (self.one - (self.two * height).div_to(self.radius, QClass::Generic))).to_class(QClass::Accel)
@@ -148,6 +154,9 @@ impl<T: Scalar> EarthModel<T> {
 
     /// [`EarthModel::step`] with the state's earth rates `r` (= `self.rates(s)`) already computed.
     pub fn step_with_rates(&self, s: &mut NavState<T>, r: &EarthRates<T>, c_bn: &Mat3<T>, f_b: &Vec3<T>, dt: T) {
+        // The C's `navigate(f_b)` call and its two loops of three passes ([`Scalar::work`]).
+        T::work(Work::call(1));
+        (0..6).for_each(|_| T::work(Work::LOOP_PASS));
         let g = self.gravity(r.sin_lat, s.height);
         let f_n = [0, 1, 2].map(|i| c_bn[i][0] * f_b[0] + c_bn[i][1] * f_b[1] + c_bn[i][2] * f_b[2]);
         let a = [0, 1, 2].map(|i| self.two * r.w_ie[i] + r.w_en[i]);

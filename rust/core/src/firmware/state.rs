@@ -11,6 +11,7 @@ use super::euler::{euler_to_quat, EulerAngles, EulerExtractor};
 use super::nav::{EarthModel, EarthRates, NavState};
 use super::quat::dcm;
 use super::{lit, Mat3, Quat, Vec3};
+use crate::numerics::counter::Work;
 use crate::numerics::{QClass, Scalar};
 use crate::profile::{InitialAttitude, Profile, Schedule};
 use crate::{Error, Result};
@@ -249,7 +250,15 @@ impl<T: Scalar> Firmware<T> {
         rates: &[Vec3<T>],
         mark: Option<&mut dyn FnMut(&'static str)>,
     ) -> Result<()> {
-        let nav_rate = if self.earth_rate { Some(self.earth_rates_kept().w_in()) } else { None };
+        // The C calls the update (`updateQ()`), and before it, with the navigation frame's rate, the
+        // body rates (`body_rates(w_ib)`) ([`Scalar::work`]).
+        T::work(Work::call(0));
+        let nav_rate = if self.earth_rate {
+            T::work(Work::call(1));
+            Some(self.earth_rates_kept().w_in())
+        } else {
+            None
+        };
         let inputs = StepInputs {
             specific_force: self.last_accel,
             magnetic_field: self.last_mag,
@@ -295,6 +304,8 @@ impl<T: Scalar> Firmware<T> {
 
     /// Stage 3: Euler angles of the current attitude (radians).
     pub fn euler(&self) -> EulerAngles<T> {
+        // The C's `update_euler()` call ([`Scalar::work`]).
+        T::work(Work::call(0));
         self.euler.extract(&self.c_bn)
     }
 

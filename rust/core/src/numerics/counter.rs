@@ -84,6 +84,67 @@ op_kinds! {
     constants,
     /// Integer × fixed-point multiplications `_IQmpyI32` (counted only for the fixed-point firmware).
     int_muls,
+    /// Integer operations beside the arithmetic: add, subtract, logic, shift, compare ([`Work`]).
+    int_ops,
+    /// Loads of integer data from memory ([`Work`]; a float operand's move is in its operation's price).
+    loads,
+    /// Stores of integer data to memory ([`Work`]).
+    stores,
+    /// Conditional branches ([`Work`]).
+    cond_branches,
+    /// Unconditional branches taken ([`Work`]).
+    branches,
+    /// Calls of the firmware's own functions ([`Work`]).
+    calls,
+    /// Their returns ([`Work`]).
+    returns,
+}
+
+/// Integer, memory and control work the firmware's code does beside its arithmetic, as its C source
+/// executes it (the timing model's count: [`Scalar::work`]; see `c28x-costs.toml` `[instructions]`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Work {
+    /// Integer operations (ADD, AND, XOR, CMP, ...).
+    pub int_ops: u8,
+    /// Loads of integer data.
+    pub loads: u8,
+    /// Stores of integer data.
+    pub stores: u8,
+    /// Conditional branches.
+    pub cond_branches: u8,
+    /// Unconditional branches taken.
+    pub branches: u8,
+    /// Calls of a function of the firmware, each with its return.
+    pub calls: u8,
+}
+
+impl Work {
+    /// One pass of a counted loop: the counter's increment and compare, the conditional branch back.
+    pub const LOOP_PASS: Work = Work { int_ops: 2, cond_branches: 1, ..Work::NONE };
+    /// Nothing.
+    pub const NONE: Work = Work { int_ops: 0, loads: 0, stores: 0, cond_branches: 0, branches: 0, calls: 0 };
+    /// A call of a function of the firmware with `args` argument moves, and its return.
+    pub const fn call(args: u8) -> Work {
+        Work { int_ops: args, calls: 1, ..Work::NONE }
+    }
+}
+
+/// Tally `w` (the counting type's [`Scalar::work`]).
+fn tally_work(w: Work) {
+    TALLY.with(|t| {
+        for (op, n) in [
+            (Op::int_ops, w.int_ops),
+            (Op::loads, w.loads),
+            (Op::stores, w.stores),
+            (Op::cond_branches, w.cond_branches),
+            (Op::branches, w.branches),
+            (Op::calls, w.calls),
+            (Op::returns, w.calls),
+        ] {
+            let slot = &t[op as usize];
+            slot.set(slot.get() + u64::from(n));
+        }
+    });
 }
 
 impl OpCounts {
@@ -294,6 +355,9 @@ impl Scalar for Counted {
         tally(Op::abs);
         Counted(Scalar::abs(self.0))
     }
+    fn work(w: Work) {
+        tally_work(w);
+    }
 }
 
 #[cfg(test)]
@@ -389,6 +453,27 @@ mod integer_multiply {
         assert!(!Counted::fixed_point(), "the setting is scoped");
         let (_, c) = count(|| Counted(1.0).div_to(Counted(3.0), QClass::Rate).mul_to(Counted(3.0), QClass::Quat));
         assert_eq!((c.divs, c.muls), (1, 1));
+    }
+}
+
+#[cfg(test)]
+mod work {
+    use super::*;
+
+    /// The integer and control work is tallied by the counting type only, each call with its return.
+    #[test]
+    fn work_is_tallied_by_kind() {
+        let w = Work { int_ops: 3, loads: 1, stores: 2, cond_branches: 1, branches: 1, calls: 1 };
+        let ((), c) = count(|| {
+            <Counted as Scalar>::work(w);
+            <Counted as Scalar>::work(Work::LOOP_PASS);
+            <f64 as Scalar>::work(w);
+        });
+        assert_eq!((c.int_ops, c.loads, c.stores, c.cond_branches, c.branches), (5, 1, 2, 2, 1));
+        assert_eq!((c.calls, c.returns), (1, 1));
+        assert_eq!(c.total(), 13);
+        let ((), c) = count(|| <Counted as Scalar>::work(Work::call(2)));
+        assert_eq!((c.int_ops, c.calls, c.returns), (2, 1, 1));
     }
 }
 

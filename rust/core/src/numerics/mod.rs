@@ -204,6 +204,12 @@ pub trait Scalar:
     }
     /// An integer converted to this type (an `I16TOF32`/`I32TOF32` or `_IQ()` of an int on target).
     fn from_i32(x: i32, class: QClass) -> Self;
+    /// The integer, memory and control work the firmware's C does here beside its arithmetic in
+    /// this type: tallied by the counting type for the timing model, nothing for every other backend.
+    #[inline(always)]
+    fn work(w: counter::Work) {
+        let _ = w;
+    }
     /// The value as f64 (exact for every backend).
     fn to_f64(self) -> f64;
     /// Requantise into a class (IQ: shift into that class's Q; floats: identity).

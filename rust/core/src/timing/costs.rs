@@ -80,6 +80,42 @@ pub struct ArithCosts {
     pub requantise: u32,
 }
 
+/// The integer, memory and control instructions of compiled C (`[instructions]`): what the firmware
+/// does beside its arithmetic (the model's counted work, [`crate::numerics::counter::Work`], and the
+/// build's LLVM pass pricing a host-built C firmware's blocks: one table for both).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InstructionCosts {
+    /// An integer add, subtract, logic, shift, compare or extension.
+    pub int: u32,
+    /// A 32-bit integer multiplication.
+    pub mul: u32,
+    /// A 64-bit integer multiplication (RTS).
+    pub mul64: u32,
+    /// A 32-bit integer division or remainder (RTS).
+    pub div: u32,
+    /// A 64-bit integer division or remainder (RTS).
+    pub div64: u32,
+    /// A conditional move.
+    pub select: u32,
+    /// A load from data memory, per 32 bits.
+    pub load: u32,
+    /// A store to data memory, per 32 bits.
+    pub store: u32,
+    /// The data memory's wait states per load.
+    pub data_wait: u32,
+    /// An unconditional branch.
+    pub branch: u32,
+    /// A conditional branch.
+    pub cond_branch: u32,
+    /// A call (LCR).
+    pub call: u32,
+    /// A return (LRETR).
+    pub ret: u32,
+    /// A block copy's set-up.
+    pub block_copy_setup: u32,
+}
+
 /// Code-location factors.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -102,6 +138,8 @@ pub struct CostTable {
     pub float: ArithCosts,
     /// IQmath fixed-point arithmetic.
     pub iq: ArithCosts,
+    /// Integer, memory and control instructions.
+    pub instructions: InstructionCosts,
     /// Code-location factors.
     pub memory: MemoryCosts,
 }
@@ -135,6 +173,7 @@ mod tests {
         assert_eq!(t.interrupt.hw_context_save, 14);
         assert_eq!(t.float.div, 24);
         assert_eq!(t.iq.div, 62);
+        assert_eq!((t.instructions.call, t.instructions.ret), (4, 8));
     }
 
     #[test]

@@ -12,7 +12,7 @@ use crate::firmware::schedule::{interpolate, MAX_SAMPLES};
 use crate::firmware::{Firmware, GpsFix, Vec3};
 use crate::numerics::counter::{count, count_as, snapshot, Counted, OpCounts};
 use crate::profile::{CodeLocation, Numeric, Profile, Schedule};
-use crate::timing::costs::{ArithCosts, CostTable, InterruptCosts};
+use crate::timing::costs::{ArithCosts, CostTable, InstructionCosts, InterruptCosts};
 
 /// One line of a stage's price: a number of operations of one kind at the unit cost of one entry of
 /// the cost table. The budget report shows these lines so that every cycle can be traced to a count
@@ -43,7 +43,12 @@ pub fn price_terms(terms: &[CostTerm], factor: f64) -> u64 {
 
 /// The price lines of a stage's operation counts with one backend's arithmetic costs; `section` is
 /// the table section those costs come from (`float` or `iq`, see [`arith_for`]).
-pub fn arith_terms(counts: &OpCounts, section: ArithSection, arith: &ArithCosts) -> [CostTerm; 16] {
+pub fn arith_terms(
+    counts: &OpCounts,
+    section: ArithSection,
+    arith: &ArithCosts,
+    instr: &InstructionCosts,
+) -> [CostTerm; 23] {
     let c = counts;
     let k = |float: &'static str, iq: &'static str| match section {
         ArithSection::Float => float,
@@ -67,6 +72,14 @@ pub fn arith_terms(counts: &OpCounts, section: ArithSection, arith: &ArithCosts)
         term("int_to_float", c.int_to_float, k("float.int_to_float", "iq.int_to_float"), arith.int_to_float),
         term("constants", c.constants, k("float.constant", "iq.constant"), arith.constant),
         term("int_muls", c.int_muls, k("float.mul_i32", "iq.mul_i32"), arith.mul_i32),
+        // The integer, memory and control work (the same prices on every backend).
+        term("int_ops", c.int_ops, "instructions.int", instr.int),
+        term("loads", c.loads, "instructions.load", instr.load + instr.data_wait),
+        term("stores", c.stores, "instructions.store", instr.store),
+        term("cond_branches", c.cond_branches, "instructions.cond_branch", instr.cond_branch),
+        term("branches", c.branches, "instructions.branch", instr.branch),
+        term("calls", c.calls, "instructions.call", instr.call),
+        term("returns", c.returns, "instructions.ret", instr.ret),
     ]
 }
 
@@ -94,10 +107,11 @@ pub fn exit_terms(i: &InterruptCosts) -> [CostTerm; 3] {
     ]
 }
 
-/// Price operation counts with a backend's arithmetic costs and the code-location factor.
-pub fn price(counts: &OpCounts, arith: &ArithCosts, factor: f64) -> u64 {
+/// Price operation counts with a backend's arithmetic costs, the instruction costs and the
+/// code-location factor.
+pub fn price(counts: &OpCounts, arith: &ArithCosts, instr: &InstructionCosts, factor: f64) -> u64 {
     // The section only names the entries; the cycles do not depend on it.
-    price_terms(&arith_terms(counts, ArithSection::Float, arith), factor)
+    price_terms(&arith_terms(counts, ArithSection::Float, arith, instr), factor)
 }
 
 /// Which arithmetic section of the cost table prices a backend.
@@ -169,8 +183,8 @@ fn geomag_stage_costs(profile: &Profile, table: &CostTable) -> Result<StageCosts
 }
 
 /// A stage's operations priced at `arith` with the code-location `factor`.
-fn priced(counts: OpCounts, arith: &ArithCosts, factor: f64) -> StageCost {
-    StageCost { counts, cycles: price(&counts, arith, factor) }
+fn priced(counts: OpCounts, arith: &ArithCosts, instructions: &InstructionCosts, factor: f64) -> StageCost {
+    StageCost { counts, cycles: price(&counts, arith, instructions, factor) }
 }
 
 /// The stages of a profile's firmware from their operations (decode, attitude, Euler, navigation,
@@ -179,7 +193,8 @@ fn priced(counts: OpCounts, arith: &ArithCosts, factor: f64) -> StageCost {
 fn priced_stages(profile: &Profile, table: &CostTable, counts: [OpCounts; 5]) -> StageCosts {
     let arith = arith_for(profile.firmware.numeric, table);
     let factor = location_factor(profile, table);
-    let [decode, attitude, euler, navigation, interpolation] = counts.map(|c| priced(c, arith, factor));
+    let [decode, attitude, euler, navigation, interpolation] =
+        counts.map(|c| priced(c, arith, &table.instructions, factor));
     StageCosts {
         entry: price_terms(&entry_terms(&table.interrupt), factor),
         exit: price_terms(&exit_terms(&table.interrupt), factor),
@@ -248,7 +263,7 @@ pub fn attitude_parts(profile: &Profile, table: &CostTable) -> Result<Vec<(&'sta
         if !parts.is_empty() && rest.total() > 0 {
             parts.push(("other", rest));
         }
-        Ok(parts.into_iter().map(|(n, counts)| (n, priced(counts, arith, factor))).collect())
+        Ok(parts.into_iter().map(|(n, counts)| (n, priced(counts, arith, &table.instructions, factor))).collect())
     })
 }
 
@@ -331,7 +346,8 @@ mod tests {
                 assert_eq!(sum, stage.counts, "{yaw:?} {numeric:?}");
                 assert!(parts
                     .iter()
-                    .all(|(_, c)| c.cycles > 0 && c.cycles == price(&c.counts, arith_for(numeric, &t), 1.0)));
+                    .all(|(_, c)| c.cycles > 0
+                        && c.cycles == price(&c.counts, arith_for(numeric, &t), &t.instructions, 1.0)));
             }
         }
         // The open-loop algorithms have no parts.
@@ -349,6 +365,29 @@ mod tests {
         let d = with_mag.counts - plain.counts;
         assert_eq!((d.int_to_float, d.muls), (3, 3), "{d:?}");
         assert_eq!(plain, stage_costs(&Profile::default(), &t).unwrap().decode);
+    }
+
+    /// The published decode's integer work as its C executes it on the counting words (channels 1
+    /// and 4 negative, the others positive): the call with its argument; per channel the mask loop's
+    /// load, AND, store and pass, the range loop's pass, the load and first test; the positive
+    /// channels' jump over the negative branch; the negative ones' second test, XOR, ADD and store.
+    #[test]
+    fn the_published_decode_counts_its_integer_work() {
+        let t = table();
+        let d = stage_costs(&Profile::default(), &t).unwrap().decode;
+        let c = d.counts;
+        assert_eq!((c.int_ops, c.loads, c.stores), (1 + 6 * (3 + 2 + 1) + 2 * 3, 12, 6 + 2), "{c:?}");
+        assert_eq!((c.cond_branches, c.branches, c.calls, c.returns), (6 * 3 + 2, 4, 1, 1), "{c:?}");
+        // Priced from [instructions]: 211 cycles beside the 54 of the arithmetic.
+        let i = &t.instructions;
+        let work = c.int_ops * u64::from(i.int)
+            + c.loads * u64::from(i.load + i.data_wait)
+            + c.stores * u64::from(i.store)
+            + c.cond_branches * u64::from(i.cond_branch)
+            + c.branches * u64::from(i.branch)
+            + c.calls * u64::from(i.call)
+            + c.returns * u64::from(i.ret);
+        assert_eq!((work, d.cycles), (211, 211 + 54));
     }
 
     #[test]
@@ -406,7 +445,7 @@ mod tests {
             let section = arith_section(p.firmware.numeric);
             let arith = arith_for(p.firmware.numeric, &t);
             for stage in [s.decode, s.attitude, s.euler, s.navigation, s.interpolation] {
-                let terms = arith_terms(&stage.counts, section, arith);
+                let terms = arith_terms(&stage.counts, section, arith, &t.instructions);
                 assert_eq!(price_terms(&terms, f), stage.cycles);
                 // No operation kind the counter tallies is left unpriced.
                 assert_eq!(terms.iter().map(|t| t.count).sum::<u64>(), stage.counts.total());
@@ -425,8 +464,8 @@ mod tests {
         let t = table();
         let counts = stage_costs(&Profile::default(), &t).unwrap().attitude.counts;
         let lines = [
-            arith_terms(&counts, ArithSection::Float, &t.float).to_vec(),
-            arith_terms(&counts, ArithSection::Iq, &t.iq).to_vec(),
+            arith_terms(&counts, ArithSection::Float, &t.float, &t.instructions).to_vec(),
+            arith_terms(&counts, ArithSection::Iq, &t.iq, &t.instructions).to_vec(),
             entry_terms(&t.interrupt).to_vec(),
             exit_terms(&t.interrupt).to_vec(),
         ];
