@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
         defines=args.defines,
         profile=profile,
     )
-    _, replaced = with_ti_support(project.sources)
+    _, replaced = with_ti_support(project.sources, [*args.include, *project.include])
     text = f"built {out} from {len(project.sources)} source(s), float mode {args.float_mode}"
     for path, why in project.skipped:
         text += f"\nskipped {path}: {why}"

@@ -397,6 +397,18 @@ impl HostBoard {
         Ok(())
     }
 
+    /// Report an interrupt the firmware enabled that no modelled peripheral raises (`what` names it:
+    /// the vector, its PIE group and line): the firmware runtime's check, when PIEIERx or IER is written
+    /// (firmware_c/runtime/sins_fw_runtime.cpp, `check_pie_enable`).
+    pub fn report_never_raised(&mut self, what: &str) {
+        self.pending.push(Event::new(
+            self.now,
+            "interrupt_never_raised",
+            crate::events::Severity::Warning,
+            format!("the firmware enables {what}, which the emulator cannot raise (its peripheral is not modelled): its ISR will never run"),
+        ));
+    }
+
     /// PieVectTable vector `n`.
     pub fn vector(&self, n: usize) -> u64 {
         self.irq.vector(n)
