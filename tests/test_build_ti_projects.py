@@ -6,6 +6,7 @@ check. The TI-style examples and the sensor driver are under firmware_c/examples
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -21,6 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "firmware_c" / "examples"
 TI_STYLE = EXAMPLES / "ti_style"
 SENSOR = EXAMPLES / "c_sensor_driver"
+PITCH_SWEEP = ROOT / "python" / "sins_fw" / "bundled_traces" / "pitch_sweep.h5"
 
 #: SPI-A at LSPCLK = 150 MHz / (2·LOSPCP) = 37.5 MHz (the reference profile, TI's InitSysCtrl).
 LSPCLK_HZ = 37.5e6
@@ -217,6 +219,104 @@ def test_the_ti_style_led_blink_runs_its_timer_under_the_frequency_guard(tmp_pat
     assert run.final["ticks"] == 2
 
 
+#: The timer 0 period of the pie_vect_copy example: ConfigCpuTimer(&CpuTimer0, 150, 1000), 1 ms.
+PIE_VECT_TICK_S = 1e-3
+
+
+@pytest.mark.parametrize("copy", ["uint32 words", "memcpy"])
+def test_a_vector_table_copied_as_ti_copies_it_reaches_the_pie(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], copy: str
+):
+    """The project's own DSP2833x_PieVect.c, in TI's idiom (PieVectTableInit copied into PieVectTable
+    through `Uint32 *` locals, `*to++ = *from++`, or by one memcpy), is compiled as given (not left
+    out) and fills the emulated PIE's table: the TINT0 ISR the table holds (nothing sets
+    PieVectTable.TINT0 itself) runs every tick, and the vectors past the first 64 read back as the
+    table's, as pointers and as 32-bit words."""
+    out = tmp_path / "pie.so"
+    defines = ["-D", "COPY_WITH_MEMCPY"] if copy == "memcpy" else []
+    assert main(["build-firmware", str(TI_STYLE / "pie_vect_copy"), *defines, "-o", str(out)]) == 0
+    assert "left out" not in capsys.readouterr().out
+    until_s = 0.02
+    run = _run(out, tmp_path, until_s, ticks="uint16", high="uint16")
+    assert run.final["high"] == 1
+    # The timer starts within the first tick period of main: one tick fewer than whole periods, at most.
+    whole = round(until_s / PIE_VECT_TICK_S)
+    assert whole - 1 <= run.final["ticks"] == run.isr_rows <= whole
+
+
+def test_tis_global_variable_defs_compiles_as_given_with_tis_headers(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    """With TI's headers on the include path (a DSP2833x_Device.h of the project's: here one that
+    adds an unmodelled peripheral's structure to ours), the project's DSP2833x_GlobalVariableDefs.c,
+    which defines the register files under TI's DATA_SECTION pragmas, is compiled as given: its
+    definitions become declarations of the objects the build places, so SpiaRegs, PieCtrlRegs and
+    PieVectTable still reach the emulated board (SPI-A's loopback, the timer's ISR). With the
+    replacement headers it is left out (the unmodelled peripherals' structures are not declared)."""
+    inc = tmp_path / "include"
+    inc.mkdir()
+    (inc / "DSP2833x_Device.h").write_text(
+        "#include_next <DSP2833x_Device.h>\n"
+        "#ifndef PROJECT_ADC_REGS\n#define PROJECT_ADC_REGS\n"
+        "struct ADC_REGS { Uint16 ADCTRL1; Uint16 ADCTRL2; };\n"
+        "extern volatile struct ADC_REGS AdcRegs;\n#endif\n"
+    )
+    src = tmp_path / "src"
+    src.mkdir()
+    defs = '#include "DSP2833x_Device.h"\n'
+    for name, typ in [
+        ("AdcRegs", "volatile struct ADC_REGS"),
+        ("CpuTimer0Regs", "volatile struct CPUTIMER_REGS"),
+        ("PieCtrlRegs", "volatile struct PIE_CTRL_REGS"),
+        ("PieVectTable", "struct PIE_VECT_TABLE"),
+        ("SpiaRegs", "volatile struct SPI_REGS"),
+    ]:
+        defs += f'#ifdef __cplusplus\n#pragma DATA_SECTION("{name}File")\n#else\n'
+        defs += f'#pragma DATA_SECTION({name},"{name}File");\n#endif\n{typ} {name};\n'
+    (src / "DSP2833x_GlobalVariableDefs.c").write_text(defs)
+    (src / "main.c").write_text(
+        '#include "DSP2833x_Device.h"\n'
+        '#include "DSP2833x_Examples.h"\n'
+        "Uint16 ticks, echo, adc;\n"
+        "interrupt void tick(void) { ticks++; PieCtrlRegs.PIEACK.all = PIEACK_GROUP1; }\n"
+        "void main(void) {\n"
+        "    InitSysCtrl();\n"
+        "    DINT;\n"
+        "    InitPieCtrl();\n"
+        "    IER = 0; IFR = 0;\n"
+        "    InitPieVectTable();\n"
+        "    EALLOW; PieVectTable.TINT0 = &tick; EDIS;\n"
+        "    AdcRegs.ADCTRL1 = 0x0010; adc = AdcRegs.ADCTRL1;\n"
+        "    SpiaRegs.SPICCR.all = 0x000F;\n"
+        "    SpiaRegs.SPICTL.all = 0x0006;\n"
+        "    SpiaRegs.SPIBRR = 0x007F;\n"
+        "    SpiaRegs.SPICCR.all = 0x009F;\n"
+        "    SpiaRegs.SPITXBUF = 0x1234;\n"
+        "    while (SpiaRegs.SPISTS.bit.INT_FLAG != 1) {}\n"
+        "    echo = SpiaRegs.SPIRXBUF;\n"
+        "    InitCpuTimers();\n"
+        "    ConfigCpuTimer(&CpuTimer0, 150, 1000);\n"
+        "    CpuTimer0Regs.TCR.all = 0x4001;\n"
+        "    IER |= M_INT1;\n"
+        "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
+        "    EINT;\n"
+        "    for (;;) {}\n"
+        "}\n"
+    )
+    out = tmp_path / "defs.so"
+    assert main(["build-firmware", str(src), "-I", str(inc), "-o", str(out)]) == 0
+    assert "left out" not in capsys.readouterr().out
+    run = _run(out, tmp_path, 0.01, ticks="uint16", echo="uint16", adc="uint16")
+    assert run.final["echo"] == 0x1234 and run.final["adc"] == 0x0010
+    assert 9 <= run.final["ticks"] <= 10  # 1 ms ticks from a start within the first millisecond
+    # Against the replacement headers, the same file is left out (and the build says so).
+    (src / "main.c").write_text(
+        (src / "main.c").read_text().replace(" AdcRegs.ADCTRL1 = 0x0010; adc = AdcRegs.ADCTRL1;", "")
+    )
+    assert main(["build-firmware", str(src), "-o", str(out)]) == 0
+    assert "TI's DSP2833x_GlobalVariableDefs.c left out" in capsys.readouterr().out
+
+
 def test_the_ccs_project_gives_its_sources_includes_and_defines():
     project = read_project([TI_STYLE / "spi_loopback" / ".cproject"])
     names = sorted(s.name for s in project.sources)
@@ -315,27 +415,68 @@ def test_inputs_that_are_not_sources(tmp_path: Path):
 # --- diagnostics at enable time ---------------------------------------------------------------------
 
 
-def test_enabling_an_interrupt_the_emulator_cannot_raise_is_reported(
-    tmp_path: Path, capfd: pytest.CaptureFixture[str]
+def test_enabling_an_interrupt_the_emulator_cannot_raise_is_an_event(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ):
+    """An interrupt the firmware enables and no modelled peripheral raises is an
+    `interrupt_never_raised` warning of the run's event stream, once per line, at the enabling
+    write's time, in `run --firmware`'s summary and its parts; lines the board raises are not."""
     src = tmp_path / "irq.c"
     src.write_text(
         '#include "DSP28x_Project.h"\n'
         "Uint16 done;\n"
         "void main(void) {\n"
         "    PieCtrlRegs.PIEIER9.bit.INTx5 = 1;\n"
+        "    PieCtrlRegs.PIEIER9.bit.INTx5 = 1;\n"
         "    PieCtrlRegs.PIEIER6.bit.INTx1 = 1;\n"
         "    PieCtrlRegs.PIEIER1.bit.INTx7 = 1;\n"
         "    IER |= M_INT9 | M_INT6 | M_INT1 | M_INT13;\n"
+        "    IER |= M_RTOS;\n"
         "    done = 1;\n"
         "}\n"
     )
     fw = build_firmware([src], tmp_path / "irq.so")
-    assert _run(fw, tmp_path, 1.0, done="uint16").final["done"] == 1
-    err = capfd.readouterr().err
-    assert "ECAN0INTA (PIE group 9, INT9.5, vector 100)" in err
-    # Raised by the board: SPI-A's FIFO interrupts, timer 0 through the PIE, timer 1 on INT13.
-    assert "SPIRXINTA" not in err and "TINT0" not in err and "INT13" not in err
+    parts: list[dict] = []
+    result = run_c_firmware(
+        fw,
+        None,
+        load_profile("reference"),
+        globals_file=write_globals(tmp_path, done="uint16"),
+        until_s=0.05,
+        sink=parts.append,
+    )
+    assert result.final["done"] == 1
+    events = [e for p in parts for e in p["events"] if e["kind"] == "interrupt_never_raised"]
+    # ECAN0INTA once (enabled twice), RTOSINT; SPI-A's FIFO interrupts, timer 0 through the PIE and
+    # timer 1 on INT13 are the board's.
+    assert [e["message"].split(",")[0] for e in events] == [
+        "the firmware enables ECAN0INTA (PIE group 9",
+        "the firmware enables RTOSINT (IER bit 15)",
+    ]
+    assert "INT9.5, vector 100" in events[0]["message"]
+    assert all(e["severity"] == "warning" for e in events)
+    # At the enabling writes: the first basic blocks of main, before 0.05 s of virtual time.
+    assert 0 <= events[0]["t_s"] <= events[1]["t_s"] < 1e-3
+    # The same in `run --firmware`'s summary (a trace of its own: run needs one).
+    globals_toml = write_globals(tmp_path, done="uint16")
+    rc = main(
+        [
+            "run",
+            str(PITCH_SWEEP),
+            "--firmware",
+            str(fw),
+            "--globals",
+            str(globals_toml),
+            "--until-s",
+            "0.05",
+            "--json",
+        ]
+    )
+    out = capsys.readouterr()
+    assert rc == 0, out.err
+    summary = json.loads(out.out)
+    assert summary["events"]["by_kind"]["interrupt_never_raised"]["count"] == 2
+    assert "cannot raise" not in out.err
 
 
 def test_a_projects_own_examples_header_takes_the_place_of_ours(tmp_path: Path):

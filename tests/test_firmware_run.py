@@ -5,6 +5,7 @@ read after each ISR, the usual summary, budget and --out."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -261,19 +262,28 @@ def test_a_tick_that_comes_while_the_last_is_pending_is_lost(tmp_path: Path):
 
 def test_tis_support_sources_link_from_their_host_replacements(tmp_path: Path):
     """A TI-style project: main calls TI's InitSysCtrl, InitPieCtrl, InitPieVectTable, InitCpuTimers
-    and ConfigCpuTimer, and its folder holds a copy of TI's DSP2833x_PieVect.c (the vector table
-    copied through Uint32 pointers, which does not build on the host): the copy is left out, the
-    host replacements link. The firmware never sets its own TINT0 vector, so InitPieVectTable's
-    default TI's TINT0_ISR takes the tick and, as on the chip, never returns: the run stops naming
-    it in DSP2833x_DefaultIsr.c."""
+    and ConfigCpuTimer, and its folder holds a copy of DSP2833x_PieVect.c in TI's form (the default
+    vectors' table copied through Uint32 pointers): it is compiled as given, the host replacements
+    of the other support sources link. The firmware never sets its own TINT0 vector, so the table's
+    default TINT0_ISR takes the tick and, as on the chip, never returns: the run stops naming it in
+    DSP2833x_DefaultIsr.c."""
     project = tmp_path / "project"
     project.mkdir()
+    # The default vectors, as the host replacement of DSP2833x_PieVect.c lists them.
+    replacement = (ROOT / "firmware_c" / "ti" / "DSP2833x_PieVect.c").read_text()
+    defaults = re.findall(r"^\s*&(\w+), /\* \d+ ", replacement, re.M)
+    assert len(defaults) == 128
     (project / "DSP2833x_PieVect.c").write_text(
         '#include "DSP2833x_Device.h"\n'
+        '#include "DSP2833x_Examples.h"\n'
+        "const struct PIE_VECT_TABLE PieVectTableInit = {" + ", ".join(defaults) + "};\n"
         "void InitPieVectTable(void) {\n"
         "    Uint32 *Source = (void *)&PieVectTableInit;\n"
         "    Uint32 *Dest = (void *)&PieVectTable;\n"
+        "    EALLOW;\n"
         "    for (int16 i = 0; i < 128; i++) *Dest++ = *Source++;\n"
+        "    EDIS;\n"
+        "    PieCtrlRegs.PIECTRL.bit.ENPIE = 1;\n"
         "}\n"
     )
     (project / "main.c").write_text(

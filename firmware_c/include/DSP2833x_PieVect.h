@@ -3,8 +3,9 @@
    XINT13; TINT0, CPU timer 0, is vector 38 at 0x0D4C). A vector holds a host function's address; each
    store to PieVectTable reaches the emulated PIE (EALLOW-protected: a write without EALLOW is ignored,
    as on the chip, and reported as a `protected_write` event). TI's InitPieVectTable copies
-   PieVectTableInit through a Uint32 pointer, which does not carry over to 64-bit host pointers: the
-   host replacement of DSP2833x_PieVect.c (firmware_c/ti) sets the vectors one by one. */
+   PieVectTableInit through a Uint32 pointer: a 32-bit word of PieVectTable or of a table of this
+   type is the vector of its index, which the runtime carries as a handle of the host address
+   (docs/c-drivers.md, "Vectors"). */
 #ifndef DSP2833x_PIE_VECT_H
 #define DSP2833x_PIE_VECT_H
 

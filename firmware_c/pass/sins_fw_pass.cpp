@@ -7,8 +7,20 @@
 
    Register accesses. Every volatile load and store, and every load and store whose address is based
    on one of the register-file objects named in $SINS_FW_PASS_SYMBOLS (comma-separated: TI declares
-   PieVectTable without `volatile`), becomes a call `sins_fw_ldN(address)` / `sins_fw_stN(address,
-   value)` for N = 8, 16, 32, 64 bits (a float, double or pointer travels as the integer of its size).
+   PieVectTable without `volatile`) or on a vector-table image (a global of PieVectTable's type, TI's
+   PieVectTableInit), becomes a call `sins_fw_ldN(address)` / `sins_fw_stN(address, value)` for N = 8,
+   16, 32, 64 bits (a float, double or pointer travels as the integer of its size); a memcpy, memmove
+   or memset with such an address becomes `sins_fw_memcpy` / `sins_fw_memset`. "Based on" follows the
+   pointer's provenance through the module (RegisterPointers): GEPs, casts, phis and selects, the
+   local variables and globals a based pointer is stored in (TI's InitPieVectTable: `Uint32 *Dest =
+   (void *)&PieVectTable; *Dest++ = *Source++;`), and the parameters of the module's functions it is
+   passed to. A pointer that reaches an access otherwise (through a struct field, another
+   translation unit's function) is not followed: such an access must be volatile, as TI's headers
+   declare every register file but PieVectTable. A vector-table image registers itself with the
+   runtime at load time (sins_fw_vector_image), so that a 32-bit word of it, as TI's copy reads one,
+   is the vector it holds.
+   Definitions of the register-file objects (TI's DSP2833x_GlobalVariableDefs.c: `volatile struct
+   SPI_REGS SpiaRegs;`) become declarations: the build places the objects itself.
    The runtime tells by the address what it is: a register of the C28x data space (a raw address such
    as `*(volatile Uint16 *)0x701B`, or a field of a register-file object, which the link places in the
    runtime's image of the data space), the vector table, IER/IFR, or ordinary host memory (a volatile
@@ -66,6 +78,110 @@ std::set<std::string> symbols_from_env() {
     return out;
 }
 
+/* Whether `t` is TI's vector table type (struct PIE_VECT_TABLE; clang may add a suffix: .0, ...). */
+bool is_vector_table_type(Type *t) {
+    auto *st = dyn_cast<StructType>(t);
+    return st != nullptr && st->hasName() &&
+           (st->getName() == "struct.PIE_VECT_TABLE" || st->getName().startswith("struct.PIE_VECT_TABLE."));
+}
+
+/* The pointer values of a module that may point into a register-file object or a vector-table image
+   (the roots): a module-wide fixpoint over GEPs, casts, phis and selects of such values, loads from
+   the memory objects (allocas, globals) such a value is stored in, and the parameters such a value
+   is passed to. Provenance, not addresses: the runtime still tells by the address what an access
+   reaches, so following a pointer that may also point elsewhere costs time only. */
+struct RegisterPointers {
+    std::set<const Value *> based;
+    std::set<const Value *> slots; /* memory objects that hold a based pointer */
+    const std::set<std::string> &symbols;
+    std::set<const GlobalVariable *> images;
+
+    explicit RegisterPointers(Module &m, const std::set<std::string> &syms) : symbols(syms) {
+        for (GlobalVariable &g : m.globals()) {
+            if (is_vector_table_type(g.getValueType()) && symbols.count(g.getName().str()) == 0) {
+                images.insert(&g);
+            }
+        }
+        for (GlobalVariable &g : m.globals()) {
+            if (g.hasInitializer() && g.getValueType()->isPointerTy() && is_based(g.getInitializer())) {
+                slots.insert(&g);
+            }
+        }
+        bool more = true;
+        while (more) {
+            more = false;
+            for (Function &f : m) {
+                for (Instruction &i : instructions(f)) {
+                    more |= visit(i);
+                }
+            }
+        }
+    }
+
+    bool is_root(const Value *v) const {
+        const auto *g = dyn_cast<GlobalVariable>(v);
+        return g != nullptr && (symbols.count(g->getName().str()) != 0 || images.count(g) != 0);
+    }
+
+    bool is_based(const Value *v) const {
+        if (based.count(v) != 0) {
+            return true;
+        }
+        if (isa<Constant>(v) || isa<GlobalValue>(v)) {
+            return is_root(getUnderlyingObject(v, 0));
+        }
+        return false;
+    }
+
+    bool add(const Value *v) { return based.insert(v).second; }
+
+    bool visit(Instruction &i) {
+        if (!i.getType()->isPointerTy() && !isa<StoreInst>(&i) && !isa<CallBase>(&i)) {
+            return false;
+        }
+        if (auto *gep = dyn_cast<GetElementPtrInst>(&i)) {
+            return is_based(gep->getPointerOperand()) && add(&i);
+        }
+        if (isa<BitCastInst>(&i) || isa<AddrSpaceCastInst>(&i)) {
+            return is_based(i.getOperand(0)) && add(&i);
+        }
+        if (auto *phi = dyn_cast<PHINode>(&i)) {
+            for (Value *v : phi->incoming_values()) {
+                if (is_based(v)) {
+                    return add(&i);
+                }
+            }
+            return false;
+        }
+        if (auto *sel = dyn_cast<SelectInst>(&i)) {
+            return (is_based(sel->getTrueValue()) || is_based(sel->getFalseValue())) && add(&i);
+        }
+        if (auto *ld = dyn_cast<LoadInst>(&i)) {
+            return slots.count(getUnderlyingObject(ld->getPointerOperand(), 0)) != 0 && add(&i);
+        }
+        if (auto *st = dyn_cast<StoreInst>(&i)) {
+            if (!st->getValueOperand()->getType()->isPointerTy() || !is_based(st->getValueOperand())) {
+                return false;
+            }
+            const Value *slot = getUnderlyingObject(st->getPointerOperand(), 0);
+            return (isa<AllocaInst>(slot) || isa<GlobalVariable>(slot)) && slots.insert(slot).second;
+        }
+        if (auto *call = dyn_cast<CallBase>(&i)) {
+            bool changed = false;
+            Function *fn = call->getCalledFunction();
+            if (fn != nullptr && !fn->isDeclaration()) {
+                for (unsigned k = 0; k < call->arg_size() && k < fn->arg_size(); k++) {
+                    if (call->getArgOperand(k)->getType()->isPointerTy() && is_based(call->getArgOperand(k))) {
+                        changed |= add(fn->getArg(k));
+                    }
+                }
+            }
+            return changed;
+        }
+        return false;
+    }
+};
+
 struct SinsFwPass : PassInfoMixin<SinsFwPass> {
     std::set<std::string> symbols = symbols_from_env();
     bool c28x_float = [] {
@@ -82,34 +198,52 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
         return 0;
     }
 
-    bool is_register_object(Value *ptr) const {
-        if (symbols.empty()) {
-            return false;
-        }
-        const Value *base = getUnderlyingObject(ptr, 0);
-        return base != nullptr && isa<GlobalVariable>(base) && symbols.count(base->getName().str()) != 0;
-    }
-
-    bool instrument_accesses(Function &f, Module &m) {
+    bool instrument_accesses(Function &f, Module &m, const RegisterPointers &reg) {
         const DataLayout &dl = m.getDataLayout();
         LLVMContext &ctx = m.getContext();
         Type *i8p = Type::getInt8PtrTy(ctx);
+        Type *i8 = Type::getInt8Ty(ctx);
+        Type *i64 = Type::getInt64Ty(ctx);
         std::vector<Instruction *> work;
         for (Instruction &i : instructions(f)) {
             if (auto *ld = dyn_cast<LoadInst>(&i)) {
                 if (!ld->isAtomic() && width(ld->getType(), dl) != 0 &&
-                    (ld->isVolatile() || is_register_object(ld->getPointerOperand()))) {
+                    (ld->isVolatile() || reg.is_based(ld->getPointerOperand()))) {
                     work.push_back(ld);
                 }
             } else if (auto *st = dyn_cast<StoreInst>(&i)) {
                 if (!st->isAtomic() && width(st->getValueOperand()->getType(), dl) != 0 &&
-                    (st->isVolatile() || is_register_object(st->getPointerOperand()))) {
+                    (st->isVolatile() || reg.is_based(st->getPointerOperand()))) {
                     work.push_back(st);
+                }
+            } else if (auto *mt = dyn_cast<MemTransferInst>(&i)) {
+                if (reg.is_based(mt->getRawDest()) || reg.is_based(mt->getRawSource())) {
+                    work.push_back(mt);
+                }
+            } else if (auto *ms = dyn_cast<MemSetInst>(&i)) {
+                if (reg.is_based(ms->getRawDest())) {
+                    work.push_back(ms);
                 }
             }
         }
         for (Instruction *i : work) {
             IRBuilder<> b(i);
+            if (auto *mt = dyn_cast<MemTransferInst>(i)) {
+                /* Word by word through the runtime (memmove's overlap cannot involve a register
+                   file and host memory at once: the runtime copies forwards or backwards as memmove). */
+                FunctionCallee fn = m.getOrInsertFunction("sins_fw_memcpy", Type::getVoidTy(ctx), i8p, i8p, i64);
+                b.CreateCall(fn, {b.CreatePointerCast(mt->getRawDest(), i8p), b.CreatePointerCast(mt->getRawSource(), i8p),
+                                  b.CreateZExtOrTrunc(mt->getLength(), i64)});
+                mt->eraseFromParent();
+                continue;
+            }
+            if (auto *ms = dyn_cast<MemSetInst>(i)) {
+                FunctionCallee fn = m.getOrInsertFunction("sins_fw_memset", Type::getVoidTy(ctx), i8p, i8, i64);
+                b.CreateCall(fn, {b.CreatePointerCast(ms->getRawDest(), i8p), ms->getValue(),
+                                  b.CreateZExtOrTrunc(ms->getLength(), i64)});
+                ms->eraseFromParent();
+                continue;
+            }
             if (auto *ld = dyn_cast<LoadInst>(i)) {
                 Type *t = ld->getType();
                 unsigned w = width(t, dl);
@@ -375,13 +509,59 @@ struct SinsFwPass : PassInfoMixin<SinsFwPass> {
         return changed;
     }
 
+    /* A definition of a register-file object (TI's DSP2833x_GlobalVariableDefs.c) made a declaration:
+       the build's placement defines it. */
+    bool declare_register_files(Module &m) {
+        bool changed = false;
+        for (GlobalVariable &g : m.globals()) {
+            if (!g.isDeclaration() && symbols.count(g.getName().str()) != 0) {
+                g.setInitializer(nullptr);
+                g.setLinkage(GlobalValue::ExternalLinkage);
+                g.setSection("");
+                g.setComdat(nullptr);
+                changed = true;
+            }
+        }
+        return changed;
+    }
+
+    /* Each vector-table image this module defines tells the runtime where it is, at load time. */
+    static bool register_images(Module &m, const RegisterPointers &reg) {
+        std::vector<GlobalVariable *> defined;
+        for (const GlobalVariable *g : reg.images) {
+            if (!g->isDeclaration()) {
+                defined.push_back(const_cast<GlobalVariable *>(g));
+            }
+        }
+        if (defined.empty()) {
+            return false;
+        }
+        LLVMContext &ctx = m.getContext();
+        Type *i8p = Type::getInt8PtrTy(ctx);
+        Type *i64 = Type::getInt64Ty(ctx);
+        FunctionCallee image = m.getOrInsertFunction("sins_fw_vector_image", Type::getVoidTy(ctx), i8p, i64);
+        Function *ctor = Function::Create(FunctionType::get(Type::getVoidTy(ctx), false), GlobalValue::InternalLinkage,
+                                          "sins_fw_vector_images", &m);
+        IRBuilder<> b(BasicBlock::Create(ctx, "", ctor));
+        for (GlobalVariable *g : defined) {
+            uint64_t bytes = m.getDataLayout().getTypeAllocSize(g->getValueType());
+            b.CreateCall(image, {ConstantExpr::getPointerCast(g, i8p), ConstantInt::get(i64, bytes)});
+        }
+        b.CreateRetVoid();
+        appendToGlobalCtors(m, ctor, 0);
+        return true;
+    }
+
     PreservedAnalyses run(Module &m, ModuleAnalysisManager &) {
         bool changed = map_raw_addresses(m);
+        changed |= declare_register_files(m);
+        RegisterPointers reg(m, symbols);
+        changed |= register_images(m, reg);
         for (Function &f : m) {
             if (f.isDeclaration()) {
                 continue;
             }
-            changed |= instrument_accesses(f, m);
+            changed |= instrument_accesses(f, m, reg);
             if (c28x_float) {
                 changed |= instrument_floats(f, m);
             }
@@ -465,6 +645,13 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         }
         if (name.startswith("sins_fw_ld") || name.startswith("sins_fw_st") || name == "sins_fw_ptr") {
             return 0;
+        }
+        if (name == "sins_fw_memcpy" || name == "sins_fw_memset") {
+            /* A block copy the build's first pass routed through the runtime: priced as the memcpy. */
+            if (auto *len = dyn_cast<ConstantInt>(call.getArgOperand(2))) {
+                return price("block_copy_setup") + static_cast<unsigned>((len->getZExtValue() + 1) / 2);
+            }
+            return price("block_copy_setup") + price("call");
         }
         static const struct {
             const char *prefix;
@@ -629,7 +816,8 @@ struct SinsFwCyclePass : PassInfoMixin<SinsFwCyclePass> {
         StructType *entry = StructType::get(i8p, i8p);
         std::vector<Function *> fns;
         for (Function &f : m) {
-            if (!f.isDeclaration()) {
+            /* (Not the first pass's constructor that registers the vector-table images.) */
+            if (!f.isDeclaration() && f.getName() != "sins_fw_vector_images") {
                 fns.push_back(&f);
             }
         }

@@ -149,11 +149,14 @@ static const char *const PIE_NAMES[96] = {"SEQ1INT","SEQ2INT","rsvd1_3","XINT1",
 
 /* Interrupts the firmware enables that the emulator can never raise (raised: TINT0 INT1.7, WAKEINT
    INT1.8 (the watchdog), SPIRXINTA/SPITXINTA INT6.1/6.2, TINT1 INT13, TINT2 INT14): each reported
-   once, when it is enabled, as a warning on stderr naming the vector, its PIE group and line. */
+   once, when it is enabled, as an `interrupt_never_raised` event of the run naming the vector, its
+   PIE group and line (the board's time is the enabling write's). */
+static SinsBoard *run_board();
 static void warn_never_raised(const char *what) {
-    std::fprintf(stderr, "sins-fw: warning: the firmware enables %s, which the emulator cannot raise "
-                         "(its peripheral is not modelled): its ISR will never run\n",
-                 what);
+    SinsBoard *b = run_board();
+    if (b != nullptr) {
+        sins_report_never_raised(b, what);
+    }
 }
 
 /* The PIE lines a modelled peripheral raises (group and line, 0-based): TINT0 and WAKEINT (1.7, 1.8),
@@ -304,6 +307,13 @@ void update_flush() {
 }
 
 void read_now() { check(sins_now_ps(board, &now_ps), "time"); }
+
+}  // namespace
+
+/* The board of the run in progress (null outside a run): the enable-time check reports to it. */
+static SinsBoard *run_board() { return cfg != nullptr ? board : nullptr; }
+
+namespace {
 
 /* SYSCLKOUT may have changed (the PLL: PLLCR, PLLSTS.DIVSEL): the cycle's length again. */
 void refresh_cycle() {
@@ -587,7 +597,6 @@ extern "C" void sins_fw_write16(uint32_t address, uint16_t value) {
     uint64_t cycles = pending_cycles + cfg->write_cycles;
     before_access(cfg->write_cycles);
     pending_cycles = 0;
-    check_pie_enable(address, value);
     if (is_modelled(address)) {
         check(sins_cpu_write16(board, address, value, cycles, &now_ps), "write");
     } else {
@@ -597,6 +606,7 @@ extern "C" void sins_fw_write16(uint32_t address, uint16_t value) {
             flush_blocks();
         }
     }
+    check_pie_enable(address, value);
     poll_valid = false;
     if ((address & 0xFF00u) == 0x0C00u || (address >= 0x7040u && address < 0x7050u)) {
         mark_irq_state_changed(); /* the timers, the PIE, SPI-A's interrupt enables and transfers */
@@ -625,16 +635,63 @@ uint16_t creg_read(int which) {
 }
 
 void creg_write(int which, uint16_t value) {
+    check(sins_creg_write(board, which, value), which == 0 ? "IER" : "IFR");
     if (which == 0) {
         check_ier_enable(value);
     }
-    check(sins_creg_write(board, which, value), which == 0 ? "IER" : "IFR");
     mark_irq_state_changed();
     after_access();
 }
 
 /* What a host address of an instrumented access is. */
-enum class Place { Io, Vector, Creg, Host };
+enum class Place { Io, Vector, Creg, Image, Host };
+
+/* The vector-table images of the firmware (globals of PieVectTable's type: TI's PieVectTableInit),
+   which the pass's constructors register (sins_fw_vector_image). */
+struct Image {
+    uintptr_t base;
+    uint64_t bytes;
+};
+constexpr size_t MAX_IMAGES = 16;
+Image images[MAX_IMAGES];
+size_t n_images = 0;
+const Image *image_hit = nullptr; /* the image place_of found last */
+
+/* A C28x vector is 32 bits: a word pair of PieVectTable, or of an image, as TI's InitPieVectTable
+   copies them (`Uint32 *Dest = (void *)&PieVectTable; *Dest++ = *Source++;`). A 32-bit access of
+   either is the vector of its index (byte offset / 4), whose host address (64 bits) a 32-bit value
+   cannot hold: it reads as a handle, HANDLE_TAG | the address's index in `code` (0 for none), and a
+   handle written is the address again. */
+constexpr uint32_t HANDLE_TAG = 0x80000000u;
+std::vector<uint64_t> &code = *new std::vector<uint64_t>;
+
+uint32_t handle_of(uint64_t isr) {
+    if (isr == 0) {
+        return 0;
+    }
+    for (size_t k = 0; k < code.size(); k++) {
+        if (code[k] == isr) {
+            return HANDLE_TAG | static_cast<uint32_t>(k);
+        }
+    }
+    code.push_back(isr);
+    return HANDLE_TAG | static_cast<uint32_t>(code.size() - 1);
+}
+
+uint64_t isr_of(uint32_t handle, const char *where, uint64_t vector) {
+    if (handle == 0) {
+        return 0;
+    }
+    if ((handle & HANDLE_TAG) != 0 && (handle & ~HANDLE_TAG) < code.size()) {
+        return code[handle & ~HANDLE_TAG];
+    }
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "a 32-bit store of 0x%08X to vector %llu of %s: on the host a vector holds an ISR's address, "
+                  "which a 32-bit word read from PieVectTable or PieVectTableInit stands for (or 0)",
+                  static_cast<unsigned>(handle), static_cast<unsigned long long>(vector), where);
+    throw Failure{text};
+}
 
 Place place_of(const volatile void *p, uint64_t *index) {
     auto a = reinterpret_cast<uintptr_t>(p);
@@ -652,6 +709,13 @@ Place place_of(const volatile void *p, uint64_t *index) {
     if (a - creg < sizeof sins_fw_cregs) {
         *index = (a - creg) / 8;
         return Place::Creg;
+    }
+    for (size_t k = 0; k < n_images; k++) {
+        if (a - images[k].base < images[k].bytes) {
+            *index = a - images[k].base;
+            image_hit = &images[k];
+            return Place::Image;
+        }
     }
     return Place::Host;
 }
@@ -684,6 +748,11 @@ uint64_t load(const volatile void *p, unsigned bits) {
             return v;
         }
         case Place::Vector: {
+            if (bits == 32 && index % 4 == 0) {
+                uint64_t v = 0;
+                check(sins_vector(board, static_cast<uint32_t>(index / 4), &v), "PieVectTable");
+                return handle_of(v);
+            }
             if (bits != 64 || index % 8 != 0) {
                 bad_width("PieVectTable", index, bits);
             }
@@ -692,6 +761,12 @@ uint64_t load(const volatile void *p, unsigned bits) {
             return v;
         }
         case Place::Creg: return creg_read(static_cast<int>(index));
+        case Place::Image:
+            if (bits == 32 && index % 4 == 0 && 2 * index < image_hit->bytes) {
+                /* Word pair index / 4: the image's element of that index (8 bytes each). */
+                return handle_of(*reinterpret_cast<const volatile uint64_t *>(image_hit->base + 2 * index));
+            }
+            break;
         case Place::Host: break;
     }
     switch (bits) {
@@ -723,6 +798,12 @@ void store(volatile void *p, uint64_t v, unsigned bits) {
             return;
         }
         case Place::Vector: {
+            if (bits == 32 && index % 4 == 0) {
+                uint64_t isr = isr_of(static_cast<uint32_t>(v), "PieVectTable", index / 4);
+                check(sins_set_vector(board, static_cast<uint32_t>(index / 4), isr), "PieVectTable");
+                sins_fw_vectors[index / 4] = isr;
+                return;
+            }
             if (bits != 64 || index % 8 != 0) {
                 bad_width("PieVectTable", index, bits);
             }
@@ -731,6 +812,13 @@ void store(volatile void *p, uint64_t v, unsigned bits) {
             return;
         }
         case Place::Creg: creg_write(static_cast<int>(index), static_cast<uint16_t>(v)); return;
+        case Place::Image:
+            if (bits == 32 && index % 4 == 0 && 2 * index < image_hit->bytes) {
+                *reinterpret_cast<volatile uint64_t *>(image_hit->base + 2 * index) =
+                    isr_of(static_cast<uint32_t>(v), "a vector table", index / 4);
+                return;
+            }
+            break;
         case Place::Host: break;
     }
     switch (bits) {
@@ -753,6 +841,63 @@ void sins_fw_st8(volatile void *p, uint8_t v) { access_pc = __builtin_return_add
 void sins_fw_st16(volatile void *p, uint16_t v) { access_pc = __builtin_return_address(0); store(p, v, 16); }
 void sins_fw_st32(volatile void *p, uint32_t v) { access_pc = __builtin_return_address(0); store(p, v, 32); }
 void sins_fw_st64(volatile void *p, uint64_t v) { access_pc = __builtin_return_address(0); store(p, v, 64); }
+
+/* A vector-table image of the firmware (the pass's constructor, at load time). */
+void sins_fw_vector_image(const void *base, uint64_t bytes) {
+    if (n_images < MAX_IMAGES) {
+        images[n_images++] = Image{reinterpret_cast<uintptr_t>(base), bytes};
+    }
+}
+
+/* A memcpy or memmove (the pass's call) one of whose ends may be a register file or a vector table:
+   element by element through load/store (64-bit words when either end is PieVectTable or an image,
+   16-bit words for the data space), else the C library's memmove. */
+void sins_fw_memcpy(void *dst, const void *src, uint64_t n) {
+    access_pc = __builtin_return_address(0);
+    uint64_t i = 0;
+    Place pd = place_of(dst, &i);
+    Place ps = place_of(src, &i);
+    if ((pd == Place::Host || pd == Place::Image) && (ps == Place::Host || ps == Place::Image)) {
+        std::memmove(dst, src, n);
+        return;
+    }
+    unsigned bits = (pd == Place::Vector || ps == Place::Vector || pd == Place::Image || ps == Place::Image) ? 64 : 16;
+    unsigned unit = bits / 8;
+    if (n % unit != 0) {
+        bad_width(pd == Place::Host || pd == Place::Image ? "a block copy's source" : "a block copy's destination", n, bits);
+    }
+    auto d = reinterpret_cast<uintptr_t>(dst);
+    auto s = reinterpret_cast<uintptr_t>(src);
+    bool backwards = d > s && d < s + n;
+    for (uint64_t k = 0; k < n; k += unit) {
+        uint64_t at = backwards ? n - unit - k : k;
+        store(reinterpret_cast<volatile void *>(d + at), load(reinterpret_cast<const volatile void *>(s + at), bits), bits);
+    }
+}
+
+/* A memset of a register file or a vector table (the pass's call): 16-bit words of the data space. */
+void sins_fw_memset(void *dst, uint8_t value, uint64_t n) {
+    access_pc = __builtin_return_address(0);
+    uint64_t i = 0;
+    Place pd = place_of(dst, &i);
+    if (pd == Place::Host || pd == Place::Image) {
+        std::memset(dst, value, n);
+        return;
+    }
+    unsigned bits = pd == Place::Vector ? 64 : 16;
+    unsigned unit = bits / 8;
+    if (n % unit != 0) {
+        bad_width("a memset's destination", n, bits);
+    }
+    uint64_t word = 0;
+    for (unsigned k = 0; k < unit; k++) {
+        word = word << 8 | value;
+    }
+    auto d = reinterpret_cast<uintptr_t>(dst);
+    for (uint64_t k = 0; k < n; k += unit) {
+        store(reinterpret_cast<volatile void *>(d + k), word, bits);
+    }
+}
 
 /* An integer made a pointer at run time (the pass's call): a C28x data address is its word of the
    runtime's image of the data space; null and host addresses stay as they are. */

@@ -1,9 +1,8 @@
-/* Host replacement of TI's DSP2833x_PieVect.c (see firmware_c/ti/README.md). TI's InitPieVectTable
-   copies PieVectTableInit into PieVectTable word by word through Uint32 pointers (or memcpy): on the
-   host a vector is a 64-bit function address held by the emulated PIE, so that copy cannot work.
-   This one stores the same 128 vectors (TI's table, the default ISRs of DSP2833x_DefaultIsr.c) one by
-   one as whole pointers (each store reaches the emulated PIE), under EALLOW as TI's does, then enables
-   the PIE vector table. */
+/* Host replacement of TI's DSP2833x_PieVect.c (see firmware_c/ti/README.md), for a project that does
+   not compile TI's (whose Uint32 copy of PieVectTableInit builds and runs as given, taking this one's
+   place: docs/c-drivers.md, "Vectors"). It stores the same 128 vectors (TI's table, the default ISRs
+   of DSP2833x_DefaultIsr.c) one by one as whole pointers (each store reaches the emulated PIE), under
+   EALLOW as TI's does, then enables the PIE vector table. */
 #include "DSP2833x_Device.h"
 #include "DSP2833x_Examples.h"
 #include "DSP2833x_DefaultIsr.h"

@@ -49,12 +49,16 @@ from sins_fw.profile import MODEL_DIR, Profile, ProfileValues, cost_table_text, 
 
 #: The host replacements of TI's support sources (DSP2833x_common/source), linked into every firmware.
 TI_SUPPORT = FIRMWARE_C / "ti"
-#: TI's support sources that cannot build on the host: a firmware source of one of these names is
-#: left out and the replacement of the same name stands in (firmware_c/ti/README.md).
-REPLACED_TI_SOURCES = (
-    "DSP2833x_GlobalVariableDefs.c",
-    "DSP2833x_PieVect.c",
-)
+#: TI's support sources that cannot build against the replacement headers (``firmware_c/include``):
+#: a firmware source of one of these names is left out, and the replacement of the same name stands
+#: in, unless TI's own headers are on the include path (:func:`with_ti_support`; firmware_c/ti/README.md).
+#: TI's DSP2833x_GlobalVariableDefs.c defines every register file of the chip, the unmodelled
+#: peripherals' structures (ADC_REGS, ECAN_REGS, MCBSP_REGS, ...) too, which the replacement headers do
+#: not declare; with TI's headers it compiles as given and the pass makes its definitions declarations
+#: (the build places the objects itself).
+REPLACED_TI_SOURCES = ("DSP2833x_GlobalVariableDefs.c",)
+#: The header whose presence on the include path tells that TI's own headers are used.
+TI_DEVICE_HEADER = "DSP2833x_Device.h"
 #: TI's register-file objects and their C28x data addresses (TI's DSP2833x_Headers_nonBIOS.cmd). The
 #: build defines each at ``sins_fw_io + 2·address`` (the runtime's image of the data space:
 #: :func:`placement_assembly`).
@@ -182,12 +186,18 @@ def cabi_library_dir() -> Path:
     return cabi_dirs()[0]
 
 
-def with_ti_support(sources: Sequence[Path]) -> tuple[list[Path], list[str]]:
+def with_ti_support(
+    sources: Sequence[Path], include: Sequence[str | os.PathLike[str]] = ()
+) -> tuple[list[Path], list[str]]:
     """The firmware's sources plus the host replacements of TI's support sources (``firmware_c/ti``),
     and the names of the firmware's own copies of TI's sources that are left out for them
-    (:data:`REPLACED_TI_SOURCES`). The replacements' definitions are weak: a firmware's own
-    ``InitSysCtrl`` or ``TINT0_ISR`` (its own copy of TI's support sources, compiled as given) takes the
-    place of the replacement's."""
+    (:data:`REPLACED_TI_SOURCES`: only when TI's own headers, a ``DSP2833x_Device.h``, are in none of
+    the ``include`` folders and the sources' folders). The replacements' definitions are weak: a
+    firmware's own ``InitSysCtrl``, ``InitPieVectTable`` or ``TINT0_ISR`` (its own copy of TI's support
+    sources, compiled as given) takes the place of the replacement's."""
+    folders = [Path(d) for d in include] + [s.parent for s in sources]
+    if any((d / TI_DEVICE_HEADER).is_file() for d in folders):
+        return [*sources, *sorted(TI_SUPPORT.glob("*.c"))], []
     kept = [s for s in sources if s.name not in REPLACED_TI_SOURCES]
     replaced = sorted({s.name for s in sources if s.name in REPLACED_TI_SOURCES})
     return kept + sorted(TI_SUPPORT.glob("*.c")), replaced
@@ -350,7 +360,7 @@ def included_headers(
     says why."""
     try:
         project = read_project(paths)
-        sources, _ = with_ti_support(project.sources)
+        sources, _ = with_ti_support(project.sources, [*include, *project.include])
         common = compile_flags(project, sources, float_mode, include, defines, profile)
     except (InputError, ConfigError):
         return []
@@ -402,7 +412,7 @@ def build_firmware(
     ``opt_level`` is the build's optimisation as cl2000's (:data:`OPT_LEVELS`): ``2`` (default) or
     ``off``, the code the pass prices."""
     project = read_project(paths)
-    sources, _ = with_ti_support(project.sources)
+    sources, _ = with_ti_support(project.sources, [*include, *project.include])
     common = compile_flags(project, sources, float_mode, include, defines, profile, opt_level)
     clang, clangxx = _tool(CLANG), _tool(CLANGXX)
     plugin = pass_plugin()

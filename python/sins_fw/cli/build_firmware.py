@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
         profile=profile,
         opt_level=args.opt_level,
     )
-    _, replaced = with_ti_support(project.sources)
+    _, replaced = with_ti_support(project.sources, [*args.include, *project.include])
     text = f"built {out} from {len(project.sources)} source(s), float mode {args.float_mode}"
     for path, why in project.skipped:
         text += f"\nskipped {path}: {why}"

@@ -344,6 +344,14 @@ enum SinsStatus sins_set_eallow(struct SinsBoard *board, int on);
 // `board` is a live handle.
 enum SinsStatus sins_set_vector(struct SinsBoard *board, uint32_t n, uint64_t isr);
 
+// Report that the firmware enabled an interrupt no modelled peripheral raises: an
+// `interrupt_never_raised` event at the board's time; `what` (NUL-terminated) names it (the vector,
+// its PIE group and line).
+//
+// # Safety
+// `board` is a live handle; `what` is NUL-terminated.
+enum SinsStatus sins_report_never_raised(struct SinsBoard *board, const char *what);
+
 // PieVectTable vector `n` into `*out`.
 //
 // # Safety

@@ -805,6 +805,21 @@ pub unsafe extern "C" fn sins_set_vector(board: *mut SinsBoard, n: u32, isr: u64
     call(|| Ok(self::board(board)?.board.set_vector(n as usize, isr)?))
 }
 
+/// Report that the firmware enabled an interrupt no modelled peripheral raises: an
+/// `interrupt_never_raised` event at the board's time; `what` (NUL-terminated) names it (the vector,
+/// its PIE group and line).
+///
+/// # Safety
+/// `board` is a live handle; `what` is NUL-terminated.
+#[no_mangle]
+pub unsafe extern "C" fn sins_report_never_raised(board: *mut SinsBoard, what: *const c_char) -> SinsStatus {
+    call(|| {
+        let what = c_str(what, "what")?.to_string();
+        self::board(board)?.board.report_never_raised(&what);
+        Ok(())
+    })
+}
+
 /// PieVectTable vector `n` into `*out`.
 ///
 /// # Safety

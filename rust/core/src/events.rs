@@ -350,6 +350,12 @@ pub const KINDS: &[EventKind] = &[
     ),
     // A host-built firmware's accesses (rust/core/src/host.rs).
     kind(
+        "interrupt_never_raised",
+        Warning,
+        "emulator",
+        "the firmware enabled an interrupt (a PIEIER line, IER's DLOGINT or RTOSINT) that no modelled peripheral raises: its ISR will never run",
+    ),
+    kind(
         "protected_write",
         Warning,
         "mcu",

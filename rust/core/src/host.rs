@@ -408,6 +408,18 @@ impl HostBoard {
         Ok(())
     }
 
+    /// Report an interrupt the firmware enabled that no modelled peripheral raises (`what` names it:
+    /// the vector, its PIE group and line): the firmware runtime's check, when PIEIERx or IER is written
+    /// (firmware_c/runtime/sins_fw_runtime.cpp, `check_pie_enable`).
+    pub fn report_never_raised(&mut self, what: &str) {
+        self.pending.push(Event::new(
+            self.now,
+            "interrupt_never_raised",
+            crate::events::Severity::Warning,
+            format!("the firmware enables {what}, which the emulator cannot raise (its peripheral is not modelled): its ISR will never run"),
+        ));
+    }
+
     /// PieVectTable vector `n`.
     pub fn vector(&self, n: usize) -> u64 {
         self.irq.vector(n)
@@ -668,7 +680,12 @@ impl HostBoard {
             a if McbspPorts::owns(a) => Ok(self.mcbsp.read(a, now, self.link.spi().lspclk())),
             a => Err(no_register(a)),
         };
-        self.sync();
+        // Every operation that changes the board ends with a sync, so after a read that changes
+        // nothing (the polling reads of SPISTS, GPxDAT, the system control registers) there is
+        // nothing to move: no second sync on the hot path of a register access.
+        if !reads_without_effect(addr) {
+            self.sync();
+        }
         r
     }
 
@@ -1244,6 +1261,13 @@ fn append(to: &mut Vec<Event>, mut more: Vec<Event>) {
 /// SPIPRI): a match on the offset, not a search of the register table, as it runs on every access.
 fn is_spi(a: u32) -> bool {
     matches!(a.wrapping_sub(SPIA_BASE), 0..=2 | 4 | 6..=0xC | 0xF)
+}
+
+/// Whether reading `a` changes nothing on the board (the link is at the board's time already: a
+/// read of an SPI-A register but SPIRXBUF only looks): SPI-A's registers but SPIRXBUF, the GPIO
+/// data and control registers, the system control registers.
+fn reads_without_effect(a: u32) -> bool {
+    (is_spi(a) && a != SPIA_BASE + u32::from(spi::SPIRXBUF)) || is_gpio(a) || Gpio::owns_ctrl(a) || SysCtrl::owns(a)
 }
 
 fn is_gpio(a: u32) -> bool {

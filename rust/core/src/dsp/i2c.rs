@@ -759,8 +759,12 @@ impl I2cA {
     /// The events since the last call (the module's and its parts').
     pub fn drain_events(&mut self) -> Vec<Event> {
         let mut e = self.m.events.drain();
+        // On every register access and step of time (HostBoard::sync): nothing to move, no call.
         for (_, t) in &mut self.m.targets {
-            e.extend(t.drain_events());
+            let mut more = t.drain_events();
+            if !more.is_empty() {
+                e.append(&mut more);
+            }
         }
         e
     }

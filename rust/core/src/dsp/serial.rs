@@ -119,7 +119,10 @@ impl SerialPorts {
         for (k, armed) in self.i2c.armed().into_iter().enumerate() {
             irq.set_armed(8, k as u8 + 1, armed);
         }
-        events.extend(self.i2c.drain_events());
+        let mut e = self.i2c.drain_events();
+        if !e.is_empty() {
+            events.append(&mut e);
+        }
         events
     }
 
