@@ -597,9 +597,9 @@ pub enum YawReference {
 }
 
 /// The DCM with drift cancellation (algorithms.md §2): one PI controller on the weighted roll–pitch and
-/// yaw errors. No gains are published; the defaults are this model's [unconfirmed: chosen for the
-/// source's recovery "within ≈ 10 s", see `firmware_model/SCHEMA.md` and `firmware/dcm.rs`'s
-/// `default_gains_recover_a_30_degree_tilt_within_10_s`].
+/// yaw errors. No gains are published; the defaults are this model's [unconfirmed: chosen]; against the
+/// source's recovery "within ≈ 10 s" see `firmware_model/SCHEMA.md` and `firmware/dcm.rs`'s
+/// `pi_recovery_follows_the_linearised_loop`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Dcm {
@@ -645,8 +645,8 @@ pub struct Dcm {
 impl Default for Dcm {
     fn default() -> Self {
         Dcm {
-            kp: 0.35,
-            ki: 0.002,
+            kp: 0.2,
+            ki: 0.0087,
             w_rp: 1.0,
             w_yaw: 1.0,
             yaw_reference: YawReference::None,
