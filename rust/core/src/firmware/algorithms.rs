@@ -58,7 +58,10 @@ pub fn algorithms<T: Scalar>() -> Vec<Algorithm<T>> {
         Algorithm {
             name: "wing",
             doc: "the wing-angle unit: zero, hinge axis and 12-state filter, α out every update (`firmware.alignment_s`: the zero's time)",
-            make: |fw, step_s| Ok(Box::new(WingUnit::<T>::new(step_s, fw.accel_g_m_s2, fw.alignment_s)?)),
+            make: |fw, step_s| {
+                let unit = WingUnit::<T>::new(step_s, fw.accel_g_m_s2, fw.alignment_s)?;
+                Ok(Box::new(unit.with_temperature_compensation(fw.wing.gyro_bias_tempco_dps_per_c)))
+            },
         },
     ]
 }

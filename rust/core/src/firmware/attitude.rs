@@ -23,6 +23,9 @@ pub struct StepInputs<'a, T> {
     pub specific_force: Option<Vec3<T>>,
     /// The latest magnetic field decoded, body axes (gauss).
     pub magnetic_field: Option<Vec3<T>>,
+    /// The latest X/Y/ZTEMP_OUT decoded: each gyro axis's temperature above 25 °C (°C), when the firmware
+    /// compensates the temperature (the wing unit with `firmware.wing` coefficients).
+    pub temperature_c: Option<Vec3<T>>,
     /// The GPS: none on the board, a stream with no fix usable yet, or the latest fix usable.
     pub gps: GpsInput<T>,
     /// The axes whose code was at full scale (the decode's saturation flags).
@@ -49,6 +52,7 @@ impl<'a, T> StepInputs<'a, T> {
             nav_rate,
             specific_force: None,
             magnetic_field: None,
+            temperature_c: None,
             gps: GpsInput::None,
             clipped: Clipped::default(),
         }

@@ -669,6 +669,41 @@ mod tests {
         reached.expect("the tilt never reached 1°")
     }
 
+    /// A 30° static tilt with the PI gains of `p`: (the first time within 1°, the last time beyond 1°, the
+    /// largest tilt once it rises again after reaching 1°: the undershoot's peak), s, s, degrees.
+    fn pi_tilt_recovery(p: &DcmProfile, secs: f64) -> (f64, f64, f64) {
+        let sc = static_scenario(&still);
+        let mut dcm = Dcm::<f64>::new(p, DT);
+        let mut tilts = Vec::new();
+        run(&mut dcm, &rx(30.0 * D), &sc, [0.0; 3], (secs / DT) as usize, |_, est, truth, _| {
+            tilts.push(tilt_deg(est, truth))
+        });
+        let time = |k: usize| (k + 1) as f64 * DT;
+        let first = tilts.iter().position(|&t| t <= 1.0).expect("the tilt never reached 1°");
+        let settled = tilts.iter().rposition(|&t| t > 1.0).map_or(0.0, time);
+        // The tilt's first rise after reaching 1°: it has passed through zero.
+        let turn = (first..tilts.len() - 1).find(|&k| tilts[k + 1] > tilts[k]).unwrap_or(tilts.len() - 1);
+        let undershoot = tilts[turn..].iter().copied().fold(0.0, f64::max);
+        (time(first), settled, undershoot)
+    }
+
+    /// The linearised PI loop from a tilt e₀ (the test below): e(t) = A e^{s₁t} + (e₀ − A) e^{s₂t}. Returns the
+    /// first time |e| ≤ 1°, the last time |e| > 1° (on the update grid), the undershoot's peak (degrees) and
+    /// the slow pole's time constant, s.
+    fn pi_linear(kp: f64, ki: f64, e0: f64) -> (f64, f64, f64, f64) {
+        let root = (kp * kp - 4.0 * ki).sqrt();
+        let (s1, s2) = ((-kp + root) / 2.0, (-kp - root) / 2.0);
+        let a = e0 * (-kp - s2) / (s1 - s2);
+        let b = e0 - a;
+        let e = |t: f64| a * (s1 * t).exp() + b * (s2 * t).exp();
+        // ė = 0: A s₁ e^{s₁t} = −B s₂ e^{s₂t}.
+        let peak = e((-b * s2 / (a * s1)).ln() / (s1 - s2)).abs();
+        let mut times = (1..(300.0 / DT) as usize).map(|k| k as f64 * DT);
+        let first = times.clone().find(|&t| e(t).abs() <= 1.0).unwrap_or(f64::NAN);
+        let last = times.rfind(|&t| e(t).abs() > 1.0).unwrap_or(0.0);
+        (first, last, peak, -1.0 / s1)
+    }
+
     /// Constant bias b on the roll gyro: at equilibrium R stops moving, so b + K_P·e = 0 with |e| = sin(tilt):
     /// tilt = asin(b/K_P) (P only). With PI the integrator is stationary only when e = 0, so the tilt goes to
     /// zero and ω_I to −b. Returns (tilt after `secs`, ω_I,x).
@@ -836,6 +871,45 @@ mod tests {
             // Within 2 %: the step's discretisation (first-order, K_P·T ≤ 0.8 %) and the step grid (8 ms).
             assert!((t * kp / theory - 1.0).abs() < 0.02, "K_P {kp}: {t} s, theory {} s", theory / kp);
         }
+    }
+
+    /// The PI recovery against the source's "within ≈ 10 s" (issue 40 item 4). The loop, linearised
+    /// (sin e ≈ e, overdamped): ė = −K_P e − ω_I, ω̇_I = K_I e, poles s₁,₂ = (−K_P ± √(K_P² − 4K_I))/2. From
+    /// e(0) = e₀, ω_I(0) = 0 the error is A e^{s₁t} + (e₀ − A) e^{s₂t}, A = e₀(−K_P − s₂)/(s₁ − s₂) < 0: the
+    /// integrator charged during the recovery carries the tilt through zero to an undershoot (the sum's
+    /// extremum), which bleeds off with the slow pole s₁ ≈ −K_I/K_P, the time constant of the gyro bias
+    /// estimate. A 30° tilt stays within 1° only once the undershoot has decayed below 1°.
+    ///
+    /// The defaults (K_P 0.2, K_I 0.0087, ζ 1.07): within 1° first at 9.63 s (linear 9.54 s), undershoot
+    /// 3.69° (linear 3.70°), beyond 1° until 50.47 s (linear 50.40 s): not the source's ≈ 10 s. Gains that
+    /// meet it, K_P 0.35, K_I 0.002 (ζ 3.9): within 1° from 8.83 s on (linear 8.77 s), undershoot 0.44°,
+    /// but the bias estimate's time constant grows from 16 s to 172 s; measured on the DCM's aiding tests
+    /// (`tests/test_dcm_aiding.py`, a 240 s turn whose last quarter must be settled), the slower integrator
+    /// leaves the GPS-aided heading 2.54° off against its 2.0° ± 0.1° lag, the uncompensated turn's tilt
+    /// 0.45° from atan(Vω/g) against 0.145°, the magnetometer heading 0.66° against 0.32°: the defaults are
+    /// kept, the trade-off stated in `firmware_model/SCHEMA.md`.
+    /// The BROAD set (K_P 0.5, K_I 0) recovers in 3.424/K_P = 6.85 s. Tolerances: times within 2 % of the
+    /// linear figures (the nonlinear P-only law's 3.424 against the linear ln 30 = 3.401: 0.7 %, and the
+    /// step grid), the undershoot within 10 % (sin 30°/(π/6) = 0.91: the large-angle loop charges the
+    /// integrator less).
+    #[test]
+    fn pi_recovery_follows_the_linearised_loop() {
+        let defaults = DcmProfile::default();
+        for (kp, ki) in [(defaults.kp, defaults.ki), (0.35, 0.002)] {
+            let (first_lin, settled_lin, undershoot, tau) = pi_linear(kp, ki, 30.0);
+            let (first, settled, measured) = pi_tilt_recovery(&gains(kp, ki), 300.0);
+            eprintln!(
+                "K_P {kp}, K_I {ki}: 1° first at {first:.3} s (linear {first_lin:.3} s), last beyond 1° at \
+                 {settled:.3} s (linear {settled_lin:.3} s), undershoot {measured:.3}° (linear {undershoot:.3}°), \
+                 bias τ {tau:.0} s"
+            );
+            assert!((first / first_lin - 1.0).abs() < 0.02, "K_P {kp}: {first} s vs {first_lin} s");
+            assert!((settled / settled_lin - 1.0).abs() < 0.02, "K_P {kp}: {settled} s vs {settled_lin} s");
+            assert!((measured - undershoot).abs() <= 0.1 * undershoot, "K_P {kp}: {measured}° vs {undershoot}°");
+        }
+        // The defaults' linear figures: beyond the source's 10 s; the stated alternative's: within it.
+        assert!(pi_linear(defaults.kp, defaults.ki, 30.0).1 > 40.0);
+        assert!(pi_linear(0.35, 0.002, 30.0).1 < 10.0);
     }
 
     #[test]

@@ -19,6 +19,7 @@
 //! values are the fine products.
 
 use super::{lit, Vec3};
+use crate::device::encoding::TEMP_LSB_C;
 use crate::device::part::Part;
 use crate::device::GyroRange;
 use crate::events::{Event, EventLog, Severity};
@@ -37,6 +38,10 @@ pub const ACCEL_LSB_G: f64 = 3.333e-3;
 const VALID_BITS_MASK: u16 = 0x3FFF;
 /// X/Y/ZMAGN_OUT: 14-bit two's complement, 0.5 mgauss per LSB (adis16407.md).
 pub const MAG_LSB_GAUSS: f64 = 0.0005;
+/// X/Y/ZTEMP_OUT: 12 valid bits, 0.136 °C per LSB, code 0 = 25 °C (the device's encoding).
+const TEMP_BITS_MASK: u16 = 0x0FFF;
+/// The largest magnitude of a 12-bit two's-complement code (0x800 = −2048).
+const TEMP_FULL_SCALE_CODE: f64 = 2048.0;
 const SATURATED_POSITIVE: u16 = 0x1FFF;
 const SATURATED_NEGATIVE: u16 = 0x2000;
 /// Published range tests: (positive upper bound, negative lower bound) of the 14-bit code: ±300 °/s
@@ -51,6 +56,18 @@ const FULL_SCALE_CODE: f64 = 8192.0;
 pub fn accel_range(part: &Part) -> (u16, u16) {
     let n = (part.accel_rated_g / part.accel_lsb_g).round().clamp(1.0, 8190.0) as u16;
     (n, 0x4000 - n)
+}
+
+/// X/Y/ZTEMP_OUT (the ADIS16362's burst words 8…10): 12-bit two's complement, 0.136 °C per LSB, code 0 =
+/// 25 °C (adis16362.md, data sheet p. 11); each axis's distance from 25 °C, °C. The LSB is a constant in
+/// the finest Q that holds the full scale (±278.5 °C), as for the magnetometer.
+pub fn decode_temperature<T: Scalar>(words: &[u16; 3]) -> Vec3<T> {
+    let lsb = T::from_f64_range(TEMP_LSB_C, TEMP_LSB_C * TEMP_FULL_SCALE_CODE);
+    words.map(|w| {
+        let code = (w & TEMP_BITS_MASK) as i32;
+        let signed = if code >= 0x800 { code - 0x1000 } else { code };
+        lsb.mul_i32(signed).to_class(QClass::Generic)
+    })
 }
 
 /// The magnetometer axes (bit i: X/Y/Z MAGN_OUT) whose 14-bit code is at its limit (0x1FFF or 0x2000):

@@ -114,6 +114,17 @@ impl<T: Scalar> Isr<T> {
                 profile.device.part
             )));
         }
+        // X/Y/ZTEMP_OUT at the same places, for the wing unit's temperature compensation.
+        let temperature_words = part.burst.get(FIRST_INERTIAL + 5..FIRST_INERTIAL + 8).is_some_and(|a| {
+            a.iter().zip(["XTEMP_OUT", "YTEMP_OUT", "ZTEMP_OUT"]).all(|(&addr, want)| name_of(addr) == Some(want))
+        });
+        if fw.uses_temperature() && !temperature_words {
+            return Err(Error::Profile(format!(
+                "key `firmware.wing.gyro_bias_tempco_dps_per_c`: the {} burst carries no X/Y/ZTEMP_OUT after \
+                 the inertial words (expected [0, 0, 0] on this part)",
+                profile.device.part
+            )));
+        }
         let mut isr = Isr {
             fw,
             stages,
@@ -244,6 +255,9 @@ impl<T: Scalar> Isr<T> {
             let d = self.fw.decode(&inertial);
             if self.fw.uses_magnetometer() {
                 self.fw.decode_magnetometer(&std::array::from_fn(|i| bursts[b].words[FIRST_INERTIAL + 6 + i]));
+            }
+            if self.fw.uses_temperature() {
+                self.fw.decode_temperature(&std::array::from_fn(|i| bursts[b].words[FIRST_INERTIAL + 6 + i]));
             }
             if !d.report.is_clean() {
                 d.report.push_events(board.ps(c), &inertial, &mut self.events);

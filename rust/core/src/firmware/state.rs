@@ -50,6 +50,11 @@ pub struct Firmware<T: Scalar> {
     uses_magnetometer: bool,
     /// The latest magnetic field decoded, gauss.
     last_mag: Option<Vec3<T>>,
+    /// The algorithm compensates the gyro's temperature drift (the wing unit with `firmware.wing`
+    /// coefficients): the ISR decodes X/Y/ZTEMP_OUT.
+    uses_temperature: bool,
+    /// The latest X/Y/ZTEMP_OUT decoded, °C above 25 °C.
+    last_temp: Option<Vec3<T>>,
     /// Axes at full scale: the gyro's over the reads since the last update, the accelerometer's and
     /// the magnetometer's of the latest read.
     clipped: Clipped,
@@ -108,6 +113,7 @@ impl<T: Scalar> Firmware<T> {
         let uses_magnetometer = (fw.algorithm == "dcm"
             && fw.dcm.yaw_reference == crate::profile::YawReference::Magnetometer)
             || (fw.algorithm == "vqf" && fw.vqf.magnetometer);
+        let uses_temperature = fw.algorithm == "wing" && fw.wing.compensates();
         Ok(Firmware {
             attitude: attitude_update(fw, step_s)?,
             earth_rate: fw.earth_rate,
@@ -127,6 +133,9 @@ impl<T: Scalar> Firmware<T> {
             uses_magnetometer,
             // The firmware's field variable before the first read: zero, as a C global starts.
             last_mag: uses_magnetometer.then_some([lit(0.0); 3]),
+            uses_temperature,
+            // Likewise the temperature variables: 0 (25 °C) before the first read.
+            last_temp: uses_temperature.then_some([lit(0.0); 3]),
             clipped: Clipped::default(),
             gps_pending: None,
             gps: GpsInput::None,
@@ -167,6 +176,18 @@ impl<T: Scalar> Firmware<T> {
         self.last_mag = Some(m);
         self.clipped.mag = super::decode::saturated_magnetometer(words);
         m
+    }
+
+    /// Whether the attitude algorithm takes the temperature (then the ISR decodes X/Y/ZTEMP_OUT).
+    pub fn uses_temperature(&self) -> bool {
+        self.uses_temperature
+    }
+
+    /// Decode X/Y/ZTEMP_OUT for the attitude update.
+    pub fn decode_temperature(&mut self, words: &[u16; 3]) -> Vec3<T> {
+        let t = super::decode::decode_temperature(words);
+        self.last_temp = Some(t);
+        t
     }
 
     /// Fixes of the board's GPS stream (in order of their arrival time `t_s + latency_s`, strictly
@@ -262,6 +283,7 @@ impl<T: Scalar> Firmware<T> {
         let inputs = StepInputs {
             specific_force: self.last_accel,
             magnetic_field: self.last_mag,
+            temperature_c: self.last_temp,
             gps: self.gps,
             clipped: self.clipped,
             ..StepInputs::rates(rates, nav_rate)

@@ -114,6 +114,7 @@ impl Profile {
         keys.push("firmware.application".into());
         keys.extend(Serial::keys());
         keys.push("firmware.gpio_at_start".into());
+        keys.push("firmware.wing.gyro_bias_tempco_dps_per_c".into());
         keys.push("spi.ste_pulse_between_words".into());
         // Its optional keys too (absent from the defaults' text).
         if let Ok(v) = toml::Value::try_from(Geomag {

@@ -589,8 +589,9 @@ pub enum YawReference {
 }
 
 /// The DCM with drift cancellation (algorithms.md §2): one PI controller on the weighted roll–pitch and
-/// yaw errors. No gains are published; the defaults are this model's [unconfirmed: chosen, see
-/// `firmware_model/SCHEMA.md`].
+/// yaw errors. No gains are published; the defaults are this model's [unconfirmed: chosen]; against the
+/// source's recovery "within ≈ 10 s" see `firmware_model/SCHEMA.md` and `firmware/dcm.rs`'s
+/// `pi_recovery_follows_the_linearised_loop`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Dcm {
@@ -894,6 +895,44 @@ fn is_default_gpio(g: &GpioAtStart) -> bool {
     *g == GpioAtStart::default()
 }
 
+/// The wing unit's temperature compensation (`firmware.algorithm` = "wing"): each gyro axis is corrected
+/// by its coefficient times its own X/Y/ZTEMP_OUT reading's distance from the register's zero (25 °C). The
+/// source asks for the compensation ("barely reachable with the temperature compensated") and gives no
+/// method or coefficients: the law and the reference are [unconfirmed], the coefficients a unit's
+/// thermal calibration (`rust/core/src/firmware/wing/app.rs`). All zero: no compensation, and the burst's
+/// temperature words are not decoded.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Wing {
+    /// Gyro bias temperature coefficient per axis (x, y, z), °/s per °C.
+    pub gyro_bias_tempco_dps_per_c: [f64; 3],
+}
+
+impl Wing {
+    /// True when the profile compensates nothing.
+    pub fn is_default(&self) -> bool {
+        *self == Wing::default()
+    }
+
+    /// Whether the firmware compensates the gyro's temperature drift.
+    pub fn compensates(&self) -> bool {
+        self.gyro_bias_tempco_dps_per_c.iter().any(|&k| k != 0.0)
+    }
+
+    pub(crate) fn validate(&self) -> Result<()> {
+        for (axis, k) in ["x", "y", "z"].iter().zip(self.gyro_bias_tempco_dps_per_c) {
+            check_range(
+                &format!("firmware.wing.gyro_bias_tempco_dps_per_c ({axis})"),
+                k,
+                -1.0,
+                1.0,
+                "−1…1 °/s per °C (the part's figure is 0.01)",
+            )?;
+        }
+        Ok(())
+    }
+}
+
 /// Where the firmware's code runs from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -989,6 +1028,9 @@ pub struct Firmware {
     /// How the GPIO pins are set when the firmware's `main` starts.
     #[serde(skip_serializing_if = "is_default_gpio")]
     pub gpio_at_start: GpioAtStart,
+    /// The wing unit's temperature compensation (`firmware.algorithm` = "wing").
+    #[serde(skip_serializing_if = "Wing::is_default")]
+    pub wing: Wing,
 }
 
 impl Default for Firmware {
@@ -1017,6 +1059,7 @@ impl Default for Firmware {
             mag_gate: MagGate::default(),
             vqf: Vqf::default(),
             gpio_at_start: GpioAtStart::default(),
+            wing: Wing::default(),
         }
     }
 }
@@ -1045,6 +1088,7 @@ impl Firmware {
         self.dcm.validate()?;
         self.mag_gate.validate()?;
         self.vqf.validate()?;
+        self.wing.validate()?;
         Ok(())
     }
 }

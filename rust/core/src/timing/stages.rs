@@ -208,6 +208,8 @@ fn priced_stages(profile: &Profile, table: &CostTable, counts: [OpCounts; 5]) ->
 
 /// X/Y/Z MAGN_OUT of the counting inputs: 0.25, −0.05, −0.4 gauss (positive and negative codes).
 const MAG_WORDS: [u16; 3] = [0x01F4, 0x3F9C, 0x3CE0];
+/// X/Y/ZTEMP_OUT: 37.5 °C, 37.6 °C, 24.6 °C.
+const TEMP_WORDS: [u16; 3] = [0x005C, 0x005D, 0x0FFD];
 /// The GPS fix of the counting inputs (a board with a GPS moving at 20 m/s, course 30°).
 const GPS_FIX: GpsFix = GpsFix { t_s: 0.0, latency_s: 0.0, ground_speed_mps: 20.0, course_deg: 30.0 };
 
@@ -231,11 +233,15 @@ fn counting_firmware(profile: &Profile) -> Result<Counting> {
     Ok(Counting { fw, rates, f_b: [lit(0.1), lit(-0.2), lit(9.8)] })
 }
 
-/// Decode one burst: the six inertial words, and X/Y/Z MAGN_OUT when the algorithm takes the field.
+/// Decode one burst: the six inertial words, X/Y/Z MAGN_OUT when the algorithm takes the field and
+/// X/Y/ZTEMP_OUT when it compensates the temperature.
 fn decode_burst(fw: &mut Firmware<Counted>) {
     fw.decode(&WORDS);
     if fw.uses_magnetometer() {
         fw.decode_magnetometer(&MAG_WORDS);
+    }
+    if fw.uses_temperature() {
+        fw.decode_temperature(&TEMP_WORDS);
     }
 }
 
