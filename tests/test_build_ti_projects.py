@@ -252,20 +252,21 @@ def test_tis_global_variable_defs_compiles_as_given_with_tis_headers(
     which defines the register files under TI's DATA_SECTION pragmas, is compiled as given: its
     definitions become declarations of the objects the build places, so SpiaRegs, PieCtrlRegs and
     PieVectTable still reach the emulated board (SPI-A's loopback, the timer's ISR). With the
-    replacement headers it is left out (the unmodelled peripherals' structures are not declared)."""
+    replacement headers it is left out (some of the structures it defines, the external interrupts'
+    XINTRUPT_REGS among them, are not declared there)."""
     inc = tmp_path / "include"
     inc.mkdir()
     (inc / "DSP2833x_Device.h").write_text(
         "#include_next <DSP2833x_Device.h>\n"
-        "#ifndef PROJECT_ADC_REGS\n#define PROJECT_ADC_REGS\n"
-        "struct ADC_REGS { Uint16 ADCTRL1; Uint16 ADCTRL2; };\n"
-        "extern volatile struct ADC_REGS AdcRegs;\n#endif\n"
+        "#ifndef PROJECT_XINTRUPT_REGS\n#define PROJECT_XINTRUPT_REGS\n"
+        "struct XINTRUPT_REGS { Uint16 XINT1CR; Uint16 XINT2CR; };\n"
+        "extern volatile struct XINTRUPT_REGS XIntruptRegs;\n#endif\n"
     )
     src = tmp_path / "src"
     src.mkdir()
     defs = '#include "DSP2833x_Device.h"\n'
     for name, typ in [
-        ("AdcRegs", "volatile struct ADC_REGS"),
+        ("XIntruptRegs", "volatile struct XINTRUPT_REGS"),
         ("CpuTimer0Regs", "volatile struct CPUTIMER_REGS"),
         ("PieCtrlRegs", "volatile struct PIE_CTRL_REGS"),
         ("PieVectTable", "struct PIE_VECT_TABLE"),
@@ -277,7 +278,7 @@ def test_tis_global_variable_defs_compiles_as_given_with_tis_headers(
     (src / "main.c").write_text(
         '#include "DSP2833x_Device.h"\n'
         '#include "DSP2833x_Examples.h"\n'
-        "Uint16 ticks, echo, adc;\n"
+        "Uint16 ticks, echo, xint;\n"
         "interrupt void tick(void) { ticks++; PieCtrlRegs.PIEACK.all = PIEACK_GROUP1; }\n"
         "void main(void) {\n"
         "    InitSysCtrl();\n"
@@ -286,7 +287,7 @@ def test_tis_global_variable_defs_compiles_as_given_with_tis_headers(
         "    IER = 0; IFR = 0;\n"
         "    InitPieVectTable();\n"
         "    EALLOW; PieVectTable.TINT0 = &tick; EDIS;\n"
-        "    AdcRegs.ADCTRL1 = 0x0010; adc = AdcRegs.ADCTRL1;\n"
+        "    XIntruptRegs.XINT1CR = 0x0005; xint = XIntruptRegs.XINT1CR;\n"
         "    SpiaRegs.SPICCR.all = 0x000F;\n"
         "    SpiaRegs.SPICTL.all = 0x0006;\n"
         "    SpiaRegs.SPIBRR = 0x007F;\n"
@@ -306,12 +307,14 @@ def test_tis_global_variable_defs_compiles_as_given_with_tis_headers(
     out = tmp_path / "defs.so"
     assert main(["build-firmware", str(src), "-I", str(inc), "-o", str(out)]) == 0
     assert "left out" not in capsys.readouterr().out
-    run = _run(out, tmp_path, 0.01, ticks="uint16", echo="uint16", adc="uint16")
-    assert run.final["echo"] == 0x1234 and run.final["adc"] == 0x0010
+    run = _run(out, tmp_path, 0.01, ticks="uint16", echo="uint16", xint="uint16")
+    assert run.final["echo"] == 0x1234 and run.final["xint"] == 0x0005
     assert 9 <= run.final["ticks"] <= 10  # 1 ms ticks from a start within the first millisecond
     # Against the replacement headers, the same file is left out (and the build says so).
     (src / "main.c").write_text(
-        (src / "main.c").read_text().replace(" AdcRegs.ADCTRL1 = 0x0010; adc = AdcRegs.ADCTRL1;", "")
+        (src / "main.c")
+        .read_text()
+        .replace(" XIntruptRegs.XINT1CR = 0x0005; xint = XIntruptRegs.XINT1CR;", "")
     )
     assert main(["build-firmware", str(src), "-o", str(out)]) == 0
     assert "TI's DSP2833x_GlobalVariableDefs.c left out" in capsys.readouterr().out

@@ -26,8 +26,8 @@ SECONDS = "20"
 def _drive(out: Path, profile: str | Path) -> Path:
     """`synth vehicle` (the chapter 5 straight line) with the array placed as ``profile`` places it."""
     keys = gfsins.vehicle_array(gfsins.load(profile))
-    positions = ",".join(repr(x) for x in keys["array_positions"])
-    args = ["--lever-arm-m", repr(keys["lever_arm_m"]), "--array-positions", positions]
+    positions = ",".join(repr(x) for x in keys["array_positions_lever_arms"])
+    args = ["--lever-arm-m", repr(keys["lever_arm_m"]), "--array-positions-lever-arms", positions]
     r = run_cli("synth", "vehicle", "--duration-s", SECONDS, *args, "--out", str(out))
     assert r.code == 0, r.err
     return out
@@ -54,18 +54,23 @@ def test_the_variant_is_the_profile_and_nothing_else() -> None:
     parts = prof.get("array.parts")
     assert [p["link"] for p in parts] == ["spi7", "spi2", "spi1", "spi3", "spi4", "spi5", "spi6"]
     keys = gfsins.vehicle_array(prof)
-    assert keys["lever_arm_m"] == 0.15 and keys["array_positions"][3:6] == (0.0, 1.5, 0.5)
+    assert keys["lever_arm_m"] == 0.15 and keys["array_positions_lever_arms"][3:6] == (0.0, 1.5, 0.5)
     shipped = gfsins.vehicle_array(gfsins.load(gfsins.PROFILE))
-    assert shipped == {"lever_arm_m": 0.1, "array_positions": tuple(float(x) for x in gfsins_layout())}
+    assert shipped == {
+        "lever_arm_m": 0.1,
+        "array_positions_lever_arms": tuple(float(x) for x in gfsins_layout()),
+    }
 
 
 def test_synth_refuses_an_array_of_other_than_seven_places() -> None:
     from sins_fw import synth
     from sins_fw.errors import ConfigError
 
-    with pytest.raises(ConfigError, match="array_positions has 20 values; expected 21"):
-        synth.generate("vehicle", duration_s=1.0, array_positions=(0.0,) * 20)
-    r = run_cli("synth", "vehicle", "--duration-s", "1", "--array-positions", "0,1,0", "--out", "x.h5")
+    with pytest.raises(ConfigError, match="array_positions_lever_arms has 20 values; expected 21"):
+        synth.generate("vehicle", duration_s=1.0, array_positions_lever_arms=(0.0,) * 20)
+    r = run_cli(
+        "synth", "vehicle", "--duration-s", "1", "--array-positions-lever-arms", "0,1,0", "--out", "x.h5"
+    )
     assert r.code == 2 and "expected 21" in r.err and "Traceback" not in r.err, r.err
 
 

@@ -52,10 +52,10 @@ TI_SUPPORT = FIRMWARE_C / "ti"
 #: TI's support sources that cannot build against the replacement headers (``firmware_c/include``):
 #: a firmware source of one of these names is left out, and the replacement of the same name stands
 #: in, unless TI's own headers are on the include path (:func:`with_ti_support`; firmware_c/ti/README.md).
-#: TI's DSP2833x_GlobalVariableDefs.c defines every register file of the chip, the unmodelled
-#: peripherals' structures (ADC_REGS, ECAN_REGS, MCBSP_REGS, ...) too, which the replacement headers do
-#: not declare; with TI's headers it compiles as given and the pass makes its definitions declarations
-#: (the build places the objects itself).
+#: TI's DSP2833x_GlobalVariableDefs.c defines every register file of the chip, some of whose
+#: structures (XINTRUPT_REGS, DEV_EMU_REGS, ...) the replacement headers do not declare; with TI's
+#: headers it compiles as given and the pass makes its definitions declarations (the build places
+#: the objects itself).
 REPLACED_TI_SOURCES = ("DSP2833x_GlobalVariableDefs.c",)
 #: The header whose presence on the include path tells that TI's own headers are used.
 TI_DEVICE_HEADER = "DSP2833x_Device.h"

@@ -74,7 +74,7 @@ def vehicle_array(profile: GfsinsProfile) -> dict[str, Any]:
     parts = profile.get("array.parts")
     return {
         "lever_arm_m": float(profile.get("array.lever_arm_m")),
-        "array_positions": tuple(float(x) for part in parts for x in part["position"]),
+        "array_positions_lever_arms": tuple(float(x) for part in parts for x in part["position"]),
     }
 
 

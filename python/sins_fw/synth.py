@@ -696,7 +696,7 @@ def turn_motion(
 
 #: The gyro-free array's parts' positions in units of the lever arm l (algorithms.md §4: u₁…u₆,
 #: body axes; the seventh part at the centre): gfsins.toml's ``array.parts`` positions, in order
-#: (``--array-positions`` places them elsewhere, as a variant profile does).
+#: (``--array-positions-lever-arms`` places them elsewhere, as a variant profile does).
 ARRAY_POSITIONS = np.array(
     [[0, 1, 0], [0, 0, 1], [1, 0, 0], [0, 0, -1], [-1, 0, 0], [0, -1, 0], [0, 0, 0]], float
 )
@@ -716,7 +716,7 @@ def vehicle_motion(
     turn_rate_dps: float = 0.0,
     duration_s: float = 60.0,
     lever_arm_m: float = 0.1,
-    array_positions: Sequence[float] = tuple(ARRAY_POSITIONS.ravel()),
+    array_positions_lever_arms: Sequence[float] = tuple(ARRAY_POSITIONS.ravel()),
     latitude_deg: float = VEHICLE_LATITUDE_DEG,
     height_m: float = VEHICLE_HEIGHT_M,
     rate_hz: str = "1000",
@@ -725,7 +725,7 @@ def vehicle_motion(
     """The gyro-free vehicle board's scenario (issue 25; the thesis's chapter 5 by default): a level
     vehicle at constant speed on a straight line (``turn_rate_dps`` = 0) or a coordinated turn, with
     the specific force at each of the seven ADXL345 of the array at lever arm l: f_p = f_c + ω̇×r_p +
-    ω×(ω×r_p) (rigid body, ω = ω_ib^b, r_p = l u_p in body axes, u_p the seven ``array_positions``
+    ω×(ω×r_p) (rigid body, ω = ω_ib^b, r_p = l u_p in body axes, u_p the seven ``array_positions_lever_arms``
     in units of l, x y z each: a gyro-free profile's ``array.parts`` positions in order, as
     :func:`sins_fw.gfsins.vehicle_array` gives them; gravity uniform over the array).
     ω is exact; ω̇ is its second-order central difference on the sample grid, exact to O(h² ω⃛/6):
@@ -734,10 +734,10 @@ def vehicle_motion(
     l = 0.2 m: a few units in the last place of f."""
     if speed_mps <= 0 or duration_s <= 0 or not 0.0 < lever_arm_m <= 1.0:
         raise ConfigError("vehicle: speed and duration must be positive, the lever arm 0 < l ≤ 1 m")
-    positions = np.asarray(array_positions, dtype=np.float64)
+    positions = np.asarray(array_positions_lever_arms, dtype=np.float64)
     if positions.shape != (3 * ARRAY_PARTS,) or not np.all(np.abs(positions) <= 10.0):
         raise ConfigError(
-            f"vehicle: array_positions has {positions.size} values; expected {3 * ARRAY_PARTS} "
+            f"vehicle: array_positions_lever_arms has {positions.size} values; expected {3 * ARRAY_PARTS} "
             "(x, y, z of each part in turn, in units of the lever arm, each within ±10)"
         )
     plan = _FlightPlan(
@@ -1424,7 +1424,7 @@ SCENARIOS: dict[str, Scenario] = {
                 Param("duration_s", "float", 60.0, "duration, s"),
                 Param("lever_arm_m", "float", 0.1, "array lever arm l, m (gfsins.toml array.lever_arm_m)"),
                 Param(
-                    "array_positions",
+                    "array_positions_lever_arms",
                     "floats",
                     tuple(float(x) for x in ARRAY_POSITIONS.ravel()),
                     "the 7 parts' places x,y,z in turn, in lever arms (gfsins.toml array.parts positions)",

@@ -83,6 +83,7 @@ UNIT_SUFFIXES = (
     "-gauss",
     "-c",
     "-c-per-min",
+    "-lever-arms",
 )
 
 #: Old spellings already warned about by this process (one line each).
