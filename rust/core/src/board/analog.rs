@@ -123,6 +123,9 @@ impl SpiSlave for AnalogBoard {
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
         self.adc.begin_frame(timing)
     }
+    fn bitbanged_shape(&mut self, timing: &FrameTiming) {
+        self.adc.bitbanged_shape(timing);
+    }
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         self.adc.end_frame(din, timing);
         let f = FrameSummary { t_start: timing.first_edge, t_end: timing.last_edge, sample: None };

@@ -15,7 +15,7 @@
 //!   other is told so, as by SPI-A).
 //! - A frame's shape is known at its end: its length and its SCLK period, the shortest full cycle
 //!   between two edges of one direction (a bit-banged clock is as fast as its fastest cycle). The
-//!   part checks it then with its own rules ([`SpiParts::bitbanged_shape`]); at the start it was
+//!   part checks it then with its own rules ([`SpiSlave::bitbanged_shape`]); at the start it was
 //!   given the period of the previous frame of the same chip-select window (none for the first:
 //!   its period is not yet known, and no rule of a window's first frame needs it).
 //! - DOUT on GPIO55: for a part that shifts its word out on falling edges with the MSB valid from
@@ -187,5 +187,75 @@ impl BitBang {
             Some(f) => Some(f.somi(as_sampled)),
             None => self.held,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::{Profile, SENSOR_CHIP_SELECT};
+
+    const HALF: Ps = 1_000_000; // 1 µs per half cycle: SCLK 500 kHz
+
+    /// The reference board's parts (the ADIS16407 on GPIO57), its chip select low, SCLK idling
+    /// high (mode 3) as the firmware leaves it, at 1 ms.
+    fn selected() -> (BitBang, SpiParts, Ps) {
+        let mut parts = SpiParts::from_profile(&Profile::default()).unwrap();
+        assert!(parts.select(SENSOR_CHIP_SELECT));
+        let mut bb = BitBang::new();
+        let t = 1_000_000_000;
+        bb.pins(t, Some(true), false, false, &mut parts);
+        parts.set_cs(true, t);
+        (bb, parts, t + 10_000_000)
+    }
+
+    /// `cycles` SCLK cycles (mode 3: fall, then rise) with DIN the top `cycles` bits of `word`,
+    /// each half cycle `half` long; the bits read on GPIO55 just before each rising edge, as the
+    /// master samples them, and the time after the last edge.
+    fn clock(bb: &mut BitBang, parts: &mut SpiParts, mut t: Ps, word: u16, cycles: u32, half: Ps) -> (u16, Ps) {
+        let mut rx = 0u16;
+        for i in 0..cycles {
+            let bit = word >> (15 - i) & 1 == 1;
+            bb.pins(t, Some(false), bit, true, parts);
+            t += half;
+            rx = rx << 1 | u16::from(bb.somi(parts.answers_as_sampled()).unwrap());
+            bb.pins(t, Some(true), bit, true, parts);
+            t += half;
+        }
+        (rx, t)
+    }
+
+    /// Frames formed from the edges: 16 cycles make a frame whose DIN is GPIO54's level at each
+    /// rising edge (a PROD_ID read command, 0x5600), the part's answer to it is on GPIO55 in the
+    /// next frame MSB first (PROD_ID); SCLK level changes with CS high clock nothing; CS rising
+    /// after 8 cycles ends a frame of 8, which the part finds of the wrong length at its end.
+    #[test]
+    fn frames_are_formed_from_the_edges() {
+        let (mut bb, mut parts, t) = selected();
+        let (_, t) = clock(&mut bb, &mut parts, t, 0x5600, 16, HALF);
+        assert_eq!(bb.frames(), 1);
+        let (rx, t) = clock(&mut bb, &mut parts, t + 100_000_000, 0x0000, 16, HALF);
+        let sensor = parts.sensor().unwrap();
+        let prod_id = sensor.peek_name("prod_id").unwrap();
+        assert_eq!(rx, prod_id, "DOUT on GPIO55, MSB first");
+        let rec = sensor.last_frame().unwrap();
+        assert_eq!((rec.din, rec.dout, rec.register), (0x0000, prod_id, Some(0x56)));
+        assert_eq!((bb.frames(), sensor.frames_clocked()), (2, 2));
+        assert!(parts.drain_events().is_empty());
+        // Eight cycles, then CS rises: a frame of 8 cycles.
+        let (_, t) = clock(&mut bb, &mut parts, t + 100_000_000, 0x5600, 8, HALF);
+        bb.before_cs_change(&mut parts);
+        parts.set_cs(false, t + 10_000_000);
+        let events = parts.drain_events();
+        assert_eq!(events.iter().map(|e| e.kind).collect::<Vec<_>>(), ["frame_length"], "{events:?}");
+        assert_eq!((events[0].measured, events[0].frame), (Some(8.0), Some(2)));
+        assert_eq!(bb.frames(), 3);
+        // With CS high the part is not selected: SCLK moving clocks no frame.
+        let mut u = t + 20_000_000;
+        for level in [false, true, false, true] {
+            bb.pins(u, Some(level), true, false, &mut parts);
+            u += HALF;
+        }
+        assert_eq!((bb.frames(), parts.sensor().unwrap().frames_clocked()), (3, 3));
     }
 }

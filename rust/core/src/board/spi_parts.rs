@@ -129,14 +129,6 @@ impl SpiParts {
         })
     }
 
-    /// The selected part is told the shape of a bit-banged frame at its end (see
-    /// [`Adis16407::bitbanged_shape`]); the other parts check a frame's shape when it starts only.
-    pub fn bitbanged_shape(&mut self, timing: &FrameTiming) {
-        if let Some((_, _, SpiPart::Adis(d))) = self.parts.get_mut(self.selected) {
-            d.bitbanged_shape(timing);
-        }
-    }
-
     /// The input feeds of the parts that read the board's input and have their own (the ADS8344's
     /// front end).
     pub fn own_feeds(&self) -> Vec<InputFeed> {
@@ -174,6 +166,11 @@ impl SpiSlave for SpiParts {
     #[inline]
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
         on_selected!(self, d => d.end_frame(din, timing))
+    }
+    /// The selected part checks a bit-banged frame's measured shape with its own rules (the
+    /// ADIS16xxx family: [`Adis16407::bitbanged_shape`]; the ADS8344 and the ADXL345 likewise).
+    fn bitbanged_shape(&mut self, timing: &FrameTiming) {
+        on_selected!(self, d => d.bitbanged_shape(timing))
     }
     #[inline]
     fn run_frames(&mut self, run: &RunTiming, din: u16, dout: &mut [u16]) {

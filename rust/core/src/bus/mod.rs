@@ -76,6 +76,12 @@ pub trait SpiSlave {
     }
     /// The frame is over; `din` is the word the slave sampled on DIN.
     fn end_frame(&mut self, din: u16, timing: &FrameTiming);
+    /// A frame clocked bit by bit from GPIO pins (`board::bitbang`) is about to end (before
+    /// `end_frame`): `timing` is its shape as measured (its length, its shortest SCLK period),
+    /// which `begin_frame` at its first edge could not know. The slave checks it with the rules
+    /// it applies to any frame's shape and reports those its start did not find. A slave without
+    /// shape rules keeps the default (nothing to check).
+    fn bitbanged_shape(&mut self, _timing: &FrameTiming) {}
     /// Frames of one shape clocked one after another in one chip select, each with DIN `din`:
     /// `dout[i]` gets the word frame `i` of `run` shifts out. The same as `begin_frame` then
     /// `end_frame` for each, which is what the default does; a slave may answer the run in fewer

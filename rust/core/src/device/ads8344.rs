@@ -190,6 +190,8 @@ pub struct Ads8344 {
     held_in_frame: bool,
     /// The SPI rules of `config.timing`.
     rules: SpiRules,
+    /// The shape rules the frame being clocked broke at its start (`begin_frame`).
+    begun: Violations,
     events: EventLog,
     conversions: Vec<Conversion>,
 }
@@ -211,6 +213,7 @@ impl Ads8344 {
     pub fn new(config: Ads8344Config, inputs: Box<dyn AnalogInputs + Send>) -> Ads8344 {
         Ads8344 {
             rules: SpiRules::new(&config.timing.spi()),
+            begun: Violations::default(),
             config,
             inputs,
             phase: Phase::Idle,
@@ -386,7 +389,11 @@ impl Ads8344 {
         self.held_in_frame = false;
         self.command_in_frame = false;
         for i in 0..bits {
-            let rise = timing.first_edge + u64::from(i) * timing.sclk_period + if timing.cpol() { half } else { 0 };
+            // Saturating: a bit-banged frame starts with its period not yet known (`Ps::MAX`).
+            let rise = timing
+                .first_edge
+                .saturating_add(u64::from(i).saturating_mul(timing.sclk_period))
+                .saturating_add(if timing.cpol() { half } else { 0 });
             let bit = (din >> (bits - 1 - i)) & 1 == 1;
             let (out, result_bit) = self.clock(bit, rise, half, timing.cpol());
             depends |= result_bit && self.held_in_frame;
@@ -397,8 +404,33 @@ impl Ads8344 {
 
     fn check_frame(&mut self, timing: &FrameTiming) {
         let t = timing.first_edge;
-        let f = 1e12 / timing.sclk_period as f64;
         let found = self.rules.shape(timing);
+        self.begun = found;
+        self.report_shape(timing, found);
+        if self.frame_in_cs == 0 {
+            if let Some(fell) = self.cs_fell.filter(|&fell| self.rules.setup_short(fell, t)) {
+                let setup = t.saturating_sub(fell);
+                self.push(Event::rule(
+                    t,
+                    "cs_setup",
+                    Severity::Error,
+                    format!(
+                        "ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ {} ns",
+                        setup,
+                        self.config.timing.t_css_min_ps / 1_000
+                    ),
+                    ps_to_s(setup),
+                    ps_to_s(self.config.timing.t_css_min_ps),
+                ));
+            }
+        }
+        self.frame_in_cs += 1;
+    }
+
+    /// The events of the shape rules `found` that the frame `timing` breaks (DCLK rate, SPI mode).
+    fn report_shape(&mut self, timing: &FrameTiming, found: Violations) {
+        let t = timing.first_edge;
+        let f = 1e12 / timing.sclk_period as f64;
         if found.contains(Violations::SCLK_TOO_FAST) {
             self.push(Event::rule(
                 t,
@@ -420,24 +452,6 @@ impl Ads8344 {
                 ),
             ));
         }
-        if self.frame_in_cs == 0 {
-            if let Some(fell) = self.cs_fell.filter(|&fell| self.rules.setup_short(fell, t)) {
-                let setup = t.saturating_sub(fell);
-                self.push(Event::rule(
-                    t,
-                    "cs_setup",
-                    Severity::Error,
-                    format!(
-                        "ADS8344: CS↓ {} ps before the first DCLK edge, t_CSS ≥ {} ns",
-                        setup,
-                        self.config.timing.t_css_min_ps / 1_000
-                    ),
-                    ps_to_s(setup),
-                    ps_to_s(self.config.timing.t_css_min_ps),
-                ));
-            }
-        }
-        self.frame_in_cs += 1;
     }
 }
 
@@ -495,6 +509,17 @@ impl SpiSlave for Ads8344 {
         }
         self.events.tie_to_frame(mark, timing.index);
     }
+    /// The measured DCLK rate and mode against the same rules as any frame's (`SpiRules::shape`),
+    /// each broken rule reported once per frame.
+    fn bitbanged_shape(&mut self, timing: &FrameTiming) {
+        let found = Violations(self.rules.shape(timing).0 & !self.begun.0);
+        if !found.is_empty() {
+            let mark = self.events.len();
+            self.report_shape(timing, found);
+            self.events.tie_to_frame(mark, timing.index);
+            self.begun.insert(found);
+        }
+    }
     /// `clock` gives the bit the master samples at each rising edge in the frame's own mode.
     fn answers_as_sampled(&self) -> bool {
         true
@@ -542,6 +567,38 @@ mod tests {
         }
         adc.set_cs(false, now + 1_000_000);
         (rx, now + 2_000_000)
+    }
+
+    /// A bit-banged frame (`board::bitbang`) starts with its SCLK period unknown (`Ps::MAX`) and
+    /// is checked at its end against the measured one by the same rules: 16 cycles of 1 µs
+    /// (1 MHz ≤ 2.4 MHz) raise nothing; with a shortest cycle of 200 ns (5 MHz) the part's own
+    /// `sclk_too_fast`, once, tied to the frame.
+    #[test]
+    fn a_bitbanged_frame_is_checked_at_its_end() {
+        for (period, kinds) in [(1_000_000, vec![]), (200_000, vec!["sclk_too_fast"])] {
+            let mut adc = Ads8344::unconnected();
+            adc.set_cs(true, 0);
+            let start = FrameTiming {
+                index: 4,
+                first_edge: 1_000_000,
+                last_edge: 1_000_000,
+                sclk_period: Ps::MAX,
+                bits: 16,
+                mode: 0,
+            };
+            adc.begin_frame(&start);
+            assert!(adc.drain_events().is_empty(), "the start knows no period yet");
+            let measured = FrameTiming { last_edge: 1_000_000 + 31 * period / 2, sclk_period: period, ..start };
+            adc.bitbanged_shape(&measured);
+            adc.bitbanged_shape(&measured);
+            adc.end_frame(0, &measured);
+            let events = adc.drain_events();
+            assert_eq!(events.iter().map(|e| e.kind).collect::<Vec<_>>(), kinds, "{events:?}");
+            if let Some(e) = events.first() {
+                assert_eq!((e.measured, e.required), (Some(5e6), Some(2.4e6)));
+                assert_eq!(e.frame, Some(4));
+            }
+        }
     }
 
     /// Eight channels at distinct voltages: 0.1 V + 0.25 V·channel.

@@ -391,6 +391,8 @@ pub struct Adxl345 {
     last_edge: Option<Ps>,
     /// The SPI rules of [`SPI`].
     rules: SpiRules,
+    /// The shape rules the frame being clocked broke at its start (`begin_frame`).
+    begun: Violations,
     events: EventLog,
 }
 
@@ -425,6 +427,7 @@ impl Adxl345 {
             cs_high_at: None,
             last_edge: None,
             rules: SpiRules::new(&SPI),
+            begun: Violations::default(),
             events: EventLog::default(),
         }
     }
@@ -626,6 +629,31 @@ impl Adxl345 {
     }
 }
 
+impl Adxl345 {
+    /// The events of the shape rules `found` that the frame `timing` breaks (SCLK period, SPI
+    /// mode, length).
+    fn report_shape(&mut self, timing: &FrameTiming, found: Violations) {
+        let t = timing.first_edge;
+        if found.contains(Violations::SCLK_TOO_FAST) {
+            let what = format!(
+                "ADXL345: SCLK period {} ps, below {} ns ({} MHz)",
+                timing.sclk_period,
+                spi::T_SCLK_MIN / 1_000,
+                SPI.sclk_max_hz / 1e6
+            );
+            self.rule(t, "sclk_too_fast", what, timing.sclk_period, spi::T_SCLK_MIN);
+        }
+        if found.contains(Violations::SPI_MODE) {
+            let what = format!("ADXL345: a frame in SPI mode {}, the part is mode {}", timing.mode, spi::MODE);
+            self.events.push(Event::new(t, "spi_mode", Severity::Error, what));
+        }
+        if found.contains(Violations::FRAME_LENGTH) {
+            let what = format!("ADXL345: a frame of {} SCLK cycles: the part takes bytes; DIN ignored", timing.bits);
+            self.events.push(Event::new(t, "byte_frame_length", Severity::Error, what));
+        }
+    }
+}
+
 impl SpiSlave for Adxl345 {
     fn set_cs(&mut self, low: bool, t: Ps) {
         if low {
@@ -671,23 +699,9 @@ impl SpiSlave for Adxl345 {
                     spi::T_DELAY,
                 );
             }
-            if found.contains(Violations::SCLK_TOO_FAST) {
-                let what = format!(
-                    "ADXL345: SCLK period {} ps, below {} ns ({} MHz)",
-                    timing.sclk_period,
-                    spi::T_SCLK_MIN / 1_000,
-                    SPI.sclk_max_hz / 1e6
-                );
-                self.rule(t, "sclk_too_fast", what, timing.sclk_period, spi::T_SCLK_MIN);
-            }
-            if found.contains(Violations::SPI_MODE) {
-                let what = format!("ADXL345: a frame in SPI mode {}, the part is mode {}", timing.mode, spi::MODE);
-                self.events.push(Event::new(t, "spi_mode", Severity::Error, what));
-            }
+            self.begun = found;
+            self.report_shape(timing, found);
             if found.contains(Violations::FRAME_LENGTH) {
-                let what =
-                    format!("ADXL345: a frame of {} SCLK cycles: the part takes bytes; DIN ignored", timing.bits);
-                self.events.push(Event::new(t, "byte_frame_length", Severity::Error, what));
                 break 'frame 0xFFFF;
             }
             match self.phase {
@@ -698,6 +712,22 @@ impl SpiSlave for Adxl345 {
         };
         self.events.tie_to_frame(mark, timing.index);
         dout
+    }
+
+    /// The measured SCLK period, mode and length against the same rules as any frame's
+    /// (`SpiRules::shape`), each broken rule reported once per frame; a frame its start found of
+    /// the wrong length is ignored already.
+    fn bitbanged_shape(&mut self, timing: &FrameTiming) {
+        if self.begun.contains(Violations::FRAME_LENGTH) {
+            return;
+        }
+        let found = Violations(self.rules.shape(timing).0 & !self.begun.0);
+        if !found.is_empty() {
+            let mark = self.events.len();
+            self.report_shape(timing, found);
+            self.events.tie_to_frame(mark, timing.index);
+            self.begun.insert(found);
+        }
     }
 
     fn end_frame(&mut self, din: u16, timing: &FrameTiming) {
@@ -1050,6 +1080,38 @@ mod tests {
         dev.set_cs(true, 10);
         assert_eq!(dev.begin_frame(&timing), 0xFFFF);
         assert_eq!(dev.drain_events().iter().map(|e| e.kind).collect::<Vec<_>>(), ["byte_frame_length"]);
+    }
+
+    /// A bit-banged frame (`board::bitbang`) starts with its SCLK period unknown (`Ps::MAX`) and
+    /// is checked at its end against the measured one by the same rules: 8 cycles of 1 µs (1 MHz
+    /// ≤ 5 MHz) raise nothing; with a shortest cycle of 100 ns (10 MHz) the part's own
+    /// `sclk_too_fast`, once, tied to the frame.
+    #[test]
+    fn a_bitbanged_frame_is_checked_at_its_end() {
+        for (period, kinds) in [(1_000_000, vec![]), (100_000, vec!["sclk_too_fast"])] {
+            let mut dev = Adxl345::at_rest();
+            dev.set_cs(true, 0);
+            let start = FrameTiming {
+                index: 7,
+                first_edge: 1_000_000,
+                last_edge: 1_000_000,
+                sclk_period: Ps::MAX,
+                bits: 8,
+                mode: 3,
+            };
+            dev.begin_frame(&start);
+            assert!(dev.drain_events().is_empty(), "the start knows no period yet");
+            let measured = FrameTiming { last_edge: 1_000_000 + 15 * period / 2, sclk_period: period, ..start };
+            dev.bitbanged_shape(&measured);
+            dev.bitbanged_shape(&measured);
+            dev.end_frame(0x80, &measured);
+            let events = dev.drain_events();
+            assert_eq!(events.iter().map(|e| e.kind).collect::<Vec<_>>(), kinds, "{events:?}");
+            if let Some(e) = events.first() {
+                assert_eq!(e.message, "ADXL345: SCLK period 100000 ps, below 200 ns (5 MHz)");
+                assert_eq!(e.frame, Some(7));
+            }
+        }
     }
 
     /// Each SPI rule's message states the part's declared limit: CS↓ 1 ns before a mode-0 frame

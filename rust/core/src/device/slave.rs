@@ -601,6 +601,10 @@ impl SpiSlave for Adis {
         self.chip_select(low, t);
     }
 
+    fn bitbanged_shape(&mut self, timing: &FrameTiming) {
+        Adis::bitbanged_shape(self, timing);
+    }
+
     fn begin_frame(&mut self, timing: &FrameTiming) -> u16 {
         self.start_frame(timing)
     }
