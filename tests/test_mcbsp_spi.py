@@ -27,15 +27,22 @@ CPU_S = 2e-6
 pytestmark = pytest.mark.usefixtures("cabi_library")
 
 
-def _run(tmp_path: Path, size: int) -> tuple[Any, list[dict[str, Any]]]:
-    fw = build_firmware([EXAMPLE], tmp_path / f"mcbsp{size}.so", defines=[f"WORD_SIZE={size}"])
+def _run(tmp_path: Path, size: int, *defines: str) -> tuple[Any, list[dict[str, Any]]]:
+    fw = build_firmware([EXAMPLE], tmp_path / f"mcbsp{size}.so", defines=[f"WORD_SIZE={size}", *defines])
     parts: list[dict[str, Any]] = []
     run = run_c_firmware(
         fw,
         None,
         load_profile("reference"),
         globals_file=write_globals(
-            tmp_path, loops="uint16", errors="uint16", sdata1="uint16", rdata1="uint16", rdata2="uint16"
+            tmp_path,
+            loops="uint16",
+            errors="uint16",
+            sdata1="uint16",
+            rdata1="uint16",
+            rdata2="uint16",
+            sent="uint16",
+            rx_isr="uint16",
         ),
         until_s=UNTIL_S,
         sink=parts.append,
@@ -55,4 +62,22 @@ def test_words_come_back_through_the_loopback_at_the_clocks_rate(tmp_path: Path,
     assert f["rdata1"] == (last & 0xFF if size == 8 else last)
     if size == 32:
         assert f["rdata2"] == (0xFFFF - last) & 0xFFFF
+    assert not [e for e in events if e["severity"] == "error"], events[:3]
+
+
+@pytest.mark.parametrize("size", [8, 16, 32])
+def test_the_receive_interrupt_takes_every_word(tmp_path: Path, size: int):
+    """With -DUSE_INTERRUPTS MRINTA (INT6.5, raised when RRDY rises) runs once per word: its ISR reads
+    and checks the word and sends the next, main only idles. A word ends (1 + size) CLKG periods after
+    the CLKG edge that follows the ISR's DXR1 write (at most one CLKG period and the ISR's CPU time,
+    entry included, after the previous word's end), so the ISR runs between UNTIL/(word + CLKG + CPU)
+    − 1 and UNTIL/word times; every word sent but the one in flight came back to it."""
+    run, events = _run(tmp_path, size, "USE_INTERRUPTS")
+    f = run.final
+    word_s = (1 + size) * CLKG_S
+    assert f["errors"] == 0
+    assert UNTIL_S / (word_s + CLKG_S + CPU_S) - 1 <= f["rx_isr"] <= UNTIL_S / word_s
+    assert f["loops"] == f["rx_isr"], "each ISR run took one word, right"
+    assert f["sent"] - f["rx_isr"] in (0, 1), "no word lost: only the one in flight is not yet received"
+    assert not [e for e in events if e["kind"] == "interrupt_never_raised"], events[:3]
     assert not [e for e in events if e["severity"] == "error"], events[:3]

@@ -148,7 +148,8 @@ extern "C" void sins_fw_write16(uint32_t address, uint16_t value);
 static const char *const PIE_NAMES[96] = {"SEQ1INT","SEQ2INT","rsvd1_3","XINT1","XINT2","ADCINT","TINT0","WAKEINT","EPWM1_TZINT","EPWM2_TZINT","EPWM3_TZINT","EPWM4_TZINT","EPWM5_TZINT","EPWM6_TZINT","rsvd2_7","rsvd2_8","EPWM1_INT","EPWM2_INT","EPWM3_INT","EPWM4_INT","EPWM5_INT","EPWM6_INT","rsvd3_7","rsvd3_8","ECAP1_INT","ECAP2_INT","ECAP3_INT","ECAP4_INT","ECAP5_INT","ECAP6_INT","rsvd4_7","rsvd4_8","EQEP1_INT","EQEP2_INT","rsvd5_3","rsvd5_4","rsvd5_5","rsvd5_6","rsvd5_7","rsvd5_8","SPIRXINTA","SPITXINTA","MRINTB","MXINTB","MRINTA","MXINTA","rsvd6_7","rsvd6_8","DINTCH1","DINTCH2","DINTCH3","DINTCH4","DINTCH5","DINTCH6","rsvd7_7","rsvd7_8","I2CINT1A","I2CINT2A","rsvd8_3","rsvd8_4","SCIRXINTC","SCITXINTC","rsvd8_7","rsvd8_8","SCIRXINTA","SCITXINTA","SCIRXINTB","SCITXINTB","ECAN0INTA","ECAN1INTA","ECAN0INTB","ECAN1INTB","rsvd10_1","rsvd10_2","rsvd10_3","rsvd10_4","rsvd10_5","rsvd10_6","rsvd10_7","rsvd10_8","rsvd11_1","rsvd11_2","rsvd11_3","rsvd11_4","rsvd11_5","rsvd11_6","rsvd11_7","rsvd11_8","XINT3","XINT4","XINT5","XINT6","XINT7","rsvd12_6","LVF","LUF"};
 
 /* Interrupts the firmware enables that the emulator can never raise (raised: TINT0 INT1.7, WAKEINT
-   INT1.8 (the watchdog), SPIRXINTA/SPITXINTA INT6.1/6.2, TINT1 INT13, TINT2 INT14): each reported
+   INT1.8 (the watchdog), SPIRXINTA/SPITXINTA INT6.1/6.2, MRINTB/MXINTB/MRINTA/MXINTA INT6.3-6.6,
+   TINT1 INT13, TINT2 INT14): each reported
    once, when it is enabled, as an `interrupt_never_raised` event of the run naming the vector, its
    PIE group and line (the board's time is the enabling write's). */
 static SinsBoard *run_board();
@@ -160,9 +161,10 @@ static void warn_never_raised(const char *what) {
 }
 
 /* The PIE lines a modelled peripheral raises (group and line, 0-based): TINT0 and WAKEINT (1.7, 1.8),
-   SPI-A's RX/TX (6.1, 6.2), the SCIs' RX/TX (9.1-9.4, 8.5/8.6), I2C-A's I2CINT1A/I2CINT2A (8.1, 8.2). */
+   SPI-A's RX/TX (6.1, 6.2), the McBSPs' MRINTB/MXINTB/MRINTA/MXINTA (6.3-6.6), the SCIs' RX/TX
+   (9.1-9.4, 8.5/8.6), I2C-A's I2CINT1A/I2CINT2A (8.1, 8.2). */
 static bool raised_by_the_board(unsigned group, unsigned line) {
-    return (group == 0 && (line == 6 || line == 7)) || (group == 5 && line <= 1) || (group == 8 && line <= 3) ||
+    return (group == 0 && (line == 6 || line == 7)) || (group == 5 && line <= 5) || (group == 8 && line <= 3) ||
            (group == 7 && line <= 5 && line != 2 && line != 3);
 }
 
@@ -608,8 +610,10 @@ extern "C" void sins_fw_write16(uint32_t address, uint16_t value) {
     }
     check_pie_enable(address, value);
     poll_valid = false;
-    if ((address & 0xFF00u) == 0x0C00u || (address >= 0x7040u && address < 0x7050u)) {
-        mark_irq_state_changed(); /* the timers, the PIE, SPI-A's interrupt enables and transfers */
+    if ((address & 0xFF00u) == 0x0C00u || (address >= 0x7040u && address < 0x7050u) ||
+        (address >= 0x5000u && address < 0x5064u)) {
+        /* the timers, the PIE, SPI-A's and the McBSPs' interrupt enables and transfers */
+        mark_irq_state_changed();
     }
     if (address >= 0x7010u && address < 0x7030u) {
         refresh_cycle();

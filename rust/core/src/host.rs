@@ -431,14 +431,19 @@ impl HostBoard {
         if self.irq.blocked().is_some() {
             // A watchdog about to bite ends any loop (a reset), and its WAKEINT may be let in; an SCI
             // line's request may come when only INTM is clear.
-            let serial = self.serial.next_interrupt_ps().filter(|_| !self.irq.intm());
+            let serial = self.peripheral_interrupt_ps().filter(|_| !self.irq.intm());
             return [self.sys.next_event_ps(), serial].into_iter().flatten().min();
         }
         // SPI-A's flags change at the end of a character; the watchdog's WAKEINT at its overflow; an
         // SCI's at its character's end.
         let spi = self.spi_armed().then(|| self.link.spi().current_frame().map(|f| f.end_ps)).flatten();
-        let serial = self.serial.next_interrupt_ps().filter(|_| !self.irq.intm());
+        let serial = self.peripheral_interrupt_ps().filter(|_| !self.irq.intm());
         [self.irq.next_interrupt_ps(), spi, self.sys.next_event_ps(), serial].into_iter().flatten().min()
+    }
+
+    /// When an SCI, I2C-A or McBSP line may next be raised by itself.
+    fn peripheral_interrupt_ps(&self) -> Option<Ps> {
+        [self.serial.next_interrupt_ps(), self.mcbsp.next_interrupt_ps()].into_iter().flatten().min()
     }
 
     fn spi_armed(&self) -> bool {
@@ -447,7 +452,7 @@ impl HostBoard {
 
     /// What keeps any interrupt from coming without a register access (None: one can come).
     pub fn interrupts_blocked(&self) -> Option<Blocked> {
-        let b = self.irq.blocked().filter(|b| *b == Blocked::Intm || self.serial.next_interrupt_ps().is_none());
+        let b = self.irq.blocked().filter(|b| *b == Blocked::Intm || self.peripheral_interrupt_ps().is_none());
         if b.is_none() && self.next_interrupt_ps().is_none() && self.irq.ier() & self.irq.ifr_now() & 0x3FFF == 0 {
             let name = if self.spi_armed() { "SPIRXINTA/SPITXINTA" } else { "the interrupt" };
             return Some(Blocked::Idle { name });
@@ -534,6 +539,7 @@ impl HostBoard {
         self.now = t;
         let r = self.link.advance(t);
         self.serial.advance(t);
+        self.mcbsp.advance(t, self.link.spi().lspclk());
         self.sync();
         r
     }
@@ -1242,6 +1248,7 @@ impl HostBoard {
         append(&mut self.pending, self.link.drain_events());
         append(&mut self.pending, self.link.slave_mut().drain_events());
         append(&mut self.pending, self.serial.drain(&mut self.irq));
+        self.mcbsp.drain(&mut self.irq);
         if self.pending.is_empty() && self.recent.len() > 64 {
             let keep = self.recent.len() - 1;
             self.recent.drain(..keep);

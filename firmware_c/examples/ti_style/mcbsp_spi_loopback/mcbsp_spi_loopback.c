@@ -2,7 +2,9 @@
    McBSP SPI loopback example: our own code. Clock-stop mode without delay (CLKSTP = 2, CLKXP = 0), the
    sample-rate generator on LSPCLK / 16, one word per frame with a data delay of 1 as an SPI master
    needs; each word written to DXR comes back in DRR, RRDY telling when. WORD_SIZE is 8, 16 (default)
-   or 32 bits. */
+   or 32 bits. With -DUSE_INTERRUPTS the receive interrupt (MRINTA, PIE INT6.5; SPCR1.RINTM = 00: on
+   RRDY) takes each word instead: its ISR reads and checks it and sends the next one, and main only
+   idles. */
 #include "DSP28x_Project.h"
 
 #ifndef WORD_SIZE
@@ -15,10 +17,16 @@ Uint16 rdata1;  /* the word received */
 Uint16 rdata2;
 Uint16 loops;   /* words that came back right */
 Uint16 errors;  /* words that did not */
+Uint16 sent;    /* words written to DXR */
+Uint16 rx_isr;  /* receive ISR runs */
 
 void mcbsp_init_spi_dlb(void);
 void mcbsp_xmit(Uint16 a, Uint16 b);
+void check_word(void);
 void error(void);
+#ifdef USE_INTERRUPTS
+interrupt void mcbsp_rx_isr(void);
+#endif
 
 void main(void)
 {
@@ -31,31 +39,63 @@ void main(void)
     IFR = 0x0000;
     InitPieVectTable();
 
+#ifdef USE_INTERRUPTS
+    EALLOW;
+    PieVectTable.MRINTA = &mcbsp_rx_isr;
+    EDIS;
+#endif
+
     mcbsp_init_spi_dlb();
 
     sdata1 = 0x0000;
     sdata2 = 0xFFFF;
+#ifdef USE_INTERRUPTS
+    PieCtrlRegs.PIECTRL.bit.ENPIE = 1;
+    PieCtrlRegs.PIEIER6.bit.INTx5 = 1;    /* MRINTA */
+    IER |= M_INT6;
+    EINT;
+    mcbsp_xmit(sdata1, sdata2);           /* the first word; the ISR sends the others */
+    for (;;) {
+    }
+#else
     for (;;) {
         mcbsp_xmit(sdata1, sdata2);
         while (McbspaRegs.SPCR1.bit.RRDY == 0) {
         }
-#if WORD_SIZE == 32
-        rdata2 = McbspaRegs.DRR2.all;   /* DRR2 first: reading DRR1 ends the word */
-#endif
-        rdata1 = McbspaRegs.DRR1.all;
-#if WORD_SIZE == 8
-        if (rdata1 != (sdata1 & 0x00FF))
-#elif WORD_SIZE == 32
-        if (rdata1 != sdata1 || rdata2 != sdata2)
-#else
-        if (rdata1 != sdata1)
-#endif
-            error();
-        else
-            loops++;
-        sdata1++;
-        sdata2--;
+        check_word();
     }
+#endif
+}
+
+#ifdef USE_INTERRUPTS
+interrupt void mcbsp_rx_isr(void)
+{
+    rx_isr++;
+    check_word();
+    mcbsp_xmit(sdata1, sdata2);
+    PieCtrlRegs.PIEACK.all = PIEACK_GROUP6;
+}
+#endif
+
+/* The word in DRR against the one sent; the next word to send. */
+void check_word(void)
+{
+#if WORD_SIZE == 32
+    rdata2 = McbspaRegs.DRR2.all;   /* DRR2 first: reading DRR1 ends the word */
+#endif
+    rdata1 = McbspaRegs.DRR1.all;
+#if WORD_SIZE == 8
+    if (rdata1 != (sdata1 & 0x00FF))
+#elif WORD_SIZE == 32
+    if (rdata1 != sdata1 || rdata2 != sdata2)
+#else
+    if (rdata1 != sdata1)
+#endif
+        error();
+    else
+        loops++;
+    sdata1++;
+    sdata2--;
 }
 
 void error(void)
@@ -101,4 +141,5 @@ void mcbsp_xmit(Uint16 a, Uint16 b)
     (void)b;
 #endif
     McbspaRegs.DXR1.all = a;
+    sent++;
 }

@@ -25,8 +25,14 @@
 //!   DLB = 0 the MDR pin, which no part drives on this board (every bit 1, the floating level). DRR
 //!   gets it and RRDY rises; a word that ends with RRDY still set is lost and sets RFULL
 //!   [unconfirmed]. Reading DRR1 clears RRDY and RFULL.
-//! - Interrupts (MRINT/MXINT, MFFINT) are stored, not raised [not modelled].
+//! - Interrupts: with SPCR1.RINTM = 00 the receive interrupt (MRINT) is raised when RRDY rises
+//!   (a word reaches DRR); with SPCR2.XINTM = 00 the transmit interrupt (MXINT) when XRDY rises
+//!   (the transmitter leaves reset with DXR empty, or a word moves from DXR into the shift
+//!   register). Their PIE lines (spec §6 table, TI's `DSP2833x_PieVect.h`, vectors 74–77):
+//!   MRINTB INT6.3, MXINTB INT6.4, MRINTA INT6.5, MXINTA INT6.6. The other RINTM/XINTM modes
+//!   (end of block, frame sync, sync error) and MFFINT are stored, not raised [not modelled].
 
+use crate::dsp::interrupts::Interrupts;
 use crate::time::{Clock, Ps};
 
 /// McBSP-A's base address.
@@ -56,6 +62,12 @@ const XRST: u16 = 1 << 0;
 const XRDY: u16 = 1 << 1;
 const XEMPTY: u16 = 1 << 2;
 const GRST: u16 = 1 << 6;
+/// SPCR1.RINTM / SPCR2.XINTM (bits 5:4): 00 raises the interrupt on RRDY / XRDY.
+const INTM: u16 = 3 << 4;
+/// PIE group of the McBSP lines.
+const PIE_GROUP: u8 = 6;
+/// PIE lines in group 6 (receive, transmit) of McBSP-A and McBSP-B.
+const PIE_LINES: [(u8, u8); 2] = [(5, 6), (3, 4)];
 
 /// The registers of one McBSP: name and offset (SPRUFB7's register map).
 pub const REGISTER_NAMES: &[(&str, u32)] = &[
@@ -139,6 +151,8 @@ pub struct Mcbsp {
     shifting: Option<(u32, Ps)>,
     /// A word written to DXR waiting for the shift register (or for GRST).
     dxr_full: Option<u32>,
+    /// Interrupt requests not yet handed to the PIE: (receive line, time).
+    requests: Vec<(bool, Ps)>,
 }
 
 impl Default for Mcbsp {
@@ -154,7 +168,7 @@ impl Mcbsp {
         for (k, r) in regs.iter_mut().enumerate() {
             *r = reset_value(k);
         }
-        Mcbsp { regs, shifting: None, dxr_full: None }
+        Mcbsp { regs, shifting: None, dxr_full: None, requests: Vec::new() }
     }
 
     fn word_mask(bits: u32) -> u32 {
@@ -188,6 +202,7 @@ impl Mcbsp {
             return;
         }
         let Some(word) = self.dxr_full.take() else { return };
+        self.xrdy_rises(t);
         let clkg = self.clkg(lspclk);
         let delay = u64::from(self.regs[XCR2] & 3);
         let first = clkg.ps_to_cycles_ceil(t);
@@ -199,13 +214,33 @@ impl Mcbsp {
     pub fn advance(&mut self, t: Ps, lspclk: Clock) {
         while let Some((word, end)) = self.shifting.filter(|s| s.1 <= t) {
             self.shifting = None;
-            self.receive(word);
+            self.receive(word, end);
             self.start(end, lspclk);
         }
     }
 
-    /// A word ended: the receiver takes what DR shows.
-    fn receive(&mut self, sent: u32) {
+    /// XRDY rises at `t`: MXINT with XINTM = 00.
+    fn xrdy_rises(&mut self, t: Ps) {
+        if self.regs[SPCR2] & INTM == 0 {
+            self.requests.push((false, t));
+        }
+    }
+
+    /// Whether (MRINT, MXINT) will be raised by themselves: the receiver (transmitter) out of
+    /// reset with RINTM (XINTM) = 00.
+    fn armed(&self) -> (bool, bool) {
+        let on = |r: u16, rst: u16| r & rst != 0 && r & INTM == 0;
+        (on(self.regs[SPCR1], RRST), on(self.regs[SPCR2], XRST))
+    }
+
+    /// When a line may next be raised by itself: the end of the shifting word, if a line is armed.
+    pub fn next_interrupt_ps(&self) -> Option<Ps> {
+        let (rx, tx) = self.armed();
+        self.shifting.filter(|_| rx || tx).map(|s| s.1)
+    }
+
+    /// A word ended at `t`: the receiver takes what DR shows.
+    fn receive(&mut self, sent: u32, t: Ps) {
         if self.regs[SPCR1] & RRST == 0 {
             return;
         }
@@ -219,6 +254,9 @@ impl Mcbsp {
         self.regs[DRR1] = word as u16;
         self.regs[DRR2] = if bits > 16 { (word >> 16) as u16 } else { 0 };
         self.regs[SPCR1] |= RRDY;
+        if self.regs[SPCR1] & INTM == 0 {
+            self.requests.push((true, t));
+        }
     }
 
     /// The time the next word ends (a flag changes then), if one is shifting.
@@ -262,7 +300,11 @@ impl Mcbsp {
                 self.regs[SPCR1] = v;
             }
             SPCR2 => {
+                let was_reset = self.regs[SPCR2] & XRST == 0;
                 self.regs[SPCR2] = value & !(XRDY | XEMPTY);
+                if was_reset && value & XRST != 0 && self.dxr_full.is_none() {
+                    self.xrdy_rises(t); // out of reset with DXR empty: XRDY rises
+                }
                 if value & XRST == 0 {
                     self.dxr_full = None;
                     self.shifting = None;
@@ -336,6 +378,33 @@ impl McbspPorts {
     pub fn next_change_ps(&self, addr: u32) -> Option<Ps> {
         self.ports[usize::from(addr >= MCBSPB_BASE)].next_change_ps()
     }
+
+    /// Both McBSPs up to `t` (words end, their interrupt requests are made at their times).
+    pub fn advance(&mut self, t: Ps, lspclk: Clock) {
+        for p in &mut self.ports {
+            if p.shifting.is_some() {
+                p.advance(t, lspclk);
+            }
+        }
+    }
+
+    /// Hand the interrupt requests made so far to the PIE (MRINTA INT6.5, MXINTA INT6.6, MRINTB
+    /// INT6.3, MXINTB INT6.4), and say which lines are armed.
+    pub fn drain(&mut self, irq: &mut Interrupts) {
+        for (p, &(rx_line, tx_line)) in self.ports.iter_mut().zip(&PIE_LINES) {
+            for (rx, t) in p.requests.drain(..) {
+                irq.set_pie_flag(PIE_GROUP, if rx { rx_line } else { tx_line }, t);
+            }
+            let (rx, tx) = p.armed();
+            irq.set_armed(PIE_GROUP, rx_line, rx);
+            irq.set_armed(PIE_GROUP, tx_line, tx);
+        }
+    }
+
+    /// When a line of either McBSP may next be raised by itself.
+    pub fn next_interrupt_ps(&self) -> Option<Ps> {
+        self.ports.iter().filter_map(Mcbsp::next_interrupt_ps).min()
+    }
 }
 
 #[cfg(test)]
@@ -360,6 +429,42 @@ mod tests {
         p.write(SPCR2 as u32, GRST, 0, lspclk());
         p.write(SPCR2 as u32, GRST | XRST, 0, lspclk());
         p.write(SPCR1 as u32, 0x1000 | DLB | RRST, 0, lspclk());
+    }
+
+    /// MRINT on each RRDY rise, MXINT on each XRDY rise (RINTM = XINTM = 00), at their times, on
+    /// McBSP-A's lines INT6.5/6.6 and McBSP-B's INT6.3/6.4 (PIEIFR6 0x0CED); RINTM = 01 raises none.
+    #[test]
+    fn rrdy_and_xrdy_raise_their_pie_lines() {
+        const PIEIFR6: u32 = 0x0CED;
+        for (base, rx, tx) in [(MCBSPA_BASE, 1u16 << 4, 1u16 << 5), (MCBSPB_BASE, 1 << 2, 1 << 3)] {
+            let mut ports = McbspPorts::new();
+            let mut irq = Interrupts::new(Clock::from_hz(150_000_000));
+            let port = &mut ports.ports[usize::from(base == MCBSPB_BASE)];
+            spi_master_dlb(port, 2);
+            ports.drain(&mut irq);
+            assert_eq!(irq.read(PIEIFR6, 0).unwrap(), tx, "XRST 0 → 1 with DXR empty: XRDY rises");
+            let mut irq = Interrupts::new(Clock::from_hz(150_000_000));
+            ports.write(base + DXR1 as u32, 0x1234, 10, lspclk());
+            let end = ports.next_interrupt_ps().unwrap();
+            ports.advance(end - 1, lspclk());
+            ports.drain(&mut irq);
+            assert_eq!(irq.read(PIEIFR6, end - 1).unwrap(), tx, "DXR into the shift register: XRDY rises");
+            ports.advance(end, lspclk());
+            ports.drain(&mut irq);
+            assert_eq!(irq.read(PIEIFR6, end).unwrap(), rx | tx, "the word in DRR: RRDY rises");
+            assert_eq!(ports.next_interrupt_ps(), None);
+            // RINTM = 01 (end of block): not raised, not armed.
+            let mut irq = Interrupts::new(Clock::from_hz(150_000_000));
+            ports.write(base + SPCR1 as u32, 0x1000 | DLB | RRST | 1 << 4, end, lspclk());
+            ports.write(base + SPCR2 as u32, GRST | XRST | 1 << 4, end, lspclk());
+            ports.read(base + DRR1 as u32, end, lspclk());
+            ports.write(base + DXR1 as u32, 1, end, lspclk());
+            assert_eq!(ports.next_interrupt_ps(), None);
+            ports.advance(BIG, lspclk());
+            ports.drain(&mut irq);
+            assert_eq!(irq.read(PIEIFR6, BIG).unwrap(), 0);
+            assert_eq!(ports.read(base + SPCR1 as u32, BIG, lspclk()) & RRDY, RRDY);
+        }
     }
 
     #[test]
