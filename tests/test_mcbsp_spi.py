@@ -11,10 +11,8 @@ from typing import Any
 
 import pytest
 
-from conftest import write_globals
+from conftest import run_alone
 from sins_fw.firmware_build import build_firmware
-from sins_fw.firmware_run import run_c_firmware
-from sins_fw.profile import load_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "firmware_c" / "examples" / "ti_style" / "mcbsp_spi_loopback" / "mcbsp_spi_loopback.c"
@@ -29,25 +27,18 @@ pytestmark = pytest.mark.usefixtures("cabi_library")
 
 def _run(tmp_path: Path, size: int, *defines: str) -> tuple[Any, list[dict[str, Any]]]:
     fw = build_firmware([EXAMPLE], tmp_path / f"mcbsp{size}.so", defines=[f"WORD_SIZE={size}", *defines])
-    parts: list[dict[str, Any]] = []
-    run = run_c_firmware(
+    return run_alone(
         fw,
-        None,
-        load_profile("reference"),
-        globals_file=write_globals(
-            tmp_path,
-            loops="uint16",
-            errors="uint16",
-            sdata1="uint16",
-            rdata1="uint16",
-            rdata2="uint16",
-            sent="uint16",
-            rx_isr="uint16",
-        ),
-        until_s=UNTIL_S,
-        sink=parts.append,
+        tmp_path,
+        UNTIL_S,
+        loops="uint16",
+        errors="uint16",
+        sdata1="uint16",
+        rdata1="uint16",
+        rdata2="uint16",
+        sent="uint16",
+        rx_isr="uint16",
     )
-    return run, [e for p in parts for e in p["events"]]
 
 
 @pytest.mark.parametrize("size", [8, 16, 32])

@@ -11,10 +11,8 @@ from typing import Any
 
 import pytest
 
-from conftest import write_globals
+from conftest import run_alone
 from sins_fw.firmware_build import build_firmware
-from sins_fw.firmware_run import run_c_firmware
-from sins_fw.profile import load_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "firmware_c" / "examples" / "ti_style" / "spi_bitbang" / "spi_bitbang.c"
@@ -25,16 +23,7 @@ pytestmark = pytest.mark.usefixtures("cabi_library")
 
 def _run(tmp_path: Path, defines: tuple[str, ...] = ()) -> tuple[Any, list[dict[str, Any]]]:
     fw = build_firmware([EXAMPLE], tmp_path / "bitbang.so", defines=defines)
-    parts: list[dict[str, Any]] = []
-    run = run_c_firmware(
-        fw,
-        None,
-        load_profile("reference"),
-        globals_file=write_globals(tmp_path, prod_id="uint16", first_word="uint16", done="uint16"),
-        until_s=0.3,
-        sink=parts.append,
-    )
-    return run, [e for p in parts for e in p["events"]]
+    return run_alone(fw, tmp_path, 0.3, prod_id="uint16", first_word="uint16", done="uint16")
 
 
 def test_a_bit_banged_read_of_prod_id(tmp_path: Path):

@@ -9,14 +9,11 @@ a warning."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import pytest
 
-from conftest import write_globals
+from conftest import run_alone
 from sins_fw.firmware_build import build_firmware
-from sins_fw.firmware_run import run_c_firmware
-from sins_fw.profile import load_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "firmware_c" / "examples" / "ti_style" / "unmodelled_init" / "unmodelled_init.c"
@@ -26,26 +23,19 @@ pytestmark = pytest.mark.usefixtures("cabi_library")
 
 def test_a_project_initialising_the_unmodelled_peripherals_runs_with_one_warning_each(tmp_path: Path):
     fw = build_firmware([EXAMPLE], tmp_path / "init.so")
-    parts: list[dict[str, Any]] = []
-    run = run_c_firmware(
+    run, events = run_alone(
         fw,
-        None,
-        load_profile("reference"),
-        globals_file=write_globals(
-            tmp_path,
-            tbctl_reset="uint16",
-            ecctl2_reset="uint16",
-            xtiming0_reset="uint32",
-            tbprd="uint16",
-            cmpa="uint16",
-            adctrl3="uint16",
-            canes_cce="uint16",
-            done="uint16",
-        ),
-        until_s=0.02,
-        sink=parts.append,
+        tmp_path,
+        0.02,
+        tbctl_reset="uint16",
+        ecctl2_reset="uint16",
+        xtiming0_reset="uint32",
+        tbprd="uint16",
+        cmpa="uint16",
+        adctrl3="uint16",
+        canes_cce="uint16",
+        done="uint16",
     )
-    events = [e for p in parts for e in p["events"]]
     assert run.final == {
         "tbctl_reset": 0x0083,  # SPRUG04: counter frozen, HSPCLKDIV /2
         "ecctl2_reset": 0x0006,  # SPRUFG4: STOP_WRAP = 3
